@@ -1,0 +1,86 @@
+"""Error summaries shared by the ``crosscheck validate <engine>`` commands.
+
+An engine's validation returns a ``ValidationResult``: one ``ErrorStat`` per
+quantity (largest absolute and relative error and the state where the error,
+measured in multiples of its tolerance, is largest) plus free-form JSON-able
+extras (tables, confusion matrices).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from crosscheck.tolerances import Tolerance
+
+__all__ = ["ErrorStat", "ValidationResult", "error_stat"]
+
+
+@dataclass
+class ErrorStat:
+    quantity: str
+    n: int
+    max_abs: float
+    max_rel: float
+    max_ratio: float  # max |err| / (atol + rtol |want|); <= 1 passes
+    worst_state: dict
+    tolerance: dict
+    passed: bool
+
+
+def error_stat(quantity: str, got, want, tol: Tolerance, states: dict[str, np.ndarray]) -> ErrorStat:
+    """Compare ``got`` with ``want`` (shape (N, ...)) state by state.
+
+    ``states`` maps variable names to (N,) arrays describing each state; the
+    entry of the worst state (largest tolerance ratio) is reported.
+    """
+    got = np.asarray(got, float)
+    want = np.asarray(want, float)
+    n = got.shape[0]
+    err = np.abs(got - want).reshape(n, -1)
+    scale = np.abs(want).reshape(n, -1)
+    ratio = tol.ratio(got, want).reshape(n, -1)
+    ratio = np.where(np.isfinite(ratio), ratio, np.inf)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.where(scale > 0, err / scale, np.where(err > 0, np.inf, 0.0))
+    per_state = ratio.max(axis=1)
+    i = int(np.argmax(per_state))
+    worst = {k: float(np.asarray(v)[i]) for k, v in states.items()}
+    worst["index"] = i
+    return ErrorStat(
+        quantity=quantity,
+        n=n,
+        max_abs=float(err.max()),
+        max_rel=float(rel.max()),
+        max_ratio=float(per_state.max()),
+        worst_state=worst,
+        tolerance=tol.as_dict(),
+        passed=bool(per_state.max() <= 1.0),
+    )
+
+
+@dataclass
+class ValidationResult:
+    engine: str
+    stats: list[ErrorStat]
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def passed(self) -> bool:
+        return all(s.passed for s in self.stats)
+
+    def to_json(self) -> str:
+        return json.dumps({"engine": self.engine, "passed": self.passed, "stats": [asdict(s) for s in self.stats], "extra": self.extra}, indent=2, default=float)
+
+    def to_table(self) -> str:
+        head = f"{'quantity':<28} {'n':>7} {'max abs':>10} {'max rel':>10} {'/tol':>8}  result  worst state"
+        lines = [f"validate {self.engine}", head, "-" * len(head)]
+        for s in self.stats:
+            where = ", ".join(f"{k}={v:.4g}" for k, v in s.worst_state.items() if k != "index")
+            lines.append(
+                f"{s.quantity:<28} {s.n:>7} {s.max_abs:>10.2e} {s.max_rel:>10.2e} {s.max_ratio:>8.3f}  {'ok' if s.passed else 'FAIL':<6}  {where}"
+            )
+        lines.append("passed" if self.passed else "FAILED")
+        return "\n".join(lines)

@@ -1,0 +1,128 @@
+"""The one place where the paper's variables meet generalised coordinates.
+
+Generalised coordinates q = (X, Y, Z, psi, theta) [m, m, m, rad, rad] and
+velocities v = (X', Y', Z', psi', theta') [m/s, rad/s], with (X, Y, Z) the
+centre of mass S in the world frame and the body rotation Rz(psi) Rx(theta)
+(eq. rotmatrix).  Every engine (Pinocchio, MuJoCo) orders its joints this way.
+
+The paper's variables are scaled (section 2.1): Theta = theta'/omega,
+Psi = psi'/omega, eta = |tip velocity| / (l omega), varphi = beta - psi with
+beta the heading of the tip velocity; tip position in units of l and tip normal
+velocity w in units of l omega.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from crosscheck.checks import ETA, FINITE, THETA, check
+from crosscheck.rod import Rod
+from crosscheck.state import SlipState
+
+__all__ = ["GENERALIZED", "tip_position", "tip_velocity", "paper_to_qv", "qv_to_paper", "to_generalized", "from_generalized"]
+
+#: Names of the generalised coordinates, in order.
+GENERALIZED = ("X", "Y", "Z", "psi", "theta")
+
+
+def tip_position(rod: Rod, q) -> np.ndarray:
+    """Tip A in the world frame [m], eq. tipfromcentre.  q: (..., 5) -> (..., 3)."""
+    q = np.asarray(q, dtype=float)
+    X, Y, Z, psi, theta = np.moveaxis(q, -1, 0)
+    l = rod.length
+    return np.stack((X + l * np.cos(theta) * np.sin(psi), Y - l * np.cos(theta) * np.cos(psi), Z - l * np.sin(theta)), -1)
+
+
+def tip_velocity(rod: Rod, q, v) -> np.ndarray:
+    """Velocity of the tip A in the world frame [m/s], the derivative of eq. tipfromcentre."""
+    q = np.asarray(q, dtype=float)
+    v = np.asarray(v, dtype=float)
+    _, _, _, psi, theta = np.moveaxis(q, -1, 0)
+    dX, dY, dZ, dpsi, dtheta = np.moveaxis(v, -1, 0)
+    l = rod.length
+    s, c, sp, cp = np.sin(theta), np.cos(theta), np.sin(psi), np.cos(psi)
+    return np.stack(
+        (
+            dX + l * (-s * sp * dtheta + c * cp * dpsi),
+            dY + l * (s * cp * dtheta + c * sp * dpsi),
+            dZ - l * c * dtheta,
+        ),
+        -1,
+    )
+
+
+def paper_to_qv(rod: Rod, theta, varphi, Theta, Psi, eta, psi=0.0, *, tip=(0.0, 0.0, 0.0), w=0.0):
+    """Generalised (q, v) [physical units] from the paper's scaled variables.
+
+    Args:
+      theta, varphi, Theta, Psi, eta, psi: as in ``SlipState`` (scaled); arrays broadcast.
+      tip: tip position (x, y, z) in units of l (default: at the origin, on the plane).
+      w: scaled normal velocity of the tip (0 while slipping).
+
+    Returns:
+      (q, v), each an (..., 5) array ordered as ``GENERALIZED``.
+    """
+    theta = check("theta", theta, THETA)
+    eta = check("eta", eta, ETA)
+    varphi, Theta, Psi, psi, w = (check(n, x, FINITE) for n, x in (("varphi", varphi), ("Theta", Theta), ("Psi", Psi), ("psi", psi), ("w", w)))
+    theta, varphi, Theta, Psi, eta, psi, w = np.broadcast_arrays(theta, varphi, Theta, Psi, eta, psi, w)
+    l, om = rod.length, rod.omega
+    tip = np.asarray(tip, dtype=float) * l
+    s, c, sp, cp = np.sin(theta), np.cos(theta), np.sin(psi), np.cos(psi)
+    q = np.stack(
+        np.broadcast_arrays(tip[..., 0] - l * c * sp, tip[..., 1] + l * c * cp, tip[..., 2] + l * s, psi, theta), -1
+    )
+    dtheta, dpsi = Theta * om, Psi * om
+    beta = psi + varphi
+    u, vv, ww = eta * l * om * np.cos(beta), eta * l * om * np.sin(beta), w * l * om
+    v = np.stack(
+        (
+            u - l * (-s * sp * dtheta + c * cp * dpsi),
+            vv - l * (s * cp * dtheta + c * sp * dpsi),
+            ww + l * c * dtheta,
+            dpsi,
+            dtheta,
+        ),
+        -1,
+    )
+    return q, v
+
+
+def qv_to_paper(rod: Rod, q, v) -> dict[str, np.ndarray]:
+    """The paper's scaled variables from (q, v) [physical units].
+
+    Returns a dict with theta, varphi, Theta, Psi, eta, psi, and the tip's
+    scaled position x, y, z and normal velocity w.  varphi is wrapped to
+    (-pi, pi]; it lies in the paper's (-pi, 0] only for states of that range.
+    """
+    q = np.asarray(q, dtype=float)
+    v = np.asarray(v, dtype=float)
+    l, om = rod.length, rod.omega
+    tip = tip_position(rod, q) / l
+    tv = tip_velocity(rod, q, v) / (l * om)
+    psi, theta = q[..., 3], q[..., 4]
+    beta = np.arctan2(tv[..., 1], tv[..., 0])
+    varphi = np.angle(np.exp(1j * (beta - psi)))
+    return {
+        "theta": theta,
+        "varphi": varphi,
+        "Theta": v[..., 4] / om,
+        "Psi": v[..., 3] / om,
+        "eta": np.hypot(tv[..., 0], tv[..., 1]),
+        "psi": psi,
+        "x": tip[..., 0],
+        "y": tip[..., 1],
+        "z": tip[..., 2],
+        "w": tv[..., 2],
+    }
+
+
+def to_generalized(rod: Rod, state: SlipState, *, tip=(0.0, 0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
+    """(q, v) of a ``SlipState`` with the tip at ``tip`` (units of l) on the plane."""
+    return paper_to_qv(rod, state.theta, state.varphi, state.Theta, state.Psi, state.eta, state.psi, tip=tip)
+
+
+def from_generalized(rod: Rod, q, v) -> SlipState:
+    """The ``SlipState`` of a single (q, v); raises if it is outside the paper's ranges."""
+    d = qv_to_paper(rod, q, v)
+    return SlipState(**{k: float(d[k]) for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi")})

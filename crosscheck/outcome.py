@@ -1,0 +1,29 @@
+"""What happened to a slipping rod by the end of a run: shared by every engine."""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+__all__ = ["Outcome"]
+
+
+class Outcome(IntEnum):
+    """First event of a slipping trajectory (analytic integration or simulation).
+
+    SLIP: still slipping at the end of the horizon.
+    LIFTOFF: the tip leaves the plane (analytic: b reaches 0 with p > 0).
+    STICK: the tip speed reaches 0 while in contact.
+    JAM: a paradox-like event, the "impact without collision" of the paper's
+      conclusion (analytic: p reaches 0 with b < 0; an engine: an impulsive
+      normal force with an abrupt loss of slip speed).
+    DIVERGED: the run produced NaN/inf or the engine reported instability.
+    GB: (analytic only) b and p reach 0 together, a point of the GB manifold
+      such as P+ of the planar problem.
+    """
+
+    SLIP = 0
+    LIFTOFF = 1
+    STICK = 2
+    JAM = 3
+    DIVERGED = 4
+    GB = 5

@@ -1,0 +1,65 @@
+"""The slender rod of the paper (section 2.1) in physical or scaled units."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from crosscheck.checks import ALPHA, POSITIVE, check
+
+__all__ = ["Rod"]
+
+
+@dataclass(frozen=True)
+class Rod:
+    """A slender rigid rod AB touching the plane at its tip A.
+
+    Attributes:
+      mass: m [kg].
+      length: l [m], the distance from the contact tip A to the centre of mass S
+        (half the rod's length for a uniform rod).
+      inertia: I0 [kg m^2], the moment of inertia about S about any axis normal
+        to the rod (eq. inertia); m l^2 / 3 for a uniform rod.  The axial moment
+        is zero (slender rod).
+      gravity: g [m/s^2], acting along -z of the world frame.
+    """
+
+    mass: float = 1.0
+    length: float = 1.0
+    inertia: float = 1.0 / 3.0
+    gravity: float = 9.81
+
+    def __post_init__(self) -> None:
+        for name in ("mass", "length", "inertia", "gravity"):
+            object.__setattr__(self, name, float(check(name, getattr(self, name), POSITIVE)))
+
+    @classmethod
+    def scaled(cls, alpha: float = 3.0) -> "Rod":
+        """The rod in the paper's scaled units: m = l = g = 1, I0 = 1/alpha."""
+        alpha = float(check("alpha", alpha, ALPHA))
+        return cls(mass=1.0, length=1.0, inertia=1.0 / alpha, gravity=1.0)
+
+    @classmethod
+    def uniform(cls, mass: float, length: float, gravity: float = 9.81) -> "Rod":
+        """A uniform rod (alpha = 3) with tip-to-centre distance ``length``."""
+        return cls(mass=mass, length=length, inertia=mass * length**2 / 3.0, gravity=gravity)
+
+    @property
+    def alpha(self) -> float:
+        """alpha = m l^2 / I0 (dimensionless); 3 for a uniform rod."""
+        return self.mass * self.length**2 / self.inertia
+
+    @property
+    def omega(self) -> float:
+        """omega = sqrt(g / l) [1/s], the inverse time scale of the scaling."""
+        return math.sqrt(self.gravity / self.length)
+
+    @property
+    def time_scale(self) -> float:
+        """1/omega [s]: one unit of the paper's scaled time in seconds."""
+        return 1.0 / self.omega
+
+    @property
+    def force_scale(self) -> float:
+        """m g [N]: one unit of the paper's scaled force in newtons."""
+        return self.mass * self.gravity

@@ -1,0 +1,45 @@
+"""The paper's scaled slipping state (section 2.1, eq. polareqs_varphi)."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+from crosscheck.checks import ETA, FINITE, THETA, VARPHI, check
+
+__all__ = ["SlipState"]
+
+
+@dataclass(frozen=True)
+class SlipState:
+    """A state of the rod slipping with its tip A on the plane, in scaled units.
+
+    Attributes:
+      theta: polar angle of the rod to the horizontal [rad], in (0, pi/2).
+      varphi: relative slip angle beta - psi [rad], in (-pi, 0].
+      Theta: theta_dot / omega, scaled polar rate.
+      Psi: psi_dot / omega, scaled azimuthal rate.
+      eta: tip speed / (l omega), scaled slip speed, >= 0.
+      psi: azimuthal angle [rad] (cyclic; default 0).
+
+    The tip is on the plane (z = 0) with zero normal velocity (w = 0).
+    """
+
+    theta: float
+    varphi: float
+    Theta: float
+    Psi: float
+    eta: float
+    psi: float = 0.0
+
+    def __post_init__(self) -> None:
+        limits = {"theta": THETA, "varphi": VARPHI, "Theta": FINITE, "Psi": FINITE, "eta": ETA, "psi": FINITE}
+        for name, interval in limits.items():
+            object.__setattr__(self, name, float(check(name, getattr(self, name), interval)))
+
+    @property
+    def beta(self) -> float:
+        """Slip angle (heading) beta = psi + varphi [rad] of the tip velocity."""
+        return self.psi + self.varphi
+
+    def as_dict(self) -> dict[str, float]:
+        return asdict(self)

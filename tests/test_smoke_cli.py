@@ -1,0 +1,48 @@
+"""The CLI's error messages are part of the interface: one line, naming the parameter and range."""
+
+import json
+
+import pytest
+
+from crosscheck.cli import main
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["critical", "--mu", "-1"], "mu must be in [0, inf); got -1.0"),
+        (["critical", "--mu", "nan"], "mu must be in [0, inf); got nan"),
+        (["critical", "--mu", "1", "--alpha", "0"], "alpha must be in (0, inf); got 0.0"),
+        (["critical"], "mu is required and must be in [0, inf)"),
+        (["critical", "--mu", "abc"], "mu must be a number in [0, inf); got 'abc'"),
+        (["classify", "--theta", "2", "--varphi", "-1", "--Theta", "0", "--Psi", "0", "--mu", "1"], "theta must be in (0, pi/2); got 2.0"),
+        (["classify", "--theta", "1", "--varphi", "0.5", "--Theta", "0", "--Psi", "0", "--mu", "1"], "varphi must be in (-pi, 0]; got 0.5"),
+        (["classify", "--theta", "1", "--varphi", "-1", "--Psi", "0", "--mu", "1"], "Theta is required and must be in (-inf, inf)"),
+    ],
+)
+def test_bad_arguments_exit_nonzero_with_one_line(argv, message, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err == f"crosscheck: error: {message}\n"
+
+
+def test_critical_json_matches_api(capsys):
+    from crosscheck import critical_values
+
+    assert main(["critical", "--mu", "1.4", "--alpha", "3", "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    want = critical_values(1.4, 3).as_dict()
+    assert got == pytest.approx(want, rel=0, abs=0)
+
+
+def test_critical_json_below_mu_P_reports_null(capsys):
+    assert main(["critical", "--mu", "1.0", "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    assert got["theta_1"] is None and got["Psi_2"] is None and got["mu_P"] == pytest.approx(4 / 3, abs=1e-15)
+
+
+def test_classify_json(capsys):
+    assert main(["classify", "--theta", "1.0", "--varphi", "-1.5707963267948966", "--Theta", "0", "--Psi", "0", "--mu", "1.4", "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    # theta = 1 lies in (theta_1, theta_2) = (0.9702, 1.2209) at varphi = -pi/2, so p < 0; b = -1 (rod at rest)
+    assert got["b"] == -1.0 and got["p"] < 0 and got["mode"] == "INCONSISTENT"

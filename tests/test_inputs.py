@@ -1,0 +1,66 @@
+"""Bad input raises ValueError naming the parameter and its allowed range (same text as the CLI)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from crosscheck import Rod, SlipState, analytic, critical_values
+from crosscheck.coordinates import from_generalized, paper_to_qv, qv_to_paper, to_generalized
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda: analytic.p(1.6, -1.0, 1.0, 3.0), "theta must be in (0, pi/2); got 1.6"),
+        (lambda: analytic.p(0.0, -1.0, 1.0, 3.0), "theta must be in (0, pi/2); got 0.0"),
+        (lambda: analytic.p(1.0, -1.0, -0.1, 3.0), "mu must be in [0, inf); got -0.1"),
+        (lambda: analytic.p(1.0, -1.0, 1.0, 0.0), "alpha must be in (0, inf); got 0.0"),
+        (lambda: analytic.p([0.5, np.nan], -1.0, 1.0, 3.0), "theta must be in (0, pi/2); got nan"),
+        (lambda: analytic.b(np.inf, 0.0, 1.0), "Psi must be in (-inf, inf); got inf"),
+        (lambda: critical_values(-1, 3), "mu must be in [0, inf); got -1.0"),
+        (lambda: critical_values(1, -3), "alpha must be in (0, inf); got -3.0"),
+        (lambda: analytic.kinematic_case(1.4, np.nan, 3), "Psi must be in (-inf, inf); got nan"),
+        (lambda: Rod(mass=0.0), "mass must be in (0, inf); got 0.0"),
+        (lambda: Rod(inertia=-1.0), "inertia must be in (0, inf); got -1.0"),
+        (lambda: Rod.scaled(alpha=0), "alpha must be in (0, inf); got 0.0"),
+        (lambda: SlipState(theta=2.0, varphi=-1, Theta=0, Psi=0, eta=1), "theta must be in (0, pi/2); got 2.0"),
+        (lambda: SlipState(theta=1.0, varphi=0.5, Theta=0, Psi=0, eta=1), "varphi must be in (-pi, 0]; got 0.5"),
+        (lambda: SlipState(theta=1.0, varphi=-math.pi, Theta=0, Psi=0, eta=1), f"varphi must be in (-pi, 0]; got {-math.pi!r}"),
+        (lambda: SlipState(theta=1.0, varphi=-1, Theta=0, Psi=0, eta=-1), "eta must be in [0, inf); got -1.0"),
+        (lambda: SlipState(theta=1.0, varphi=-1, Theta=math.nan, Psi=0, eta=1), "Theta must be in (-inf, inf); got nan"),
+        (lambda: analytic.tip_acceleration(Rod(), 0, 1, 0, 0, [1, 2]), "force must have shape (..., 3) (Fx, Fy, Fz in the world frame); got (2,)"),
+        (lambda: analytic.scaled_rhs(np.zeros(9), 0, 1, 3), "state must have shape (..., 10) ordered as"),
+    ],
+)
+def test_bad_input_message(call, message):
+    with pytest.raises(ValueError) as err:
+        call()
+    assert str(err.value).startswith(message)
+
+
+def test_rod_scaled_units():
+    rod = Rod.scaled(4.0)
+    assert (rod.mass, rod.length, rod.gravity, rod.alpha, rod.omega) == (1.0, 1.0, 1.0, 4.0, 1.0)
+    assert Rod.uniform(2.0, 0.5).alpha == pytest.approx(3.0, rel=1e-15)
+
+
+def test_coordinates_round_trip():
+    rng = np.random.default_rng(3)
+    rod = Rod(mass=2.0, length=0.7, inertia=0.2, gravity=9.81)
+    for _ in range(100):
+        s = SlipState(theta=rng.uniform(0.01, 1.56), varphi=rng.uniform(-3.14, 0), Theta=rng.normal(), Psi=rng.normal(), eta=rng.uniform(0.01, 3), psi=rng.uniform(-3, 3))
+        q, v = to_generalized(rod, s, tip=(0.5, -0.2, 0.0))
+        d = qv_to_paper(rod, q, v)
+        assert d["z"] == pytest.approx(0.0, abs=1e-15) and d["w"] == pytest.approx(0.0, abs=1e-14)
+        assert (d["x"], d["y"]) == pytest.approx((0.5, -0.2), abs=1e-15)
+        back = from_generalized(rod, q, v)
+        for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi"):
+            assert getattr(back, k) == pytest.approx(getattr(s, k), rel=1e-12, abs=1e-12), k
+
+
+def test_coordinates_vectorise():
+    rod = Rod()
+    q, v = paper_to_qv(rod, np.full(5, 0.8), -1.0, 0.2, np.linspace(-1, 1, 5), 1.0)
+    assert q.shape == v.shape == (5, 5)
+    np.testing.assert_allclose(qv_to_paper(rod, q, v)["Psi"], np.linspace(-1, 1, 5), rtol=1e-15)

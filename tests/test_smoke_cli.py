@@ -46,3 +46,14 @@ def test_classify_json(capsys):
     got = json.loads(capsys.readouterr().out)
     # theta = 1 lies in (theta_1, theta_2) = (0.9702, 1.2209) at varphi = -pi/2, so p < 0; b = -1 (rod at rest)
     assert got["b"] == -1.0 and got["p"] < 0 and got["mode"] == "INCONSISTENT"
+
+
+def test_ci_runs_the_readme_test_command():
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    readme_lines = (root / "README.md").read_text().splitlines()
+    test_command = readme_lines[1]
+    assert "pytest" in test_command and "pytest" not in readme_lines[0]
+    ci = (root / ".ci" / "run").read_text().splitlines()
+    assert test_command in ci

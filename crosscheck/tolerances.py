@@ -79,6 +79,12 @@ SLIP_INTEGRATION = Tolerance(atol=1e-12, rtol=1e-10, why="solve_ivp DOP853 on eq
 #: terms) and the real time still left is ~ eta p / |lambda| ~ 1e-7.
 GB_REACHED = Tolerance(atol=1e-7, rtol=0.0, why="radius of the (p, b) ball counted as reaching the GB manifold")
 
+#: p below -1e-8 counts as having crossed p = 0 (JAM).  p is computed from
+#: theta and varphi integrated at rtol 1e-10 with |grad p| ~ alpha mu ~ 5, so
+#: its error is ~5e-10; on the planar section p = 0 is invariant (eq. pdotarg
+#: vanishes at varphi = -pi/2) and that noise alone would fake a crossing.
+P_RESOLVED = Tolerance(atol=1e-8, rtol=0.0, why="depth below p = 0 that counts as a crossing (20x the error of p)")
+
 #: The tip has stuck when eta falls below this (scaled speed, units l omega).
 #: eta = 0 is a set of equilibria of eq. f (approached as s -> inf); the real
 #: time left, eta / |d eta/dt|, is added linearly, so the time error is O(1e-18).

@@ -1,0 +1,287 @@
+"""The slipping rod integrated to its first event, in the desingularised time of eq. f.
+
+While the tip slips, F_z = -b/p (eq. FZ) and the real-time equations
+(eq. polareqs_varphi) are singular where p = 0.  Section 4 of the paper
+removes the singularity with the new time s, ``eta p ds = dt``, which gives
+the vector field f(x) of eq. f on x = (eta, varphi, psi, Psi, theta, Theta)
+(eq. x).  ``slip_until_event`` integrates f together with dt/ds = eta p, so
+the crossing of p = 0 is a regular event and the real time t is recovered as
+an extra state.
+
+Events (the first one ends the run):
+
+=========  ======================================================================
+LIFTOFF    b reaches 0 (from below) while p > 0.
+JAM        p reaches 0 (from above) while b < 0: the inconsistent region.  The
+           run stops once p < -``P_RESOLVED.atol`` (1e-8) and reports the state
+           and time at the last crossing of p = 0.  The margin matters only
+           where p = 0 is invariant (the planar section varphi = -pi/2, Psi = 0,
+           where eq. pdotarg vanishes): there trajectories slide along p = 0+
+           towards P+ and integration noise of ~1e-10 in p must not count as a
+           crossing.  Elsewhere p crosses transversally and the margin only
+           delays the stop by ds ~ 1e-8 / |p'|.
+GB         (p, b) enters the disc hypot(p, b) < ``GB_REACHED.atol`` (1e-7).  GB
+           points are equilibria of f, reached only as s -> infinity while t
+           converges (Or's Theorem 1: P+ in finite time), so a radius is needed.
+STICK      eta falls below ``STICK_SPEED.atol`` (1e-9).  eta = 0 is also a set of
+           equilibria of f; the real time still needed, eta / |d eta/dt|, is
+           added linearly and the returned state has eta = 0.
+SLIP       none of the above before ``t_max``; also (with ``reason`` saying
+           which) when the run leaves the paper's domain: varphi reaches 0 or
+           -pi (outside (-pi, 0] p > 0 and the paper's SlipState does not apply;
+           the state is returned on the boundary, -pi as the next float above),
+           theta comes within ``THETA_MARGIN.atol`` (1e-6) of 0 or pi/2, or
+           the desingularised time exceeds ``s_max`` without an event (the flow
+           creeps towards an equilibrium too slowly to decide).
+DIVERGED   the integrator failed (step size underflow, non-finite values).
+=========  ======================================================================
+
+A start that is not slipping returns at once with t = 0 and an empty-ish
+trajectory (the start alone), decided in this order: eta = 0 -> STICK;
+hypot(p, b) < GB_REACHED.atol -> GB; b > 0 -> LIFTOFF (with p <= 0 this is the
+indeterminate mode, whose lift-off solution we pick); p <= 0 (b <= 0) -> JAM
+(inconsistent, or on p = 0).  A start with b = 0 < p is integrated (it lifts
+off at t = 0 if b increases).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from crosscheck.checks import ALPHA, MU, POSITIVE, check
+from crosscheck.outcome import Outcome
+from crosscheck.state import SlipState
+from crosscheck.tolerances import GB_REACHED, P_RESOLVED, SLIP_INTEGRATION, STICK_SPEED, THETA_MARGIN
+
+__all__ = ["X_STATE", "SlipResult", "slip_rhs", "slip_until_event", "slip_outcomes"]
+
+#: Order of the desingularised state, eq. x.
+X_STATE = ("eta", "varphi", "psi", "Psi", "theta", "Theta")
+
+_HALF_PI = 0.5 * math.pi
+_VARPHI_LOW = math.nextafter(-math.pi, 0.0)  # the closest float to -pi inside (-pi, 0]
+
+
+def _coefficients(eta, varphi, Psi, theta, Theta, mu, alpha):
+    """b, p and the Appendix A coefficients at one state (scalars, math module: hot loop)."""
+    st, ct = math.sin(theta), math.cos(theta)
+    sp, cp = math.sin(varphi), math.cos(varphi)
+    W = Psi * Psi * ct * ct + Theta * Theta
+    b = W * st - 1.0
+    g = mu * ct * sp - st
+    p = 1.0 + alpha + alpha * st * g
+    Q1 = alpha * ct * sp * g - (1.0 + alpha) * mu
+    Q2 = alpha * ct * cp * g
+    A1 = W * ct * sp
+    A2 = W * ct * cp
+    d1 = -alpha * mu * cp / ct
+    d2 = -alpha * mu * st * sp - alpha * ct
+    c1 = 2.0 * Psi * Theta * st / ct
+    c2 = -Psi * Psi * st * ct
+    return b, p, Q1, Q2, A1, A2, d1, d2, c1, c2
+
+
+def _rhs7(y, mu, alpha):
+    """f(x) of eq. f plus dt/ds = eta p, for y = (eta, varphi, psi, Psi, theta, Theta, t)."""
+    eta, varphi, _, Psi, theta, Theta = y[0], y[1], y[2], y[3], y[4], y[5]
+    b, p, Q1, Q2, A1, A2, d1, d2, c1, c2 = _coefficients(eta, varphi, Psi, theta, Theta, mu, alpha)
+    ep = eta * p
+    return [
+        eta * (-Q1 * b + A1 * p),
+        -Q2 * b + (A2 - eta * Psi) * p,
+        ep * Psi,
+        eta * (-d1 * b + c1 * p),
+        ep * Theta,
+        eta * (-d2 * b + c2 * p),
+        ep,
+    ]
+
+
+def slip_rhs(x, mu, alpha) -> np.ndarray:
+    """The desingularised slipping vector field f(x), eq. f (scalar state).
+
+    Args:
+      x: (6,) state ordered as ``X_STATE`` = (eta, varphi, psi, Psi, theta, Theta), scaled units.
+      mu, alpha: friction coefficient and m l^2 / I0.
+
+    Returns:
+      (6,) derivative with respect to s, where eta p ds = dt.  For an array
+      version with the Jacobian see ``crosscheck.gb.f``.
+    """
+    x = np.asarray(x, dtype=float)
+    return np.array(_rhs7(x, float(mu), float(alpha))[:6])
+
+
+@dataclass(frozen=True, eq=False)
+class SlipResult:
+    """First event of a slipping run (``slip_until_event``).
+
+    Attributes:
+      outcome: what ended the run (see the module docstring for the rules).
+      time: real scaled time t of the event (units 1/omega).
+      state: ``SlipState`` at the event.
+      reason: which rule fired: "start", "b=0", "p=0", "gb", "eta=0", "t_max",
+        "varphi=0", "varphi=-pi", "theta=0", "theta=pi/2", "s_max" or "solver".
+      b, p: eqs. b and p at the returned state.
+      s: (n,) desingularised times of the integrator's steps.
+      t: (n,) real scaled times at those steps (t[0] = 0).
+      x: (n, 6) states at those steps, columns ordered as ``X_STATE``.
+    """
+
+    outcome: Outcome
+    time: float
+    state: SlipState
+    reason: str
+    b: float
+    p: float
+    s: np.ndarray = field(repr=False)
+    t: np.ndarray = field(repr=False)
+    x: np.ndarray = field(repr=False)
+
+    def as_dict(self) -> dict:
+        """JSON-able summary (no trajectory)."""
+        return {"outcome": self.outcome.name, "time": self.time, "reason": self.reason,
+                "b": self.b, "p": self.p, "state": self.state.as_dict()}
+
+
+def _start_outcome(eta: float, b: float, p: float) -> Outcome | None:
+    if eta == 0.0:
+        return Outcome.STICK
+    if math.hypot(p, b) < GB_REACHED.atol:
+        return Outcome.GB
+    if b > 0.0:
+        return Outcome.LIFTOFF
+    if p <= 0.0:
+        return Outcome.JAM
+    return None
+
+
+def _events(mu: float, alpha: float, t_max: float):
+    """Terminal event functions g(s, y) of the run and the (outcome, reason) each one means."""
+    gb_r, eta_stick, margin, p_resolved = GB_REACHED.atol, STICK_SPEED.atol, THETA_MARGIN.atol, P_RESOLVED.atol
+
+    def bp(y):
+        b, p, *_ = _coefficients(y[0], y[1], y[3], y[4], y[5], mu, alpha)
+        return b, p
+
+    table = [
+        (lambda s, y: bp(y)[0], +1, Outcome.LIFTOFF, "b=0"),
+        (lambda s, y: bp(y)[1] + p_resolved, -1, Outcome.JAM, "p=0"),
+        (lambda s, y: math.hypot(*bp(y)) - gb_r, -1, Outcome.GB, "gb"),
+        (lambda s, y: y[0] - eta_stick, -1, Outcome.STICK, "eta=0"),
+        (lambda s, y: y[6] - t_max, +1, Outcome.SLIP, "t_max"),
+        (lambda s, y: y[1], +1, Outcome.SLIP, "varphi=0"),
+        (lambda s, y: y[1] + math.pi, -1, Outcome.SLIP, "varphi=-pi"),
+        (lambda s, y: y[4] - margin, -1, Outcome.SLIP, "theta=0"),
+        (lambda s, y: _HALF_PI - margin - y[4], -1, Outcome.SLIP, "theta=pi/2"),
+    ]
+    funcs = []
+    for g, direction, _, _ in table:
+        g.terminal = True
+        g.direction = direction
+        funcs.append(g)
+    # p = 0 itself, not terminal: a JAM is reported at the last crossing of p = 0
+    p_zero = lambda s, y: bp(y)[1]  # noqa: E731
+    p_zero.terminal, p_zero.direction = False, -1
+    funcs.append(p_zero)
+    return funcs, [(o, r) for _, _, o, r in table]
+
+
+def _state_from(y, *, eta=None) -> SlipState:
+    varphi = min(max(float(y[1]), _VARPHI_LOW), 0.0)
+    theta = min(max(float(y[4]), THETA_MARGIN.atol), _HALF_PI - THETA_MARGIN.atol)
+    return SlipState(theta=theta, varphi=varphi, Theta=float(y[5]), Psi=float(y[3]),
+                     eta=float(y[0]) if eta is None else eta, psi=float(y[2]))
+
+
+def slip_until_event(state: SlipState, mu, alpha, *, t_max: float = 10.0, s_max: float = 1e4) -> SlipResult:
+    """Integrate the slipping rod from ``state`` to its first event.
+
+    Integrates f of eq. f (with F_z = -b/p, eq. FZ) in the desingularised time
+    s, eta p ds = dt, with t as a seventh state, using ``solve_ivp`` (DOP853,
+    tolerances ``SLIP_INTEGRATION``) and terminal events on b, p, hypot(p, b),
+    eta, t and the domain boundaries.  See the module docstring for the event
+    rules and for starts that are not slipping.
+
+    Args:
+      state: the initial ``SlipState`` (scaled units; the tip on the plane).
+      mu: friction coefficient, >= 0.
+      alpha: m l^2 / I0, > 0 (3 for a uniform rod).
+      t_max: horizon in real scaled time (units 1/omega), > 0.
+      s_max: horizon in desingularised time, > 0; reaching it without an
+        event gives SLIP with reason "s_max".
+
+    Returns:
+      A ``SlipResult``: outcome, real time, state at the event, trajectory.
+    """
+    if not isinstance(state, SlipState):
+        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    mu = float(check("mu", mu, MU))
+    alpha = float(check("alpha", alpha, ALPHA))
+    t_max = float(check("t_max", t_max, POSITIVE))
+    s_max = float(check("s_max", s_max, POSITIVE))
+
+    y0 = np.array([state.eta, state.varphi, state.psi, state.Psi, state.theta, state.Theta, 0.0])
+    b0, p0, *_ = _coefficients(state.eta, state.varphi, state.Psi, state.theta, state.Theta, mu, alpha)
+    early = _start_outcome(state.eta, b0, p0)
+    if early is not None:
+        return SlipResult(early, 0.0, state, "start", b0, p0, np.zeros(1), np.zeros(1), y0[None, :6].copy())
+
+    events, meaning = _events(mu, alpha, t_max)
+    sol = solve_ivp(lambda s, y: _rhs7(y, mu, alpha), (0.0, s_max), y0, method="DOP853",
+                    rtol=SLIP_INTEGRATION.rtol, atol=SLIP_INTEGRATION.atol, events=events)
+    s_arr, Y = sol.t, sol.y.T
+    if sol.status == -1 or not np.all(np.isfinite(Y)):
+        good = np.all(np.isfinite(Y), axis=1)
+        Y, s_arr = Y[good], s_arr[good]
+        y = Y[-1]
+        b, p, *_ = _coefficients(y[0], y[1], y[3], y[4], y[5], mu, alpha)
+        return SlipResult(Outcome.DIVERGED, float(y[6]), _state_from(y), "solver", b, p, s_arr, Y[:, 6].copy(), Y[:, :6].copy())
+
+    outcome, reason = Outcome.SLIP, "s_max"
+    if sol.status == 1:
+        fired = [i for i, te in enumerate(sol.t_events[: len(meaning)]) if len(te)]
+        # solve_ivp stops at the earliest terminal event; on a tie keep the table's order
+        i = min(fired, key=lambda k: (sol.t_events[k][0], k))
+        outcome, reason = meaning[i]
+        s_end, y_end = sol.t_events[i][0], sol.y_events[i][0]
+        if outcome is Outcome.JAM:
+            # fired at p = -P_RESOLVED; the crossing itself is the last root of p = 0 before it
+            s_end, y_end = sol.t_events[-1][-1], sol.y_events[-1][-1]
+        keep = s_arr < s_end
+        s_arr = np.append(s_arr[keep], s_end)
+        Y = np.vstack([Y[keep], y_end])
+    y = Y[-1].copy()
+    t_end = float(y[6])
+    eta_out = None
+    if outcome is Outcome.STICK:
+        # eta = 0 is reached as s -> inf but at finite real time: add the time
+        # still needed at the current real-time deceleration d eta/dt = f_eta / (eta p).
+        f7 = _rhs7(y, mu, alpha)
+        deta_dt = f7[0] / f7[6]
+        if deta_dt < 0:
+            t_end += -y[0] / deta_dt
+        eta_out = 0.0
+    if outcome is Outcome.SLIP and reason == "t_max":
+        t_end = t_max
+    b, p, *_ = _coefficients(y[0], y[1], y[3], y[4], y[5], mu, alpha)
+    return SlipResult(outcome, t_end, _state_from(y, eta=eta_out), reason, b, p, s_arr, Y[:, 6].copy(), Y[:, :6].copy())
+
+
+def slip_outcomes(states, mu, alpha, *, t_max: float = 10.0) -> tuple[np.ndarray, np.ndarray]:
+    """``slip_until_event`` over many states (a loop; each run takes a few ms).
+
+    Args:
+      states: iterable of ``SlipState``.
+      mu, alpha, t_max: as ``slip_until_event``.
+
+    Returns:
+      (outcomes, times): (N,) int8 array of ``Outcome`` values and (N,) real scaled times.
+    """
+    results = [slip_until_event(s, mu, alpha, t_max=t_max) for s in states]
+    return (np.array([r.outcome for r in results], dtype=np.int8),
+            np.array([r.time for r in results], dtype=float))

@@ -21,6 +21,7 @@ __all__ = ["main", "COMMAND_MODULES"]
 COMMAND_MODULES = [
     "crosscheck.cli.analytic",
     "crosscheck.cli.validate",
+    "crosscheck.cli.report",
 ]
 
 

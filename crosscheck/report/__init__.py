@@ -1,0 +1,29 @@
+"""The report: the paper's figures recomputed and the cross-validation results, in one command.
+
+Two stages (``crosscheck report`` runs both; ``--from-results`` only the second):
+
+1. ``run(out, sections, quick=...)`` computes every section and saves its
+   results (CSV/JSON) under ``<out>/data/<section>/``, section by section;
+2. ``render(out, sections)`` reads those files alone and writes figures
+   (PNG + SVG under ``<out>/figures/``), ``<out>/index.html`` and its Markdown
+   twin ``<out>/report.md``.
+
+``SECTIONS`` is the registry of sections, in report order
+(``crosscheck.report.sections``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from crosscheck.report.pipeline import run
+from crosscheck.report.render import RenderSummary, render
+from crosscheck.report.section import Section
+from crosscheck.report.sections import SECTIONS, section_by_slug
+
+__all__ = ["SECTIONS", "Section", "RenderSummary", "run", "render", "default_out", "section_by_slug"]
+
+
+def default_out(quick: bool) -> Path:
+    """``reports/quick`` for the quick report, ``reports/latest`` (git-ignored) for the full one."""
+    return Path("reports") / ("quick" if quick else "latest")

@@ -1,0 +1,106 @@
+"""The run stage: compute every section's results and save them, one section at a time.
+
+Each section runs in its own ``try``: a section that raises is recorded as
+failed (error and traceback in its ``status.json``) and the next one runs.
+Results a section saved before failing stay on disk.  A section whose process
+was killed keeps ``status: running``, which the report shows as unfinished.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+import traceback
+from pathlib import Path
+from typing import Sequence
+
+from crosscheck.report import provenance
+from crosscheck.report.section import RunContext, Section, section_rng
+from crosscheck.report.store import SectionStore
+
+__all__ = ["run", "read_status", "STATUS_FILE", "PROVENANCE_FILE"]
+
+STATUS_FILE = "status"
+PROVENANCE_FILE = "provenance"
+
+
+def _progress_factory(enabled: bool):
+    if not enabled:
+        return lambda iterable, **_: iterable
+    from tqdm.auto import tqdm
+
+    def progress(iterable, *, desc: str = "", total: int | None = None, leave: bool = False):
+        return tqdm(iterable, desc=desc, total=total, leave=leave, file=sys.stderr, dynamic_ncols=True)
+
+    return progress
+
+
+def read_status(out: Path, slug: str) -> dict | None:
+    """The saved status of a section, None if it never ran in ``out``."""
+    store = SectionStore(Path(out) / "data" / slug)
+    return store.read_json(STATUS_FILE) if store.exists(f"{STATUS_FILE}.json") else None
+
+
+def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int = 0, progress: bool = False, argv: list[str] | None = None) -> dict[str, dict]:
+    """Run ``sections`` and save their results under ``<out>/data``.
+
+    Args:
+      out: the report directory.
+      sections: the sections to run, in order (others already in ``out`` are kept).
+      quick: small grids and short horizons (the quick report).
+      seed: master seed; each section draws from ``section_rng(seed, slug)``.
+      progress: show tqdm progress bars on stderr.
+      argv: the command line, recorded in the provenance.
+
+    Returns:
+      ``{slug: status}`` of the sections run; a status has ``status`` in
+      {"ok", "error"}, ``error``/``traceback`` when it failed, and ``seconds``.
+    """
+    out = Path(out)
+    data = out / "data"
+    data.mkdir(parents=True, exist_ok=True)
+    params = {s.slug: s.params(quick) for s in sections}
+    root = SectionStore(data)
+    # A partial run (``--only``) keeps the parameters recorded for the sections it does not touch.
+    previous = root.read_json(PROVENANCE_FILE) if root.exists(f"{PROVENANCE_FILE}.json") else {}
+    prov = provenance.collect(quick=quick, seed=seed, parameters={**previous.get("parameters", {}), **params}, argv=argv)
+    prov["sections_run"] = [s.slug for s in sections]
+    root.write_json(PROVENANCE_FILE, prov)
+    bar = _progress_factory(progress)
+    results: dict[str, dict] = {}
+    t_all = time.perf_counter()
+    outer = bar(sections, desc="report", total=len(sections), leave=True)
+    for s in outer:
+        if hasattr(outer, "set_postfix_str"):
+            outer.set_postfix_str(s.slug)
+        store = SectionStore(data / s.slug)
+        store.reset()
+        status = {
+            "slug": s.slug,
+            "title": s.title,
+            "status": "running",
+            "quick": quick,
+            "seed": seed,
+            "params": params[s.slug],
+            "requires": list(s.requires),
+            "git": prov["git"],
+            "date": provenance.now(),
+        }
+        store.write_json(STATUS_FILE, status)
+        ctx = RunContext(slug=s.slug, params=params[s.slug], quick=quick, rng=section_rng(seed, s.slug), store=store, progress=bar)
+        t0 = time.perf_counter()
+        try:
+            s.run(ctx)
+            status["status"] = "ok"
+        except Exception as e:  # noqa: BLE001  (a failing section must not stop the others)
+            status["status"] = "error"
+            status["error"] = f"{type(e).__name__}: {e}"
+            status["traceback"] = traceback.format_exc()
+        status["seconds"] = time.perf_counter() - t0
+        status["checks_failed"] = [c["name"] for c in ctx.checks if not c["passed"] and not c["known_discrepancy"]]
+        store.write_json(STATUS_FILE, status)
+        results[s.slug] = status
+    prov["seconds"] = time.perf_counter() - t_all
+    prov["section_seconds"] = {k: v["seconds"] for k, v in results.items()}
+    root.write_json(PROVENANCE_FILE, prov)
+    return results

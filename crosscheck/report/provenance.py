@@ -1,0 +1,118 @@
+"""Where a report's numbers come from: versions, git revision, date, machine, parameters, tolerances, seed.
+
+Collected once per run stage and saved as ``<out>/data/provenance.json``; the
+render stage prints it as the report's provenance block.  Each section's
+status also keeps the git revision and date of the run that produced it, so a
+report assembled from runs of different revisions says so.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import os
+import platform
+import subprocess
+import sys
+from importlib import metadata
+from pathlib import Path
+
+__all__ = ["PACKAGES", "collect", "git_revision", "package_versions", "machine"]
+
+#: Distributions whose versions every report records (PyPI names).
+PACKAGES = ("crosscheck", "mujoco", "pin", "numpy", "scipy", "matplotlib", "tqdm")
+
+
+def package_versions(packages=PACKAGES) -> dict[str, str | None]:
+    """Installed version of each distribution, None when it is not installed."""
+    out: dict[str, str | None] = {}
+    for name in packages:
+        try:
+            out[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            out[name] = None
+    out["python"] = platform.python_version()
+    return out
+
+
+def _repo_root() -> Path:
+    # The package is installed editable from the repository; its parent is the work tree.
+    return Path(__file__).resolve().parents[2]
+
+
+def git_revision(cwd: Path | None = None) -> dict[str, object]:
+    """``{"revision": sha or None, "dirty": bool or None, "describe": str}`` of the source tree.
+
+    ``dirty`` is True when tracked files differ from the revision (untracked
+    files are ignored: generated reports live in the tree).
+    """
+    cwd = cwd or _repo_root()
+
+    def git(*args: str) -> str | None:
+        try:
+            r = subprocess.run(["git", *args], cwd=cwd, capture_output=True, text=True, timeout=10)
+        except (OSError, subprocess.SubprocessError):
+            return None
+        return r.stdout.strip() if r.returncode == 0 else None
+
+    rev = git("rev-parse", "HEAD")
+    if rev is None:
+        return {"revision": None, "dirty": None, "describe": "not a git checkout"}
+    status = git("status", "--porcelain", "--untracked-files=no")
+    dirty = None if status is None else bool(status)
+    return {"revision": rev, "dirty": dirty, "describe": rev[:12] + ("-dirty" if dirty else "")}
+
+
+def machine() -> dict[str, object]:
+    """Platform, processor and the CPU count the run could use."""
+    try:
+        usable = len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        usable = os.cpu_count()
+    return {
+        "platform": platform.platform(),
+        "machine": platform.machine(),
+        "processor": platform.processor() or _cpu_model(),
+        "cpu_count": os.cpu_count(),
+        "usable_cpus": usable,
+        "python_implementation": platform.python_implementation(),
+        "python_executable": sys.executable,
+    }
+
+
+def _cpu_model() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return ""
+
+
+def now() -> str:
+    """Current UTC time, ISO 8601 to the second."""
+    return _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
+
+
+def collect(*, quick: bool, seed: int, parameters: dict, argv: list[str] | None = None) -> dict:
+    """The full provenance record of a run stage.
+
+    Args:
+      quick: whether the run used the quick (small-grid) settings.
+      seed: the report's master seed (each section derives its own generator from it).
+      parameters: ``{section slug: {parameter: value}}``, every parameter of every section.
+      argv: the command line, for the record.
+    """
+    from crosscheck.tolerances import all_tolerances
+
+    return {
+        "date": now(),
+        "command": argv,
+        "quick": quick,
+        "seed": seed,
+        "versions": package_versions(),
+        "git": git_revision(),
+        "machine": machine(),
+        "parameters": parameters,
+        "tolerances": all_tolerances(),
+    }

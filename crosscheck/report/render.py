@@ -1,0 +1,331 @@
+"""The render stage: ``index.html`` and its Markdown twin ``report.md`` from saved results alone.
+
+Reads ``<out>/data`` (provenance and each section's status and results),
+asks each section to draw its figures and tables, and writes both documents
+with the same headings in the same order.  Nothing here computes physics.
+
+A section that failed to run is shown with its error, its traceback and the
+files it saved before failing; a section whose render fails is shown the same
+way.  ``RenderSummary.failures`` lists everything that makes the command exit
+non-zero: failed or unfinished sections and failed checks that are not known
+discrepancies of the paper.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import re
+import traceback
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Sequence
+
+from crosscheck.report.pipeline import PROVENANCE_FILE, read_status
+from crosscheck.report.section import Figure, Preformatted, RenderContext, Section, Table, Text
+from crosscheck.report.store import SectionStore
+
+__all__ = ["render", "RenderSummary", "SectionView"]
+
+
+@dataclass
+class SectionView:
+    """One section as rendered: its status, blocks, checks and any error."""
+
+    section: Section
+    status: dict | None
+    blocks: list = field(default_factory=list)
+    checks: list[dict] = field(default_factory=list)
+    error: str = ""  # run or render error, "" when fine
+    traceback: str = ""
+    files: list[str] = field(default_factory=list)
+
+    @property
+    def state(self) -> str:
+        if self.status is None:
+            return "not run"
+        if self.status["status"] == "running":
+            return "unfinished"
+        if self.error:
+            return "failed"
+        return "ok"
+
+    @property
+    def failed_checks(self) -> list[dict]:
+        return [c for c in self.checks if not c["passed"] and not c.get("known_discrepancy")]
+
+    @property
+    def known_checks(self) -> list[dict]:
+        return [c for c in self.checks if not c["passed"] and c.get("known_discrepancy")]
+
+
+@dataclass
+class RenderSummary:
+    html: Path
+    markdown: Path
+    views: list[SectionView]
+
+    @property
+    def failures(self) -> list[str]:
+        out = []
+        for v in self.views:
+            if v.state != "ok":
+                out.append(f"{v.section.slug}: {v.state}" + (f" ({v.error})" if v.error else ""))
+            out += [f"{v.section.slug}: check failed: {c['name']}" for c in v.failed_checks]
+        return out
+
+
+def _view(section: Section, out: Path) -> SectionView:
+    store = SectionStore(out / "data" / section.slug)
+    status = read_status(out, section.slug)
+    view = SectionView(section=section, status=status, files=[str(Path("data") / section.slug / f) for f in store.files()])
+    if status is None:
+        view.error = "no saved results: run `crosscheck report` without --from-results (or with --only " + section.slug + ")"
+        return view
+    if store.exists("checks.json"):
+        view.checks = store.read_json("checks")
+    if status["status"] == "running":
+        view.error = "the run of this section did not finish (the process was interrupted or killed)"
+    elif status["status"] == "error":
+        view.error = status.get("error", "error")
+        view.traceback = status.get("traceback", "")
+    ctx = RenderContext(slug=section.slug, params=status.get("params", {}), store=store, out=out)
+    try:
+        view.blocks = list(section.render(ctx))
+    except Exception as e:  # noqa: BLE001  (one section's figure must not stop the report)
+        if not view.error:  # a failed run explains a failed render: show the run's error only
+            view.error = f"render failed: {type(e).__name__}: {e}"
+            view.traceback = traceback.format_exc()
+    return view
+
+
+# ------------------------------------------------------------------- text ---
+
+_CODE = re.compile(r"`([^`]+)`")
+
+
+def _html_text(s: str) -> str:
+    return _CODE.sub(lambda m: f"<code>{m.group(1)}</code>", html.escape(s))
+
+
+def _md_cell(s: str) -> str:
+    return str(s).replace("|", "\\|").replace("\n", " ")
+
+
+def _fmt_seconds(s) -> str:
+    return "" if s is None else f"{s:.1f} s"
+
+
+def _badge(state: str) -> str:
+    return {"ok": "ok", "failed": "FAILED", "unfinished": "UNFINISHED", "not run": "NOT RUN"}[state]
+
+
+# ------------------------------------------------------------------- html ---
+
+_CSS = """
+body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222;line-height:1.45}
+h1{font-size:1.6em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:2em}
+table{border-collapse:collapse;margin:.6em 0;font-size:.88em}
+th,td{border:1px solid #ccc;padding:.25em .5em;text-align:left;vertical-align:top}
+th{background:#f3f3f3}tr.fail td{background:#fdd}tr.known td{background:#fff3c4}tr.ok td{background:#fff}
+.badge{font-weight:bold;padding:0 .4em;border-radius:3px}.b-ok{background:#d4f4d4}.b-FAILED,.b-UNFINISHED,.b-NOTRUN{background:#f7c6c6}
+figure{margin:1em 0}figure img{max-width:100%;border:1px solid #eee}figcaption{font-size:.9em;color:#444}
+.data{font-size:.85em}.data a{margin-right:.8em}
+pre{background:#f6f6f6;padding:.6em;overflow-x:auto;font-size:.8em}
+.error{border-left:4px solid #c00;padding:.3em .8em;background:#fff0f0}
+.known{border-left:4px solid #d90;padding:.3em .8em;background:#fffbe8}
+"""
+
+
+def _html_block(b) -> str:
+    if isinstance(b, Text):
+        return f"<p>{_html_text(b.text)}</p>"
+    if isinstance(b, Preformatted):
+        title = f"<p><b>{html.escape(b.title)}</b></p>" if b.title else ""
+        return f"{title}<pre>{html.escape(b.text)}</pre>"
+    if isinstance(b, Figure):
+        links = f'<a href="{b.stem}.svg">SVG</a>' + "".join(f'<a href="{d}">data: {html.escape(Path(d).name)}</a>' for d in b.data)
+        return (
+            f'<figure><a href="{b.stem}.svg"><img src="{b.stem}.png" alt="{html.escape(b.caption[:80])}"></a>'
+            f"<figcaption>{_html_text(b.caption)}</figcaption><div class=data>{links}</div></figure>"
+        )
+    if isinstance(b, Table):
+        head = "".join(f"<th>{html.escape(h)}</th>" for h in b.header)
+        rows = []
+        for i, r in enumerate(b.rows):
+            cls = b.row_class[i] if i < len(b.row_class) else ""
+            rows.append(f'<tr class="{cls}">' + "".join(f"<td>{_html_text(str(c))}</td>" for c in r) + "</tr>")
+        links = "".join(f'<a href="{d}">data: {html.escape(Path(d).name)}</a>' for d in b.data)
+        return f"<p>{_html_text(b.caption)}</p><table><tr>{head}</tr>{''.join(rows)}</table><div class=data>{links}</div>"
+    raise TypeError(f"unknown block {type(b).__name__}")
+
+
+def _html_error(v: SectionView) -> str:
+    if not v.error:
+        return ""
+    parts = [f'<div class="error"><p><b>{_badge(v.state)}</b>: {html.escape(v.error)}</p>']
+    if v.section.requires:
+        parts.append(f"<p>This section needs: {', '.join(f'<code>{r}</code>' for r in v.section.requires)}</p>")
+    if v.traceback:
+        parts.append(f"<details><summary>traceback</summary><pre>{html.escape(v.traceback)}</pre></details>")
+    if v.files:
+        parts.append("<p>Saved before the failure: " + ", ".join(f'<a href="{f}">{html.escape(Path(f).name)}</a>' for f in v.files) + "</p>")
+    parts.append("</div>")
+    return "".join(parts)
+
+
+def _checks_table(checks: list[dict]):
+    rows, cls = [], []
+    for c in checks:
+        if c["passed"]:
+            verdict, k = "passed", "ok"
+        elif c.get("known_discrepancy"):
+            verdict, k = "KNOWN DISCREPANCY: " + c["known_discrepancy"], "known"
+        else:
+            verdict, k = "FAILED", "fail"
+        rows.append([c["name"], _short(c.get("value")), _short(c.get("allowance")), verdict, c.get("detail", "")])
+        cls.append(k)
+    return Table(caption="Checks recorded by this section.", header=["check", "value", "allowance", "result", "detail"], rows=rows, data=[], row_class=cls)
+
+
+def _short(v) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, float):
+        return f"{v:.4g}"
+    return str(v)
+
+
+def _provenance_rows(prov: dict) -> list[list[str]]:
+    git = prov.get("git", {})
+    m = prov.get("machine", {})
+    rows = [["date (UTC)", prov.get("date", "")],
+            ["git revision", f"{git.get('revision')} ({'dirty' if git.get('dirty') else 'clean'})"],
+            ["command", " ".join(prov.get("command") or [])],
+            ["mode", "quick" if prov.get("quick") else "full"],
+            ["seed", str(prov.get("seed"))]]
+    rows += [[f"version: {k}", str(v)] for k, v in prov.get("versions", {}).items()]
+    rows += [["machine: platform", str(m.get("platform"))], ["machine: processor", str(m.get("processor"))],
+             ["machine: CPUs (usable)", f"{m.get('cpu_count')} ({m.get('usable_cpus')})"],
+             ["run time of the run stage", _fmt_seconds(prov.get("seconds"))]]
+    return rows
+
+
+def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str]) -> Path:
+    h = ['<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crosscheck report</title>',
+         f"<style>{_CSS}</style></head><body>",
+         "<h1>crosscheck report: the 3D Painlevé rod, analytic theory vs Pinocchio vs MuJoCo</h1>",
+         "<p>Reference: Cheesman, Hogan &amp; Kristiansen, <i>The geometry of the Painlevé paradox</i>. "
+         "Every figure is recomputed from the project's model; beside each figure and table is the data behind it. "
+         'Markdown twin: <a href="report.md">report.md</a>.</p>',
+         "<h2 id=summary>Summary</h2>"]
+    h.append(_html_block(Table(caption="Sections, in report order.", header=["section", "paper", "status", "run time", "checks"], rows=[r[0] for r in summary_rows], data=[], row_class=[r[1] for r in summary_rows])))
+    if failures:
+        h.append('<div class="error"><p><b>Failures</b> (the command exits non-zero):</p><ul>' + "".join(f"<li>{html.escape(f)}</li>" for f in failures) + "</ul></div>")
+    else:
+        h.append("<p>No failures.</p>")
+    known = [(v.section.slug, c) for v in views for c in v.known_checks]
+    if known:
+        h.append('<div class="known"><p><b>Known discrepancies of the paper</b> (shown, not hidden):</p><ul>' + "".join(f"<li>{html.escape(s)}: {html.escape(c['name'])}: {html.escape(c['known_discrepancy'])}</li>" for s, c in known) + "</ul></div>")
+    h.append("<h2 id=provenance>Provenance</h2>")
+    h.append(_html_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=_provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"])))
+    for v in views:
+        s = v.section
+        h.append(f'<h2 id="{s.slug}">{html.escape(s.title)} <span class="badge b-{_badge(v.state).replace(" ", "")}">{_badge(v.state)}</span></h2>')
+        if s.paper:
+            h.append(f"<p><i>Paper: {html.escape(s.paper)}</i></p>")
+        h.append(_html_error(v))
+        h += [_html_block(b) for b in v.blocks]
+        if v.checks:
+            h.append(_html_block(_checks_table(v.checks)))
+        if v.status and v.status.get("params"):
+            h.append(f"<details><summary>parameters</summary><pre>{html.escape(json.dumps(v.status['params'], indent=1))}</pre></details>")
+    h.append("<h2 id=parameters>Parameters and tolerances</h2>")
+    h.append(f"<p>Every parameter of every section (also in each section's <code>data/&lt;section&gt;/status.json</code>) and every tolerance of <code>crosscheck.tolerances</code>.</p>")
+    h.append(f"<pre>{html.escape(json.dumps(prov.get('parameters', {}), indent=1))}</pre>")
+    h.append(_html_block(Table(caption="Tolerances (`crosscheck.tolerances.all_tolerances()`).", header=["name", "atol", "rtol", "why"],
+                               rows=[[k, str(t["atol"]), str(t["rtol"]), t["why"]] for k, t in prov.get("tolerances", {}).items()], data=[f"data/{PROVENANCE_FILE}.json"])))
+    h.append("</body></html>\n")
+    path = out / "index.html"
+    path.write_text("\n".join(h))
+    return path
+
+
+# --------------------------------------------------------------- markdown ---
+
+
+def _md_block(b) -> str:
+    if isinstance(b, Text):
+        return b.text + "\n"
+    if isinstance(b, Preformatted):
+        return (f"**{b.title}**\n\n" if b.title else "") + "```text\n" + b.text.rstrip() + "\n```\n"
+    if isinstance(b, Figure):
+        links = " · ".join([f"[SVG]({b.stem}.svg)"] + [f"[data: {Path(d).name}]({d})" for d in b.data])
+        return f"![{_md_cell(b.caption[:80])}]({b.stem}.png)\n\n*{b.caption}*\n\n{links}\n"
+    if isinstance(b, Table):
+        lines = [b.caption, "", "| " + " | ".join(_md_cell(x) for x in b.header) + " |", "|" + "---|" * len(b.header)]
+        lines += ["| " + " | ".join(_md_cell(x) for x in r) + " |" for r in b.rows]
+        if b.data:
+            lines += ["", " · ".join(f"[data: {Path(d).name}]({d})" for d in b.data)]
+        return "\n".join(lines) + "\n"
+    raise TypeError(f"unknown block {type(b).__name__}")
+
+
+def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str]) -> Path:
+    m = ["# crosscheck report: the 3D Painlevé rod, analytic theory vs Pinocchio vs MuJoCo", "",
+         "Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painlevé paradox*. Every figure is recomputed "
+         "from the project's model; beside each figure and table is the data behind it. HTML version: [index.html](index.html).", "",
+         "## Summary", ""]
+    m.append(_md_block(Table(caption="Sections, in report order.", header=["section", "paper", "status", "run time", "checks"], rows=[r[0] for r in summary_rows], data=[])))
+    m.append("**Failures** (the command exits non-zero):\n\n" + "\n".join(f"- {f}" for f in failures) + "\n" if failures else "No failures.\n")
+    known = [(v.section.slug, c) for v in views for c in v.known_checks]
+    if known:
+        m.append("**Known discrepancies of the paper** (shown, not hidden):\n\n" + "\n".join(f"- {s}: {c['name']}: {c['known_discrepancy']}" for s, c in known) + "\n")
+    m += ["## Provenance", "", _md_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=_provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"]))]
+    for v in views:
+        s = v.section
+        m += [f"## {s.title} [{_badge(v.state)}]", ""]
+        if s.paper:
+            m += [f"*Paper: {s.paper}*", ""]
+        if v.error:
+            m += [f"> **{_badge(v.state)}**: {v.error}", ""]
+            if s.requires:
+                m += ["> This section needs: " + ", ".join(f"`{r}`" for r in s.requires), ""]
+            if v.traceback:
+                m += ["```text", v.traceback.rstrip(), "```", ""]
+            if v.files:
+                m += ["Saved before the failure: " + ", ".join(f"[{Path(f).name}]({f})" for f in v.files), ""]
+        m += [_md_block(b) for b in v.blocks]
+        if v.checks:
+            m.append(_md_block(_checks_table(v.checks)))
+    m += ["## Parameters and tolerances", "", "Every parameter of every section and every tolerance of `crosscheck.tolerances`.", "",
+          "```json", json.dumps(prov.get("parameters", {}), indent=1), "```", "",
+          _md_block(Table(caption="Tolerances.", header=["name", "atol", "rtol", "why"], rows=[[k, str(t["atol"]), str(t["rtol"]), t["why"]] for k, t in prov.get("tolerances", {}).items()], data=[]))]
+    path = out / "report.md"
+    path.write_text("\n".join(m))
+    return path
+
+
+def render(out: Path | str, sections: Sequence[Section], *, progress: bool = False) -> RenderSummary:
+    """Render ``index.html`` and ``report.md`` in ``out`` from ``out/data`` alone."""
+    out = Path(out)
+    root = SectionStore(out / "data")
+    prov = root.read_json(PROVENANCE_FILE) if root.exists(f"{PROVENANCE_FILE}.json") else {"date": "", "git": {}, "parameters": {}, "tolerances": {}}
+    it = sections
+    if progress:
+        from tqdm.auto import tqdm
+
+        it = tqdm(sections, desc="render", leave=True)
+    views = [_view(s, out) for s in it]
+    summary_rows = []
+    for v in views:
+        n, nf, nk = len(v.checks), len(v.failed_checks), len(v.known_checks)
+        checks = f"{n - nf - nk}/{n} passed" + (f", {nf} FAILED" if nf else "") + (f", {nk} known discrepancies" if nk else "") if n else ""
+        state = _badge(v.state)
+        row = [v.section.title, v.section.paper, state, _fmt_seconds((v.status or {}).get("seconds")), checks]
+        summary_rows.append((row, "ok" if v.state == "ok" and not nf else "fail"))
+    summary = RenderSummary(html=out / "index.html", markdown=out / "report.md", views=views)
+    failures = summary.failures
+    _write_html(out, views, prov, summary_rows, failures)
+    _write_md(out, views, prov, summary_rows, failures)
+    return summary

@@ -1,0 +1,204 @@
+"""The report: the quick report runs and writes every figure, table and data file; it rebuilds from
+saved results alone; it records its provenance; a failing section is shown, keeps its partial
+results and makes the command exit non-zero."""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import re
+import shutil
+import subprocess
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from crosscheck import report
+from crosscheck.cli import main
+from crosscheck.paper import PRINTED
+from crosscheck.report.section import Figure, Section, Table
+from crosscheck.tolerances import all_tolerances
+
+#: Every figure the report must contain (stem under figures/<section>/), by paper figure.
+EXPECTED_FIGURES = {
+    "p_region": ["fig2b_p_region"],
+    "mode_maps": ["fig3a_modes_planar", "slices_theta_Theta", "slices_theta_varphi"],
+    "kinematic_cases": ["fig5a_cases"],
+    "mechanisms": ["fig5b_mechanisms"],
+    "critical_angles": ["fig6_critical_angles"],
+    "printed_numbers": [],
+}
+
+
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory):
+    """One quick report for the whole module: (directory, exit status)."""
+    out = tmp_path_factory.mktemp("report") / "quick"
+    status = main(["report", "--quick", "--out", str(out), "--no-progress"])
+    return out, status
+
+
+@pytest.fixture(scope="module")
+def views(quick):
+    """The quick report's sections as rendered (rendering again rewrites the same files)."""
+    out, _ = quick
+    return {v.section.slug: v for v in report.render(out, report.SECTIONS).views}
+
+
+def _digest(root: Path) -> dict[str, str]:
+    return {str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+def test_every_section_is_listed_in_the_expected_figures():
+    # a new section must say which figures it draws, so that this test guards them
+    assert {s.slug for s in report.SECTIONS} == set(EXPECTED_FIGURES)
+
+
+def test_quick_report_succeeds_and_every_section_ran(quick):
+    out, status = quick
+    assert status == 0, (out / "report.md").read_text()[:3000]
+    for s in report.SECTIONS:
+        st = json.loads((out / "data" / s.slug / "status.json").read_text())
+        assert st["status"] == "ok", (s.slug, st.get("error"))
+        assert st["checks_failed"] == []
+
+
+@pytest.mark.parametrize("section", report.SECTIONS, ids=lambda s: s.slug)
+def test_every_figure_and_table_has_its_files(quick, views, section):
+    out, _ = quick
+    view = views[section.slug]
+    figures = [b for b in view.blocks if isinstance(b, Figure)]
+    stems = [Path(f.stem).name for f in figures]
+    assert stems == EXPECTED_FIGURES[section.slug] or set(EXPECTED_FIGURES[section.slug]) <= set(stems)
+    for f in figures:
+        for ext in (".png", ".svg"):
+            assert (out / (f.stem + ext)).stat().st_size > 1000, f.stem + ext
+        assert f.data, f"figure {f.stem} has no data file beside it"
+    tables = [b for b in view.blocks if isinstance(b, Table)]
+    for t in tables:
+        assert t.data, f"table {t.caption!r} has no data file beside it"
+    for path in [d for b in figures + tables for d in b.data]:
+        p = out / path
+        assert p.stat().st_size > 0, path
+        if p.suffix == ".json":
+            json.loads(p.read_text())
+        assert p.suffix in (".csv", ".json")
+    # the HTML and the Markdown twin link every figure and data file
+    html, md = (out / "index.html").read_text(), (out / "report.md").read_text()
+    for f in figures:
+        assert f'src="{f.stem}.png"' in html and f"]({f.stem}.png)" in md
+        for d in f.data:
+            assert f'href="{d}"' in html and f"]({d})" in md
+
+
+def test_report_rebuilds_from_saved_results_without_running(quick, views, tmp_path, monkeypatch):
+    out, _ = quick
+    copy = tmp_path / "copy"
+    shutil.copytree(out, copy)
+    data_before = _digest(copy / "data")
+    md_before = (copy / "report.md").read_text()
+    png_before = _digest(copy / "figures")
+    for p in [copy / "index.html", copy / "report.md"]:
+        p.unlink()
+    shutil.rmtree(copy / "figures")
+
+    def must_not_run(ctx):
+        raise AssertionError(f"section {ctx.slug} ran during --from-results")
+
+    monkeypatch.setattr(report, "SECTIONS", tuple(dataclasses.replace(s, run=must_not_run) for s in report.SECTIONS))
+    monkeypatch.setattr(report, "run", lambda *a, **k: pytest.fail("the run stage was called"))
+    assert main(["report", "--from-results", "--out", str(copy), "--no-progress"]) == 0
+    assert _digest(copy / "data") == data_before  # saved results untouched
+    assert (copy / "report.md").read_text() == md_before  # same report, byte for byte
+    assert {k for k in _digest(copy / "figures") if k.endswith(".png")} == {k for k in png_before if k.endswith(".png")}
+
+
+def test_provenance_records_versions_revision_machine_parameters_tolerances_seed(quick):
+    out, _ = quick
+    prov = json.loads((out / "data" / "provenance.json").read_text())
+    for dist in ("crosscheck", "mujoco", "pin", "numpy", "scipy"):
+        assert prov["versions"][dist] == metadata.version(dist)
+    assert re.fullmatch(r"\d+\.\d+\.\d+.*", prov["versions"]["python"])
+    head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=Path(report.__file__).parents[2], capture_output=True, text=True).stdout.strip()
+    assert prov["git"]["revision"] == head and re.fullmatch(r"[0-9a-f]{40}", head)
+    assert isinstance(prov["git"]["dirty"], bool)
+    assert prov["machine"]["cpu_count"] >= 1 and prov["machine"]["platform"]
+    assert prov["seed"] == 0 and prov["quick"] is True
+    assert prov["tolerances"] == json.loads(json.dumps(all_tolerances()))
+    assert prov["parameters"] == json.loads(json.dumps({s.slug: s.params(True) for s in report.SECTIONS}))
+    md = (out / "report.md").read_text()
+    assert head in md and f"| version: mujoco | {metadata.version('mujoco')} |" in md and f"| version: pin | {metadata.version('pin')} |" in md
+
+
+def test_printed_numbers_table_flags_every_known_misprint_and_nothing_else(quick):
+    out, _ = quick
+    md = (out / "report.md").read_text()
+    section = md[md.index("## Every number the paper prints"):]
+    table = section[: section.index("[data: printed_values.csv]")]
+    rows = [r for r in table.splitlines() if r.startswith("| ") and not r.startswith("| quantity")]
+    assert len(rows) == len(PRINTED)
+    for pv, row in zip(PRINTED, rows):
+        assert row.startswith(f"| {pv.name} |") and f"| {pv.printed} |" in row
+        assert ("KNOWN MISPRINT" in row) == bool(pv.known_discrepancy), row
+        assert ("| agrees |" in row) == pv.agrees()
+
+
+def _toy_sections(tmp_marker: list):
+    def run_ok(ctx):
+        ctx.store.write_table("values", {"x": np.arange(3.0)})
+        ctx.check("toy check", True, value=0.0, allowance=1.0)
+
+    def render_ok(ctx):
+        return [Table(caption="values", header=["x"], rows=[[f"{v:g}"] for v in ctx.store.read_table("values")["x"]], data=ctx.data("values.csv"))]
+
+    def run_bad(ctx):
+        ctx.store.write_table("partial", {"y": [1.0, 2.0]})  # finished work before the failure
+        tmp_marker.append("bad ran")
+        raise RuntimeError("boom: the engine diverged")
+
+    def render_bad(ctx):
+        return [Table(caption="partial", header=["y"], rows=[[str(v)] for v in ctx.store.read_table("missing")["y"]], data=[])]
+
+    def params(quick):
+        return {"n": 3}
+
+    return (Section("toy_ok", "Toy ok", "", params, run_ok, render_ok), Section("toy_bad", "Toy bad", "", params, run_bad, render_bad, requires=("crosscheck.nowhere",)))
+
+
+def test_failing_section_is_shown_keeps_partial_results_and_exits_nonzero(tmp_path, monkeypatch):
+    marker: list = []
+    good, bad = _toy_sections(marker)
+    monkeypatch.setattr(report, "SECTIONS", (bad, good))  # the failing one first: the next must still run
+    out = tmp_path / "r"
+    assert main(["report", "--out", str(out), "--no-progress"]) == 1
+    assert marker == ["bad ran"]
+    st_bad = json.loads((out / "data" / "toy_bad" / "status.json").read_text())
+    st_good = json.loads((out / "data" / "toy_ok" / "status.json").read_text())
+    assert st_bad["status"] == "error" and st_bad["error"] == "RuntimeError: boom: the engine diverged"
+    assert "raise RuntimeError" in st_bad["traceback"]
+    assert st_good["status"] == "ok"
+    assert (out / "data" / "toy_bad" / "partial.csv").read_text() == "y\n1.0\n2.0\n"
+    html, md = (out / "index.html").read_text(), (out / "report.md").read_text()
+    for doc in (html, md):
+        assert "boom: the engine diverged" in doc and "FAILED" in doc and "crosscheck.nowhere" in doc and "partial.csv" in doc
+    assert "toy_ok: " not in md.split("## Provenance")[0]  # the good section is not among the failures
+
+
+def test_failed_check_makes_the_report_fail(tmp_path, monkeypatch):
+    def run(ctx):
+        ctx.check("a check that fails", False, value=2.0, allowance=1.0)
+
+    s = Section("toy_check", "Toy check", "", lambda q: {}, run, lambda ctx: [])
+    monkeypatch.setattr(report, "SECTIONS", (s,))
+    assert main(["report", "--out", str(tmp_path / "r"), "--no-progress"]) == 1
+    md = (tmp_path / "r" / "report.md").read_text()
+    assert "toy_check: check failed: a check that fails" in md
+
+
+def test_unknown_section_is_a_one_line_error(tmp_path, capsys):
+    assert main(["report", "--out", str(tmp_path), "--only", "nope"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("crosscheck: error: unknown report section 'nope'; sections are: p_region, ")

@@ -1,0 +1,190 @@
+"""The MuJoCo model and ``simulate``: geometry, free dynamics, placement, outcomes, bad input."""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+import pytest
+
+from crosscheck import Outcome, Rod, SlipState
+from crosscheck import analytic as an
+from crosscheck.coordinates import GENERALIZED, tip_position, to_generalized
+from crosscheck.critical import Psi_L, theta_L
+from crosscheck.mujoco_rod import (
+    ModelFileError,
+    Options,
+    SensorLayout,
+    build_model,
+    initial_state,
+    model_path,
+    record_from_sensordata,
+    simulate,
+)
+from crosscheck.tolerances import MUJOCO_FREE_ACCELERATION
+
+ROD = Rod(mass=1.0, length=1.0, inertia=1.0 / 3.0, gravity=9.81)
+RODS = {"uniform_1m": ROD, "scaled_alpha5": Rod.scaled(5.0), "heavy_short": Rod(mass=2.5, length=0.3, inertia=0.05, gravity=9.81)}
+
+
+def random_states(rng: np.random.Generator, n: int) -> list[SlipState]:
+    return [
+        SlipState(theta=rng.uniform(0.05, 1.5), varphi=-rng.uniform(0.0, 3.1), Theta=rng.normal(), Psi=2 * rng.normal(), eta=rng.uniform(0, 2), psi=rng.uniform(-math.pi, math.pi))
+        for _ in range(n)
+    ]
+
+
+def test_packaged_file_loads_and_steps_as_it_is():
+    model = mujoco.MjModel.from_xml_path(model_path())
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key("slipping").id)
+    for _ in range(100):
+        mujoco.mj_step(model, data)
+    assert np.all(np.isfinite(data.qpos))
+    assert data.time == pytest.approx(100 * model.opt.timestep)
+    assert [model.joint(i).name for i in range(model.njnt)] == list(GENERALIZED)
+    assert model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
+    assert model.pair_dim[0] == 3
+
+
+@pytest.mark.parametrize("name", RODS, ids=str)
+def test_joint_order_gives_the_coordinates_of_crosscheck(name, rng=np.random.default_rng(7)):
+    """Five joints in the order X, Y, Z, psi, theta: MuJoCo's tip site = eq. tipfromcentre of q."""
+    rod = RODS[name]
+    model = build_model(rod, 0.7)
+    data = mujoco.MjData(model)
+    for _ in range(20):
+        q = np.concatenate([rng.normal(size=3), rng.uniform(-math.pi, math.pi, 1), rng.uniform(0.01, 1.56, 1)])
+        data.qpos[:] = q
+        mujoco.mj_kinematics(model, data)
+        np.testing.assert_allclose(data.site("tip").xpos, tip_position(rod, q), rtol=0, atol=1e-14 * (1 + np.abs(q[:3]).max()))
+
+
+@pytest.mark.parametrize("name", RODS, ids=str)
+def test_free_tip_acceleration_is_linode2_and_b(name):
+    """Contacts disabled: MuJoCo's tip acceleration = eq. linode2 with F = 0, vertical = b (eq. b)."""
+    rod = RODS[name]
+    model = build_model(rod, 1.0)
+    model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
+    data = mujoco.MjData(model)
+    layout = SensorLayout.from_model(model)
+    states = random_states(np.random.default_rng(11), 100)
+    got = []
+    for s in states:
+        mujoco.mj_setState(model, data, initial_state(model, rod, s, 0.01), mujoco.mjtState.mjSTATE_FULLPHYSICS)
+        mujoco.mj_forward(model, data)
+        got.append(record_from_sensordata(data.sensordata, layout, rod, 0.01).tip_acc)
+    got = np.array(got)
+    S = {k: np.array([getattr(s, k) for s in states]) for k in ("psi", "theta", "Psi", "Theta")}
+    want = an.tip_acceleration(rod, S["psi"], S["theta"], S["Psi"] * rod.omega, S["Theta"] * rod.omega, np.zeros(3)) / rod.gravity
+    assert MUJOCO_FREE_ACCELERATION.ok(got, want), np.max(MUJOCO_FREE_ACCELERATION.ratio(got, want))
+    assert MUJOCO_FREE_ACCELERATION.ok(got[:, 2], an.b(S["Psi"], S["Theta"], S["theta"]))
+
+
+def test_start_touches_without_contact():
+    """z_A = r: the capsule's lowest point is on the plane, MuJoCo has no contact yet, velocities are the state's."""
+    s = SlipState(theta=0.7, varphi=-1.0, Theta=0.3, Psi=0.8, eta=1.2, psi=0.4)
+    radius = 0.02
+    model = build_model(ROD, 0.5, Options(radius=radius))
+    data = mujoco.MjData(model)
+    mujoco.mj_setState(model, data, initial_state(model, ROD, s, radius), mujoco.mjtState.mjSTATE_FULLPHYSICS)
+    mujoco.mj_forward(model, data)
+    assert data.ncon == 0
+    capsule_bottom = data.site("tip").xpos[2] - radius * ROD.length
+    assert abs(capsule_bottom) < 1e-15
+    q, v = to_generalized(ROD, s, tip=(0, 0, radius))
+    np.testing.assert_array_equal(data.qvel, v)
+
+
+def test_slip_velocity_formula_matches_mujoco_contact_velocity():
+    """Record.slip_vel (v_A + r theta' (-sin psi, cos psi, 0)) = MuJoCo's contact linvel while in contact.
+
+    An identity of rigid-body kinematics: both are the velocity of a material point of the rod.
+    """
+    s = SlipState(theta=0.9, varphi=-2.0, Theta=0.8, Psi=-0.7, eta=1.0, psi=1.1)  # b = -0.35: slips
+    run = simulate(ROD, s, 0.3, horizon=0.3, radius=0.05)
+    rec = run.record
+    model = build_model(ROD, 0.3, Options(radius=0.05))
+    layout = SensorLayout.from_model(model)
+    # Re-run to read MuJoCo's own linvel (contact frame) next to the record.
+    from mujoco import rollout
+
+    _, sd = rollout.rollout(model, mujoco.MjData(model), initial_state(model, ROD, s, 0.05)[None], nstep=run.nstep)
+    sd = sd[0]
+    on = sd[:, layout.found] > 0
+    assert on.sum() >= 10  # the contact chatters: active in a few % of the rows
+    n_, t1 = sd[on][:, layout.normal], sd[on][:, layout.tangent]
+    lv = sd[on][:, layout.linvel]
+    world = lv[:, :1] * n_ + lv[:, 1:2] * t1 + lv[:, 2:3] * np.cross(n_, t1)
+    # MuJoCo's contact point is midway into the penetration, dist / 2 above the capsule's lowest point
+    r_eff = 0.05 + sd[on][:, layout.dist] / 2 / ROD.length
+    extra = (r_eff - 0.05) * rec.Theta[on]
+    psi = rec.psi[on]
+    want = rec.slip_vel[on][:, :2] + extra[:, None] * np.stack([-np.sin(psi), np.cos(psi)], axis=1)
+    np.testing.assert_allclose(world[:, :2] / (ROD.length * ROD.omega), want, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("dPsi, outcome", [(-1e-4, Outcome.SLIP), (1e-4, Outcome.LIFTOFF)], ids=["below", "above"])
+def test_liftoff_threshold_at_theta_L(dPsi, outcome):
+    """At theta_L, Theta = 0, varphi = -pi/2: lift-off at t = 0 iff Psi > Psi_L (eq. psil)."""
+    s = SlipState(theta=theta_L, varphi=-math.pi / 2, Theta=0.0, Psi=Psi_L + dPsi, eta=1.0)
+    run = simulate(ROD, s, 0.5, horizon=0.1)
+    assert run.outcome == outcome
+    if outcome == Outcome.LIFTOFF:
+        assert run.event_time == 0.0
+
+
+# ------------------------------------------------------------- bad input ---
+
+
+def test_unknown_option_is_named():
+    with pytest.raises(ValueError, match="unknown MuJoCo option 'time_step'"):
+        simulate(ROD, SlipState(0.5, -1.0, 0.0, 0.0, 1.0), 0.5, horizon=0.1, time_step=1e-4)
+
+
+def test_state_must_be_a_slipstate_in_range():
+    with pytest.raises(ValueError, match=r"theta must be in \(0, pi/2\); got 2.0"):
+        simulate(ROD, SlipState(2.0, -1.0, 0.0, 0.0, 1.0), 0.5, horizon=0.1)
+    with pytest.raises(ValueError, match="state must be a SlipState; got tuple"):
+        simulate(ROD, (0.5, -1.0, 0.0, 0.0, 1.0), 0.5, horizon=0.1)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"horizon": 0.0}, r"horizon must be in \(0, inf\); got 0.0"),
+        ({"horizon": 0.1, "timestep": -1.0}, r"timestep must be in \(0, inf\); got -1.0"),
+        ({"horizon": 0.1, "timeconst": 1e-4}, r"timeconst must be >= 2 timestep = 0.0006 \(MuJoCo's refsafe\); got 0.0001"),
+        ({"horizon": 0.1, "solimp": (0.9, 0.95)}, "solimp must have 5 numbers"),
+    ],
+    ids=["horizon", "timestep", "timeconst", "solimp"],
+)
+def test_bad_options(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        simulate(ROD, SlipState(0.5, -1.0, 0.0, 0.0, 1.0), 0.5, **kwargs)
+
+
+def test_bad_mu():
+    with pytest.raises(ValueError, match=r"mu must be in \[0, inf\); got -1.0"):
+        simulate(ROD, SlipState(0.5, -1.0, 0.0, 0.0, 1.0), -1.0, horizon=0.1)
+
+
+def test_missing_model_file_is_named(tmp_path):
+    path = tmp_path / "nope.xml"
+    with pytest.raises(ModelFileError, match=f"MuJoCo model file not found: {path}"):
+        simulate(ROD, SlipState(0.5, -1.0, 0.0, 0.0, 1.0), 0.5, horizon=0.1, model_file=path)
+
+
+def test_malformed_model_file_is_named(tmp_path):
+    path = tmp_path / "bad.xml"
+    path.write_text("<mujoco><worldbody><body></mujoco>")
+    with pytest.raises(ModelFileError, match=f"malformed MuJoCo model file {path}"):
+        simulate(ROD, SlipState(0.5, -1.0, 0.0, 0.0, 1.0), 0.5, horizon=0.1, model_file=path)
+
+
+def test_model_file_without_the_rod_is_named(tmp_path):
+    path = tmp_path / "empty.xml"
+    path.write_text("<mujoco><worldbody/></mujoco>")
+    with pytest.raises(ModelFileError, match=f"{path} lacks body 'rod'"):
+        simulate(ROD, SlipState(0.5, -1.0, 0.0, 0.0, 1.0), 0.5, horizon=0.1, model_file=path)

@@ -1,11 +1,667 @@
-"""The GB manifold b = p = 0, the matrix K and the desingularised slipping flow (sections 4-5 of the paper).
+"""The GB manifold b = p = 0, the matrix K and the desingularised slipping flow (sections 3.5-5 of the paper).
 
-``slip_until_event`` (the slipping rod run to its first event) lives in
-``crosscheck.slipping`` and is re-exported here.
+Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painleve
+paradox*, section 4 (eqs. f, matA, matB, K, detK, detK0, B, Psiquartic,
+Psiquarticeps, ghastly) and section 3.5 (the GB manifold).  Scaled units
+throughout; x = (eta, varphi, psi, Psi, theta, Theta) (eq. x, ``X_STATE``).
+
+* ``f``, ``jacobian``: the desingularised vector field of eq. f (time s with
+  eta p ds = dt) and its analytic Jacobian, vectorised over (..., 6) states.
+* ``matrix_A``, ``matrix_B``, ``K``: J = A B on the GB manifold (eqs. matA,
+  matB) and K = B A in closed form (eq. K).
+* ``classify``, ``eigen``, ``quadrant``: node / saddle / focus from K's
+  eigenvalues; eigenvectors e+- in the (p, b) plane (Theorem 4.1).
+* ``gb_manifold``: the closed curves b = p = 0 at fixed Psi, as arrays.
+* ``det_K``, ``detK0_coefficients``, ``b0_coefficients``, ``psi_quartic``,
+  ``psi_quartic_eps``, ``ghastly``: section 4.2-4.4 formulas.
+* ``slip_until_event`` (from ``crosscheck.slipping``): a slipping state run to
+  its first event (LIFTOFF, JAM, STICK, GB, SLIP).
+
+Two misprints of the paper are implemented corrected (tests show both forms):
+eq. detK prints the prefactor eta alpha cos^2 theta cos^2 varphi; expanding
+K11 K22 - K12 K21 of eq. K gives eta alpha mu cos^2 theta cos^2 varphi (the
+coefficient E of eq. detK0coeffs, which has the mu, agrees with the latter).
+Eq. pdotarg's left side is finite only as p dp/dt (the derivative in the time
+tau with dt = p dtau): dp/dt itself is unbounded at p = 0 since F_z = -b/p.
 """
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+from enum import IntEnum
+
+import numpy as np
+
+from crosscheck.checks import ALPHA, ETA, FINITE, MU, THETA, check
+from crosscheck.critical import Psi_L, theta_12, varphi_pm
 from crosscheck.slipping import X_STATE, SlipResult, slip_outcomes, slip_rhs, slip_until_event
 
-__all__ = ["X_STATE", "SlipResult", "slip_outcomes", "slip_rhs", "slip_until_event"]
+__all__ = [
+    "X_STATE",
+    "SlipResult",
+    "slip_outcomes",
+    "slip_rhs",
+    "slip_until_event",
+    "f",
+    "jacobian",
+    "matrix_A",
+    "matrix_B",
+    "K",
+    "K_from_AB",
+    "GBType",
+    "classify",
+    "eigen",
+    "Quadrant",
+    "quadrant",
+    "det_K",
+    "det_K_as_printed",
+    "detK0_coefficients",
+    "detK0_residual",
+    "b0_coefficients",
+    "psi_quartic",
+    "psi_quartic_roots",
+    "psi_quartic_eps",
+    "ghastly",
+    "p_dot_on_p0",
+    "GBCurve",
+    "gb_manifold",
+    "gb_theta_gap",
+    "det_K_zeros",
+]
+
+
+# --------------------------------------------------------------------------
+# Coefficients and their partial derivatives (Appendix A, eqs. b, p)
+# --------------------------------------------------------------------------
+
+
+def _terms(varphi, Psi, theta, Theta, mu, alpha):
+    """b, p, Q1, Q2, A1, A2, d1, d2, c1, c2 and their partials in (varphi, Psi, theta, Theta).
+
+    Returns a dict name -> (value, d/dvarphi, d/dPsi, d/dtheta, d/dTheta).
+    """
+    st, ct = np.sin(theta), np.cos(theta)
+    sp, cp = np.sin(varphi), np.cos(varphi)
+    zero = np.zeros(np.broadcast(varphi, Psi, theta, Theta, mu, alpha).shape)
+    W = Psi**2 * ct**2 + Theta**2
+    W_Psi, W_Theta, W_theta = 2 * Psi * ct**2, 2 * Theta, -2 * Psi**2 * ct * st
+    g = mu * ct * sp - st  # p = 1 + alpha + alpha st g
+    g_theta, g_varphi = -mu * st * sp - ct, mu * ct * cp
+    out = {
+        "b": (W * st - 1, zero, W_Psi * st, W_theta * st + W * ct, W_Theta * st),
+        "p": (1 + alpha + alpha * st * g, alpha * st * g_varphi, zero, alpha * (ct * g + st * g_theta), zero),
+        "Q1": (alpha * ct * sp * g - (1 + alpha) * mu, alpha * ct * (cp * g + sp * g_varphi), zero,
+               alpha * sp * (-st * g + ct * g_theta), zero),
+        "Q2": (alpha * ct * cp * g, alpha * ct * (-sp * g + cp * g_varphi), zero,
+               alpha * cp * (-st * g + ct * g_theta), zero),
+        "A1": (W * ct * sp, W * ct * cp, W_Psi * ct * sp, (W_theta * ct - W * st) * sp, W_Theta * ct * sp),
+        "A2": (W * ct * cp, -W * ct * sp, W_Psi * ct * cp, (W_theta * ct - W * st) * cp, W_Theta * ct * cp),
+        "d1": (-alpha * mu * cp / ct, alpha * mu * sp / ct, zero, -alpha * mu * cp * st / ct**2, zero),
+        "d2": (-alpha * mu * st * sp - alpha * ct, -alpha * mu * st * cp, zero, -alpha * mu * ct * sp + alpha * st, zero),
+        "c1": (2 * Psi * Theta * st / ct, zero, 2 * Theta * st / ct, 2 * Psi * Theta / ct**2, 2 * Psi * st / ct),
+        "c2": (-(Psi**2) * st * ct, zero, -2 * Psi * st * ct, -(Psi**2) * np.cos(2 * theta), zero),
+    }
+    return {k: tuple(np.broadcast_to(v, zero.shape) for v in vals) for k, vals in out.items()}
+
+
+def _split(x):
+    x = check("x", x)
+    if x.shape[-1:] != (6,):
+        raise ValueError(f"x must have shape (..., 6) ordered as {X_STATE}; got {x.shape}")
+    return np.moveaxis(x, -1, 0)
+
+
+def f(x, mu, alpha) -> np.ndarray:
+    """Desingularised slipping vector field f(x), eq. f.
+
+    Args:
+      x: (..., 6) states ordered as ``X_STATE`` = (eta, varphi, psi, Psi, theta, Theta), scaled.
+      mu, alpha: friction coefficient and m l^2 / I0 (broadcast against x[..., 0]).
+
+    Returns:
+      (..., 6) dx/ds, where eta p ds = dt (F_z = -b/p substituted, eq. FZ).
+    """
+    eta, varphi, _, Psi, theta, Theta = _split(x)
+    mu, alpha = check("mu", mu, MU), check("alpha", alpha, ALPHA)
+    c = {k: v[0] for k, v in _terms(varphi, Psi, theta, Theta, mu, alpha).items()}
+    b, p = c["b"], c["p"]
+    out = (
+        eta * (-c["Q1"] * b + c["A1"] * p),
+        -c["Q2"] * b + (c["A2"] - eta * Psi) * p,
+        eta * p * Psi,
+        eta * (-c["d1"] * b + c["c1"] * p),
+        eta * p * Theta,
+        eta * (-c["d2"] * b + c["c2"] * p),
+    )
+    return np.stack(np.broadcast_arrays(*out), axis=-1)
+
+
+def jacobian(x, mu, alpha) -> np.ndarray:
+    """Analytic Jacobian df/dx of eq. f, shape (..., 6, 6); rows f_i, columns x_j in ``X_STATE`` order.
+
+    Valid everywhere (not only on the GB manifold, where it reduces to eq.
+    gatheredish = A B).
+    """
+    eta, varphi, _, Psi, theta, Theta = _split(x)
+    mu, alpha = check("mu", mu, MU), check("alpha", alpha, ALPHA)
+    T = _terms(varphi, Psi, theta, Theta, mu, alpha)
+    b, p = T["b"], T["p"]
+    shape = b[0].shape
+    J = np.zeros(shape + (6, 6))
+    # columns of the partials in _terms: (varphi, Psi, theta, Theta) -> x indices (1, 3, 4, 5)
+    cols = (1, 3, 4, 5)
+
+    def mixed(X, Y):
+        """Partials of -X b + Y p (k = 1..4 in _terms order)."""
+        return [-X[k] * b[0] - X[0] * b[k] + Y[k] * p[0] + Y[0] * p[k] for k in range(1, 5)]
+
+    rows = {
+        0: (eta, mixed(T["Q1"], T["A1"]), -T["Q1"][0] * b[0] + T["A1"][0] * p[0]),
+        3: (eta, mixed(T["d1"], T["c1"]), -T["d1"][0] * b[0] + T["c1"][0] * p[0]),
+        5: (eta, mixed(T["d2"], T["c2"]), -T["d2"][0] * b[0] + T["c2"][0] * p[0]),
+    }
+    for i, (scale, dk, value) in rows.items():
+        J[..., i, 0] = value  # d/deta of eta * (...)
+        for j, d in zip(cols, dk):
+            J[..., i, j] = scale * d
+    # f_varphi = -Q2 b + (A2 - eta Psi) p
+    A2m = (T["A2"][0] - eta * Psi, T["A2"][1], T["A2"][2] - eta, T["A2"][3], T["A2"][4])
+    for j, d in zip(cols, mixed(T["Q2"], A2m)):
+        J[..., 1, j] = d
+    J[..., 1, 0] = -Psi * p[0]
+    # f_psi = eta p Psi, f_theta = eta p Theta
+    for i, v, vcol in ((2, Psi, 3), (4, Theta, 5)):
+        J[..., i, 0] = p[0] * v
+        for j, k in zip(cols, range(1, 5)):
+            J[..., i, j] = eta * p[k] * v
+        J[..., i, vcol] += eta * p[0]
+    return J
+
+
+# --------------------------------------------------------------------------
+# J = A B and K = B A (eqs. matA, matB, K)
+# --------------------------------------------------------------------------
+
+
+def matrix_A(x, mu, alpha) -> np.ndarray:
+    """A = d f / d(p, b), eq. matA, shape (..., 6, 2): f written as a function of (p, b) and x."""
+    eta, varphi, _, Psi, theta, Theta = _split(x)
+    mu, alpha = check("mu", mu, MU), check("alpha", alpha, ALPHA)
+    c = {k: v[0] for k, v in _terms(varphi, Psi, theta, Theta, mu, alpha).items()}
+    col_p = (eta * c["A1"], c["A2"] - eta * Psi, eta * Psi, eta * c["c1"], eta * Theta, eta * c["c2"])
+    col_b = (-eta * c["Q1"], -c["Q2"], 0 * eta, -eta * c["d1"], 0 * eta, -eta * c["d2"])
+    cp = np.stack(np.broadcast_arrays(*col_p), axis=-1)
+    cb = np.stack(np.broadcast_arrays(*col_b), axis=-1)
+    return np.stack([cp, cb], axis=-1)
+
+
+def matrix_B(x, mu, alpha) -> np.ndarray:
+    """B = d(p, b) / dx, eq. matB, shape (..., 2, 6)."""
+    eta, varphi, _, Psi, theta, Theta = _split(x)
+    mu, alpha = check("mu", mu, MU), check("alpha", alpha, ALPHA)
+    T = _terms(varphi, Psi, theta, Theta, mu, alpha)
+    out = np.zeros(T["b"][0].shape + (2, 6))
+    for row, name in enumerate(("p", "b")):
+        for j, k in zip((1, 3, 4, 5), range(1, 5)):
+            out[..., row, j] = T[name][k]
+    return out
+
+
+def K_from_AB(x, mu, alpha) -> np.ndarray:
+    """K = B A computed from the coefficients (eq. BA), shape (..., 2, 2)."""
+    return matrix_B(x, mu, alpha) @ matrix_A(x, mu, alpha)
+
+
+def K(theta, varphi, Psi, Theta, eta, mu, alpha) -> np.ndarray:
+    """The matrix K of eq. K (closed form on b = p = 0), shape (..., 2, 2).
+
+    K is the Jacobian of (p, b)' = K (p, b) near the GB manifold (eq. p3a3),
+    in the desingularised time s.  The closed form uses b = p = 0, so it equals
+    B A (``K_from_AB``) only on the GB manifold.
+    """
+    theta = check("theta", theta, THETA)
+    varphi, Psi, Theta = (check(n, v) for n, v in (("varphi", varphi), ("Psi", Psi), ("Theta", Theta)))
+    eta, mu, alpha = check("eta", eta, ETA), check("mu", mu, MU), check("alpha", alpha, ALPHA)
+    st, ct, cp = np.sin(theta), np.cos(theta), np.cos(varphi)
+    tan = st / ct
+    m = alpha * mu * ct**2 * cp**2
+    s = alpha * mu * st * ct * cp
+    K11 = m + eta * (Theta * (tan - (1 + alpha) / tan) - Psi * s)
+    K12 = (1 + alpha) * m
+    K21 = eta * Theta / tan
+    K22 = eta * (2 * Psi * s - 2 * Theta * tan)
+    K11, K12, K21, K22 = np.broadcast_arrays(K11, K12, K21, K22)
+    return np.stack([np.stack([K11, K12], -1), np.stack([K21, K22], -1)], -2)
+
+
+# --------------------------------------------------------------------------
+# Classification and eigenvectors (section 4, Theorem 4.1)
+# --------------------------------------------------------------------------
+
+
+class GBType(IntEnum):
+    """Type of a GB point as an equilibrium of eq. f in the (p, b) plane, from K's eigenvalues."""
+
+    STABLE_NODE = 0
+    SADDLE = 1
+    UNSTABLE_NODE = 2
+    STABLE_FOCUS = 3
+    UNSTABLE_FOCUS = 4
+    DEGENERATE = 5  # a zero eigenvalue (det K = 0) or a centre (trace 0, complex pair)
+
+
+def classify(K, *, atol: float = 0.0):
+    """GBType of each 2x2 matrix in K (shape (..., 2, 2)), from trace and determinant.
+
+    det < 0: saddle.  det > 0 with real eigenvalues: node (stable if trace < 0);
+    complex eigenvalues ((K11 - K22)^2 + 4 K12 K21 < 0): focus.  |det| <= atol
+    (or a complex pair with |trace| <= atol): DEGENERATE.  Nodes include the
+    repeated-eigenvalue (improper) nodes.  Returns a ``GBType`` for one matrix,
+    an int8 array otherwise.
+    """
+    K = check("K", K)
+    if K.shape[-2:] != (2, 2):
+        raise ValueError(f"K must have shape (..., 2, 2); got {K.shape}")
+    tr = K[..., 0, 0] + K[..., 1, 1]
+    det = K[..., 0, 0] * K[..., 1, 1] - K[..., 0, 1] * K[..., 1, 0]
+    disc = (K[..., 0, 0] - K[..., 1, 1]) ** 2 + 4 * K[..., 0, 1] * K[..., 1, 0]
+    out = np.select(
+        [np.abs(det) <= atol, det < 0, (disc < 0) & (np.abs(tr) <= atol), disc < 0, tr < 0],
+        [GBType.DEGENERATE, GBType.SADDLE, GBType.DEGENERATE,
+         np.where(tr < 0, GBType.STABLE_FOCUS, GBType.UNSTABLE_FOCUS), GBType.STABLE_NODE],
+        GBType.UNSTABLE_NODE,
+    ).astype(np.int8)
+    return GBType(int(out)) if out.ndim == 0 else out
+
+
+def eigen(K) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenvalues (lambda_+, lambda_-) and unit eigenvectors e_+- of K in the (p, b) plane.
+
+    Args:
+      K: (..., 2, 2).
+
+    Returns:
+      lam: (..., 2) complex, lam[..., 0] = lambda_+ (larger real part, then
+        larger imaginary part), lam[..., 1] = lambda_-.
+      vec: (..., 2, 2) complex, vec[..., :, i] the eigenvector of lam[..., i]
+        as (p, b) components, unit length, sign fixed so that its b component
+        is >= 0 (a direction, as the paper's (K12 / (lambda - K11), 1)).
+
+    The eigenvector is (K12, lambda - K11) or (lambda - K22, K21), whichever is
+    longer, so that triangular K (the planar case, K12 = 0) is handled.
+    """
+    K = np.asarray(check("K", K), dtype=complex)
+    a, bb, c, d = K[..., 0, 0], K[..., 0, 1], K[..., 1, 0], K[..., 1, 1]
+    tr = a + d
+    root = np.sqrt((a - d) ** 2 + 4 * bb * c + 0j)
+    lam = np.stack([(tr + root) / 2, (tr - root) / 2], axis=-1)
+    swap = (lam[..., 0].real < lam[..., 1].real) | (
+        (lam[..., 0].real == lam[..., 1].real) & (lam[..., 0].imag < lam[..., 1].imag))
+    lam = np.where(swap[..., None], lam[..., ::-1], lam)
+    vecs = []
+    for i in range(2):
+        l_ = lam[..., i]
+        v1 = np.stack([bb, l_ - a], axis=-1)
+        v2 = np.stack([l_ - d, c], axis=-1)
+        n1, n2 = np.linalg.norm(v1, axis=-1), np.linalg.norm(v2, axis=-1)
+        v = np.where((n1 >= n2)[..., None], v1, v2)
+        n = np.maximum(n1, n2)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            v = v / n[..., None]
+        # b component >= 0 (for real vectors); if b = 0, p component > 0
+        flip = (v[..., 1].real < 0) | ((v[..., 1].real == 0) & (v[..., 0].real < 0))
+        vecs.append(np.where(flip[..., None], -v, v))
+    return lam, np.stack(vecs, axis=-1)
+
+
+class Quadrant(IntEnum):
+    """Where a real eigen-direction lies in the (p, b) plane (Theorem 4.1, Figs. 8-9)."""
+
+    I_III = 1  # first and third quadrants (p b > 0)
+    II_IV = 2  # second and fourth quadrants (p b < 0)
+    P_AXIS = 3
+    B_AXIS = 4
+    COMPLEX = 5
+
+
+def quadrant(v, *, atol: float = 0.0):
+    """Quadrant pair of direction(s) v = (p, b), shape (..., 2); |component| <= atol counts as on an axis."""
+    v = np.asarray(v)
+    complex_ = np.any(np.abs(np.imag(v)) > 0, axis=-1) if np.iscomplexobj(v) else np.zeros(v.shape[:-1], bool)
+    pv, bv = np.real(v[..., 0]), np.real(v[..., 1])
+    out = np.select(
+        [complex_, np.abs(pv) <= atol, np.abs(bv) <= atol, pv * bv > 0],
+        [Quadrant.COMPLEX, Quadrant.B_AXIS, Quadrant.P_AXIS, Quadrant.I_III],
+        Quadrant.II_IV,
+    ).astype(np.int8)
+    return Quadrant(int(out)) if out.ndim == 0 else out
+
+
+# --------------------------------------------------------------------------
+# det K and the conics of section 4.2 (eqs. detK, detK0, B, Psiquartic)
+# --------------------------------------------------------------------------
+
+
+def det_K(theta, varphi, Psi, Theta, eta, mu, alpha):
+    """det K, eq. detK with its prefactor corrected to eta alpha mu cos^2 theta cos^2 varphi.
+
+    Equal to K11 K22 - K12 K21 of eq. K for all arguments (an identity).
+    """
+    return _det_K(theta, varphi, Psi, Theta, eta, mu, alpha, printed=False)
+
+
+def det_K_as_printed(theta, varphi, Psi, Theta, eta, mu, alpha):
+    """Eq. detK exactly as printed (prefactor eta alpha cos^2 theta cos^2 varphi, no mu): differs unless mu = 1."""
+    return _det_K(theta, varphi, Psi, Theta, eta, mu, alpha, printed=True)
+
+
+def _det_K(theta, varphi, Psi, Theta, eta, mu, alpha, *, printed):
+    theta = check("theta", theta, THETA)
+    varphi, Psi, Theta = (check(n, v) for n, v in (("varphi", varphi), ("Psi", Psi), ("Theta", Theta)))
+    eta, mu, alpha = check("eta", eta, ETA), check("mu", mu, MU), check("alpha", alpha, ALPHA)
+    st, ct, cp = np.sin(theta), np.cos(theta), np.cos(varphi)
+    tan, cot = st / ct, ct / st
+    s = alpha * mu * st * ct * cp
+    pre = eta * alpha * (1.0 if printed else mu) * ct**2 * cp**2
+    return pre * (Theta * (-2 * tan - (1 + alpha) * cot) + 2 * Psi * s) + eta**2 * (
+        Theta**2 * (2 * (1 + alpha) - 2 * tan**2) + Theta * Psi * s * (4 * tan - 2 * (1 + alpha) * cot) - 2 * Psi**2 * s**2
+    )
+
+
+def detK0_coefficients(theta, varphi, eta, mu, alpha):
+    """(A, B, Gamma, Delta, E) of eq. detK0coeffs: det K = 0 iff A Psi^2 + B Psi Theta + Gamma Psi = Delta Theta^2 + E Theta.
+
+    Precisely, det K = (eta cos^5 theta / sin theta) (A Psi^2 + B Psi Theta +
+    Gamma Psi - Delta Theta^2 - E Theta) (``detK0_residual``), so the conic is
+    det K = 0 for eta > 0 and theta in (0, pi/2).
+    """
+    theta = check("theta", theta, THETA)
+    varphi = check("varphi", varphi)
+    eta, mu, alpha = check("eta", eta, ETA), check("mu", mu, MU), check("alpha", alpha, ALPHA)
+    t, cp = np.tan(theta), np.cos(varphi)
+    A = -2 * eta * alpha**2 * mu**2 * t**3 * cp**2
+    B = 2 * eta * alpha * mu * cp * t * (1 + t**2) * (2 * t**2 - (1 + alpha))
+    Gamma = 2 * alpha**2 * mu**2 * cp**3 * t**2
+    Delta = 2 * eta * t * (1 + t**2) ** 2 * (t**2 - (1 + alpha))
+    E = alpha * mu * cp**2 * (1 + t**2) * (2 * t**2 + (1 + alpha))
+    return A, B, Gamma, Delta, E
+
+
+def detK0_residual(theta, varphi, Psi, Theta, eta, mu, alpha):
+    """A Psi^2 + B Psi Theta + Gamma Psi - Delta Theta^2 - E Theta (eq. detK0 as a residual)."""
+    A, B, Gamma, Delta, E = detK0_coefficients(theta, varphi, eta, mu, alpha)
+    return A * Psi**2 + B * Psi * Theta + Gamma * Psi - Delta * Theta**2 - E * Theta
+
+
+def b0_coefficients(theta):
+    """(M, N) of eq. Bcoeffs: b = 0 iff M Psi^2 + Theta^2 = N (eq. B), an ellipse in (Psi, Theta)."""
+    t = np.tan(check("theta", theta, THETA))
+    return 1 / (1 + t**2), np.sqrt(1 + t**2) / t
+
+
+def psi_quartic(theta, varphi, eta, mu, alpha) -> np.ndarray:
+    """Coefficients (C4, C3, C2, C1, C0) of eq. Psiquartic, stacked on the last axis (highest first, as np.roots).
+
+    The quartic eliminates Theta between the conic det K = 0 (eq. detK0) and
+    the ellipse b = 0 (eq. B); evaluate it on p = 0 (theta = theta_+-(varphi)).
+    """
+    A, B, G, D, E = detK0_coefficients(theta, varphi, eta, mu, alpha)
+    M, N = b0_coefficients(theta)
+    C4 = (A + M * D) ** 2 + M * B**2
+    C3 = 2 * (A * G + M * (G * D - E * B))
+    C2 = G**2 - 2 * D * N * (A + M * D) - N * B**2 + M * E**2
+    C1 = 2 * N * (E * B - G * D)
+    C0 = N * (N * D**2 - E**2)
+    return np.stack(np.broadcast_arrays(C4, C3, C2, C1, C0), axis=-1)
+
+
+def psi_quartic_roots(theta, varphi, eta, mu, alpha, *, imag_tol: float = 1e-9):
+    """Real zeros of det K on the GB manifold above one (theta, varphi) on p = 0 (scalars).
+
+    Solves eq. Psiquartic, then recovers Theta from eq. detK0 (linear in Theta
+    once Theta^2 = N - M Psi^2 is substituted) and keeps the roots that lie on
+    the ellipse b = 0 (squaring can add spurious roots).
+
+    Returns:
+      (Psi, Theta): two 1-D arrays (possibly empty) of the zeros of det K.
+    """
+    coeffs = psi_quartic(theta, varphi, eta, mu, alpha)
+    roots = np.roots(coeffs)
+    real = roots[np.abs(roots.imag) <= imag_tol * np.maximum(1, np.abs(roots))].real
+    A, B, G, D, E = detK0_coefficients(theta, varphi, eta, mu, alpha)
+    M, N = b0_coefficients(theta)
+    Psi_out, Theta_out = [], []
+    for Psi in np.sort(real):
+        denom = E - B * Psi
+        Theta = ((A + M * D) * Psi**2 + G * Psi - D * N) / denom
+        if abs(Theta**2 - (N - M * Psi**2)) <= 1e-6 * N:
+            Psi_out.append(Psi)
+            Theta_out.append(Theta)
+    return np.array(Psi_out), np.array(Theta_out)
+
+
+def psi_quartic_eps(mu_hat, varphi_hat, alpha) -> np.ndarray:
+    """Leading-order coefficients (C4, C3, C2, C1, C0) of eq. Psiquarticeps, near mu = mu_P.
+
+    mu = mu_P (1 + eps^2 mu_hat), varphi = -pi/2 + eps varphi_hat (eq. mupperturb).
+    """
+    mu_hat, varphi_hat = check("mu_hat", mu_hat, MU), check("varphi_hat", varphi_hat)
+    a = check("alpha", alpha, ALPHA)
+    C4 = (1 + a) ** 2 * (2 * (2 + a) * mu_hat - varphi_hat**2)
+    C2 = -((1 + a) ** 1.5) * (2 + a) ** 1.5 * (4 * (2 + a) * mu_hat - (3 + a) * varphi_hat**2)
+    C0 = (1 + a) * (2 + a) ** 4 * (2 * mu_hat - varphi_hat**2)
+    z = 0 * C4
+    return np.stack(np.broadcast_arrays(C4, z, C2, z, C0), axis=-1)
+
+
+def ghastly(theta, eta, alpha, *, sign=+1):
+    """Right side of eq. ghastly: the value of alpha mu cos^2 varphi where det K = 0 at Psi = 0.
+
+    sign = +1 for Theta > 0, -1 for Theta < 0:
+    +- 2 eta tan^(1/2) theta (1 + tan^2 theta)^(5/4) [(1 + alpha) - tan^2 theta] / [(1 + alpha) + 2 tan^2 theta].
+    """
+    t = np.tan(check("theta", theta, THETA))
+    eta, alpha = check("eta", eta, ETA), check("alpha", alpha, ALPHA)
+    return sign * 2 * eta * np.sqrt(t) * (1 + t**2) ** 1.25 * ((1 + alpha) - t**2) / ((1 + alpha) + 2 * t**2)
+
+
+def p_dot_on_p0(theta, varphi, Psi, Theta, eta, mu, alpha):
+    """Eq. pdotarg: (1 + alpha) alpha mu cos^2 theta cos^2 varphi b / eta on p = 0.
+
+    This is the limit of p dp/dt (real time) as p -> 0, i.e. dp/dtau with
+    dt = p dtau; dp/dt itself is unbounded there (F_z = -b/p).  Its sign is
+    that of b: a slipping (b < 0) trajectory crosses into p < 0 unless
+    varphi = -pi/2 or theta = pi/2.
+    """
+    theta = check("theta", theta, THETA)
+    varphi, Psi, Theta = (check(n, v) for n, v in (("varphi", varphi), ("Psi", Psi), ("Theta", Theta)))
+    eta, mu, alpha = check("eta", eta, ETA), check("mu", mu, MU), check("alpha", alpha, ALPHA)
+    b = (Psi**2 * np.cos(theta) ** 2 + Theta**2) * np.sin(theta) - 1
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return (1 + alpha) * alpha * mu * np.cos(theta) ** 2 * np.cos(varphi) ** 2 * b / eta
+
+
+# --------------------------------------------------------------------------
+# The GB manifold at fixed Psi (section 3.5, Fig. GBs_bif3)
+# --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class GBCurve:
+    """One closed curve of the GB manifold b = p = 0 at fixed Psi, projected to (theta, varphi, Theta).
+
+    Attributes:
+      mu, alpha, Psi: parameters.
+      theta, varphi, Theta: (n,) samples in order along the closed curve (the
+        last sample equals the first).
+      crosses_zero: whether Theta changes sign along the curve (it then passes
+        through Theta = 0 where b = 0 touches Theta = 0, at the edges of the
+        theta gap of ``gb_theta_gap``); otherwise Theta has one sign.
+    """
+
+    mu: float
+    alpha: float
+    Psi: float
+    theta: np.ndarray
+    varphi: np.ndarray
+    Theta: np.ndarray
+    crosses_zero: bool
+
+    @property
+    def sign(self) -> int:
+        """+1 / -1 for a curve in Theta > 0 / Theta < 0; 0 if it crosses Theta = 0."""
+        return 0 if self.crosses_zero else int(np.sign(np.median(self.Theta)))
+
+    def x(self, eta) -> np.ndarray:
+        """(n, 6) states on the curve ordered as ``X_STATE`` (psi = 0)."""
+        eta = np.broadcast_to(np.asarray(eta, float), self.theta.shape)
+        zero = np.zeros_like(self.theta)
+        return np.stack([eta, self.varphi, zero, zero + self.Psi, self.theta, self.Theta], axis=-1)
+
+    def K(self, eta) -> np.ndarray:
+        """(n, 2, 2) K of eq. K along the curve."""
+        return K(self.theta, self.varphi, self.Psi, self.Theta, eta, self.mu, self.alpha)
+
+    def types(self, eta) -> np.ndarray:
+        """(n,) ``GBType`` values along the curve."""
+        return np.atleast_1d(classify(self.K(eta)))
+
+
+def gb_theta_gap(Psi) -> tuple[float, float] | None:
+    """The theta interval where b = 0 has no real Theta: Psi^2 sin theta cos^2 theta > 1.
+
+    Empty (None) for |Psi| <= Psi_L (eq. psil); otherwise the two roots in
+    (0, pi/2) of Psi^2 s (1 - s^2) = 1, s = sin theta, around theta_L.
+    """
+    Psi = float(check("Psi", Psi, FINITE))
+    if abs(Psi) <= Psi_L:
+        return None
+    roots = np.roots([Psi**2, 0.0, -(Psi**2), 1.0])
+    s = np.sort(roots[(np.abs(roots.imag) < 1e-12) & (roots.real > 0) & (roots.real < 1)].real)
+    return float(np.arcsin(s[0])), float(np.arcsin(s[-1]))
+
+
+def _spaced(lo, hi, n):
+    # cosine spacing: varphi_+- and Theta have square-root ends at theta_1,2 and at the gap
+    u = np.linspace(0.0, 1.0, n)
+    return lo + (hi - lo) * 0.5 * (1 - np.cos(np.pi * u))
+
+
+def gb_manifold(mu, Psi, alpha, *, n: int = 201) -> list[GBCurve]:
+    """The closed curves of the GB manifold b = p = 0 for fixed Psi (section 3.5, Fig. GBs_bif3).
+
+    Parameterised by theta along p = 0: varphi = varphi_-+(theta) (eq.
+    varphistar) for theta in [theta_1, theta_2] (eq. theta12), and Theta =
+    +- sqrt(1/sin theta - Psi^2 cos^2 theta) from b = 0.  Topology as |Psi| grows:
+
+    * |Psi| < Psi_L (and in mechanism II up to Psi_1): two curves, one in
+      Theta > 0 and one in Theta < 0.
+    * mechanism III (mu > mu_L) with Psi_L < |Psi| < Psi_1: the theta gap of
+      ``gb_theta_gap`` lies inside (theta_1, theta_2): two curves, each
+      crossing Theta = 0.
+    * Psi_1 < |Psi| < Psi_2: one curve crossing Theta = 0.
+    * |Psi| > Psi_2, or mu < mu_P: empty.  At mu = mu_P the manifold is the two
+      points theta_P, varphi = -pi/2, Theta = +-sqrt(csc theta_P) (returned as
+      curves of one sample each).
+
+    Args:
+      mu, Psi, alpha: parameters (Psi is the azimuthal rate, fixed).
+      n: samples per theta interval and branch (each curve has about 2n or 4n).
+
+    Returns:
+      A list of ``GBCurve``, ordered by theta then by Theta sign (+ first).
+    """
+    mu = float(check("mu", mu, MU))
+    alpha = float(check("alpha", alpha, ALPHA))
+    Psi = float(check("Psi", Psi, FINITE))
+    th1, th2 = (float(t) for t in theta_12(mu, alpha))
+    if math.isnan(th1):
+        return []
+    gap = gb_theta_gap(Psi)
+    intervals = [(th1, th2)]
+    if gap is not None:
+        ga, gb_ = gap
+        intervals = [(lo, hi) for lo, hi in ((th1, min(th2, ga)), (max(th1, gb_), th2)) if lo <= hi]
+    curves = []
+
+    def Theta_of(theta):
+        return np.sqrt(np.maximum(1 / np.sin(theta) - Psi**2 * np.cos(theta) ** 2, 0.0))
+
+    for lo, hi in intervals:
+        if lo == hi:  # a single point of p = 0 (mu = mu_P) or a tangency with the gap
+            th = np.array([lo])
+            vp = np.array([-math.pi / 2]) if lo in (th1, th2) else varphi_pm(th, mu, alpha)[0]
+            Th = Theta_of(th)
+            for sgn in (+1, -1):
+                curves.append(GBCurve(mu, alpha, Psi, th, vp, sgn * Th, bool(Th[0] == 0)))
+            continue
+        th = _spaced(lo, hi, n)
+        v_minus, v_plus = varphi_pm(th, mu, alpha)
+        # varphi_-+ meet at -pi/2 exactly where theta = theta_1,2; rounding of the arccos argument
+        # can leave NaN there, which is the tangency value -pi/2
+        v_minus = np.where(np.isnan(v_minus), -math.pi / 2, v_minus)
+        v_plus = np.where(np.isnan(v_plus), -math.pi / 2, v_plus)
+        loop_th = np.concatenate([th, th[::-1][1:]])
+        loop_vp = np.concatenate([v_minus, v_plus[::-1][1:]])
+        edge_gap = gap is not None and (lo > th1 or hi < th2)
+        if not edge_gap:
+            Th = Theta_of(loop_th)
+            for sgn in (+1, -1):
+                curves.append(GBCurve(mu, alpha, Psi, loop_th, loop_vp, sgn * Th, False))
+        else:
+            # Theta = 0 at the gap edge: the Theta > 0 and Theta < 0 halves join into one closed curve.
+            # Start the loop at the gap edge so that both halves begin and end there.
+            if hi < th2:  # interval [theta_1, gap_lo]: loop from the edge on the varphi_- branch
+                half_th = np.concatenate([th[::-1], th[1:]])
+                half_vp = np.concatenate([v_minus[::-1], v_plus[1:]])
+            else:  # interval [gap_hi, theta_2]
+                half_th = np.concatenate([th, th[::-1][1:]])
+                half_vp = np.concatenate([v_minus, v_plus[::-1][1:]])
+            Th = Theta_of(half_th)
+            Th[0] = Th[-1] = 0.0  # exactly on the gap edge (the cubic's root leaves ~1e-8 from the sqrt)
+            curves.append(GBCurve(mu, alpha, Psi, np.concatenate([half_th, half_th[::-1][1:]]),
+                                  np.concatenate([half_vp, half_vp[::-1][1:]]),
+                                  np.concatenate([Th, -Th[::-1][1:]]), True))
+    return curves
+
+
+def det_K_zeros(curve: GBCurve, eta, *, iterations: int = 60) -> np.ndarray:
+    """Points of ``curve`` where det K = 0 (a zero eigenvalue), refined by bisection in theta.
+
+    Sign changes of det K between consecutive samples are bisected along the
+    p = 0 branch they lie on (varphi = varphi_-(theta) or varphi_+(theta),
+    Theta with the sign of the samples).
+
+    Returns:
+      (m, 3) array of (theta, varphi, Theta).
+    """
+    eta = float(check("eta", eta, ETA))
+    d = det_K(curve.theta, curve.varphi, curve.Psi, curve.Theta, eta, curve.mu, curve.alpha)
+    out = []
+    for i in np.nonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0)[0]:
+        minus = curve.varphi[i] + curve.varphi[i + 1] < -math.pi  # both samples on the varphi_- side
+        sgn = 1.0 if curve.Theta[i] + curve.Theta[i + 1] > 0 else -1.0
+
+        def point(th):
+            vm, vp = varphi_pm(th, curve.mu, curve.alpha)
+            vp_ = vm if minus else vp
+            vp_ = -math.pi / 2 if math.isnan(vp_) else float(vp_)
+            Th = sgn * math.sqrt(max(1 / math.sin(th) - curve.Psi**2 * math.cos(th) ** 2, 0.0))
+            return th, vp_, Th
+
+        def g(th):
+            t, v, T = point(th)
+            return float(det_K(t, v, curve.Psi, T, eta, curve.mu, curve.alpha))
+
+        a, b = sorted((float(curve.theta[i]), float(curve.theta[i + 1])))
+        ga = g(a)
+        for _ in range(iterations):
+            m = 0.5 * (a + b)
+            gm = g(m)
+            if (gm > 0) == (ga > 0):
+                a, ga = m, gm
+            else:
+                b = m
+        out.append(point(0.5 * (a + b)))
+    return np.array(out).reshape(-1, 3)

@@ -102,6 +102,13 @@ STICK_SPEED = Tolerance(atol=1e-9, rtol=0.0, why="scaled slip speed counted as s
 #: of Appendix A blow up at theta = pi/2, and SlipState needs theta in (0, pi/2).
 THETA_MARGIN = Tolerance(atol=1e-6, rtol=0.0, why="distance from theta = 0, pi/2 where a run stops (domain of SlipState)")
 
+#: Identities that hold only on b = p = 0 (K = B A, eq. K; J = A B, eq.
+#: jacobian; eig J = eig K + 4 zeros), evaluated at GB points from closed forms
+#: (varphi_pm, a square root): b and p are ~1e-15 there and multiply
+#: coefficients up to ~1e4 near theta -> pi/2 (d1 ~ 1/cos theta).  Measured
+#: worst: 5e-14 (K), 2e-11 (J) relative over mu in [1.34, 6], |Psi| <= 10.
+GB_IDENTITY = Tolerance(atol=1e-9, rtol=1e-9, why="identities on b = p = 0 at closed-form GB points (residual 1e-15 x coefficients <= 1e4)")
+
 #: Event times of the desingularised flow against a real-time solve_ivp of
 #: eq. polareqs_varphi where that is regular (p bounded away from 0): both runs
 #: at rtol 1e-10, so their difference is a few 1e-9 over O(1) times.

@@ -22,6 +22,7 @@ COMMAND_MODULES = [
     "crosscheck.cli.analytic",
     "crosscheck.cli.validate",
     "crosscheck.cli.report",
+    "crosscheck.cli.gb",
 ]
 
 

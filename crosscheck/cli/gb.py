@@ -1,0 +1,113 @@
+"""``crosscheck gb`` (the GB manifold with its classification) and ``crosscheck slip`` (a slipping run's first event)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+
+from crosscheck.checks import ALPHA, ETA, FINITE, MU, POSITIVE, THETA, VARPHI, check
+
+# Numbers are parsed by crosscheck.checks.check (type=str) so that the CLI and the
+# Python API give the same one-line message for the same mistake.
+
+
+def _num(name: str, value, interval) -> float:
+    if value is None:
+        check(name, None, interval)
+    try:
+        x = float(value)
+    except ValueError:
+        raise ValueError(f"{name} must be a number in {interval}; got {value!r}") from None
+    return float(check(name, x, interval))
+
+
+def _complex(z) -> dict:
+    return {"re": float(np.real(z)), "im": float(np.imag(z))}
+
+
+def _gb(args) -> int:
+    from crosscheck import gb
+    from crosscheck.critical import critical_values, kinematic_case
+
+    mu = _num("mu", args.mu, MU)
+    alpha = _num("alpha", args.alpha, ALPHA)
+    Psi = _num("Psi", args.Psi, FINITE)
+    eta = _num("eta", args.eta, ETA)
+    n = int(_num("samples", args.samples, POSITIVE))
+    cv = critical_values(mu, alpha)
+    curves = gb.gb_manifold(mu, Psi, alpha, n=max(n, 2))
+    out = {"mu": mu, "alpha": alpha, "Psi": Psi, "eta": eta, "kinematic_case": kinematic_case(mu, Psi, alpha),
+           "Psi_L": cv.Psi_L, "Psi_1": None if math.isnan(cv.Psi_1) else cv.Psi_1,
+           "Psi_2": None if math.isnan(cv.Psi_2) else cv.Psi_2, "curves": []}
+    for c in curves:
+        m = len(c.theta)
+        idx = np.unique(np.linspace(0, m - 1, min(n, m)).round().astype(int))
+        Kc = c.K(eta)[idx]
+        lam, _ = gb.eigen(Kc)
+        types = np.atleast_1d(gb.classify(Kc))
+        samples = [{"theta": float(c.theta[i]), "varphi": float(c.varphi[i]), "Theta": float(c.Theta[i]),
+                    "type": gb.GBType(int(t)).name, "lambda_plus": _complex(l_[0]), "lambda_minus": _complex(l_[1])}
+                   for i, t, l_ in zip(idx, types, lam)]
+        zeros = gb.det_K_zeros(c, eta)
+        out["curves"].append({"Theta_sign": c.sign, "crosses_Theta_0": c.crosses_zero, "samples": samples,
+                              "det_K_zeros": [dict(zip(("theta", "varphi", "Theta"), map(float, z))) for z in zeros]})
+    if args.json:
+        print(json.dumps(out, indent=2))
+        return 0
+    print(f"GB manifold b = p = 0 for mu = {mu:g}, alpha = {alpha:g}, Psi = {Psi:g}, eta = {eta:g}  "
+          f"(kinematic case {out['kinematic_case']}): {len(curves)} closed curve(s)")
+    if not curves:
+        print("  none: mu < mu_P (no paradox) or |Psi| > Psi_2 (eqs. mup2D, psi2)")
+    for k, c in enumerate(out["curves"], 1):
+        where = "crosses Theta = 0" if c["crosses_Theta_0"] else ("Theta > 0" if c["Theta_sign"] > 0 else "Theta < 0")
+        print(f"curve {k}: {where}")
+        print(f"  {'theta':>8} {'varphi':>9} {'Theta':>9}  {'type':<15} {'lambda+':>20} {'lambda-':>20}")
+        for s in c["samples"]:
+            lp, lm = (f"{s[k_]['re']:+.4f}{s[k_]['im']:+.4f}j" for k_ in ("lambda_plus", "lambda_minus"))
+            print(f"  {s['theta']:8.4f} {s['varphi']:9.4f} {s['Theta']:9.4f}  {s['type']:<15} {lp:>20} {lm:>20}")
+        for z in c["det_K_zeros"]:
+            print(f"  det K = 0 at theta = {z['theta']:.4f}, varphi = {z['varphi']:.4f}, Theta = {z['Theta']:.4f}")
+    return 0
+
+
+def _slip(args) -> int:
+    from crosscheck.gb import slip_until_event
+    from crosscheck.state import SlipState
+
+    state = SlipState(theta=_num("theta", args.theta, THETA), varphi=_num("varphi", args.varphi, VARPHI),
+                      Theta=_num("Theta", args.Theta, FINITE), Psi=_num("Psi", args.Psi, FINITE),
+                      eta=_num("eta", args.eta, ETA), psi=_num("psi", args.psi, FINITE))
+    r = slip_until_event(state, _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA),
+                         t_max=_num("t_max", args.t_max, POSITIVE))
+    if args.json:
+        print(json.dumps(r.as_dict(), indent=2))
+        return 0
+    s = r.state
+    print(f"{r.outcome.name} at t = {r.time:.9g} ({r.reason}); b = {r.b:.3g}, p = {r.p:.3g}")
+    print(f"  theta = {s.theta:.6f}  varphi = {s.varphi:.6f}  Theta = {s.Theta:.6f}  Psi = {s.Psi:.6f}  "
+          f"eta = {s.eta:.6f}  psi = {s.psi:.6f}")
+    return 0
+
+
+def register(sub) -> None:
+    g = sub.add_parser("gb", help="samples of the GB manifold b = p = 0 with their type (node, saddle, focus)")
+    g.add_argument("--mu", type=str, help="friction coefficient, >= 0")
+    g.add_argument("--alpha", type=str, default="3", help="m l^2 / I0, > 0 (3: uniform rod)")
+    g.add_argument("--Psi", type=str, default="0", help="scaled azimuthal rate (fixed along the manifold)")
+    g.add_argument("--eta", type=str, default="1", help="scaled slip speed, >= 0 (K depends on it)")
+    g.add_argument("--samples", type=str, default="9", help="samples printed per curve")
+    g.add_argument("--json", action="store_true")
+    g.set_defaults(func=_gb)
+
+    s = sub.add_parser("slip", help="integrate a slipping state to its first event (lift-off, jam, stick, GB)")
+    for name, text in (("theta", "polar angle, (0, pi/2)"), ("varphi", "relative slip angle, (-pi, 0]"),
+                       ("Theta", "scaled polar rate"), ("Psi", "scaled azimuthal rate"),
+                       ("eta", "scaled slip speed, >= 0"), ("mu", "friction coefficient, >= 0")):
+        s.add_argument(f"--{name}", type=str, help=text)
+    s.add_argument("--psi", type=str, default="0", help="azimuth [rad]")
+    s.add_argument("--alpha", type=str, default="3", help="m l^2 / I0, > 0")
+    s.add_argument("--t-max", dest="t_max", type=str, default="10", help="horizon in scaled time, > 0")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=_slip)

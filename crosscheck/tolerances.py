@@ -60,6 +60,55 @@ FINITE_DIFFERENCE = Tolerance(atol=1e-7, rtol=1e-6, why="central differences, h 
 
 
 # --------------------------------------------------------------- pinocchio ---
+# Pinocchio (crosscheck.pinocchio_rod) against the analytic reference, compared in the paper's scaled
+# units.  Each allowance is atol * scale, where scale is the size of the terms the quantity is summed
+# from (its term scale; crosscheck.validate_pinocchio): A = (1 + alpha)|F|_1 + V for tip accelerations,
+# V = (1 + |v_s|_1)^2 for velocity terms (v_s the five scaled velocities), 1 for M and g, 1 + |v_s|_1
+# for C, (1 + alpha)(1 + mu) for p.  Rounding of a sum is bounded by a small multiple of eps times its
+# term scale; atol = 1e-14 is ~45 eps.  Measured maxima over 1e5 random states (validate, seeds 1, 2)
+# are quoted with each.
+#
+# Why a condition number.  Pinocchio forms M_psipsi = I0 cos^2 theta with an absolute rounding of
+# ~eps I0 (crba and computeMinverse alike; the rotated inertia of the body), not eps I0 cos^2 theta.
+# Everything that goes through M^-1 in the psi direction (G = J M^-1 J^T, the free acceleration, the
+# route G F + free) therefore carries the relative error eps * kappa, kappa = 1/cos^2 theta, the
+# condition number of M in its natural units diag(m, m, m, I0, I0).  Measured: error/A = 1.1 eps/cos^2
+# theta on every decade of cos theta from 1e-6 to 1e-1.  So the issue's 1e-12 relative (to A) holds for
+# G F + free only where cos theta >~ 1.6e-2 (1.5e-12 at cos theta in [1e-2, 1e-1), 1.6e-10 in [1e-3,
+# 1e-2)).  aba never forms M, but its bias forces carry the same absolute eps I0 |v|^2 and are divided
+# by the articulated inertia I0 cos^2 theta, then mapped by J_psi = l cos theta: error/A = 1.5 eps/cos
+# theta, i.e. within 1e-12 for cos theta >~ 3e-4.  Neither is a modelling error: both scale exactly
+# as the rounding analysis says, and the vertical components (b, p) do not see it (the tip's height
+# does not depend on psi).
+
+#: Tip acceleration by aba + classical frame acceleration vs eq. linode2, scale A / cos theta.
+#: Measured max 3.3e-16 (1.5 eps).
+PIN_TIP_ACCELERATION = Tolerance(atol=1e-14, rtol=0.0, why="aba route: ~45 eps of A / cos theta (articulated inertia I0 cos^2 theta)")
+
+#: G F + free acceleration, G and the free acceleration vs eq. linode2, scale kappa * term scale,
+#: kappa = 1 / cos^2 theta.  Measured max 2.4e-15 (11 eps); 2e-14 covers the ~25 operations of
+#: a 5 x 5 solve and the products with J.
+PIN_THROUGH_MINV = Tolerance(atol=2e-14, rtol=0.0, why="through M^-1: ~90 eps of the term scale times cond(M) = 1/cos^2 theta")
+
+#: M, C, g and C v + g = nonLinearEffects entry by entry in scaled units (M_s = L M L / (m l^2) etc.).
+#: Measured max 1.0e-15 (C), 5.6e-16 (M, g), 3.3e-16 (nle).
+PIN_MATRICES = Tolerance(atol=1e-14, rtol=0.0, why="M, C, g entries: ~45 eps of the entry scale (1 for M, g; 1 + |v_s| for C)")
+
+#: b and p from Pinocchio's free acceleration and Delassus row e_z^T G vs eqs. b and p.
+#: Measured max 2.1e-15 (b, scale V), 1.0e-15 (p, scale (1 + alpha)(1 + mu)).
+PIN_SLIP = Tolerance(atol=1e-14, rtol=0.0, why="b, p: ~45 eps of their term scale; z row of G avoids the psi direction")
+
+#: LCP modes must be identical (codes differ by >= 1) except on a boundary band |b| or |p| <= PIN_SLIP.
+PIN_MODE = Tolerance(atol=0.5, rtol=0.0, why="mode codes equal off the boundary band of PIN_SLIP")
+
+#: mu_P found from Pinocchio's p alone (min over theta by bounded Brent, root in mu by brentq to
+#: xtol 1e-14) vs 2 sqrt(1 + alpha) / alpha: the issue's 1e-9.  Measured 2.2e-16.
+PIN_MU_P = Tolerance(atol=1e-9, rtol=0.0, why="issue 3: mu_P from p to 1e-9")
+
+#: Finite differences (J vs tip positions, dJ vs J along v, M' vs M along v): the allowance is this
+#: multiple (atol) of the a-priori error bound eps f / h + h^2 |f'''| / 6 of a central difference with
+#: step h, f and f''' bounded from the rod's size and rates (tests/test_pinocchio_rod.py).
+PIN_FINITE_DIFFERENCE = Tolerance(atol=4.0, rtol=0.0, why="multiple of the central-difference bound eps f/h + h^2 f'''/6")
 
 
 # ------------------------------------------------------------------ mujoco ---

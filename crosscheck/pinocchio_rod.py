@@ -1,0 +1,389 @@
+"""The slender rod as a Pinocchio model, answering the questions of ``crosscheck.analytic``.
+
+The model (issue 3): a chain of single-axis joints PX, PY, PZ, RZ (psi), RX
+(theta), so that q = (X, Y, Z, psi, theta) is ``crosscheck.coordinates.GENERALIZED``
+and the body rotation is Rz(psi) Rx(theta) (eq. rotmatrix).  The body's spatial
+inertia is mass m at the centre S (the origin of the RX joint frame) with the
+rotational inertia diag(I0, 0, I0) about S (eq. inertia).  Pinocchio 4.1
+accepts this singular inertia as it is: ``crba`` gives M = diag(m, m, m,
+I0 cos^2 theta, I0), positive definite on 0 < theta < pi/2, and ``aba`` runs
+without regularisation (tested).  The operational frame ``tip`` sits at A, at
+(0, -l, 0) in the body frame.  We do not use a composite joint: in pin 4.1 its
+Coriolis matrix and Jacobian time variation are wrong.
+
+What Pinocchio computes (``RodTerms``): M (``crba``), C (``computeCoriolisMatrix``),
+g (``computeGeneralizedGravity``), the nonlinear effects C v + g
+(``nonLinearEffects``), the tip Jacobian J and its time variation dJ in
+LOCAL_WORLD_ALIGNED (translation rows only, world axes), and from them the
+Delassus matrix G = J M^-1 J^T and the free tip acceleration
+dJ v - J M^-1 (C v + g).  The tip acceleration under a tip force F is then
+G F + free acceleration (eq. linode2), or, by an independent route, the
+frame's classical acceleration after ``aba`` with tau = J^T F.
+
+Accuracy.  The two routes differ near the vertical rod: Pinocchio forms
+M_psipsi = I0 cos^2 theta with an absolute rounding error of about eps I0, so
+every quantity that goes through M^-1 in the psi direction (G, the free
+acceleration, G F + free) carries a relative error ~ eps / cos^2 theta, the
+condition number of M in its natural units diag(m, m, m, I0, I0).  ``aba``
+never forms M and stays at a few eps.  The vertical components (b, p) do not
+see this: the tip's height does not depend on psi.
+
+The module-level functions have the names, signatures and meaning of their
+counterparts in ``crosscheck.analytic``; every conversion between the paper's
+variables and (q, v) goes through ``crosscheck.coordinates``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+import pinocchio as pin
+from scipy.optimize import brentq, minimize_scalar
+
+from crosscheck import analytic
+from crosscheck.analytic import _force_components  # same check and message as the reference
+from crosscheck.checks import ALPHA, MU, check
+from crosscheck.coordinates import GENERALIZED, paper_to_qv
+from crosscheck.rod import Rod
+
+__all__ = [
+    "TIP_FRAME",
+    "JOINT_TYPES",
+    "ROUTES",
+    "build_model",
+    "PinocchioRod",
+    "RodTerms",
+    "engine",
+    "slip_coefficients",
+    "tip_acceleration",
+    "b",
+    "p",
+    "normal_force",
+    "mode",
+    "mu_P",
+]
+
+#: Name of the operational frame at the tip A.
+TIP_FRAME = "tip"
+
+#: One single-axis joint per generalised coordinate, in the order of ``GENERALIZED``.
+JOINT_TYPES = dict(zip(GENERALIZED, (pin.JointModelPX, pin.JointModelPY, pin.JointModelPZ, pin.JointModelRZ, pin.JointModelRX)))
+
+#: Routes of ``tip_acceleration``: "delassus" = G F + free acceleration; "aba" = aba with tau = J^T F,
+#: then the tip frame's classical acceleration.
+ROUTES = ("delassus", "aba")
+
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+
+def build_model(rod: Rod) -> pin.Model:
+    """The rod as a ``pinocchio.Model`` with joints named as ``GENERALIZED`` and the frame ``TIP_FRAME``.
+
+    Gravity is (0, 0, -g) [m/s^2]; all placements are the identity, so the
+    RX joint's frame has its origin at S and its axes are the body axes (i, j, k).
+    """
+    model = pin.Model()
+    model.name = "painleve_rod"
+    model.gravity.linear[:] = (0.0, 0.0, -rod.gravity)
+    parent = 0
+    for name, joint in JOINT_TYPES.items():
+        parent = model.addJoint(parent, joint(), pin.SE3.Identity(), name)
+    # Slender rod along the body j axis: no inertia about it (eq. inertia).
+    body = pin.Inertia(rod.mass, np.zeros(3), np.diag([rod.inertia, 0.0, rod.inertia]))
+    model.appendBodyToJoint(parent, body, pin.SE3.Identity())
+    tip = pin.SE3(np.eye(3), np.array([0.0, -rod.length, 0.0]))
+    model.addFrame(pin.Frame(TIP_FRAME, parent, tip, pin.FrameType.OP_FRAME))
+    return model
+
+
+@dataclass(frozen=True)
+class RodTerms:
+    """Pinocchio's dynamics terms of the rod at N states (physical units, world axes).
+
+    Attributes:
+      v: (N, 5) generalised velocities [m/s, rad/s].
+      M: (N, 5, 5) joint-space inertia matrix (crba, symmetrised).
+      C: (N, 5, 5) Coriolis matrix, C v = Coriolis and centrifugal forces.
+      g: (N, 5) generalised gravity.
+      nle: (N, 5) nonLinearEffects = C v + g computed by RNEA.
+      J: (N, 3, 5) tip Jacobian, translation rows, LOCAL_WORLD_ALIGNED.
+      dJ: (N, 3, 5) its time variation, same frame: tip acceleration = J a + dJ v.
+    """
+
+    v: np.ndarray
+    M: np.ndarray
+    C: np.ndarray
+    g: np.ndarray
+    nle: np.ndarray
+    J: np.ndarray
+    dJ: np.ndarray
+
+    def _solve(self) -> tuple[np.ndarray, np.ndarray]:
+        # One batched solve for M^-1 J^T and M^-1 (C v + g).
+        rhs = np.concatenate((np.swapaxes(self.J, 1, 2), (np.einsum("nij,nj->ni", self.C, self.v) + self.g)[..., None]), axis=2)
+        x = np.linalg.solve(self.M, rhs)
+        return x[..., :3], x[..., 3]
+
+    def delassus(self) -> np.ndarray:
+        """G = J M^-1 J^T, (N, 3, 3) [m/s^2 per N]: tip acceleration per unit tip force."""
+        minv_jt, _ = self._solve()
+        return self.J @ minv_jt
+
+    def free_acceleration(self) -> np.ndarray:
+        """dJ v - J M^-1 (C v + g), (N, 3) [m/s^2]: tip acceleration without contact force."""
+        _, minv_h = self._solve()
+        return np.einsum("nij,nj->ni", self.dJ, self.v) - np.einsum("nij,nj->ni", self.J, minv_h)
+
+    def tip_acceleration(self, force) -> np.ndarray:
+        """G F + free acceleration, (N, 3) [m/s^2], for tip forces F of shape (N, 3) [N]."""
+        minv_jt, minv_h = self._solve()
+        G = self.J @ minv_jt
+        free = np.einsum("nij,nj->ni", self.dJ, self.v) - np.einsum("nij,nj->ni", self.J, minv_h)
+        return np.einsum("nij,nj->ni", G, np.asarray(force, float)) + free
+
+
+def _rows(x, n: int) -> np.ndarray:
+    x = np.ascontiguousarray(np.broadcast_to(np.asarray(x, dtype=float), (n, 5)))
+    return x
+
+
+class PinocchioRod:
+    """A ``Rod`` built in Pinocchio with its own ``pinocchio.Data``; evaluates batches of states.
+
+    Not thread-safe (one Data).  ``engine(rod)`` returns a cached instance.
+    """
+
+    def __init__(self, rod: Rod):
+        self.rod = rod
+        self.model = build_model(rod)
+        self.data = self.model.createData()
+        self.tip = self.model.getFrameId(TIP_FRAME)
+
+    def terms(self, q, v) -> RodTerms:
+        """Pinocchio's M, C, g, C v + g, J, dJ at the states (q, v), each (N, 5) (see ``RodTerms``)."""
+        q = np.atleast_2d(np.asarray(q, float))
+        n = q.shape[0]
+        q, v = _rows(q, n), _rows(v, n)
+        model, data, tip = self.model, self.data, self.tip
+        M = np.empty((n, 5, 5))
+        C = np.empty((n, 5, 5))
+        g = np.empty((n, 5))
+        nle = np.empty((n, 5))
+        J = np.empty((n, 3, 5))
+        dJ = np.empty((n, 3, 5))
+        for i in range(n):
+            qi, vi = q[i], v[i]
+            M[i] = pin.crba(model, data, qi)
+            C[i] = pin.computeCoriolisMatrix(model, data, qi, vi)
+            g[i] = pin.computeGeneralizedGravity(model, data, qi)
+            nle[i] = pin.nonLinearEffects(model, data, qi, vi)
+            pin.computeJointJacobiansTimeVariation(model, data, qi, vi)
+            J[i] = pin.getFrameJacobian(model, data, tip, _LWA)[:3]
+            dJ[i] = pin.getFrameJacobianTimeVariation(model, data, tip, _LWA)[:3]
+        # crba fills the upper triangle only.
+        M = np.triu(M) + np.swapaxes(np.triu(M, 1), 1, 2)
+        return RodTerms(v=v, M=M, C=C, g=g, nle=nle, J=J, dJ=dJ)
+
+    def aba_tip_acceleration(self, q, v, force, *, J=None) -> np.ndarray:
+        """Tip acceleration (N, 3) [m/s^2] by ``aba`` with tau = J^T F, then the frame's classical acceleration.
+
+        ``J`` (N, 3, 5) may be passed when already known (e.g. ``terms(q, v).J``);
+        otherwise Pinocchio computes it here.
+        """
+        q = np.atleast_2d(np.asarray(q, float))
+        n = q.shape[0]
+        q, v = _rows(q, n), _rows(v, n)
+        force = np.ascontiguousarray(np.broadcast_to(np.asarray(force, float), (n, 3)))
+        model, data, tip = self.model, self.data, self.tip
+        if J is None:
+            J = self.jacobian(q)
+        tau = np.einsum("nij,ni->nj", J, force)
+        out = np.empty((n, 3))
+        for i in range(n):
+            qi, vi = q[i], v[i]
+            a = pin.aba(model, data, qi, vi, tau[i])
+            pin.forwardKinematics(model, data, qi, vi, a)
+            out[i] = pin.getFrameClassicalAcceleration(model, data, tip, _LWA).linear
+        return out
+
+    def jacobian(self, q) -> np.ndarray:
+        """Tip Jacobian (N, 3, 5), translation rows, LOCAL_WORLD_ALIGNED."""
+        q = np.atleast_2d(np.asarray(q, float))
+        n = q.shape[0]
+        q = _rows(q, n)
+        out = np.empty((n, 3, 5))
+        for i in range(n):
+            out[i] = pin.computeFrameJacobian(self.model, self.data, q[i], self.tip, _LWA)[:3]
+        return out
+
+    def tip_position(self, q) -> np.ndarray:
+        """Tip A in the world frame (N, 3) [m], from Pinocchio's frame placement."""
+        q = np.atleast_2d(np.asarray(q, float))
+        n = q.shape[0]
+        q = _rows(q, n)
+        out = np.empty((n, 3))
+        for i in range(n):
+            pin.framesForwardKinematics(self.model, self.data, q[i])
+            out[i] = self.data.oMf[self.tip].translation
+        return out
+
+    def mass_matrix(self, q) -> np.ndarray:
+        """M(q) (N, 5, 5) by crba, symmetrised (for finite differences of M along a path)."""
+        q = np.atleast_2d(np.asarray(q, float))
+        return self.terms(q, np.zeros_like(q)).M
+
+
+@lru_cache(maxsize=512)
+def engine(rod: Rod) -> PinocchioRod:
+    """The cached ``PinocchioRod`` of ``rod`` (Rod is frozen, hence hashable)."""
+    return PinocchioRod(rod)
+
+
+# --------------------------------------------------------------------------
+# The questions of crosscheck.analytic
+# --------------------------------------------------------------------------
+
+
+def slip_coefficients(rod: Rod, terms: RodTerms, beta, mu) -> tuple[np.ndarray, np.ndarray]:
+    """Scaled (b, p) of eqs. b and p from Pinocchio's free acceleration and Delassus matrix.
+
+    In physical units the vertical tip acceleration under Coulomb sliding
+    friction F = F_z (-mu cos beta, -mu sin beta, 1) is
+    e_z^T (free + G F) = e_z^T free + (e_z^T G (e_z - mu t_hat)) F_z,
+    t_hat = (cos beta, sin beta, 0).  Scaling accelerations by g and forces by
+    m g gives b = e_z^T free / g and p = m e_z^T G (e_z - mu t_hat).
+
+    Args:
+      rod: the rod of ``terms`` (physical units).
+      terms: ``RodTerms`` of N states.
+      beta: slip angle psi + varphi [rad], (N,) or scalar.
+      mu: friction coefficient, (N,) or scalar.
+
+    Returns:
+      (b, p), each (N,).
+    """
+    n = terms.M.shape[0]
+    beta = np.broadcast_to(np.asarray(beta, float), (n,))
+    mu = np.broadcast_to(np.asarray(mu, float), (n,))
+    G = terms.delassus()
+    free = terms.free_acceleration()
+    direction = np.stack((-mu * np.cos(beta), -mu * np.sin(beta), np.ones(n)), axis=-1)  # e_z - mu t_hat
+    return free[:, 2] / rod.gravity, rod.mass * np.einsum("nj,nj->n", G[:, 2, :], direction)
+
+
+def tip_acceleration(rod: Rod, psi, theta, psi_dot, theta_dot, force, *, route: str = "delassus") -> np.ndarray:
+    """Acceleration (x'', y'', z'') of the tip A computed by Pinocchio (compare eq. linode2).
+
+    Args:
+      rod: the rod, in physical units (m, l, I0, g).
+      psi: azimuthal angle [rad].
+      theta: polar angle [rad], in (0, pi/2).
+      psi_dot, theta_dot: angular rates [rad/s].
+      force: contact force (Fx, Fy, Fz) [N] applied at A, world frame, shape (..., 3).
+      route: "delassus" (G F + free acceleration) or "aba" (aba with tau = J^T F,
+        then the tip frame's classical acceleration); see ``ROUTES``.
+
+    Returns:
+      (..., 3) array of tip accelerations [m/s^2], world frame, gravity included.
+      Arguments broadcast as in ``crosscheck.analytic.tip_acceleration``.
+    """
+    if route not in ROUTES:
+        raise ValueError(f"route must be one of {', '.join(ROUTES)}; got {route!r}")
+    fx, fy, fz = _force_components(force)
+    force = np.stack((fx, fy, fz), axis=-1)
+    psi, psi_dot, theta_dot = (check(n, x) for n, x in (("psi", psi), ("psi_dot", psi_dot), ("theta_dot", theta_dot)))
+    # The tip acceleration does not depend on where S is nor on how fast it translates: place the
+    # tip at rest at the origin (eta = 0) and convert the rates to the paper's scaled ones.
+    q, v = paper_to_qv(rod, theta, 0.0, theta_dot / rod.omega, psi_dot / rod.omega, 0.0, psi)
+    shape = np.broadcast_shapes(q.shape[:-1], force.shape[:-1])
+    q = np.broadcast_to(q, shape + (5,)).reshape(-1, 5)
+    v = np.broadcast_to(v, shape + (5,)).reshape(-1, 5)
+    force = np.broadcast_to(force, shape + (3,)).reshape(-1, 3)
+    rod_engine = engine(rod)
+    if route == "aba":
+        out = rod_engine.aba_tip_acceleration(q, v, force)
+    else:
+        out = rod_engine.terms(q, v).tip_acceleration(force)
+    return out.reshape(shape + (3,))
+
+
+def _scaled_slip(theta, varphi, Theta, Psi, mu, alpha) -> tuple[np.ndarray, np.ndarray]:
+    """(b, p) at broadcast scaled states, one Pinocchio model per distinct alpha (``Rod.scaled``)."""
+    mu = check("mu", mu, MU)
+    alpha = check("alpha", alpha, ALPHA)
+    varphi = check("varphi", varphi)
+    theta, varphi, Theta, Psi, mu, alpha = np.broadcast_arrays(*(np.asarray(x, float) for x in (theta, varphi, Theta, Psi, mu, alpha)))
+    shape = theta.shape
+    flat = [x.reshape(-1) for x in (theta, varphi, Theta, Psi, mu, alpha)]
+    theta, varphi, Theta, Psi, mu, alpha = flat
+    b_out = np.empty(theta.shape)
+    p_out = np.empty(theta.shape)
+    values, inverse = np.unique(alpha, return_inverse=True)
+    for k, a in enumerate(values):
+        rod = Rod.scaled(float(a))
+        idx = np.flatnonzero(inverse == k)
+        # eta = 1: a slipping tip with heading beta = psi + varphi (psi = 0).
+        q, v = paper_to_qv(rod, theta[idx], varphi[idx], Theta[idx], Psi[idx], 1.0, 0.0)
+        b_out[idx], p_out[idx] = slip_coefficients(rod, engine(rod).terms(q, v), varphi[idx], mu[idx])
+    return b_out.reshape(shape), p_out.reshape(shape)
+
+
+def b(Psi, Theta, theta):
+    """Scaled vertical free acceleration of the tip from Pinocchio (compare eq. b).
+
+    e_z^T (dJ v - J M^-1 (C v + g)) / g at psi = 0 on the scaled rod (alpha = 3;
+    b does not depend on alpha, m, I0 or psi).  Arrays broadcast.
+    """
+    out, _ = _scaled_slip(theta, 0.0, Theta, Psi, 0.0, 3.0)
+    return out
+
+
+def p(theta, varphi, mu, alpha):
+    """Scaled vertical tip acceleration per unit normal force while slipping, from Pinocchio (compare eq. p).
+
+    p = e_z^T G (e_z - mu t_hat) on ``Rod.scaled(alpha)``, t_hat = (cos beta,
+    sin beta, 0) the unit slip direction, beta = psi + varphi (psi = 0; p does
+    not depend on psi).  Arrays broadcast.
+    """
+    _, out = _scaled_slip(theta, varphi, 0.0, 0.0, mu, alpha)
+    return out
+
+
+def normal_force(Psi, Theta, theta, varphi, mu, alpha):
+    """Scaled normal force F_z = -b / p from Pinocchio's b and p (compare eq. FZ); inf where p = 0."""
+    bb, pp = _scaled_slip(theta, varphi, Theta, Psi, mu, alpha)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return -bb / pp
+
+
+#: The LCP mode of (b, p) (section 3.1) is engine-independent: feed it this module's b and p.
+mode = analytic.mode
+
+
+def mu_P(alpha, *, xtol: float = 1e-14) -> float:
+    """Painleve's critical friction found numerically from this module's ``p`` alone.
+
+    The smallest mu at which min over theta in (0, pi/2) of p(theta, -pi/2, mu,
+    alpha) touches 0 (compare eq. mup2D, 2 sqrt(1 + alpha) / alpha).  The
+    minimum over theta is found by bounded Brent; its value is accurate to
+    rounding because p is flat there.  The root in mu is bracketed by mu = 0
+    (min p > 0) and a doubling search, then refined by ``brentq`` to ``xtol``.
+    """
+    alpha = float(check("alpha", alpha, ALPHA))
+
+    def min_p(mu: float) -> float:
+        res = minimize_scalar(
+            lambda theta: float(p(theta, -math.pi / 2, mu, alpha)),
+            bounds=(0.0, math.pi / 2),
+            method="bounded",
+            options={"xatol": 1e-10},
+        )
+        return float(res.fun)
+
+    hi = 1.0
+    while min_p(hi) > 0.0:
+        hi *= 2.0
+    return float(brentq(min_p, 0.0, hi, xtol=xtol, rtol=4 * np.finfo(float).eps))

@@ -1,0 +1,132 @@
+"""``crosscheck validate pinocchio``: passes on the real engine, fails on a wrong reference."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from crosscheck import analytic, validate_pinocchio
+from crosscheck.cli import main
+from crosscheck.rod import Rod
+
+QUANTITIES = [
+    "tip acc, aba",
+    "tip acc, G F + free",
+    "Delassus G",
+    "free tip acc",
+    "M (crba)",
+    "C (Coriolis matrix)",
+    "g (gravity)",
+    "C v + g = nle",
+    "b",
+    "p",
+    "mode",
+    "mu_P from p",
+]
+
+
+def test_validation_passes_on_a_few_hundred_states():
+    result = validate_pinocchio.validate(400, np.random.default_rng(7), progress=False)
+    assert [s.quantity for s in result.stats] == QUANTITIES
+    assert result.passed, result.to_table()
+    for s in result.stats:
+        assert s.n == (len(validate_pinocchio.ALPHAS_MU_P) if s.quantity == "mu_P from p" else 400)
+        assert 0.0 <= s.max_ratio <= 1.0
+    mode = result.extra["mode"]
+    assert np.sum(mode["confusion_reference_by_pinocchio"]) == 400
+    assert mode["disagree_off_boundary"] == 0
+    # The states reach the regions the issue asks for: near-vertical rods with |cos theta| <= 1e-2.
+    assert result.extra["min_cos_theta"] < 1e-2
+    assert result.extra["rods"] == validate_pinocchio.MAX_RODS
+
+
+def test_random_states_cover_the_issue_ranges():
+    s = validate_pinocchio.random_states(3000, np.random.default_rng(3))
+    assert np.all((s["theta"] > 0) & (s["theta"] < np.pi / 2))
+    assert np.any(s["theta"] < 1e-6) and np.any(np.abs(np.cos(s["theta"])) < 2e-3)
+    assert np.any(np.abs(np.cos(s["theta"]) - 1e-2) < 2e-3)
+    assert np.all((s["varphi"] > -np.pi) & (s["varphi"] <= 0))
+    assert np.ptp(np.log10(s["alpha"])) > 1.0 and np.ptp(np.log10(s["m"])) > 1.0 and np.ptp(np.log10(s["l"])) > 1.0
+    np.testing.assert_allclose(s["alpha"], s["m"] * s["l"] ** 2 / s["I0"], rtol=1e-14)
+
+
+def test_cli_exit_zero_and_json(capsys):
+    assert main(["validate", "pinocchio", "--states", "200", "--seed", "3", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["engine"] == "pinocchio" and out["passed"] is True
+    assert [s["quantity"] for s in out["stats"]] == QUANTITIES
+    assert all(s["passed"] for s in out["stats"])
+
+
+def test_validation_is_deterministic_for_a_seed():
+    a = validate_pinocchio.validate(150, np.random.default_rng(11), progress=False).to_json()
+    b = validate_pinocchio.validate(150, np.random.default_rng(11), progress=False).to_json()
+    assert a == b
+
+
+def _perturbed_inertia(original):
+    # eq. linode2 with its I0/(m l^2) coefficient wrong by 1 part in 1e9
+    def tip_acceleration(rod, *args):
+        wrong = Rod(mass=rod.mass, length=rod.length, inertia=rod.inertia * (1 + 1e-9), gravity=rod.gravity)
+        return original(wrong, *args)
+
+    return tip_acceleration
+
+
+def _perturbed_p(original):
+    # eq. p with 1 + alpha replaced by 1 + alpha (1 + 1e-9)
+    return lambda theta, varphi, mu, alpha: original(theta, varphi, mu, alpha) + 1e-9 * alpha
+
+
+def _perturbed_b(original):
+    # eq. b with the centripetal term Theta^2 sin theta off by 1e-9
+    return lambda Psi, Theta, theta: original(Psi, Theta, theta) + 1e-9 * Theta**2 * np.sin(theta)
+
+
+def _perturbed_reference_terms(original):
+    # M_psipsi = I0 cos^2 theta (1 + 1e-9)
+    def reference_terms(rod, q, v):
+        M, C, g = original(rod, q, v)
+        M = M.copy()
+        M[:, 3, 3] *= 1 + 1e-9
+        return M, C, g
+
+    return reference_terms
+
+
+WRONG_REFERENCES = {
+    "linode2-I0-coefficient": (analytic, "tip_acceleration", _perturbed_inertia, {"tip acc, aba", "tip acc, G F + free", "Delassus G"}),
+    "p-coefficient": (analytic, "_p", _perturbed_p, {"p"}),
+    "b-coefficient": (analytic, "_b", _perturbed_b, {"b"}),
+    "M-psipsi": (validate_pinocchio, "reference_terms", _perturbed_reference_terms, {"M (crba)"}),
+}
+
+
+@pytest.mark.parametrize("case", WRONG_REFERENCES, ids=str)
+def test_validation_fails_on_a_wrong_reference(case, monkeypatch, capsys):
+    module, name, perturb, must_fail = WRONG_REFERENCES[case]
+    monkeypatch.setattr(module, name, perturb(getattr(module, name)))
+    # The command exits non-zero and names the quantities that exceed their tolerance.
+    assert main(["validate", "pinocchio", "--states", "300", "--seed", "5", "--json"]) == 1
+    out = json.loads(capsys.readouterr().out)
+    assert out["passed"] is False
+    failed = {s["quantity"] for s in out["stats"] if not s["passed"]}
+    assert must_fail <= failed
+
+
+def test_failed_table_says_FAILED(monkeypatch, capsys):
+    monkeypatch.setattr(analytic, "_p", _perturbed_p(analytic._p))
+    assert main(["validate", "pinocchio", "--states", "100", "--seed", "2"]) == 1
+    lines = capsys.readouterr().out.rstrip().splitlines()
+    assert lines[-1] == "FAILED"
+    assert [line.split()[0] for line in lines if " FAIL " in line] == ["p"]
+
+
+def test_progress_bar_goes_to_stderr(capsys):
+    result = validate_pinocchio.validate(50, np.random.default_rng(1), progress=True)
+    assert result.passed
+    captured = capsys.readouterr()
+    assert "validate pinocchio" in captured.err and "50/50" in captured.err
+    assert captured.out == ""

@@ -154,9 +154,9 @@ def _stat(quantity: str, got, want, tolerance, states: dict, *, scale=1.0) -> Er
 
 def _by_decade(cos: np.ndarray, errors: dict[str, np.ndarray]) -> list[dict]:
     """Largest of each error per decade of cos theta: shows the 1/cos and 1/cos^2 growth."""
-    decade = np.floor(np.log10(cos)).astype(int)
+    decade = np.minimum(np.floor(np.log10(cos)).astype(int), -1)  # cos theta = 1.0 rounds into [0.1, 1]
     rows = []
-    for d in range(int(decade.min()), 1):
+    for d in range(int(decade.min()), 0):
         sel = decade == d
         if sel.any():
             rows.append({"cos_theta": [10.0**d, 10.0 ** (d + 1)], "n": int(sel.sum()), **{k: float(e[sel].max()) for k, e in errors.items()}})

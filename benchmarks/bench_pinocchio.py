@@ -1,0 +1,90 @@
+"""States per second of ``crosscheck validate pinocchio`` beside the bare loop of its Pinocchio calls.
+
+    python benchmarks/bench_pinocchio.py [--states N] [--repeat R]
+
+The baseline, measured in the same run on the same states, is the bare Python
+loop of the ten Pinocchio calls the validation makes per state (crba,
+computeCoriolisMatrix, computeGeneralizedGravity, nonLinearEffects,
+computeJointJacobiansTimeVariation, getFrameJacobian,
+getFrameJacobianTimeVariation, aba, forwardKinematics,
+getFrameClassicalAcceleration) with nothing stored and no reference.  The
+ratio validation time / bare time is what the rest (conversions, the
+analytic reference, the batched linear algebra, the error statistics and
+mu_P) costs on top of Pinocchio.  Best of ``--repeat`` runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+import numpy as np
+import pinocchio as pin
+
+from crosscheck import pinocchio_rod as pinrod
+from crosscheck import validate_pinocchio
+from crosscheck.coordinates import paper_to_qv
+from crosscheck.rod import Rod
+
+
+def bare_inputs(n: int, seed: int):
+    """(model, data, tip, q, v, tau) for n states of ``validate_pinocchio.random_states`` on one rod."""
+    s = validate_pinocchio.random_states(n, np.random.default_rng(seed))
+    rod = Rod(mass=s["m"][0], length=s["l"][0], inertia=s["I0"][0], gravity=s["g"][0])
+    q, v = paper_to_qv(rod, s["theta"], s["varphi"], s["Theta"], s["Psi"], s["eta"], s["psi"])
+    q, v = np.ascontiguousarray(q), np.ascontiguousarray(v)
+    tau = np.ascontiguousarray(np.random.default_rng(seed + 1).standard_normal((n, 5)))
+    e = pinrod.PinocchioRod(rod)
+    return e.model, e.data, e.tip, q, v, tau
+
+
+def bare_loop(model, data, tip, q, v, tau) -> None:
+    lwa = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+    for i in range(q.shape[0]):
+        qi, vi = q[i], v[i]
+        pin.crba(model, data, qi)
+        pin.computeCoriolisMatrix(model, data, qi, vi)
+        pin.computeGeneralizedGravity(model, data, qi)
+        pin.nonLinearEffects(model, data, qi, vi)
+        pin.computeJointJacobiansTimeVariation(model, data, qi, vi)
+        pin.getFrameJacobian(model, data, tip, lwa)
+        pin.getFrameJacobianTimeVariation(model, data, tip, lwa)
+        a = pin.aba(model, data, qi, vi, tau[i])
+        pin.forwardKinematics(model, data, qi, vi, a)
+        pin.getFrameClassicalAcceleration(model, data, tip, lwa)
+
+
+def best_of(repeat: int, f) -> float:
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        f()
+        times.append(time.perf_counter() - t)
+    return min(times)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--states", type=int, default=100_000)
+    parser.add_argument("--repeat", type=int, default=2)
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args()
+    n = args.states
+    inputs = bare_inputs(n, args.seed)
+    t_bare = best_of(args.repeat, lambda: bare_loop(*inputs))
+    result = None
+
+    def run():
+        nonlocal result
+        result = validate_pinocchio.validate(n, np.random.default_rng(args.seed), progress=False)
+
+    t_val = best_of(args.repeat, run)
+    print(f"pin {pin.__version__}, numpy {np.__version__}, {os.cpu_count()} cpus, {n} states, best of {args.repeat}")
+    print(f"{'bare Pinocchio loop':<28} {n / t_bare:>12,.0f} states/s  {t_bare:7.3f} s")
+    print(f"{'validate pinocchio':<28} {n / t_val:>12,.0f} states/s  {t_val:7.3f} s  ({'passed' if result.passed else 'FAILED'})")
+    print(f"ratio validate / bare: {t_val / t_bare:.2f}")
+
+
+if __name__ == "__main__":
+    main()

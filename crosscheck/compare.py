@@ -9,6 +9,7 @@ extras (tables, confusion matrices).
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
@@ -43,8 +44,10 @@ def error_stat(quantity: str, got, want, tol: Tolerance, states: dict[str, np.nd
     scale = np.abs(want).reshape(n, -1)
     ratio = tol.ratio(got, want).reshape(n, -1)
     ratio = np.where(np.isfinite(ratio), ratio, np.inf)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rel = np.where(scale > 0, err / scale, np.where(err > 0, np.inf, 0.0))
+    # relative error only where the reference is non-zero; exact zeros of the
+    # reference (structural zeros of C, g, ...) are judged by max_abs alone
+    nz = scale > 0
+    max_rel = float((err[nz] / scale[nz]).max()) if nz.any() else math.nan
     per_state = ratio.max(axis=1)
     i = int(np.argmax(per_state))
     worst = {k: float(np.asarray(v)[i]) for k, v in states.items()}
@@ -53,12 +56,26 @@ def error_stat(quantity: str, got, want, tol: Tolerance, states: dict[str, np.nd
         quantity=quantity,
         n=n,
         max_abs=float(err.max()),
-        max_rel=float(rel.max()),
+        max_rel=max_rel,
         max_ratio=float(per_state.max()),
         worst_state=worst,
         tolerance=tol.as_dict(),
         passed=bool(per_state.max() <= 1.0),
     )
+
+
+def _finite(x):
+    if isinstance(x, dict):
+        return {k: _finite(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_finite(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return _finite(x.tolist())
+    if isinstance(x, (float, np.floating)):
+        return float(x) if math.isfinite(x) else None
+    if isinstance(x, np.integer):
+        return int(x)
+    return x
 
 
 @dataclass
@@ -72,7 +89,9 @@ class ValidationResult:
         return all(s.passed for s in self.stats)
 
     def to_json(self) -> str:
-        return json.dumps({"engine": self.engine, "passed": self.passed, "stats": [asdict(s) for s in self.stats], "extra": self.extra}, indent=2, default=float)
+        """Standard JSON: non-finite floats (NaN, inf) become null."""
+        doc = {"engine": self.engine, "passed": self.passed, "stats": [asdict(s) for s in self.stats], "extra": self.extra}
+        return json.dumps(_finite(doc), indent=2, allow_nan=False)
 
     def to_table(self) -> str:
         head = f"{'quantity':<28} {'n':>7} {'max abs':>10} {'max rel':>10} {'/tol':>8}  result  worst state"

@@ -87,7 +87,7 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
             "date": provenance.now(),
         }
         store.write_json(STATUS_FILE, status)
-        ctx = RunContext(slug=s.slug, params=params[s.slug], quick=quick, rng=section_rng(seed, s.slug), store=store, progress=bar)
+        ctx = RunContext(slug=s.slug, params=params[s.slug], quick=quick, rng=section_rng(seed, s.slug), store=store, progress=bar, show_progress=progress)
         t0 = time.perf_counter()
         try:
             s.run(ctx)

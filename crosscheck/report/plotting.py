@@ -33,6 +33,8 @@ __all__ = [
     "mode_legend",
     "categorical_image",
     "PI_TICKS_VARPHI",
+    "GB_TYPE_COLORS",
+    "pb_plane",
 ]
 
 # The paper's shading (ex_shared.tex: myyellow, myorange, mylime, mypurple), Fig. 3a caption:
@@ -76,12 +78,31 @@ plt.rcParams.update(
 )
 
 
+#: Fig. 11's colours for the type of a GB point (md1 stable node, md2 saddle, md3 unstable node,
+#: md5 unstable focus); the paper shows no stable focus or degenerate point: grey and black here.
+GB_TYPE_COLORS = {0: LINE_COLORS[0], 1: LINE_COLORS[1], 2: LINE_COLORS[2], 3: (0.6, 0.6, 0.6), 4: LINE_COLORS[4], 5: (0, 0, 0)}
+
+
+def pb_plane(ax, p_lim: float, b_lim: float) -> None:
+    """Shade the (p, b) plane by mode as Figs. 8 and 9: p > 0, b < 0 slipping; p > 0, b > 0 lift-off;
+    p < 0, b < 0 inconsistent; p < 0, b > 0 indeterminate."""
+    for (x0, y0), m in (((0, -1), Mode.SLIP), ((0, 0), Mode.LIFTOFF), ((-1, -1), Mode.INCONSISTENT), ((-1, 0), Mode.INDETERMINATE)):
+        ax.add_patch(plt.Rectangle((x0 * p_lim, y0 * b_lim), p_lim, b_lim, color=MODE_COLORS[m], alpha=0.55, lw=0))
+    ax.axhline(0, color="k", lw=0.5)
+    ax.axvline(0, color="k", lw=0.5)
+    ax.set_xlim(-p_lim, p_lim)
+    ax.set_ylim(-b_lim, b_lim)
+    ax.set_xlabel("p")
+    ax.set_ylabel("b")
+
+
 def save_figure(fig, stem: Path) -> None:
     """Write ``<stem>.png`` and ``<stem>.svg`` and close ``fig``."""
     stem = Path(stem)
     stem.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(stem.with_suffix(".png"), metadata={"Software": None}, bbox_inches="tight")
-    fig.savefig(stem.with_suffix(".svg"), metadata={"Date": None, "Creator": None}, bbox_inches="tight")
+    # not with_suffix: a stem may contain a dot ("mu1.4")
+    fig.savefig(stem.parent / f"{stem.name}.png", metadata={"Software": None}, bbox_inches="tight")
+    fig.savefig(stem.parent / f"{stem.name}.svg", metadata={"Date": None, "Creator": None}, bbox_inches="tight")
     plt.close(fig)
 
 

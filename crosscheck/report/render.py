@@ -16,6 +16,7 @@ from __future__ import annotations
 import html
 import json
 import re
+import shutil
 import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -90,6 +91,9 @@ def _view(section: Section, out: Path) -> SectionView:
         view.error = status.get("error", "error")
         view.traceback = status.get("traceback", "")
     ctx = RenderContext(slug=section.slug, params=status.get("params", {}), store=store, out=out)
+    stale = out / "figures" / section.slug
+    if stale.exists():  # figures of an earlier render must not outlive it
+        shutil.rmtree(stale)
     try:
         view.blocks = list(section.render(ctx))
     except Exception as e:  # noqa: BLE001  (one section's figure must not stop the report)

@@ -101,6 +101,7 @@ class RunContext:
       rng: the section's seeded generator.
       store: where to save results; save each piece as soon as it is computed.
       progress: ``progress(iterable, desc=..., total=...)``: a tqdm bar (or the bare iterable).
+      show_progress: whether bars are shown (for engines' own ``progress=`` flags).
     """
 
     slug: str
@@ -109,6 +110,7 @@ class RunContext:
     rng: np.random.Generator
     store: SectionStore
     progress: Callable[..., Iterable] = _no_progress
+    show_progress: bool = False
     checks: list[dict] = field(default_factory=list)
 
     def check(self, name: str, passed: bool, *, value: Any = None, allowance: Any = None, detail: str = "", known: str = "") -> bool:

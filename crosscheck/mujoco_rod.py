@@ -31,6 +31,7 @@ from typing import Any, NamedTuple
 import mujoco
 import numpy as np
 
+from crosscheck.checks import ETA as NONNEGATIVE
 from crosscheck.checks import FINITE, MU, POSITIVE, check
 from crosscheck.coordinates import to_generalized
 from crosscheck.outcome import Outcome
@@ -90,6 +91,10 @@ class Options:
         (solreffriction on the contact pair); None uses ``timeconst``.
       solimp: MuJoCo impedance (d0, dmax, width / l, midpoint, power);
         default MuJoCo's (0.9, 0.95, 0.001 m for l = 1 m, 0.5, 2).
+      solver_tolerance: MuJoCo's solver tolerance (default 1e-10, as in
+        rod.xml).  The Newton solver stops on it, so the contact force and the
+        acceleration agree to ~5e-7 relative at 1e-10; 0 runs to
+        ``iterations`` and gives ~1e-11 (used by the instantaneous check).
       model_file: path of an alternative MJCF file with the same element
         names (default: the packaged ``rod.xml``).
     """
@@ -100,6 +105,7 @@ class Options:
     dampratio: float = 1.0
     friction_timeconst: float | None = None
     solimp: tuple[float, float, float, float, float] = (0.9, 0.95, 0.001, 0.5, 2.0)
+    solver_tolerance: float = 1e-10
     model_file: str | None = None
 
     def __post_init__(self) -> None:
@@ -117,6 +123,7 @@ class Options:
         if not (0 < solimp[0] < 1 and 0 < solimp[1] < 1 and solimp[2] > 0):
             raise ValueError(f"solimp must have 0 < d0, dmax < 1 and width > 0; got {tuple(solimp)!r}")
         object.__setattr__(self, "solimp", tuple(float(x) for x in solimp))
+        object.__setattr__(self, "solver_tolerance", float(check("solver_tolerance", self.solver_tolerance, NONNEGATIVE)))
         if self.model_file is not None:
             object.__setattr__(self, "model_file", os.fspath(self.model_file))
 
@@ -175,6 +182,7 @@ def build_model(rod: Rod, mu: float, options: Options | None = None) -> mujoco.M
     if body is None or geom is None or site is None or pair is None:
         raise ModelFileError(f"MuJoCo model file {path} lacks body 'rod', geom 'rod', site 'tip' or pair 'floor_rod'")
     spec.option.timestep = options.timestep / w
+    spec.option.tolerance = options.solver_tolerance
     spec.option.gravity = [0.0, 0.0, -rod.gravity]
     body.explicitinertial = True
     body.mass = rod.mass
@@ -197,15 +205,18 @@ def build_model(rod: Rod, mu: float, options: Options | None = None) -> mujoco.M
         raise ModelFileError(f"MuJoCo cannot compile {path}: {e}") from None
 
 
-def initial_state(model: mujoco.MjModel, rod: Rod, state: SlipState, radius: float) -> np.ndarray:
+def initial_state(model: mujoco.MjModel, rod: Rod, state: SlipState, radius: float, *, data: mujoco.MjData | None = None) -> np.ndarray:
     """Full physics state (mjSTATE_FULLPHYSICS) of ``state`` with the capsule touching the plane.
 
     The tip A is put at (0, 0, r) so the capsule's lowest point C = A - r K is
     on the plane (dist = 0, no contact yet); velocities from
     ``crosscheck.coordinates.to_generalized``.  Returns an (nstate,) array.
+    ``data``: an ``MjData`` of ``model`` to reuse (its state is overwritten).
     """
     q, v = to_generalized(rod, state, tip=(0.0, 0.0, radius))
-    data = mujoco.MjData(model)
+    if data is None:
+        data = mujoco.MjData(model)
+    mujoco.mj_resetData(model, data)
     data.qpos[:] = q
     data.qvel[:] = v
     out = np.empty(mujoco.mj_stateSize(model, mujoco.mjtState.mjSTATE_FULLPHYSICS))
@@ -381,16 +392,20 @@ class Thresholds:
     chatter cannot fake.
 
     Attributes:
-      window: W, the averaging window (scaled time).  0.02 is ~6 ms for a 1 m
-        rod: long enough to hold many spike-flight cycles at the default
-        timestep (a cycle is ~10-100 steps), short against the O(1) time scale
-        on which the rigid slipping state changes.  Never fewer than
-        ``window_steps`` steps.
-      window_steps: lower bound of W in steps, so that at coarse timesteps a
-        window still averages several spikes.
-      jam_force: JAM needs a window-mean normal force >= this [m g].  The
-        rigid slipping force -b/p is O(1) except next to p = 0; chatter
-        averages to it, so a mean of 4 m g is an impulsive force.
+      window: W, the averaging window (scaled time).  A slipping soft
+        contact cycles spike -> flight -> landing; measured cycle lengths are
+        ~0.1 (timestep 3e-3, i.e. dt = 1e-3 s for a 1 m rod), ~0.04 (3e-4) and
+        ~0.01 (3e-5).  W = 0.05 (16 ms for a 1 m rod) averages over whole
+        cycles at the default timestep and finer, and is still short against
+        the O(1) time on which the rigid slipping state changes.  W is never
+        fewer than ``window_steps`` rows, which covers coarse timesteps
+        (40 x 3e-3 = 0.12 > one cycle).  With W = 0.02 and 10 rows, landings of
+        the chatter at dt = 1e-3 s were classified as jams below mu_P.
+      window_steps: lower bound of W in rows (see ``window``).
+      jam_force: JAM needs a window-mean normal force >= this [m g].  One
+        m g, the weight: a slipping rod's window-mean force is the rigid
+        -b/p = O(1) (below 1 unless b < -1 or p < 1), so this floor only
+        rules out small forces whose ratio to a near-zero rigid force is big.
       jam_ratio: ... and >= this multiple of the window-mean rigid force
         max(0, -b/p) evaluated on MuJoCo's own states (taken as 0 where
         p <= 0: no slipping solution exists there): the force is not what
@@ -399,7 +414,7 @@ class Thresholds:
         at least this fraction of its value within the window: the abrupt loss
         of slip speed of an impact without collision.  A rigid slipping rod
         loses speed at |eta'| = |Q1 F_z + A1| = O(1), i.e. a fraction
-        O(W / eta) = O(0.02) per window.
+        O(W / eta) = O(0.05 / eta) per window.
       lift_steps: LIFTOFF needs this many consecutive rows with zero normal
         force and upward tip acceleration.  During a force-free row MuJoCo's
         tip acceleration is exactly the free acceleration b of eq. b, so an
@@ -419,9 +434,9 @@ class Thresholds:
         the last row).
     """
 
-    window: float = 0.02
-    window_steps: int = 10
-    jam_force: float = 4.0
+    window: float = 0.05
+    window_steps: int = 40
+    jam_force: float = 1.0
     jam_ratio: float = 3.0
     jam_slip_loss: float = 0.2
     lift_steps: int = 3
@@ -439,105 +454,134 @@ def _first(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return has, np.where(has, mask.argmax(axis=-1), -1)
 
 
-def _window_mean(x: np.ndarray, w: int) -> np.ndarray:
-    """Mean of x[..., k:k+w] for every k with a full window (NaN for the last w - 1 rows)."""
-    c = np.concatenate([np.zeros(x.shape[:-1] + (1,)), np.cumsum(x, axis=-1)], axis=-1)
-    out = np.full(x.shape, np.nan)
+def _window_sum(x: np.ndarray, w: int) -> np.ndarray:
+    """Sum of x[..., k:k+w] for each k with a full window; NaN for the last w - 1 rows."""
     n = x.shape[-1]
+    c = np.zeros(x.shape[:-1] + (n + 1,))
+    np.cumsum(x, axis=-1, out=c[..., 1:])
+    out = np.full(x.shape, np.nan)
     if w <= n:
-        out[..., : n - w + 1] = (c[..., w:] - c[..., : n - w + 1]) / w
+        out[..., : n - w + 1] = c[..., w:] - c[..., : n - w + 1]
     return out
 
 
-def _consecutive(mask: np.ndarray, k: int) -> np.ndarray:
-    """True at row i when mask[i:i+k] are all True."""
-    m = mask.astype(float)
-    return _window_mean(m, k) > 1.0 - 1e-12
-
-
 class Classification(NamedTuple):
-    """What ``classify`` returns; each field has the batch shape of the record.
+    """What ``classify`` returns; each field has the batch shape of the sensordata.
 
     outcome: int8 ``Outcome`` values.
     event_time: scaled time of the first event (NaN for SLIP).
+    event_row: its row (-1 for SLIP).
     exit_time: scaled time at which theta left (0, pi/2), the paper's domain
       (the rod lies flat or stands up; NaN if never).  Events are looked for
       only before it (a run that leaves first is SLIP, like the analytic
       ``slip_until_event``), except DIVERGED, which is never dropped.
+    diverged_time: scaled time of the first diverged row (NaN if none), also
+      when another event came first and is the outcome: a divergence is
+      always reported.
+    max_normal_force: largest normal force of one row [m g] (the spikes).
+    max_window_force: largest window-mean normal force [m g] (JAM's statistic).
+    active_fraction: fraction of rows in which MuJoCo had a contact.
+    max_gap: largest height of the capsule's lowest point [l].
     """
 
     outcome: np.ndarray
     event_time: np.ndarray
+    event_row: np.ndarray
     exit_time: np.ndarray
+    diverged_time: np.ndarray
+    max_normal_force: np.ndarray
+    max_window_force: np.ndarray
+    active_fraction: np.ndarray
+    max_gap: np.ndarray
 
 
-def classify(record: Record, *, mu: float, alpha: float, timestep: float, thresholds: Thresholds | None = None) -> Classification:
-    """Outcome and event time of recorded runs (the one classifier of ``simulate`` and the sweeps).
+def classify(sensordata: np.ndarray, layout: SensorLayout, *, rod: Rod, mu, radius: float, timestep: float,
+             thresholds: Thresholds | None = None) -> Classification:
+    """Outcome and event time of recorded runs: the one classifier of ``simulate`` and the sweeps.
+
+    Works on MuJoCo's raw sensor rows, so a sweep never builds full records.
 
     Args:
-      record: a ``Record`` with N rows, optionally batched (B, N).
-      mu, alpha: friction coefficient and m l^2 / I0 of the run.
+      sensordata: (..., N, nsensordata) rows as ``mujoco.rollout`` records them.
+      layout: ``SensorLayout`` of the model.
+      rod: the rod (scales and alpha).
+      mu: friction coefficient, a scalar or one per run (the batch shape).
+      radius: scaled capsule radius r / l.
       timestep: scaled timestep omega dt (sets the window length in rows).
       thresholds: criteria (``Thresholds()`` by default; see there for why).
 
     Returns:
-      ``Classification(outcome, event_time, exit_time)``.  The first event
-      wins; on a tie DIVERGED > JAM > LIFTOFF > STICK.  A window that would
-      reach past the end of the record (or past the domain exit) is not
-      judged, so an event in the last W of the horizon can be missed.
+      ``Classification``.  The first event wins; on a tie DIVERGED > JAM >
+      LIFTOFF > STICK.  A window that would reach past the end of the record
+      (or past the domain exit) is not judged, so an event in the last W of
+      the horizon can be missed.
     """
     th = thresholds or Thresholds()
     w = th.window_rows(timestep)
-    t = record.t
-    n = t.shape[-1]
+    sd = np.asarray(sensordata, dtype=float)
+    n = sd.shape[-2]
     rows = np.arange(n)
-    Fn = np.nan_to_num(record.normal_force, nan=0.0)
-    eta = record.eta
+    cols = (layout.found, layout.force.start, layout.tip_pos.start + 2, layout.tip_vel.start, layout.tip_vel.start + 1,
+            layout.tip_vel.start + 2, layout.tip_acc.start + 2, layout.psi, layout.theta, layout.psi_dot, layout.theta_dot, layout.clock)
+    # one strided gather per column, then everything runs on contiguous (..., N) arrays
+    X = np.empty((len(cols),) + sd.shape[:-1])
+    for j, c in enumerate(cols):
+        X[j] = sd[..., c]
+    found, fn, z, vx, vy, vz, az, psi, theta, psi_dot, theta_dot, clock = X
+    l, om, g = rod.length, rod.omega, rod.gravity
+    alpha = rod.alpha
+    mu = np.asarray(mu, dtype=float)[..., None]  # broadcast over rows
+    lw = l * om
+    t = clock * om
+    Fn = fn / rod.force_scale
+    Theta, Psi = theta_dot / om, psi_dot / om
 
-    # DIVERGED: non-finite values, runaway speed, or a stopped clock (MuJoCo warning).
-    finite = np.ones(t.shape, bool)
-    for x in (record.tip_pos, record.tip_vel, record.tip_acc, record.force):
-        finite &= np.isfinite(x).all(axis=-1)
-    finite &= np.isfinite(t) & np.isfinite(record.Psi) & np.isfinite(record.Theta) & np.isfinite(record.theta)
-    speed = np.linalg.norm(np.nan_to_num(record.tip_vel, nan=np.inf), axis=-1)
-    stalled = np.zeros(t.shape, bool)
-    stalled[..., 1:] = np.diff(t, axis=-1) <= 0.0
-    bad = ~finite | (speed > th.diverged_speed) | stalled
-    has_div, k_div = _first(bad)
-
-    # Domain: theta in (0, pi/2).  Start rows of windows must end before the exit.
-    with np.errstate(invalid="ignore"):
-        inside = (record.theta > 0.0) & (record.theta < math.pi / 2)
-    has_exit, k_exit = _first(~inside & finite)
-    end = np.where(has_exit, k_exit, n)[..., None]
-
-    # Rigid slipping force on MuJoCo's own states: max(0, -b/p) where p > 0.  Where
-    # p <= 0 no slipping solution supplies a bounded force, so it counts as 0:
-    # any impulsive force there is unexplained by slipping.
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        s, c = np.sin(record.theta), np.cos(record.theta)
-        b = (record.Psi**2 * c**2 + record.Theta**2) * s - 1.0
-        p = 1.0 + alpha + alpha * s * (mu * c * np.sin(record.varphi) - s)
-        rigid = np.where(p > 0, np.maximum(0.0, -b / p), 0.0)
-        Fbar = _window_mean(Fn, w)
-        rigid_bar = _window_mean(rigid, w)
+        # DIVERGED: non-finite values (NaN fails every comparison), runaway speed,
+        # or a stopped clock (mujoco.rollout repeats the last row after a warning).
+        speed2 = (vx * vx + vy * vy + vz * vz) / (lw * lw)
+        bad = ~(speed2 <= th.diverged_speed**2) | ~(np.abs(az) < 1e9 * g) | ~(np.abs(Fn) < np.inf) | ~(np.abs(theta) < np.inf)
+        bad[..., 1:] |= ~(np.diff(clock, axis=-1) > 0.0)
+        has_div, k_div = _first(bad)
+
+        # Domain: theta in (0, pi/2).  Windows must end before the exit.
+        has_exit, k_exit = _first(~((theta > 0.0) & (theta < math.pi / 2)))
+        end = np.where(has_exit, k_exit, n)[..., None]
+
+        # Slip velocity of the contact point C = A - r K: v_A + r theta' (-sin psi, cos psi).
+        sp, cp = np.sin(psi), np.cos(psi)
+        ux = vx / lw - radius * Theta * sp
+        uy = vy / lw + radius * Theta * cp
+        eta = np.hypot(ux, uy)
+        sin_varphi = (uy * cp - ux * sp) / eta
+
+        # Rigid slipping force on MuJoCo's own states, eqs. b, p, FZ: max(0, -b/p) where
+        # p > 0.  Where p <= 0 no slipping solution supplies a bounded force, so it counts
+        # as 0: any impulsive force there is unexplained by slipping.
+        st, ct = np.sin(theta), np.cos(theta)
+        b = (Psi * Psi * ct * ct + Theta * Theta) * st - 1.0
+        p = 1.0 + alpha + alpha * st * (mu * ct * sin_varphi - st)
+        rigid = np.where(p > 0.0, np.maximum(0.0, -b / p), 0.0)
+
+        # JAM: impulsive window-mean force, beyond the rigid one, with an abrupt loss of slip speed.
+        Fbar = _window_sum(Fn, w) / w
+        rigid_bar = _window_sum(rigid, w) / w
         eta_end = np.full(eta.shape, np.nan)
-        eta_end[..., : n - w + 1] = eta[..., w - 1 :]
-        loss = (eta - eta_end) / eta
-        jam = (Fbar >= th.jam_force) & (Fbar >= th.jam_ratio * rigid_bar) & (loss >= th.jam_slip_loss)
-    has_jam, k_jam = _first(jam & (rows + w <= end))
+        if w <= n:
+            eta_end[..., : n - w + 1] = eta[..., w - 1 :]
+        jam = (Fbar >= th.jam_force) & (Fbar >= th.jam_ratio * rigid_bar) & (eta - eta_end >= th.jam_slip_loss * eta)
+        has_jam, k_jam = _first(jam & (rows + w <= end))
 
-    # LIFTOFF: lift_steps force-free rows in a row with the tip accelerating upwards (b > 0).
-    with np.errstate(invalid="ignore"):
-        free_up = (Fn <= 0.0) & (record.tip_acc[..., 2] > 0.0)
-    has_lift, k_lift = _first(_consecutive(free_up, th.lift_steps) & (rows + th.lift_steps <= end))
+        # LIFTOFF: lift_steps force-free rows in a row with the tip accelerating upwards (b > 0).
+        free_up = (Fn <= 0.0) & (az > g)  # framelinacc = a - g, so a_z > 0 <=> az > g
+        run = _window_sum(free_up.astype(float), th.lift_steps) >= th.lift_steps - 0.5
+        has_lift, k_lift = _first(run & (rows + th.lift_steps <= end))
 
-    # STICK: slip speed below stick_speed with some normal force in the last window.
-    pushed = np.concatenate([np.zeros(Fn.shape[:-1] + (w - 1,)), (Fn > 0).astype(float)], axis=-1)
-    touched = _window_mean(pushed, w)[..., :n] > 0
-    with np.errstate(invalid="ignore"):
-        slow = eta < th.stick_speed
-    has_stick, k_stick = _first(slow & touched & (rows < end))
+        # STICK: slip speed below stick_speed with some normal force in the last window.
+        c = np.zeros(Fn.shape[:-1] + (n + 1,))
+        np.cumsum(Fn > 0.0, axis=-1, out=c[..., 1:])
+        touched = (c[..., 1:] - c[..., np.maximum(rows - w + 1, 0)]) > 0.0
+        has_stick, k_stick = _first((eta < th.stick_speed) & touched & (rows < end))
 
     big = np.iinfo(np.int64).max
     order = [  # precedence on ties: earlier in the list wins
@@ -558,11 +602,19 @@ def classify(record: Record, *, mu: float, alpha: float, timestep: float, thresh
         tk = np.take_along_axis(t, np.asarray(idx)[..., None], axis=-1)[..., 0]
         return np.where(has, tk, np.nan)
 
-    return Classification(
-        outcome=outcome,
-        event_time=time_at(best_k, best_k != big),
-        exit_time=time_at(k_exit, has_exit),
-    )
+    found_event = best_k != big
+    with np.errstate(invalid="ignore"):
+        return Classification(
+            outcome=outcome,
+            event_time=time_at(best_k, found_event),
+            event_row=np.where(found_event, best_k, -1),
+            exit_time=time_at(k_exit, has_exit),
+            diverged_time=time_at(k_div, has_div),
+            max_normal_force=np.nanmax(np.where(np.isfinite(Fn), Fn, np.nan), axis=-1) if n else np.nan,
+            max_window_force=np.nanmax(Fbar, axis=-1) if n >= w else np.full(has_div.shape, np.nan),
+            active_fraction=(found > 0).mean(axis=-1),
+            max_gap=np.max(z / l - radius, axis=-1),
+        )
 
 
 # --------------------------------------------------------------------------
@@ -580,6 +632,8 @@ class MujocoRun:
       event_time: scaled time of that event (NaN for SLIP).
       exit_time: scaled time theta left (0, pi/2) (NaN if never); see
         ``Classification``.
+      diverged_time: scaled time the run diverged (NaN if never), even when
+        another event came first.
       record: the time series (``Record``, N rows).
       state, mu, alpha: the run's start and parameters.
       options, thresholds: MuJoCo parameters and outcome criteria used.
@@ -589,6 +643,7 @@ class MujocoRun:
     outcome: Outcome
     event_time: float
     exit_time: float
+    diverged_time: float
     record: Record = field(repr=False)
     state: SlipState
     mu: float
@@ -640,11 +695,12 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
 
     _, sensordata = rollout.rollout(model, mujoco.MjData(model), x0[None], nstep=nstep)
     record = record_from_sensordata(sensordata[0], layout, rod, opts.radius)
-    cls = classify(record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, thresholds=th)
+    cls = classify(sensordata[0], layout, rod=rod, mu=mu, radius=opts.radius, timestep=opts.timestep, thresholds=th)
     return MujocoRun(
         outcome=Outcome(int(cls.outcome)),
         event_time=float(cls.event_time),
         exit_time=float(cls.exit_time),
+        diverged_time=float(cls.diverged_time),
         record=record,
         state=state,
         mu=mu,
@@ -654,3 +710,38 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
         horizon=horizon,
         nstep=nstep,
     )
+
+
+# --------------------------------------------------------------------------
+# The analytic tip acceleration with the force at the capsule's contact point
+# --------------------------------------------------------------------------
+
+
+def capsule_tip_acceleration(rod: Rod, psi, theta, psi_dot, theta_dot, force, offset) -> np.ndarray:
+    """Tip acceleration of eq. linode2 when the force acts a distance ``offset`` below A.
+
+    The capsule touches the plane at P = A - offset K (offset = r for the lowest
+    point of the cap; MuJoCo applies the force midway into the penetration,
+    offset = r + dist / 2 with dist < 0).  Moving the force from A to P adds the
+    torque (-offset K) x F = offset (F_y, -F_x, 0); its component on the theta
+    axis i = (cos psi, sin psi, 0) is offset (F_y cos psi - F_x sin psi), its
+    component on the psi axis K is 0, and the rest is carried by the joints
+    (the rod has no axial rotation).  The extra theta'' = that torque / I0
+    moves A by d(A - S)/d theta = l (-sin theta sin psi, sin theta cos psi,
+    -cos theta).
+
+    Args: as ``crosscheck.analytic.tip_acceleration`` (physical units, force
+      (..., 3) world frame [N]), plus offset [m], broadcasting.
+
+    Returns:
+      (..., 3) tip accelerations [m/s^2], world frame, gravity included.
+    """
+    from crosscheck.analytic import tip_acceleration
+
+    a = tip_acceleration(rod, psi, theta, psi_dot, theta_dot, force)
+    f = np.asarray(force, dtype=float)
+    psi, theta, offset = (np.asarray(x, dtype=float) for x in (psi, theta, offset))
+    extra = offset * (f[..., 1] * np.cos(psi) - f[..., 0] * np.sin(psi)) / rod.inertia
+    l = rod.length
+    lever = np.stack(np.broadcast_arrays(-l * np.sin(theta) * np.sin(psi), l * np.sin(theta) * np.cos(psi), -l * np.cos(theta)), -1)
+    return a + extra[..., None] * lever

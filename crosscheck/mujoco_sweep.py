@@ -1,0 +1,246 @@
+"""Many slipping states through MuJoCo at once: ``mujoco.rollout`` in chunks, one classifier.
+
+``sweep`` is ``crosscheck.mujoco_rod.simulate`` for a batch: the same model
+(``build_model``), the same start (``initial_state``), the same record
+(``record_from_sensordata``) and the same ``classify``, so a state gives the
+same outcome and event time either way (tests assert equality).  The work is
+done by a persistent ``mujoco.rollout.Rollout`` thread pool (``nthread``
+threads, one ``MjData`` each) over chunks of states sized to a memory budget;
+only sensors are recorded (``skip_checks=True`` so MuJoCo does not also copy
+the full state of every step).  A tqdm bar counts chunks.
+
+Per-state results come back as arrays ready for a report: outcome, event time,
+domain exit time, a summary at the event, and decimated time series.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+from mujoco import rollout
+from tqdm.auto import tqdm
+
+from crosscheck.checks import MU, POSITIVE, check
+from crosscheck.mujoco_rod import (
+    Options,
+    SensorLayout,
+    Thresholds,
+    build_model,
+    classify,
+    initial_state,
+    n_steps,
+    record_from_sensordata,
+)
+from crosscheck.rod import Rod
+from crosscheck.state import SlipState
+
+__all__ = ["SweepResult", "sweep", "SERIES", "SUMMARY"]
+
+#: Decimated time series kept per state (each (B, n_series)), scaled units:
+#: t, eta and varphi of the contact point, theta, Theta, Psi, gap of the
+#: capsule's lowest point, and the normal force averaged over each decimation
+#: interval (the impulse per unit time, which is what matches -b/p).
+SERIES = ("t", "eta", "varphi", "theta", "Theta", "Psi", "gap", "normal_force")
+
+#: Per-state scalars in ``SweepResult.summary`` (each (B,)):
+#: at the event row (or the last row for SLIP): eta, varphi, theta, Theta, Psi,
+#: b and p of MuJoCo's state; over the run: the largest normal force in one row
+#: (the spikes), the largest window-mean normal force, the fraction of rows
+#: with a MuJoCo contact, the largest gap.
+SUMMARY = ("eta", "varphi", "theta", "Theta", "Psi", "b", "p", "max_normal_force", "max_window_force", "active_fraction", "max_gap")
+
+#: Memory for one chunk's sensordata; sets the chunk size.
+CHUNK_BYTES = 48 * 2**20
+
+
+@dataclass(frozen=True, eq=False)
+class SweepResult:
+    """Outcomes of a batch of B states (``sweep``).
+
+    Attributes:
+      outcome: (B,) int8 ``Outcome`` values.
+      event_time: (B,) scaled event times (NaN for SLIP).
+      exit_time: (B,) scaled time theta left (0, pi/2) (NaN if never).
+      diverged_time: (B,) scaled time the run diverged (NaN if never), also
+        when an earlier event is its outcome.
+      states: dict of (B,) arrays theta, varphi, Theta, Psi, eta, psi (the starts).
+      mu: (B,) friction coefficients.
+      summary: dict of (B,) arrays, keys ``SUMMARY``.
+      series: dict of (B, n_series) arrays, keys ``SERIES``.
+      alpha, horizon, nstep: the rod's alpha, scaled horizon, steps per state.
+      options, thresholds: MuJoCo parameters and outcome criteria.
+      wall_time: seconds spent in the sweep; steps_per_second: B nstep / wall_time.
+    """
+
+    outcome: np.ndarray
+    event_time: np.ndarray
+    exit_time: np.ndarray
+    diverged_time: np.ndarray
+    states: dict
+    mu: np.ndarray
+    summary: dict = field(repr=False)
+    series: dict = field(repr=False)
+    alpha: float
+    horizon: float
+    nstep: int
+    options: Options
+    thresholds: Thresholds
+    wall_time: float
+    steps_per_second: float
+
+    def __len__(self) -> int:
+        return len(self.outcome)
+
+
+def _decimate_mean(x: np.ndarray, m: int) -> np.ndarray:
+    """Mean of consecutive blocks of m rows along the last axis (drops the remainder)."""
+    n = (x.shape[-1] // m) * m
+    return x[..., :n].reshape(x.shape[:-1] + (n // m, m)).mean(axis=-1)
+
+
+def _summaries(sd: np.ndarray, layout: SensorLayout, rod: Rod, radius: float, mu: np.ndarray, cls, every: int) -> tuple[dict, dict]:
+    """Per-state scalars (``SUMMARY``) and decimated series (``SERIES``) of one chunk."""
+    nb, n = sd.shape[:2]
+    k = np.where(cls.event_row >= 0, cls.event_row, n - 1)
+    at = record_from_sensordata(sd[np.arange(nb), k][:, None, :], layout, rod, radius)
+    theta, Theta, Psi, varphi = at.theta[:, 0], at.Theta[:, 0], at.Psi[:, 0], at.varphi[:, 0]
+    alpha = rod.alpha
+    with np.errstate(invalid="ignore"):
+        s, c = np.sin(theta), np.cos(theta)
+        b = (Psi**2 * c**2 + Theta**2) * s - 1.0
+        p = 1.0 + alpha + alpha * s * (mu * c * np.sin(varphi) - s)
+    summary = {
+        "eta": at.eta[:, 0],
+        "varphi": varphi,
+        "theta": theta,
+        "Theta": Theta,
+        "Psi": Psi,
+        "b": b,
+        "p": p,
+        "max_normal_force": cls.max_normal_force,
+        "max_window_force": cls.max_window_force,
+        "active_fraction": cls.active_fraction,
+        "max_gap": cls.max_gap,
+    }
+    m = n // every
+    dec = record_from_sensordata(sd[:, : m * every : every], layout, rod, radius)
+    series = {
+        "t": dec.t,
+        "eta": dec.eta,
+        "varphi": dec.varphi,
+        "theta": dec.theta,
+        "Theta": dec.Theta,
+        "Psi": dec.Psi,
+        "gap": dec.gap,
+        "normal_force": _decimate_mean(sd[:, : m * every, layout.force.start], every) / rod.force_scale,
+    }
+    return summary, series
+
+
+def sweep(
+    rod: Rod,
+    states: Sequence[SlipState],
+    mu,
+    *,
+    horizon: float,
+    thresholds: Thresholds | None = None,
+    nthread: int = 2,
+    n_series: int = 200,
+    progress: bool = True,
+    **options,
+) -> SweepResult:
+    """Simulate every state in MuJoCo and classify it, batched through ``mujoco.rollout``.
+
+    Args:
+      rod: physical rod (``Rod.scaled(alpha)`` for the paper's units).
+      states: B ``SlipState``s (validated by their constructor).
+      mu: friction, a scalar or a (B,) array (one compiled model per distinct value).
+      horizon: scaled time per state, > 0.
+      thresholds: outcome criteria (``Thresholds()`` by default).
+      nthread: rollout threads (2 on this machine's 2 cores).
+      n_series: keep between n_series and 2 n_series decimated rows per state in
+        ``series`` (every nstep // n_series-th row).
+      progress: show a tqdm bar over chunks.
+      **options: scaled MuJoCo parameters, as for ``simulate`` (unknown -> ValueError).
+
+    Returns:
+      ``SweepResult``.
+    """
+    states = list(states)
+    for i, s in enumerate(states):
+        if not isinstance(s, SlipState):
+            raise ValueError(f"states[{i}] must be a SlipState; got {type(s).__name__}")
+    B = len(states)
+    if B == 0:
+        raise ValueError("states must contain at least one SlipState")
+    horizon = float(check("horizon", horizon, POSITIVE))
+    if not (isinstance(nthread, int) and nthread >= 1):
+        raise ValueError(f"nthread must be an integer >= 1; got {nthread!r}")
+    opts = Options.from_kwargs(options)
+    th = thresholds or Thresholds()
+    mu = np.broadcast_to(check("mu", mu, MU), (B,)).astype(float)
+
+    t0 = time.perf_counter()
+    models = {m: build_model(rod, m, opts) for m in np.unique(mu)}
+    first = next(iter(models.values()))
+    layout = SensorLayout.from_model(first)
+    nsensor = first.nsensordata
+    nstep = n_steps(horizon, opts.timestep)
+    scratch = mujoco.MjData(first)  # all models share sizes; the state layout is the same
+    x0 = np.stack([initial_state(first, rod, s, opts.radius, data=scratch) for s in states])
+    every = max(1, nstep // max(1, n_series))
+
+    chunk = int(max(nthread, min(B, CHUNK_BYTES // (nstep * nsensor * 8))))
+    outcome = np.empty(B, np.int8)
+    event_time = np.empty(B)
+    exit_time = np.empty(B)
+    diverged_time = np.empty(B)
+    summary = {k: np.empty(B) for k in SUMMARY}
+    series = {k: np.empty((B, nstep // every)) for k in SERIES}
+    data = [mujoco.MjData(first) for _ in range(nthread)]
+    buffer = np.empty((chunk, nstep, nsensor))
+    starts = range(0, B, chunk)
+    with rollout.Rollout(nthread=nthread if nthread > 1 else 0) as pool:
+        for a in tqdm(starts, desc="mujoco sweep", unit="chunk", disable=not progress):
+            sl = slice(a, min(a + chunk, B))
+            nb = sl.stop - sl.start
+            sd = buffer[:nb]
+            pool.rollout(
+                [models[m] for m in mu[sl]],
+                data,
+                np.ascontiguousarray(x0[sl]),
+                skip_checks=True,
+                nstep=nstep,
+                sensordata=sd,
+                control_spec=mujoco.mjtState.mjSTATE_CTRL.value,
+            )
+            cls = classify(sd, layout, rod=rod, mu=mu[sl], radius=opts.radius, timestep=opts.timestep, thresholds=th)
+            outcome[sl], event_time[sl], exit_time[sl], diverged_time[sl] = cls.outcome, cls.event_time, cls.exit_time, cls.diverged_time
+            summ, ser = _summaries(sd, layout, rod, opts.radius, mu[sl], cls, every)
+            for k in SUMMARY:
+                summary[k][sl] = summ[k]
+            for k in SERIES:
+                series[k][sl] = ser[k]
+    wall = time.perf_counter() - t0
+    return SweepResult(
+        outcome=outcome,
+        event_time=event_time,
+        exit_time=exit_time,
+        diverged_time=diverged_time,
+        states={k: np.array([getattr(s, k) for s in states]) for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi")},
+        mu=mu.copy(),
+        summary=summary,
+        series=series,
+        alpha=rod.alpha,
+        horizon=horizon,
+        nstep=nstep,
+        options=opts,
+        thresholds=th,
+        wall_time=wall,
+        steps_per_second=B * nstep / wall,
+    )

@@ -120,6 +120,38 @@ PIN_FINITE_DIFFERENCE = Tolerance(atol=4.0, rtol=0.0, why="multiple of the centr
 #: was 9e-7: the error is proportional to eps).
 MUJOCO_FREE_ACCELERATION = Tolerance(atol=1e-8, rtol=1e-8, why="axial inertia 1e-12 I0 in the psi inertia, x tan^2 theta")
 
+#: MuJoCo's tip acceleration with contact vs eq. linode2 with MuJoCo's own
+#: contact force moved to the capsule's contact point
+#: (``mujoco_rod.capsule_tip_acceleration``), as a fraction of the term scale
+#: g (1 + alpha |F|_1 / (m g)).  Exact up to the solver's stopping rule: with
+#: solver_tolerance 1e-10 (the default) force and acceleration agree to ~6e-7;
+#: run to its iteration limit (solver_tolerance 0) the measured max is 1.4e-11
+#: over 200 random states x 5 radii.  Without the correction the error is
+#: 0.41 r/l (max; 0.27 r/l median): linear convergence as r -> 0.
+MUJOCO_CONTACT_ACCELERATION = Tolerance(atol=1e-9, rtol=0.0, why="converged contact solve (solver_tolerance 0): rounding of forces up to ~50 m g")
+
+#: Smallest Psi at which MuJoCo lifts off at t = 0 (theta_L, Theta = 0,
+#: varphi = -pi/2) vs Psi_L (eq. psil), default timestep 3e-4.  LIFTOFF needs
+#: lift_steps = 3 force-free rows with upward acceleration; along the free
+#: flight b(t) = b0 - Psi^4 cos^2 sin^3 t^2 + ..., so a rod that just lifts
+#: off must keep b > 0 for 2 more rows: Psi* - Psi_L <= (Psi_L^3 / 6)(3 dt)^2
+#: = 5.5e-7 at dt = 3e-4, 6e-5 at 3.1e-3 (1 ms for a 1 m rod).  Measured:
+#: 6e-11 (the bisection's resolution) for 1e-4 and 1e-5 s, 3.9e-9 for 1e-3 s,
+#: for mu = 0.3, 1, 2: semi-implicit Euler lags Psi by one step, which keeps
+#: b(row 2) = b0 + O(dt^3).
+MUJOCO_LIFTOFF_ONSET = Tolerance(atol=5.5e-7, rtol=0.0, why="3 rows of b > 0 needed: (Psi_L^3/6)(3 dt)^2 at dt = 3e-4")
+MUJOCO_LIFTOFF_ONSET_COARSE = Tolerance(atol=6.1e-5, rtol=0.0, why="(Psi_L^3/6)(3 dt)^2 at dt = 3.13e-3 (1 ms for a 1 m rod)")
+
+#: Ratio kappa in MuJoCo's lift-off decision b - kappa Theta^2 sin(theta) = 0
+#: (b of eq. b; Theta^2 sin(theta) l omega^2 is the dJ v part of the tip's
+#: vertical acceleration).  Started with the contact inactive, the first
+#: semi-implicit Euler step sets z_1 = dt^2 (J qacc + dJv / 2) = dt^2 (b -
+#: Theta^2 sin / 2): kappa = 1/2, measured 0.4993..0.5007 for |Theta| = 0.5, 1.
+#: With the contact active and mu = 0 MuJoCo's constraint sees J qacc = b -
+#: Theta^2 sin: kappa = 1, measured to 1e-4.  0.01 covers the bisection and
+#: the O(dt) terms of the first step.
+MUJOCO_DJV_KAPPA = Tolerance(atol=0.01, rtol=0.0, why="bisection on Psi + O(dt) terms of the first Euler step")
+
 
 # ---------------------------------------------------------------------- gb ---
 #: solve_ivp (DOP853) tolerances of the desingularised slipping flow, eq. f.

@@ -1,0 +1,95 @@
+"""Steps per second of ``crosscheck.mujoco_sweep.sweep`` against two baselines measured in the same run.
+
+Baselines (same model, same states, same horizon and timestep):
+  * bare rollout: ``mujoco.rollout.Rollout(nthread=2).rollout(...)`` with its own
+    checks and output allocation (state and sensors), nothing else;
+  * Python loop: ``mj_step`` in a Python loop that reads the contacts each step
+    (``data.ncon``, ``mj_contactForce``) and the tip site, as a user without
+    sensors would record the same series.
+
+The sweep's time includes everything it does (compiling the model, initial
+states, classification, summaries).  Each measurement is repeated and the best
+is kept, since other processes share the 2 cores.  Target: sweep / bare >= 0.8.
+
+    python benchmarks/bench_mujoco.py [--states 64] [--horizon 1.0] [--repeat 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import mujoco
+import numpy as np
+from mujoco import rollout
+
+from crosscheck import Rod, SlipState
+from crosscheck.mujoco_rod import Options, build_model, initial_state, n_steps
+from crosscheck.mujoco_sweep import sweep
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--states", type=int, default=64)
+    ap.add_argument("--horizon", type=float, default=1.0, help="scaled time per state")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--loop-states", type=int, default=4, help="states for the (slow) Python loop")
+    args = ap.parse_args()
+
+    rod = Rod(mass=1.0, length=1.0, inertia=1.0 / 3.0, gravity=9.81)
+    mu = 0.8
+    rng = np.random.default_rng(0)
+    states = [
+        SlipState(theta=rng.uniform(0.2, 1.3), varphi=-rng.uniform(0.1, 3.0), Theta=0.7 * rng.normal(), Psi=rng.normal(), eta=rng.uniform(0.2, 3))
+        for _ in range(args.states)
+    ]
+    opts = Options()
+    model = build_model(rod, mu, opts)
+    nstep = n_steps(args.horizon, opts.timestep)
+    x0 = np.stack([initial_state(model, rod, s, opts.radius) for s in states])
+    total = args.states * nstep
+
+    def bare() -> float:
+        datas = [mujoco.MjData(model) for _ in range(2)]
+        with rollout.Rollout(nthread=2) as pool:
+            t0 = time.perf_counter()
+            pool.rollout(model, datas, x0, nstep=nstep)
+            return time.perf_counter() - t0
+
+    def swept() -> float:
+        t0 = time.perf_counter()
+        sweep(rod, states, mu, horizon=args.horizon, progress=False)
+        return time.perf_counter() - t0
+
+    def loop() -> float:
+        data = mujoco.MjData(model)
+        force = np.zeros(6)
+        tip = model.site("tip").id
+        out = np.empty((nstep, 4))
+        t0 = time.perf_counter()
+        for x in x0[: args.loop_states]:
+            mujoco.mj_setState(model, data, x, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+            for k in range(nstep):
+                mujoco.mj_step(model, data)
+                fn = 0.0
+                for i in range(data.ncon):
+                    mujoco.mj_contactForce(model, data, i, force)
+                    fn += force[0]
+                out[k, 0] = fn
+                out[k, 1:] = data.site_xpos[tip]
+        return (time.perf_counter() - t0) * args.states / args.loop_states
+
+    best = {"bare": np.inf, "sweep": np.inf, "loop": np.inf}
+    for _ in range(args.repeat):  # interleaved, so load from other processes hits all alike
+        best["bare"] = min(best["bare"], bare())
+        best["sweep"] = min(best["sweep"], swept())
+        best["loop"] = min(best["loop"], loop())
+    rate = {k: total / v for k, v in best.items()}
+    print(f"{args.states} states x {nstep} steps (horizon {args.horizon}, timestep {opts.timestep} scaled), mujoco {mujoco.__version__}")
+    print(f"bare rollout (2 threads): {rate['bare']:12,.0f} steps/s")
+    print(f"sweep (2 threads):        {rate['sweep']:12,.0f} steps/s   ratio to bare rollout {rate['sweep'] / rate['bare']:.2f} (target >= 0.8)")
+    print(f"python mj_step loop:      {rate['loop']:12,.0f} steps/s   sweep / loop {rate['sweep'] / rate['loop']:.1f}x (1 thread, reads contacts)")
+
+
+if __name__ == "__main__":
+    main()

@@ -15,7 +15,6 @@ domain exit time, a summary at the event, and decimated time series.
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field

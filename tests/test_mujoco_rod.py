@@ -7,6 +7,7 @@ import math
 import mujoco
 import numpy as np
 import pytest
+from mujoco import rollout
 
 from crosscheck import Outcome, Rod, SlipState
 from crosscheck import analytic as an
@@ -93,7 +94,7 @@ def test_start_touches_without_contact():
     assert data.ncon == 0
     capsule_bottom = data.site("tip").xpos[2] - radius * ROD.length
     assert abs(capsule_bottom) < 1e-15
-    q, v = to_generalized(ROD, s, tip=(0, 0, radius))
+    _, v = to_generalized(ROD, s, tip=(0, 0, radius))
     np.testing.assert_array_equal(data.qvel, v)
 
 
@@ -108,8 +109,6 @@ def test_slip_velocity_formula_matches_mujoco_contact_velocity():
     model = build_model(ROD, 0.3, Options(radius=0.05))
     layout = SensorLayout.from_model(model)
     # Re-run to read MuJoCo's own linvel (contact frame) next to the record.
-    from mujoco import rollout
-
     _, sd = rollout.rollout(model, mujoco.MjData(model), initial_state(model, ROD, s, 0.05)[None], nstep=run.nstep)
     sd = sd[0]
     on = sd[:, layout.found] > 0

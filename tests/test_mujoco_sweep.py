@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import math
 
+import mujoco
 import numpy as np
 import pytest
+from mujoco import rollout
 
 from crosscheck import Outcome, Rod, SlipState
 from crosscheck import analytic as an
-from crosscheck.mujoco_rod import SensorLayout, build_model, classify, simulate
+from crosscheck.mujoco_rod import SensorLayout, build_model, classify, initial_state, simulate
 from crosscheck.mujoco_sweep import SERIES, SUMMARY, sweep
 
 ROD = Rod(mass=1.0, length=1.0, inertia=1.0 / 3.0, gravity=9.81)
@@ -85,11 +87,6 @@ def test_classifier_flags_faults(fault):
     assert run.outcome == Outcome.SLIP
     model = build_model(ROD, 0.5, run.options)
     layout = SensorLayout.from_model(model)
-    from mujoco import rollout
-    import mujoco
-
-    from crosscheck.mujoco_rod import initial_state
-
     _, sd = rollout.rollout(model, mujoco.MjData(model), initial_state(model, ROD, s, run.options.radius)[None], nstep=run.nstep)
     sd = sd[0].copy()
     k = 40

@@ -36,6 +36,9 @@ EXPECTED_FIGURES = {
     "gb_det_zeros": ["fig12_det_zeros"],
     "gb_separatrix": ["fig13_separatrix"],
     "pinocchio": ["error_vs_theta"],
+    "mujoco_liftoff": ["liftoff_onset"],
+    "mujoco_maps": ["map_Psi_mu", "map_theta_Theta_0", "map_theta_Theta_1", "confusion", "event_time_errors"],
+    "mujoco_trajectories": ["trajectories"],
 }
 
 

@@ -34,6 +34,8 @@ __all__ = [
     "categorical_image",
     "PI_TICKS_VARPHI",
     "GB_TYPE_COLORS",
+    "OUTCOME_COLORS",
+    "outcome_legend",
     "pb_plane",
 ]
 
@@ -74,6 +76,8 @@ plt.rcParams.update(
         "svg.fonttype": "none",  # text stays text: smaller, searchable SVG
         "svg.hashsalt": "crosscheck",  # fixed element ids: reproducible SVG
         "image.interpolation": "nearest",
+        # constrained layout fits labels at draw time: no bbox_inches="tight" (an extra draw per file)
+        "figure.constrained_layout.use": True,
     }
 )
 
@@ -81,6 +85,21 @@ plt.rcParams.update(
 #: Fig. 11's colours for the type of a GB point (md1 stable node, md2 saddle, md3 unstable node,
 #: md5 unstable focus); the paper shows no stable focus or degenerate point: grey and black here.
 GB_TYPE_COLORS = {0: LINE_COLORS[0], 1: LINE_COLORS[1], 2: LINE_COLORS[2], 3: (0.6, 0.6, 0.6), 4: LINE_COLORS[4], 5: (0, 0, 0)}
+
+
+#: Colours of ``crosscheck.Outcome`` in maps: an outcome looks like the mode it leads into (SLIP
+#: yellow as slipping, LIFTOFF orange, JAM lime as the inconsistent region it enters), STICK blue,
+#: GB (b = p = 0 reached) purple, DIVERGED black.
+OUTCOME_COLORS = {0: MODE_COLORS[Mode.SLIP], 1: MODE_COLORS[Mode.LIFTOFF], 2: (0.55, 0.75, 0.95), 3: MODE_COLORS[Mode.INCONSISTENT],
+                  4: (0.0, 0.0, 0.0), 5: MODE_COLORS[Mode.INDETERMINATE]}
+
+
+def outcome_legend(ax, codes=None, **kw):
+    """Legend of the outcome colours (only ``codes`` if given)."""
+    from crosscheck.outcome import Outcome
+
+    codes = sorted(OUTCOME_COLORS) if codes is None else sorted(set(int(c) for c in codes))
+    return ax.legend(handles=[Patch(color=OUTCOME_COLORS[c], label=Outcome(c).name.lower()) for c in codes], **kw)
 
 
 def pb_plane(ax, p_lim: float, b_lim: float) -> None:
@@ -101,8 +120,8 @@ def save_figure(fig, stem: Path) -> None:
     stem = Path(stem)
     stem.parent.mkdir(parents=True, exist_ok=True)
     # not with_suffix: a stem may contain a dot ("mu1.4")
-    fig.savefig(stem.parent / f"{stem.name}.png", metadata={"Software": None}, bbox_inches="tight")
-    fig.savefig(stem.parent / f"{stem.name}.svg", metadata={"Date": None, "Creator": None}, bbox_inches="tight")
+    fig.savefig(stem.parent / f"{stem.name}.png", metadata={"Software": None})
+    fig.savefig(stem.parent / f"{stem.name}.svg", metadata={"Date": None, "Creator": None})
     plt.close(fig)
 
 

@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import html
 import json
+import multiprocessing
+import os
 import re
 import shutil
 import traceback
@@ -310,17 +312,54 @@ def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, fai
     return path
 
 
-def render(out: Path | str, sections: Sequence[Section], *, progress: bool = False) -> RenderSummary:
-    """Render ``index.html`` and ``report.md`` in ``out`` from ``out/data`` alone."""
+# Sections handed to forked render workers (fork shares them: a Section holds functions, which
+# need not be picklable then; only the views come back, without their Section).
+_JOB: tuple[list[Section], Path] | None = None
+
+
+def _view_by_index(i: int) -> SectionView:
+    sections, out = _JOB
+    view = _view(sections[i], out)
+    view.section = None
+    return view
+
+
+def _views(sections: list[Section], out: Path, *, jobs: int, progress: bool) -> list[SectionView]:
+    """Render every section, in ``jobs`` forked processes when there is more than one (figures are CPU-bound)."""
+    global _JOB
+
+    def bar(it, n):
+        if not progress:
+            return it
+        from tqdm.auto import tqdm
+
+        return tqdm(it, total=n, desc="render", leave=True)
+
+    if jobs <= 1 or len(sections) < 2 or "fork" not in multiprocessing.get_all_start_methods():
+        return [_view(s, out) for s in bar(sections, len(sections))]
+    _JOB = (sections, out)
+    try:
+        with multiprocessing.get_context("fork").Pool(jobs) as pool:
+            views = list(bar(pool.imap(_view_by_index, range(len(sections)), chunksize=1), len(sections)))
+    finally:
+        _JOB = None
+    for v, s in zip(views, sections):
+        v.section = s
+    return views
+
+
+def render(out: Path | str, sections: Sequence[Section], *, progress: bool = False, jobs: int | None = None) -> RenderSummary:
+    """Render ``index.html`` and ``report.md`` in ``out`` from ``out/data`` alone.
+
+    ``jobs``: processes drawing figures (default: the usable CPUs, at most 4).  The output does not
+    depend on it.
+    """
     out = Path(out)
     root = SectionStore(out / "data")
     prov = root.read_json(PROVENANCE_FILE) if root.exists(f"{PROVENANCE_FILE}.json") else {"date": "", "git": {}, "parameters": {}, "tolerances": {}}
-    it = sections
-    if progress:
-        from tqdm.auto import tqdm
-
-        it = tqdm(sections, desc="render", leave=True)
-    views = [_view(s, out) for s in it]
+    if jobs is None:
+        jobs = min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1), 4)
+    views = _views(list(sections), out, jobs=jobs, progress=progress)
     summary_rows = []
     for v in views:
         n, nf, nk = len(v.checks), len(v.failed_checks), len(v.known_checks)

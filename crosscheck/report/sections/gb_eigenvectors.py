@@ -151,7 +151,6 @@ def render(ctx: RenderContext) -> list:
                     transform=ax.transAxes, fontsize=6, va="bottom")
             ax.set_xticks([])
             ax.set_yticks([])
-        fig.tight_layout()
         cap = (f"Fig. {fig_no} recomputed: eigenvectors of K (eq. K) in the (p, b) plane at the points of Fig. {fig_no} (alpha = 3, mu = {mu:g}, eta = 1, Psi = 0, "
                "Theta = sqrt(csc theta)); strong eigenvector (larger |lambda|) blue, weak red; grey: orbits of (p, b)' = K (p, b) in the desingularised time s. "
                "Shading as Fig. 3a: slipping (p > 0, b < 0) yellow, lift-off orange, inconsistent lime, indeterminate purple. Not to scale.")

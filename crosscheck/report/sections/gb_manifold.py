@@ -119,7 +119,7 @@ def render(ctx: RenderContext) -> list:
             handles = [Line2D([], [], color=c, label=f"$\\Psi$ = {lab}") for lab, c in psi_colors.items()]
         else:
             handles = [Line2D([], [], marker="o", ls="", color=GB_TYPE_COLORS[int(g)], label=g.name.lower().replace("_", " ")) for g in gb.GBType]
-        fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8)
+        fig.legend(handles=handles, loc="outside lower center", ncol=len(handles), fontsize=8)
         vals = "; ".join(f"mu = {s['mu']:g}: Psi = {s['Psi_label']} = {s['Psi']:.4f} (case {s['case']}, {s['curves']} curve(s))" for s in topo)
         if kind == "psi":
             cap = (f"Fig. 7 recomputed: the GB manifold b = p = 0 projected to (theta, varphi, Theta) at three values of Psi, alpha = {P['alpha']:g} "

@@ -51,7 +51,7 @@ CASE_MODES = {
 def params(quick: bool) -> dict:
     n = 120 if quick else 360
     return {"mu": 1.4, "alpha": 3.0, "Psi": [0.0, 1.56, 1.7, 2.2, 5.0], "Psi_named": ["Psi_L", "Psi_1", "Psi_2"],
-            "Theta_max": 2.2, "n_theta": n, "n_Theta": n, "n_varphi": n}
+            "Theta_max": 2.2, "n_theta": n, "n_Theta": n, "n_varphi": n, "n_curve": 1000 if quick else 4000}
 
 
 def _Theta_on_b0(Psi, theta):
@@ -73,7 +73,8 @@ def run(ctx: RunContext) -> None:
     varphi = cell_centres(-np.pi, 0.0, P["n_varphi"])
     p_planar = analytic.p(theta, -np.pi / 2, mu, alpha)
     p_plane = analytic.p(theta[None, :], varphi[:, None], mu, alpha)
-    curves = {"theta": theta}
+    theta_curve = cell_centres(0.0, np.pi / 2, P["n_curve"])  # b = 0 drawn finer than the maps
+    curves = {"theta": theta_curve}
     summary = []
     for i, (Psi, label) in enumerate(ctx.progress(slices, desc="mode maps")):
         a = analytic.mode(analytic.b(Psi, Theta[:, None], theta[None, :]), p_planar[None, :])
@@ -81,7 +82,7 @@ def run(ctx: RunContext) -> None:
         b0 = analytic.b(Psi, 0.0, theta)
         m = analytic.mode(np.broadcast_to(b0[None, :], p_plane.shape), p_plane)
         ctx.store.write_grid(f"theta_varphi_{i}", ("theta", theta), ("varphi", varphi), ("mode", m))
-        curves[f"Theta_b0_{i}"] = _Theta_on_b0(Psi, theta)
+        curves[f"Theta_b0_{i}"] = _Theta_on_b0(Psi, theta_curve)
         present = {Mode(k).name for k in np.unique(m)}
         summary.append({
             "index": i, "label": label, "Psi": Psi, "kinematic_case": critical.kinematic_case(mu, Psi, alpha),
@@ -175,7 +176,6 @@ def render(ctx: RenderContext) -> list:
     for ax in axes.flat[n:]:
         ax.set_visible(False)
     mode_legend(axes.flat[0], extra=lines, loc="upper left", fontsize=6)
-    fig.tight_layout()
     blocks.append(ctx.figure("slices_theta_Theta", fig,
                              f"Sections at varphi = -pi/2 of the 3D pictures of section 3.3 (Figs. 3b, 4, 5a, 6a, 7a) as Psi grows, alpha = {cv['alpha']:g}, mu = {cv['mu']:g}: "
                              f"lift-off reaches Theta = 0 from Psi_L = {cv['Psi_L']:.4f}, b = 0 touches p = 0 at theta_1 at Psi_1 = {cv['Psi_1']:.4f} and at theta_2 at "
@@ -199,7 +199,6 @@ def render(ctx: RenderContext) -> list:
         ax.set_ylabel("$\\varphi$")
     for ax in axes.flat[n:]:
         ax.set_visible(False)
-    fig.tight_layout()
     blocks.append(ctx.figure("slices_theta_varphi", fig,
                              "Sections at Theta = 0 of the same 3D pictures: every mode possible with no polar motion. The p = 0 cylinder of Fig. 3b is the "
                              "boundary of the lime/purple disc; the lift-off band (orange) appears at Psi_L, enters the disc (indeterminate, purple) past Psi_1 "

@@ -18,22 +18,19 @@ from crosscheck import analytic
 from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
 
-__all__ = ["OUTCOME_NAMES", "first_events", "confusion", "boundary_cells"]
+__all__ = ["OUTCOME_NAMES", "analytic_events", "mujoco_events", "first_events", "confusion", "boundary_cells"]
 
 OUTCOME_NAMES = [o.name for o in Outcome]
 
 
-def first_events(states: Sequence[SlipState], mu: np.ndarray, alpha: float, *, horizon: float, progress: Callable[..., Iterable] = lambda x, **_: x,
-                 show_progress: bool = False, mujoco_options: dict | None = None) -> dict[str, np.ndarray]:
-    """Analytic and MuJoCo first events of ``states`` (one mu each).
+def analytic_events(states: Sequence[SlipState], mu: np.ndarray, alpha: float, *, horizon: float,
+                    progress: Callable[..., Iterable] = lambda x, **_: x) -> dict[str, np.ndarray]:
+    """The start (theta, varphi, Theta, Psi, eta, mu), its b, p and LCP ``mode``, and the analytic first event.
 
-    Returns a dict of (B,) arrays: the start (theta, varphi, Theta, Psi, eta,
-    mu), its LCP ``mode`` and b, p; ``analytic_outcome`` (``Outcome`` code),
-    ``analytic_time``, ``analytic_reason``; ``mujoco_outcome``, ``mujoco_time``
-    (NaN when none).
+    Returns a dict of (B,) arrays; ``analytic_outcome`` is an ``Outcome`` code,
+    ``analytic_time`` the real scaled time, ``analytic_reason`` the rule that fired.
     """
-    from crosscheck import gb, mujoco_sweep
-    from crosscheck.rod import Rod
+    from crosscheck import gb
 
     mu = np.broadcast_to(np.asarray(mu, float), (len(states),))
     out: dict[str, list] = {k: [] for k in ("theta", "varphi", "Theta", "Psi", "eta", "mu", "b", "p", "mode", "analytic_outcome", "analytic_time", "analytic_reason")}
@@ -43,11 +40,25 @@ def first_events(states: Sequence[SlipState], mu: np.ndarray, alpha: float, *, h
         for k, v in (("theta", s.theta), ("varphi", s.varphi), ("Theta", s.Theta), ("Psi", s.Psi), ("eta", s.eta), ("mu", m), ("b", bb), ("p", pp),
                      ("mode", int(analytic.mode(bb, pp))), ("analytic_outcome", int(r.outcome)), ("analytic_time", r.time), ("analytic_reason", r.reason)):
             out[k].append(v)
-    res = {k: np.asarray(v) for k, v in out.items()}
+    return {k: np.asarray(v) for k, v in out.items()}
+
+
+def mujoco_events(states: Sequence[SlipState], mu: np.ndarray, alpha: float, *, horizon: float, show_progress: bool = False,
+                  mujoco_options: dict | None = None) -> dict[str, np.ndarray]:
+    """MuJoCo's outcome (``Outcome`` code) and event time (NaN when none) of each start, one batched sweep."""
+    from crosscheck import mujoco_sweep
+    from crosscheck.rod import Rod
+
+    mu = np.broadcast_to(np.asarray(mu, float), (len(states),))
     sw = mujoco_sweep.sweep(Rod.scaled(alpha), list(states), mu, horizon=horizon, progress=show_progress, **(mujoco_options or {}))
-    res["mujoco_outcome"] = np.asarray(sw.outcome, dtype=int)
-    res["mujoco_time"] = np.asarray(sw.event_time, dtype=float)
-    return res
+    return {"mujoco_outcome": np.asarray(sw.outcome, dtype=int), "mujoco_time": np.asarray(sw.event_time, dtype=float)}
+
+
+def first_events(states: Sequence[SlipState], mu: np.ndarray, alpha: float, *, horizon: float, progress: Callable[..., Iterable] = lambda x, **_: x,
+                 show_progress: bool = False, mujoco_options: dict | None = None) -> dict[str, np.ndarray]:
+    """``analytic_events`` and ``mujoco_events`` of the same starts, in one dict of (B,) arrays."""
+    return {**analytic_events(states, mu, alpha, horizon=horizon, progress=progress),
+            **mujoco_events(states, mu, alpha, horizon=horizon, show_progress=show_progress, mujoco_options=mujoco_options)}
 
 
 def confusion(analytic_outcome: np.ndarray, mujoco_outcome: np.ndarray) -> np.ndarray:

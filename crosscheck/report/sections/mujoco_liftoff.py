@@ -4,16 +4,21 @@ At theta = theta_L, Theta = 0, varphi = -pi/2 (eta = 1) the free acceleration
 b = Psi^2 cos^2 theta_L sin theta_L - 1 changes sign at Psi = Psi_L, for every
 mu: below Psi_L the rod slips, above it lifts off (eqs. thetal, psil).  For
 each mu and MuJoCo timestep the smallest Psi at which MuJoCo reports LIFTOFF
-is bracketed by repeated sweeps (``crosscheck.mujoco_sweep.sweep``): each
+at t = 0 (the instantaneous decision the paper's Psi_L is about; a slipping
+tip can also be thrown up a step later by the soft contact's friction spike,
+which is not this onset) is bracketed by repeated sweeps (``crosscheck.mujoco_sweep.sweep``): each
 round runs ``n_per_round`` values of Psi across the current bracket and keeps
 the interval where the outcome switches, so the bracket shrinks by
 (n_per_round - 1) per round.  The bracket's ends are chosen off Psi_L (an
 asymmetric start), so Psi_L is never a sample.
 
 Reported: the onset (midpoint of the final bracket), its half-width, and the
-difference from Psi_L against the timestep.  Check: at the finest timestep
-the bracket contains Psi_L, i.e. the onset equals Psi_L to the resolution of
-the measurement (the bracket's half-width); no other allowance is granted.
+difference from Psi_L against the timestep.  Check, at every timestep with a
+derived tolerance: onset - Psi_L within ``MUJOCO_LIFTOFF_ONSET`` (timesteps up
+to the default 3e-4) or ``MUJOCO_LIFTOFF_ONSET_COARSE`` (up to 3.13e-3), the
+MuJoCo leg's bound (Psi_L^3/6)(3 dt)^2 for the three rows of b > 0 that
+LIFTOFF needs, widened by the bracket's half-width (the measurement's
+resolution).
 """
 
 from __future__ import annotations
@@ -33,7 +38,7 @@ SLUG = "mujoco_liftoff"
 def params(quick: bool) -> dict:
     return {"alpha": 3.0, "eta": 1.0, "mu": [0.5, 1.4] if quick else [0.3, 0.5, 1.0, 1.4, 3.0],
             "timestep": [3e-3, 1e-3, 3e-4] if quick else [3e-3, 1e-3, 3e-4, 1e-4, 3e-5],
-            "bracket": [-0.0937, 0.1131], "n_per_round": 9, "rounds": 4 if quick else 5, "horizon": 0.5}
+            "bracket": [-0.9e-3, 1.1e-3], "n_per_round": 9, "rounds": 5 if quick else 6, "horizon": 0.03}
 
 
 def _onset(ctx, mu, dt, P, log):
@@ -46,7 +51,7 @@ def _onset(ctx, mu, dt, P, log):
         Psi = np.linspace(lo, hi, P["n_per_round"])
         states = [SlipState(theta=critical.theta_L, varphi=-math.pi / 2, Theta=0.0, Psi=float(p), eta=P["eta"]) for p in Psi]
         res = mujoco_sweep.sweep(rod, states, mu, horizon=P["horizon"], progress=False, timestep=dt)
-        lift = np.asarray(res.outcome) == Outcome.LIFTOFF
+        lift = (np.asarray(res.outcome) == Outcome.LIFTOFF) & (np.asarray(res.event_time) == 0.0)
         for p, o, t in zip(Psi, res.outcome, res.event_time):
             for k, v in (("mu", mu), ("timestep", dt), ("round", r), ("Psi", p), ("outcome", Outcome(int(o)).name), ("event_time", t)):
                 log[k].append(v)
@@ -69,13 +74,17 @@ def run(ctx: RunContext) -> None:
             cols[k].append(v)
         ctx.store.write_table("onset", cols)
         ctx.store.write_table("sweeps", log)
-    dt_min = min(P["timestep"])
-    for mu in P["mu"]:
-        i = [k for k in range(len(cols["mu"])) if cols["mu"][k] == mu and cols["timestep"][k] == dt_min][0]
-        allow = cols["half_width"][i]
-        err = abs(cols["onset_minus_Psi_L"][i])
-        ctx.check(f"mu = {mu:g}: MuJoCo's lift-off onset at timestep {dt_min:g} equals Psi_L = {critical.Psi_L:.6f}", err <= allow, value=err, allowance=allow,
-                  detail=f"bracket [{cols['Psi_lo'][i]:.6f}, {cols['Psi_hi'][i]:.6f}]")
+    from crosscheck.tolerances import MUJOCO_LIFTOFF_ONSET, MUJOCO_LIFTOFF_ONSET_COARSE
+
+    for i in range(len(cols["mu"])):
+        dt = cols["timestep"][i]
+        tol, name = (MUJOCO_LIFTOFF_ONSET, "MUJOCO_LIFTOFF_ONSET") if dt <= 3e-4 * (1 + 1e-9) else (MUJOCO_LIFTOFF_ONSET_COARSE, "MUJOCO_LIFTOFF_ONSET_COARSE")
+        if dt > 3.13e-3 * (1 + 1e-9):
+            continue  # no derived bound for coarser steps
+        err = cols["onset_minus_Psi_L"][i]
+        hw = cols["half_width"][i]
+        ctx.check(f"mu = {cols['mu'][i]:g}, timestep {dt:g}: MuJoCo's lift-off onset = Psi_L = {critical.Psi_L:.7f}", -hw <= err <= tol.atol + hw,
+                  value=err, allowance=tol.atol + hw, detail=f"bracket [{cols['Psi_lo'][i]:.8f}, {cols['Psi_hi'][i]:.8f}]; {name}: {tol.why}")
 
 
 def render(ctx: RenderContext) -> list:
@@ -93,12 +102,12 @@ def render(ctx: RenderContext) -> list:
     ax.set_xlabel("MuJoCo timestep $\\omega\\, dt$ (scaled)")
     ax.set_ylabel("|onset - $\\Psi_L$|")
     ax.legend(fontsize=8)
-    cap = (f"Lift-off onset in MuJoCo at theta = theta_L, Theta = 0, varphi = -pi/2, eta = {P['eta']:g}: |onset - Psi_L| against the timestep; "
+    cap = (f"Lift-off onset (LIFTOFF at t = 0) in MuJoCo at theta = theta_L, Theta = 0, varphi = -pi/2, eta = {P['eta']:g}: |onset - Psi_L| against the timestep; "
            f"error bars: half-width of the final bracket ({P['rounds']} rounds of {P['n_per_round']} runs). An error below the bracket width is drawn at 1e-9.")
     blocks = [ctx.figure("liftoff_onset", fig, cap, ["onset.csv", "sweeps.csv"])]
-    rows = [[f"{t['mu'][i]:g}", f"{t['timestep'][i]:g}", f"[{t['Psi_lo'][i]:.6f}, {t['Psi_hi'][i]:.6f}]", f"{t['onset'][i]:.6f}", f"{t['onset_minus_Psi_L'][i]:+.2e}"]
+    rows = [[f"{t['mu'][i]:g}", f"{t['timestep'][i]:g}", f"[{t['Psi_lo'][i]:.8f}, {t['Psi_hi'][i]:.8f}]", f"{t['onset'][i]:.8f}", f"{t['onset_minus_Psi_L'][i]:+.2e}"]
             for i in range(len(t["mu"]))]
-    blocks.append(Table(caption=f"Lift-off onset against Psi_L = {critical.Psi_L:.6f} (eq. psil).", header=["mu", "timestep", "bracket", "onset", "onset - Psi_L"], rows=rows,
+    blocks.append(Table(caption=f"Lift-off onset (LIFTOFF at t = 0) against Psi_L = {critical.Psi_L:.8f} (eq. psil).", header=["mu", "timestep", "bracket", "onset", "onset - Psi_L"], rows=rows,
                         data=ctx.data("onset.csv")))
     return blocks
 

@@ -29,7 +29,7 @@ SLUG = "mujoco_maps"
 
 
 def params(quick: bool) -> dict:
-    n = 12 if quick else 36
+    n = 10 if quick else 36
     return {
         "alpha": 3.0, "horizon": 2.0, "mujoco_options": {},
         "Psi_mu": {"theta": 1.0, "varphi": -1.9, "Theta": 0.0, "eta": 1.0, "Psi": [0.0, 3.0], "mu": [0.0, 3.0], "n_Psi": n, "n_mu": n},

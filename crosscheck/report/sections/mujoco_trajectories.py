@@ -33,7 +33,8 @@ KINDS = {"liftoff": Outcome.LIFTOFF, "jam": Outcome.JAM}
 
 def params(quick: bool) -> dict:
     return {"alpha": 3.0, "horizon": 2.0, "target_time": {"liftoff": 0.3, "jam": 0.3}, "min_time": 0.05, "tries": 4 if quick else 8,
-            "candidates": {"theta": [0.4, 0.6, 0.8, 1.0, 1.2], "varphi": [-2.3, -1.9, -1.3, -0.8], "Theta": [-0.5, 0.0, 0.5, 0.9], "Psi": [0.0, 1.0, 1.5], "eta": [1.0]},
+            "candidates": {"theta": [0.4, 0.8, 1.0] if quick else [0.4, 0.6, 0.8, 1.0, 1.2], "varphi": [-2.3, -1.3, -0.8] if quick else [-2.3, -1.9, -1.3, -0.8],
+                           "Theta": [0.0, 0.5, 0.9] if quick else [-0.5, 0.0, 0.5, 0.9], "Psi": [0.0, 1.0] if quick else [0.0, 1.0, 1.5], "eta": [1.0]},
             # lift-off below mu_P (no paradox to compete with it), jams above
             "mu": {"liftoff": [0.5, 0.8], "jam": [1.4, 2.0]},
             "n_points": 800 if quick else 3000}

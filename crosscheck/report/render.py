@@ -126,6 +126,10 @@ def _badge(state: str) -> str:
     return {"ok": "ok", "failed": "FAILED", "unfinished": "UNFINISHED", "not run": "NOT RUN"}[state]
 
 
+_NUMBERING = ("Figure numbers follow the project's issues (Fig. 2b p < 0, 3a modes, 5a cases, 5b mechanisms, 6 critical angles, 7 and 11 GB manifolds, "
+              "8 and 9 eigenvectors, 10 quartic, 12 zeros of det K, 13 separatrix); each section also names the paper's LaTeX labels (fig:...), "
+              "which are unambiguous.")
+
 # ------------------------------------------------------------------- html ---
 
 _CSS = """
@@ -223,9 +227,14 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
          "<h1>crosscheck report: the 3D Painlevé rod, analytic theory vs Pinocchio vs MuJoCo</h1>",
          "<p>Reference: Cheesman, Hogan &amp; Kristiansen, <i>The geometry of the Painlevé paradox</i>. "
          "Every figure is recomputed from the project's model; beside each figure and table is the data behind it. "
+         f"{html.escape(_NUMBERING)} "
          'Markdown twin: <a href="report.md">report.md</a>.</p>',
          "<h2 id=summary>Summary</h2>"]
-    h.append(_html_block(Table(caption="Sections, in report order.", header=["section", "paper", "status", "run time", "checks"], rows=[r[0] for r in summary_rows], data=[], row_class=[r[1] for r in summary_rows])))
+    table = _html_block(Table(caption="Sections, in report order.", header=["section", "paper", "status", "run time", "checks"], rows=[r[0] for r in summary_rows], data=[], row_class=[r[1] for r in summary_rows]))
+    for v in views:  # section names link to their sections
+        cell = f"<td>{_html_text(v.section.title)}</td>"
+        table = table.replace(cell, f'<td><a href="#{v.section.slug}">{_html_text(v.section.title)}</a></td>', 1)
+    h.append(table)
     if failures:
         h.append('<div class="error"><p><b>Failures</b> (the command exits non-zero):</p><ul>' + "".join(f"<li>{html.escape(f)}</li>" for f in failures) + "</ul></div>")
     else:
@@ -280,7 +289,7 @@ def _md_block(b) -> str:
 def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str]) -> Path:
     m = ["# crosscheck report: the 3D Painlevé rod, analytic theory vs Pinocchio vs MuJoCo", "",
          "Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painlevé paradox*. Every figure is recomputed "
-         "from the project's model; beside each figure and table is the data behind it. HTML version: [index.html](index.html).", "",
+         f"from the project's model; beside each figure and table is the data behind it. {_NUMBERING} HTML version: [index.html](index.html).", "",
          "## Summary", ""]
     m.append(_md_block(Table(caption="Sections, in report order.", header=["section", "paper", "status", "run time", "checks"], rows=[r[0] for r in summary_rows], data=[])))
     m.append("**Failures** (the command exits non-zero):\n\n" + "\n".join(f"- {f}" for f in failures) + "\n" if failures else "No failures.\n")

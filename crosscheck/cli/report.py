@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import sys
 import time
+from pathlib import Path
 
 
 def _run(args) -> int:
@@ -20,7 +21,9 @@ def _run(args) -> int:
     selected = sections
     if args.only:
         selected = [report.section_by_slug(s) for s in args.only]  # ValueError names an unknown section
-    out = args.out if args.out is not None else report.default_out(args.quick)
+    out = Path(args.out) if args.out is not None else report.default_out(args.quick)
+    if args.from_results and not (out / "data" / "provenance.json").exists():
+        raise ValueError(f"no saved results in {out / 'data'}; run `crosscheck report --out {out}` (without --from-results) first")
     progress = not args.no_progress and sys.stderr.isatty()
     t0 = time.perf_counter()
     if not args.from_results:

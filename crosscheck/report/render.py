@@ -364,6 +364,7 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
     depend on it.
     """
     out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
     root = SectionStore(out / "data")
     prov = root.read_json(PROVENANCE_FILE) if root.exists(f"{PROVENANCE_FILE}.json") else {"date": "", "git": {}, "parameters": {}, "tolerances": {}}
     if jobs is None:

@@ -5,10 +5,25 @@ Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painleve paradox*
 
 from crosscheck import analytic
 from crosscheck.analytic import Mode, critical_values, mode
+from crosscheck.coordinates import from_generalized, to_generalized
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
 __version__ = "0.1.0"
 
-__all__ = ["Rod", "SlipState", "Mode", "Outcome", "analytic", "critical_values", "mode", "__version__"]
+# The engines (crosscheck.pinocchio_rod, crosscheck.mujoco_rod, crosscheck.mujoco_sweep)
+# and the GB analysis (crosscheck.gb) are imported by name: importing crosscheck
+# alone does not load Pinocchio or MuJoCo.
+__all__ = [
+    "Rod",
+    "SlipState",
+    "Mode",
+    "Outcome",
+    "analytic",
+    "critical_values",
+    "mode",
+    "to_generalized",
+    "from_generalized",
+    "__version__",
+]

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Sequence
 
 from crosscheck.report import provenance
-from crosscheck.report.section import RunContext, Section, section_rng
+from crosscheck.report.section import RunContext, Section, SkipSection, section_rng
 from crosscheck.report.store import SectionStore
 
 __all__ = ["run", "read_status", "STATUS_FILE", "PROVENANCE_FILE"]
@@ -54,7 +54,8 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
 
     Returns:
       ``{slug: status}`` of the sections run; a status has ``status`` in
-      {"ok", "error"}, ``error``/``traceback`` when it failed, and ``seconds``.
+      {"ok", "skipped", "error"}, ``reason`` when skipped, ``error``/``traceback``
+      when it failed, and ``seconds``.
     """
     out = Path(out)
     data = out / "data"
@@ -92,6 +93,9 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
         try:
             s.run(ctx)
             status["status"] = "ok"
+        except SkipSection as e:
+            status["status"] = "skipped"
+            status["reason"] = str(e)
         except Exception as e:  # noqa: BLE001  (a failing section must not stop the others)
             status["status"] = "error"
             status["error"] = f"{type(e).__name__}: {e}"

@@ -51,6 +51,8 @@ class SectionView:
             return "unfinished"
         if self.error:
             return "failed"
+        if self.status["status"] == "skipped":
+            return "skipped"
         return "ok"
 
     @property
@@ -72,7 +74,7 @@ class RenderSummary:
     def failures(self) -> list[str]:
         out = []
         for v in self.views:
-            if v.state != "ok":
+            if v.state not in ("ok", "skipped"):
                 out.append(f"{v.section.slug}: {v.state}" + (f" ({v.error})" if v.error else ""))
             out += [f"{v.section.slug}: check failed: {c['name']}" for c in v.failed_checks]
         return out
@@ -92,6 +94,9 @@ def _view(section: Section, out: Path) -> SectionView:
     elif status["status"] == "error":
         view.error = status.get("error", "error")
         view.traceback = status.get("traceback", "")
+    elif status["status"] == "skipped":
+        view.blocks = [Text("Skipped: " + status.get("reason", ""))]
+        return view
     ctx = RenderContext(slug=section.slug, params=status.get("params", {}), store=store, out=out)
     stale = out / "figures" / section.slug
     if stale.exists():  # figures of an earlier render must not outlive it
@@ -123,7 +128,7 @@ def _fmt_seconds(s) -> str:
 
 
 def _badge(state: str) -> str:
-    return {"ok": "ok", "failed": "FAILED", "unfinished": "UNFINISHED", "not run": "NOT RUN"}[state]
+    return {"ok": "ok", "skipped": "skipped", "failed": "FAILED", "unfinished": "UNFINISHED", "not run": "NOT RUN"}[state]
 
 
 _NUMBERING = ("Figure numbers follow the project's issues (Fig. 2b p < 0, 3a modes, 5a cases, 5b mechanisms, 6 critical angles, 7 and 11 GB manifolds, "
@@ -138,7 +143,7 @@ h1{font-size:1.6em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-to
 table{border-collapse:collapse;margin:.6em 0;font-size:.88em}
 th,td{border:1px solid #ccc;padding:.25em .5em;text-align:left;vertical-align:top}
 th{background:#f3f3f3}tr.fail td{background:#fdd}tr.known td{background:#fff3c4}tr.ok td{background:#fff}
-.badge{font-weight:bold;padding:0 .4em;border-radius:3px}.b-ok{background:#d4f4d4}.b-FAILED,.b-UNFINISHED,.b-NOTRUN{background:#f7c6c6}
+.badge{font-weight:bold;padding:0 .4em;border-radius:3px}.b-ok{background:#d4f4d4}.b-skipped{background:#e8e8e8}.b-FAILED,.b-UNFINISHED,.b-NOTRUN{background:#f7c6c6}
 figure{margin:1em 0}figure img{max-width:100%;border:1px solid #eee}figcaption{font-size:.9em;color:#444}
 .data{font-size:.85em}.data a{margin-right:.8em}
 pre{background:#f6f6f6;padding:.6em;overflow-x:auto;font-size:.8em}
@@ -376,7 +381,7 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
         checks = f"{n - nf - nk}/{n} passed" + (f", {nf} FAILED" if nf else "") + (f", {nk} known discrepancies" if nk else "") if n else ""
         state = _badge(v.state)
         row = [v.section.title, v.section.paper, state, _fmt_seconds((v.status or {}).get("seconds")), checks]
-        summary_rows.append((row, "ok" if v.state == "ok" and not nf else "fail"))
+        summary_rows.append((row, "ok" if v.state in ("ok", "skipped") and not nf else "fail"))
     summary = RenderSummary(html=out / "index.html", markdown=out / "report.md", views=views)
     failures = summary.failures
     _write_html(out, views, prov, summary_rows, failures)

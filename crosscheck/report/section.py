@@ -35,7 +35,16 @@ __all__ = [
     "Text",
     "Preformatted",
     "section_rng",
+    "SkipSection",
 ]
+
+
+class SkipSection(Exception):
+    """Raised by a section's ``run`` that does not apply to this report (e.g. full report only).
+
+    The section is shown as skipped with the message, which must say why and
+    how to get it; a skip is not a failure.
+    """
 
 
 # ------------------------------------------------------------------ blocks ---

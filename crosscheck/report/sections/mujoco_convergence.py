@@ -1,95 +1,83 @@
 """MuJoCo vs analytic agreement as the timestep and the contact time constant shrink (a convergence table).
 
-The (theta, Theta) grid of slipping starts of the first outcome map (coarser; many
-of its starts slip for a while before their event, so event times are compared) is run
-in MuJoCo with several (timestep, timeconst) settings; the analytic first
-events are computed once.  For each setting: the fraction of starts with the
-same event, the disagreements on analytic boundaries and in the interior
-(``crosscheck.report.outcomes.boundary_cells``), and the median |event-time
-difference| where both see the same LIFTOFF, STICK or JAM of a slipping start
-(analytic event time > 0).  A rigid contact
-is the limit dt -> 0, timeconst -> 0 (with timeconst >= 2 dt, MuJoCo's
-"refsafe"), so disagreement should shrink along the table.
+``crosscheck.mujoco_agreement.agreement_study`` on one grid of starts with
+several (timestep, timeconst) settings, and its ``convergence_table``: per
+setting and classifier, the agreement with the analytic first event (also
+with a JAM counted as any stop, and split into starts on the planar section
+varphi = -pi/2, Psi = 0 and off it) and the median |t_MuJoCo - t_analytic|.
+A rigid contact is the limit dt -> 0, timeconst -> 0 (timeconst >= 2 dt,
+MuJoCo's "refsafe"), so disagreement should shrink down the table.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.outcome import Outcome
 from crosscheck.report.grids import cell_centres
-from crosscheck.report.outcomes import analytic_events, boundary_cells, mujoco_events
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
-from crosscheck.state import SlipState
 
 SLUG = "mujoco_convergence"
 
 
 def params(quick: bool) -> dict:
-    settings = [{"timestep": 3e-3, "timeconst": 0.06}, {"timestep": 1e-3, "timeconst": 0.06}, {"timestep": 3e-4, "timeconst": 0.06},
-                {"timestep": 3e-4, "timeconst": 0.02}]
+    settings = [(3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02)]
     if not quick:
-        settings += [{"timestep": 1e-4, "timeconst": 0.02}, {"timestep": 1e-4, "timeconst": 0.006}]
-    n = 8 if quick else 24
-    return {"alpha": 3.0, "horizon": 2.0, "Psi": 0.0, "mu": 1.4, "varphi": -1.9, "eta": 1.0, "theta": [0.2, 1.5], "Theta": [-1.5, 1.5], "n_theta": n, "n_Theta": n,
-            "settings": settings}
+        settings += [(1e-4, 0.02), (1e-4, 0.006)]
+    n = 7 if quick else 20
+    return {"alpha": 3.0, "horizon": 2.0, "timesteps": [s[0] for s in settings], "timeconsts": [s[1] for s in settings],
+            "grid": {"theta": [0.2, 1.5, n], "varphi": [-1.9, -1.5707963267948966], "Theta": [-1.5, 1.5, n], "Psi": [0.0], "mu": [1.4], "eta": [1.0]}}
 
 
 def run(ctx: RunContext) -> None:
+    from crosscheck.mujoco_agreement import EventGrid, agreement_study, convergence_table
+
     P = ctx.params
-    theta, Theta = cell_centres(*P["theta"], P["n_theta"]), cell_centres(*P["Theta"], P["n_Theta"])
-    states = [SlipState(theta=x, varphi=P["varphi"], Theta=y, Psi=P["Psi"], eta=P["eta"]) for y in Theta for x in theta]  # rows are Theta
-    mus = np.full(len(states), P["mu"])
-    ana = analytic_events(states, mus, P["alpha"], horizon=P["horizon"], progress=ctx.progress)
-    ctx.store.write_table("analytic", ana)
-    a = ana["analytic_outcome"].astype(int)
-    edge = boundary_cells(a.reshape(Theta.size, theta.size)).ravel()
-    cols = {k: [] for k in ("timestep", "timeconst", "agree_fraction", "disagree_at_boundary", "disagree_interior", "median_abs_time_difference", "events_compared")}
-    for i, opt in enumerate(ctx.progress(P["settings"], desc="MuJoCo settings")):
-        mj = mujoco_events(states, mus, P["alpha"], horizon=P["horizon"], mujoco_options=opt)
-        ctx.store.write_table(f"mujoco_{i}", mj)
-        m = mj["mujoco_outcome"]
-        differ = a != m
-        # timed events: both see the same LIFTOFF, STICK or JAM of a slipping start (analytic time > 0)
-        same = ~differ & np.isin(a, [Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM]) & np.isfinite(mj["mujoco_time"]) & (ana["analytic_time"] > 0)
-        dt = np.abs(mj["mujoco_time"][same] - ana["analytic_time"][same])
-        for k, v in (("timestep", opt["timestep"]), ("timeconst", opt["timeconst"]), ("agree_fraction", float(np.mean(~differ))),
-                     ("disagree_at_boundary", int((differ & edge).sum())), ("disagree_interior", int((differ & ~edge).sum())),
-                     ("median_abs_time_difference", float(np.median(dt)) if dt.size else float("nan")), ("events_compared", int(same.sum()))):
-            cols[k].append(v)
-        ctx.store.write_table("convergence", cols)
-    ctx.store.write_json("grid", {"theta": theta, "Theta": Theta, "boundary_cells": int(edge.sum()), "cells": int(edge.size)})
+    g = P["grid"]
+    grid = EventGrid(theta=tuple(cell_centres(*g["theta"])), varphi=tuple(g["varphi"]), Theta=tuple(cell_centres(*g["Theta"])), Psi=tuple(g["Psi"]),
+                     mu=tuple(g["mu"]), eta=tuple(g["eta"]))
+    res = agreement_study(grid, timesteps=P["timesteps"], timeconsts=P["timeconsts"], alpha=P["alpha"], horizon=P["horizon"], rng=ctx.rng,
+                          boundary_directions=0, progress=ctx.show_progress)
+    (ctx.store.root / "study.json").write_text(res.to_json() + "\n")
+    rows = convergence_table(res)
+    ctx.store.write_table("convergence", {k: [r[k] for r in rows] for k in rows[0]})
 
 
 def render(ctx: RenderContext) -> list:
     from crosscheck.report.plotting import LINE_COLORS, plt
 
     P = ctx.params
-    c = ctx.store.read_table("convergence")
-    g = ctx.store.read_json("grid")
+    c = ctx.store.read_table("convergence", text=("classifier",))
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 3.6))
-    for j, tc in enumerate(sorted(set(c["timeconst"]), reverse=True)):
-        s = c["timeconst"] == tc
-        a1.plot(c["timestep"][s], 100 * c["agree_fraction"][s], "o-", color=LINE_COLORS[j], label=f"timeconst {tc:g}")
-        a2.plot(c["timestep"][s], c["median_abs_time_difference"][s], "o-", color=LINE_COLORS[j], label=f"timeconst {tc:g}")
+    k = 0
+    for cls in ("part_a", "effective"):
+        for tc in sorted(set(c["timeconst"]), reverse=True):
+            s = (c["classifier"] == cls) & (c["timeconst"] == tc)
+            if not s.any():
+                continue
+            style = "o-" if cls == "effective" else "s--"
+            a1.plot(c["timestep"][s], 100 * c["agreement"][s], style, color=LINE_COLORS[k % 7], label=f"{cls}, timeconst {tc:g}")
+            a2.plot(c["timestep"][s], c["median_abs_time_difference"][s], style, color=LINE_COLORS[k % 7], label=f"{cls}, timeconst {tc:g}")
+            k += 1
     for ax in (a1, a2):
         ax.set_xscale("log")
         ax.set_xlabel("MuJoCo timestep (scaled)")
         ax.invert_xaxis()
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=6)
     a1.set_ylabel("same first event [%]")
     a2.set_ylabel("median |t_MuJoCo - t_analytic|")
     if np.nanmin(c["median_abs_time_difference"]) > 0:
         a2.set_yscale("log")
-    cap = (f"Agreement with the analytic first event on a {P['n_theta']} x {P['n_Theta']} (theta, Theta) grid (Psi = {P['Psi']:g}, mu = {P['mu']:g}, "
-           f"varphi = {P['varphi']:g}, eta = {P['eta']:g}) as the timestep (right: smaller) and the contact time constant shrink.")
-    rows = [[f"{c['timestep'][i]:g}", f"{c['timeconst'][i]:g}", f"{100 * c['agree_fraction'][i]:.1f}%", f"{int(c['disagree_at_boundary'][i])}", f"{int(c['disagree_interior'][i])}",
-             f"{c['median_abs_time_difference'][i]:.3g}", f"{int(c['events_compared'][i])}"] for i in range(len(c["timestep"]))]
-    return [ctx.figure("convergence", fig, cap, ["convergence.csv", "analytic.csv"] + [f"mujoco_{i}.csv" for i in range(len(rows))]),
-            Table(caption=f"Convergence table ({g['cells']} starts, {g['boundary_cells']} on an analytic boundary).",
-                  header=["timestep", "timeconst", "same event", "disagree on boundary", "disagree interior", "median |dt event|", "events timed"], rows=rows,
-                  data=ctx.data("convergence.csv"))]
+    g = P["grid"]
+    cap = (f"Agreement with the analytic first event (crosscheck.mujoco_agreement.convergence_table) on {g['theta'][2]} x {g['Theta'][2]} starts in (theta, Theta) "
+           f"at varphi in {g['varphi']}, Psi = {g['Psi'][0]:g}, mu = {g['mu'][0]:g}, eta = {g['eta'][0]:g}, as the timestep (right: smaller) and the contact time constant shrink.")
+    rows = [[c["classifier"][i], f"{c['timestep'][i]:g}", f"{c['timeconst'][i]:g}", f"{int(c['n_rated'][i])}", f"{100 * c['agreement'][i]:.1f}%",
+             f"{100 * c['agreement_jam_as_stop'][i]:.1f}%", f"{100 * c['agreement_planar'][i]:.1f}% of {int(c['n_planar'][i])}",
+             f"{100 * c['agreement_off_plane'][i]:.1f}% of {int(c['n_off_plane'][i])}", f"{c['median_abs_time_difference'][i]:.3g}"] for i in range(len(c["timestep"]))]
+    return [ctx.figure("convergence", fig, cap, ["convergence.csv", "study.json"]),
+            Table(caption="Convergence table: agreement (also with JAM counted as any stop; on and off the planar section) and median |event-time difference|.",
+                  header=["classifier", "timestep", "timeconst", "rated", "agreement", "JAM as stop", "planar", "off plane", "median |dt event|"], rows=rows,
+                  data=ctx.data("convergence.csv", "study.json"))]
 
 
 SECTION = Section(slug=SLUG, title="MuJoCo vs analytic: convergence in timestep and contact time constant", paper="issue 4 item 5c",
-                  params=params, run=run, render=render, requires=("crosscheck.mujoco_sweep", "crosscheck.gb"))
+                  params=params, run=run, render=render, requires=("crosscheck.mujoco_agreement",))

@@ -1,18 +1,20 @@
-"""MuJoCo vs analytic: outcome maps over (Psi, mu) and over (theta, Theta) slices, confusion matrix, event-time errors.
+"""MuJoCo vs analytic: outcome maps over (Psi, mu) and over (theta, Theta) slices, confusion matrices, event-time errors.
 
-Every cell of each map is one slipping start (tip on the plane, contact not
-yet active in MuJoCo).  For each start the report records its LCP mode
-(section 3.1), the analytic first event (``crosscheck.gb.slip_until_event``:
-F_z = -b/p integrated until lift-off, p = 0 with b < 0 (JAM), eta = 0 (STICK)
-or b = p = 0 (GB)) and MuJoCo's outcome (``crosscheck.mujoco_sweep.sweep``),
-over the same horizon.  A start that is not slipping has its analytic event
-at t = 0 (LIFTOFF if b > 0, JAM if p <= 0 with b <= 0).
+Each map is a ``crosscheck.mujoco_agreement.EventGrid`` with two axes varied
+and the others fixed, run through ``crosscheck.mujoco_agreement.agreement_study``
+(the project's event-agreement study, issue 4 item 5c): the analytic first
+event of every start (``slip_until_event``), and for every start that slips
+at t = 0 (b < 0 < p) MuJoCo's outcome by two classifiers, part A's
+(``crosscheck.mujoco_rod.classify``) and the "effective" one that judges a
+jam against MuJoCo's own friction (``classify_effective``), each compared
+only up to the analytic comparison time (``mujoco_labels``: a later MuJoCo
+event counts as SLIP; the analytic run stops when the state leaves the
+paper's domain).  Starts that do not slip at t = 0 are not compared (grey).
 
-The agreement map marks disagreements; a cell on an analytic boundary (a
-4-neighbour with another analytic outcome) is where a finite grid, a soft
-contact and a finite timestep are expected to differ, and the report counts
-disagreements there and in the interior separately.  Event-time errors are
-MuJoCo's event time minus the analytic one where both see the same event.
+Where they disagree: a cell on an analytic boundary (a 4-neighbour with
+another analytic outcome) against the interior; in the full report also the
+study's probed distance to the analytic boundary (``boundary_distance``).
+Event-time errors: t_MuJoCo - t_analytic where both report the same event.
 """
 
 from __future__ import annotations
@@ -21,155 +23,179 @@ import numpy as np
 
 from crosscheck.outcome import Outcome
 from crosscheck.report.grids import cell_centres
-from crosscheck.report.outcomes import OUTCOME_NAMES, boundary_cells, confusion, first_events
+from crosscheck.report.outcomes import OUTCOME_NAMES, boundary_cells
 from crosscheck.report.section import RenderContext, RunContext, Section, Table, Text
-from crosscheck.state import SlipState
 
 SLUG = "mujoco_maps"
 
+#: Map code of a start that does not slip at t = 0 (not compared).
+NOT_SLIPPING = -2
+
 
 def params(quick: bool) -> dict:
-    n = 10 if quick else 36
+    n = 10 if quick else 32
     return {
-        "alpha": 3.0, "horizon": 2.0, "mujoco_options": {},
-        "Psi_mu": {"theta": 1.0, "varphi": -1.9, "Theta": 0.0, "eta": 1.0, "Psi": [0.0, 3.0], "mu": [0.0, 3.0], "n_Psi": n, "n_mu": n},
-        "theta_Theta": [{"Psi": 0.0, "mu": 1.4, "varphi": -1.9, "eta": 1.0}, {"Psi": 1.7, "mu": 1.4, "varphi": -1.9, "eta": 1.0}],
-        "theta": [0.2, 1.5], "Theta": [-1.5, 1.5], "n_theta": n, "n_Theta": n,
+        "alpha": 3.0, "horizon": 2.0, "timestep": 3e-4, "timeconst": 0.06, "boundary_directions": 0 if quick else 3,
+        "maps": [
+            {"name": "Psi_mu", "x": "Psi", "y": "mu", "x_range": [0.0, 3.0], "y_range": [0.0, 3.0], "n": n,
+             "fixed": {"theta": 1.0, "varphi": -1.9, "Theta": 0.0, "eta": 1.0}},
+            {"name": "theta_Theta_0", "x": "theta", "y": "Theta", "x_range": [0.2, 1.5], "y_range": [-1.5, 1.5], "n": n,
+             "fixed": {"Psi": 0.0, "mu": 1.4, "varphi": -1.9, "eta": 1.0}},
+            {"name": "theta_Theta_1", "x": "theta", "y": "Theta", "x_range": [0.2, 1.5], "y_range": [-1.5, 1.5], "n": n,
+             "fixed": {"Psi": 1.7, "mu": 1.4, "varphi": -1.9, "eta": 1.0}},
+        ],
     }
 
 
-def _grids(P):
-    """(name, title, x name, x values, y name, y values, state(x, y) -> (SlipState, mu))."""
-    g = P["Psi_mu"]
-    Psi, mu = cell_centres(*g["Psi"], g["n_Psi"]), cell_centres(*g["mu"], g["n_mu"])
-    out = [("Psi_mu", f"(Psi, mu) at theta = {g['theta']:g}, varphi = {g['varphi']:g}, Theta = {g['Theta']:g}, eta = {g['eta']:g}", "Psi", Psi, "mu", mu,
-            lambda x, y, g=g: (SlipState(theta=g["theta"], varphi=g["varphi"], Theta=g["Theta"], Psi=x, eta=g["eta"]), y))]
-    theta, Theta = cell_centres(*P["theta"], P["n_theta"]), cell_centres(*P["Theta"], P["n_Theta"])
-    for i, s in enumerate(P["theta_Theta"]):
-        out.append((f"theta_Theta_{i}", f"(theta, Theta) at Psi = {s['Psi']:g}, mu = {s['mu']:g}, varphi = {s['varphi']:g}, eta = {s['eta']:g}", "theta", theta, "Theta", Theta,
-                    lambda x, y, s=s: (SlipState(theta=x, varphi=s["varphi"], Theta=y, Psi=s["Psi"], eta=s["eta"]), s["mu"])))
-    return out
+def _grid(m: dict):
+    from crosscheck.mujoco_agreement import EventGrid
+
+    x, y = cell_centres(*m["x_range"], m["n"]), cell_centres(*m["y_range"], m["n"])
+    axes = {k: (v,) for k, v in m["fixed"].items()}
+    axes[m["x"]], axes[m["y"]] = tuple(x), tuple(y)
+    return EventGrid(**axes), x, y
 
 
 def run(ctx: RunContext) -> None:
-    P = ctx.params
-    grids = []
-    for name, title, xn, xv, yn, yv, make in _grids(P):
-        pairs = [make(x, y) for y in yv for x in xv]  # row-major: rows are y
-        res = first_events([s for s, _ in pairs], np.array([m for _, m in pairs]), P["alpha"], horizon=P["horizon"], progress=ctx.progress,
-                           show_progress=ctx.show_progress, mujoco_options=P["mujoco_options"])
-        ctx.store.write_table(f"events_{name}", res)
-        grids.append({"name": name, "title": title, "x": {"name": xn, "values": xv}, "y": {"name": yn, "values": yv}})
-        ctx.store.write_json("grids", grids)
+    from crosscheck.mujoco_agreement import agreement_study
 
-    all_a, all_m, rows = [], [], {k: [] for k in ("grid", "outcome", "analytic_time", "mujoco_time", "difference")}
-    boundary = []
-    for g in grids:
-        t = ctx.store.read_table(f"events_{g['name']}", text=("analytic_reason",))
-        a, m = t["analytic_outcome"].astype(int), t["mujoco_outcome"].astype(int)
-        all_a.append(a)
-        all_m.append(m)
-        shape = (len(g["y"]["values"]), len(g["x"]["values"]))
-        edge = boundary_cells(a.reshape(shape)).ravel()
-        differ = a != m
-        boundary.append({"grid": g["name"], "cells": int(a.size), "boundary_cells": int(edge.sum()), "disagree": int(differ.sum()),
-                         "disagree_at_boundary": int((differ & edge).sum()), "disagree_interior": int((differ & ~edge).sum())})
-        same = (a == m) & np.isin(a, [Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM]) & np.isfinite(t["mujoco_time"])
-        for i in np.flatnonzero(same):
-            for k, v in (("grid", g["name"]), ("outcome", Outcome(a[i]).name), ("analytic_time", t["analytic_time"][i]), ("mujoco_time", t["mujoco_time"][i]),
-                         ("difference", t["mujoco_time"][i] - t["analytic_time"][i])):
-                rows[k].append(v)
-    ctx.store.write_json("confusion", {"rows_analytic": OUTCOME_NAMES, "columns_mujoco": OUTCOME_NAMES,
-                                       "counts": confusion(np.concatenate(all_a), np.concatenate(all_m))})
-    ctx.store.write_json("boundary", boundary)
-    ctx.store.write_table("event_time_errors", rows)
+    P = ctx.params
+    summary = []
+    for m in ctx.progress(P["maps"], desc="agreement maps"):
+        grid, x, y = _grid(m)
+        res = agreement_study(grid, timesteps=(P["timestep"],), timeconsts=(P["timeconst"],), alpha=P["alpha"], horizon=P["horizon"], rng=ctx.rng,
+                              boundary_directions=P["boundary_directions"], progress=ctx.show_progress)
+        (ctx.store.root / f"study_{m['name']}.json").write_text(res.to_json() + "\n")
+        pts, a = res.points, res.analytic
+        n = len(a.outcome)
+        cols = {k: pts[k] for k in ("theta", "varphi", "Theta", "Psi", "mu", "eta")}
+        cols.update({"b0": a.b0, "p0": a.p0, "slipping": a.slipping.astype(int), "analytic_outcome": a.outcome.astype(int), "analytic_time": a.time,
+                     "analytic_reason": a.reason, "comparison_time": a.until})
+        dist = np.full(n, np.nan)
+        dist[res.index] = res.distance
+        cols["boundary_distance"] = dist
+        for r in res.runs:
+            lab, t = np.full(n, NOT_SLIPPING), np.full(n, np.nan)
+            lab[res.index], t[res.index] = r.label, r.event_time
+            cols[f"mujoco_{r.classifier}"], cols[f"mujoco_{r.classifier}_time"] = lab, t
+        ctx.store.write_table(f"events_{m['name']}", cols)
+        summary.append({"name": m["name"], "x": {"name": m["x"], "values": x}, "y": {"name": m["y"], "values": y}, "fixed": m["fixed"],
+                        "runs": [{k: v for k, v in r.summary().items() if k not in ("time_difference", "time_difference_outcome")} for r in res.runs],
+                        "time_difference": {r.classifier: {"difference": r.time_difference.tolist(),
+                                                           "outcome": [OUTCOME_NAMES[int(o)] for o in r.time_difference_outcome],
+                                                           "analytic_time": a.time[res.index][(r.label == a.outcome[res.index]) & np.isin(a.outcome[res.index], [1, 2, 3])].tolist()}
+                                            for r in res.runs}})
+        ctx.store.write_json("maps", summary)
+
+
+def _label(name: str) -> str:
+    return f"$\\{name}$"  # the axes are Greek letters of the paper
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.report.plotting import OUTCOME_COLORS, categorical_image, mode_image, mode_legend, outcome_legend, plt
+    from crosscheck.report.plotting import OUTCOME_COLORS, categorical_image, outcome_legend, plt
 
     P = ctx.params
-    grids = ctx.store.read_json("grids")
-    blocks = [Text(f"Each cell: one slipping start (alpha = {P['alpha']:g}), run for the scaled horizon {P['horizon']:g} by the analytic model and by MuJoCo "
-                   f"(options {P['mujoco_options'] or 'default'}). Left to right: the LCP mode of the start, the analytic first event, MuJoCo's outcome, and where they differ.")]
-    for g in grids:
-        t = ctx.store.read_table(f"events_{g['name']}", text=("analytic_reason",))
-        x, y = np.asarray(g["x"]["values"]), np.asarray(g["y"]["values"])
-        shape = (y.size, x.size)
-        a, m = t["analytic_outcome"].reshape(shape), t["mujoco_outcome"].reshape(shape)
+    maps = ctx.store.read_json("maps")
+    colors = {**OUTCOME_COLORS, NOT_SLIPPING: (0.8, 0.8, 0.8)}
+    blocks = [Text(f"Each cell is one start (alpha = {P['alpha']:g}), compared over the scaled horizon {P['horizon']:g} by "
+                   f"`crosscheck.mujoco_agreement.agreement_study` (MuJoCo timestep {P['timestep']:g}, contact time constant {P['timeconst']:g}). Grey: not "
+                   "slipping at t = 0 (b >= 0 or p <= 0), not compared. Panels: the analytic first event, MuJoCo's outcome by part A's classifier and by the "
+                   "effective-friction classifier (each counted only up to the analytic comparison time), and where the latter disagrees.")]
+    conf = {}
+    diffs = {}
+    boundary_rows = []
+    for mp in maps:
+        t = ctx.store.read_table(f"events_{mp['name']}", text=("analytic_reason",))
+        x, y = np.asarray(mp["x"]["values"]), np.asarray(mp["y"]["values"])
+        # EventGrid points are in C order of (theta, varphi, Theta, Psi, mu, eta): put them on the (y, x) image grid
+        xi = np.abs(t[mp["x"]["name"]][:, None] - x[None, :]).argmin(axis=1)  # nearest: the CSV keeps 12 digits
+        yi = np.abs(t[mp["y"]["name"]][:, None] - y[None, :]).argmin(axis=1)
+
+        def image(values):
+            img = np.full((y.size, x.size), np.nan)
+            img[yi, xi] = values
+            return img
+
+        slipping = t["slipping"] == 1
+        a = np.where(slipping, t["analytic_outcome"], NOT_SLIPPING)
         fig, axes = plt.subplots(1, 4, figsize=(15, 3.6), sharey=True)
-        mode_image(axes[0], x, y, t["mode"].reshape(shape))
-        axes[0].set_title("LCP mode at the start")
-        mode_legend(axes[0], loc="upper left", fontsize=6)
-        categorical_image(axes[1], x, y, a, OUTCOME_COLORS)
-        axes[1].set_title("analytic first event")
-        categorical_image(axes[2], x, y, m, OUTCOME_COLORS)
-        axes[2].set_title("MuJoCo outcome")
-        outcome_legend(axes[2], np.concatenate([a.ravel(), m.ravel()]), loc="upper left", fontsize=6)
-        edge = boundary_cells(a)
-        agree = np.where(a == m, 0, np.where(edge, 1, 2))
-        categorical_image(axes[3], x, y, agree, {0: (0.9, 0.9, 0.9), 1: (0.95, 0.6, 0.2), 2: (0.8, 0.0, 0.0)})
+        categorical_image(axes[0], x, y, image(a), colors)
+        axes[0].set_title("analytic first event")
+        for ax, key, title in ((axes[1], "mujoco_part_a", "MuJoCo, part A classifier"), (axes[2], "mujoco_effective", "MuJoCo, effective friction")):
+            categorical_image(ax, x, y, image(t[key]), colors)
+            ax.set_title(title)
+        outcome_legend(axes[1], np.concatenate([a[slipping], t["mujoco_part_a"][slipping], t["mujoco_effective"][slipping]]), loc="upper left", fontsize=6)
+        a_img = image(a)
+        edge = boundary_cells(np.nan_to_num(a_img, nan=-9))
+        m_img = image(t["mujoco_effective"])
+        agree = np.where(a_img == NOT_SLIPPING, NOT_SLIPPING, np.where(a_img == m_img, 0, np.where(edge, 1, 2)))
+        categorical_image(axes[3], x, y, agree, {NOT_SLIPPING: (0.8, 0.8, 0.8), 0: (0.95, 0.95, 0.95), 1: (0.95, 0.6, 0.2), 2: (0.8, 0.0, 0.0)})
         axes[3].set_title("disagreement (orange: on a boundary, red: interior)")
         for ax in axes:
-            ax.set_xlabel(f"$\\{g['x']['name']}$")  # the axes are Greek letters of the paper
-        axes[0].set_ylabel(f"$\\{g['y']['name']}$")
-        n_diff = int((a != m).sum())
-        blocks.append(ctx.figure(f"map_{g['name']}", fig,
-                                 f"Analytic vs MuJoCo over {g['title']}: {a.size} starts, {a.size - n_diff} agree ({100 * (a.size - n_diff) / a.size:.0f}%).",
-                                 [f"events_{g['name']}.csv", "grids.json"]))
-    conf = ctx.store.read_json("confusion")
-    counts = np.asarray(conf["counts"])
-    used = [i for i in range(len(OUTCOME_NAMES)) if counts[i].sum() or counts[:, i].sum()]
-    fig, ax = plt.subplots(figsize=(4.6, 3.8))
-    sub = counts[np.ix_(used, used)]
-    ax.imshow(np.log1p(sub), cmap="Blues")
-    for i in range(len(used)):
-        for j in range(len(used)):
-            ax.text(j, i, str(sub[i, j]), ha="center", va="center", fontsize=9, color="k" if sub[i, j] < sub.max() / 2 else "w")
-    names = [OUTCOME_NAMES[i].lower() for i in used]
-    ax.set_xticks(range(len(used)), names, rotation=30)
-    ax.set_yticks(range(len(used)), names)
-    ax.set_xlabel("MuJoCo outcome")
-    ax.set_ylabel("analytic first event")
-    total = counts.sum()
-    agree = int(np.trace(counts))
-    blocks.append(ctx.figure("confusion", fig, f"Confusion matrix over all {total} starts of the maps: {agree} ({100 * agree / total:.0f}%) on the diagonal.", ["confusion.json"]))
-    blocks.append(Table(caption="Confusion matrix (rows: analytic first event; columns: MuJoCo outcome).", header=["analytic \\ MuJoCo"] + names,
-                        rows=[[names[i]] + [str(v) for v in sub[i]] for i in range(len(used))], data=ctx.data("confusion.json")))
-    bnd = ctx.store.read_json("boundary")
-    rows = []
-    for b in bnd:
-        frac_cells = b["boundary_cells"] / b["cells"]
-        frac_dis = b["disagree_at_boundary"] / b["disagree"] if b["disagree"] else float("nan")
-        rows.append([b["grid"], str(b["cells"]), f"{b['boundary_cells']} ({100 * frac_cells:.0f}%)", str(b["disagree"]), f"{b['disagree_at_boundary']} ({100 * frac_dis:.0f}%)" if b["disagree"] else "0",
-                     str(b["disagree_interior"])])
-    blocks.append(Table(caption="Where the disagreements are: cells on an analytic boundary (a neighbour with another analytic first event) against the interior.",
-                        header=["map", "cells", "boundary cells", "disagree", "of which on a boundary", "interior"], rows=rows, data=ctx.data("boundary.json")))
-    e = ctx.store.read_table("event_time_errors", text=("grid", "outcome"))
-    if len(e["difference"]):
-        fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 3.6))
-        for name, code in (("LIFTOFF", 1), ("STICK", 2), ("JAM", 3)):
-            s = e["outcome"] == name
-            if s.any():
-                a1.hist(e["difference"][s], bins=30, color=OUTCOME_COLORS[code], alpha=0.8, label=f"{name.lower()} ({int(s.sum())})", edgecolor="k", lw=0.3)
-                a2.plot(e["analytic_time"][s], e["difference"][s], "o", ms=3, color=OUTCOME_COLORS[code], mec="k", mew=0.3, label=name.lower())
-        a1.set_xlabel("MuJoCo event time - analytic event time (scaled)")
-        a1.set_ylabel("starts")
-        a1.legend(fontsize=7)
-        a2.axhline(0, color="k", lw=0.5)
-        a2.set_xlabel("analytic event time (scaled)")
-        a2.set_ylabel("MuJoCo - analytic")
-        blocks.append(ctx.figure("event_time_errors", fig, "Event-time errors where both see the same event (LIFTOFF, STICK or JAM), all maps together.", ["event_time_errors.csv"]))
+            ax.set_xlabel(_label(mp["x"]["name"]))
+        axes[0].set_ylabel(_label(mp["y"]["name"]))
+        fixed = ", ".join(f"{k} = {v:g}" for k, v in mp["fixed"].items())
+        eff = next(r for r in mp["runs"] if r["classifier"] == "effective")
+        blocks.append(ctx.figure(f"map_{mp['name']}", fig,
+                                 f"Analytic vs MuJoCo over ({mp['x']['name']}, {mp['y']['name']}) at {fixed}: {int(slipping.sum())} of {a.size} starts slip at t = 0; "
+                                 f"the effective classifier agrees on {100 * eff['agreement']:.0f}% of the rated ones.",
+                                 [f"events_{mp['name']}.csv", f"study_{mp['name']}.json", "maps.json"]))
+        differ = (agree == 1) | (agree == 2)
+        boundary_rows.append([mp["name"], str(int(slipping.sum())), str(int((edge & (agree != NOT_SLIPPING)).sum())), str(int(differ.sum())),
+                              str(int((agree == 1).sum())), str(int((agree == 2).sum()))])
+        for r in mp["runs"]:
+            conf[r["classifier"]] = conf.get(r["classifier"], 0) + np.asarray(r["confusion"])
+        for cls, d in mp["time_difference"].items():
+            for k in ("difference", "outcome"):
+                diffs.setdefault(cls, {"difference": [], "outcome": []})[k] += d[k]
+    for cls, counts in conf.items():
+        used = [i for i in range(len(OUTCOME_NAMES)) if counts[i].sum() or counts[:, i].sum()]
+        sub = counts[np.ix_(used, used)]
+        names = [OUTCOME_NAMES[i].lower() for i in used]
+        fig, ax = plt.subplots(figsize=(4.6, 3.8))
+        ax.imshow(np.log1p(sub), cmap="Blues")
+        for i in range(len(used)):
+            for j in range(len(used)):
+                ax.text(j, i, str(sub[i, j]), ha="center", va="center", fontsize=9, color="k" if sub[i, j] < sub.max() / 2 else "w")
+        ax.set_xticks(range(len(used)), names, rotation=30)
+        ax.set_yticks(range(len(used)), names)
+        ax.set_xlabel(f"MuJoCo ({cls.replace('_', ' ')})")
+        ax.set_ylabel("analytic first event")
+        total, diag = int(sub.sum()), int(np.trace(sub))
+        blocks.append(ctx.figure(f"confusion_{cls}", fig, f"Confusion matrix, all maps, MuJoCo classifier '{cls}': {diag} of {total} compared starts on the diagonal "
+                                 f"({100 * diag / max(total, 1):.0f}%).", ["maps.json"] + [f"study_{mp['name']}.json" for mp in maps]))
+        blocks.append(Table(caption=f"Confusion matrix, classifier '{cls}' (rows: analytic first event; columns: MuJoCo as compared).",
+                            header=["analytic \\ MuJoCo"] + names, rows=[[names[i]] + [str(v) for v in sub[i]] for i in range(len(used))], data=ctx.data("maps.json")))
+    blocks.append(Table(caption="Where the effective classifier disagrees: compared starts on an analytic boundary of the map against the interior.",
+                        header=["map", "compared", "on a boundary", "disagree", "of which on a boundary", "interior"], rows=boundary_rows, data=ctx.data("maps.json")))
+    dist_rows = []
+    for mp in maps:
+        eff = next(r for r in mp["runs"] if r["classifier"] == "effective")
+        for b in eff.get("by_distance", []):
+            if b["n"] and b["agreement"] is not None:
+                dist_rows.append([mp["name"], f"[{b['distance'][0]:g}, {b['distance'][1]:g})", str(b["n"]), f"{100 * b['agreement']:.0f}%"])
+    if dist_rows:  # the quick report does not probe the distance (boundary_directions = 0)
+        blocks.append(Table(caption="Agreement (effective classifier) by the probed distance of the start to the analytic event boundary (scaled units).",
+                            header=["map", "distance", "n", "agreement"], rows=dist_rows, data=ctx.data(*[f"study_{mp['name']}.json" for mp in maps])))
+    d = diffs.get("effective", {"difference": [], "outcome": []})
+    if d["difference"]:
+        dd, oo = np.asarray(d["difference"]), np.asarray(d["outcome"])
+        fig, ax = plt.subplots(figsize=(6, 3.6))
         rows = []
-        for name in ("LIFTOFF", "STICK", "JAM"):
-            s = e["outcome"] == name
+        for name, code in (("LIFTOFF", 1), ("STICK", 2), ("JAM", 3)):
+            s = oo == name
             if s.any():
-                d = e["difference"][s]
-                rows.append([name.lower(), str(int(s.sum())), f"{np.median(d):+.3g}", f"{np.median(np.abs(d)):.3g}", f"{np.max(np.abs(d)):.3g}"])
-        blocks.append(Table(caption="Event-time differences (MuJoCo - analytic, scaled time).", header=["event", "n", "median", "median |diff|", "max |diff|"], rows=rows,
-                            data=ctx.data("event_time_errors.csv")))
+                ax.hist(dd[s], bins=30, color=OUTCOME_COLORS[code], alpha=0.8, label=f"{name.lower()} ({int(s.sum())})", edgecolor="k", lw=0.3)
+                rows.append([name.lower(), str(int(s.sum())), f"{np.median(dd[s]):+.3g}", f"{np.median(np.abs(dd[s])):.3g}", f"{np.max(np.abs(dd[s])):.3g}"])
+        ax.set_xlabel("t_MuJoCo - t_analytic (scaled)")
+        ax.set_ylabel("starts")
+        ax.legend(fontsize=7)
+        blocks.append(ctx.figure("event_time_errors", fig, "Event-time errors where MuJoCo (effective classifier) and the analytic model report the same event, all maps.", ["maps.json"]))
+        blocks.append(Table(caption="Event-time differences (MuJoCo - analytic, scaled time), effective classifier.", header=["event", "n", "median", "median |diff|", "max |diff|"],
+                            rows=rows, data=ctx.data("maps.json")))
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="MuJoCo vs analytic: outcome maps, confusion matrix, event times", paper="sections 3.1, 4 (Corollary 4.2); issue 4 item 5c",
-                  params=params, run=run, render=render, requires=("crosscheck.mujoco_sweep", "crosscheck.gb"))
+SECTION = Section(slug=SLUG, title="MuJoCo vs analytic: outcome maps, confusion matrices, event times", paper="sections 3.1, 4 (Corollary 4.2); issue 4 item 5c",
+                  params=params, run=run, render=render, requires=("crosscheck.mujoco_agreement", "crosscheck.gb"))

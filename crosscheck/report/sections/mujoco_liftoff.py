@@ -42,11 +42,13 @@ def run(ctx: RunContext) -> None:
 
     P = ctx.params
     rod = Rod.scaled(P["alpha"])
-    cols = {k: [] for k in ("mu", "timestep", "onset", "resolution", "onset_minus_Psi_L")}
+    cols = {k: [] for k in ("mu", "timestep", "onset", "resolution", "onset_minus_Psi_L", "bound")}
     pairs = [(mu, dt) for mu in P["mu"] for dt in P["timestep"]]
     for mu, dt in ctx.progress(pairs, desc="lift-off onset"):
         onset, res = liftoff_onset(rod, mu, timestep=dt, rounds=P["rounds"], n=P["n_per_round"], half_width=P["half_width"])
-        for k, v in (("mu", mu), ("timestep", dt), ("onset", onset), ("resolution", res), ("onset_minus_Psi_L", onset - critical.Psi_L)):
+        # the MuJoCo leg's bound on the delay of the onset (three rows of b > 0; crosscheck.tolerances, MUJOCO_LIFTOFF_ONSET)
+        bound = critical.Psi_L**3 / 6 * (3 * dt) ** 2
+        for k, v in (("mu", mu), ("timestep", dt), ("onset", onset), ("resolution", res), ("onset_minus_Psi_L", onset - critical.Psi_L), ("bound", bound)):
             cols[k].append(v)
         ctx.store.write_table("onset", cols)
         # the onset is the first grid value that lifts off: Psi_L - res < onset <= Psi_L + bound + res
@@ -67,17 +69,20 @@ def render(ctx: RenderContext) -> list:
     P = ctx.params
     t = ctx.store.read_table("onset")
     fig, ax = plt.subplots(figsize=(5.6, 4.0))
+    order = np.argsort(t["timestep"])
+    ax.loglog(t["timestep"][order], t["bound"][order], "k--", lw=1, label="bound $(\\Psi_L^3/6)(3\\,\\omega dt)^2$")
     for i, mu in enumerate(P["mu"]):
         s = t["mu"] == mu
+        # the threshold lies in (onset - resolution, onset]: draw |onset - Psi_L| with the grid step as its bar
         err = np.abs(t["onset_minus_Psi_L"][s])
-        ax.errorbar(t["timestep"][s] * (1 + 0.04 * i), np.maximum(err, 1e-12), yerr=t["resolution"][s], fmt="o-", ms=4, capsize=2, color=LINE_COLORS[i % 7], label=f"$\\mu$ = {mu:g}")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
+        ax.errorbar(t["timestep"][s] * (1 + 0.05 * i), np.maximum(err, 1e-12), yerr=[np.zeros(s.sum()), t["resolution"][s]], fmt="o", ms=4, capsize=2,
+                    color=LINE_COLORS[i % 7], label=f"$\\mu$ = {mu:g}")
     ax.set_xlabel("MuJoCo timestep $\\omega\\, dt$ (scaled)")
     ax.set_ylabel("|onset - $\\Psi_L$|")
     ax.legend(fontsize=8)
     cap = (f"Lift-off onset (LIFTOFF at t = 0) in MuJoCo at theta = theta_L, Theta = 0, varphi = -pi/2, eta = 1: |onset - Psi_L| against the timestep; "
-           f"error bars: the grid's resolution ({P['rounds']} rounds of {P['n_per_round']} runs). Exact agreement is drawn at 1e-12.")
+           f"bars: the grid's resolution ({P['rounds']} rounds of {P['n_per_round']} runs); dashed: the MuJoCo leg's bound on the delay of the onset "
+           "(three rows of b > 0, MUJOCO_LIFTOFF_ONSET). Exact agreement is drawn at 1e-12.")
     blocks = [ctx.figure("liftoff_onset", fig, cap, ["onset.csv"])]
     rows = [[f"{t['mu'][i]:g}", f"{t['timestep'][i]:g}", f"{t['onset'][i]:.10f}", f"{t['resolution'][i]:.1e}", f"{t['onset_minus_Psi_L'][i]:+.2e}"]
             for i in range(len(t["mu"]))]

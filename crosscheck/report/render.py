@@ -220,6 +220,10 @@ def _provenance_rows(prov: dict) -> list[list[str]]:
             ["mode", "quick" if prov.get("quick") else "full"],
             ["seed", str(prov.get("seed"))]]
     rows += [[f"version: {k}", str(v)] for k, v in prov.get("versions", {}).items()]
+    rendered = prov.get("rendered", {})
+    if rendered:
+        rows += [["rendered (UTC)", rendered.get("date", "")],
+                 ["render git revision", f"{rendered.get('git', {}).get('revision')} ({'dirty' if rendered.get('git', {}).get('dirty') else 'clean'})"]]
     rows += [["machine: platform", str(m.get("platform"))], ["machine: processor", str(m.get("processor"))],
              ["machine: CPUs (usable)", f"{m.get('cpu_count')} ({m.get('usable_cpus')})"],
              ["run time of the run stage", _fmt_seconds(prov.get("seconds"))]]
@@ -372,13 +376,17 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
     out.mkdir(parents=True, exist_ok=True)
     root = SectionStore(out / "data")
     prov = root.read_json(PROVENANCE_FILE) if root.exists(f"{PROVENANCE_FILE}.json") else {"date": "", "git": {}, "parameters": {}, "tolerances": {}}
+    # the render stage's own revision: a report rebuilt by newer code says so (the run stage's is in prov["git"])
+    from crosscheck.report import provenance as _provenance
+
+    prov = {**prov, "rendered": {"date": _provenance.now(), "git": _provenance.git_revision()}}
     if jobs is None:
         jobs = min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1), 4)
     views = _views(list(sections), out, jobs=jobs, progress=progress)
     summary_rows = []
     for v in views:
         n, nf, nk = len(v.checks), len(v.failed_checks), len(v.known_checks)
-        checks = f"{n - nf - nk}/{n} passed" + (f", {nf} FAILED" if nf else "") + (f", {nk} known discrepancies" if nk else "") if n else ""
+        checks = f"{n - nf - nk}/{n} passed" + (f", {nf} FAILED" if nf else "") + (f", {nk} known discrepanc{'y' if nk == 1 else 'ies'}" if nk else "") if n else ""
         state = _badge(v.state)
         row = [v.section.title, v.section.paper, state, _fmt_seconds((v.status or {}).get("seconds")), checks]
         summary_rows.append((row, "ok" if v.state in ("ok", "skipped") and not nf else "fail"))

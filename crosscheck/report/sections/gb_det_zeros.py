@@ -88,7 +88,7 @@ def render(ctx: RenderContext) -> list:
     fig, ax = plt.subplots(figsize=(6.4, 4.0))
     for branch, color in (("theta_+", LINE_COLORS[0]), ("theta_-", LINE_COLORS[1])):
         s = q["branch"] == branch
-        ax.plot(q["cos_varphi"][s], q["Psi"][s], ".", ms=2.5, color=color, label=f"det K = 0 on $\\theta_{branch[-1]}$, $\\Theta$ > 0 (eq. Psiquartic)")
+        ax.plot(q["cos_varphi"][s], q["Psi"][s], ".", ms=2.5, color=color, rasterized=True, label=f"det K = 0 on $\\theta_{branch[-1]}$, $\\Theta$ > 0 (eq. Psiquartic)")
     s = ind["Theta"] > 0
     ax.plot(np.cos(ind["varphi"][s]), ind["Psi"][s], "kx", ms=5, label="bisection of det K along the manifold")
     ax.axhline(cv["Psi_1"], color=LINE_COLORS[2], ls="--", lw=1, label=f"$\\Psi_1$ = {cv['Psi_1']:.4f}")

@@ -109,7 +109,7 @@ def render(ctx: RenderContext) -> list:
                         ax.plot(t["theta"][sel], t["varphi"][sel], t["Theta"][sel], color=psi_colors[label], lw=1.6)
                     else:
                         ax.plot(t["theta"][sel], t["varphi"][sel], t["Theta"][sel], color="0.8", lw=0.6)
-                        ax.scatter(t["theta"][sel], t["varphi"][sel], t["Theta"][sel], c=[GB_TYPE_COLORS[int(k)] for k in t["type"][sel]], s=4, depthshade=False)
+                        ax.scatter(t["theta"][sel], t["varphi"][sel], t["Theta"][sel], c=[GB_TYPE_COLORS[int(k)] for k in t["type"][sel]], s=4, depthshade=False, rasterized=True)
             ax.set_xlabel("$\\theta$")
             ax.set_ylabel("$\\varphi$")
             ax.set_zlabel("$\\Theta$")

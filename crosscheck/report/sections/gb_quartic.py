@@ -94,10 +94,10 @@ def render(ctx: RenderContext) -> list:
     lines = ctx.store.read_json("lines")
     z = ctx.store.read_json("psi0_zeros")
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    ax.plot(asy["cos_varphi"], asy["Psi"], ".", ms=2.5, color=LINE_COLORS[0], label="$\\sum C^\\varepsilon_i \\Psi^i = 0$ (eq. Psiquarticeps)")
+    ax.plot(asy["cos_varphi"], asy["Psi"], ".", ms=2.5, color=LINE_COLORS[0], rasterized=True, label="$\\sum C^\\varepsilon_i \\Psi^i = 0$ (eq. Psiquarticeps)")
     for branch, color in (("theta_+", LINE_COLORS[1]), ("theta_-", LINE_COLORS[2])):
         s = ex["branch"] == branch
-        ax.plot(ex["cos_varphi"][s], ex["Psi"][s], ".", ms=2.5, color=color, label=f"$\\sum C_i \\Psi^i = 0$ on $\\theta_{branch[-1]}$ (eq. Psiquartic)")
+        ax.plot(ex["cos_varphi"][s], ex["Psi"][s], ".", ms=2.5, color=color, rasterized=True, label=f"$\\sum C_i \\Psi^i = 0$ on $\\theta_{branch[-1]}$ (eq. Psiquartic)")
     for i, (name, key) in enumerate((("$\\Psi_L$", "Psi_L"), ("$\\Psi_1$", "Psi_1"), ("$\\Psi_P$", "Psi_P"), ("$\\Psi_2$", "Psi_2"))):
         for sgn in (1, -1):
             ax.axhline(sgn * lines[key], color=LINE_COLORS[3 + i], ls="--", lw=0.9, label=f"$\\pm${name}" if sgn > 0 else None)

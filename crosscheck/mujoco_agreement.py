@@ -357,10 +357,12 @@ def classify_effective(sensordata: np.ndarray, layout: SensorLayout, *, rod: Rod
     (window means 3-7x -b/p, 1.0-1.6x -b/p_eff, MuJoCo's own p 0.5-2.8).  Here
     JAM needs, in a window of W rows (``Thresholds.window_rows``):
 
-      mean F_z >= jam_force, mean F_z >= jam_ratio * max(0, -mean b / p_eff_W)
+      mean F_z >= jam_force, mean F_z >= jam_ratio * mean max(0, -b) / p_eff_W
       (p_eff_W the force-weighted window mean of p_eff; taken as 0 when
       p_eff_W <= 0: slipping with MuJoCo's friction cannot hold the tip
-      there), a slip-speed loss >= jam_slip_loss within the window, and
+      there; b clipped per row, as part A clips -b/p per row, so rows after a
+      lift-off inside the window (b > 0) do not cancel the slipping force
+      needed before it), a slip-speed loss >= jam_slip_loss within the window, and
       p_eff_W <= ``p_jam`` (``P_EFF_JAM``): MuJoCo's rod is at its own p = 0,
       where the theory's jam happens (landings of a hopping tip are not),
 
@@ -400,7 +402,10 @@ def classify_effective(sensordata: np.ndarray, layout: SensorLayout, *, rod: Rod
         sF = _window_sum(Fz, w)
         p_eff = (_window_sum(Fz * (1 + alpha - alpha * st * st), w) - alpha * _window_sum(st * ct * Fe, w)) / sF
         Fbar = sF / w
-        rigid = np.where(p_eff > 0, np.maximum(0.0, -_window_sum(b, w) / w / p_eff), 0.0)
+        # -b clipped per row: a window mean of b itself is pulled to 0 by the b > 0 rows of a lift-off
+        # later in the window, and then the rigid force of a slip at small p_eff (15-20 m g at mu = 1.3,
+        # p_eff ~0.05) passed for 3x the rigid force (below mu_P: tests NEAR_JAM_SLIP_BELOW_MU_P).
+        rigid = np.where(p_eff > 0, _window_sum(np.maximum(0.0, -b), w) / w / p_eff, 0.0)
         eta_end = np.full(eta.shape, np.nan)
         eta_end[..., : n - w + 1] = eta[..., w - 1 :]
         jam = (Fbar >= th.jam_force) & (Fbar >= th.jam_ratio * rigid) & (eta - eta_end >= th.jam_slip_loss * eta) & (p_eff <= p_jam)

@@ -23,7 +23,7 @@ from crosscheck.mujoco_agreement import (
     study_thresholds,
 )
 from crosscheck.critical import Psi_on_b0
-from crosscheck.mujoco_rod import Options
+from crosscheck.mujoco_rod import Options, simulate
 from crosscheck.mujoco_sweep import sweep
 from crosscheck.slipping import slip_until_event
 from crosscheck.tolerances import MUJOCO_EVENT_DISAGREEMENT
@@ -36,6 +36,13 @@ COARSE = {"timestep": 1e-3, "timeconst": 0.1}  # ~0.3 ms and 32 ms for a 1 m rod
 #: (window-mean force 1.5-1.7 m g > 3 (-b/p), slip loss > 20 %; part A's classify says JAM when this
 #: was written) although MuJoCo's own p_eff there is 0.45.
 HOPPING_BELOW_MU_P = (SlipState(theta=0.6113389398285725, varphi=-0.77475770919191, Theta=0.45376828769404165, Psi=0.3126466205827283, eta=2.343864226276094), 1.3)
+
+#: A slip at mu = 1.3 < mu_P in near-continuous contact with p ~0.05 (eq. p; p >= 0.04 at mu = 1.3):
+#: MuJoCo's force is the slipping -b/p_eff of 15-20 m g and b reaches 0 (lift-off, analytic at t =
+#: 0.066) inside the first window.  With the window mean of b (not of max(0, -b)) the lift-off's b > 0
+#: rows cancelled the slipping force and classify_effective said JAM at t = 0.006 (full report, seed 0).
+NEAR_JAM_SLIP_BELOW_MU_P = (SlipState(theta=1.061401264098454, varphi=-1.5792227104861805, Theta=0.4796557348275663, Psi=0.5291082563291338,
+                                      eta=2.039633923548985), 1.3)
 
 #: A Corollary 4.2 state (mu = 1.7 > mu_P): analytic JAM at t = 0.460 with b < 0, off the planar
 #: section; MuJoCo delivers an impulse there (window force ~7 m g, p_eff ~0.09) and the tip lifts off.
@@ -107,6 +114,20 @@ def test_effective_jam_rule_rejects_a_hopping_landing_below_mu_P():
     s, mu = HOPPING_BELOW_MU_P
     r = classified_rollout(ROD, [s], mu, horizon=0.8, thresholds=study_thresholds(Options()))
     assert r["outcome_e"][0] != Outcome.JAM
+
+
+def test_effective_jam_rule_does_not_take_a_liftoff_inside_the_window_for_a_jam_below_mu_P():
+    s, mu = NEAR_JAM_SLIP_BELOW_MU_P
+    a = slip_until_event(s, mu, ALPHA, t_max=2.0)
+    assert a.outcome == Outcome.LIFTOFF and a.time < 0.1
+    th = study_thresholds(Options())
+    run = simulate(ROD, s, mu, horizon=0.3, thresholds=th)
+    R, w = run.record, th.window_rows(Options().timestep)
+    # the tip is in contact from row 3 past the old JAM row 21 (the force rise is no landing)
+    assert R.active[3:30].all() and R.normal_force[3] > 10.0 and w > 30
+    r = classified_rollout(ROD, [s], mu, horizon=0.3, thresholds=th)
+    assert r["outcome_e"][0] == Outcome.LIFTOFF and r["outcome_a"][0] == Outcome.LIFTOFF
+    assert abs(r["time_e"][0] - a.time) < 0.06
 
 
 def test_effective_jam_rule_fires_where_mujoco_reproduces_a_corollary_jam():

@@ -27,6 +27,7 @@ __all__ = [
     "theta_12",
     "Psi_on_b0",
     "mu_P_star",
+    "p_min",
     "theta_pm",
     "varphi_pm",
     "kinematic_case",
@@ -73,6 +74,19 @@ def mu_P_star(varphi, alpha):
     alpha = check("alpha", alpha, ALPHA)
     with np.errstate(divide="ignore"):
         return 2.0 * np.sqrt(alpha + 1.0) / (alpha * np.abs(np.sin(varphi)))
+
+
+def p_min(mu, alpha):
+    """Smallest value of eq. p over all theta and varphi: 1 + alpha/2 - (alpha/2) sqrt(1 + mu^2).
+
+    At varphi = -pi/2, p = 1 + alpha cos^2 theta - (alpha mu / 2) sin 2 theta =
+    1 + alpha/2 + (alpha/2)(cos 2 theta - mu sin 2 theta), whose minimum over
+    theta is the expression above; |sin varphi| = 1 there, so no other varphi
+    goes lower.  It is 0 exactly at mu = mu_P and negative above.
+    """
+    mu = check("mu", mu, MU)
+    alpha = check("alpha", alpha, ALPHA)
+    return 1.0 + 0.5 * alpha - 0.5 * alpha * np.sqrt(1.0 + mu**2)
 
 
 def _sqrt_discriminant(d, scale):

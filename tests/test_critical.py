@@ -210,3 +210,12 @@ def test_mode_boundaries_follow_the_lcp(b, p, want):
 def test_mode_rejects_nan():
     with pytest.raises(ValueError, match=r"^b must be in \(-inf, inf\); got nan$"):
         an.mode(np.nan, 1.0)
+
+
+@pytest.mark.parametrize("alpha", ALPHAS, ids=str)
+def test_p_min_is_the_minimum_of_p_and_vanishes_at_mu_P(alpha):
+    theta, varphi = np.meshgrid(np.linspace(1e-3, math.pi / 2 - 1e-3, 801), np.linspace(-math.pi + 1e-3, 0, 801))
+    for mu in (0.0, 0.5, 1.3, 4.0):
+        brute = an.p(theta, varphi, mu, alpha).min()
+        assert cr.p_min(mu, alpha) <= brute <= cr.p_min(mu, alpha) + 1e-4 * (1 + alpha) * (1 + mu)
+    assert cr.p_min(cr.mu_P(alpha), alpha) == pytest.approx(0.0, abs=ROOT_RESIDUAL.atol * (1 + alpha))

@@ -25,7 +25,10 @@ def test_cli_passes_and_writes_standard_json(capsys):
     assert [r["classifier"] for r in runs] == ["part_a", "effective"]
     conf = np.array(runs[1]["confusion"])
     assert conf.shape == (6, 6) and conf.sum() == 30 and runs[1]["labels"][3] == "JAM"
-    assert {row["mu"] for row in out["extra"]["jams"]["below"]} == {0.5, 1.0, 1.3}
+    assert {row["mu"] for row in out["extra"]["jams"]["below"]} == {0.5, 1.0, 1.15, 1.3}
+    # only mu whose smallest p exceeds the JAM rule's p_eff bound are asserted
+    assert out["extra"]["jams"]["asserted_below"] == [0.5, 1.0, 1.15]
+    assert [r["mu"] for r in out["extra"]["jams"]["near_mu_P_not_asserted"]["rows"]] == [1.3]
     json.dumps(out, allow_nan=False)  # standard JSON: no NaN / Infinity survived
 
 

@@ -67,7 +67,7 @@ from tqdm.auto import tqdm
 
 from crosscheck.checks import ALPHA, ETA, FINITE, MU, POSITIVE, THETA, VARPHI, check
 from crosscheck.critical import mu_P, theta_L
-from crosscheck.mujoco_rod import (
+from crosscheck.mujoco_rod import (  # _window_sum: both classifiers use the same window sums
     Classification,
     Options,
     SensorLayout,
@@ -77,6 +77,7 @@ from crosscheck.mujoco_rod import (
     initial_state,
     n_steps,
     record_from_sensordata,
+    _window_sum,
 )
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
@@ -320,16 +321,6 @@ class EffectiveClassification(NamedTuple):
     event_row: np.ndarray
     jam_p_eff: np.ndarray
     part_a: Classification
-
-
-def _window_sum(x: np.ndarray, w: int) -> np.ndarray:
-    n = x.shape[-1]
-    c = np.zeros(x.shape[:-1] + (n + 1,))
-    np.cumsum(x, axis=-1, out=c[..., 1:])
-    out = np.full(x.shape, np.nan)
-    if w <= n:
-        out[..., : n - w + 1] = c[..., w:] - c[..., : n - w + 1]
-    return out
 
 
 #: JAM needs MuJoCo's own p_eff (force-weighted over the window) at or below

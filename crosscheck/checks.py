@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-__all__ = ["Interval", "check", "THETA", "VARPHI", "MU", "ALPHA", "ETA", "POSITIVE", "FINITE"]
+__all__ = ["Interval", "check", "number", "THETA", "VARPHI", "MU", "ALPHA", "ETA", "POSITIVE", "FINITE"]
 
 
 class Interval:
@@ -62,3 +62,8 @@ def check(name: str, value, interval: Interval = FINITE) -> np.ndarray:
         first = x[bad].flat[0] if x.ndim else float(x)
         raise ValueError(f"{name} must be in {interval}; got {float(first)!r}")
     return x
+
+
+def number(name: str, value, interval: Interval = FINITE) -> float:
+    """``check`` for one scalar: also parses strings, so the CLI passes its raw text."""
+    return float(check(name, value, interval))

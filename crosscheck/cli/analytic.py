@@ -6,21 +6,10 @@ import json
 import math
 
 from crosscheck import analytic
-from crosscheck.checks import ALPHA, ETA, FINITE, MU, THETA, VARPHI, check
+from crosscheck.checks import ALPHA, FINITE, MU, THETA, VARPHI, number as _num
 
-# Number arguments are parsed by ``crosscheck.checks.check`` (type=str here) so
+# Number arguments are parsed by ``crosscheck.checks.number`` (type=str here) so
 # that the CLI and the Python API give the same message for the same mistake.
-
-
-def _num(name: str, value, interval) -> float:
-    return float(check(name, None if value is None else _to_float(name, value, interval), interval))
-
-
-def _to_float(name, value, interval):
-    try:
-        return float(value)
-    except ValueError:
-        raise ValueError(f"{name} must be a number in {interval}; got {value!r}") from None
 
 
 def _critical(args) -> int:

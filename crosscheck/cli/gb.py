@@ -7,20 +7,10 @@ import math
 
 import numpy as np
 
-from crosscheck.checks import ALPHA, ETA, FINITE, MU, POSITIVE, THETA, VARPHI, check
+from crosscheck.checks import ALPHA, ETA, FINITE, MU, POSITIVE, THETA, VARPHI, number as _num
 
-# Numbers are parsed by crosscheck.checks.check (type=str) so that the CLI and the
+# Numbers are parsed by crosscheck.checks.number (type=str) so that the CLI and the
 # Python API give the same one-line message for the same mistake.
-
-
-def _num(name: str, value, interval) -> float:
-    if value is None:
-        check(name, None, interval)
-    try:
-        x = float(value)
-    except ValueError:
-        raise ValueError(f"{name} must be a number in {interval}; got {value!r}") from None
-    return float(check(name, x, interval))
 
 
 def _complex(z) -> dict:

@@ -24,10 +24,14 @@ class Tolerance:
     rtol: float
     why: str
 
+    def allowance(self, want) -> np.ndarray:
+        """atol + rtol |want|: the largest |got - want| that passes."""
+        return self.atol + self.rtol * np.abs(np.asarray(want, float))
+
     def ratio(self, got, want) -> np.ndarray:
-        """|got - want| / (atol + rtol |want|): <= 1 passes."""
+        """|got - want| / allowance(want): <= 1 passes."""
         got, want = np.asarray(got, float), np.asarray(want, float)
-        return np.abs(got - want) / (self.atol + self.rtol * np.abs(want))
+        return np.abs(got - want) / self.allowance(want)
 
     def ok(self, got, want) -> bool:
         r = self.ratio(got, want)

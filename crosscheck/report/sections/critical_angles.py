@@ -34,7 +34,7 @@ def run(ctx: RunContext) -> None:
     for name, got, want in (("theta_1(mu_P) = theta_P", cvP.theta_1, consts["theta_P"]), ("theta_2(mu_P) = theta_P", cvP.theta_2, consts["theta_P"]),
                             ("theta_1(mu_L) = theta_L", cvL.theta_1, critical.theta_L)):
         err = abs(got - want)
-        allow = CLOSED_FORM.atol + CLOSED_FORM.rtol * abs(want)
+        allow = float(CLOSED_FORM.allowance(want))
         ctx.check(name, err <= allow, value=err, allowance=allow, detail=f"{got:.12g} vs {want:.12g}")
     worst = np.inf
     for a in P["alpha_sample"]:

@@ -41,7 +41,7 @@ def run(ctx: RunContext) -> None:
     for name, got, want in (("Psi_1(mu_P) = Psi_P (eq. psip)", cvP.Psi_1, consts["Psi_P"]), ("Psi_2(mu_P) = Psi_P (eq. psip)", cvP.Psi_2, consts["Psi_P"]),
                             ("Psi_1(mu_L) = Psi_L (eq. mul)", cvL.Psi_1, critical.Psi_L)):
         err = abs(got - want)
-        allow = CLOSED_FORM.atol + CLOSED_FORM.rtol * abs(want)
+        allow = float(CLOSED_FORM.allowance(want))
         ctx.check(name, err <= allow, value=err, allowance=allow, detail=f"{got:.12g} vs {want:.12g}")
     psi1 = critical.Psi_on_b0(th1)
     worst = float(np.min(psi1 - critical.Psi_L))

@@ -79,6 +79,7 @@ from crosscheck.mujoco_rod import (  # _window_sum: both classifiers use the sam
     record_from_sensordata,
     _window_sum,
 )
+from crosscheck.mujoco_sweep import Batch
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.slipping import slip_until_event
@@ -372,7 +373,6 @@ def classify_effective(sensordata: np.ndarray, layout: SensorLayout, *, rod: Rod
     n = sd.shape[-2]
     w = th.window_rows(timestep)
     alpha = rod.alpha
-    mu_b = np.asarray(mu, dtype=float)[..., None]
     fc = np.moveaxis(sd[..., layout.force], -1, 0)
     normal = np.moveaxis(sd[..., layout.normal], -1, 0)
     tangent = np.moveaxis(sd[..., layout.tangent], -1, 0)
@@ -425,10 +425,6 @@ def classify_effective(sensordata: np.ndarray, layout: SensorLayout, *, rod: Rod
     )
 
 
-#: Memory for one chunk's sensordata in ``classified_rollout``.
-_CHUNK_BYTES = 48 * 2**20
-
-
 def _p_at(sd_rows: np.ndarray, layout: SensorLayout, rod: Rod, radius: float, mu: np.ndarray) -> np.ndarray:
     """Eq. p on MuJoCo's state of one row per run, sd_rows (B, nsensordata)."""
     R = record_from_sensordata(sd_rows[:, None, :], layout, rod, radius)
@@ -439,7 +435,7 @@ def _p_at(sd_rows: np.ndarray, layout: SensorLayout, rod: Rod, radius: float, mu
 
 def classified_rollout(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None,
                        nthread: int = 2, progress: bool = False, **options) -> dict[str, np.ndarray]:
-    """Run states through ``mujoco.rollout`` (as ``sweep`` does) and classify each twice.
+    """Run states through ``mujoco_sweep.Batch`` (as ``sweep`` does) and classify each twice.
 
     Returns a dict of (B,) arrays: ``outcome_a``, ``time_a``, ``p_a`` (part
     A's ``classify``: outcome, event time, eq. p on MuJoCo's state at the
@@ -448,38 +444,20 @@ def classified_rollout(rod: Rod, states: Sequence[SlipState], mu, *, horizon: fl
     ``steps_per_second``.  Same model, start and records as ``sweep``, so
     ``outcome_a`` equals ``sweep(...).outcome``.
     """
-    states = list(states)
-    B = len(states)
-    if B == 0:
-        raise ValueError("states must contain at least one SlipState")
     opts = Options.from_kwargs(options)
     th = thresholds or Thresholds()
-    horizon = float(check("horizon", horizon, POSITIVE))
-    mu = np.broadcast_to(check("mu", mu, MU), (B,)).astype(float)
     t0 = time.perf_counter()
-    models = {m: build_model(rod, m, opts) for m in np.unique(mu)}
-    first = next(iter(models.values()))
-    layout = SensorLayout.from_model(first)
-    nstep = n_steps(horizon, opts.timestep)
-    scratch = mujoco.MjData(first)
-    x0 = np.stack([initial_state(first, rod, s, opts.radius, data=scratch) for s in states])
-    chunk = int(max(nthread, min(B, _CHUNK_BYTES // (nstep * first.nsensordata * 8))))
+    batch = Batch.build(rod, states, mu, horizon=horizon, options=opts, nthread=nthread)
+    B, mu, layout, nstep = len(batch.mu), batch.mu, batch.layout, batch.nstep
     out = {k: np.empty(B) for k in ("time_a", "p_a", "time_e", "p_eff_e")}
     out["outcome_a"] = np.empty(B, np.int8)
     out["outcome_e"] = np.empty(B, np.int8)
-    data = [mujoco.MjData(first) for _ in range(nthread)]
-    buffer = np.empty((chunk, nstep, first.nsensordata))
-    with rollout.Rollout(nthread=nthread if nthread > 1 else 0) as pool:
-        for a in tqdm(range(0, B, chunk), desc="mujoco", unit="chunk", disable=not progress):
-            sl = slice(a, min(a + chunk, B))
-            sd = buffer[: sl.stop - sl.start]
-            pool.rollout([models[m] for m in mu[sl]], data, np.ascontiguousarray(x0[sl]), skip_checks=True, nstep=nstep,
-                         sensordata=sd, control_spec=mujoco.mjtState.mjSTATE_CTRL.value)
-            c = classify_effective(sd, layout, rod=rod, mu=mu[sl], radius=opts.radius, timestep=opts.timestep, thresholds=th)
-            out["outcome_a"][sl], out["time_a"][sl] = c.part_a.outcome, c.part_a.event_time
-            row = np.where(c.part_a.event_row >= 0, c.part_a.event_row, nstep - 1)
-            out["p_a"][sl] = _p_at(sd[np.arange(sd.shape[0]), row], layout, rod, opts.radius, mu[sl])
-            out["outcome_e"][sl], out["time_e"][sl], out["p_eff_e"][sl] = c.outcome, c.event_time, c.jam_p_eff
+    for sl, sd in batch.chunks(progress=progress, desc="mujoco"):
+        c = classify_effective(sd, layout, rod=rod, mu=mu[sl], radius=opts.radius, timestep=opts.timestep, thresholds=th)
+        out["outcome_a"][sl], out["time_a"][sl] = c.part_a.outcome, c.part_a.event_time
+        row = np.where(c.part_a.event_row >= 0, c.part_a.event_row, nstep - 1)
+        out["p_a"][sl] = _p_at(sd[np.arange(sd.shape[0]), row], layout, rod, opts.radius, mu[sl])
+        out["outcome_e"][sl], out["time_e"][sl], out["p_eff_e"][sl] = c.outcome, c.event_time, c.jam_p_eff
     wall = time.perf_counter() - t0
     out["wall_time"] = wall
     out["steps_per_second"] = B * nstep / wall

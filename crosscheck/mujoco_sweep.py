@@ -38,7 +38,7 @@ from crosscheck.mujoco_rod import (
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["SweepResult", "sweep", "SERIES", "SUMMARY"]
+__all__ = ["Batch", "SweepResult", "sweep", "SERIES", "SUMMARY"]
 
 #: Decimated time series kept per state (each (B, n_series)), scaled units:
 #: t, eta and varphi of the contact point, theta, Theta, Psi, gap of the
@@ -141,6 +141,75 @@ def _summaries(sd: np.ndarray, layout: SensorLayout, rod: Rod, radius: float, mu
     return summary, series
 
 
+@dataclass(frozen=True, eq=False)
+class Batch:
+    """A batch of slipping states compiled for ``mujoco.rollout``: models, starts, steps.
+
+    The one implementation of the batched rollout, used by ``sweep`` and by
+    ``crosscheck.mujoco_agreement.classified_rollout`` (which classifies the
+    same records twice).  Build it with ``Batch.build``; ``chunks`` runs it.
+
+    Attributes:
+      models: one compiled model per distinct mu.
+      layout: sensor layout (the same for every model).
+      mu: (B,) friction of each state.
+      x0: (B, nstate) MuJoCo start states (``initial_state``).
+      nstep: steps per state; nthread: rollout threads.
+    """
+
+    models: dict
+    layout: SensorLayout
+    mu: np.ndarray
+    x0: np.ndarray
+    nstep: int
+    nthread: int
+
+    @classmethod
+    def build(cls, rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, options: Options, nthread: int = 2) -> "Batch":
+        """Validate the inputs, compile one model per distinct mu and place every state."""
+        states = list(states)
+        for i, s in enumerate(states):
+            if not isinstance(s, SlipState):
+                raise ValueError(f"states[{i}] must be a SlipState; got {type(s).__name__}")
+        B = len(states)
+        if B == 0:
+            raise ValueError("states must contain at least one SlipState")
+        horizon = float(check("horizon", horizon, POSITIVE))
+        if not (isinstance(nthread, int) and nthread >= 1):
+            raise ValueError(f"nthread must be an integer >= 1; got {nthread!r}")
+        mu = np.broadcast_to(check("mu", mu, MU), (B,)).astype(float)
+        models = {m: build_model(rod, m, options) for m in np.unique(mu)}
+        first = next(iter(models.values()))
+        scratch = mujoco.MjData(first)  # all models share sizes; the state layout is the same
+        x0 = np.stack([initial_state(first, rod, s, options.radius, data=scratch) for s in states])
+        return cls(models, SensorLayout.from_model(first), mu, x0, n_steps(horizon, options.timestep), nthread)
+
+    def chunks(self, *, progress: bool, desc: str = "mujoco sweep"):
+        """Run the batch; yield (slice of states, (n, nstep, nsensordata) sensordata) per chunk.
+
+        The sensordata buffer is reused between chunks: use it before the next one.
+        """
+        first = next(iter(self.models.values()))
+        B, nsensor = len(self.mu), first.nsensordata
+        chunk = int(max(self.nthread, min(B, CHUNK_BYTES // (self.nstep * nsensor * 8))))
+        data = [mujoco.MjData(first) for _ in range(self.nthread)]
+        buffer = np.empty((chunk, self.nstep, nsensor))
+        with rollout.Rollout(nthread=self.nthread if self.nthread > 1 else 0) as pool:
+            for a in tqdm(range(0, B, chunk), desc=desc, unit="chunk", disable=not progress):
+                sl = slice(a, min(a + chunk, B))
+                sd = buffer[: sl.stop - sl.start]
+                pool.rollout(
+                    [self.models[m] for m in self.mu[sl]],
+                    data,
+                    np.ascontiguousarray(self.x0[sl]),
+                    skip_checks=True,
+                    nstep=self.nstep,
+                    sensordata=sd,
+                    control_spec=mujoco.mjtState.mjSTATE_CTRL.value,
+                )
+                yield sl, sd
+
+
 def sweep(
     rod: Rod,
     states: Sequence[SlipState],
@@ -171,60 +240,27 @@ def sweep(
       ``SweepResult``.
     """
     states = list(states)
-    for i, s in enumerate(states):
-        if not isinstance(s, SlipState):
-            raise ValueError(f"states[{i}] must be a SlipState; got {type(s).__name__}")
-    B = len(states)
-    if B == 0:
-        raise ValueError("states must contain at least one SlipState")
-    horizon = float(check("horizon", horizon, POSITIVE))
-    if not (isinstance(nthread, int) and nthread >= 1):
-        raise ValueError(f"nthread must be an integer >= 1; got {nthread!r}")
     opts = Options.from_kwargs(options)
     th = thresholds or Thresholds()
-    mu = np.broadcast_to(check("mu", mu, MU), (B,)).astype(float)
-
     t0 = time.perf_counter()
-    models = {m: build_model(rod, m, opts) for m in np.unique(mu)}
-    first = next(iter(models.values()))
-    layout = SensorLayout.from_model(first)
-    nsensor = first.nsensordata
-    nstep = n_steps(horizon, opts.timestep)
-    scratch = mujoco.MjData(first)  # all models share sizes; the state layout is the same
-    x0 = np.stack([initial_state(first, rod, s, opts.radius, data=scratch) for s in states])
+    batch = Batch.build(rod, states, mu, horizon=horizon, options=opts, nthread=nthread)
+    B, mu, layout, nstep = len(states), batch.mu, batch.layout, batch.nstep
     every = max(1, nstep // max(1, n_series))
 
-    chunk = int(max(nthread, min(B, CHUNK_BYTES // (nstep * nsensor * 8))))
     outcome = np.empty(B, np.int8)
     event_time = np.empty(B)
     exit_time = np.empty(B)
     diverged_time = np.empty(B)
     summary = {k: np.empty(B) for k in SUMMARY}
     series = {k: np.empty((B, nstep // every)) for k in SERIES}
-    data = [mujoco.MjData(first) for _ in range(nthread)]
-    buffer = np.empty((chunk, nstep, nsensor))
-    starts = range(0, B, chunk)
-    with rollout.Rollout(nthread=nthread if nthread > 1 else 0) as pool:
-        for a in tqdm(starts, desc="mujoco sweep", unit="chunk", disable=not progress):
-            sl = slice(a, min(a + chunk, B))
-            nb = sl.stop - sl.start
-            sd = buffer[:nb]
-            pool.rollout(
-                [models[m] for m in mu[sl]],
-                data,
-                np.ascontiguousarray(x0[sl]),
-                skip_checks=True,
-                nstep=nstep,
-                sensordata=sd,
-                control_spec=mujoco.mjtState.mjSTATE_CTRL.value,
-            )
-            cls = classify(sd, layout, rod=rod, mu=mu[sl], radius=opts.radius, timestep=opts.timestep, thresholds=th)
-            outcome[sl], event_time[sl], exit_time[sl], diverged_time[sl] = cls.outcome, cls.event_time, cls.exit_time, cls.diverged_time
-            summ, ser = _summaries(sd, layout, rod, opts.radius, mu[sl], cls, every)
-            for k in SUMMARY:
-                summary[k][sl] = summ[k]
-            for k in SERIES:
-                series[k][sl] = ser[k]
+    for sl, sd in batch.chunks(progress=progress):
+        cls = classify(sd, layout, rod=rod, mu=mu[sl], radius=opts.radius, timestep=opts.timestep, thresholds=th)
+        outcome[sl], event_time[sl], exit_time[sl], diverged_time[sl] = cls.outcome, cls.event_time, cls.exit_time, cls.diverged_time
+        summ, ser = _summaries(sd, layout, rod, opts.radius, mu[sl], cls, every)
+        for k in SUMMARY:
+            summary[k][sl] = summ[k]
+        for k in SERIES:
+            series[k][sl] = ser[k]
     wall = time.perf_counter() - t0
     return SweepResult(
         outcome=outcome,

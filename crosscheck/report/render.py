@@ -265,7 +265,7 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
         if v.status and v.status.get("params"):
             h.append(f"<details><summary>parameters</summary><pre>{html.escape(json.dumps(v.status['params'], indent=1))}</pre></details>")
     h.append("<h2 id=parameters>Parameters and tolerances</h2>")
-    h.append(f"<p>Every parameter of every section (also in each section's <code>data/&lt;section&gt;/status.json</code>) and every tolerance of <code>crosscheck.tolerances</code>.</p>")
+    h.append("<p>Every parameter of every section (also in each section's <code>data/&lt;section&gt;/status.json</code>) and every tolerance of <code>crosscheck.tolerances</code>.</p>")
     h.append(f"<pre>{html.escape(json.dumps(prov.get('parameters', {}), indent=1))}</pre>")
     h.append(_html_block(Table(caption="Tolerances (`crosscheck.tolerances.all_tolerances()`).", header=["name", "atol", "rtol", "why"],
                                rows=[[k, str(t["atol"]), str(t["rtol"]), t["why"]] for k, t in prov.get("tolerances", {}).items()], data=[f"data/{PROVENANCE_FILE}.json"])))

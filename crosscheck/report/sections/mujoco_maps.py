@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.outcome import Outcome
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.outcomes import OUTCOME_NAMES, boundary_cells
 from crosscheck.report.section import RenderContext, RunContext, Section, Table, Text

@@ -1,4 +1,4 @@
-"""Steps per second of ``crosscheck.mujoco_sweep.sweep`` against two baselines measured in the same run.
+"""Steps per second of the MuJoCo engine's ``sweep`` against two baselines measured in the same run.
 
 Baselines (same model, same states, same horizon and timestep):
   * bare rollout: ``mujoco.rollout.Rollout(nthread=2).rollout(...)`` with its own
@@ -8,7 +8,7 @@ Baselines (same model, same states, same horizon and timestep):
     sensors would record the same series.
 
 The sweep's time includes everything it does (compiling the model, initial
-states, classification, summaries).  Each measurement is repeated and the best
+states, the scaled ``Record`` of every row, classification, summaries).  Each measurement is repeated and the best
 is kept, since other processes share the 2 cores.  Target: sweep / bare >= 0.8.
 
     python benchmarks/bench_mujoco.py [--states 64] [--horizon 1.0] [--repeat 3]
@@ -24,8 +24,9 @@ import numpy as np
 from mujoco import rollout
 
 from crosscheck import Rod, SlipState
-from crosscheck.mujoco_rod import Options, build_model, initial_state, n_steps
-from crosscheck.mujoco_sweep import sweep
+from crosscheck.engines import get, n_steps
+from crosscheck.engines.mujoco import Options
+from crosscheck.engines.mujoco_model import build_model, initial_state
 
 
 def main() -> None:
@@ -58,7 +59,7 @@ def main() -> None:
 
     def swept() -> float:
         t0 = time.perf_counter()
-        sweep(rod, states, mu, horizon=args.horizon, progress=False)
+        get("mujoco").sweep(rod, states, mu, horizon=args.horizon, progress=False)
         return time.perf_counter() - t0
 
     def loop() -> float:

@@ -22,15 +22,15 @@ import time
 import numpy as np
 import pinocchio as pin
 
-from crosscheck import pinocchio_rod as pinrod
-from crosscheck import validate_pinocchio
+from crosscheck.engines import pinocchio_model as pinrod
+from crosscheck.studies import dynamics_terms
 from crosscheck.coordinates import paper_to_qv
 from crosscheck.rod import Rod
 
 
 def bare_inputs(n: int, seed: int):
-    """(model, data, tip, q, v, tau) for n states of ``validate_pinocchio.random_states`` on one rod."""
-    s = validate_pinocchio.random_states(n, np.random.default_rng(seed))
+    """(model, data, tip, q, v, tau) for n states of ``dynamics_terms.random_states`` on one rod."""
+    s = dynamics_terms.random_states(n, np.random.default_rng(seed))
     rod = Rod(mass=s["m"][0], length=s["l"][0], inertia=s["I0"][0], gravity=s["g"][0])
     q, v = paper_to_qv(rod, s["theta"], s["varphi"], s["Theta"], s["Psi"], s["eta"], s["psi"])
     q, v = np.ascontiguousarray(q), np.ascontiguousarray(v)
@@ -77,7 +77,7 @@ def main() -> None:
 
     def run():
         nonlocal result
-        result = validate_pinocchio.validate(n, np.random.default_rng(args.seed), progress=False)
+        result = dynamics_terms.validate(n, np.random.default_rng(args.seed), progress=False)
 
     t_val = best_of(args.repeat, run)
     print(f"pin {pin.__version__}, numpy {np.__version__}, {os.cpu_count()} cpus, {n} states, best of {args.repeat}")

@@ -12,9 +12,12 @@ from crosscheck.state import SlipState
 
 __version__ = "0.1.0"
 
-# The engines (crosscheck.pinocchio_rod, crosscheck.mujoco_rod, crosscheck.mujoco_sweep)
-# and the GB analysis (crosscheck.gb) are imported by name: importing crosscheck
-# alone does not load Pinocchio or MuJoCo.
+# Layout: the theory at the top of the package (analytic, critical, gb, slipping,
+# corollary, coordinates, paper), the contact engines in crosscheck.engines (looked
+# up by name: crosscheck.engines.get("mujoco")), the studies that compare any engine
+# with the theory in crosscheck.studies, the report in crosscheck.report and the
+# command line in crosscheck.cli.  Engines and studies are imported by name:
+# importing crosscheck alone does not load Pinocchio or MuJoCo.
 __all__ = [
     "Rod",
     "SlipState",

@@ -16,7 +16,7 @@ import numpy as np
 
 from crosscheck.tolerances import Tolerance
 
-__all__ = ["ErrorStat", "ValidationResult", "error_stat"]
+__all__ = ["ErrorStat", "ValidationResult", "error_stat", "as_json"]
 
 
 @dataclass
@@ -64,17 +64,18 @@ def error_stat(quantity: str, got, want, tol: Tolerance, states: dict[str, np.nd
     )
 
 
-def _finite(x):
+def as_json(x):
+    """Standard JSON values: numpy -> python, non-finite floats -> None (JSON has no NaN or inf)."""
     if isinstance(x, dict):
-        return {k: _finite(v) for k, v in x.items()}
+        return {str(k): as_json(v) for k, v in x.items()}
     if isinstance(x, (list, tuple)):
-        return [_finite(v) for v in x]
+        return [as_json(v) for v in x]
     if isinstance(x, np.ndarray):
-        return _finite(x.tolist())
+        return as_json(x.tolist())
     if isinstance(x, (float, np.floating)):
         return float(x) if math.isfinite(x) else None
-    if isinstance(x, np.integer):
-        return int(x)
+    if isinstance(x, (np.integer, np.bool_)):
+        return x.item()
     return x
 
 
@@ -91,7 +92,7 @@ class ValidationResult:
     def to_json(self) -> str:
         """Standard JSON: non-finite floats (NaN, inf) become null."""
         doc = {"engine": self.engine, "passed": self.passed, "stats": [asdict(s) for s in self.stats], "extra": self.extra}
-        return json.dumps(_finite(doc), indent=2, allow_nan=False)
+        return json.dumps(as_json(doc), indent=2, allow_nan=False)
 
     def to_table(self) -> str:
         head = f"{'quantity':<28} {'n':>7} {'max abs':>10} {'max rel':>10} {'/tol':>8}  result  worst state"

@@ -54,9 +54,9 @@ CLOSED_FORM = Tolerance(atol=1e-12, rtol=1e-12, why="double-precision rounding o
 ROOT_RESIDUAL = Tolerance(atol=1e-12, rtol=0.0, why="rounding of O(1 + alpha) terms at a closed-form root")
 
 #: Symbolic (sympy Lagrangian) vs numeric eq. linode2 at random states: the
-#: issue's 1e-12 relative bound, relative to the norm of the acceleration
+#: required 1e-12 relative bound, relative to the norm of the acceleration
 #: vector (componentwise for eq. rotode).
-DERIVATION = Tolerance(atol=0.0, rtol=1e-12, why="issue 2: independent derivation to 1e-12 relative (measured 1.2e-15)")
+DERIVATION = Tolerance(atol=0.0, rtol=1e-12, why="required: independent derivation to 1e-12 relative (measured 1.2e-15)")
 
 #: Central finite differences with step h of a smooth function: truncation
 #: O(h^2 f''') + rounding O(eps f / h); h = 1e-6 gives ~1e-8 relative.
@@ -64,9 +64,9 @@ FINITE_DIFFERENCE = Tolerance(atol=1e-7, rtol=1e-6, why="central differences, h 
 
 
 # --------------------------------------------------------------- pinocchio ---
-# Pinocchio (crosscheck.pinocchio_rod) against the analytic reference, compared in the paper's scaled
+# Pinocchio (crosscheck.engines.pinocchio_model) against the analytic reference, compared in the paper's scaled
 # units.  Each allowance is atol * scale, where scale is the size of the terms the quantity is summed
-# from (its term scale; crosscheck.validate_pinocchio): A = (1 + alpha)|F|_1 + V for tip accelerations,
+# from (its term scale; crosscheck.studies.dynamics_terms): A = (1 + alpha)|F|_1 + V for tip accelerations,
 # V = (1 + |v_s|_1)^2 for velocity terms (v_s the five scaled velocities), 1 for M and g, 1 + |v_s|_1
 # for C, (1 + alpha)(1 + mu) for p.  Rounding of a sum is bounded by a small multiple of eps times its
 # term scale; atol = 1e-14 is ~45 eps.  Measured maxima over 1e5 random states (validate, seeds 1, 2)
@@ -77,7 +77,7 @@ FINITE_DIFFERENCE = Tolerance(atol=1e-7, rtol=1e-6, why="central differences, h 
 # Everything that goes through M^-1 in the psi direction (G = J M^-1 J^T, the free acceleration, the
 # route G F + free) therefore carries the relative error eps * kappa, kappa = 1/cos^2 theta, the
 # condition number of M in its natural units diag(m, m, m, I0, I0).  Measured: error/A = 1.1 eps/cos^2
-# theta on every decade of cos theta from 1e-6 to 1e-1.  So the issue's 1e-12 relative (to A) holds for
+# theta on every decade of cos theta from 1e-6 to 1e-1.  So the required 1e-12 relative (to A) holds for
 # G F + free only where cos theta >~ 1.6e-2 (1.5e-12 at cos theta in [1e-2, 1e-1), 1.6e-10 in [1e-3,
 # 1e-2)).  aba never forms M, but its bias forces carry the same absolute eps I0 |v|^2 and are divided
 # by the articulated inertia I0 cos^2 theta, then mapped by J_psi = l cos theta: error/A = 1.5 eps/cos
@@ -106,19 +106,19 @@ PIN_SLIP = Tolerance(atol=1e-14, rtol=0.0, why="b, p: ~45 eps of their term scal
 PIN_MODE = Tolerance(atol=0.5, rtol=0.0, why="mode codes equal off the boundary band of PIN_SLIP")
 
 #: mu_P found from Pinocchio's p alone (min over theta by bounded Brent, root in mu by brentq to
-#: xtol 1e-14) vs 2 sqrt(1 + alpha) / alpha: the issue's 1e-9.  Measured 2.2e-16.
-PIN_MU_P = Tolerance(atol=1e-9, rtol=0.0, why="issue 3: mu_P from p to 1e-9")
+#: xtol 1e-14) vs 2 sqrt(1 + alpha) / alpha: the required 1e-9.  Measured 2.2e-16.
+PIN_MU_P = Tolerance(atol=1e-9, rtol=0.0, why="required: mu_P from p to 1e-9")
 
 #: Finite differences (J vs tip positions, dJ vs J along v, M' vs M along v): the allowance is this
 #: multiple (atol) of the a-priori error bound eps f / h + h^2 |f'''| / 6 of a central difference with
-#: step h, f and f''' bounded from the rod's size and rates (tests/test_pinocchio_rod.py).
+#: step h, f and f''' bounded from the rod's size and rates (tests/test_pinocchio_model.py).
 PIN_FINITE_DIFFERENCE = Tolerance(atol=4.0, rtol=0.0, why="multiple of the central-difference bound eps f/h + h^2 f'''/6")
 
 
 # ------------------------------------------------------------------ mujoco ---
 #: MuJoCo's free tip acceleration (contacts off) vs eq. linode2 with F = 0 and
 #: eq. b, in units of g.  The only modelling difference is the axial inertia
-#: eps = 1e-12 I0 (``mujoco_rod.AXIAL_INERTIA``; MuJoCo needs > 0), which
+#: eps = 1e-12 I0 (``engines.mujoco_model.AXIAL_INERTIA``; MuJoCo needs > 0), which
 #: changes the psi inertia by a relative 1e-12 tan^2 theta (<= 1e-9 for theta
 #: <= 1.54); measured max 9e-10 over 300 random states (1e-9 at eps = 1e-9 I0
 #: was 9e-7: the error is proportional to eps).
@@ -126,7 +126,7 @@ MUJOCO_FREE_ACCELERATION = Tolerance(atol=1e-8, rtol=1e-8, why="axial inertia 1e
 
 #: MuJoCo's tip acceleration with contact vs eq. linode2 with MuJoCo's own
 #: contact force moved to the capsule's contact point
-#: (``mujoco_rod.capsule_tip_acceleration``), as a fraction of the term scale
+#: (``studies.mujoco_contact.capsule_tip_acceleration``), as a fraction of the term scale
 #: g (1 + alpha |F|_1 / (m g)).  Exact up to the solver's stopping rule: with
 #: solver_tolerance 1e-10 (the default) force and acceleration agree to ~6e-7;
 #: run to its iteration limit (solver_tolerance 0) the measured max is 1.4e-11
@@ -156,13 +156,13 @@ MUJOCO_LIFTOFF_ONSET_COARSE = Tolerance(atol=6.1e-5, rtol=0.0, why="(Psi_L^3/6)(
 #: the O(dt) terms of the first step.
 MUJOCO_DJV_KAPPA = Tolerance(atol=0.01, rtol=0.0, why="bisection on Psi + O(dt) terms of the first Euler step")
 
-# Event agreement and jams (crosscheck.mujoco_agreement, validate mujoco 5c/5d), at the default
+# Event agreement and jams (crosscheck.studies.agreement and .jams, crosscheck validate mujoco), at the default
 # timestep 3e-4, timeconst 0.06, radius 0.01, horizon 2, random slipping states with mu in [0.3, 6].
 # These are not rounding bounds: MuJoCo's soft elliptic contact is a different model (its force builds
 # up over tau; off the planar section its friction is rotated from -slip by up to ~30 deg, see
-# mujoco_agreement.friction_skew), so the allowances are measured values with a margin.
+# crosscheck.studies.mujoco_contact.friction_skew), so the allowances are measured values with a margin.
 
-#: Fraction of random slipping states whose MuJoCo first event (classify_effective, compared up to the
+#: Fraction of random slipping states whose MuJoCo first event (crosscheck.engines.classify, compared up to the
 #: analytic event + 2 tau) differs from slip_until_event's, an analytic JAM met by a MuJoCo STICK
 #: counting as agreement.  Measured 0.12 +- 0.026 (range 0.08-0.17) over 7 seeds of 300 states (the
 #: default of validate), so 0.2 is ~3 sd above the mean (sd ~0.06 at 30 states); the disagreement
@@ -174,21 +174,33 @@ MUJOCO_EVENT_DISAGREEMENT = Tolerance(atol=0.2, rtol=0.0, why="measured 0.12 +- 
 #: 0.022-0.032.
 MUJOCO_EVENT_TIME = Tolerance(atol=0.06, rtol=0.0, why="contact time constant tau = 0.06 (measured 0.022-0.032)")
 
-#: Number of MuJoCo JAMs (classify_effective) among random slipping states with mu < mu_P: none
+#: Number of MuJoCo JAMs (crosscheck.engines.classify) among random slipping states with mu < mu_P: none
 #: allowed (atol 0.5 on an integer count).  Below mu_P eq. p > 0 for every slip direction, so no
 #: friction direction (MuJoCo's skewed one included) can make the slipping force unbounded.
-#: Asserted only for mu with p_min(mu) > P_EFF_JAM (crosscheck.validate_mujoco.MUS_BELOW): near
+#: Asserted only for mu with p_min(mu) > Thresholds.jam_p_eff (crosscheck.studies.validate.MUS_BELOW): near
 #: mu_P the JAM rule's p_eff <= 0.2 admits hard slips and landings of a hopping tip (mu = 1.3,
 #: p_min = 0.04: 1 of 60 at seed 0, reported in validate's extra, not asserted).
 MUJOCO_NO_JAM_BELOW_MU_P = Tolerance(atol=0.5, rtol=0.0, why="integer count must be 0: p > 0 for all varphi below mu_P")
 
-#: Fraction of Corollary 4.2 states (mujoco_agreement.corollary_states: analytic JAM at t in
+#: Fraction of Corollary 4.2 states (crosscheck.corollary.corollary_states: analytic JAM at t in
 #: [0.2, 1.5], b <= -0.1 and |varphi + pi/2| >= 0.1 at the jam) whose MuJoCo slip does NOT end (no
-#: JAM, STICK or LIFTOFF of classify_effective) within 0.15 = 2.5 tau of the analytic jam, pooled over
+#: JAM, STICK or LIFTOFF of crosscheck.engines.classify) within 0.15 = 2.5 tau of the analytic jam, pooled over
 #: mu = 1.4, 1.7, 6.  Measured 0.37 +- 0.06 over 8 seeds of 45 states (max 0.51); validate pools 90
 #: states (binomial sd 0.05), so 0.55 is ~3.5 sd above the mean.  MuJoCo delivers the impulse itself
 #: (JAM) in 7-40 % of them; otherwise its soft contact ends the slip by sticking or lifting off.
 MUJOCO_COROLLARY_STOP = Tolerance(atol=0.55, rtol=0.0, why="measured 0.37 +- 0.06 (sd 0.05 at n = 90): soft contact ends the slip by stick/lift-off")
+
+#: The tolerances of the contact-event checks (crosscheck.studies.validate) per engine: an engine
+#: is validated on events only with its own entry here (its own derivations or measurements).
+EVENT_TOLERANCES = {
+    "mujoco": {
+        "liftoff_onset": MUJOCO_LIFTOFF_ONSET,
+        "event_disagreement": MUJOCO_EVENT_DISAGREEMENT,
+        "event_time": MUJOCO_EVENT_TIME,
+        "no_jam_below_mu_P": MUJOCO_NO_JAM_BELOW_MU_P,
+        "corollary_stop": MUJOCO_COROLLARY_STOP,
+    },
+}
 
 
 # ---------------------------------------------------------------------- gb ---

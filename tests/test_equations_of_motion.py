@@ -71,7 +71,7 @@ def reference_accelerations(rod, q, v, F):
 
 
 def test_tip_acceleration_matches_lagrangian_derivation():
-    # issue 2: <= 1e-12 relative to the size of the acceleration, at 200 seeded states
+    # required: <= 1e-12 relative to the size of the acceleration, at 200 seeded states
     # including theta ~ 1e-6..1e-2 and |cos theta| ~ 1e-3..1e-2 (measured: 1.2e-15)
     rng = np.random.default_rng(20261121)
     for rod, q, v, F in random_cases(rng, 200):

@@ -37,7 +37,7 @@ EXPECTED_FIGURES = {
     "gb_separatrix": ["fig13_separatrix"],
     "pinocchio": ["error_vs_theta"],
     "mujoco_liftoff": ["liftoff_onset"],
-    "mujoco_maps": ["map_Psi_mu", "map_theta_Theta_0", "map_theta_Theta_1", "confusion_part_a", "confusion_effective", "event_time_errors"],
+    "mujoco_maps": ["map_Psi_mu", "map_theta_Theta_0", "map_theta_Theta_1", "confusion", "event_time_errors"],
     "mujoco_convergence": ["convergence"],
     "mujoco_trajectories": ["trajectories"],
     "mujoco_validate": [],

@@ -20,6 +20,7 @@ __all__ = ["main", "COMMAND_MODULES"]
 #: Modules that register sub-commands, in help order.
 COMMAND_MODULES = [
     "crosscheck.cli.analytic",
+    "crosscheck.cli.simulate",
     "crosscheck.cli.validate",
     "crosscheck.cli.report",
     "crosscheck.cli.gb",

@@ -131,7 +131,7 @@ def _badge(state: str) -> str:
     return {"ok": "ok", "skipped": "skipped", "failed": "FAILED", "unfinished": "UNFINISHED", "not run": "NOT RUN"}[state]
 
 
-_NUMBERING = ("Figure numbers follow the project's issues (Fig. 2b p < 0, 3a modes, 5a cases, 5b mechanisms, 6 critical angles, 7 and 11 GB manifolds, "
+_NUMBERING = ("Figure numbers are this report's own, not the printed paper's (Fig. 2b p < 0, 3a modes, 5a cases, 5b mechanisms, 6 critical angles, 7 and 11 GB manifolds, "
               "8 and 9 eigenvectors, 10 quartic, 12 zeros of det K, 13 separatrix); each section also names the paper's LaTeX labels (fig:...), "
               "which are unambiguous.")
 

@@ -1,12 +1,14 @@
-"""MuJoCo vs analytic agreement as the timestep and the contact time constant shrink (a convergence table).
+"""A contact engine's agreement with the analytic first event as the timestep and the contact time constant shrink.
 
-``crosscheck.mujoco_agreement.agreement_study`` on one grid of starts with
-several (timestep, timeconst) settings, and its ``convergence_table``: per
-setting and classifier, the agreement with the analytic first event (also
+``crosscheck.studies.agreement.agreement_study`` on one grid of starts with
+several (timestep, timeconst) settings of the engine named in the parameters
+(MuJoCo), and its ``convergence_table``: per setting, the agreement with the
+analytic first event (also
 with a JAM counted as any stop, and split into starts on the planar section
 varphi = -pi/2, Psi = 0 and off it) and the median |t_MuJoCo - t_analytic|.
 A rigid contact is the limit dt -> 0, timeconst -> 0 (timeconst >= 2 dt,
-MuJoCo's "refsafe"), so disagreement should shrink down the table.
+MuJoCo's "refsafe"), so disagreement should shrink down the table if the
+soft contact were the only difference.
 """
 
 from __future__ import annotations
@@ -24,18 +26,20 @@ def params(quick: bool) -> dict:
     if not quick:
         settings += [(1e-4, 0.02), (1e-4, 0.006)]
     n = 7 if quick else 20
-    return {"alpha": 3.0, "horizon": 2.0, "timesteps": [s[0] for s in settings], "timeconsts": [s[1] for s in settings],
+    return {"engine": "mujoco", "alpha": 3.0, "horizon": 2.0, "timesteps": [s[0] for s in settings], "timeconsts": [s[1] for s in settings],
             "grid": {"theta": [0.2, 1.5, n], "varphi": [-1.9, -1.5707963267948966], "Theta": [-1.5, 1.5, n], "Psi": [0.0], "mu": [1.4], "eta": [1.0]}}
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck.mujoco_agreement import EventGrid, agreement_study, convergence_table
+    from crosscheck.studies.agreement import agreement_study, convergence_table
+    from crosscheck.studies.grids import EventGrid
 
     P = ctx.params
     g = P["grid"]
     grid = EventGrid(theta=tuple(cell_centres(*g["theta"])), varphi=tuple(g["varphi"]), Theta=tuple(cell_centres(*g["Theta"])), Psi=tuple(g["Psi"]),
                      mu=tuple(g["mu"]), eta=tuple(g["eta"]))
-    res = agreement_study(grid, timesteps=P["timesteps"], timeconsts=P["timeconsts"], alpha=P["alpha"], horizon=P["horizon"], rng=ctx.rng,
+    settings = [{"timestep": dt, "timeconst": tc} for dt, tc in zip(P["timesteps"], P["timeconsts"])]
+    res = agreement_study(grid, engine=P["engine"], settings=settings, alpha=P["alpha"], horizon=P["horizon"], rng=ctx.rng,
                           boundary_directions=0, progress=ctx.show_progress)
     (ctx.store.root / "study.json").write_text(res.to_json() + "\n")
     rows = convergence_table(res)
@@ -43,41 +47,37 @@ def run(ctx: RunContext) -> None:
 
 
 def render(ctx: RenderContext) -> list:
+    from crosscheck.engines.base import engine_label
     from crosscheck.report.plotting import LINE_COLORS, plt
 
     P = ctx.params
-    c = ctx.store.read_table("convergence", text=("classifier",))
+    name = engine_label(P["engine"])
+    c = ctx.store.read_table("convergence", text=("engine",))
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 3.6))
-    k = 0
-    for cls in ("part_a", "effective"):
-        for tc in sorted(set(c["timeconst"]), reverse=True):
-            s = (c["classifier"] == cls) & (c["timeconst"] == tc)
-            if not s.any():
-                continue
-            style = "o-" if cls == "effective" else "s--"
-            a1.plot(c["timestep"][s], 100 * c["agreement"][s], style, color=LINE_COLORS[k % 7], label=f"{cls}, timeconst {tc:g}")
-            a2.plot(c["timestep"][s], c["median_abs_time_difference"][s], style, color=LINE_COLORS[k % 7], label=f"{cls}, timeconst {tc:g}")
-            k += 1
+    for k, tc in enumerate(sorted(set(c["timeconst"]), reverse=True)):
+        s = c["timeconst"] == tc
+        a1.plot(c["timestep"][s], 100 * c["agreement"][s], "o-", color=LINE_COLORS[k % 7], label=f"timeconst {tc:g}")
+        a2.plot(c["timestep"][s], c["median_abs_time_difference"][s], "o-", color=LINE_COLORS[k % 7], label=f"timeconst {tc:g}")
     for ax in (a1, a2):
         ax.set_xscale("log")
-        ax.set_xlabel("MuJoCo timestep (scaled)")
+        ax.set_xlabel(f"{name} timestep (scaled)")
         ax.invert_xaxis()
         ax.legend(fontsize=6)
     a1.set_ylabel("same first event [%]")
-    a2.set_ylabel("median |t_MuJoCo - t_analytic|")
+    a2.set_ylabel(f"median |t_{name} - t_analytic|")
     if np.nanmin(c["median_abs_time_difference"]) > 0:
         a2.set_yscale("log")
     g = P["grid"]
-    cap = (f"Agreement with the analytic first event (crosscheck.mujoco_agreement.convergence_table) on {g['theta'][2]} x {g['Theta'][2]} starts in (theta, Theta) "
+    cap = (f"{name}'s agreement with the analytic first event (crosscheck.studies.agreement.convergence_table) on {g['theta'][2]} x {g['Theta'][2]} starts in (theta, Theta) "
            f"at varphi in {g['varphi']}, Psi = {g['Psi'][0]:g}, mu = {g['mu'][0]:g}, eta = {g['eta'][0]:g}, as the timestep (right: smaller) and the contact time constant shrink.")
-    rows = [[c["classifier"][i], f"{c['timestep'][i]:g}", f"{c['timeconst'][i]:g}", f"{int(c['n_rated'][i])}", f"{100 * c['agreement'][i]:.1f}%",
+    rows = [[f"{c['timestep'][i]:g}", f"{c['timeconst'][i]:g}", f"{int(c['n_rated'][i])}", f"{100 * c['agreement'][i]:.1f}%",
              f"{100 * c['agreement_jam_as_stop'][i]:.1f}%", f"{100 * c['agreement_planar'][i]:.1f}% of {int(c['n_planar'][i])}",
              f"{100 * c['agreement_off_plane'][i]:.1f}% of {int(c['n_off_plane'][i])}", f"{c['median_abs_time_difference'][i]:.3g}"] for i in range(len(c["timestep"]))]
     return [ctx.figure("convergence", fig, cap, ["convergence.csv", "study.json"]),
             Table(caption="Convergence table: agreement (also with JAM counted as any stop; on and off the planar section) and median |event-time difference|.",
-                  header=["classifier", "timestep", "timeconst", "rated", "agreement", "JAM as stop", "planar", "off plane", "median |dt event|"], rows=rows,
+                  header=["timestep", "timeconst", "rated", "agreement", "JAM as stop", "planar", "off plane", "median |dt event|"], rows=rows,
                   data=ctx.data("convergence.csv", "study.json"))]
 
 
-SECTION = Section(slug=SLUG, title="MuJoCo vs analytic: convergence in timestep and contact time constant", paper="issue 4 item 5c",
-                  params=params, run=run, render=render, requires=("crosscheck.mujoco_agreement",))
+SECTION = Section(slug=SLUG, title="MuJoCo vs analytic: convergence in timestep and contact time constant", paper="sections 3.1, 4",
+                  params=params, run=run, render=render, requires=("crosscheck.studies.agreement", "crosscheck.engines.mujoco"))

@@ -6,8 +6,8 @@ mu: below Psi_L the rod slips, above it lifts off (eqs. thetal, psil).  For
 each mu and MuJoCo timestep the smallest Psi at which MuJoCo reports LIFTOFF
 at t = 0 (the instantaneous decision the paper's Psi_L is about; a slipping
 tip can also be thrown up a step later by the soft contact's friction spike,
-which is not this onset) is found by ``crosscheck.validate_mujoco.liftoff_onset`` (the MuJoCo leg's
-bisection over batched sweeps: ``rounds`` grids of ``n_per_round`` values of
+which is not this onset) is found by ``crosscheck.studies.onset.liftoff_onset``
+(bisection over the engine's batched sweeps: ``rounds`` grids of ``n_per_round`` values of
 Psi from Psi_L +- ``half_width``; the onset is the first grid value that
 lifts off, the resolution the final grid spacing).
 
@@ -30,7 +30,7 @@ SLUG = "mujoco_liftoff"
 
 
 def params(quick: bool) -> dict:
-    return {"alpha": 3.0, "mu": [0.5, 1.4] if quick else [0.3, 0.5, 1.0, 1.4, 3.0],
+    return {"engine": "mujoco", "alpha": 3.0, "mu": [0.5, 1.4] if quick else [0.3, 0.5, 1.0, 1.4, 3.0],
             "timestep": [3e-3, 1e-3, 3e-4] if quick else [3e-3, 1e-3, 3e-4, 1e-4, 3e-5],
             "half_width": 1e-3, "n_per_round": 17 if quick else 33, "rounds": 4 if quick else 5}
 
@@ -38,14 +38,14 @@ def params(quick: bool) -> dict:
 def run(ctx: RunContext) -> None:
     from crosscheck.rod import Rod
     from crosscheck.tolerances import MUJOCO_LIFTOFF_ONSET, MUJOCO_LIFTOFF_ONSET_COARSE
-    from crosscheck.validate_mujoco import liftoff_onset
+    from crosscheck.studies.onset import liftoff_onset
 
     P = ctx.params
     rod = Rod.scaled(P["alpha"])
     cols = {k: [] for k in ("mu", "timestep", "onset", "resolution", "onset_minus_Psi_L", "bound")}
     pairs = [(mu, dt) for mu in P["mu"] for dt in P["timestep"]]
     for mu, dt in ctx.progress(pairs, desc="lift-off onset"):
-        onset, res = liftoff_onset(rod, mu, timestep=dt, rounds=P["rounds"], n=P["n_per_round"], half_width=P["half_width"])
+        onset, res = liftoff_onset(rod, mu, engine=P["engine"], timestep=dt, rounds=P["rounds"], n=P["n_per_round"], half_width=P["half_width"])
         # the MuJoCo leg's bound on the delay of the onset (three rows of b > 0; crosscheck.tolerances, MUJOCO_LIFTOFF_ONSET)
         bound = critical.Psi_L**3 / 6 * (3 * dt) ** 2
         for k, v in (("mu", mu), ("timestep", dt), ("onset", onset), ("resolution", res), ("onset_minus_Psi_L", onset - critical.Psi_L), ("bound", bound)):
@@ -91,5 +91,5 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="MuJoCo: lift-off onset against Psi_L", paper="eqs. thetal, psil (section 3.3); issue 4 item 5b",
-                  params=params, run=run, render=render, requires=("crosscheck.validate_mujoco",))
+SECTION = Section(slug=SLUG, title="MuJoCo: lift-off onset against Psi_L", paper="eqs. thetal, psil (section 3.3)",
+                  params=params, run=run, render=render, requires=("crosscheck.studies.onset", "crosscheck.engines.mujoco"))

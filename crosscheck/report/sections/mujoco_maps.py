@@ -1,15 +1,15 @@
-"""MuJoCo vs analytic: outcome maps over (Psi, mu) and over (theta, Theta) slices, confusion matrices, event-time errors.
+"""A contact engine vs analytic: outcome maps over (Psi, mu) and over (theta, Theta) slices, confusion matrices, event-time errors.
 
-Each map is a ``crosscheck.mujoco_agreement.EventGrid`` with two axes varied
-and the others fixed, run through ``crosscheck.mujoco_agreement.agreement_study``
-(the project's event-agreement study, issue 4 item 5c): the analytic first
-event of every start (``slip_until_event``), and for every start that slips
-at t = 0 (b < 0 < p) MuJoCo's outcome by two classifiers, part A's
-(``crosscheck.mujoco_rod.classify``) and the "effective" one that judges a
-jam against MuJoCo's own friction (``classify_effective``), each compared
-only up to the analytic comparison time (``mujoco_labels``: a later MuJoCo
-event counts as SLIP; the analytic run stops when the state leaves the
-paper's domain).  Starts that do not slip at t = 0 are not compared (grey).
+Each map is a ``crosscheck.studies.grids.EventGrid`` with two axes varied
+and the others fixed, run through ``crosscheck.studies.agreement.agreement_study``
+with the engine named in the parameters (MuJoCo): the analytic first event of
+every start (``slip_until_event``), and for every start that slips at t = 0
+(b < 0 < p) the engine's outcome by the one classifier
+(``crosscheck.engines.classify``, whose JAM rule measures the force against
+the engine's own friction direction), compared only up to the analytic
+comparison time (``comparison_labels``: a later engine event counts as SLIP;
+the analytic run stops when the state leaves the paper's domain).  Starts
+that do not slip at t = 0 are not compared (grey).
 
 Where they disagree: a cell on an analytic boundary (a 4-neighbour with
 another analytic outcome) against the interior; in the full report also the
@@ -34,7 +34,7 @@ NOT_SLIPPING = -2
 def params(quick: bool) -> dict:
     n = 10 if quick else 32
     return {
-        "alpha": 3.0, "horizon": 2.0, "timestep": 3e-4, "timeconst": 0.06, "boundary_directions": 0 if quick else 3,
+        "engine": "mujoco", "alpha": 3.0, "horizon": 2.0, "timestep": 3e-4, "timeconst": 0.06, "boundary_directions": 0 if quick else 3,
         "maps": [
             {"name": "Psi_mu", "x": "Psi", "y": "mu", "x_range": [0.0, 3.0], "y_range": [0.0, 3.0], "n": n,
              "fixed": {"theta": 1.0, "varphi": -1.9, "Theta": 0.0, "eta": 1.0}},
@@ -47,7 +47,7 @@ def params(quick: bool) -> dict:
 
 
 def _grid(m: dict):
-    from crosscheck.mujoco_agreement import EventGrid
+    from crosscheck.studies.grids import EventGrid
 
     x, y = cell_centres(*m["x_range"], m["n"]), cell_centres(*m["y_range"], m["n"])
     axes = {k: (v,) for k, v in m["fixed"].items()}
@@ -56,14 +56,15 @@ def _grid(m: dict):
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck.mujoco_agreement import agreement_study
+    from crosscheck.studies.agreement import agreement_study
 
     P = ctx.params
+    engine = P["engine"]
     summary = []
     for m in ctx.progress(P["maps"], desc="agreement maps"):
         grid, x, y = _grid(m)
-        res = agreement_study(grid, timesteps=(P["timestep"],), timeconsts=(P["timeconst"],), alpha=P["alpha"], horizon=P["horizon"], rng=ctx.rng,
-                              boundary_directions=P["boundary_directions"], progress=ctx.show_progress)
+        res = agreement_study(grid, engine=engine, settings=({"timestep": P["timestep"], "timeconst": P["timeconst"]},), alpha=P["alpha"],
+                              horizon=P["horizon"], rng=ctx.rng, boundary_directions=P["boundary_directions"], progress=ctx.show_progress)
         (ctx.store.root / f"study_{m['name']}.json").write_text(res.to_json() + "\n")
         pts, a = res.points, res.analytic
         n = len(a.outcome)
@@ -73,17 +74,16 @@ def run(ctx: RunContext) -> None:
         dist = np.full(n, np.nan)
         dist[res.index] = res.distance
         cols["boundary_distance"] = dist
-        for r in res.runs:
-            lab, t = np.full(n, NOT_SLIPPING), np.full(n, np.nan)
-            lab[res.index], t[res.index] = r.label, r.event_time
-            cols[f"mujoco_{r.classifier}"], cols[f"mujoco_{r.classifier}_time"] = lab, t
+        r, = res.runs
+        lab, t = np.full(n, NOT_SLIPPING), np.full(n, np.nan)
+        lab[res.index], t[res.index] = r.label, r.event_time
+        cols[engine], cols[f"{engine}_time"] = lab, t
         ctx.store.write_table(f"events_{m['name']}", cols)
         summary.append({"name": m["name"], "x": {"name": m["x"], "values": x}, "y": {"name": m["y"], "values": y}, "fixed": m["fixed"],
                         "runs": [{k: v for k, v in r.summary().items() if k not in ("time_difference", "time_difference_outcome")} for r in res.runs],
-                        "time_difference": {r.classifier: {"difference": r.time_difference.tolist(),
-                                                           "outcome": [OUTCOME_NAMES[int(o)] for o in r.time_difference_outcome],
-                                                           "analytic_time": a.time[res.index][(r.label == a.outcome[res.index]) & np.isin(a.outcome[res.index], [1, 2, 3])].tolist()}
-                                            for r in res.runs}})
+                        "time_difference": {"difference": r.time_difference.tolist(),
+                                            "outcome": [OUTCOME_NAMES[int(o)] for o in r.time_difference_outcome],
+                                            "analytic_time": a.time[res.index][(r.label == a.outcome[res.index]) & np.isin(a.outcome[res.index], [1, 2, 3])].tolist()}})
         ctx.store.write_json("maps", summary)
 
 
@@ -92,17 +92,19 @@ def _label(name: str) -> str:
 
 
 def render(ctx: RenderContext) -> list:
+    from crosscheck.engines.base import engine_label
     from crosscheck.report.plotting import OUTCOME_COLORS, categorical_image, outcome_legend, plt
 
     P = ctx.params
+    engine, name = P["engine"], engine_label(P["engine"])
     maps = ctx.store.read_json("maps")
     colors = {**OUTCOME_COLORS, NOT_SLIPPING: (0.8, 0.8, 0.8)}
     blocks = [Text(f"Each cell is one start (alpha = {P['alpha']:g}), compared over the scaled horizon {P['horizon']:g} by "
-                   f"`crosscheck.mujoco_agreement.agreement_study` (MuJoCo timestep {P['timestep']:g}, contact time constant {P['timeconst']:g}). Grey: not "
-                   "slipping at t = 0 (b >= 0 or p <= 0), not compared. Panels: the analytic first event, MuJoCo's outcome by part A's classifier and by the "
-                   "effective-friction classifier (each counted only up to the analytic comparison time), and where the latter disagrees.")]
-    conf = {}
-    diffs = {}
+                   f"`crosscheck.studies.agreement.agreement_study` ({name} timestep {P['timestep']:g}, contact time constant {P['timeconst']:g}). Grey: not "
+                   f"slipping at t = 0 (b >= 0 or p <= 0), not compared. Panels: the analytic first event, {name}'s outcome (counted only up to the "
+                   "analytic comparison time; a JAM is judged against the engine's own friction direction), and where they disagree.")]
+    conf = 0
+    diffs = {"difference": [], "outcome": []}
     boundary_rows = []
     for mp in maps:
         t = ctx.store.read_table(f"events_{mp['name']}", text=("analytic_reason",))
@@ -118,83 +120,78 @@ def render(ctx: RenderContext) -> list:
 
         slipping = t["slipping"] == 1
         a = np.where(slipping, t["analytic_outcome"], NOT_SLIPPING)
-        fig, axes = plt.subplots(1, 4, figsize=(15, 3.6), sharey=True)
+        fig, axes = plt.subplots(1, 3, figsize=(11.5, 3.6), sharey=True)
         categorical_image(axes[0], x, y, image(a), colors)
         axes[0].set_title("analytic first event")
-        for ax, key, title in ((axes[1], "mujoco_part_a", "MuJoCo, part A classifier"), (axes[2], "mujoco_effective", "MuJoCo, effective friction")):
-            categorical_image(ax, x, y, image(t[key]), colors)
-            ax.set_title(title)
-        outcome_legend(axes[1], np.concatenate([a[slipping], t["mujoco_part_a"][slipping], t["mujoco_effective"][slipping]]), loc="upper left", fontsize=6)
+        categorical_image(axes[1], x, y, image(t[engine]), colors)
+        axes[1].set_title(name)
+        outcome_legend(axes[1], np.concatenate([a[slipping], t[engine][slipping]]), loc="upper left", fontsize=6)
         a_img = image(a)
         edge = boundary_cells(np.nan_to_num(a_img, nan=-9))
-        m_img = image(t["mujoco_effective"])
+        m_img = image(t[engine])
         agree = np.where(a_img == NOT_SLIPPING, NOT_SLIPPING, np.where(a_img == m_img, 0, np.where(edge, 1, 2)))
-        categorical_image(axes[3], x, y, agree, {NOT_SLIPPING: (0.8, 0.8, 0.8), 0: (0.95, 0.95, 0.95), 1: (0.95, 0.6, 0.2), 2: (0.8, 0.0, 0.0)})
-        axes[3].set_title("disagreement (orange: on a boundary, red: interior)")
+        categorical_image(axes[2], x, y, agree, {NOT_SLIPPING: (0.8, 0.8, 0.8), 0: (0.95, 0.95, 0.95), 1: (0.95, 0.6, 0.2), 2: (0.8, 0.0, 0.0)})
+        axes[2].set_title("disagreement (orange: on a boundary, red: interior)")
         for ax in axes:
             ax.set_xlabel(_label(mp["x"]["name"]))
         axes[0].set_ylabel(_label(mp["y"]["name"]))
         fixed = ", ".join(f"{k} = {v:g}" for k, v in mp["fixed"].items())
-        eff = next(r for r in mp["runs"] if r["classifier"] == "effective")
+        run, = mp["runs"]
         blocks.append(ctx.figure(f"map_{mp['name']}", fig,
-                                 f"Analytic vs MuJoCo over ({mp['x']['name']}, {mp['y']['name']}) at {fixed}: {int(slipping.sum())} of {a.size} starts slip at t = 0; "
-                                 f"the effective classifier agrees on {100 * eff['agreement']:.0f}% of the rated ones.",
+                                 f"Analytic vs {name} over ({mp['x']['name']}, {mp['y']['name']}) at {fixed}: {int(slipping.sum())} of {a.size} starts slip at t = 0; "
+                                 f"{name} agrees on {100 * run['agreement']:.0f}% of the rated ones.",
                                  [f"events_{mp['name']}.csv", f"study_{mp['name']}.json", "maps.json"]))
         differ = (agree == 1) | (agree == 2)
         boundary_rows.append([mp["name"], str(int(slipping.sum())), str(int((edge & (agree != NOT_SLIPPING)).sum())), str(int(differ.sum())),
                               str(int((agree == 1).sum())), str(int((agree == 2).sum()))])
-        for r in mp["runs"]:
-            conf[r["classifier"]] = conf.get(r["classifier"], 0) + np.asarray(r["confusion"])
-        for cls, d in mp["time_difference"].items():
-            for k in ("difference", "outcome"):
-                diffs.setdefault(cls, {"difference": [], "outcome": []})[k] += d[k]
-    for cls, counts in conf.items():
-        used = [i for i in range(len(OUTCOME_NAMES)) if counts[i].sum() or counts[:, i].sum()]
-        sub = counts[np.ix_(used, used)]
-        names = [OUTCOME_NAMES[i].lower() for i in used]
-        fig, ax = plt.subplots(figsize=(4.6, 3.8))
-        ax.imshow(np.log1p(sub), cmap="Blues")
-        for i in range(len(used)):
-            for j in range(len(used)):
-                ax.text(j, i, str(sub[i, j]), ha="center", va="center", fontsize=9, color="k" if sub[i, j] < sub.max() / 2 else "w")
-        ax.set_xticks(range(len(used)), names, rotation=30)
-        ax.set_yticks(range(len(used)), names)
-        ax.set_xlabel(f"MuJoCo ({cls.replace('_', ' ')})")
-        ax.set_ylabel("analytic first event")
-        total, diag = int(sub.sum()), int(np.trace(sub))
-        blocks.append(ctx.figure(f"confusion_{cls}", fig, f"Confusion matrix, all maps, MuJoCo classifier '{cls}': {diag} of {total} compared starts on the diagonal "
-                                 f"({100 * diag / max(total, 1):.0f}%).", ["maps.json"] + [f"study_{mp['name']}.json" for mp in maps]))
-        blocks.append(Table(caption=f"Confusion matrix, classifier '{cls}' (rows: analytic first event; columns: MuJoCo as compared).",
-                            header=["analytic \\ MuJoCo"] + names, rows=[[names[i]] + [str(v) for v in sub[i]] for i in range(len(used))], data=ctx.data("maps.json")))
-    blocks.append(Table(caption="Where the effective classifier disagrees: compared starts on an analytic boundary of the map against the interior.",
+        conf = conf + np.asarray(run["confusion"])
+        for k in ("difference", "outcome"):
+            diffs[k] += mp["time_difference"][k]
+    used = [i for i in range(len(OUTCOME_NAMES)) if conf[i].sum() or conf[:, i].sum()]
+    sub = conf[np.ix_(used, used)]
+    names = [OUTCOME_NAMES[i].lower() for i in used]
+    fig, ax = plt.subplots(figsize=(4.6, 3.8))
+    ax.imshow(np.log1p(sub), cmap="Blues")
+    for i in range(len(used)):
+        for j in range(len(used)):
+            ax.text(j, i, str(sub[i, j]), ha="center", va="center", fontsize=9, color="k" if sub[i, j] < sub.max() / 2 else "w")
+    ax.set_xticks(range(len(used)), names, rotation=30)
+    ax.set_yticks(range(len(used)), names)
+    ax.set_xlabel(name)
+    ax.set_ylabel("analytic first event")
+    total, diag = int(sub.sum()), int(np.trace(sub))
+    blocks.append(ctx.figure("confusion", fig, f"Confusion matrix, all maps: {diag} of {total} compared starts on the diagonal "
+                             f"({100 * diag / max(total, 1):.0f}%).", ["maps.json"] + [f"study_{mp['name']}.json" for mp in maps]))
+    blocks.append(Table(caption=f"Confusion matrix (rows: analytic first event; columns: {name} as compared).",
+                        header=[f"analytic \\ {name}"] + names, rows=[[names[i]] + [str(v) for v in sub[i]] for i in range(len(used))], data=ctx.data("maps.json")))
+    blocks.append(Table(caption=f"Where {name} disagrees: compared starts on an analytic boundary of the map against the interior.",
                         header=["map", "compared", "on a boundary", "disagree", "of which on a boundary", "interior"], rows=boundary_rows, data=ctx.data("maps.json")))
     dist_rows = []
     for mp in maps:
-        eff = next(r for r in mp["runs"] if r["classifier"] == "effective")
-        for b in eff.get("by_distance", []):
+        run, = mp["runs"]
+        for b in run.get("by_distance", []):
             if b["n"] and b["agreement"] is not None:
                 dist_rows.append([mp["name"], f"[{b['distance'][0]:g}, {b['distance'][1]:g})", str(b["n"]), f"{100 * b['agreement']:.0f}%"])
     if dist_rows:  # the quick report does not probe the distance (boundary_directions = 0)
-        blocks.append(Table(caption="Agreement (effective classifier) by the probed distance of the start to the analytic event boundary (scaled units).",
+        blocks.append(Table(caption="Agreement by the probed distance of the start to the analytic event boundary (scaled units).",
                             header=["map", "distance", "n", "agreement"], rows=dist_rows, data=ctx.data(*[f"study_{mp['name']}.json" for mp in maps])))
-    d = diffs.get("effective", {"difference": [], "outcome": []})
-    if d["difference"]:
-        dd, oo = np.asarray(d["difference"]), np.asarray(d["outcome"])
+    if diffs["difference"]:
+        dd, oo = np.asarray(diffs["difference"]), np.asarray(diffs["outcome"])
         fig, ax = plt.subplots(figsize=(6, 3.6))
         rows = []
-        for name, code in (("LIFTOFF", 1), ("STICK", 2), ("JAM", 3)):
-            s = oo == name
+        for event, code in (("LIFTOFF", 1), ("STICK", 2), ("JAM", 3)):
+            s = oo == event
             if s.any():
-                ax.hist(dd[s], bins=30, color=OUTCOME_COLORS[code], alpha=0.8, label=f"{name.lower()} ({int(s.sum())})", edgecolor="k", lw=0.3)
-                rows.append([name.lower(), str(int(s.sum())), f"{np.median(dd[s]):+.3g}", f"{np.median(np.abs(dd[s])):.3g}", f"{np.max(np.abs(dd[s])):.3g}"])
-        ax.set_xlabel("t_MuJoCo - t_analytic (scaled)")
+                ax.hist(dd[s], bins=30, color=OUTCOME_COLORS[code], alpha=0.8, label=f"{event.lower()} ({int(s.sum())})", edgecolor="k", lw=0.3)
+                rows.append([event.lower(), str(int(s.sum())), f"{np.median(dd[s]):+.3g}", f"{np.median(np.abs(dd[s])):.3g}", f"{np.max(np.abs(dd[s])):.3g}"])
+        ax.set_xlabel(f"t_{name} - t_analytic (scaled)")
         ax.set_ylabel("starts")
         ax.legend(fontsize=7)
-        blocks.append(ctx.figure("event_time_errors", fig, "Event-time errors where MuJoCo (effective classifier) and the analytic model report the same event, all maps.", ["maps.json"]))
-        blocks.append(Table(caption="Event-time differences (MuJoCo - analytic, scaled time), effective classifier.", header=["event", "n", "median", "median |diff|", "max |diff|"],
+        blocks.append(ctx.figure("event_time_errors", fig, f"Event-time errors where {name} and the analytic model report the same event, all maps.", ["maps.json"]))
+        blocks.append(Table(caption=f"Event-time differences ({name} - analytic, scaled time).", header=["event", "n", "median", "median |diff|", "max |diff|"],
                             rows=rows, data=ctx.data("maps.json")))
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="MuJoCo vs analytic: outcome maps, confusion matrices, event times", paper="sections 3.1, 4 (Corollary 4.2); issue 4 item 5c",
-                  params=params, run=run, render=render, requires=("crosscheck.mujoco_agreement", "crosscheck.gb"))
+SECTION = Section(slug=SLUG, title="MuJoCo vs analytic: outcome maps, confusion matrices, event times", paper="sections 3.1, 4 (Corollary 4.2)",
+                  params=params, run=run, render=render, requires=("crosscheck.studies.agreement", "crosscheck.engines.mujoco", "crosscheck.gb"))

@@ -1,11 +1,13 @@
 """Trajectories, analytic vs MuJoCo, through a lift-off and through a jam: theta, eta, varphi, normal force, tip height.
 
 The starts are picked, not hand-tuned: a grid of slipping candidates is run
-analytically (``crosscheck.gb.slip_until_event``) and, for each event kind,
-the candidates whose analytic event time is nearest a target time are run in
-MuJoCo (``crosscheck.mujoco_rod.simulate``) until one shows the same event;
-if none does, the first candidate is shown anyway and the disagreement is
-reported.
+analytically (``crosscheck.gb.slip_until_event``), joined for the jam by
+seeded Corollary 4.2 states (``crosscheck.corollary.corollary_states``: the
+theory's jams off the planar section, where MuJoCo's own p can reach 0), and,
+for each event kind, the candidates whose analytic event time is nearest a
+target time are run in MuJoCo (``crosscheck.engines.get("mujoco").simulate``)
+until one shows the same event; if none does, the first candidate is shown
+anyway and the disagreement is reported.
 
 Analytic curves end at the event (the slipping equations hold only until
 then); the normal force there is F_z = -b/p (eq. FZ), unbounded as p -> 0 at a
@@ -32,11 +34,13 @@ KINDS = {"liftoff": Outcome.LIFTOFF, "jam": Outcome.JAM}
 
 
 def params(quick: bool) -> dict:
-    return {"alpha": 3.0, "horizon": 2.0, "target_time": {"liftoff": 0.3, "jam": 0.3}, "min_time": 0.05, "tries": 4 if quick else 8,
+    return {"engine": "mujoco", "alpha": 3.0, "horizon": 2.0, "target_time": {"liftoff": 0.3, "jam": 0.3}, "min_time": 0.05, "tries": 4 if quick else 8,
             "candidates": {"theta": [0.4, 0.8, 1.0] if quick else [0.4, 0.6, 0.8, 1.0, 1.2], "varphi": [-2.3, -1.3, -0.8] if quick else [-2.3, -1.9, -1.3, -0.8],
                            "Theta": [0.0, 0.5, 0.9] if quick else [-0.5, 0.0, 0.5, 0.9], "Psi": [0.0, 1.0] if quick else [0.0, 1.0, 1.5], "eta": [1.0]},
             # lift-off below mu_P (no paradox to compete with it), jams above
             "mu": {"liftoff": [0.5, 0.8], "jam": [1.4, 2.0]},
+            # Corollary 4.2 jam candidates per mu of "jam" (seeded by the section's generator)
+            "corollary_states": 4 if quick else 8,
             "n_points": 800 if quick else 3000}
 
 
@@ -48,7 +52,8 @@ def _window_mean(x: np.ndarray, w: int) -> np.ndarray:
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck import gb, mujoco_rod
+    from crosscheck import engines, gb
+    from crosscheck.corollary import corollary_states
     from crosscheck.rod import Rod
 
     P = ctx.params
@@ -62,6 +67,9 @@ def run(ctx: RunContext) -> None:
             if analytic.mode(analytic.b(Ps, Th, th), analytic.p(th, vp, mu, alpha)) != analytic.Mode.SLIP:
                 continue  # a start that is not slipping has its event at t = 0: nothing to follow
             cands[kind].append((s, mu, gb.slip_until_event(s, mu, alpha, t_max=horizon)))
+    for mu in P["mu"]["jam"]:
+        for s in corollary_states(mu, P["corollary_states"], ctx.rng, alpha=alpha, horizon=horizon)[0]:
+            cands["jam"].append((s, mu, gb.slip_until_event(s, mu, alpha, t_max=horizon)))
     rod = Rod.scaled(alpha)
     runs = []
     for kind, outcome in KINDS.items():
@@ -71,7 +79,7 @@ def run(ctx: RunContext) -> None:
         pool.sort(key=lambda x: abs(x[2].time - P["target_time"][kind]))
         chosen = None
         for s, mu, r in pool[: P["tries"]]:
-            m = mujoco_rod.simulate(rod, s, mu, horizon=horizon)
+            m = engines.get(P["engine"]).simulate(rod, s, mu, horizon=horizon)
             if chosen is None or m.outcome == outcome:
                 chosen = (s, mu, r, m)
             if m.outcome == outcome:
@@ -147,5 +155,5 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="MuJoCo vs analytic: trajectories through a lift-off and a jam", paper="eqs. polareqs_varphi, FZ, f; issue 4 item 5c",
-                  params=params, run=run, render=render, requires=("crosscheck.mujoco_rod", "crosscheck.gb"))
+SECTION = Section(slug=SLUG, title="MuJoCo vs analytic: trajectories through a lift-off and a jam", paper="eqs. polareqs_varphi, FZ, f",
+                  params=params, run=run, render=render, requires=("crosscheck.engines.mujoco", "crosscheck.gb"))

@@ -2,7 +2,7 @@
 
 Two parts:
 
-* ``crosscheck.validate_pinocchio.validate`` on random states (the command
+* ``crosscheck.studies.dynamics_terms.validate`` on random states (the command
   ``crosscheck validate pinocchio``): the largest error of each quantity, in
   multiples of its tolerance, and the state where it occurs; its JSON is saved
   and shown as it is.
@@ -11,7 +11,7 @@ Two parts:
   ``route="delassus"``, G F + free acceleration) and its b and p against eqs.
   linode2, b and p.  Near the vertical rod M_psipsi = I0 cos^2 theta, so
   anything solved through M^-1 in the psi direction loses accuracy like
-  eps / cos^2 theta (``crosscheck.pinocchio_rod``'s docstring); the figure
+  eps / cos^2 theta (``crosscheck.engines.pinocchio_model``'s docstring); the figure
   shows whether each route follows its expected growth.  Errors are in units
   of the term scale A = (1 + alpha) |F|_1 + (1 + |rates|)^2 (scaled units), the
   size of the terms eq. linode2 sums.
@@ -36,11 +36,11 @@ def params(quick: bool) -> dict:
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck import pinocchio_rod as pinrod
-    from crosscheck import validate_pinocchio
+    from crosscheck.engines import pinocchio_model as pinrod
+    from crosscheck.studies import dynamics_terms
 
     P = ctx.params
-    result = validate_pinocchio.validate(P["n_states"], ctx.rng, progress=ctx.show_progress)
+    result = dynamics_terms.validate(P["n_states"], ctx.rng, progress=ctx.show_progress)
     (ctx.store.root / "validate.json").write_text(result.to_json() + "\n")
     ctx.store.write_table("errors_per_quantity", {
         "quantity": [s.quantity for s in result.stats], "n": [s.n for s in result.stats], "max_abs": [s.max_abs for s in result.stats],
@@ -91,7 +91,7 @@ def render(ctx: RenderContext) -> list:
         rows.append([t["quantity"][i], f"{t['n'][i]:.0f}", f"{t['max_abs'][i]:.2e}", f"{t['max_rel'][i]:.2e}", f"{t['max_over_tolerance'][i]:.3f}",
                      "ok" if ok else "FAIL", worst])
         cls.append("ok" if ok else "fail")
-    blocks = [Text(f"`crosscheck.validate_pinocchio.validate` on {int(t['n'][0])} random rods and states ({doc['extra'].get('rods', '?')} rods): "
+    blocks = [Text(f"`crosscheck.studies.dynamics_terms.validate` on {int(t['n'][0])} random rods and states ({doc['extra'].get('rods', '?')} rods): "
                    f"{'every quantity within its tolerance' if doc['passed'] else 'SOME QUANTITIES EXCEED THEIR TOLERANCE'}. "
                    f"Units: {doc['extra'].get('units', '')}."),
               Table(caption="Error per quantity: largest absolute and relative error, largest ratio to the allowance (<= 1 passes) and the state where it occurs.",
@@ -140,5 +140,5 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="Pinocchio vs analytic", paper="eqs. rotode, linode, linode2, b, p, mup2D (issue 3)",
-                  params=params, run=run, render=render, requires=("crosscheck.validate_pinocchio", "crosscheck.pinocchio_rod"))
+SECTION = Section(slug=SLUG, title="Pinocchio vs analytic", paper="eqs. rotode, linode, linode2, b, p, mup2D",
+                  params=params, run=run, render=render, requires=("crosscheck.studies.dynamics_terms", "crosscheck.engines.pinocchio_model"))

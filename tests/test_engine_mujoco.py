@@ -1,4 +1,4 @@
-"""The MuJoCo model and ``simulate``: geometry, free dynamics, placement, outcomes, bad input."""
+"""The MuJoCo engine: its model file, geometry, free dynamics, the start on the plane, outcomes, bad input."""
 
 from __future__ import annotations
 
@@ -13,19 +13,13 @@ from crosscheck import Outcome, Rod, SlipState
 from crosscheck import analytic as an
 from crosscheck.coordinates import GENERALIZED, tip_position, to_generalized
 from crosscheck.critical import Psi_L, theta_L
-from crosscheck.mujoco_rod import (
-    ModelFileError,
-    Options,
-    SensorLayout,
-    build_model,
-    initial_state,
-    model_path,
-    record_from_sensordata,
-    simulate,
-)
+from crosscheck.engines import get
+from crosscheck.engines.mujoco import Batch, Options
+from crosscheck.engines.mujoco_model import ModelFileError, SensorLayout, build_model, initial_state, model_path, record_from_sensordata
 from crosscheck.tolerances import MUJOCO_FREE_ACCELERATION
 
 ROD = Rod(mass=1.0, length=1.0, inertia=1.0 / 3.0, gravity=9.81)
+simulate = get("mujoco").simulate
 RODS = {"uniform_1m": ROD, "scaled_alpha5": Rod.scaled(5.0), "heavy_short": Rod(mass=2.5, length=0.3, inertia=0.05, gravity=9.81)}
 
 
@@ -53,7 +47,7 @@ def test_packaged_file_loads_and_steps_as_it_is():
 def test_joint_order_gives_the_coordinates_of_crosscheck(name, rng=np.random.default_rng(7)):
     """Five joints in the order X, Y, Z, psi, theta: MuJoCo's tip site = eq. tipfromcentre of q."""
     rod = RODS[name]
-    model = build_model(rod, 0.7)
+    model = build_model(rod, 0.7, Options())
     data = mujoco.MjData(model)
     for _ in range(20):
         q = np.concatenate([rng.normal(size=3), rng.uniform(-math.pi, math.pi, 1), rng.uniform(0.01, 1.56, 1)])
@@ -66,7 +60,7 @@ def test_joint_order_gives_the_coordinates_of_crosscheck(name, rng=np.random.def
 def test_free_tip_acceleration_is_linode2_and_b(name):
     """Contacts disabled: MuJoCo's tip acceleration = eq. linode2 with F = 0, vertical = b (eq. b)."""
     rod = RODS[name]
-    model = build_model(rod, 1.0)
+    model = build_model(rod, 1.0, Options())
     model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
     data = mujoco.MjData(model)
     layout = SensorLayout.from_model(model)
@@ -83,19 +77,40 @@ def test_free_tip_acceleration_is_linode2_and_b(name):
     assert MUJOCO_FREE_ACCELERATION.ok(got[:, 2], an.b(S["Psi"], S["Theta"], S["theta"]))
 
 
-def test_start_touches_without_contact():
-    """z_A = r: the capsule's lowest point is on the plane, MuJoCo has no contact yet, velocities are the state's."""
+def test_start_touches_and_keeps_the_state_velocities():
+    """z_A = r: the capsule's lowest point is on the plane up to rounding, velocities are the state's."""
     s = SlipState(theta=0.7, varphi=-1.0, Theta=0.3, Psi=0.8, eta=1.2, psi=0.4)
     radius = 0.02
     model = build_model(ROD, 0.5, Options(radius=radius))
     data = mujoco.MjData(model)
     mujoco.mj_setState(model, data, initial_state(model, ROD, s, radius), mujoco.mjtState.mjSTATE_FULLPHYSICS)
     mujoco.mj_forward(model, data)
-    assert data.ncon == 0
     capsule_bottom = data.site("tip").xpos[2] - radius * ROD.length
     assert abs(capsule_bottom) < 1e-15
     _, v = to_generalized(ROD, s, tip=(0, 0, radius))
     np.testing.assert_array_equal(data.qvel, v)
+
+
+def test_contact_at_t0_is_decided_by_rounding_and_then_already_pushes():
+    """At t = 0 MuJoCo's distance is +-1e-16 l: where it is negative the contact is active in row 0 with a force.
+
+    The start puts the capsule's lowest point on the plane (z_A = r), so dist is
+    the rounding of r and of the rotated tip offset.  MuJoCo keeps a contact
+    while dist < 0: an active contact in the first row stops the tip's free
+    acceleration at once (a positive normal force in row 0); otherwise row 0
+    has no contact and no force.  Both happen over random states.
+    """
+    rng = np.random.default_rng(0)
+    states = random_states(rng, 200)
+    batch = Batch.build(ROD, states, 1.0, horizon=Options().timestep, options=Options(), nthread=1)
+    (_, sd), = batch.chunks(progress=False)
+    L = batch.layout
+    dist, found, force = sd[:, 0, L.dist], sd[:, 0, L.found] > 0, sd[:, 0, L.force.start]
+    gap = sd[:, 0, L.tip_pos.start + 2] - Options().radius * ROD.length
+    assert np.all(np.abs(gap) < 1e-15)
+    assert np.all(dist[found] < 0) and np.all(dist[found] > -1e-15)
+    assert 0.02 < found.mean() < 0.5  # both cases occur (14 % of 400 states at seed 0 when written)
+    assert np.all(force[found] > 0) and np.all(force[~found] == 0)
 
 
 def test_slip_velocity_formula_matches_mujoco_contact_velocity():

@@ -1,4 +1,4 @@
-"""``crosscheck validate pinocchio``: passes on the real engine, fails on a wrong reference."""
+"""Pinocchio's dynamics terms (``crosscheck validate pinocchio``): passes on the real engine, fails on a wrong reference."""
 
 from __future__ import annotations
 
@@ -7,7 +7,8 @@ import json
 import numpy as np
 import pytest
 
-from crosscheck import analytic, validate_pinocchio
+from crosscheck import analytic
+from crosscheck.studies import dynamics_terms
 from crosscheck.cli import main
 from crosscheck.rod import Rod
 
@@ -28,22 +29,22 @@ QUANTITIES = [
 
 
 def test_validation_passes_on_a_few_hundred_states():
-    result = validate_pinocchio.validate(400, np.random.default_rng(7), progress=False)
+    result = dynamics_terms.validate(400, np.random.default_rng(7), progress=False)
     assert [s.quantity for s in result.stats] == QUANTITIES
     assert result.passed, result.to_table()
     for s in result.stats:
-        assert s.n == (len(validate_pinocchio.ALPHAS_MU_P) if s.quantity == "mu_P from p" else 400)
+        assert s.n == (len(dynamics_terms.ALPHAS_MU_P) if s.quantity == "mu_P from p" else 400)
         assert 0.0 <= s.max_ratio <= 1.0
     mode = result.extra["mode"]
     assert np.sum(mode["confusion_reference_by_pinocchio"]) == 400
     assert mode["disagree_off_boundary"] == 0
-    # The states reach the regions the issue asks for: near-vertical rods with |cos theta| <= 1e-2.
+    # The states reach the hard regions: near-vertical rods with |cos theta| <= 1e-2.
     assert result.extra["min_cos_theta"] < 1e-2
-    assert result.extra["rods"] == validate_pinocchio.MAX_RODS
+    assert result.extra["rods"] == dynamics_terms.MAX_RODS
 
 
-def test_random_states_cover_the_issue_ranges():
-    s = validate_pinocchio.random_states(3000, np.random.default_rng(3))
+def test_random_states_cover_the_required_ranges():
+    s = dynamics_terms.random_states(3000, np.random.default_rng(3))
     assert np.all((s["theta"] > 0) & (s["theta"] < np.pi / 2))
     assert np.any(s["theta"] < 1e-6) and np.any(np.abs(np.cos(s["theta"])) < 2e-3)
     assert np.any(np.abs(np.cos(s["theta"]) - 1e-2) < 2e-3)
@@ -61,8 +62,8 @@ def test_cli_exit_zero_and_json(capsys):
 
 
 def test_validation_is_deterministic_for_a_seed():
-    a = validate_pinocchio.validate(150, np.random.default_rng(11), progress=False).to_json()
-    b = validate_pinocchio.validate(150, np.random.default_rng(11), progress=False).to_json()
+    a = dynamics_terms.validate(150, np.random.default_rng(11), progress=False).to_json()
+    b = dynamics_terms.validate(150, np.random.default_rng(11), progress=False).to_json()
     assert a == b
 
 
@@ -100,7 +101,7 @@ WRONG_REFERENCES = {
     "linode2-I0-coefficient": (analytic, "tip_acceleration", _perturbed_inertia, {"tip acc, aba", "tip acc, G F + free", "Delassus G"}),
     "p-coefficient": (analytic, "_p", _perturbed_p, {"p"}),
     "b-coefficient": (analytic, "_b", _perturbed_b, {"b"}),
-    "M-psipsi": (validate_pinocchio, "reference_terms", _perturbed_reference_terms, {"M (crba)"}),
+    "M-psipsi": (dynamics_terms, "reference_terms", _perturbed_reference_terms, {"M (crba)"}),
 }
 
 
@@ -125,7 +126,7 @@ def test_failed_table_says_FAILED(monkeypatch, capsys):
 
 
 def test_progress_bar_goes_to_stderr(capsys):
-    result = validate_pinocchio.validate(50, np.random.default_rng(1), progress=True)
+    result = dynamics_terms.validate(50, np.random.default_rng(1), progress=True)
     assert result.passed
     captured = capsys.readouterr()
     assert "validate pinocchio" in captured.err and "50/50" in captured.err

@@ -1,6 +1,10 @@
-"""The slender rod as a Pinocchio model, answering the questions of ``crosscheck.analytic``.
+"""The slender rod as a Pinocchio model (M, C, g, J, Delassus), answering the questions of ``crosscheck.analytic``.
 
-The model (issue 3): a chain of single-axis joints PX, PY, PZ, RZ (psi), RX
+This is the model of the Pinocchio engine: its dynamics terms are checked
+against the paper's equations (``crosscheck.studies.dynamics_terms``), and a
+time-stepping engine on Pinocchio's constraint solvers shares it.
+
+The model: a chain of single-axis joints PX, PY, PZ, RZ (psi), RX
 (theta), so that q = (X, Y, Z, psi, theta) is ``crosscheck.coordinates.GENERALIZED``
 and the body rotation is Rz(psi) Rx(theta) (eq. rotmatrix).  The body's spatial
 inertia is mass m at the centre S (the origin of the RX joint frame) with the

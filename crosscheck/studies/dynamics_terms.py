@@ -1,4 +1,6 @@
-"""``crosscheck validate pinocchio``: Pinocchio's rod against the analytic reference, state by state.
+"""Dynamics terms: Pinocchio's rod (M, C, g, J, dJ, Delassus, b, p) against the analytic reference, state by state.
+
+Part of ``crosscheck validate pinocchio`` (``crosscheck.studies.validate``).
 
 Random rods (m, l, I0, g) and random slipping states (theta, varphi, Theta,
 Psi, eta, psi, tip position) with random tip forces and friction are drawn;
@@ -17,7 +19,7 @@ is compared in the paper's scaled units (m = l = g = 1, forces in m g, time in
 An error is measured against an allowance ``atol * scale + rtol * |want|``,
 with ``scale`` the size of the terms the quantity is summed from (its *term
 scale*) times, for quantities that go through M^-1, the condition number
-1/cos^2 theta of M (see ``crosscheck.pinocchio_rod``).  The tolerances and
+1/cos^2 theta of M (see ``crosscheck.engines.pinocchio_model``).  The tolerances and
 their reasons are in the Pinocchio section of ``crosscheck.tolerances``.
 """
 
@@ -28,7 +30,7 @@ import math
 import numpy as np
 
 from crosscheck import analytic
-from crosscheck import pinocchio_rod as pinrod
+from crosscheck.engines import pinocchio_model as pinrod
 from crosscheck import tolerances as tol
 from crosscheck.compare import ErrorStat, ValidationResult, error_stat
 from crosscheck.coordinates import paper_to_qv

@@ -1,4 +1,4 @@
-"""Pinocchio's rod (crosscheck.pinocchio_rod) against the paper, state by state (issue 3).
+"""Pinocchio's rod (crosscheck.engines.pinocchio_model) against the paper, state by state.
 
 Real Pinocchio, seeded random rods and states.  Allowances are atol * scale
 with the tolerances and term scales of the Pinocchio section of
@@ -15,12 +15,12 @@ import pinocchio as pin
 import pytest
 
 from crosscheck import analytic
-from crosscheck import pinocchio_rod as pinrod
+from crosscheck.engines import pinocchio_model as pinrod
 from crosscheck import tolerances as tol
 from crosscheck.coordinates import GENERALIZED, paper_to_qv, tip_position
 from crosscheck.critical import mu_P
 from crosscheck.rod import Rod
-from crosscheck.validate_pinocchio import scaled_matrices
+from crosscheck.studies.dynamics_terms import scaled_matrices
 
 EPS = np.finfo(float).eps
 
@@ -134,8 +134,8 @@ def test_tip_acceleration_by_aba_equals_eq_linode2(name):
     got = pinrod.tip_acceleration(rod, *args, route="aba") / rod.gravity
     cos = np.cos(s["theta"])
     assert_within(got, want, tol.PIN_TIP_ACCELERATION, A / cos, "aba route")
-    # The issue's bound itself: 1e-12 of the term scale, met everywhere here (cos theta >= 3e-3).
-    assert_within(got, want, tol.Tolerance(1e-12, 0.0, "issue 3"), A, "aba route, 1e-12")
+    # The required bound itself: 1e-12 of the term scale, met everywhere here (cos theta >= 3e-3).
+    assert_within(got, want, tol.Tolerance(1e-12, 0.0, "required 1e-12 of the term scale"), A, "aba route, 1e-12")
 
 
 @pytest.mark.parametrize("name", RODS, ids=str)
@@ -148,7 +148,7 @@ def test_tip_acceleration_by_delassus_equals_eq_linode2(name):
     # 1e-12 of the term scale holds where the condition number 1/cos^2 theta of M allows it.
     ok = cos >= 0.02
     assert ok.sum() > 300
-    assert_within(got[ok], want[ok], tol.Tolerance(1e-12, 0.0, "issue 3"), A[ok], "G F + free, 1e-12, cos >= 0.02")
+    assert_within(got[ok], want[ok], tol.Tolerance(1e-12, 0.0, "required 1e-12 of the term scale"), A[ok], "G F + free, 1e-12, cos >= 0.02")
 
 
 @pytest.mark.parametrize("route", pinrod.ROUTES, ids=str)
@@ -198,7 +198,7 @@ def test_bad_input_raises_the_reference_messages(kwargs, message):
 
 
 def reference_matrices(rod: Rod, q, v):
-    """Eqs. linode (m X'' = F_x, ..., m Z'' = F_z - m g) and rotode times I0 cos^2 theta, I0 (see validate_pinocchio.reference_terms)."""
+    """Eqs. linode (m X'' = F_x, ..., m Z'' = F_z - m g) and rotode times I0 cos^2 theta, I0 (see crosscheck.studies.dynamics_terms.reference_terms)."""
     m, i0, g = rod.mass, rod.inertia, rod.gravity
     _, _, _, psi, theta = q
     _, _, _, psi_dot, theta_dot = v

@@ -1,4 +1,4 @@
-"""MuJoCo against the analytic model: instantaneous tip acceleration (4a) and lift-off onset (4b)."""
+"""MuJoCo against the analytic model: its contact force at the capsule point, its lift-off onset, its friction direction."""
 
 from __future__ import annotations
 
@@ -11,13 +11,16 @@ import pytest
 from crosscheck import Outcome, Rod, SlipState
 from crosscheck import analytic as an
 from crosscheck.critical import Psi_L, Psi_on_b0, theta_L
-from crosscheck.mujoco_rod import Options, SensorLayout, Thresholds, build_model, capsule_tip_acceleration, initial_state, record_from_sensordata
-from crosscheck.mujoco_sweep import sweep
+from crosscheck.engines import Thresholds, get
+from crosscheck.engines.mujoco import Options
+from crosscheck.engines.mujoco_model import SensorLayout, build_model, initial_state, record_from_sensordata
+from crosscheck.studies.mujoco_contact import capsule_tip_acceleration, friction_skew
 from crosscheck.tolerances import MUJOCO_CONTACT_ACCELERATION, MUJOCO_DJV_KAPPA, MUJOCO_LIFTOFF_ONSET, MUJOCO_LIFTOFF_ONSET_COARSE
 
 ROD = Rod(mass=1.0, length=1.0, inertia=1.0 / 3.0, gravity=9.81)
 MS = 1e-3 * ROD.omega  # 1 ms in scaled time
 DT = Options().timestep  # the default, 3e-4 (~0.1 ms)
+sweep = get("mujoco").sweep
 
 
 def _contact_rows(radius: float, n: int, seed: int):
@@ -44,7 +47,7 @@ def _scale(F):
 
 
 def test_contact_tip_acceleration_is_linode2_at_the_contact_point():
-    """4a: with MuJoCo's own contact force applied a radius below A, eq. linode2 gives MuJoCo's tip acceleration."""
+    """With MuJoCo's own contact force applied a radius below A, eq. linode2 gives MuJoCo's tip acceleration."""
     radius = 0.02
     F, a, q, v, dist = _contact_rows(radius, 100, seed=2)
     want = capsule_tip_acceleration(ROD, q[:, 0], q[:, 1], v[:, 0], v[:, 1], F, radius * ROD.length + dist / 2)
@@ -53,7 +56,7 @@ def test_contact_tip_acceleration_is_linode2_at_the_contact_point():
 
 
 def test_plain_linode2_converges_linearly_as_radius_goes_to_zero():
-    """4a: uncorrected eq. linode2 (force at A) misses by O(r): measured rate 1 over r = 0.04 .. 0.005."""
+    """Uncorrected eq. linode2 (force at A) misses by O(r): measured rate 1 over r = 0.04 .. 0.005."""
     radii = np.array([0.04, 0.02, 0.01, 0.005])
     errs = []
     for r in radii:
@@ -82,14 +85,14 @@ def _onset_psi(theta, Theta, mu, timestep, lo, hi, rounds=5, n=33):
 @pytest.mark.parametrize("mu", [0.3, 1.0, 2.0], ids=lambda m: f"mu={m}")
 @pytest.mark.parametrize("timestep, tol", [(DT, MUJOCO_LIFTOFF_ONSET), (MS, MUJOCO_LIFTOFF_ONSET_COARSE)], ids=["dt=default", "dt=1ms"])
 def test_liftoff_onset_is_Psi_L(mu, timestep, tol):
-    """4b: at theta_L, Theta = 0, varphi = -pi/2 MuJoCo lifts off from Psi_L on (eq. psil)."""
+    """At theta_L, Theta = 0, varphi = -pi/2 MuJoCo lifts off from Psi_L on (eq. psil)."""
     psi, res = _onset_psi(theta_L, 0.0, mu, timestep, Psi_L - 1e-3, Psi_L + 1e-3)
     assert -res <= psi - Psi_L <= tol.atol + res
 
 
 @pytest.mark.parametrize("theta", [0.3, 0.9, 1.2], ids=lambda t: f"theta={t}")
 def test_liftoff_boundary_follows_b_zero(theta):
-    """4b: across theta (Theta = 0) the onset is where b = 0 (eqs. psi1/psi2's Psi(theta)).
+    """Across theta (Theta = 0) the onset is where b = 0 (eqs. psi1/psi2's Psi(theta)).
 
     Tolerance derived from the timestep: b(t) = b0 + b''(0) t^2 / 2 along the free flight, and
     LIFTOFF needs b > 0 on lift_steps rows, so the onset may sit up to
@@ -113,7 +116,7 @@ def _kappa(theta, Theta, Psi):
 
 @pytest.mark.parametrize("Theta", [-1.0, 0.5], ids=lambda t: f"Theta={t}")
 def test_liftoff_onset_with_Theta_shifts_by_half_dJv(Theta):
-    """4b: started with the contact inactive, MuJoCo lifts off where b = Theta^2 sin(theta) / 2, not b = 0.
+    """Started with the contact inactive, MuJoCo lifts off where b = Theta^2 sin(theta) / 2, not b = 0.
 
     The semi-implicit Euler step q1 = q0 + dt (v0 + dt qacc) moves the tip's height by
     dt^2 (J qacc + dJv / 2) = dt^2 (b - Theta^2 sin / 2): half the dJ v term is missing.
@@ -124,8 +127,8 @@ def test_liftoff_onset_with_Theta_shifts_by_half_dJv(Theta):
 
 
 def test_active_contact_decision_misses_dJv():
-    """4b: with the contact active (mu = 0), MuJoCo's constraint sees b - Theta^2 sin(theta): the whole dJ v term is missing."""
-    model = build_model(ROD, 0.0)
+    """With the contact active (mu = 0), MuJoCo's constraint sees b - Theta^2 sin(theta): the whole dJ v term is missing."""
+    model = build_model(ROD, 0.0, Options())
     data = mujoco.MjData(model)
     layout = SensorLayout.from_model(model)
 
@@ -149,3 +152,15 @@ def test_active_contact_decision_misses_dJv():
         P = onset(Theta)
         b = (P**2 * c * c + Theta**2) * s - 1
         assert MUJOCO_DJV_KAPPA.ok((b - b_offset) / (Theta**2 * s), 1.0)
+
+
+def test_friction_skew_vanishes_on_the_plane_and_explains_the_force_off_it():
+    planar = SlipState(theta=0.6, varphi=-math.pi / 2, Theta=0.0, Psi=0.0, eta=1.0)
+    off = SlipState(theta=0.4665, varphi=-2.9864, Theta=0.741, Psi=-0.9655, eta=1.98)
+    r = friction_skew([planar, off], [1.0, 1.7], duration=0.1)
+    assert abs(r["skew"][0]) < 1e-9  # symmetry: friction stays in the rod's vertical plane
+    assert abs(r["p_eff"][0] - r["p"][0]) < 1e-9
+    assert abs(r["skew"][1]) > 0.3  # ~25 degrees off -slip
+    assert np.all(np.abs(r["saturation"] - 1.0) < 1e-3)  # still on the cone's surface: slipping
+    # MuJoCo's mean normal force is what slipping with ITS friction direction needs (-b/p_eff), not -b/p
+    assert abs(r["force"][1] - r["rigid_force_eff"][1]) < 0.5 * abs(r["force"][1] - r["rigid_force"][1])

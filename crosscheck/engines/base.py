@@ -1,0 +1,262 @@
+"""The contact-engine interface: what an engine takes (a rod, slipping states, mu) and what it returns.
+
+An engine simulates the paper's rod from slipping states and answers with a
+``Run`` (one state) or a ``SweepResult`` (a batch), both classified by the one
+classifier ``crosscheck.engines.classify``.  Everything is in the paper's
+scaled units (section 2.1): time in 1/omega, lengths in l, velocities in
+l omega, accelerations in g, forces in m g; so are an engine's ``Options``.
+
+An engine is any object with the attributes of ``Engine``; register it with
+``crosscheck.engines.register`` and every study and CLI command that takes an
+engine name can use it.  ``sweep_by_simulate`` gives an engine without a
+batched path its ``sweep``.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field, fields
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+from tqdm.auto import tqdm
+
+from crosscheck.checks import MU, POSITIVE, check
+from crosscheck.engines.classify import Classification, Thresholds, classify
+from crosscheck.engines.record import Record
+from crosscheck.outcome import Outcome
+from crosscheck.rod import Rod
+from crosscheck.state import SlipState
+
+__all__ = ["Engine", "Run", "SweepResult", "SERIES", "SUMMARY", "STATE_KEYS", "n_steps", "options_from_kwargs", "check_states",
+           "summaries", "sweep_by_simulate"]
+
+#: Decimated time series kept per state by ``sweep`` (each (B, n_series)), scaled units:
+#: t, eta and varphi of the contact point, theta, Theta, Psi, gap of the contact
+#: point, and the normal force averaged over each decimation interval (the impulse
+#: per unit time, which is what matches -b/p).
+SERIES = ("t", "eta", "varphi", "theta", "Theta", "Psi", "gap", "normal_force")
+
+#: Per-state scalars in ``SweepResult.summary`` (each (B,)): at the event row (or
+#: the last row for SLIP): eta, varphi, theta, Theta, Psi, b and p of the engine's
+#: state; p_eff of a JAM (NaN otherwise); over the run: the largest normal force in
+#: one row (the spikes), the largest window-mean normal force, the fraction of rows
+#: with a contact, the largest gap.
+SUMMARY = ("eta", "varphi", "theta", "Theta", "Psi", "b", "p", "jam_p_eff", "max_normal_force", "max_window_force", "active_fraction", "max_gap")
+
+#: The ``SlipState`` fields a ``SweepResult`` keeps per state.
+STATE_KEYS = ("theta", "varphi", "Theta", "Psi", "eta", "psi")
+
+
+@runtime_checkable
+class Engine(Protocol):
+    """A contact engine for the paper's rod.
+
+    Attributes:
+      name: the registry name (``crosscheck.engines.get(name)``).
+      Options: a frozen dataclass of the engine's parameters in scaled units,
+        constructed from keyword arguments; it has the properties
+        ``timestep`` (scaled time between record rows), ``contact_time`` (the
+        time over which the contact force builds up: MuJoCo's solref time
+        constant; 0 for a rigid contact) and ``friction_time`` (the friction
+        time constant that sets the STICK threshold; 0 for a rigid contact).
+
+    Methods:
+      simulate(rod, state, mu, *, horizon, thresholds=None, **options) -> Run
+      sweep(rod, states, mu, *, horizon, thresholds=None, progress=True, **options) -> SweepResult
+        (mu: a scalar or one per state; the same outcome per state as simulate)
+    """
+
+    name: str
+    Options: type
+
+    def simulate(self, rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None,
+                 **options) -> "Run": ...
+
+    def sweep(self, rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None,
+              progress: bool = True, **options) -> "SweepResult": ...
+
+
+def options_from_kwargs(cls: type, options: dict[str, Any], engine: str):
+    """``cls(**options)`` with an error naming any unknown option and the known ones."""
+    known = {f.name for f in fields(cls)}
+    unknown = sorted(set(options) - known)
+    if unknown:
+        raise ValueError(f"unknown {engine_label(engine)} option {unknown[0]!r}; known options: {', '.join(sorted(known))}")
+    return cls(**options)
+
+
+def engine_label(name: str) -> str:
+    """How messages name an engine: its product name where it has one ("MuJoCo"), else its registry name."""
+    return {"mujoco": "MuJoCo", "pinocchio": "Pinocchio"}.get(name, name)
+
+
+def n_steps(horizon: float, timestep: float) -> int:
+    """Steps needed to cover ``horizon`` (both scaled): ceil(horizon / timestep), at least 1."""
+    return max(1, int(math.ceil(horizon / timestep - 1e-9)))
+
+
+def check_states(states: Sequence[SlipState]) -> list[SlipState]:
+    """``states`` as a non-empty list of ``SlipState`` (ValueError naming the first that is not)."""
+    states = list(states)
+    for i, s in enumerate(states):
+        if not isinstance(s, SlipState):
+            raise ValueError(f"states[{i}] must be a SlipState; got {type(s).__name__}")
+    if not states:
+        raise ValueError("states must contain at least one SlipState")
+    return states
+
+
+@dataclass(frozen=True, eq=False)
+class Run:
+    """One simulated slipping state: the record, what happened first and when.
+
+    Attributes:
+      engine: the engine's registry name.
+      outcome: ``Outcome`` (SLIP, LIFTOFF, STICK, JAM or DIVERGED) from
+        ``crosscheck.engines.classify``.
+      event_time: scaled time of that event (NaN for SLIP).
+      exit_time: scaled time theta left (0, pi/2) (NaN if never).
+      diverged_time: scaled time the run diverged (NaN if never), even when
+        another event came first.
+      jam_p_eff: the engine's own p at a JAM (NaN otherwise).
+      record: the time series (``Record``, N rows).
+      state, mu, alpha: the run's start and parameters.
+      options, thresholds: the engine's parameters and the outcome criteria.
+      horizon: scaled time simulated; nstep: steps taken.
+    """
+
+    engine: str
+    outcome: Outcome
+    event_time: float
+    exit_time: float
+    diverged_time: float
+    jam_p_eff: float
+    record: Record = field(repr=False)
+    state: SlipState
+    mu: float
+    alpha: float
+    options: Any
+    thresholds: Thresholds
+    horizon: float
+    nstep: int
+
+    @classmethod
+    def from_classification(cls, engine: str, c: Classification, record: Record, **kw) -> "Run":
+        return cls(engine=engine, outcome=Outcome(int(c.outcome)), event_time=float(c.event_time), exit_time=float(c.exit_time),
+                   diverged_time=float(c.diverged_time), jam_p_eff=float(c.jam_p_eff), record=record, **kw)
+
+
+@dataclass(frozen=True, eq=False)
+class SweepResult:
+    """Outcomes of a batch of B states (an engine's ``sweep``).
+
+    Attributes:
+      engine: the engine's registry name.
+      outcome: (B,) int8 ``Outcome`` values.
+      event_time: (B,) scaled event times (NaN for SLIP).
+      exit_time: (B,) scaled time theta left (0, pi/2) (NaN if never).
+      diverged_time: (B,) scaled time the run diverged (NaN if never), also
+        when an earlier event is its outcome.
+      states: dict of (B,) arrays, keys ``STATE_KEYS`` (the starts).
+      mu: (B,) friction coefficients.
+      summary: dict of (B,) arrays, keys ``SUMMARY``.
+      series: dict of (B, n_series) arrays, keys ``SERIES``.
+      alpha, horizon, nstep: the rod's alpha, scaled horizon, steps per state.
+      options, thresholds: the engine's parameters and the outcome criteria.
+      wall_time: seconds spent in the sweep; steps_per_second: B nstep / wall_time.
+    """
+
+    engine: str
+    outcome: np.ndarray
+    event_time: np.ndarray
+    exit_time: np.ndarray
+    diverged_time: np.ndarray
+    states: dict
+    mu: np.ndarray
+    summary: dict = field(repr=False)
+    series: dict = field(repr=False)
+    alpha: float
+    horizon: float
+    nstep: int
+    options: Any
+    thresholds: Thresholds
+    wall_time: float
+    steps_per_second: float
+
+    def __len__(self) -> int:
+        return len(self.outcome)
+
+
+def _decimate_mean(x: np.ndarray, m: int) -> np.ndarray:
+    """Mean of consecutive blocks of m rows along the last axis (drops the remainder)."""
+    n = (x.shape[-1] // m) * m
+    return x[..., :n].reshape(x.shape[:-1] + (n // m, m)).mean(axis=-1)
+
+
+def summaries(record: Record, c: Classification, mu: np.ndarray, alpha: float, every: int) -> tuple[dict, dict]:
+    """Per-state scalars (``SUMMARY``) and series decimated to every ``every``-th row (``SERIES``) of a batch record."""
+    n = len(record)
+    at = record.at(np.where(c.event_row >= 0, c.event_row, n - 1))
+    with np.errstate(invalid="ignore"):
+        summary = {
+            "eta": at.eta[..., 0],
+            "varphi": at.varphi[..., 0],
+            "theta": at.theta[..., 0],
+            "Theta": at.Theta[..., 0],
+            "Psi": at.Psi[..., 0],
+            "b": at.b[..., 0],
+            "p": at.p(mu, alpha)[..., 0],
+            "jam_p_eff": c.jam_p_eff,
+            "max_normal_force": c.max_normal_force,
+            "max_window_force": c.max_window_force,
+            "active_fraction": c.active_fraction,
+            "max_gap": c.max_gap,
+        }
+    m = n // every
+    dec = record.rows(slice(0, m * every, every))
+    series = {
+        "t": dec.t,
+        "eta": dec.eta,
+        "varphi": dec.varphi,
+        "theta": dec.theta,
+        "Theta": dec.Theta,
+        "Psi": dec.Psi,
+        "gap": dec.gap,
+        "normal_force": _decimate_mean(record.normal_force[..., : m * every], every),
+    }
+    return summary, series
+
+
+def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu, *, horizon: float,
+                      thresholds: Thresholds | None = None, n_series: int = 200, progress: bool = True, **options) -> SweepResult:
+    """An engine's ``sweep`` as one ``simulate`` per state (for engines without a batched path).
+
+    Every state's record must have the same number of rows (a fixed timestep).
+    """
+    states = check_states(states)
+    horizon = float(check("horizon", horizon, POSITIVE))
+    B = len(states)
+    mu = np.broadcast_to(check("mu", mu, MU), (B,)).astype(float)
+    th = thresholds or Thresholds()
+    t0 = time.perf_counter()
+    runs = [engine.simulate(rod, s, float(m), horizon=horizon, thresholds=th, **options)
+            for s, m in tqdm(list(zip(states, mu)), desc=f"{engine.name} sweep", unit="state", disable=not progress)]
+    lengths = {len(r.record) for r in runs}
+    if len(lengths) != 1:
+        raise ValueError(f"{engine.name} records have different lengths {sorted(lengths)}; sweep_by_simulate needs a fixed timestep")
+    record = Record(**{f.name: np.stack([getattr(r.record, f.name) for r in runs]) for f in fields(Record)})
+    opts = runs[0].options
+    # the one classifier again on the stacked records: the same rule and numbers as each run's own
+    c = classify(record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, thresholds=th)
+    nstep = lengths.pop()
+    summary, series = summaries(record, c, mu, rod.alpha, max(1, nstep // max(1, n_series)))
+    wall = time.perf_counter() - t0
+    return SweepResult(
+        engine=engine.name, outcome=c.outcome, event_time=c.event_time, exit_time=c.exit_time, diverged_time=c.diverged_time,
+        states={k: np.array([getattr(s, k) for s in states]) for k in STATE_KEYS}, mu=mu.copy(), summary=summary, series=series,
+        alpha=rod.alpha, horizon=horizon, nstep=nstep, options=opts, thresholds=th, wall_time=wall,
+        steps_per_second=B * nstep / wall,
+    )

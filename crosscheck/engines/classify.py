@@ -1,0 +1,300 @@
+"""The one event classifier: what happened first in a recorded run of any engine, and when.
+
+A rigid rod slipping with Coulomb friction ends its slip in one of the
+paper's events: LIFTOFF (b reaches 0 with p > 0), STICK (eta reaches 0), JAM
+(p reaches 0 with b < 0, Corollary 4.2), or it keeps slipping (SLIP).  An
+engine's record (``crosscheck.engines.Record``) shows these events through
+forces and velocities, and a soft contact shows them blurred: while a tip
+slips on MuJoCo's soft elliptic contact it alternates between short normal
+force spikes (several m g) and short flights (the contact chatters), and only
+the normal impulse averaged over a window matches the rigid F_z = -b/p
+(eq. FZ).  Every criterion therefore looks at windows or at signs that the
+chatter cannot fake; the numbers are in ``Thresholds`` with where they come
+from.
+
+JAM is judged against the engine's own friction.  An engine's friction is not
+always anti-parallel to the slip (MuJoCo's is skewed by 7-34 degrees off the
+planar section), so while it slips its window-mean normal force is
+-b/p_eff, with p_eff the vertical tip acceleration per unit normal force of
+the engine's actual contact force (eq. linode2):
+
+    p_eff = 1 + alpha - alpha sin^2 theta - alpha sin theta cos theta (F_t . e) / F_z,
+
+e = (-sin psi, cos psi) the rod's horizontal direction; p_eff equals eq. p
+when F_t = -mu F_z u/|u|.  A rule that compared the force with -b/p instead
+fires on ordinary slipping off the planar section (window means 3-7 x -b/p
+but 1.0-1.6 x -b/p_eff, measured at high mu eta).  Below mu_P no friction
+direction makes p_eff vanish (p_eff >= min over varphi of eq. p > 0), so this
+rule cannot mistake a mere direction change for a jam.
+
+All quantities are in the paper's scaled units (section 2.1).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+from typing import NamedTuple
+
+import numpy as np
+
+from crosscheck.checks import ETA, POSITIVE, check
+from crosscheck.engines.record import Record
+from crosscheck.outcome import Outcome
+
+__all__ = ["Thresholds", "Classification", "classify", "window_sum"]
+
+
+@dataclass(frozen=True)
+class Thresholds:
+    """Quantitative criteria of ``classify``, in the paper's scaled units.
+
+    Attributes:
+      window: W, the averaging window (scaled time).  A slipping soft
+        contact cycles spike -> flight -> landing; measured cycle lengths in
+        MuJoCo are ~0.1 (timestep 3e-3, i.e. dt = 1e-3 s for a 1 m rod),
+        ~0.04 (3e-4) and ~0.01 (3e-5).  W = 0.05 (16 ms for a 1 m rod) averages
+        over whole cycles at the default timestep and finer, and is still
+        short against the O(1) time on which the rigid slipping state
+        changes.  W is never fewer than ``window_steps`` rows, which covers
+        coarse timesteps (40 x 3e-3 = 0.12 > one cycle).  With W = 0.02 and 10
+        rows, landings of the chatter at dt = 1e-3 s were classified as jams
+        below mu_P.
+      window_steps: lower bound of W in rows (see ``window``).
+      jam_force: JAM needs a window-mean normal force >= this [m g].  One
+        m g, the weight: a slipping rod's window-mean force is the rigid
+        -b/p = O(1) (below 1 unless b < -1 or p < 1), so this floor only
+        rules out small forces whose ratio to a near-zero rigid force is big.
+      jam_ratio: ... and >= this multiple of the window's rigid slipping
+        force mean(max(0, -b)) / p_eff_W (p_eff_W: the force-weighted window
+        mean of p_eff; the force counts as 0 where p_eff_W <= 0, as no
+        slipping solution with the engine's friction holds the tip there).
+        -b is clipped per row: a window mean of b itself is pulled to 0 by the
+        b > 0 rows of a lift-off later in the window, and then the rigid force
+        of a slip at small p_eff passed for 3x the rigid force.
+      jam_slip_loss: ... and the contact point's slip speed eta falls by at
+        least this fraction of its value within the window: the abrupt loss
+        of slip speed of an impact without collision.  A rigid slipping rod
+        loses speed at |eta'| = |Q1 F_z + A1| = O(1), i.e. a fraction
+        O(W / eta) = O(0.05 / eta) per window.
+      jam_p_eff: ... and p_eff_W <= this: the engine's rod is at its own
+        p = 0, where the theory's jam happens.  0.2 is 5 % of the range
+        1 + alpha = 4 of eq. p for the uniform rod, i.e. the slipping force
+        -b/p_eff is already >= 5 |b| m g.  Measured in MuJoCo: the jams of
+        Corollary 4.2 states it reproduces have p_eff 0.088-0.093; landings of
+        a hopping (chattering) tip at mu = 1.3 < mu_P that pass the force and
+        slip-loss tests have p_eff 0.45.
+      lift_steps: LIFTOFF needs this many consecutive rows with zero normal
+        force and upward tip acceleration.  During a force-free row the tip
+        acceleration is exactly the free acceleration b of eq. b, so an upward
+        acceleration there is the paper's lift-off condition b > 0; chatter
+        flights of a slipping tip have b < 0 and never qualify.  More than one
+        row, because the first row after a start without contact force is free
+        even when the next position step then closes the gap.
+      stick_speed: STICK when the contact point's slip speed eta falls below
+        max(stick_speed, stick_creep tau_f) while the rod is in contact (some
+        normal force in the last window); tau_f is the friction time constant
+        of the run (0 for a rigid contact).  A stuck soft contact creeps at
+        v ~ a_t dmax tau_f / 2 (a_t the tangential acceleration friction has
+        to cancel, O(1) g): measured in MuJoCo 0.024, 0.008 and 0.002 for
+        tau_f = 0.06, 0.02, 0.006, i.e. 0.4 tau_f, so a fixed 1e-2 reads a
+        stuck rod as slipping at the default tau_f = 0.06.  The event time is
+        early by at most the threshold / |eta'|, |eta'| = O(mu F_z).
+      stick_creep: the multiple of tau_f in the STICK threshold: 1, i.e.
+        2.5 x the measured creep.
+      diverged_speed: DIVERGED when the scaled tip speed exceeds this (energy
+        is bounded: a slipping rod of the paper's ranges never exceeds O(10)),
+        when any value is not finite, or when the engine's clock stops
+        advancing (``mujoco.rollout`` stops stepping after a MuJoCo warning
+        and repeats the last row).
+    """
+
+    window: float = 0.05
+    window_steps: int = 40
+    jam_force: float = 1.0
+    jam_ratio: float = 3.0
+    jam_slip_loss: float = 0.2
+    jam_p_eff: float = 0.2
+    lift_steps: int = 3
+    stick_speed: float = 1e-2
+    stick_creep: float = 1.0
+    diverged_speed: float = 1e3
+
+    def __post_init__(self) -> None:
+        for name in ("window", "jam_ratio", "diverged_speed"):
+            object.__setattr__(self, name, float(check(name, getattr(self, name), POSITIVE)))
+        for name in ("jam_force", "jam_slip_loss", "jam_p_eff", "stick_speed", "stick_creep"):
+            object.__setattr__(self, name, float(check(name, getattr(self, name), ETA)))
+        for name in ("window_steps", "lift_steps"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 1):
+                raise ValueError(f"{name} must be an integer >= 1; got {v!r}")
+            object.__setattr__(self, name, int(v))
+
+    def window_rows(self, timestep: float) -> int:
+        """Window length in rows for scaled timestep ``timestep``."""
+        return max(int(self.window_steps), int(math.ceil(self.window / timestep - 1e-9)))
+
+    def stick_threshold(self, friction_timeconst: float) -> float:
+        """Slip speed below which a run with friction time constant ``friction_timeconst`` is stuck."""
+        return max(self.stick_speed, self.stick_creep * friction_timeconst)
+
+    def as_dict(self) -> dict:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+def _first(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(any, index of first True) along the last axis."""
+    has = mask.any(axis=-1)
+    return has, np.where(has, mask.argmax(axis=-1), -1)
+
+
+def window_sum(x: np.ndarray, w: int) -> np.ndarray:
+    """Sum of x[..., k:k+w] for each k with a full window; NaN for the last w - 1 rows."""
+    n = x.shape[-1]
+    c = np.zeros(x.shape[:-1] + (n + 1,))
+    np.cumsum(x, axis=-1, out=c[..., 1:])
+    out = np.full(x.shape, np.nan)
+    if w <= n:
+        out[..., : n - w + 1] = c[..., w:] - c[..., : n - w + 1]
+    return out
+
+
+class Classification(NamedTuple):
+    """What ``classify`` returns; each field has the batch shape of the record.
+
+    outcome: int8 ``Outcome`` values.
+    event_time: scaled time of the first event (NaN for SLIP).
+    event_row: its row (-1 for SLIP).
+    exit_time: scaled time at which theta left (0, pi/2), the paper's domain
+      (the rod lies flat or stands up; NaN if never).  Events are looked for
+      only before it (a run that leaves first is SLIP, like the analytic
+      ``slip_until_event``), except DIVERGED, which is never dropped.
+    diverged_time: scaled time of the first diverged row (NaN if none), also
+      when another event came first and is the outcome: a divergence is
+      always reported.
+    jam_p_eff: window p_eff at the JAM row (NaN if the outcome is not JAM).
+    max_normal_force: largest normal force of one row [m g] (the spikes).
+    max_window_force: largest window-mean normal force [m g].
+    active_fraction: fraction of rows in which the engine had a contact.
+    max_gap: largest height of the contact point above the plane [l].
+    """
+
+    outcome: np.ndarray
+    event_time: np.ndarray
+    event_row: np.ndarray
+    exit_time: np.ndarray
+    diverged_time: np.ndarray
+    jam_p_eff: np.ndarray
+    max_normal_force: np.ndarray
+    max_window_force: np.ndarray
+    active_fraction: np.ndarray
+    max_gap: np.ndarray
+
+
+def classify(record: Record, *, mu, alpha: float, timestep: float, friction_timeconst: float = 0.0,
+             thresholds: Thresholds | None = None) -> Classification:
+    """Outcome and event time of recorded runs, for every engine.
+
+    Args:
+      record: a ``Record`` with rows at a uniform ``timestep`` (batch axes allowed).
+      mu: friction coefficient, a scalar or one per run (the batch shape).
+      alpha: the rod's m l^2 / I0.
+      timestep: scaled time between rows (sets the window length in rows).
+      friction_timeconst: scaled friction time constant of the run (the
+        STICK threshold grows with it; 0 for a rigid contact).
+      thresholds: criteria (``Thresholds()`` by default; see there for why).
+
+    Returns:
+      ``Classification``.  The first event wins; on a tie DIVERGED > JAM >
+      LIFTOFF > STICK.  A window that would reach past the end of the record
+      (or past the domain exit) is not judged, so an event in the last W of
+      the horizon can be missed.
+    """
+    th = thresholds or Thresholds()
+    w = th.window_rows(timestep)
+    n = len(record)
+    rows = np.arange(n)
+    R = record
+    t, theta, psi = R.t, R.theta, R.psi
+    Psi, Theta = R.Psi, R.Theta
+    Fn = R.normal_force
+    az = R.tip_acc[..., 2]
+    vel = R.tip_vel
+    mu = np.asarray(mu, dtype=float)[..., None]  # broadcast over rows
+
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        # DIVERGED: non-finite values (NaN fails every comparison), runaway speed,
+        # or a stopped clock (mujoco.rollout repeats the last row after a warning).
+        speed2 = vel[..., 0] * vel[..., 0] + vel[..., 1] * vel[..., 1] + vel[..., 2] * vel[..., 2]
+        bad = ~(speed2 <= th.diverged_speed**2) | ~(np.abs(az + 1.0) < 1e9) | ~(np.abs(Fn) < np.inf) | ~(np.abs(theta) < np.inf)
+        bad[..., 1:] |= ~(np.diff(t, axis=-1) > 0.0)
+        has_div, k_div = _first(bad)
+
+        # Domain: theta in (0, pi/2).  Windows must end before the exit.
+        has_exit, k_exit = _first(~((theta > 0.0) & (theta < math.pi / 2)))
+        end = np.where(has_exit, k_exit, n)[..., None]
+
+        eta = R.eta
+        st, ct = np.sin(theta), np.cos(theta)
+        b = (Psi * Psi * ct * ct + Theta * Theta) * st - 1.0  # eq. b
+
+        # JAM: impulsive window-mean force beyond what slipping with the engine's own friction
+        # needs, an abrupt loss of slip speed, at the engine's own p_eff ~ 0.
+        F = R.force
+        Fz = np.where(F[..., 2] > 0, F[..., 2], 0.0)
+        Fe = np.where(F[..., 2] > 0, -np.sin(psi) * F[..., 0] + np.cos(psi) * F[..., 1], 0.0)
+        sF = window_sum(Fz, w)
+        p_eff = (window_sum(Fz * (1 + alpha - alpha * st * st), w) - alpha * window_sum(st * ct * Fe, w)) / sF
+        Fbar = sF / w
+        rigid = np.where(p_eff > 0, window_sum(np.maximum(0.0, -b), w) / w / p_eff, 0.0)
+        eta_end = np.full(eta.shape, np.nan)
+        if w <= n:
+            eta_end[..., : n - w + 1] = eta[..., w - 1 :]
+        jam = (Fbar >= th.jam_force) & (Fbar >= th.jam_ratio * rigid) & (eta - eta_end >= th.jam_slip_loss * eta) & (p_eff <= th.jam_p_eff)
+        has_jam, k_jam = _first(jam & (rows + w <= end))
+
+        # LIFTOFF: lift_steps force-free rows in a row with the tip accelerating upwards (b > 0).
+        free_up = (Fn <= 0.0) & (az > 0.0)
+        run = window_sum(free_up.astype(float), th.lift_steps) >= th.lift_steps - 0.5
+        has_lift, k_lift = _first(run & (rows + th.lift_steps <= end))
+
+        # STICK: slip speed below the threshold with some normal force in the last window.
+        c = np.zeros(Fn.shape[:-1] + (n + 1,))
+        np.cumsum(Fn > 0.0, axis=-1, out=c[..., 1:])
+        touched = (c[..., 1:] - c[..., np.maximum(rows - w + 1, 0)]) > 0.0
+        has_stick, k_stick = _first((eta < th.stick_threshold(friction_timeconst)) & touched & (rows < end))
+
+    big = np.iinfo(np.int64).max
+    order = [  # precedence on ties: earlier in the list wins
+        (Outcome.DIVERGED, has_div, k_div),
+        (Outcome.JAM, has_jam, k_jam),
+        (Outcome.LIFTOFF, has_lift, k_lift),
+        (Outcome.STICK, has_stick, k_stick),
+    ]
+    best_k = np.full(has_div.shape, big, dtype=np.int64)
+    outcome = np.full(has_div.shape, int(Outcome.SLIP), dtype=np.int8)
+    for oc, has, k in order:
+        better = has & (k < best_k)
+        best_k = np.where(better, k, best_k)
+        outcome = np.where(better, np.int8(oc), outcome)
+
+    def at(x, k, has):
+        idx = np.where(has, k, 0)
+        xk = np.take_along_axis(x, np.asarray(idx)[..., None], axis=-1)[..., 0]
+        return np.where(has, xk, np.nan)
+
+    found_event = best_k != big
+    with np.errstate(invalid="ignore"):
+        return Classification(
+            outcome=outcome,
+            event_time=at(t, best_k, found_event),
+            event_row=np.where(found_event, best_k, -1),
+            exit_time=at(t, k_exit, has_exit),
+            diverged_time=at(t, k_div, has_div),
+            jam_p_eff=at(p_eff, k_jam, outcome == Outcome.JAM),
+            max_normal_force=np.nanmax(np.where(np.isfinite(Fn), Fn, np.nan), axis=-1) if n else np.nan,
+            max_window_force=np.nanmax(window_sum(Fn, w) / w, axis=-1) if n >= w else np.full(has_div.shape, np.nan),
+            active_fraction=np.asarray(R.active, dtype=bool).mean(axis=-1),
+            max_gap=np.max(R.gap, axis=-1),
+        )

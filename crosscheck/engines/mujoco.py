@@ -1,0 +1,312 @@
+"""The MuJoCo engine: the capsule rod of ``models/rod.xml`` stepped by MuJoCo, one state or a batch.
+
+``simulate`` runs one slipping state, ``sweep`` a batch through a persistent
+``mujoco.rollout.Rollout`` thread pool (``nthread`` threads, one ``MjData``
+each) over chunks of states sized to a memory budget; only sensors are
+recorded (``skip_checks=True`` so MuJoCo does not also copy the full state of
+every step).  Both go through ``Batch``, so a state gives the same numbers
+either way (tests assert equality), and both classify with the one classifier
+``crosscheck.engines.classify``, with the STICK threshold following the run's
+friction time constant.  The model, its start and its sensors are in
+``crosscheck.engines.mujoco_model``.
+
+Units.  Everything this module takes and returns is in the paper's scaled
+units (section 2.1): time in 1/omega, lengths in l, velocities in l omega,
+accelerations in g, forces in m g; so are all the options (``timestep`` is
+omega dt, ``radius`` is r / l, ...).  ``Rod`` supplies m, l, I0, g.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, fields
+from typing import Any
+
+import mujoco
+import numpy as np
+from mujoco import rollout
+from tqdm.auto import tqdm
+
+from crosscheck.checks import ETA as NONNEGATIVE
+from crosscheck.checks import FINITE, MU, POSITIVE, check
+from crosscheck.engines.base import SERIES, STATE_KEYS, SUMMARY, Run, SweepResult, check_states, n_steps, options_from_kwargs, summaries
+from crosscheck.engines.classify import Thresholds, classify
+from crosscheck.engines.mujoco_model import SensorLayout, build_model, initial_state, record_from_sensordata
+from crosscheck.rod import Rod
+from crosscheck.state import SlipState
+
+__all__ = ["ENGINE", "MujocoEngine", "Options", "Batch", "simulate", "sweep", "CHUNK_BYTES"]
+
+#: Memory for one chunk's sensordata; sets the chunk size.
+CHUNK_BYTES = 48 * 2**20
+
+
+@dataclass(frozen=True)
+class Options:
+    """MuJoCo parameters of a run, in the paper's scaled units.
+
+    Attributes:
+      timestep: omega dt (default 3e-4, i.e. ~1e-4 s for a 1 m rod under
+        g = 9.81 m/s^2).
+      radius: capsule radius r / l (default 0.01).
+      timeconst: normal contact time constant omega tau of solref (default
+        0.06, ~0.02 s for a 1 m rod: MuJoCo's default).  Must be >= 2
+        timestep, else MuJoCo would silently raise it ("refsafe").
+      dampratio: damping ratio of solref (default 1, critical).
+      friction_timeconst: time constant of the friction directions only
+        (solreffriction on the contact pair); None uses ``timeconst``.
+      solimp: MuJoCo impedance (d0, dmax, width / l, midpoint, power);
+        default MuJoCo's (0.9, 0.95, 0.001 m for l = 1 m, 0.5, 2).
+      solver_tolerance: MuJoCo's solver tolerance (default 1e-10, as in
+        rod.xml).  The Newton solver stops on it, so the contact force and the
+        acceleration agree to ~5e-7 relative at 1e-10; 0 runs to
+        ``iterations`` and gives ~1e-11 (used by the instantaneous check).
+      model_file: path of an alternative MJCF file with the same element
+        names (default: the packaged ``rod.xml``).
+    """
+
+    timestep: float = 3e-4
+    radius: float = 0.01
+    timeconst: float = 0.06
+    dampratio: float = 1.0
+    friction_timeconst: float | None = None
+    solimp: tuple[float, float, float, float, float] = (0.9, 0.95, 0.001, 0.5, 2.0)
+    solver_tolerance: float = 1e-10
+    model_file: str | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("timestep", "radius", "timeconst", "dampratio"):
+            object.__setattr__(self, name, float(check(name, getattr(self, name), POSITIVE)))
+        if self.friction_timeconst is not None:
+            object.__setattr__(self, "friction_timeconst", float(check("friction_timeconst", self.friction_timeconst, POSITIVE)))
+        for name in ("timeconst", "friction_timeconst"):
+            tc = getattr(self, name)
+            if tc is not None and tc < 2 * self.timestep:
+                raise ValueError(f"{name} must be >= 2 timestep = {2 * self.timestep:g} (MuJoCo's refsafe); got {tc!r}")
+        solimp = check("solimp", self.solimp, FINITE)
+        if solimp.shape != (5,):
+            raise ValueError(f"solimp must have 5 numbers (d0, dmax, width, midpoint, power); got {self.solimp!r}")
+        if not (0 < solimp[0] < 1 and 0 < solimp[1] < 1 and solimp[2] > 0):
+            raise ValueError(f"solimp must have 0 < d0, dmax < 1 and width > 0; got {tuple(solimp)!r}")
+        object.__setattr__(self, "solimp", tuple(float(x) for x in solimp))
+        object.__setattr__(self, "solver_tolerance", float(check("solver_tolerance", self.solver_tolerance, NONNEGATIVE)))
+        if self.model_file is not None:
+            object.__setattr__(self, "model_file", os.fspath(self.model_file))
+
+    @classmethod
+    def from_kwargs(cls, options: dict[str, Any]) -> "Options":
+        """``Options(**options)`` with an error naming any unknown option."""
+        return options_from_kwargs(cls, options, "MuJoCo")
+
+    @property
+    def contact_time(self) -> float:
+        """Time over which the soft normal force builds up: the solref time constant."""
+        return self.timeconst
+
+    @property
+    def friction_time(self) -> float:
+        """Time constant of the friction directions (a stuck contact creeps at ~0.4 of it)."""
+        return self.friction_timeconst if self.friction_timeconst is not None else self.timeconst
+
+    def as_dict(self) -> dict:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+
+@dataclass(frozen=True, eq=False)
+class Batch:
+    """A batch of slipping states compiled for ``mujoco.rollout``: models, starts, steps.
+
+    The one implementation of the MuJoCo rollout, used by ``simulate`` and
+    ``sweep``.  Build it with ``Batch.build``; ``records`` runs it.
+
+    Attributes:
+      models: one compiled model per distinct mu.
+      layout: sensor layout (the same for every model).
+      mu: (B,) friction of each state.
+      x0: (B, nstate) MuJoCo start states (``initial_state``).
+      nstep: steps per state; nthread: rollout threads.
+      radius: the capsule radius r / l (the contact point's offset below A).
+    """
+
+    models: dict
+    layout: SensorLayout
+    mu: np.ndarray
+    x0: np.ndarray
+    nstep: int
+    nthread: int
+    radius: float
+
+    @classmethod
+    def build(cls, rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, options: Options, nthread: int = 2) -> "Batch":
+        """Validate the inputs, compile one model per distinct mu and place every state."""
+        states = check_states(states)
+        B = len(states)
+        horizon = float(check("horizon", horizon, POSITIVE))
+        if not (isinstance(nthread, int) and nthread >= 1):
+            raise ValueError(f"nthread must be an integer >= 1; got {nthread!r}")
+        mu = np.broadcast_to(check("mu", mu, MU), (B,)).astype(float)
+        models = {m: build_model(rod, m, options) for m in np.unique(mu)}
+        first = next(iter(models.values()))
+        scratch = mujoco.MjData(first)  # all models share sizes; the state layout is the same
+        x0 = np.stack([initial_state(first, rod, s, options.radius, data=scratch) for s in states])
+        return cls(models, SensorLayout.from_model(first), mu, x0, n_steps(horizon, options.timestep), nthread, options.radius)
+
+    def chunks(self, *, progress: bool, desc: str = "mujoco sweep"):
+        """Run the batch; yield (slice of states, (n, nstep, nsensordata) sensordata) per chunk.
+
+        The sensordata buffer is reused between chunks: use it before the next one.
+        """
+        first = next(iter(self.models.values()))
+        B, nsensor = len(self.mu), first.nsensordata
+        chunk = int(max(self.nthread, min(B, CHUNK_BYTES // (self.nstep * nsensor * 8))))
+        data = [mujoco.MjData(first) for _ in range(self.nthread)]
+        buffer = np.empty((chunk, self.nstep, nsensor))
+        with rollout.Rollout(nthread=self.nthread if self.nthread > 1 else 0) as pool:
+            for a in tqdm(range(0, B, chunk), desc=desc, unit="chunk", disable=not progress):
+                sl = slice(a, min(a + chunk, B))
+                sd = buffer[: sl.stop - sl.start]
+                pool.rollout(
+                    [self.models[m] for m in self.mu[sl]],
+                    data,
+                    np.ascontiguousarray(self.x0[sl]),
+                    skip_checks=True,
+                    nstep=self.nstep,
+                    sensordata=sd,
+                    control_spec=mujoco.mjtState.mjSTATE_CTRL.value,
+                )
+                yield sl, sd
+
+    def records(self, rod: Rod, *, progress: bool, desc: str = "mujoco sweep"):
+        """Run the batch; yield (slice of states, ``Record`` of that chunk) per chunk."""
+        for sl, sd in self.chunks(progress=progress, desc=desc):
+            yield sl, record_from_sensordata(sd, self.layout, rod, self.radius)
+
+
+def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
+    """Run one slipping state in MuJoCo and classify its first event.
+
+    The capsule starts touching the plane (z_A = r) with the velocities of
+    ``state`` (``crosscheck.coordinates``); MuJoCo steps
+    ``ceil(horizon / timestep)`` times through ``mujoco.rollout`` (the same
+    path as ``sweep``, so a state gives the same numbers either way).
+
+    Args:
+      rod: physical rod (``Rod.scaled(alpha)`` for the paper's units).
+      state: the paper's scaled slipping state.
+      mu: friction coefficient >= 0.
+      horizon: scaled time to simulate, > 0.
+      thresholds: outcome criteria (``Thresholds()`` by default).
+      **options: scaled MuJoCo parameters, the fields of ``Options``:
+        timestep, radius, timeconst, dampratio, friction_timeconst, solimp,
+        solver_tolerance, model_file.  An unknown name raises ``ValueError``
+        naming it.
+
+    Returns:
+      ``crosscheck.engines.Run`` with the record, outcome and event time.
+    """
+    if not isinstance(state, SlipState):
+        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    horizon = float(check("horizon", horizon, POSITIVE))
+    opts = Options.from_kwargs(options)
+    mu = float(check("mu", mu, MU))
+    th = thresholds or Thresholds()
+    batch = Batch.build(rod, [state], mu, horizon=horizon, options=opts, nthread=1)
+    (_, record), = batch.records(rod, progress=False)
+    one = record.run(0)
+    c = classify(one, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, thresholds=th)
+    return Run.from_classification(ENGINE.name, c, one, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
+                                   horizon=horizon, nstep=batch.nstep)
+
+
+def sweep(
+    rod: Rod,
+    states: Sequence[SlipState],
+    mu,
+    *,
+    horizon: float,
+    thresholds: Thresholds | None = None,
+    nthread: int = 2,
+    n_series: int = 200,
+    progress: bool = True,
+    **options,
+) -> SweepResult:
+    """Simulate every state in MuJoCo and classify it, batched through ``mujoco.rollout``.
+
+    Args:
+      rod: physical rod (``Rod.scaled(alpha)`` for the paper's units).
+      states: B ``SlipState``s (validated by their constructor).
+      mu: friction, a scalar or a (B,) array (one compiled model per distinct value).
+      horizon: scaled time per state, > 0.
+      thresholds: outcome criteria (``Thresholds()`` by default).
+      nthread: rollout threads (2 on this machine's 2 cores).
+      n_series: keep between n_series and 2 n_series decimated rows per state in
+        ``series`` (every nstep // n_series-th row).
+      progress: show a tqdm bar over chunks.
+      **options: scaled MuJoCo parameters, as for ``simulate`` (unknown -> ValueError).
+
+    Returns:
+      ``crosscheck.engines.SweepResult``.
+    """
+    states = check_states(states)
+    opts = Options.from_kwargs(options)
+    th = thresholds or Thresholds()
+    t0 = time.perf_counter()
+    batch = Batch.build(rod, states, mu, horizon=horizon, options=opts, nthread=nthread)
+    B, mu, nstep = len(states), batch.mu, batch.nstep
+    every = max(1, nstep // max(1, n_series))
+
+    outcome = np.empty(B, np.int8)
+    event_time = np.empty(B)
+    exit_time = np.empty(B)
+    diverged_time = np.empty(B)
+    summary = {k: np.empty(B) for k in SUMMARY}
+    series = {k: np.empty((B, nstep // every)) for k in SERIES}
+    for sl, record in batch.records(rod, progress=progress):
+        c = classify(record, mu=mu[sl], alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, thresholds=th)
+        outcome[sl], event_time[sl], exit_time[sl], diverged_time[sl] = c.outcome, c.event_time, c.exit_time, c.diverged_time
+        summ, ser = summaries(record, c, mu[sl], rod.alpha, every)
+        for k in SUMMARY:
+            summary[k][sl] = summ[k]
+        for k in SERIES:
+            series[k][sl] = ser[k]
+    wall = time.perf_counter() - t0
+    return SweepResult(
+        engine=ENGINE.name,
+        outcome=outcome,
+        event_time=event_time,
+        exit_time=exit_time,
+        diverged_time=diverged_time,
+        states={k: np.array([getattr(s, k) for s in states]) for k in STATE_KEYS},
+        mu=mu.copy(),
+        summary=summary,
+        series=series,
+        alpha=rod.alpha,
+        horizon=float(horizon),
+        nstep=nstep,
+        options=opts,
+        thresholds=th,
+        wall_time=wall,
+        steps_per_second=B * nstep / wall,
+    )
+
+
+class MujocoEngine:
+    """The MuJoCo engine behind the shared interface (``crosscheck.engines.base.Engine``)."""
+
+    name = "mujoco"
+    Options = Options
+
+    @staticmethod
+    def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
+        return simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, **options)
+
+    @staticmethod
+    def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None,
+              progress: bool = True, **options) -> SweepResult:
+        return sweep(rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
+
+
+ENGINE = MujocoEngine()

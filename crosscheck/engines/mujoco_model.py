@@ -1,0 +1,242 @@
+"""The MJCF rod model: compile ``models/rod.xml`` with a run's parameters, place a slipping state, read its sensors.
+
+The model is ``models/rod.xml`` (shipped as ``crosscheck/_models/rod.xml``):
+a capsule on five joints (slide X, Y, Z; hinge psi about world z; hinge theta
+about body x) so that q = (X, Y, Z, psi, theta) is exactly the generalised
+coordinate vector of ``crosscheck.coordinates``.  Run parameters are applied
+with ``mujoco.MjSpec``; see ``build_model``.  The engine that runs it is
+``crosscheck.engines.mujoco``.
+
+Geometry.  The capsule's end cap is centred on the tip A = (0, -l, 0) (body
+frame), so the capsule touches the plane at C = A - r K, a radius below A.
+A run starts with z_A = r: the capsule's lowest point is on the plane up to
+rounding.  MuJoCo's distance to the plane then comes out between about
+-3.3e-16 l and +2.3e-16 l depending on the state, and MuJoCo keeps a contact
+while dist < margin = 0, so whether the contact is active in the first row
+is decided by that rounding: in about 1 start in 7 (14 % of 400 random
+states) it is, and MuJoCo's first step already applies the force that stops
+the tip's free acceleration (2-26 m g in that row); in the others the first
+step is force-free and the contact becomes active at the next one.
+tests/test_engine_mujoco.py checks both cases.  The tip velocity of the ``SlipState`` is given to A;
+the contact point C then slips with v_A + r theta' (-sin psi, cos psi, 0),
+which differs from v_A only when Theta != 0 (by r |Theta|).
+
+Units.  Everything this module takes and returns is in the paper's scaled
+units (section 2.1), except the compiled model itself, which is physical (SI).
+"""
+
+from __future__ import annotations
+
+import importlib.resources
+import os
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from crosscheck.checks import MU, check
+from crosscheck.coordinates import to_generalized
+from crosscheck.engines.record import Record
+from crosscheck.rod import Rod
+from crosscheck.state import SlipState
+
+__all__ = ["MODEL_FILE", "AXIAL_INERTIA", "ModelFileError", "model_path", "build_model", "initial_state", "SensorLayout",
+           "record_from_sensordata"]
+
+#: The model file inside the package (a symlink to ``models/`` in the repository).
+MODEL_FILE = "rod.xml"
+
+
+class ModelFileError(ValueError):
+    """The MuJoCo model file is missing or MuJoCo cannot read it; the message names the file."""
+
+
+def model_path() -> str:
+    """Path of ``rod.xml`` as shipped with the package (``crosscheck/_models/rod.xml``)."""
+    return str(importlib.resources.files("crosscheck") / "_models" / MODEL_FILE)
+
+
+
+def _load_spec(path: str) -> mujoco.MjSpec:
+    if not os.path.isfile(path):
+        raise ModelFileError(f"MuJoCo model file not found: {path}")
+    try:
+        spec = mujoco.MjSpec.from_file(path)
+    except ValueError as e:
+        raise ModelFileError(f"malformed MuJoCo model file {path}: {e}") from None
+    return spec
+
+
+#: Axial inertia of the slender rod relative to I0 (eq. inertia has 0; MuJoCo
+#: needs > 0).  It only enters the psi inertia I0 cos^2 + eps sin^2.
+AXIAL_INERTIA = 1e-12
+
+
+def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
+    """Compile ``rod.xml`` with the parameters of one run.
+
+    Args:
+      rod: mass m, tip-to-centre length l, inertia I0 (alpha = m l^2 / I0) and g.
+      mu: Coulomb friction coefficient, >= 0.
+      options: scaled MuJoCo parameters (``crosscheck.engines.mujoco.Options``).
+
+    Raises:
+      ModelFileError: the model file is missing, malformed, or lacks one of the
+        named elements (body "rod", geom "rod", site "tip", pair "floor_rod").
+      ValueError: mu out of range.
+    """
+    mu = float(check("mu", mu, MU))
+    path = options.model_file or model_path()
+    spec = _load_spec(path)
+    l, w = rod.length, rod.omega
+    try:
+        body, geom, site, pair = spec.body("rod"), spec.geom("rod"), spec.site("tip"), spec.pair("floor_rod")
+    except (KeyError, ValueError):
+        body = geom = site = pair = None
+    if body is None or geom is None or site is None or pair is None:
+        raise ModelFileError(f"MuJoCo model file {path} lacks body 'rod', geom 'rod', site 'tip' or pair 'floor_rod'")
+    spec.option.timestep = options.timestep / w
+    spec.option.tolerance = options.solver_tolerance
+    spec.option.gravity = [0.0, 0.0, -rod.gravity]
+    body.explicitinertial = True
+    body.mass = rod.mass
+    body.ipos = [0.0, 0.0, 0.0]
+    body.inertia = [rod.inertia, AXIAL_INERTIA * rod.inertia, rod.inertia]
+    geom.fromto = [0.0, -l, 0.0, 0.0, l, 0.0]
+    geom.size = [options.radius * l, 0.0, 0.0]
+    site.pos = [0.0, -l, 0.0]
+    pair.friction = [mu, mu, pair.friction[2], pair.friction[3], pair.friction[4]]
+    pair.solref = [options.timeconst / w, options.dampratio]
+    pair.solreffriction = [0.0, 0.0] if options.friction_timeconst is None else [options.friction_timeconst / w, options.dampratio]
+    d0, dmax, width, mid, power = options.solimp
+    pair.solimp = [d0, dmax, width * l, mid, power]
+    # The keyframe is the viewer's start pose for the file's own parameters.
+    for key in list(spec.keys):
+        spec.delete(key)
+    try:
+        return spec.compile()
+    except ValueError as e:
+        raise ModelFileError(f"MuJoCo cannot compile {path}: {e}") from None
+
+
+def initial_state(model: mujoco.MjModel, rod: Rod, state: SlipState, radius: float, *, data: mujoco.MjData | None = None) -> np.ndarray:
+    """Full physics state (mjSTATE_FULLPHYSICS) of ``state`` with the capsule touching the plane.
+
+    The tip A is put at (0, 0, r) so the capsule's lowest point C = A - r K is
+    on the plane up to rounding (whether the contact is active in the first row
+    depends on it: see the module docstring); velocities from
+    ``crosscheck.coordinates.to_generalized``.  Returns an (nstate,) array.
+    ``data``: an ``MjData`` of ``model`` to reuse (its state is overwritten).
+    """
+    q, v = to_generalized(rod, state, tip=(0.0, 0.0, radius))
+    if data is None:
+        data = mujoco.MjData(model)
+    mujoco.mj_resetData(model, data)
+    data.qpos[:] = q
+    data.qvel[:] = v
+    out = np.empty(mujoco.mj_stateSize(model, mujoco.mjtState.mjSTATE_FULLPHYSICS))
+    mujoco.mj_getState(model, data, out, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+    return out
+
+
+# --------------------------------------------------------------------------
+# Sensors -> record (scaled, world frame)
+# --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class SensorLayout:
+    """Where each named sensor of ``rod.xml`` sits in ``MjData.sensordata``.
+
+    Built from the compiled model by name (``SensorLayout.from_model``), so a
+    reordered or extended sensor list in the XML still reads correctly.  The
+    contact sensor's fields follow its ``data`` attribute in MuJoCo's fixed
+    order: found, force (3, contact frame), dist, normal (3, world), tangent
+    (3, world), linvel (3, contact frame).
+    """
+
+    found: int
+    force: slice
+    dist: int
+    normal: slice
+    tangent: slice
+    linvel: slice
+    tip_pos: slice
+    tip_vel: slice
+    tip_acc: slice
+    psi: int
+    theta: int
+    psi_dot: int
+    theta_dot: int
+    clock: int
+
+    @classmethod
+    def from_model(cls, model: mujoco.MjModel) -> "SensorLayout":
+        def adr(name: str, dim: int) -> int:
+            try:
+                s = model.sensor(name)
+            except KeyError:
+                raise ModelFileError(f"MuJoCo model lacks the sensor {name!r}") from None
+            if int(s.dim[0]) != dim:
+                raise ModelFileError(f"sensor {name!r} has dimension {int(s.dim[0])}, expected {dim}")
+            return int(s.adr[0])
+
+        c = adr("contact", 14)
+        three = {k: slice(adr(k, 3), adr(k, 3) + 3) for k in ("tip_pos", "tip_vel", "tip_acc")}
+        return cls(
+            found=c,
+            force=slice(c + 1, c + 4),
+            dist=c + 4,
+            normal=slice(c + 5, c + 8),
+            tangent=slice(c + 8, c + 11),
+            linvel=slice(c + 11, c + 14),
+            psi=adr("psi_pos", 1),
+            theta=adr("theta_pos", 1),
+            psi_dot=adr("psi_vel", 1),
+            theta_dot=adr("theta_vel", 1),
+            clock=adr("clock", 1),
+            **three,
+        )
+
+
+def record_from_sensordata(sensordata: np.ndarray, layout: SensorLayout, rod: Rod, radius: float) -> Record:
+    """Scaled, world-frame ``Record`` from raw ``sensordata`` of shape (..., N, nsensordata).
+
+    ``radius`` is the scaled capsule radius r / l used for the run.
+    """
+    sd = np.asarray(sensordata, dtype=float)
+    l, w, g = rod.length, rod.omega, rod.gravity
+    f_c = sd[..., layout.force]
+    normal = sd[..., layout.normal]
+    tangent = sd[..., layout.tangent]
+    bitangent = np.cross(normal, tangent)
+    # contact frame -> world: rows of MuJoCo's contact frame are (normal, tangent, normal x tangent)
+    force = (f_c[..., 0:1] * normal + f_c[..., 1:2] * tangent + f_c[..., 2:3] * bitangent) / rod.force_scale
+    psi, theta = sd[..., layout.psi], sd[..., layout.theta]
+    Psi, Theta = sd[..., layout.psi_dot] / w, sd[..., layout.theta_dot] / w
+    tip_pos = sd[..., layout.tip_pos] / l
+    tip_vel = sd[..., layout.tip_vel] / (l * w)
+    tip_acc = sd[..., layout.tip_acc] / g
+    tip_acc[..., 2] -= 1.0
+    # velocity of the material point at C = A - r K: v_A + Omega x (-r K), Omega = theta' i + psi' K
+    slip = tip_vel.copy()
+    slip[..., 0] += -radius * Theta * np.sin(psi)
+    slip[..., 1] += radius * Theta * np.cos(psi)
+    slip[..., 2] = 0.0
+    return Record(
+        t=sd[..., layout.clock] * w,
+        tip_pos=tip_pos,
+        tip_vel=tip_vel,
+        tip_acc=tip_acc,
+        force=force,
+        normal_force=f_c[..., 0] / rod.force_scale,
+        active=sd[..., layout.found] > 0,
+        gap=tip_pos[..., 2] - radius,
+        slip_vel=slip,
+        psi=psi,
+        theta=theta,
+        Psi=Psi,
+        Theta=Theta,
+    )
+
+

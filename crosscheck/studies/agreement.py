@@ -1,0 +1,518 @@
+"""Event agreement: any engine's first event against the analytic slipping rod's, state by state.
+
+The analytic side is ``crosscheck.slipping.slip_until_event``: the rigid rod
+slips with F_z = -b/p (eq. FZ) until its first event (LIFTOFF: b -> 0 with
+p > 0; JAM: p -> 0 with b < 0; STICK: eta -> 0; GB: b = p = 0).  The engine
+side is the engine's ``sweep`` of the same starts, classified by the one
+classifier ``crosscheck.engines.classify``.  This module lines the two up
+state by state and summarises where they agree; the engine is named
+(``engine="mujoco"``) and looked up in ``crosscheck.engines``.
+
+Censoring and lag.  The analytic run also stops, with outcome SLIP, when the
+state leaves the paper's domain: varphi reaches 0 or -pi (about half of the
+states of a grid do, the slip direction turning perpendicular to the rod) or
+theta reaches 0 or pi/2.  Nothing is known analytically after that time, so
+each state is compared only up to its *comparison time* T_i: the analytic
+event time for an event, the domain-exit time for such a SLIP, the horizon
+otherwise.  An engine event later than T_i counts as SLIP (still slipping when
+the comparison ends); a DIVERGED run is never relabelled.  For an analytic
+event the comparison extends by ``LAG_TAU`` contact time constants (the
+engine's ``Options.contact_time``), and at least by one timestep (the
+engine's records resolve time to their rows; for a rigid contact this is the
+whole lag): a soft contact builds its force over ~tau and STICK is read at
+eta = tau_f, so it meets a rigid event up to ~2 tau late.  States that do not start slipping (b >= 0 or
+p <= 0 at t = 0) are not part of the study.
+
+Horizon.  ``DEFAULT_HORIZON`` = 2 scaled time units (2/omega, 0.64 s for a
+1 m rod).  On ``DEFAULT_GRID`` 99 % of the analytic first events happen
+before t = 1.4 (median 0.19) and 98 % of all states are decided (event or
+domain exit) before t = 2; a longer horizon adds engine steps to states that
+have already left the comparison.  The engine runs ``horizon + 2 W`` (W the
+classifier's window) so that an event near the horizon can still be judged
+by the windowed criteria.
+
+Boundary distance.  ``boundary_distance`` probes the analytic outcome with
+random perturbations of the initial state (theta, varphi, Theta, Psi, eta;
+scaled units) of growing size and returns the smallest size that changes it:
+the distance to the analytic event boundary that the study bins disagreement
+by.  Disagreement is also binned by the analytic comparison time in units of
+the contact time constant (a soft contact needs ~tau to build up the rigid
+force) and by |varphi0 + pi/2| (off the planar section MuJoCo's friction is
+not anti-parallel to the slip: ``crosscheck.studies.mujoco_contact``).
+
+All times, rates and forces are in the paper's scaled units (section 2.1).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+from tqdm.auto import tqdm
+
+from crosscheck import engines
+from crosscheck.checks import ALPHA, POSITIVE, check
+from crosscheck.compare import as_json
+from crosscheck.engines.base import options_from_kwargs
+from crosscheck.engines.classify import Thresholds
+from crosscheck.outcome import Outcome
+from crosscheck.rod import Rod
+from crosscheck.slipping import slip_until_event
+from crosscheck.state import SlipState
+from crosscheck.studies.grids import AXES, EventGrid, floats, initial_b_p, states_at
+
+__all__ = [
+    "DEFAULT_HORIZON",
+    "LAG_TAU",
+    "BOUNDARY_RADII",
+    "AnalyticEvents",
+    "analytic_events",
+    "boundary_distance",
+    "comparison_labels",
+    "AgreementRun",
+    "AgreementResult",
+    "agreement_study",
+    "as_json",
+    "quantiles",
+]
+
+#: Scaled horizon of the study (see the module docstring).
+DEFAULT_HORIZON = 2.0
+
+#: Perturbation sizes of ``boundary_distance`` (scaled units, Euclidean in
+#: (theta, varphi, Theta, Psi, eta)).
+BOUNDARY_RADII = (0.01, 0.03, 0.1, 0.3)
+
+#: Outcomes an analytic run is compared on (GB and DIVERGED rows are counted, not rated).
+RATED = (Outcome.SLIP, Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM)
+EVENTS = (Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM)
+_NAMES = [o.name for o in Outcome]
+
+
+# --------------------------------------------------------------------------
+# Analytic side
+# --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class AnalyticEvents:
+    """First events of the analytic slipping rod at N points (each field (N,)).
+
+    outcome: int8 ``Outcome``; time: event (or stop) time; reason: the rule of
+    ``slip_until_event`` that ended the run ("b=0", "p=0", "eta=0", "gb",
+    "t_max", "varphi=0", "varphi=-pi", "theta=0", "theta=pi/2", "start", ...);
+    b0, p0: eqs. b and p at the start; slipping: b0 < 0 < p0 (the studied
+    states); until: comparison time T_i (module docstring).
+    """
+
+    outcome: np.ndarray
+    time: np.ndarray
+    reason: np.ndarray
+    b0: np.ndarray
+    p0: np.ndarray
+    slipping: np.ndarray
+    until: np.ndarray
+
+
+def analytic_events(points: dict, *, alpha: float, horizon: float, progress: bool = False) -> AnalyticEvents:
+    """``slip_until_event`` (t_max = horizon) at every point of ``points`` (dict of (N,) arrays, keys ``AXES``)."""
+    alpha = float(check("alpha", alpha, ALPHA))
+    horizon = float(check("horizon", horizon, POSITIVE))
+    n = len(points["theta"])
+    b0, p0 = initial_b_p(points, alpha)
+    outcome = np.empty(n, np.int8)
+    t = np.empty(n)
+    reason = np.empty(n, dtype=object)
+    for i in tqdm(range(n), desc="analytic", unit="state", disable=not progress):
+        s = states_at(points, [i])[0]
+        r = slip_until_event(s, points["mu"][i], alpha, t_max=horizon)
+        outcome[i], t[i], reason[i] = int(r.outcome), r.time, r.reason
+    until = np.where(outcome == Outcome.SLIP, np.minimum(t, horizon), np.where(np.isin(outcome, EVENTS), t, horizon))
+    return AnalyticEvents(outcome, t, reason.astype(str), b0, p0, (b0 < 0) & (p0 > 0), until)
+
+
+def _perturbed(points: dict, i: int, delta: np.ndarray) -> SlipState:
+    """Point i moved by delta in (theta, varphi, Theta, Psi, eta), clipped into the paper's ranges."""
+    lo = 1e-3
+    return SlipState(
+        theta=float(np.clip(points["theta"][i] + delta[0], lo, math.pi / 2 - lo)),
+        varphi=float(np.clip(points["varphi"][i] + delta[1], -math.pi + lo, 0.0)),
+        Theta=points["Theta"][i] + delta[2],
+        Psi=points["Psi"][i] + delta[3],
+        eta=float(max(points["eta"][i] + delta[4], lo)),
+    )
+
+
+def boundary_distance(points: dict, outcome: np.ndarray, *, alpha: float, horizon: float, rng: np.random.Generator,
+                      radii: Sequence[float] = BOUNDARY_RADII, directions: int = 6, mask: np.ndarray | None = None,
+                      progress: bool = False) -> np.ndarray:
+    """Distance of each point to the analytic event boundary, probed by perturbation.
+
+    For r in ``radii`` (increasing), ``directions`` random unit vectors u in
+    the 5-D space (theta, varphi, Theta, Psi, eta) are drawn and the analytic
+    first event of the state moved by r u is computed (mu unchanged); the
+    distance is the first r at which some probe's outcome differs from
+    ``outcome`` (the unperturbed one), +inf if none does up to the largest r.
+    Outcomes compared are the ``Outcome`` labels (a SLIP that leaves the
+    domain equals one that reaches the horizon).
+
+    Args:
+      points: dict of (N,) arrays, keys ``AXES``.
+      outcome: (N,) analytic outcomes of the points.
+      alpha, horizon: as ``analytic_events``.
+      rng: seeded generator of the probe directions.
+      radii, directions: probe sizes and count per size.
+      mask: (N,) points to probe (others get NaN); default all.
+
+    Returns:
+      (N,) distances (scaled units): one of ``radii``, inf or NaN.
+    """
+    radii = floats("radii", radii, POSITIVE)
+    n = len(points["theta"])
+    mask = np.ones(n, bool) if mask is None else np.asarray(mask, bool)
+    out = np.full(n, np.nan)
+    for i in tqdm(np.flatnonzero(mask), desc="boundary distance", unit="state", disable=not progress):
+        out[i] = math.inf
+        for r in sorted(radii):
+            u = rng.normal(size=(directions, 5))
+            u /= np.linalg.norm(u, axis=1, keepdims=True)
+            if any(slip_until_event(_perturbed(points, i, r * d), points["mu"][i], alpha, t_max=horizon).outcome != outcome[i] for d in u):
+                out[i] = r
+                break
+    return out
+
+
+# --------------------------------------------------------------------------
+# Engine side, rated against the analytic side
+# --------------------------------------------------------------------------
+
+
+def comparison_labels(outcome: np.ndarray, event_time: np.ndarray, until: np.ndarray) -> np.ndarray:
+    """An engine's outcome as compared: an event after the comparison time ``until`` counts as SLIP.
+
+    DIVERGED is kept whatever its time (a diverged run is never relabelled).
+    """
+    outcome = np.asarray(outcome)
+    keep = (outcome == Outcome.DIVERGED) | (np.asarray(event_time) <= np.asarray(until))
+    return np.where(keep, outcome, np.int8(Outcome.SLIP)).astype(np.int8)
+
+
+def _confusion(a: np.ndarray, m: np.ndarray) -> np.ndarray:
+    c = np.zeros((len(Outcome), len(Outcome)), dtype=int)
+    np.add.at(c, (np.asarray(a, int), np.asarray(m, int)), 1)
+    return c
+
+
+def _binned(values: np.ndarray, agree: np.ndarray, edges: Sequence[float], name: str) -> list[dict]:
+    rows = []
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        sel = (values >= lo) & ((values < hi) | (math.isinf(hi) & np.isinf(values)))
+        rows.append({name: [float(lo), float(hi)], "n": int(sel.sum()), "agreement": float(agree[sel].mean()) if sel.any() else math.nan})
+    return rows
+
+
+#: An engine may meet an analytic event up to LAG_TAU contact time constants late (see ``_rate``).
+LAG_TAU = 2.0
+
+#: Bin edges of the disagreement tables.
+DISTANCE_EDGES = (0.0, 0.02, 0.05, 0.2, 1.0, math.inf)
+TIME_EDGES_TAU = (0.0, 1.0, 3.0, 10.0, math.inf)
+OFFPLANE_EDGES = (0.0, 0.05, 0.5, 1.0, 1.6)
+
+@dataclass(frozen=True, eq=False)
+class AgreementRun:
+    """An engine against the analytic first events at one setting of its options.
+
+    Per-state fields are over the M studied states (``AgreementResult.index``):
+      outcome, event_time: the engine's classification (int8, scaled time).
+      label: the engine's outcome as compared (``comparison_labels``).
+      p_event: the engine's own p (window p_eff) at a JAM (NaN otherwise).
+    Summaries:
+      engine: the engine's name; timestep, timeconst: its timestep and
+        contact time constant (``Options.contact_time``; 0 for a rigid contact).
+      confusion: (6, 6) counts, rows analytic outcome, columns engine label,
+        both indexed by ``Outcome`` values (``labels`` = their names).
+      n_rated, agreement: states with analytic outcome SLIP/LIFTOFF/STICK/JAM
+        and the fraction of them whose engine label is the same.
+      agreement_jam_as_stop: the same, counting an analytic JAM met by an
+        engine STICK as agreement (the slip ends where the theory jams; a soft
+        contact stops the tip instead of delivering an impulse).
+      time_difference: t_engine - t_analytic for every rated state where both
+        report the same event, with ``time_difference_outcome`` its outcome.
+      median_abs_time_difference: median |time_difference| (NaN if none).
+      by_distance / by_time / by_offplane: agreement in bins of
+        ``boundary_distance``, of the comparison time / timeconst (empty for
+        a rigid contact), and of |varphi0 + pi/2| (lists of {bin, n, agreement}).
+      options, thresholds: the engine's options and the criteria used (dicts;
+        ``stick_threshold`` is the STICK speed of this run's friction time constant).
+      wall_time [s], steps_per_second: of the sweep.
+    """
+
+    engine: str
+    timestep: float
+    timeconst: float
+    outcome: np.ndarray = field(repr=False)
+    event_time: np.ndarray = field(repr=False)
+    label: np.ndarray = field(repr=False)
+    p_event: np.ndarray = field(repr=False)
+    confusion: np.ndarray
+    n_rated: int
+    agreement: float
+    agreement_jam_as_stop: float
+    time_difference: np.ndarray = field(repr=False)
+    time_difference_outcome: np.ndarray = field(repr=False)
+    median_abs_time_difference: float
+    by_distance: list = field(repr=False)
+    by_time: list = field(repr=False)
+    by_offplane: list = field(repr=False)
+    options: dict = field(repr=False)
+    thresholds: dict = field(repr=False)
+    wall_time: float
+    steps_per_second: float
+
+    labels = tuple(_NAMES)
+
+    def summary(self) -> dict:
+        """JSON-able summary (no per-state arrays except the time differences)."""
+        td = self.time_difference
+        pct = {str(q): float(np.percentile(td, q)) for q in (5, 25, 50, 75, 95)} if td.size else {}
+        per_outcome = {}
+        for o in EVENTS:
+            sel = self.time_difference_outcome == o
+            per_outcome[o.name] = {"n": int(sel.sum()), "median": float(np.median(td[sel])) if sel.any() else math.nan,
+                                   "median_abs": float(np.median(np.abs(td[sel]))) if sel.any() else math.nan}
+        return {
+            "engine": self.engine,
+            "timestep": self.timestep,
+            "timeconst": self.timeconst,
+            "labels": list(self.labels),
+            "confusion": self.confusion.tolist(),
+            "n_rated": self.n_rated,
+            "agreement": self.agreement,
+            "agreement_jam_as_stop": self.agreement_jam_as_stop,
+            "median_abs_time_difference": self.median_abs_time_difference,
+            "time_difference_percentiles": pct,
+            "time_difference_by_outcome": per_outcome,
+            "time_difference": td.tolist(),
+            "time_difference_outcome": [_NAMES[int(o)] for o in self.time_difference_outcome],
+            "jam_p_event": quantiles(self.p_event[self.outcome == Outcome.JAM]),
+            "by_distance": self.by_distance,
+            "by_time_over_timeconst": self.by_time,
+            "by_offplane": self.by_offplane,
+            "options": self.options,
+            "thresholds": self.thresholds,
+            "wall_time": self.wall_time,
+            "steps_per_second": self.steps_per_second,
+        }
+
+
+def quantiles(x: np.ndarray) -> dict:
+    """{n, min, median, max} of the finite entries of ``x`` ({n: 0} if none)."""
+    x = np.asarray(x, float)
+    x = x[np.isfinite(x)]
+    if not x.size:
+        return {"n": 0}
+    return {"n": int(x.size), "min": float(x.min()), "median": float(np.median(x)), "max": float(x.max())}
+
+
+@dataclass(frozen=True, eq=False)
+class AgreementResult:
+    """Everything ``agreement_study`` measured; ``to_json()`` for the report.
+
+    Attributes:
+      engine: the engine's name.
+      grid: the ``EventGrid`` (None when points were given directly).
+      alpha, horizon: the rod's alpha and the scaled comparison horizon.
+      points: dict of (N,) arrays, every grid point (keys ``AXES``).
+      analytic: ``AnalyticEvents`` of all N points.
+      index: (M,) indices of the studied points (slipping at t = 0).
+      distance: (M,) ``boundary_distance`` of the studied points.
+      runs: one ``AgreementRun`` per setting of the engine's options.
+    """
+
+    engine: str
+    grid: EventGrid | None
+    alpha: float
+    horizon: float
+    points: dict = field(repr=False)
+    analytic: AnalyticEvents = field(repr=False)
+    index: np.ndarray = field(repr=False)
+    distance: np.ndarray = field(repr=False)
+    runs: list = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        a = self.analytic
+        rated = np.isin(a.outcome[self.index], RATED)
+        counts = {o.name: int((a.outcome[self.index] == o).sum()) for o in Outcome}
+        reasons = {r: int((a.reason[self.index] == r).sum()) for r in np.unique(a.reason[self.index])}
+        return as_json({
+            "engine": self.engine,
+            "grid": self.grid.as_dict() if self.grid is not None else None,
+            "alpha": self.alpha,
+            "horizon": self.horizon,
+            "n_points": len(a.outcome),
+            "n_slipping": int(self.index.size),
+            "n_rated": int(rated.sum()),
+            "analytic_outcomes": counts,
+            "analytic_reasons": reasons,
+            "boundary_radii": list(BOUNDARY_RADII),
+            "runs": [r.summary() for r in self.runs],
+            "convergence_table": convergence_table(self),
+        })
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict(), indent=2, allow_nan=False)
+
+
+def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a: AnalyticEvents, idx, distance, offplane,
+          wall_time: float, steps_per_second: float) -> AgreementRun:
+    until = a.until[idx]
+    tau = float(opts.contact_time)
+    # A soft contact answers the rigid force with a lag ~ tau (its force builds up over tau; STICK is
+    # read at eta = tau_f): an analytic event may be met up to LAG_TAU tau later, and never less than one
+    # timestep later (a record resolves time to its rows; this is what a rigid contact gets).  Censored
+    # SLIPs get no lag: nothing is known analytically after the domain exit.
+    lag = np.where(np.isin(a.outcome[idx], EVENTS), max(LAG_TAU * tau, float(opts.timestep)), 0.0)
+    label = comparison_labels(outcome, event_time, until + lag)
+    ao = a.outcome[idx]
+    rated = np.isin(ao, RATED)
+    agree = label == ao
+    same_event = rated & agree & np.isin(ao, EVENTS)
+    td = event_time[same_event] - a.time[idx][same_event]
+    stop = agree | ((ao == Outcome.JAM) & (label == Outcome.STICK))
+    return AgreementRun(
+        engine=engine,
+        timestep=float(opts.timestep),
+        timeconst=tau,
+        outcome=outcome,
+        event_time=event_time,
+        label=label,
+        p_event=p_event,
+        confusion=_confusion(ao, label),
+        n_rated=int(rated.sum()),
+        agreement=float(agree[rated].mean()) if rated.any() else math.nan,
+        agreement_jam_as_stop=float(stop[rated].mean()) if rated.any() else math.nan,
+        time_difference=td,
+        time_difference_outcome=ao[same_event],
+        median_abs_time_difference=float(np.median(np.abs(td))) if td.size else math.nan,
+        by_distance=_binned(distance[rated], agree[rated], DISTANCE_EDGES, "distance"),
+        by_time=_binned(until[rated] / tau, agree[rated], TIME_EDGES_TAU, "time_over_timeconst") if tau > 0 else [],
+        by_offplane=_binned(offplane[rated], agree[rated], OFFPLANE_EDGES, "offplane"),
+        options={f.name: getattr(opts, f.name) for f in fields(opts)},
+        thresholds={**th.as_dict(), "stick_threshold": th.stick_threshold(opts.friction_time)},
+        wall_time=wall_time,
+        steps_per_second=steps_per_second,
+    )
+
+
+def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresholds: Thresholds | None, progress: bool,
+                 options: dict) -> AgreementRun:
+    """One engine sweep of the studied states at one setting of its options, rated."""
+    points, a, idx, distance, horizon = (base[k] for k in ("points", "analytic", "index", "distance", "horizon"))
+    E = engines.get(engine)
+    opts = options_from_kwargs(E.Options, {**options, **setting}, E.name)
+    th = thresholds or Thresholds()
+    margin = 2.0 * th.window_rows(opts.timestep) * opts.timestep
+    r = E.sweep(rod, states_at(points, idx), points["mu"][idx], horizon=horizon + margin, thresholds=th, progress=progress,
+                **{f.name: getattr(opts, f.name) for f in fields(opts)})
+    return _rate(engine=engine, opts=opts, th=th, outcome=r.outcome, event_time=r.event_time, p_event=r.summary["jam_p_eff"], a=a,
+                 idx=idx, distance=distance, offplane=np.abs(points["varphi"][idx] + math.pi / 2), wall_time=r.wall_time,
+                 steps_per_second=r.steps_per_second)
+
+
+def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings: Sequence[Mapping] = ({},), alpha: float = 3.0,
+                    horizon: float = DEFAULT_HORIZON, rng: np.random.Generator | None = None, thresholds: Thresholds | None = None,
+                    boundary_radii: Sequence[float] = BOUNDARY_RADII, boundary_directions: int = 6, progress: bool = False,
+                    **options) -> AgreementResult:
+    """Event agreement, analytic vs an engine, over ``grid`` at one or more settings of the engine's options.
+
+    Args:
+      grid: the initial states and friction coefficients: an ``EventGrid``
+        or a dict of (N,) arrays with the keys ``AXES`` (e.g. random states).
+      engine: the engine's name in ``crosscheck.engines``.
+      settings: one dict of engine options per run (e.g.
+        ``[{"timestep": 3e-4, "timeconst": 0.06}, {"timestep": 1e-4, "timeconst": 0.02}]``
+        for a convergence study); ``({},)`` runs the engine's defaults once.
+      alpha: m l^2 / I0 of the rod (``Rod.scaled(alpha)``).
+      horizon: scaled comparison horizon (``DEFAULT_HORIZON``).
+      rng: generator of ``boundary_distance``'s probes (default seed 0).
+      thresholds: outcome criteria (``Thresholds()`` by default).
+      boundary_radii, boundary_directions: as ``boundary_distance``;
+        boundary_directions = 0 skips the probing (distances NaN).
+      progress: tqdm bars.
+      **options: engine options shared by every setting (radius, ...).
+
+    Returns:
+      ``AgreementResult``.
+    """
+    E = engines.get(engine)
+    settings = [dict(s) for s in settings]
+    if not settings:
+        raise ValueError("settings must hold at least one dict of engine options")
+    for s in settings:
+        options_from_kwargs(E.Options, {**options, **s}, E.name)  # unknown or invalid option -> ValueError before any work
+    alpha = float(check("alpha", alpha, ALPHA))
+    horizon = float(check("horizon", horizon, POSITIVE))
+    rng = rng if rng is not None else np.random.default_rng(0)
+    if isinstance(grid, EventGrid):
+        points = grid.points()
+    else:
+        missing = [k for k in AXES if k not in grid]
+        if missing:
+            raise ValueError(f"points lack the keys {missing}; need {list(AXES)}")
+        points = {k: np.asarray(grid[k], dtype=float).ravel() for k in AXES}
+        if len({v.size for v in points.values()}) != 1:
+            raise ValueError("points must be (N,) arrays of one length N")
+        grid = None
+    a = analytic_events(points, alpha=alpha, horizon=horizon, progress=progress)
+    idx = np.flatnonzero(a.slipping)
+    if idx.size == 0:
+        raise ValueError("the grid has no slipping state (b < 0 < p at t = 0)")
+    mask = np.zeros(len(a.outcome), bool)
+    mask[idx] = True
+    if boundary_directions > 0:
+        dist = boundary_distance(points, a.outcome, alpha=alpha, horizon=horizon, rng=rng, radii=boundary_radii,
+                                 directions=boundary_directions, mask=mask, progress=progress)[idx]
+    else:
+        dist = np.full(idx.size, np.nan)
+    base = {"points": points, "analytic": a, "index": idx, "distance": dist, "horizon": horizon}
+    rod = Rod.scaled(alpha)
+    runs = [_run_setting(base, engine=E.name, rod=rod, setting=s, thresholds=thresholds, progress=progress, options=options)
+            for s in settings]
+    return AgreementResult(engine=E.name, grid=grid, alpha=alpha, horizon=horizon, points=points, analytic=a, index=idx,
+                           distance=dist, runs=runs)
+
+
+def convergence_table(result: AgreementResult) -> list[dict]:
+    """One row per run: engine, timestep, timeconst, n_rated, agreement, median |t_engine - t_analytic|, planar/3-D split.
+
+    ``planar`` rows are the studied states starting on the planar section
+    varphi = -pi/2 with Psi = 0 (they stay on it); ``off_plane`` the rest.
+    """
+    idx = result.index
+    a = result.analytic
+    ao = a.outcome[idx]
+    rated = np.isin(ao, RATED)
+    planar = (np.abs(result.points["varphi"][idx] + math.pi / 2) < 1e-12) & (result.points["Psi"][idx] == 0.0)
+    rows = []
+    for r in result.runs:
+        agree = r.label == ao
+        row = {
+            "engine": r.engine,
+            "timestep": r.timestep,
+            "timeconst": r.timeconst,
+            "n_rated": r.n_rated,
+            "agreement": r.agreement,
+            "agreement_jam_as_stop": r.agreement_jam_as_stop,
+            "median_abs_time_difference": r.median_abs_time_difference,
+            "steps_per_second": r.steps_per_second,
+        }
+        for name, sel in (("planar", planar), ("off_plane", ~planar)):
+            s = rated & sel
+            row[f"n_{name}"] = int(s.sum())
+            row[f"agreement_{name}"] = float(agree[s].mean()) if s.any() else math.nan
+        rows.append(row)
+    return rows

@@ -1,0 +1,179 @@
+"""``crosscheck validate ENGINE``: an engine's checks against the analytic reference, one entry point for all.
+
+An engine is validated by up to two sets of checks, each a list of
+``ErrorStat`` with a tolerance from ``crosscheck.tolerances``:
+
+* dynamics terms (``DYNAMICS``): a multibody model's M, C, g, Jacobians and
+  Delassus operator against the paper's equations, state by state
+  (``crosscheck.studies.dynamics_terms`` for Pinocchio);
+* contact events, for every engine with event tolerances in
+  ``crosscheck.tolerances.EVENT_TOLERANCES``:
+
+  - lift-off onset: at theta_L, Theta = 0, varphi = -pi/2 and mu in
+    ``MUS_ONSET`` the smallest Psi at which the engine lifts off at t = 0
+    (``crosscheck.studies.onset``) must be Psi_L (eq. psil);
+  - event agreement: random slipping states with mu in [0.3, 6] are run to
+    their first event analytically (``slip_until_event``) and in the engine
+    (``crosscheck.studies.agreement``); the fraction whose outcome differs
+    (an analytic JAM met by a STICK counting as agreement) and the median
+    |t_engine - t_analytic| of the shared events must stay within their
+    tolerances;
+  - jams (``crosscheck.studies.jams``): below mu_P no run may jam, asserted
+    for the mu of ``MUS_BELOW`` at which the JAM rule can tell a jam from a
+    hard slip: it accepts the engine's own p up to ``Thresholds.jam_p_eff``
+    = 0.2, and p can be as small as ``p_min(mu)`` = 1 + alpha/2 -
+    (alpha/2) sqrt(1 + mu^2) while the rod slips, so only mu with
+    p_min(mu) > 0.2 (mu < 1.162 at alpha = 3) are decidable; mu = 1.3
+    (p_min = 0.04) is run and reported in ``extra``, not asserted.  Above
+    mu_P the engine's slip must end (JAM, STICK or LIFTOFF) within 0.15 of
+    the analytic jam time of the Corollary 4.2 states (fraction pooled over
+    mu = 1.4, 1.7, 6);
+
+  plus the engine's own checks (``OWN_CHECKS``: for MuJoCo, its tip
+  acceleration with an active contact against eq. linode2 at the capsule's
+  contact point, ``crosscheck.studies.mujoco_contact``).
+
+Everything is in the paper's scaled units (m = l = g = 1, time 1/omega).
+"""
+
+from __future__ import annotations
+
+import importlib
+
+import numpy as np
+
+from crosscheck import engines
+from crosscheck import tolerances as tol
+from crosscheck.compare import ErrorStat, ValidationResult, error_stat
+from crosscheck.critical import Psi_L, p_min
+from crosscheck.engines.classify import Thresholds
+from crosscheck.outcome import Outcome
+from crosscheck.rod import Rod
+from crosscheck.studies.agreement import DEFAULT_HORIZON, agreement_study, convergence_table
+from crosscheck.studies.grids import random_event_points
+from crosscheck.studies.jams import jam_check
+from crosscheck.studies.onset import liftoff_onset
+
+__all__ = ["names", "default_states", "validate", "contact_events", "DYNAMICS", "OWN_CHECKS", "DEFAULT_STATES", "ALPHA", "MUS_ONSET",
+           "MUS_BELOW"]
+
+#: Engines with a dynamics-terms check: name -> module with ``DEFAULT_STATES`` and ``validate(n, rng, *, progress)``.
+DYNAMICS = {"pinocchio": "crosscheck.studies.dynamics_terms"}
+
+#: Random states of the event agreement without ``--states`` (~1 min on 2 cores for MuJoCo's whole validation).
+DEFAULT_STATES = 300
+
+#: alpha of the validation rod (uniform rod).
+ALPHA = 3.0
+
+#: Friction coefficients of the lift-off onset check.
+MUS_ONSET = (0.3, 1.0, 2.0)
+
+#: mu < mu_P(3) = 4/3 of the "no jam below mu_P" runs; see the module docstring for
+#: which of them are asserted (p_min(mu) > Thresholds.jam_p_eff).
+MUS_BELOW = (0.5, 1.0, 1.15, 1.3)
+
+
+def _mujoco_contact(rod: Rod, n_states: int, rng: np.random.Generator) -> list[ErrorStat]:
+    from crosscheck.studies.mujoco_contact import contact_acceleration
+
+    ca = contact_acceleration(rod, min(n_states, 100), rng)
+    where = {k: ca[k] for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi", "mu")}
+    return [error_stat("tip acceleration with contact", ca["got"] / ca["scale"][:, None], ca["want"] / ca["scale"][:, None],
+                       tol.MUJOCO_CONTACT_ACCELERATION, where)]
+
+
+#: Checks only one engine has: name -> function(rod, n_states, rng) -> list of ErrorStat, run first.
+OWN_CHECKS = {"mujoco": _mujoco_contact}
+
+
+def names() -> list[str]:
+    """Names ``validate`` accepts: engines with dynamics terms or event tolerances."""
+    return sorted(set(DYNAMICS) | set(tol.EVENT_TOLERANCES))
+
+
+def default_states(name: str) -> int:
+    """Random states of ``validate`` without ``--states``: the dynamics check's if it has one, else ``DEFAULT_STATES``."""
+    _known(name)
+    return importlib.import_module(DYNAMICS[name]).DEFAULT_STATES if name in DYNAMICS else DEFAULT_STATES
+
+
+def _known(name: str) -> None:
+    if name not in names():
+        raise ValueError(f"engine must be one of {', '.join(names())} (engines with validation tolerances); got {name!r}")
+
+
+def _count_stat(quantity: str, got, tolerance, states: dict) -> ErrorStat:
+    got = np.asarray(got, float)
+    return error_stat(quantity, got, np.zeros_like(got), tolerance, states)
+
+
+def contact_events(engine: str, n_states: int, rng: np.random.Generator, *, progress: bool = False) -> ValidationResult:
+    """The contact-event checks of the module docstring for ``engine``; the event agreement on ``n_states`` random states."""
+    if n_states < 1:
+        raise ValueError(f"n_states must be >= 1; got {n_states}")
+    if engine not in tol.EVENT_TOLERANCES:
+        raise ValueError(f"engine must be one of {', '.join(sorted(tol.EVENT_TOLERANCES))} (engines with event tolerances); got {engine!r}")
+    engines.get(engine)  # unknown engine -> ValueError before any work
+    T = tol.EVENT_TOLERANCES[engine]
+    rod = Rod.scaled(ALPHA)
+    stats: list[ErrorStat] = []
+    extra: dict = {"units": "scaled (m = l = g = 1, time 1/omega)", "alpha": ALPHA}
+
+    if engine in OWN_CHECKS:
+        stats.extend(OWN_CHECKS[engine](rod, n_states, rng))
+
+    onsets = [liftoff_onset(rod, m, engine=engine) for m in MUS_ONSET]
+    stats.append(error_stat("lift-off onset Psi", [o for o, _ in onsets], [float(Psi_L)] * len(onsets), T["liftoff_onset"],
+                            {"mu": np.array(MUS_ONSET), "resolution": np.array([r for _, r in onsets])}))
+
+    points = random_event_points(n_states, rng)
+    study = agreement_study(points, engine=engine, alpha=ALPHA, horizon=DEFAULT_HORIZON, rng=rng, boundary_directions=0, progress=progress)
+    run = study.runs[0]
+    where_c = {"n_rated": np.array([run.n_rated])}
+    stats.append(error_stat("event disagreement", [1.0 - run.agreement_jam_as_stop], [0.0], T["event_disagreement"], where_c))
+    stats.append(error_stat("median |event time difference|", [run.median_abs_time_difference], [0.0], T["event_time"], where_c))
+    extra["event_agreement"] = {
+        "n_states": n_states,
+        "horizon": DEFAULT_HORIZON,
+        "analytic_outcomes": {o.name: int((study.analytic.outcome[study.index] == o).sum()) for o in Outcome},
+        "runs": [{k: v for k, v in r.summary().items() if k not in ("time_difference", "time_difference_outcome", "by_distance")}
+                 for r in study.runs],
+        "convergence_row": convergence_table(study),
+    }
+
+    jc = jam_check(engine=engine, mus_below=MUS_BELOW, n_below=max(20, n_states // 5), n_above=max(30, n_states // 10), rng=rng,
+                   progress=progress)
+    p_jam = Thresholds().jam_p_eff
+    decidable = [row for row in jc.below if p_min(row["mu"], ALPHA) > p_jam]
+    stats.append(_count_stat("jams below mu_P", [row["n_jam"] for row in decidable], T["no_jam_below_mu_P"],
+                             {"mu": np.array([row["mu"] for row in decidable]), "n": np.array([row["n"] for row in decidable])}))
+    # pooled over the mu values: the fraction is a binomial estimate, sd ~0.05 at 90 states
+    n_above = sum(row["n"] for row in jc.above)
+    ended = sum(row["n"] * row["ended_near_fraction"] for row in jc.above)
+    stats.append(error_stat("Corollary 4.2 slip not ended", [1.0 - ended / n_above], [0.0], T["corollary_stop"], {"n": np.array([n_above])}))
+    extra["jams"] = jc.to_dict()
+    extra["jams"]["asserted_below"] = [row["mu"] for row in decidable]
+    extra["jams"]["near_mu_P_not_asserted"] = {
+        "why": f"p_min(mu) <= jam_p_eff = {p_jam}: the JAM rule cannot tell a jam from a hard slip there",
+        "rows": [{"mu": row["mu"], "p_min": float(p_min(row["mu"], ALPHA)), "n": row["n"], "jams": row["n_jam"]}
+                 for row in jc.below if row not in decidable],
+    }
+    extra["tolerances"] = {k: v.as_dict() for k, v in T.items()}
+    return ValidationResult(engine=engine, stats=stats, extra=extra)
+
+
+def validate(name: str, n_states: int, rng: np.random.Generator, *, progress: bool = False) -> ValidationResult:
+    """Every check ``name`` has (dynamics terms, then contact events), as one ``ValidationResult``."""
+    _known(name)
+    parts = []
+    if name in DYNAMICS:
+        parts.append(importlib.import_module(DYNAMICS[name]).validate(n_states, rng, progress=progress))
+    if name in tol.EVENT_TOLERANCES:
+        parts.append(contact_events(name, n_states, rng, progress=progress))
+    if len(parts) == 1:
+        return parts[0]
+    extra = {}
+    for p in parts:
+        extra.update(p.extra)
+    return ValidationResult(engine=name, stats=[s for p in parts for s in p.stats], extra=extra)

@@ -1,0 +1,131 @@
+"""Event agreement and jams: an engine's first events against the analytic ones, on small grids with the real MuJoCo."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from crosscheck import Outcome, Rod, SlipState
+from crosscheck.critical import Psi_on_b0
+from crosscheck.slipping import slip_until_event
+from crosscheck.studies import agreement
+from crosscheck.studies.agreement import agreement_study, boundary_distance, comparison_labels, convergence_table
+from crosscheck.studies.grids import AXES, EventGrid
+from crosscheck.studies.jams import jam_check
+from crosscheck.tolerances import MUJOCO_EVENT_DISAGREEMENT
+
+ALPHA = 3.0
+ROD = Rod.scaled(ALPHA)
+COARSE = {"timestep": 1e-3, "timeconst": 0.1}  # ~0.3 ms and 32 ms for a 1 m rod: fast, still resolved
+
+def test_grid_points_follow_the_axes_in_c_order():
+    g = EventGrid(theta=(0.3, 0.9), varphi=(-1.0,), Theta=(0.0, 0.5), Psi=(1.0, 2.0, 3.0), mu=(0.5,), eta=(1.0, 2.0))
+    pts = g.points()
+    assert len(g) == 2 * 2 * 3 * 2 == len(pts["theta"])
+    assert g.shape == (2, 1, 2, 3, 1, 2)
+    # C order: eta fastest, theta slowest
+    assert pts["eta"][:2].tolist() == [1.0, 2.0] and pts["Psi"][:6].tolist() == [1, 1, 2, 2, 3, 3]
+    assert pts["theta"][:24].tolist() == [0.3] * 12 + [0.9] * 12
+    assert set(pts) == set(AXES)
+
+
+@pytest.mark.parametrize("axis, value, message", [("theta", 2.0, "theta must be in (0, pi/2)"), ("varphi", 0.5, "varphi must be in (-pi, 0]"),
+                                                  ("mu", -1.0, "mu must be in [0, inf)"), ("Psi", (), "Psi must be a non-empty")], ids=str)
+def test_grid_rejects_values_outside_the_paper(axis, value, message):
+    kw = {"theta": (0.5,), "varphi": (-1.0,), "Theta": (0.0,), "Psi": (0.0,), "mu": (1.0,)}
+    kw[axis] = value
+    with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)").replace("[", r"\[").replace("]", r"\]")):
+        EventGrid(**kw)
+
+
+def test_comparison_labels_censor_events_after_the_comparison_time():
+    outcome = np.array([Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM, Outcome.DIVERGED, Outcome.SLIP], dtype=np.int8)
+    t = np.array([0.5, 1.2, 0.3, 5.0, np.nan])
+    until = np.array([0.5, 1.0, 0.2, 1.0, 2.0])
+    got = comparison_labels(outcome, t, until)
+    assert got.tolist() == [Outcome.LIFTOFF, Outcome.SLIP, Outcome.SLIP, Outcome.DIVERGED, Outcome.SLIP]
+
+
+def test_mirror_symmetry_used_by_the_default_grid():
+    """(varphi, Psi) -> (-pi - varphi, -Psi) maps analytic runs onto each other (mirror in the rod's plane)."""
+    rng = np.random.default_rng(5)
+    for _ in range(6):
+        s = SlipState(theta=rng.uniform(0.1, 1.4), varphi=-rng.uniform(0.1, 3.0), Theta=rng.normal(), Psi=rng.normal(), eta=1.0)
+        m = SlipState(theta=s.theta, varphi=-math.pi - s.varphi, Theta=s.Theta, Psi=-s.Psi, eta=1.0)
+        a, b = slip_until_event(s, 1.7, ALPHA, t_max=2.0), slip_until_event(m, 1.7, ALPHA, t_max=2.0)
+        assert a.outcome == b.outcome
+        assert a.time == pytest.approx(b.time, abs=1e-8)
+
+
+def test_boundary_distance_is_small_at_the_liftoff_boundary_and_large_far_from_it():
+    s_near = SlipState(theta=0.6, varphi=-math.pi / 2, Theta=0.0, Psi=float(Psi_on_b0(0.6)) - 0.002, eta=1.0)  # b = -0.003: b = 0 is next
+    s_far = SlipState(theta=0.3, varphi=-math.pi / 2, Theta=0.0, Psi=0.0, eta=1.0)  # b = -0.70 at mu 0.5
+    pts = {k: np.array([getattr(s_near, k), getattr(s_far, k)]) for k in ("theta", "varphi", "Theta", "Psi", "eta")}
+    pts["mu"] = np.array([0.5, 0.5])
+    outcome = np.array([slip_until_event(s, 0.5, ALPHA, t_max=1.0).outcome for s in (s_near, s_far)])
+    d = boundary_distance(pts, outcome, alpha=ALPHA, horizon=1.0, rng=np.random.default_rng(0), directions=8)
+    assert d[0] == 0.01
+    assert d[1] >= 0.1
+
+
+def test_agreement_study_on_a_small_grid():
+    g = EventGrid(theta=(0.3, 0.9), varphi=(-math.pi / 2, -math.pi / 4), Theta=(0.0,), Psi=(-1.0, 0.0, 1.0), mu=(0.6, 1.4, 4.0))
+    res = agreement_study(g, settings=(COARSE,), rng=np.random.default_rng(0))
+    a = res.analytic
+    assert np.all((a.b0[res.index] < 0) & (a.p0[res.index] > 0))
+    assert res.index.size == int(a.slipping.sum()) < len(g)
+    eff, = res.runs
+    assert res.engine == eff.engine == "mujoco" and (eff.timestep, eff.timeconst) == (COARSE["timestep"], COARSE["timeconst"])
+    for run in res.runs:
+        rated = np.isin(a.outcome[res.index], [Outcome.SLIP, Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM])
+        assert run.confusion.sum() == res.index.size and run.n_rated == rated.sum()
+        assert run.agreement == pytest.approx(np.trace(run.confusion[:4, :4]) / run.n_rated)
+        assert run.time_difference.size == sum(run.confusion[o, o] for o in (1, 2, 3))
+    # MuJoCo meets the theory here, and where it does not the state is next to an analytic boundary
+    assert eff.agreement_jam_as_stop >= 1 - MUJOCO_EVENT_DISAGREEMENT.atol
+    disagree = eff.label != a.outcome[res.index]
+    assert np.all(res.distance[disagree] < 0.05)
+    assert np.median(np.abs(eff.time_difference)) < COARSE["timeconst"]
+    table = convergence_table(res)
+    assert [row["engine"] for row in table] == ["mujoco"]
+    assert table[0]["n_planar"] + table[0]["n_off_plane"] == eff.n_rated and table[0]["agreement_planar"] == 1.0
+    doc = json.loads(res.to_json())  # standard JSON (NaN/inf -> null)
+    assert doc["runs"][0]["confusion"] == eff.confusion.tolist() and doc["n_slipping"] == res.index.size
+
+
+def test_event_agreement_detects_a_wrong_analytic_reference(monkeypatch):
+    """The study is not blind: with the right reference all 36 states agree; with 3x the friction, 22 do not."""
+    g = EventGrid(theta=(0.3, 0.9), varphi=(-math.pi / 2, -math.pi / 4), Theta=(0.0,), Psi=(-1.0, 0.0, 1.0), mu=(0.3, 0.6, 1.0))
+    run = dict(settings=(COARSE,), boundary_directions=0)
+    assert agreement_study(g, **run).runs[0].agreement_jam_as_stop == 1.0
+    right = agreement.slip_until_event
+    monkeypatch.setattr(agreement, "slip_until_event", lambda s, mu, alpha, **kw: right(s, 3 * mu, alpha, **kw))
+    assert 1 - agreement_study(g, **run).runs[0].agreement_jam_as_stop > 2 * MUJOCO_EVENT_DISAGREEMENT.atol
+
+
+def test_jam_check_no_jam_below_mu_P_and_bad_input():
+    jc = jam_check(mus_below=(1.3,), mus_above=(), n_below=12, rng=np.random.default_rng(2), horizon=1.0, **COARSE)
+    row = jc.below[0]
+    assert row["analytic_jams"] == 0 and row["n_jam"] == 0 and row["n"] == 12 and jc.engine == "mujoco"
+    with pytest.raises(ValueError, match="mus_below must be < mu_P"):
+        jam_check(mus_below=(1.4,), mus_above=(), rng=np.random.default_rng(0))
+    with pytest.raises(ValueError, match="mus_above must be > mu_P"):
+        jam_check(mus_below=(), mus_above=(1.0,), rng=np.random.default_rng(0))
+
+
+def test_agreement_study_bad_input():
+    g = EventGrid(theta=(0.3,), varphi=(-1.0,), Theta=(0.0,), Psi=(0.0,), mu=(1.0,))
+    with pytest.raises(ValueError, match="settings must hold at least one dict"):
+        agreement_study(g, settings=())
+    with pytest.raises(ValueError, match="engine must be one of .*mujoco.*; got 'bullet'"):
+        agreement_study(g, engine="bullet")
+    with pytest.raises(ValueError, match="unknown MuJoCo option 'stiffness'"):
+        agreement_study(g, stiffness=3.0)
+    lifting = EventGrid(theta=(0.6,), varphi=(-1.0,), Theta=(0.0,), Psi=(3.0,), mu=(1.0,))  # b > 0 at t = 0
+    with pytest.raises(ValueError, match="no slipping state"):
+        agreement_study(lifting)
+    with pytest.raises(ValueError, match="points lack the keys"):
+        agreement_study({"theta": np.array([0.5])})

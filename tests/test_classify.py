@@ -1,0 +1,227 @@
+"""The one event classifier (crosscheck.engines.classify): hand-made records, engine records, every past misclassification."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from crosscheck import Outcome, Rod, SlipState
+from crosscheck import analytic as an
+from crosscheck.engines import Record, Thresholds, classify, get
+from crosscheck.slipping import slip_until_event
+
+ALPHA = 3.0
+SCALED = Rod.scaled(ALPHA)
+ROD = Rod(mass=1.0, length=1.0, inertia=1.0 / 3.0, gravity=9.81)
+COARSE = 1e-3 * ROD.omega  # dt = 1 ms for the 1 m rod, in scaled time
+MUJOCO = get("mujoco")
+
+#: A hopping (chattering) tip at mu = 1.3 < mu_P whose landing at t = 0.62 has a window-mean force of
+#: 1.5-1.7 m g > 3 (-b/p) and a slip loss > 20 %: a JAM for a rule that compares the force with -b/p,
+#: although MuJoCo's own p_eff there is 0.45.
+HOPPING_BELOW_MU_P = (SlipState(theta=0.6113389398285725, varphi=-0.77475770919191, Theta=0.45376828769404165, Psi=0.3126466205827283, eta=2.343864226276094), 1.3)
+
+#: A slip at mu = 1.3 < mu_P in near-continuous contact with p ~0.05 (eq. p; p >= 0.04 at mu = 1.3):
+#: MuJoCo's force is the slipping -b/p_eff of 15-20 m g and b reaches 0 (lift-off, analytic at t =
+#: 0.066) inside the first window.  With the window mean of b (not of max(0, -b)) the lift-off's b > 0
+#: rows cancelled the slipping force and the JAM rule fired at t = 0.006 (full report, seed 0).
+NEAR_JAM_SLIP_BELOW_MU_P = (SlipState(theta=1.061401264098454, varphi=-1.5792227104861805, Theta=0.4796557348275663, Psi=0.5291082563291338,
+                                      eta=2.039633923548985), 1.3)
+
+#: A Corollary 4.2 state (mu = 1.7 > mu_P): analytic JAM at t = 0.460 with b < 0, off the planar
+#: section; MuJoCo delivers an impulse there (window force ~7 m g, p_eff ~0.09) and the tip lifts off.
+COROLLARY_JAM = (SlipState(theta=0.4493666453680196, varphi=-0.8058921019999438, Theta=0.7483528201200262, Psi=0.766434722261458, eta=2.753242890054462), 1.7)
+
+
+def slipping_record(n: int = 400, dt: float = 1e-3, *, force: float = 0.5, eta: float = 1.0, theta: float = 0.6) -> Record:
+    """A rod slipping along x (varphi = -pi/2 at psi = pi/2: the rod lies along y) with a steady normal force."""
+    t = dt * np.arange(n)
+    z3 = np.zeros((n, 3))
+    vel = z3.copy()
+    vel[:, 0] = eta
+    F = z3.copy()
+    F[:, 2] = force
+    F[:, 0] = -0.5 * force  # mu = 0.5 opposite the slip
+    acc = z3.copy()
+    acc[:, 2] = 0.0
+    return Record(t=t, tip_pos=z3.copy(), tip_vel=vel, tip_acc=acc, force=F, normal_force=F[:, 2].copy(), active=np.ones(n, bool),
+                  gap=np.zeros(n), slip_vel=np.column_stack([vel[:, :2], np.zeros(n)]), psi=np.full(n, math.pi / 2),
+                  theta=np.full(n, theta), Psi=np.zeros(n), Theta=np.zeros(n))
+
+
+def with_rows(R: Record, k: int, **fields) -> Record:
+    """R with the given fields replaced from row k on (values broadcast)."""
+    out = {}
+    for name, value in fields.items():
+        x = np.array(getattr(R, name), dtype=float if name != "active" else bool)
+        x[k:] = value
+        out[name] = x
+    return replace(R, **out)
+
+
+# ------------------------------------------------------------ hand-made records ---
+
+
+def test_steady_slip_is_slip():
+    c = classify(slipping_record(), mu=0.5, alpha=ALPHA, timestep=1e-3)
+    assert c.outcome == Outcome.SLIP and math.isnan(c.event_time) and c.event_row == -1
+
+
+def test_force_free_upward_rows_are_a_liftoff_at_the_first_of_them():
+    R = slipping_record()
+    acc = R.tip_acc.copy()
+    acc[150:, 2] = 0.3  # b > 0: the free tip accelerates up
+    F = R.force.copy()
+    F[150:] = 0.0
+    R = replace(R, tip_acc=acc, force=F, normal_force=F[:, 2].copy(), active=np.arange(len(R)) < 150)
+    c = classify(R, mu=0.5, alpha=ALPHA, timestep=1e-3)
+    assert c.outcome == Outcome.LIFTOFF and c.event_row == 150 and c.event_time == pytest.approx(0.150)
+
+
+def test_two_free_rows_are_not_yet_a_liftoff():
+    """lift_steps = 3 force-free upward rows are needed (the first row after a force-free start is free anyway)."""
+    R = slipping_record()
+    acc = R.tip_acc.copy()
+    acc[150:152, 2] = 0.3
+    F = R.force.copy()
+    F[150:152] = 0.0
+    c = classify(replace(R, tip_acc=acc, force=F, normal_force=F[:, 2].copy()), mu=0.5, alpha=ALPHA, timestep=1e-3)
+    assert c.outcome == Outcome.SLIP
+
+
+def test_stick_threshold_follows_the_friction_time_constant():
+    """A contact that creeps at eta = 0.03 is stuck for a soft contact with tau_f = 0.06 (creep ~0.4 tau_f), not for a rigid one."""
+    R = slipping_record()
+    vel = R.tip_vel.copy()
+    vel[200:, 0] = 0.03
+    R = replace(R, tip_vel=vel, slip_vel=np.column_stack([vel[:, :2], np.zeros(len(R))]))
+    rigid = classify(R, mu=0.5, alpha=ALPHA, timestep=1e-3, friction_timeconst=0.0)
+    soft = classify(R, mu=0.5, alpha=ALPHA, timestep=1e-3, friction_timeconst=0.06)
+    assert rigid.outcome == Outcome.SLIP
+    assert soft.outcome == Outcome.STICK and soft.event_row == 200
+    assert Thresholds().stick_threshold(0.06) == 0.06 and Thresholds().stick_threshold(0.0) == 0.01
+
+
+def test_an_impulse_at_the_engines_own_p_zero_with_a_slip_loss_is_a_jam():
+    """A window of large force whose friction makes p_eff ~ 0, with the slip speed falling: JAM at the window's start.
+
+    theta = 0.6, friction mu F_z = 2.5 F_z opposite the slip: p_eff = 1 + 3 - 3 s^2 - 3 s c mu = -0.45, eq. p at
+    varphi = -pi/2 (slip along +x, rod along y).
+    """
+    R = slipping_record(force=0.5)
+    k = 200
+    F, vel = R.force.copy(), R.tip_vel.copy()
+    F[k:k + 5, 2] = 40.0
+    F[k:k + 5, 0] = -2.5 * 40.0  # mu F_z opposite the slip along +x
+    vel[k + 5:, 0] = 0.05
+    R = replace(R, force=F, normal_force=F[:, 2].copy(), tip_vel=vel, slip_vel=np.column_stack([vel[:, :2], np.zeros(len(R))]))
+    c = classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3)
+    assert c.outcome == Outcome.JAM
+    assert k - Thresholds().window_rows(1e-3) < c.event_row <= k
+    assert c.jam_p_eff <= Thresholds().jam_p_eff
+
+
+def test_the_same_impulse_with_friction_along_the_rod_axis_is_no_jam():
+    """The same force window, but friction that leaves p_eff ~ 1 + alpha cos^2 theta (no paradox): not a jam."""
+    R = slipping_record(force=0.5)
+    k = 200
+    F, vel = R.force.copy(), R.tip_vel.copy()
+    F[k:k + 5, 2] = 40.0
+    F[k:k + 5, 0] = 0.0  # no component along e = (-sin psi, cos psi) = (-1, 0)
+    vel[k + 5:, 0] = 0.05
+    R = replace(R, force=F, normal_force=F[:, 2].copy(), tip_vel=vel, slip_vel=np.column_stack([vel[:, :2], np.zeros(len(R))]))
+    c = classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3)
+    assert c.outcome != Outcome.JAM
+
+
+@pytest.mark.parametrize("fault", ["nan", "stalled_clock", "runaway_speed"], ids=str)
+def test_faults_in_a_clean_slip_record_are_diverged_at_the_faulty_row(fault):
+    """Injected faults in a clean MuJoCo SLIP record give DIVERGED at the faulty row."""
+    s = SlipState(theta=0.5, varphi=-math.pi / 2, Theta=0.0, Psi=0.5, eta=1.0)
+    run = MUJOCO.simulate(ROD, s, 0.5, horizon=0.3, timestep=COARSE)
+    assert run.outcome == Outcome.SLIP
+    R, k = run.record, 40
+    if fault == "nan":
+        R = with_rows(R, k, tip_vel=np.nan)
+    elif fault == "stalled_clock":
+        R = with_rows(R, k, t=R.t[k - 1])
+    else:
+        v = R.tip_vel.copy()
+        v[k:, 0] = 2e3
+        R = replace(R, tip_vel=v)
+    c = classify(R, mu=0.5, alpha=ROD.alpha, timestep=COARSE, friction_timeconst=run.options.friction_time)
+    assert c.outcome == Outcome.DIVERGED
+    assert c.event_row == k
+    assert c.diverged_time == pytest.approx(run.record.t[k] if fault != "stalled_clock" else run.record.t[k - 1])
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"diverged_speed": math.nan}, r"diverged_speed must be in \(0, inf\); got nan"),
+    ({"window": -0.05}, r"window must be in \(0, inf\); got -0.05"),
+    ({"window_steps": 0}, "window_steps must be an integer >= 1; got 0"),
+    ({"lift_steps": 2.5}, "lift_steps must be an integer >= 1; got 2.5"),
+    ({"jam_p_eff": -0.1}, r"jam_p_eff must be in \[0, inf\); got -0.1"),
+], ids=["nan_speed", "negative_window", "zero_window_steps", "fractional_lift_steps", "negative_p_eff"])
+def test_bad_thresholds_are_named(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        Thresholds(**kwargs)
+
+
+# -------------------------------------------------------------- engine records ---
+
+
+def test_engine_outcome_is_the_classifier_on_its_record():
+    """Each MuJoCo run's outcome and event time are exactly ``classify`` of its own record."""
+    rng = np.random.default_rng(3)
+    states = [SlipState(theta=rng.uniform(0.2, 1.3), varphi=-rng.uniform(0.1, 3.0), Theta=0.5 * rng.normal(), Psi=rng.normal(), eta=rng.uniform(0.3, 2))
+              for _ in range(6)]
+    mu = [0.5, 1.0, 1.7, 3.0, 0.8, 6.0]
+    kinds = set()
+    for s, m in zip(states, mu):
+        run = MUJOCO.simulate(SCALED, s, m, horizon=1.0, timestep=1e-3, timeconst=0.1)
+        c = classify(run.record, mu=m, alpha=ALPHA, timestep=1e-3, friction_timeconst=0.1)
+        assert (run.outcome, run.event_time if run.outcome else 0.0) == (c.outcome, c.event_time if c.outcome else 0.0)
+        kinds.add(run.outcome)
+    assert len(kinds) >= 2
+
+
+def test_chatter_spikes_are_not_jams():
+    """Slipping at mu = 0.5 (< mu_P, p > 0): normal-force spikes of several m g, window means near -b/p, no JAM."""
+    s = SlipState(theta=0.5, varphi=-math.pi / 2, Theta=0.0, Psi=0.5, eta=1.0)
+    rigid = float(an.normal_force(s.Psi, s.Theta, s.theta, s.varphi, 0.5, ROD.alpha))
+    for dt in (COARSE, COARSE / 10, COARSE / 100):
+        r = MUJOCO.sweep(ROD, [s], 0.5, horizon=0.3, timestep=dt, progress=False)
+        assert r.outcome[0] == Outcome.SLIP, dt
+        assert r.summary["max_normal_force"][0] > 5 * rigid  # the spikes are there
+        assert r.summary["max_window_force"][0] < 3 * rigid  # and average out
+
+
+def test_a_hopping_landing_below_mu_P_is_no_jam():
+    s, mu = HOPPING_BELOW_MU_P
+    r = MUJOCO.sweep(SCALED, [s], mu, horizon=0.8, progress=False)
+    assert r.outcome[0] != Outcome.JAM
+
+
+def test_a_liftoff_inside_the_window_does_not_cancel_the_slipping_force():
+    s, mu = NEAR_JAM_SLIP_BELOW_MU_P
+    a = slip_until_event(s, mu, ALPHA, t_max=2.0)
+    assert a.outcome == Outcome.LIFTOFF and a.time < 0.1
+    run = MUJOCO.simulate(SCALED, s, mu, horizon=0.3)
+    R, w = run.record, Thresholds().window_rows(run.options.timestep)
+    # the tip is in contact from row 3 past the row where the JAM rule once fired (21): the force rise is no landing
+    assert R.active[3:30].all() and R.normal_force[3] > 10.0 and w > 30
+    assert run.outcome == Outcome.LIFTOFF
+    assert abs(run.event_time - a.time) < 0.06
+
+
+def test_the_jam_rule_fires_where_mujoco_reproduces_a_corollary_jam():
+    s, mu = COROLLARY_JAM
+    a = slip_until_event(s, mu, ALPHA, t_max=2.0)
+    assert a.outcome == Outcome.JAM and a.b < -0.1 and abs(a.state.varphi + math.pi / 2) > 0.1
+    run = MUJOCO.simulate(SCALED, s, mu, horizon=1.0)
+    assert run.outcome == Outcome.JAM
+    assert abs(run.event_time - a.time) < 0.15
+    assert run.jam_p_eff <= Thresholds().jam_p_eff

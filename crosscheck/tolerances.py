@@ -162,7 +162,7 @@ MUJOCO_DJV_KAPPA = Tolerance(atol=0.01, rtol=0.0, why="bisection on Psi + O(dt) 
 # up over tau; off the planar section its friction is rotated from -slip by up to ~30 deg, see
 # crosscheck.studies.mujoco_contact.friction_skew), so the allowances are measured values with a margin.
 
-#: Fraction of random slipping states whose MuJoCo first event (crosscheck.engines.classify, compared up to the
+#: Fraction of random slipping states whose MuJoCo first event (crosscheck.engines.classifier, compared up to the
 #: analytic event + 2 tau) differs from slip_until_event's, an analytic JAM met by a MuJoCo STICK
 #: counting as agreement.  Measured 0.12 +- 0.026 (range 0.08-0.17) over 7 seeds of 300 states (the
 #: default of validate), so 0.2 is ~3 sd above the mean (sd ~0.06 at 30 states); the disagreement
@@ -174,7 +174,7 @@ MUJOCO_EVENT_DISAGREEMENT = Tolerance(atol=0.2, rtol=0.0, why="measured 0.12 +- 
 #: 0.022-0.032.
 MUJOCO_EVENT_TIME = Tolerance(atol=0.06, rtol=0.0, why="contact time constant tau = 0.06 (measured 0.022-0.032)")
 
-#: Number of MuJoCo JAMs (crosscheck.engines.classify) among random slipping states with mu < mu_P: none
+#: Number of MuJoCo JAMs (crosscheck.engines.classifier) among random slipping states with mu < mu_P: none
 #: allowed (atol 0.5 on an integer count).  Below mu_P eq. p > 0 for every slip direction, so no
 #: friction direction (MuJoCo's skewed one included) can make the slipping force unbounded.
 #: Asserted only for mu with p_min(mu) > Thresholds.jam_p_eff (crosscheck.studies.validate.MUS_BELOW): near
@@ -184,7 +184,7 @@ MUJOCO_NO_JAM_BELOW_MU_P = Tolerance(atol=0.5, rtol=0.0, why="integer count must
 
 #: Fraction of Corollary 4.2 states (crosscheck.corollary.corollary_states: analytic JAM at t in
 #: [0.2, 1.5], b <= -0.1 and |varphi + pi/2| >= 0.1 at the jam) whose MuJoCo slip does NOT end (no
-#: JAM, STICK or LIFTOFF of crosscheck.engines.classify) within 0.15 = 2.5 tau of the analytic jam, pooled over
+#: JAM, STICK or LIFTOFF of crosscheck.engines.classifier) within 0.15 = 2.5 tau of the analytic jam, pooled over
 #: mu = 1.4, 1.7, 6.  Measured 0.37 +- 0.06 over 8 seeds of 45 states (max 0.51); validate pools 90
 #: states (binomial sd 0.05), so 0.55 is ~3.5 sd above the mean.  MuJoCo delivers the impulse itself
 #: (JAM) in 7-40 % of them; otherwise its soft contact ends the slip by sticking or lifting off.

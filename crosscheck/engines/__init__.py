@@ -18,7 +18,7 @@ from __future__ import annotations
 import importlib
 
 from crosscheck.engines.base import SERIES, SUMMARY, Engine, Run, SweepResult, n_steps, sweep_by_simulate
-from crosscheck.engines.classify import Classification, Thresholds, classify
+from crosscheck.engines.classifier import Classification, Thresholds, classify
 from crosscheck.engines.record import Record
 
 __all__ = ["names", "get", "register", "unregister", "Engine", "Run", "SweepResult", "Record", "Thresholds", "Classification",

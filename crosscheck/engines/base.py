@@ -2,7 +2,7 @@
 
 An engine simulates the paper's rod from slipping states and answers with a
 ``Run`` (one state) or a ``SweepResult`` (a batch), both classified by the one
-classifier ``crosscheck.engines.classify``.  Everything is in the paper's
+classifier ``crosscheck.engines.classifier``.  Everything is in the paper's
 scaled units (section 2.1): time in 1/omega, lengths in l, velocities in
 l omega, accelerations in g, forces in m g; so are an engine's ``Options``.
 
@@ -24,7 +24,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from crosscheck.checks import MU, POSITIVE, check
-from crosscheck.engines.classify import Classification, Thresholds, classify
+from crosscheck.engines.classifier import Classification, Thresholds, classify
 from crosscheck.engines.record import Record
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
@@ -116,7 +116,7 @@ class Run:
     Attributes:
       engine: the engine's registry name.
       outcome: ``Outcome`` (SLIP, LIFTOFF, STICK, JAM or DIVERGED) from
-        ``crosscheck.engines.classify``.
+        ``crosscheck.engines.classifier``.
       event_time: scaled time of that event (NaN for SLIP).
       exit_time: scaled time theta left (0, pi/2) (NaN if never).
       diverged_time: scaled time the run diverged (NaN if never), even when

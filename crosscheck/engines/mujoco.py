@@ -6,7 +6,7 @@ each) over chunks of states sized to a memory budget; only sensors are
 recorded (``skip_checks=True`` so MuJoCo does not also copy the full state of
 every step).  Both go through ``Batch``, so a state gives the same numbers
 either way (tests assert equality), and both classify with the one classifier
-``crosscheck.engines.classify``, with the STICK threshold following the run's
+``crosscheck.engines.classifier``, with the STICK threshold following the run's
 friction time constant.  The model, its start and its sensors are in
 ``crosscheck.engines.mujoco_model``.
 
@@ -32,7 +32,7 @@ from tqdm.auto import tqdm
 from crosscheck.checks import ETA as NONNEGATIVE
 from crosscheck.checks import FINITE, MU, POSITIVE, check
 from crosscheck.engines.base import SERIES, STATE_KEYS, SUMMARY, Run, SweepResult, check_states, n_steps, options_from_kwargs, summaries
-from crosscheck.engines.classify import Thresholds, classify
+from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.mujoco_model import SensorLayout, build_model, initial_state, record_from_sensordata
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState

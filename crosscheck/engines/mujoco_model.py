@@ -206,30 +206,33 @@ def record_from_sensordata(sensordata: np.ndarray, layout: SensorLayout, rod: Ro
     """
     sd = np.asarray(sensordata, dtype=float)
     l, w, g = rod.length, rod.omega, rod.gravity
-    f_c = sd[..., layout.force]
-    normal = sd[..., layout.normal]
-    tangent = sd[..., layout.tangent]
-    bitangent = np.cross(normal, tangent)
-    # contact frame -> world: rows of MuJoCo's contact frame are (normal, tangent, normal x tangent)
-    force = (f_c[..., 0:1] * normal + f_c[..., 1:2] * tangent + f_c[..., 2:3] * bitangent) / rod.force_scale
-    psi, theta = sd[..., layout.psi], sd[..., layout.theta]
+    fs = rod.force_scale
+    # Contact frame -> world: the rows of MuJoCo's contact frame are (normal, tangent, normal x tangent).
+    # Component by component on the sensor columns (no (..., 3) temporaries: this runs on every row of a sweep).
+    f0, f1, f2 = (sd[..., layout.force.start + i] for i in range(3))
+    n0, n1, n2 = (sd[..., layout.normal.start + i] for i in range(3))
+    t0, t1, t2 = (sd[..., layout.tangent.start + i] for i in range(3))
+    force = np.empty(sd.shape[:-1] + (3,))
+    for i, (n_i, t_i, b_i) in enumerate(((n0, t0, n1 * t2 - n2 * t1), (n1, t1, n2 * t0 - n0 * t2), (n2, t2, n0 * t1 - n1 * t0))):
+        force[..., i] = (f0 * n_i + f1 * t_i + f2 * b_i) / fs
+    # contiguous copies of the angles: every classifier rule reads them
+    psi, theta = np.ascontiguousarray(sd[..., layout.psi]), np.ascontiguousarray(sd[..., layout.theta])
     Psi, Theta = sd[..., layout.psi_dot] / w, sd[..., layout.theta_dot] / w
     tip_pos = sd[..., layout.tip_pos] / l
     tip_vel = sd[..., layout.tip_vel] / (l * w)
     tip_acc = sd[..., layout.tip_acc] / g
     tip_acc[..., 2] -= 1.0
     # velocity of the material point at C = A - r K: v_A + Omega x (-r K), Omega = theta' i + psi' K
-    slip = tip_vel.copy()
-    slip[..., 0] += -radius * Theta * np.sin(psi)
-    slip[..., 1] += radius * Theta * np.cos(psi)
-    slip[..., 2] = 0.0
+    slip = np.zeros(sd.shape[:-1] + (3,))
+    slip[..., 0] = tip_vel[..., 0] + -radius * Theta * np.sin(psi)
+    slip[..., 1] = tip_vel[..., 1] + radius * Theta * np.cos(psi)
     return Record(
         t=sd[..., layout.clock] * w,
         tip_pos=tip_pos,
         tip_vel=tip_vel,
         tip_acc=tip_acc,
         force=force,
-        normal_force=f_c[..., 0] / rod.force_scale,
+        normal_force=f0 / fs,
         active=sd[..., layout.found] > 0,
         gap=tip_pos[..., 2] - radius,
         slip_vel=slip,

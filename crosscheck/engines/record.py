@@ -18,7 +18,7 @@ class Record:
 
     Row k is the state at time t[k] and what the engine's contact computed
     there.  Every engine fills the same fields with the same meaning, so one
-    classifier (``crosscheck.engines.classify``) and every study read any
+    classifier (``crosscheck.engines.classifier``) and every study read any
     engine's runs.
 
     Attributes (N rows; vectors have a trailing axis of 3; shapes

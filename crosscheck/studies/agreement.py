@@ -4,7 +4,7 @@ The analytic side is ``crosscheck.slipping.slip_until_event``: the rigid rod
 slips with F_z = -b/p (eq. FZ) until its first event (LIFTOFF: b -> 0 with
 p > 0; JAM: p -> 0 with b < 0; STICK: eta -> 0; GB: b = p = 0).  The engine
 side is the engine's ``sweep`` of the same starts, classified by the one
-classifier ``crosscheck.engines.classify``.  This module lines the two up
+classifier ``crosscheck.engines.classifier``.  This module lines the two up
 state by state and summarises where they agree; the engine is named
 (``engine="mujoco"``) and looked up in ``crosscheck.engines``.
 
@@ -57,7 +57,7 @@ from crosscheck import engines
 from crosscheck.checks import ALPHA, POSITIVE, check
 from crosscheck.compare import as_json
 from crosscheck.engines.base import options_from_kwargs
-from crosscheck.engines.classify import Thresholds
+from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.slipping import slip_until_event

@@ -21,7 +21,7 @@ from crosscheck.compare import as_json
 from crosscheck.corollary import corollary_states
 from crosscheck.critical import mu_P
 from crosscheck.engines.base import options_from_kwargs
-from crosscheck.engines.classify import Thresholds
+from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.slipping import slip_until_event

@@ -46,7 +46,7 @@ from crosscheck import engines
 from crosscheck import tolerances as tol
 from crosscheck.compare import ErrorStat, ValidationResult, error_stat
 from crosscheck.critical import Psi_L, p_min
-from crosscheck.engines.classify import Thresholds
+from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.studies.agreement import DEFAULT_HORIZON, agreement_study, convergence_table

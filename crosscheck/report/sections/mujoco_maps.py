@@ -5,7 +5,7 @@ and the others fixed, run through ``crosscheck.studies.agreement.agreement_study
 with the engine named in the parameters (MuJoCo): the analytic first event of
 every start (``slip_until_event``), and for every start that slips at t = 0
 (b < 0 < p) the engine's outcome by the one classifier
-(``crosscheck.engines.classify``, whose JAM rule measures the force against
+(``crosscheck.engines.classifier``, whose JAM rule measures the force against
 the engine's own friction direction), compared only up to the analytic
 comparison time (``comparison_labels``: a later engine event counts as SLIP;
 the analytic run stops when the state leaves the paper's domain).  Starts

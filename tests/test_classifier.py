@@ -1,4 +1,4 @@
-"""The one event classifier (crosscheck.engines.classify): hand-made records, engine records, every past misclassification."""
+"""The one event classifier (crosscheck.engines.classifier): hand-made records, engine records, every past misclassification."""
 
 from __future__ import annotations
 

@@ -190,6 +190,25 @@ MUJOCO_NO_JAM_BELOW_MU_P = Tolerance(atol=0.5, rtol=0.0, why="integer count must
 #: (JAM) in 7-40 % of them; otherwise its soft contact ends the slip by sticking or lifting off.
 MUJOCO_COROLLARY_STOP = Tolerance(atol=0.55, rtol=0.0, why="measured 0.37 +- 0.06 (sd 0.05 at n = 90): soft contact ends the slip by stick/lift-off")
 
+# The rigid engine (crosscheck.engines.pinocchio): a time-stepper on Pinocchio's NCP solvers.
+
+#: One step of a slipping tip: normal impulse / dt against eq. FZ, -b/p, with p evaluated for the
+#: friction direction of the step (the end-of-step slip, which the NCP's Coulomb law sees).  The
+#: step enforces a_A = J a + dJ v = 0 along the normal, so the two are equal up to the solver's
+#: stopping rule: complementarity and feasibility below 1e-13 m g x dt (Options.tolerance), i.e.
+#: 1e-13 relative to an O(1) m g force.  Measured <= 2e-10 over seeded states with F_z >= 1e-2 m g.
+RIGID_STEP_FORCE = Tolerance(atol=0.0, rtol=1e-9, why="required; NCP solved to 1e-13 m g x dt (measured <= 2e-10)")
+
+#: Lift-off onset of the rigid engine at theta_L, Theta = 0, varphi = -pi/2: the first step's impulse
+#: is 0 iff b >= 0 (eq. b enters the step exactly through dt dJ v), and a rigid LIFTOFF needs one
+#: force-free upward row, so the onset is Psi_L whatever the timestep: no soft-contact delay.  The
+#: bound is the required 1e-9; measured: the bisection's resolution (1.9e-12) at dt = 3e-3 ... 1e-4.
+RIGID_LIFTOFF_ONSET = Tolerance(atol=1e-9, rtol=0.0, why="required: exact one-step lift-off decision (measured at the 1.9e-12 resolution)")
+
+#: Order of convergence of the rigid engine's slipping trajectories to slip_until_event: semi-implicit
+#: Euler is first order.  Measured 1.00001 over dt = 4e-3 ... 2.5e-4 (errors 4.7e-4 ... 2.9e-5 at t = 0.3).
+RIGID_SLIP_ORDER = Tolerance(atol=0.05, rtol=0.0, why="semi-implicit Euler: first order (measured 1.00001)")
+
 #: The tolerances of the contact-event checks (crosscheck.studies.validate) per engine: an engine
 #: is validated on events only with its own entry here (its own derivations or measurements).
 EVENT_TOLERANCES = {

@@ -25,7 +25,7 @@ __all__ = ["names", "get", "register", "unregister", "Engine", "Run", "SweepResu
            "classify", "n_steps", "sweep_by_simulate", "SERIES", "SUMMARY"]
 
 #: Engines shipped with crosscheck: name -> module whose ``ENGINE`` it is.
-BUILTIN = {"mujoco": "crosscheck.engines.mujoco"}
+BUILTIN = {"mujoco": "crosscheck.engines.mujoco", "pinocchio": "crosscheck.engines.pinocchio"}
 
 _registered: dict[str, Engine] = {}
 

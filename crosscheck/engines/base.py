@@ -41,10 +41,10 @@ SERIES = ("t", "eta", "varphi", "theta", "Theta", "Psi", "gap", "normal_force")
 
 #: Per-state scalars in ``SweepResult.summary`` (each (B,)): at the event row (or
 #: the last row for SLIP): eta, varphi, theta, Theta, Psi, b and p of the engine's
-#: state; p_eff of a JAM (NaN otherwise); over the run: the largest normal force in
+#: state; the engine's own p and the normal impulse of a JAM (NaN otherwise); over the run: the largest normal force in
 #: one row (the spikes), the largest window-mean normal force, the fraction of rows
 #: with a contact, the largest gap.
-SUMMARY = ("eta", "varphi", "theta", "Theta", "Psi", "b", "p", "jam_p_eff", "max_normal_force", "max_window_force", "active_fraction", "max_gap")
+SUMMARY = ("eta", "varphi", "theta", "Theta", "Psi", "b", "p", "jam_p_eff", "jam_impulse", "max_normal_force", "max_window_force", "active_fraction", "max_gap")
 
 #: The ``SlipState`` fields a ``SweepResult`` keeps per state.
 STATE_KEYS = ("theta", "varphi", "Theta", "Psi", "eta", "psi")
@@ -121,11 +121,13 @@ class Run:
       exit_time: scaled time theta left (0, pi/2) (NaN if never).
       diverged_time: scaled time the run diverged (NaN if never), even when
         another event came first.
-      jam_p_eff: the engine's own p at a JAM (NaN otherwise).
+      jam_p_eff, jam_impulse: the engine's own p and the normal impulse of a
+        JAM [m g / omega] (NaN otherwise).
       record: the time series (``Record``, N rows).
       state, mu, alpha: the run's start and parameters.
       options, thresholds: the engine's parameters and the outcome criteria.
       horizon: scaled time simulated; nstep: steps taken.
+      solver: the engine's solver statistics, if it has a solver (None otherwise).
     """
 
     engine: str
@@ -134,6 +136,7 @@ class Run:
     exit_time: float
     diverged_time: float
     jam_p_eff: float
+    jam_impulse: float
     record: Record = field(repr=False)
     state: SlipState
     mu: float
@@ -142,11 +145,12 @@ class Run:
     thresholds: Thresholds
     horizon: float
     nstep: int
+    solver: Any = field(default=None, repr=False)
 
     @classmethod
     def from_classification(cls, engine: str, c: Classification, record: Record, **kw) -> "Run":
         return cls(engine=engine, outcome=Outcome(int(c.outcome)), event_time=float(c.event_time), exit_time=float(c.exit_time),
-                   diverged_time=float(c.diverged_time), jam_p_eff=float(c.jam_p_eff), record=record, **kw)
+                   diverged_time=float(c.diverged_time), jam_p_eff=float(c.jam_p_eff), jam_impulse=float(c.jam_impulse), record=record, **kw)
 
 
 @dataclass(frozen=True, eq=False)
@@ -210,6 +214,7 @@ def summaries(record: Record, c: Classification, mu: np.ndarray, alpha: float, e
             "b": at.b[..., 0],
             "p": at.p(mu, alpha)[..., 0],
             "jam_p_eff": c.jam_p_eff,
+            "jam_impulse": c.jam_impulse,
             "max_normal_force": c.max_normal_force,
             "max_window_force": c.max_window_force,
             "active_fraction": c.active_fraction,
@@ -250,7 +255,8 @@ def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu,
     record = Record(**{f.name: np.stack([getattr(r.record, f.name) for r in runs]) for f in fields(Record)})
     opts = runs[0].options
     # the one classifier again on the stacked records: the same rule and numbers as each run's own
-    c = classify(record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, thresholds=th)
+    c = classify(record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time,
+                 rigid=opts.contact_time == 0.0, thresholds=th)
     nstep = lengths.pop()
     summary, series = summaries(record, c, mu, rod.alpha, max(1, nstep // max(1, n_series)))
     wall = time.perf_counter() - t0

@@ -173,7 +173,10 @@ class Classification(NamedTuple):
     diverged_time: scaled time of the first diverged row (NaN if none), also
       when another event came first and is the outcome: a divergence is
       always reported.
-    jam_p_eff: window p_eff at the JAM row (NaN if the outcome is not JAM).
+    jam_p_eff: the engine's own p at the JAM: window p_eff, or eq. p of the
+      row for a rigid contact's one-row impulse (NaN if the outcome is not JAM).
+    jam_impulse: the normal impulse of the JAM [m g / omega]: over the window,
+      or of the one row (NaN if the outcome is not JAM).
     max_normal_force: largest normal force of one row [m g] (the spikes).
     max_window_force: largest window-mean normal force [m g].
     active_fraction: fraction of rows in which the engine had a contact.
@@ -186,13 +189,14 @@ class Classification(NamedTuple):
     exit_time: np.ndarray
     diverged_time: np.ndarray
     jam_p_eff: np.ndarray
+    jam_impulse: np.ndarray
     max_normal_force: np.ndarray
     max_window_force: np.ndarray
     active_fraction: np.ndarray
     max_gap: np.ndarray
 
 
-def classify(record: Record, *, mu, alpha: float, timestep: float, friction_timeconst: float = 0.0,
+def classify(record: Record, *, mu, alpha: float, timestep: float, friction_timeconst: float = 0.0, rigid: bool = False,
              thresholds: Thresholds | None = None) -> Classification:
     """Outcome and event time of recorded runs, for every engine.
 
@@ -203,6 +207,13 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
       timestep: scaled time between rows (sets the window length in rows).
       friction_timeconst: scaled friction time constant of the run (the
         STICK threshold grows with it; 0 for a rigid contact).
+      rigid: the engine resolves contact by impulses within a step (no force
+        build-up time).  Its lift-off is decided exactly in one step (the
+        impulse is 0 iff b >= 0), so LIFTOFF needs one force-free upward row,
+        not lift_steps.  A JAM can then also be one row's impulse: a normal
+        force of at least jam_ratio times the slipping force -b/p (and
+        jam_force) at a state with eq. p <= jam_p_eff, after which the slip
+        speed falls by jam_slip_loss within lift_steps rows.
       thresholds: criteria (``Thresholds()`` by default; see there for why).
 
     Returns:
@@ -247,17 +258,35 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
         sF = window_sum(Fz, w)
         p_eff = (window_sum(Fz * (1 + alpha - alpha * st * st), w) - alpha * window_sum(st * ct * Fe, w)) / sF
         Fbar = sF / w
-        rigid = np.where(p_eff > 0, window_sum(np.maximum(0.0, -b), w) / w / p_eff, 0.0)
+        slipping_force = np.where(p_eff > 0, window_sum(np.maximum(0.0, -b), w) / w / p_eff, 0.0)
         eta_end = np.full(eta.shape, np.nan)
         if w <= n:
             eta_end[..., : n - w + 1] = eta[..., w - 1 :]
-        jam = (Fbar >= th.jam_force) & (Fbar >= th.jam_ratio * rigid) & (eta - eta_end >= th.jam_slip_loss * eta) & (p_eff <= th.jam_p_eff)
-        has_jam, k_jam = _first(jam & (rows + w <= end))
+        jam = (Fbar >= th.jam_force) & (Fbar >= th.jam_ratio * slipping_force) & (eta - eta_end >= th.jam_slip_loss * eta) & (p_eff <= th.jam_p_eff)
+        jam &= rows + w <= end
+        if rigid:
+            # One row's impulse: a rigid contact resolves the impact without collision within a step.
+            # Eq. p on the row's own state (a rigid contact's friction is exactly Coulomb's), the row's
+            # force beyond jam_ratio times the slipping force -b/p, and the slip speed falling by
+            # jam_slip_loss within lift_steps rows.
+            p_row = 1.0 + alpha + alpha * st * (mu * ct * np.sin(R.varphi) - st)
+            after = np.full(eta.shape, np.nan)
+            m = th.lift_steps
+            if m < n:
+                after[..., : n - m] = eta[..., m:]
+            need = th.jam_ratio * np.maximum(th.jam_force, np.where(p_row > 0, np.maximum(0.0, -b) / p_row, np.inf))
+            impulse = (Fn >= need) & (p_row <= th.jam_p_eff) & (eta - after >= th.jam_slip_loss * eta) & (rows + m <= end)
+            jam |= impulse
+            p_eff = np.where(impulse, p_row, p_eff)
+            sF = np.where(impulse, Fn, sF)
+        has_jam, k_jam = _first(jam)
 
-        # LIFTOFF: lift_steps force-free rows in a row with the tip accelerating upwards (b > 0).
+        # LIFTOFF: lift_steps force-free rows in a row with the tip accelerating upwards (b > 0).  A rigid
+        # contact decides this exactly in one step (its impulse is 0 iff b >= 0): one row suffices.
+        lift_steps = 1 if rigid else th.lift_steps
         free_up = (Fn <= 0.0) & (az > 0.0)
-        run = window_sum(free_up.astype(float), th.lift_steps) >= th.lift_steps - 0.5
-        has_lift, k_lift = _first(run & (rows + th.lift_steps <= end))
+        run = window_sum(free_up.astype(float), lift_steps) >= lift_steps - 0.5
+        has_lift, k_lift = _first(run & (rows + lift_steps <= end))
 
         # STICK: slip speed below the threshold with some normal force in the last window.
         c = np.zeros(Fn.shape[:-1] + (n + 1,))
@@ -293,6 +322,7 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
             exit_time=at(t, k_exit, has_exit),
             diverged_time=at(t, k_div, has_div),
             jam_p_eff=at(p_eff, k_jam, outcome == Outcome.JAM),
+            jam_impulse=at(sF * timestep, k_jam, outcome == Outcome.JAM),
             max_normal_force=np.nanmax(np.where(np.isfinite(Fn), Fn, np.nan), axis=-1) if n else np.nan,
             max_window_force=np.nanmax(window_sum(Fn, w) / w, axis=-1) if n >= w else np.full(has_div.shape, np.nan),
             active_fraction=np.asarray(R.active, dtype=bool).mean(axis=-1),

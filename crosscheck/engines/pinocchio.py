@@ -1,0 +1,319 @@
+"""The rigid engine: a Moreau / Stewart-Trinkle time-stepper on Pinocchio's constraint solvers with the exact Coulomb cone.
+
+The rod is the 5-joint model of ``crosscheck.engines.pinocchio_model`` (the
+same one whose M, C, g, Jacobians and Delassus operator are checked against
+the paper); the contact is Pinocchio's ``PointContactConstraintModel``
+between the plane (the universe, world axes: two tangential rows, then the
+normal) and the tip A, with ``setFriction(mu)``.  One step of length dt from
+(q_k, v_k):
+
+    v_free = v_k + dt M^-1 (-C v_k - g)                    (aba with tau = 0)
+    u      = J v_free + dt dJ v_k + (gap_k / dt) n         (the contact velocity at the end of the step)
+    lambda = the impulse of the nonlinear complementarity problem (NCP) on
+             the exact Coulomb cone: u + G lambda = u+, lambda in K_mu,
+             u+ + mu |u+_t| n in K_mu*, lambda . (u+ + mu |u+_t| n) = 0
+    v_k+1  = v_free + M^-1 J^T lambda,   q_k+1 = q_k + dt v_k+1   (semi-implicit Euler)
+
+with G = J M^-1 J^T the Delassus operator (Pinocchio's
+``ConstraintCholeskyDecomposition``) and the NCP solved by Pinocchio's
+``PGSConstraintSolver`` (default) or ``ADMMConstraintSolver`` with
+``solve_ncp = True``.  Why each term:
+
+* ``dt dJ v_k``: the contact velocity at the end of the step is
+  J(q_k+1) v_k+1 ~ J v_k+1 + dt dJ v.  Without it the step enforces J a = 0
+  instead of the tip acceleration a_A = J a + dJ v = 0, and misses the
+  centripetal term of eq. b: the normal impulse / dt would not be -b/p and
+  the lift-off decision would not be b > 0 (MuJoCo's active contact misses
+  this term, as ``crosscheck.studies.mujoco_contact`` measures).  With it the
+  impulse of a slipping step is exactly eq. FZ with the friction direction
+  of the end-of-step slip, and lift-off happens iff b > 0.
+* ``gap_k / dt``: the next gap gap_k + dt u+_n stays non-negative (to first
+  order); a tip above the plane may still fall freely onto it.
+* ``solve_ncp = True``: the convex relaxation (``solve_ncp = False``, the
+  cone complementarity problem of Anitescu and of Drake's SAP) replaces the
+  normal velocity by u_n + mu |u_t| in the complementarity and launches a
+  slipping tip off the plane at w = mu |u_t| in one step: wrong for this
+  problem (tests/test_engine_pinocchio.py checks that it happens and that we
+  do not do it).
+
+Contact activation.  The contact enters the NCP when the tip's height is at
+most ``Options.contact_gap`` (default 10 dt^2 in units of l).  Each position
+step raises a slipping tip by about sin theta (dt Theta)^2 / 2 (the arc of
+the rod's rotation), so a threshold near machine zero would drop the contact
+every step and make the tip hop; 10 dt^2 covers |Theta| up to ~4.5.  A tip
+inside the band but lifting off is not held: the gap term lets the NCP
+return lambda = 0 when the free motion keeps the gap positive.
+
+Solver health is data: each step records the solver's iterations and
+complementarity; a step that misses ``Options.tolerance`` is solved again
+with ten times the iterations, up to ``Options.max_iterations_limit``, and
+the steps that still miss it are counted in ``Run.solver``.  Near p = 0 the
+NCP is hard (PGS was seen to hit a 1000-iteration cap there).
+
+Everything this module takes and returns is in the paper's scaled units
+(section 2.1); the Pinocchio model itself is physical (``Rod``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass, fields
+
+import numpy as np
+import pinocchio as pin
+
+from crosscheck.checks import MU, POSITIVE, check
+from crosscheck.coordinates import to_generalized
+from crosscheck.engines.base import Run, SweepResult, n_steps, options_from_kwargs, sweep_by_simulate
+from crosscheck.engines.classifier import Thresholds, classify
+from crosscheck.engines.pinocchio_model import TIP_FRAME, build_model
+from crosscheck.engines.record import Record
+from crosscheck.rod import Rod
+from crosscheck.state import SlipState
+
+__all__ = ["ENGINE", "PinocchioEngine", "Options", "Stepper", "SOLVERS", "simulate", "sweep"]
+
+#: Constraint solvers of Pinocchio that ``Options.solver`` names.
+SOLVERS = ("pgs", "admm")
+
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+
+@dataclass(frozen=True)
+class Options:
+    """Parameters of the rigid engine, in the paper's scaled units.
+
+    Attributes:
+      timestep: omega dt (default 1e-3).
+      solver: "pgs" (projected Gauss-Seidel, default) or "admm".
+      tolerance: absolute complementarity and feasibility tolerance of the NCP
+        as a force (m g): the solver stops when they are below tolerance x dt
+        in impulses (default 1e-13, ~1e-13 of a step's impulse while slipping,
+        whose force is O(1) m g).
+      max_iterations: the solver's first iteration cap (default 1000).
+      max_iterations_limit: the cap is raised tenfold, up to this, on a step
+        that misses the tolerance (default 1e4: past the paradox the NCP may
+        have several solutions and PGS cycles; more iterations did not help).
+      contact_gap: the contact enters the NCP when the tip's height is at
+        most this (units of l); None means 10 timestep^2 (module docstring).
+      ncp: True solves the NCP on the exact cone; False the convex relaxation
+        (kept only to show what it does wrong; ADMM only: Pinocchio 4.1's PGS
+        solves the NCP whatever ``solve_ncp`` says).
+    """
+
+    timestep: float = 1e-3
+    solver: str = "pgs"
+    tolerance: float = 1e-13
+    max_iterations: int = 1000
+    max_iterations_limit: int = 10_000
+    contact_gap: float | None = None
+    ncp: bool = True
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "timestep", float(check("timestep", self.timestep, POSITIVE)))
+        object.__setattr__(self, "tolerance", float(check("tolerance", self.tolerance, POSITIVE)))
+        if self.solver not in SOLVERS:
+            raise ValueError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")
+        for name in ("max_iterations", "max_iterations_limit"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 1):
+                raise ValueError(f"{name} must be an integer >= 1; got {v!r}")
+        if self.max_iterations_limit < self.max_iterations:
+            raise ValueError(f"max_iterations_limit must be >= max_iterations = {self.max_iterations}; got {self.max_iterations_limit}")
+        if self.contact_gap is not None:
+            object.__setattr__(self, "contact_gap", float(check("contact_gap", self.contact_gap, POSITIVE)))
+        if not isinstance(self.ncp, (bool, np.bool_)):
+            raise ValueError(f"ncp must be True or False; got {self.ncp!r}")
+        if not self.ncp and self.solver != "admm":
+            # Pinocchio 4.1's PGS solves the NCP whatever solve_ncp says (measured); ADMM follows it.
+            raise ValueError(f"ncp=False (the convex relaxation) needs solver='admm'; got solver={self.solver!r}")
+
+    @classmethod
+    def from_kwargs(cls, options: dict) -> "Options":
+        return options_from_kwargs(cls, options, "pinocchio")
+
+    @property
+    def gap(self) -> float:
+        """The activation height of the contact [l]."""
+        return self.contact_gap if self.contact_gap is not None else 10.0 * self.timestep**2
+
+    @property
+    def contact_time(self) -> float:
+        """A rigid contact has no force build-up time."""
+        return 0.0
+
+    @property
+    def friction_time(self) -> float:
+        """A rigid contact does not creep."""
+        return 0.0
+
+    def as_dict(self) -> dict:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+@dataclass
+class StepInfo:
+    """What one step did: the impulse (world axes, m g / omega), whether the contact was in the NCP, solver health."""
+
+    impulse: np.ndarray
+    active: bool
+    iterations: int
+    complementarity: float
+    converged: bool
+
+
+class Stepper:
+    """The rod, its contact and a constraint solver, built once and stepped many times (physical units inside)."""
+
+    def __init__(self, rod: Rod, mu: float, options: Options):
+        self.rod, self.mu, self.options = rod, float(mu), options
+        self.model = build_model(rod)
+        self.data = self.model.createData()
+        frame = self.model.frames[self.model.getFrameId(TIP_FRAME)]
+        self.tip = self.model.getFrameId(TIP_FRAME)
+        contact = pin.PointContactConstraintModel(self.model, 0, pin.SE3.Identity(), frame.parentJoint, frame.placement)
+        contact.setFriction(self.mu)
+        self.constraint = pin.ConstraintModel(contact)
+        self.models = pin.StdVec_ConstraintModel()
+        self.models.append(self.constraint)
+        self.datas = pin.StdVec_ConstraintData()
+        self.datas.append(self.constraint.createData())
+        self.cholesky = pin.ConstraintCholeskyDecomposition(self.model, self.data, self.models, self.datas)
+        if options.solver == "pgs":
+            self.solver, self.settings, self.result = pin.PGSConstraintSolver(3), pin.PGSSolverSettings(), pin.PGSSolverResult()
+        else:
+            self.solver, self.settings, self.result = pin.ADMMConstraintSolver(3), pin.ADMMSolverSettings(), pin.ADMMSolverResult()
+        s = self.settings
+        s.solve_ncp = bool(options.ncp)
+        self.dt = options.timestep / rod.omega
+        s.absolute_complementarity_tol = s.absolute_feasibility_tol = options.tolerance * rod.force_scale * self.dt
+        s.relative_complementarity_tol = s.relative_feasibility_tol = 0.0
+        self.zeros = np.zeros(self.model.nv)
+
+    def step(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray, StepInfo]:
+        """One step from (q, v) [physical]; returns (q_next, v_next, StepInfo)."""
+        model, data, dt = self.model, self.data, self.dt
+        a_free = pin.aba(model, data, q, v, self.zeros)
+        v_free = v + dt * a_free
+        # tip kinematics at (q, v): height, Jacobian, dJ v (classical acceleration with qdd = 0)
+        pin.forwardKinematics(model, data, q, v, self.zeros)
+        pin.updateFramePlacement(model, data, self.tip)
+        gap = data.oMf[self.tip].translation[2]
+        active = gap <= self.options.gap * self.rod.length
+        if not active:
+            return q + dt * v_free, v_free, StepInfo(np.zeros(3), False, 0, 0.0, True)
+        dJv = pin.getFrameClassicalAcceleration(model, data, self.tip, _LWA).linear
+        pin.computeJointJacobians(model, data, q)
+        pin.crba(model, data, q)
+        self.constraint.calc(model, data, self.datas[0])
+        J = pin.getConstraintsJacobian(model, data, self.models, self.datas)
+        self.cholesky.compute(model, data, self.models, self.datas, 0.0)
+        G = self.cholesky.getDelassusOperatorCholeskyExpression()
+        u = J @ v_free + dt * dJv
+        u[2] += gap / dt
+        cap, iterations = self.options.max_iterations, 0
+        while True:
+            self.settings.max_iterations = cap
+            self.solver.solve(G, u, self.models, self.datas, self.settings, self.result)
+            iterations += self.result.iterations
+            if self.result.converged or cap >= self.options.max_iterations_limit:
+                break
+            cap = min(10 * cap, self.options.max_iterations_limit)
+        lam = np.array(self.result.retrieveConstraintImpulses())
+        M = np.triu(data.M) + np.triu(data.M, 1).T
+        v_next = v_free + np.linalg.solve(M, J.T @ lam)
+        info = StepInfo(lam, True, iterations, float(self.result.complementarity), bool(self.result.converged))
+        return q + dt * v_next, v_next, info
+
+
+def _record_row(stepper: Stepper, q, v, v_next, info: StepInfo) -> tuple:
+    """(tip_pos, tip_vel, tip_acc, force) of the row at (q, v) [physical -> scaled]."""
+    model, data, rod = stepper.model, stepper.data, stepper.rod
+    pin.forwardKinematics(model, data, q, v, (v_next - v) / stepper.dt)
+    pin.updateFramePlacement(model, data, stepper.tip)
+    pos = data.oMf[stepper.tip].translation / rod.length
+    vel = pin.getFrameVelocity(model, data, stepper.tip, _LWA).linear / (rod.length * rod.omega)
+    acc = pin.getFrameClassicalAcceleration(model, data, stepper.tip, _LWA).linear / rod.gravity
+    force = info.impulse / stepper.dt / rod.force_scale
+    return pos, vel, acc, force
+
+
+@dataclass(frozen=True)
+class SolverHealth:
+    """Per-run solver statistics: steps with the contact in the NCP, iterations, and steps that missed the tolerance."""
+
+    contact_steps: int
+    max_iterations: int
+    mean_iterations: float
+    max_complementarity: float
+    unconverged_steps: int
+
+
+def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
+    """Run one slipping state with the rigid engine and classify its first event.
+
+    The tip starts on the plane (z_A = 0) with the velocities of ``state``
+    (``crosscheck.coordinates``); ``ceil(horizon / timestep)`` steps.  Row k
+    of the record is the state at t_k = k timestep with the impulse of the
+    step that starts there (force = impulse / dt).  ``Run.solver`` holds the
+    solver health (``SolverHealth``).
+    """
+    if not isinstance(state, SlipState):
+        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    horizon = float(check("horizon", horizon, POSITIVE))
+    opts = Options.from_kwargs(options)
+    if opts.timestep > horizon:
+        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
+    mu = float(check("mu", mu, MU))
+    th = thresholds or Thresholds()
+    stepper = Stepper(rod, mu, opts)
+    n = n_steps(horizon, opts.timestep)
+    q, v = to_generalized(rod, state)
+    rows = {k: np.empty((n, 3)) for k in ("tip_pos", "tip_vel", "tip_acc", "force")}
+    ang = np.empty((n, 4))
+    active = np.zeros(n, bool)
+    iters, compl, conv = np.zeros(n, np.int64), np.zeros(n), np.ones(n, bool)
+    for k in range(n):
+        q1, v1, info = stepper.step(q, v)
+        rows["tip_pos"][k], rows["tip_vel"][k], rows["tip_acc"][k], rows["force"][k] = _record_row(stepper, q, v, v1, info)
+        ang[k] = q[3], q[4], v[3] / rod.omega, v[4] / rod.omega
+        active[k], iters[k], compl[k], conv[k] = info.active, info.iterations, info.complementarity, info.converged
+        q, v = q1, v1
+    vel = rows["tip_vel"]
+    record = Record(t=opts.timestep * np.arange(n), tip_pos=rows["tip_pos"], tip_vel=vel, tip_acc=rows["tip_acc"], force=rows["force"],
+                    normal_force=rows["force"][:, 2].copy(), active=active, gap=rows["tip_pos"][:, 2].copy(),
+                    slip_vel=np.column_stack([vel[:, 0], vel[:, 1], np.zeros(n)]), psi=ang[:, 0].copy(), theta=ang[:, 1].copy(),
+                    Psi=ang[:, 2].copy(), Theta=ang[:, 3].copy())
+    c = classify(record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=0.0, rigid=True, thresholds=th)
+    run = Run.from_classification(ENGINE.name, c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
+                                  horizon=horizon, nstep=n)
+    health = SolverHealth(contact_steps=int(active.sum()), max_iterations=int(iters.max(initial=0)),
+                          mean_iterations=float(iters[active].mean()) if active.any() else 0.0,
+                          max_complementarity=float(compl.max(initial=0.0)), unconverged_steps=int((~conv).sum()))
+    return dataclasses.replace(run, solver=health)
+
+
+def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
+          **options) -> SweepResult:
+    """Every state through ``simulate`` (one classifier, the same records)."""
+    return sweep_by_simulate(ENGINE, rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
+
+
+class PinocchioEngine:
+    """The rigid engine behind the shared interface (``crosscheck.engines.base.Engine``)."""
+
+    name = "pinocchio"
+    Options = Options
+
+    @staticmethod
+    def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
+        return simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, **options)
+
+    @staticmethod
+    def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None,
+              progress: bool = True, **options) -> SweepResult:
+        return sweep(rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
+
+
+ENGINE = PinocchioEngine()

@@ -1,0 +1,263 @@
+"""Impact without collision in 3D: the rigid rod's tangential impulse at a jam, integrated in normal impulse P (Darboux-Keller).
+
+Where a slipping rod reaches p = 0 with b < 0 the rigid model has no slipping
+solution (Corollary 4.2) and the paper recalls the classical way out:
+Lecornu's "arc-boutement dynamique", an impulse with no collision (Darboux,
+Keller).  During the impulse the configuration does not move and the
+velocities change with the normal impulse P as the independent variable:
+
+    dv/dP = M^-1 J^T (f_t, 1),     so the tip velocity u = J v obeys du/dP = G (f_t, 1),
+
+with M the rod's mass matrix, J the tip Jacobian (rows x, y, z of the world),
+G = J M^-1 J^T the Delassus matrix (constant during the impulse) and f_t the
+friction per unit normal impulse:
+
+* slip: f_t = -mu u_t / |u_t|, opposite the *instantaneous* slip of the tip,
+  so in 3D the slip direction (and with it varphi and p) turns during the
+  impulse; du_n/dP = G_nn + G_nt f_t is eq. p for the current direction.
+  With p < 0 the tip is driven into the plane (u_n < 0: compression) while
+  the slip decelerates;
+* stick: when the slip stops, the tangential impulse that keeps u_t = 0 is
+  f_s = -G_tt^-1 G_tn; if |f_s| <= mu the tip sticks and du_n/dP = G_nn +
+  G_nt f_s > 0 (the Schur complement of G, positive since G is);
+* reversal: if |f_s| > mu the tip slips again at once, in the direction
+  u_hat with (mu G_tt + lambda I) u_hat = G_tn, |u_hat| = 1, lambda > 0 (the
+  only direction in which sliding friction is consistent).
+
+Compression ends when u_n comes back to 0 (P = P_c); Poisson's hypothesis
+ends the impulse at P_f = (1 + e) P_c (e the restitution coefficient; e = 0
+leaves the tip on the plane with u_n = 0).  What follows (slip, stick or
+lift-off) is decided from the post-impulse state by the rigid model again.
+
+Everything is in the paper's scaled units (m = l = g = 1, I0 = 1/alpha;
+impulses in m g / omega, velocities in l omega).  The mass matrix and the
+Jacobian are the analytic model's (eq. inertia, eq. tipfromcentre), checked
+against Pinocchio's Delassus operator in tests.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from crosscheck.checks import ALPHA, MU, check
+from crosscheck.coordinates import qv_to_paper, to_generalized
+from crosscheck.rod import Rod
+from crosscheck.state import SlipState
+
+__all__ = ["Phase", "Impact", "delassus", "impact", "P_TOLERANCE"]
+
+#: A state counts as at or past p = 0 when eq. p is at most this (rounding of the O(1 + alpha)
+#: terms of eq. p, times a margin; the slipping flow stops its runs at p = -1e-8).
+P_TOLERANCE = 1e-12
+
+#: Relative accuracy of the integration in P (DOP853) and the slip speed counted as stopped.
+_RTOL, _ATOL = 1e-12, 1e-14
+
+
+@dataclass(frozen=True)
+class Phase:
+    """One phase of the impulse: "slip", "stick" or "reversal" (a re-slip after a stop), between normal impulses [P_start, P_end]."""
+
+    name: str
+    P_start: float
+    P_end: float
+
+
+@dataclass(frozen=True, eq=False)
+class Impact:
+    """What ``impact`` computed (scaled units).
+
+    Attributes:
+      state: the state before the impulse.
+      mu, alpha, restitution: the parameters.
+      Theta, Psi: rates after the impulse.
+      eta, varphi: slip speed and slip angle of the tip after it (varphi NaN
+        where eta = 0).
+      w: normal velocity of the tip after it (0 for e = 0; > 0 lifts off).
+      normal_impulse: P_f; compression_impulse: P_c.
+      tangential_impulse: (2,) world x, y [m g / omega].
+      phases: the ``Phase``s in order.
+      energy_lost: kinetic energy before minus after [m g l], never negative.
+      v_before, v_after: generalised velocities (5,) [scaled].
+    """
+
+    state: SlipState
+    mu: float
+    alpha: float
+    restitution: float
+    Theta: float
+    Psi: float
+    eta: float
+    varphi: float
+    w: float
+    normal_impulse: float
+    compression_impulse: float
+    tangential_impulse: np.ndarray
+    phases: tuple
+    energy_lost: float
+    v_before: np.ndarray = field(repr=False)
+    v_after: np.ndarray = field(repr=False)
+
+    def after(self) -> SlipState:
+        """The post-impulse state as a ``SlipState`` (requires eta > 0 and w = 0 to be a slipping state)."""
+        return SlipState(theta=self.state.theta, varphi=self.varphi if self.eta > 0 else -math.pi / 2, Theta=self.Theta, Psi=self.Psi,
+                         eta=self.eta, psi=self.state.psi)
+
+
+def _mass_and_jacobian(theta: float, psi: float, alpha: float) -> tuple[np.ndarray, np.ndarray]:
+    """Scaled M = diag(1, 1, 1, I0 cos^2 theta, I0) (eq. inertia, I0 = 1/alpha) and the tip Jacobian J (3, 5) (eq. tipfromcentre)."""
+    I0 = 1.0 / alpha
+    s, c, sp, cp = math.sin(theta), math.cos(theta), math.sin(psi), math.cos(psi)
+    M = np.diag([1.0, 1.0, 1.0, I0 * c * c, I0])
+    J = np.array([[1.0, 0.0, 0.0, c * cp, -s * sp], [0.0, 1.0, 0.0, c * sp, s * cp], [0.0, 0.0, 1.0, 0.0, -c]])
+    return M, J
+
+
+def delassus(state: SlipState, alpha: float) -> np.ndarray:
+    """G = J M^-1 J^T at the state's configuration, world axes (x, y, z), scaled units."""
+    M, J = _mass_and_jacobian(state.theta, state.psi, float(check("alpha", alpha, ALPHA)))
+    return J @ np.linalg.solve(M, J.T)
+
+
+def _p_of(G: np.ndarray, u_t: np.ndarray, mu: float) -> float:
+    """du_n/dP while slipping along u_t: eq. p for the current direction."""
+    n = np.linalg.norm(u_t)
+    return float(G[2, 2] - mu * G[2, :2] @ u_t / n)
+
+
+def _reversal_direction(G: np.ndarray, mu: float) -> np.ndarray:
+    """The slip direction u_hat with (mu G_tt + lambda I) u_hat = G_tn, |u_hat| = 1, lambda > 0."""
+    Gtt, Gtn = G[:2, :2], G[:2, 2]
+
+    def h(lam):
+        return np.linalg.norm(np.linalg.solve(mu * Gtt + lam * np.eye(2), Gtn)) - 1.0
+
+    hi = 1.0
+    while h(hi) > 0:
+        hi *= 2.0
+    lam = brentq(h, 0.0, hi, xtol=1e-15, rtol=1e-14)
+    return np.linalg.solve(mu * Gtt + lam * np.eye(2), Gtn)
+
+
+def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.0) -> Impact:
+    """The impulse of an impact without collision from a slipping state at or past p = 0.
+
+    Args:
+      state: a ``SlipState`` on the plane (tip normal velocity 0) with eq. p
+        <= ``P_TOLERANCE`` and eta > 0.
+      mu: friction coefficient (> 0 for a paradox).
+      alpha: m l^2 / I0.
+      restitution: Poisson's coefficient e in [0, 1].
+
+    Returns:
+      ``Impact``.
+
+    Raises:
+      ValueError: an argument out of range, eta <= 0, or p > ``P_TOLERANCE``
+        (no impulse: the rod can slip; use ``crosscheck.slipping``).
+    """
+    if not isinstance(state, SlipState):
+        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    mu, alpha = float(check("mu", mu, MU)), float(check("alpha", alpha, ALPHA))
+    e = float(check("restitution", restitution))
+    if not 0.0 <= e <= 1.0:
+        raise ValueError(f"restitution must be in [0, 1]; got {restitution!r}")
+    if not state.eta > 0.0:
+        raise ValueError(f"eta must be in (0, inf) for an impact without collision (a slipping tip); got {state.eta!r}")
+    rod = Rod.scaled(alpha)
+    q, v0 = to_generalized(rod, state)
+    M, J = _mass_and_jacobian(state.theta, state.psi, alpha)
+    Minv_JT = np.linalg.solve(M, J.T)
+    G = J @ Minv_JT
+    u0 = J @ v0
+    p0 = _p_of(G, u0[:2], mu)
+    if p0 > P_TOLERANCE:
+        raise ValueError(f"p must be <= {P_TOLERANCE:g} (at or past the paradox boundary) for an impact without collision; "
+                         f"got p = {p0!r} at this state: it can slip")
+    scale = 1.0 + float(np.linalg.norm(u0))
+    stop = 1e-12 * scale
+
+    def slip_rhs(_P, y):
+        ut = y[:2]
+        f = -mu * ut / np.linalg.norm(ut)
+        du = G @ np.array([f[0], f[1], 1.0])
+        return np.concatenate([du, f])
+
+    def slip_stop(_P, y):
+        return np.linalg.norm(y[:2]) - stop
+
+    slip_stop.terminal, slip_stop.direction = True, -1
+
+    phases: list[Phase] = []
+    P, y = 0.0, np.concatenate([u0, [0.0, 0.0]])  # (u_x, u_y, u_n, L_x, L_y)
+    P_c = math.nan
+    P_f = math.inf
+    name = "slip"
+    for _ in range(16):  # phases: slip, stick or reversal, ... (a few at most)
+        if name in ("slip", "reversal"):
+
+            def compression_end(_P, y):
+                return y[2]
+
+            compression_end.terminal, compression_end.direction = True, +1
+
+            def end(_P, y):
+                return _P - P_f
+
+            end.terminal = True
+            events = [slip_stop, compression_end if math.isnan(P_c) else end]
+            span = (P, P + 1e3 * scale if math.isnan(P_c) else P_f)
+            sol = solve_ivp(slip_rhs, span, y, method="DOP853", rtol=_RTOL, atol=_ATOL * scale, events=events, dense_output=False)
+            if sol.status == -1:
+                raise RuntimeError(f"impulse integration failed: {sol.message}")
+            P1, y1 = float(sol.t[-1]), sol.y[:, -1]
+            phases.append(Phase(name, P, P1))
+            P, y = P1, y1
+            stopped = len(sol.t_events[0]) > 0
+            if not stopped:
+                if math.isnan(P_c):
+                    if len(sol.t_events[1]) == 0:
+                        raise RuntimeError("impulse did not end: no compression end within P = 1e3 scale")
+                    P_c, P_f = P, (1.0 + e) * P
+                    if e == 0.0:
+                        break
+                    continue
+                break  # P reached P_f while slipping
+            y[:2] = 0.0
+            f_s = -np.linalg.solve(G[:2, :2], G[:2, 2])
+            if np.linalg.norm(f_s) <= mu:
+                name = "stick"
+            else:
+                y[:2] = stop * 1.0001 * _reversal_direction(G, mu) / np.linalg.norm(_reversal_direction(G, mu))
+                name = "reversal"
+            continue
+        # stick: u_t = 0, linear in P
+        f_s = -np.linalg.solve(G[:2, :2], G[:2, 2])
+        S = float(G[2, 2] + G[2, :2] @ f_s)
+        if math.isnan(P_c):
+            P_end_c = P + max(0.0, -y[2]) / S
+            P_c, P_f = P_end_c, (1.0 + e) * P_end_c
+        P1 = P_f
+        y = y.copy()
+        y[2] += S * (P1 - P)
+        y[3:] += f_s * (P1 - P)
+        phases.append(Phase("stick", P, P1))
+        P = P1
+        break
+    else:
+        raise RuntimeError("impulse did not end within 16 phases")
+    L = np.array([y[3], y[4], P])
+    v1 = v0 + Minv_JT @ L
+    d = qv_to_paper(rod, q, v1)
+    u1 = J @ v1
+    eta1 = float(np.hypot(u1[0], u1[1]))
+    stuck = eta1 <= 10 * stop
+    energy = 0.5 * float(v0 @ M @ v0 - v1 @ M @ v1)
+    return Impact(state=state, mu=mu, alpha=alpha, restitution=e, Theta=float(d["Theta"]), Psi=float(d["Psi"]), eta=0.0 if stuck else eta1,
+                  varphi=math.nan if stuck else float(d["varphi"]), w=float(u1[2]), normal_impulse=float(P), compression_impulse=float(P_c),
+                  tangential_impulse=L[:2].copy(), phases=tuple(phases), energy_lost=energy, v_before=v0, v_after=v1)

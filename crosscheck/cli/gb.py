@@ -69,8 +69,10 @@ def _slip(args) -> int:
     state = SlipState(theta=_num("theta", args.theta, THETA), varphi=_num("varphi", args.varphi, VARPHI),
                       Theta=_num("Theta", args.Theta, FINITE), Psi=_num("Psi", args.Psi, FINITE),
                       eta=_num("eta", args.eta, ETA), psi=_num("psi", args.psi, FINITE))
-    r = slip_until_event(state, _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA),
-                         t_max=_num("t_max", args.t_max, POSITIVE))
+    mu, alpha, t_max = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA), _num("t_max", args.t_max, POSITIVE)
+    if args.continue_:
+        return _hybrid(state, mu, alpha, t_max, _num("restitution", args.restitution, FINITE), args.json)
+    r = slip_until_event(state, mu, alpha, t_max=t_max)
     if args.json:
         print(json.dumps(r.as_dict(), indent=2))
         return 0
@@ -78,6 +80,26 @@ def _slip(args) -> int:
     print(f"{r.outcome.name} at t = {r.time:.9g} ({r.reason}); b = {r.b:.3g}, p = {r.p:.3g}")
     print(f"  theta = {s.theta:.6f}  varphi = {s.varphi:.6f}  Theta = {s.Theta:.6f}  Psi = {s.Psi:.6f}  "
           f"eta = {s.eta:.6f}  psi = {s.psi:.6f}")
+    return 0
+
+
+def _hybrid(state, mu, alpha, t_max, restitution, as_json) -> int:
+    from crosscheck import hybrid
+
+    h = hybrid.run(state, mu, alpha, horizon=t_max, restitution=restitution)
+    if as_json:
+        print(json.dumps(h.as_dict(), indent=2))
+        return 0
+    for seg in h.segments:
+        r = seg.slip
+        print(f"slip from t = {seg.t0:.9g} to {seg.t1:.9g}: {r.outcome.name} ({r.reason}); b = {r.b:.3g}, p = {r.p:.3g}")
+        if seg.impact is not None:
+            i = seg.impact
+            phases = ", ".join(f"{p.name} to P = {p.P_end:.6g}" for p in i.phases)
+            print(f"  impact without collision: P = {i.normal_impulse:.6g}, tangential ({i.tangential_impulse[0]:.6g}, {i.tangential_impulse[1]:.6g}); "
+                  f"{phases}; energy lost {i.energy_lost:.6g}")
+            print(f"  after: Theta = {i.Theta:.6f}  Psi = {i.Psi:.6f}  eta = {i.eta:.6g}  w = {i.w:.3g}")
+    print(f"{h.outcome.name} at t = {h.time:.9g} ({h.reason})")
     return 0
 
 
@@ -99,5 +121,8 @@ def register(sub) -> None:
     s.add_argument("--psi", type=str, default="0", help="azimuth [rad]")
     s.add_argument("--alpha", type=str, default="3", help="m l^2 / I0, > 0")
     s.add_argument("--t-max", dest="t_max", type=str, default="10", help="horizon in scaled time, > 0")
+    s.add_argument("--continue", dest="continue_", action="store_true",
+                   help="go on through an impact without collision at a jam (the hybrid rigid model)")
+    s.add_argument("--restitution", type=str, default="0", help="Poisson restitution of the impact, in [0, 1] (with --continue)")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=_slip)

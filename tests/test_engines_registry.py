@@ -66,7 +66,7 @@ class AnalyticFlowEngine:
             F[~before] = (0.0, 0.0, 1.0)
         record = Record(t=t, tip_pos=np.zeros((n, 3)), tip_vel=u.copy(), tip_acc=acc, force=F, normal_force=F[:, 2].copy(),
                         active=F[:, 2] > 0, gap=np.zeros(n), slip_vel=u, psi=psi, theta=theta, Psi=Psi, Theta=Theta)
-        cl = classify(record, mu=mu, alpha=alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, thresholds=th)
+        cl = classify(record, mu=mu, alpha=alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=True, thresholds=th)
         return Run.from_classification(self.name, cl, record, state=state, mu=mu, alpha=alpha, options=opts, thresholds=th,
                                        horizon=horizon, nstep=n)
 
@@ -105,12 +105,13 @@ def test_a_registered_engine_is_available_by_name(toy):
 def test_the_agreement_study_runs_on_a_toy_engine_and_finds_it_agrees(toy):
     """The analytic flow as an engine agrees with the analytic first events (no jams on this grid: mu < mu_P).
 
-    The toy's records are exact, so STICK is read at a slip speed of 1e-6: with the default floor
-    1e-2, starts at eta = 0.05 whose slip direction swings round as eta -> 0 (the analytic run leaves
-    the domain through varphi = 0 or -pi, censored as SLIP) read as STICK first (29 of 216 here).
+    The toy's records are exact (a stuck tip has eta = 0), so STICK is read at a slip speed of 1e-6:
+    with the rigid default of 10 timesteps (1e-2 here), starts at eta = 0.05 whose slip direction swings
+    round as eta -> 0 (the analytic run leaves the domain through varphi = 0 or -pi, censored as SLIP)
+    read as STICK first (29 of 216 here).
     """
     g = EventGrid(theta=(0.3, 0.7, 1.1), varphi=(-math.pi / 2, -1.2), Theta=(-0.4, 0.0, 0.4), Psi=(-1.5, 0.0, 1.0), mu=(0.3, 1.0), eta=(0.05, 1.0))
-    res = agreement_study(g, engine="toy", horizon=1.0, boundary_directions=0, thresholds=Thresholds(stick_speed=1e-6))
+    res = agreement_study(g, engine="toy", horizon=1.0, boundary_directions=0, thresholds=Thresholds(rigid_stick_steps=1e-3))
     run, = res.runs
     ao = res.analytic.outcome[res.index]
     assert res.engine == run.engine == "toy" and not np.any(ao == Outcome.JAM)

@@ -235,20 +235,39 @@ def summaries(record: Record, c: Classification, mu: np.ndarray, alpha: float, e
     return summary, series
 
 
+def _simulate_chunk(engine: Engine, rod: Rod, states: list, mu: list, horizon: float, thresholds: Thresholds, options: dict) -> list:
+    return [engine.simulate(rod, s, m, horizon=horizon, thresholds=thresholds, **options) for s, m in zip(states, mu)]
+
+
 def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu, *, horizon: float,
-                      thresholds: Thresholds | None = None, n_series: int = 200, progress: bool = True, **options) -> SweepResult:
+                      thresholds: Thresholds | None = None, n_series: int = 200, progress: bool = True, workers: int = 1,
+                      **options) -> SweepResult:
     """An engine's ``sweep`` as one ``simulate`` per state (for engines without a batched path).
 
     Every state's record must have the same number of rows (a fixed timestep).
+    ``workers`` > 1 runs chunks of states in that many forked processes (the
+    runs and their order are the same as with one).
     """
     states = check_states(states)
     horizon = float(check("horizon", horizon, POSITIVE))
+    if not (isinstance(workers, int) and workers >= 1):
+        raise ValueError(f"workers must be an integer >= 1; got {workers!r}")
     B = len(states)
     mu = np.broadcast_to(check("mu", mu, MU), (B,)).astype(float)
     th = thresholds or Thresholds()
     t0 = time.perf_counter()
-    runs = [engine.simulate(rod, s, float(m), horizon=horizon, thresholds=th, **options)
-            for s, m in tqdm(list(zip(states, mu)), desc=f"{engine.name} sweep", unit="state", disable=not progress)]
+    if workers == 1 or B == 1:
+        runs = [engine.simulate(rod, s, float(m), horizon=horizon, thresholds=th, **options)
+                for s, m in tqdm(list(zip(states, mu)), desc=f"{engine.name} sweep", unit="state", disable=not progress)]
+    else:
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+
+        size = max(1, math.ceil(B / (4 * workers)))  # a few chunks per worker keeps both busy to the end
+        chunks = [(states[a:a + size], [float(m) for m in mu[a:a + size]]) for a in range(0, B, size)]
+        with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
+            futures = [pool.submit(_simulate_chunk, engine, rod, c_states, c_mu, horizon, th, options) for c_states, c_mu in chunks]
+            runs = [r for f in tqdm(futures, desc=f"{engine.name} sweep", unit="chunk", disable=not progress) for r in f.result()]
     lengths = {len(r.record) for r in runs}
     if len(lengths) != 1:
         raise ValueError(f"{engine.name} records have different lengths {sorted(lengths)}; sweep_by_simulate needs a fixed timestep")

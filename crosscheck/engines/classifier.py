@@ -102,6 +102,14 @@ class Thresholds:
         early by at most the threshold / |eta'|, |eta'| = O(mu F_z).
       stick_creep: the multiple of tau_f in the STICK threshold: 1, i.e.
         2.5 x the measured creep.
+      rigid_stick_steps: the STICK threshold of a rigid contact (``classify``'s
+        ``rigid``) in units of the timestep.  A rigid tip sticks exactly at the
+        end of a step (its NCP makes J v + dt dJ v vanish), so the velocity a
+        record holds at the start of the next step is -dt dJ v_t, with
+        |dJ v| = O(Theta^2 + Psi^2) <= ~10 in the paper's ranges: 10 dt.  The
+        soft floor 1e-2 would read a slow slip whose direction swings round as
+        eta -> 0 (the analytic run leaves the domain through varphi = 0 or
+        -pi there) as STICK.
       diverged_speed: DIVERGED when the scaled tip speed exceeds this (energy
         is bounded: a slipping rod of the paper's ranges never exceeds O(10)),
         when any value is not finite, or when the engine's clock stops
@@ -118,12 +126,13 @@ class Thresholds:
     lift_steps: int = 3
     stick_speed: float = 1e-2
     stick_creep: float = 1.0
+    rigid_stick_steps: float = 10.0
     diverged_speed: float = 1e3
 
     def __post_init__(self) -> None:
         for name in ("window", "jam_ratio", "diverged_speed"):
             object.__setattr__(self, name, float(check(name, getattr(self, name), POSITIVE)))
-        for name in ("jam_force", "jam_slip_loss", "jam_p_eff", "stick_speed", "stick_creep"):
+        for name in ("jam_force", "jam_slip_loss", "jam_p_eff", "stick_speed", "stick_creep", "rigid_stick_steps"):
             object.__setattr__(self, name, float(check(name, getattr(self, name), ETA)))
         for name in ("window_steps", "lift_steps"):
             v = getattr(self, name)
@@ -292,7 +301,8 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
         c = np.zeros(Fn.shape[:-1] + (n + 1,))
         np.cumsum(Fn > 0.0, axis=-1, out=c[..., 1:])
         touched = (c[..., 1:] - c[..., np.maximum(rows - w + 1, 0)]) > 0.0
-        has_stick, k_stick = _first((eta < th.stick_threshold(friction_timeconst)) & touched & (rows < end))
+        stick_speed = th.rigid_stick_steps * timestep if rigid else th.stick_threshold(friction_timeconst)
+        has_stick, k_stick = _first((eta < stick_speed) & touched & (rows < end))
 
     big = np.iinfo(np.int64).max
     order = [  # precedence on ties: earlier in the list wins

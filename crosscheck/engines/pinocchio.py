@@ -295,9 +295,9 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
 
 
 def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
-          **options) -> SweepResult:
-    """Every state through ``simulate`` (one classifier, the same records)."""
-    return sweep_by_simulate(ENGINE, rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
+          workers: int = 2, **options) -> SweepResult:
+    """Every state through ``simulate`` (one classifier, the same records), on ``workers`` processes (both cores by default)."""
+    return sweep_by_simulate(ENGINE, rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options)
 
 
 class PinocchioEngine:

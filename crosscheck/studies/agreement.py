@@ -17,9 +17,10 @@ event time for an event, the domain-exit time for such a SLIP, the horizon
 otherwise.  An engine event later than T_i counts as SLIP (still slipping when
 the comparison ends); a DIVERGED run is never relabelled.  For an analytic
 event the comparison extends by ``LAG_TAU`` contact time constants (the
-engine's ``Options.contact_time``), and at least by one timestep (the
-engine's records resolve time to their rows; for a rigid contact this is the
-whole lag): a soft contact builds its force over ~tau and STICK is read at
+engine's ``Options.contact_time``), and at least by ``LAG_STEPS`` timesteps
+(the engine's records resolve time to their rows and a first-order
+integrator shifts events by O(dt); for a rigid contact this is the whole
+lag): a soft contact builds its force over ~tau and STICK is read at
 eta = tau_f, so it meets a rigid event up to ~2 tau late.  States that do not start slipping (b >= 0 or
 p <= 0 at t = 0) are not part of the study.
 
@@ -67,6 +68,7 @@ from crosscheck.studies.grids import AXES, EventGrid, floats, initial_b_p, state
 __all__ = [
     "DEFAULT_HORIZON",
     "LAG_TAU",
+    "LAG_STEPS",
     "BOUNDARY_RADII",
     "AnalyticEvents",
     "analytic_events",
@@ -216,6 +218,11 @@ def _binned(values: np.ndarray, agree: np.ndarray, edges: Sequence[float], name:
 
 #: An engine may meet an analytic event up to LAG_TAU contact time constants late (see ``_rate``).
 LAG_TAU = 2.0
+
+#: ... and at least LAG_STEPS timesteps late: the first row after the event, plus the O(dt) shift of a
+#: first-order integrator (measured up to 1.3 dt at the rigid engine's lift-offs).  For MuJoCo
+#: LAG_TAU tau is larger (tau >= 2 dt, MuJoCo's refsafe), so this only matters for rigid contacts.
+LAG_STEPS = 3.0
 
 #: Bin edges of the disagreement tables.
 DISTANCE_EDGES = (0.0, 0.02, 0.05, 0.2, 1.0, math.inf)
@@ -372,10 +379,11 @@ def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a:
     until = a.until[idx]
     tau = float(opts.contact_time)
     # A soft contact answers the rigid force with a lag ~ tau (its force builds up over tau; STICK is
-    # read at eta = tau_f): an analytic event may be met up to LAG_TAU tau later, and never less than one
-    # timestep later (a record resolves time to its rows; this is what a rigid contact gets).  Censored
+    # read at eta = tau_f): an analytic event may be met up to LAG_TAU tau later, and never less than
+    # LAG_STEPS timesteps later (a record resolves time to its rows and a first-order integrator moves
+    # an event by O(dt): this is what a rigid contact gets).  Censored
     # SLIPs get no lag: nothing is known analytically after the domain exit.
-    lag = np.where(np.isin(a.outcome[idx], EVENTS), max(LAG_TAU * tau, float(opts.timestep)), 0.0)
+    lag = np.where(np.isin(a.outcome[idx], EVENTS), max(LAG_TAU * tau, LAG_STEPS * float(opts.timestep)), 0.0)
     label = comparison_labels(outcome, event_time, until + lag)
     ao = a.outcome[idx]
     rated = np.isin(ao, RATED)

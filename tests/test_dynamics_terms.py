@@ -54,7 +54,7 @@ def test_random_states_cover_the_required_ranges():
 
 
 def test_cli_exit_zero_and_json(capsys):
-    assert main(["validate", "pinocchio", "--states", "200", "--seed", "3", "--json"]) == 0
+    assert main(["validate", "pinocchio", "--checks", "dynamics", "--states", "200", "--seed", "3", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["engine"] == "pinocchio" and out["passed"] is True
     assert [s["quantity"] for s in out["stats"]] == QUANTITIES
@@ -110,7 +110,7 @@ def test_validation_fails_on_a_wrong_reference(case, monkeypatch, capsys):
     module, name, perturb, must_fail = WRONG_REFERENCES[case]
     monkeypatch.setattr(module, name, perturb(getattr(module, name)))
     # The command exits non-zero and names the quantities that exceed their tolerance.
-    assert main(["validate", "pinocchio", "--states", "300", "--seed", "5", "--json"]) == 1
+    assert main(["validate", "pinocchio", "--checks", "dynamics", "--states", "300", "--seed", "5", "--json"]) == 1
     out = json.loads(capsys.readouterr().out)
     assert out["passed"] is False
     failed = {s["quantity"] for s in out["stats"] if not s["passed"]}
@@ -119,7 +119,7 @@ def test_validation_fails_on_a_wrong_reference(case, monkeypatch, capsys):
 
 def test_failed_table_says_FAILED(monkeypatch, capsys):
     monkeypatch.setattr(analytic, "_p", _perturbed_p(analytic._p))
-    assert main(["validate", "pinocchio", "--states", "100", "--seed", "2"]) == 1
+    assert main(["validate", "pinocchio", "--checks", "dynamics", "--states", "100", "--seed", "2"]) == 1
     lines = capsys.readouterr().out.rstrip().splitlines()
     assert lines[-1] == "FAILED"
     assert [line.split()[0] for line in lines if " FAIL " in line] == ["p"]

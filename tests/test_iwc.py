@@ -102,6 +102,27 @@ def test_rigid_engine_after_the_jam_converges_to_the_impulse_at_first_order():
     assert rate == pytest.approx(1.0, abs=0.1) and errs[-1] < 1e-3
 
 
+@pytest.mark.parametrize("mu, Theta", [(1.4, 0.5), (1.4, -0.3), (2.0, 0.5)], ids=["mu=1.4 lifts", "mu=1.4 sticks", "mu=2"])
+def test_rigid_engine_from_a_planar_impasse_converges_to_keller_at_first_order(mu, Theta):
+    """Planar state with p < 0, b < 0 (Painleve's impasse): the time-stepper's first step is the IWC.
+
+    Its impulse and its post-impulse rates tend to Keller's two-phase impact (checked in closed form above)
+    at first order in dt: the step solves the same impulse problem at the same configuration, plus the
+    O(dt) gravity, Coriolis and dJ v terms of the step.
+    """
+    rod = Rod.scaled(ALPHA)
+    s = planar_inconsistent(mu, Theta)
+    r = impact(s, mu, ALPHA)
+    dts, errs = [1e-3, 3e-4, 1e-4], []
+    for dt in dts:
+        run = get("pinocchio").simulate(rod, s, mu, horizon=10 * dt, timestep=dt)
+        assert run.outcome.name == "JAM" and run.event_time == 0.0
+        R = run.record
+        errs.append(max(abs(R.Theta[1] - r.Theta), abs(R.Psi[1] - r.Psi), abs(R.eta[1] - r.eta), abs(run.jam_impulse - r.normal_impulse)))
+    rate = np.polyfit(np.log(dts), np.log(errs), 1)[0]
+    assert rate == pytest.approx(1.0, abs=0.05) and errs[-1] < 1e-3, (rate, errs)
+
+
 @pytest.mark.parametrize("kwargs, message", [
     ({"restitution": 1.5}, r"restitution must be in \[0, 1\]; got 1.5"),
     ({"mu": -1.0}, r"mu must be in \[0, inf\); got -1.0"),

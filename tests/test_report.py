@@ -41,6 +41,9 @@ EXPECTED_FIGURES = {
     "mujoco_convergence": ["convergence"],
     "mujoco_trajectories": ["trajectories"],
     "mujoco_validate": [],
+    "rigid_maps": ["map_Psi_mu", "map_theta_Theta_0", "map_theta_Theta_1", "confusion", "event_time_errors"],
+    "rigid_convergence": ["convergence"],
+    "rigid_engine": ["jams", "trajectory_jam"],
 }
 
 #: Sections the quick report skips (shown as skipped, with the reason): full report only.

@@ -2,7 +2,9 @@
 
 The checks of each engine are in ``crosscheck.studies.validate`` (dynamics
 terms for Pinocchio; contact events for every engine with event tolerances,
-MuJoCo's own contact-force check among them).  The command prints the
+each engine's own checks among them: MuJoCo's contact force, the rigid
+engine's one-step impulse, convergence orders and jams against the IWC).
+``--checks dynamics|events`` runs one part.  The command prints the
 per-quantity table (or JSON) and exits 1 when any quantity exceeds its
 tolerance.
 """
@@ -20,7 +22,8 @@ def _run(args) -> int:
     n = validation.default_states(args.engine) if args.states is None else args.states
     if n < 1:
         raise ValueError(f"states must be an integer >= 1; got {n}")
-    result = validation.validate(args.engine, n, np.random.default_rng(args.seed), progress=not args.json and sys.stderr.isatty())
+    checks = validation.PARTS if args.checks == "all" else (args.checks,)
+    result = validation.validate(args.engine, n, np.random.default_rng(args.seed), progress=not args.json and sys.stderr.isatty(), checks=checks)
     print(result.to_json() if args.json else result.to_table())
     return 0 if result.passed else 1
 
@@ -33,4 +36,5 @@ def register(sub) -> None:
         e.add_argument("--states", type=int, default=None, help="number of random states (default: the engine's)")
         e.add_argument("--seed", type=int, default=0, help="seed of numpy.random.default_rng")
         e.add_argument("--json", action="store_true", help="print the result as JSON")
+        e.add_argument("--checks", choices=["all", *validation.parts_of(name)], default="all", help="run only these checks (default: all the engine has)")
         e.set_defaults(func=_run)

@@ -171,6 +171,8 @@ class SweepResult:
       alpha, horizon, nstep: the rod's alpha, scaled horizon, steps per state.
       options, thresholds: the engine's parameters and the outcome criteria.
       wall_time: seconds spent in the sweep; steps_per_second: B nstep / wall_time.
+      solver: for an engine with a solver (its runs' ``Run.solver``), a dict
+        of (B,) arrays, one per field of its statistics; None otherwise.
     """
 
     engine: str
@@ -189,6 +191,7 @@ class SweepResult:
     thresholds: Thresholds
     wall_time: float
     steps_per_second: float
+    solver: dict | None = field(default=None, repr=False)
 
     def __len__(self) -> int:
         return len(self.outcome)
@@ -278,10 +281,13 @@ def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu,
                  rigid=opts.contact_time == 0.0, thresholds=th)
     nstep = lengths.pop()
     summary, series = summaries(record, c, mu, rod.alpha, max(1, nstep // max(1, n_series)))
+    solver = None
+    if runs[0].solver is not None:
+        solver = {f.name: np.array([getattr(r.solver, f.name) for r in runs]) for f in fields(runs[0].solver)}
     wall = time.perf_counter() - t0
     return SweepResult(
         engine=engine.name, outcome=c.outcome, event_time=c.event_time, exit_time=c.exit_time, diverged_time=c.diverged_time,
         states={k: np.array([getattr(s, k) for s in states]) for k in STATE_KEYS}, mu=mu.copy(), summary=summary, series=series,
         alpha=rod.alpha, horizon=horizon, nstep=nstep, options=opts, thresholds=th, wall_time=wall,
-        steps_per_second=B * nstep / wall,
+        steps_per_second=B * nstep / wall, solver=solver,
     )

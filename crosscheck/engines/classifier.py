@@ -283,7 +283,8 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
             m = th.lift_steps
             if m < n:
                 after[..., : n - m] = eta[..., m:]
-            need = th.jam_ratio * np.maximum(th.jam_force, np.where(p_row > 0, np.maximum(0.0, -b) / p_row, np.inf))
+            # Where p <= 0 no slipping force exists (Corollary 4.2's impasse): any impulse beyond jam_force is the IWC.
+            need = th.jam_ratio * np.maximum(th.jam_force, np.where(p_row > 0, np.maximum(0.0, -b) / p_row, 0.0))
             impulse = (Fn >= need) & (p_row <= th.jam_p_eff) & (eta - after >= th.jam_slip_loss * eta) & (rows + m <= end)
             jam |= impulse
             p_eff = np.where(impulse, p_row, p_eff)

@@ -46,9 +46,22 @@ return lambda = 0 when the free motion keeps the gap positive.
 
 Solver health is data: each step records the solver's iterations and
 complementarity; a step that misses ``Options.tolerance`` is solved again
-with ten times the iterations, up to ``Options.max_iterations_limit``, and
-the steps that still miss it are counted in ``Run.solver``.  Near p = 0 the
-NCP is hard (PGS was seen to hit a 1000-iteration cap there).
+with ten times the iterations, up to ``Options.max_iterations_limit``, then
+once more warm-started from the sticking impulse -G^-1 u if that lies in
+the cone, and the steps that still miss it are counted in ``Run.solver``.
+Why the sticking guess: at a jam (p < 0 for the current slip, b < 0) the
+step's NCP has no slipping solution and its one solution is the stuck tip
+with a tangential impulse (the impact without collision of
+``crosscheck.iwc``); from a cold start PGS cycles there at large mu (at
+mu = 6 it missed the tolerance after 11002 iterations with a
+complementarity of O(1) m g dt, i.e. a wrong impulse) while from the
+sticking guess it confirms the solution in a few iterations.  Why only
+last: just before p = 0 the step's NCP has both the slipping solution and
+the sticking one (the discrete problem is not unique there); the sticking
+guess taken at the first miss made the engine jam up to 0.015 early at
+mu = 1.7 and stopped its jam time converging with dt, while the slipping
+solution continues the analytic flow (to which PGS converges given the
+iterations).
 
 Everything this module takes and returns is in the paper's scaled units
 (section 2.1); the Pinocchio model itself is physical (``Rod``).
@@ -57,6 +70,7 @@ Everything this module takes and returns is in the paper's scaled units
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, fields
 
@@ -154,13 +168,18 @@ class Options:
 
 @dataclass
 class StepInfo:
-    """What one step did: the impulse (world axes, m g / omega), whether the contact was in the NCP, solver health."""
+    """What one step did: the impulse (world axes, physical), whether the contact was in the NCP, solver health,
+    and the tip's position, velocity and classical acceleration at the step's start (world axes, physical; the
+    acceleration with qdd = (v_next - v) / dt), which a record row needs."""
 
     impulse: np.ndarray
     active: bool
     iterations: int
     complementarity: float
     converged: bool
+    tip_pos: np.ndarray
+    tip_vel: np.ndarray
+    tip_acc: np.ndarray
 
 
 class Stepper:
@@ -199,10 +218,14 @@ class Stepper:
         # tip kinematics at (q, v): height, Jacobian, dJ v (classical acceleration with qdd = 0)
         pin.forwardKinematics(model, data, q, v, self.zeros)
         pin.updateFramePlacement(model, data, self.tip)
-        gap = data.oMf[self.tip].translation[2]
+        pos = data.oMf[self.tip].translation.copy()
+        gap = pos[2]
         active = gap <= self.options.gap * self.rod.length
         if not active:
-            return q + dt * v_free, v_free, StepInfo(np.zeros(3), False, 0, 0.0, True)
+            pin.forwardKinematics(model, data, q, v, a_free)
+            vel = pin.getFrameVelocity(model, data, self.tip, _LWA).linear
+            acc = pin.getFrameClassicalAcceleration(model, data, self.tip, _LWA).linear
+            return q + dt * v_free, v_free, StepInfo(np.zeros(3), False, 0, 0.0, True, pos, vel, acc)
         dJv = pin.getFrameClassicalAcceleration(model, data, self.tip, _LWA).linear
         pin.computeJointJacobians(model, data, q)
         pin.crba(model, data, q)
@@ -212,31 +235,30 @@ class Stepper:
         G = self.cholesky.getDelassusOperatorCholeskyExpression()
         u = J @ v_free + dt * dJv
         u[2] += gap / dt
-        cap, iterations = self.options.max_iterations, 0
+        cap, iterations, stick_tried = self.options.max_iterations, 0, False
         while True:
             self.settings.max_iterations = cap
             self.solver.solve(G, u, self.models, self.datas, self.settings, self.result)
             iterations += self.result.iterations
-            if self.result.converged or cap >= self.options.max_iterations_limit:
+            if self.result.converged:
                 break
-            cap = min(10 * cap, self.options.max_iterations_limit)
+            if cap < self.options.max_iterations_limit:
+                cap = min(10 * cap, self.options.max_iterations_limit)
+                continue
+            if stick_tried:
+                break
+            stick_tried = True
+            lam = -np.linalg.solve(G.matrix(), u)  # the sticking impulse (module docstring)
+            if not (lam[2] > 0.0 and math.hypot(lam[0], lam[1]) <= self.mu * lam[2]):
+                break
+            self.result.setConstraintImpulseGuess(lam)
         lam = np.array(self.result.retrieveConstraintImpulses())
-        M = np.triu(data.M) + np.triu(data.M, 1).T
-        v_next = v_free + np.linalg.solve(M, J.T @ lam)
-        info = StepInfo(lam, True, iterations, float(self.result.complementarity), bool(self.result.converged))
+        pin.cholesky.decompose(model, data)  # M = U D U^T of the crba above: M^-1 J^T lambda in O(nv) (a numpy solve costs 25x more)
+        v_next = v_free + pin.cholesky.solve(model, data, J.T @ lam)
+        # the row's tip kinematics from this step's J (the contact frame is the world's) and dJ v: no more Pinocchio calls
+        info = StepInfo(lam, True, iterations, float(self.result.complementarity), bool(self.result.converged), pos, J @ v,
+                        dJv + J @ ((v_next - v) / dt))
         return q + dt * v_next, v_next, info
-
-
-def _record_row(stepper: Stepper, q, v, v_next, info: StepInfo) -> tuple:
-    """(tip_pos, tip_vel, tip_acc, force) of the row at (q, v) [physical -> scaled]."""
-    model, data, rod = stepper.model, stepper.data, stepper.rod
-    pin.forwardKinematics(model, data, q, v, (v_next - v) / stepper.dt)
-    pin.updateFramePlacement(model, data, stepper.tip)
-    pos = data.oMf[stepper.tip].translation / rod.length
-    vel = pin.getFrameVelocity(model, data, stepper.tip, _LWA).linear / (rod.length * rod.omega)
-    acc = pin.getFrameClassicalAcceleration(model, data, stepper.tip, _LWA).linear / rod.gravity
-    force = info.impulse / stepper.dt / rod.force_scale
-    return pos, vel, acc, force
 
 
 @dataclass(frozen=True)
@@ -270,21 +292,24 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     stepper = Stepper(rod, mu, opts)
     n = n_steps(horizon, opts.timestep)
     q, v = to_generalized(rod, state)
-    rows = {k: np.empty((n, 3)) for k in ("tip_pos", "tip_vel", "tip_acc", "force")}
-    ang = np.empty((n, 4))
+    raw = np.empty((n, 16))  # per row, physical: tip position, velocity, acceleration, impulse; psi, theta and their rates
     active = np.zeros(n, bool)
     iters, compl, conv = np.zeros(n, np.int64), np.zeros(n), np.ones(n, bool)
     for k in range(n):
         q1, v1, info = stepper.step(q, v)
-        rows["tip_pos"][k], rows["tip_vel"][k], rows["tip_acc"][k], rows["force"][k] = _record_row(stepper, q, v, v1, info)
-        ang[k] = q[3], q[4], v[3] / rod.omega, v[4] / rod.omega
+        r = raw[k]
+        r[0:3], r[3:6], r[6:9], r[9:12] = info.tip_pos, info.tip_vel, info.tip_acc, info.impulse
+        r[12], r[13], r[14], r[15] = q[3], q[4], v[3], v[4]
         active[k], iters[k], compl[k], conv[k] = info.active, info.iterations, info.complementarity, info.converged
         q, v = q1, v1
-    vel = rows["tip_vel"]
-    record = Record(t=opts.timestep * np.arange(n), tip_pos=rows["tip_pos"], tip_vel=vel, tip_acc=rows["tip_acc"], force=rows["force"],
-                    normal_force=rows["force"][:, 2].copy(), active=active, gap=rows["tip_pos"][:, 2].copy(),
-                    slip_vel=np.column_stack([vel[:, 0], vel[:, 1], np.zeros(n)]), psi=ang[:, 0].copy(), theta=ang[:, 1].copy(),
-                    Psi=ang[:, 2].copy(), Theta=ang[:, 3].copy())
+    # to the paper's scaled units, column by column (contiguous arrays for the classifier)
+    L, w = rod.length, rod.omega
+    pos, vel, acc = raw[:, 0:3] / L, raw[:, 3:6] / (L * w), raw[:, 6:9] / rod.gravity
+    force = raw[:, 9:12] / (stepper.dt * rod.force_scale)
+    record = Record(t=opts.timestep * np.arange(n), tip_pos=pos, tip_vel=vel, tip_acc=acc, force=force,
+                    normal_force=force[:, 2].copy(), active=active, gap=pos[:, 2].copy(),
+                    slip_vel=np.column_stack([vel[:, 0], vel[:, 1], np.zeros(n)]), psi=raw[:, 12].copy(), theta=raw[:, 13].copy(),
+                    Psi=raw[:, 14] / w, Theta=raw[:, 15] / w)
     c = classify(record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=0.0, rigid=True, thresholds=th)
     run = Run.from_classification(ENGINE.name, c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
                                   horizon=horizon, nstep=n)

@@ -69,6 +69,7 @@ __all__ = [
     "DEFAULT_HORIZON",
     "LAG_TAU",
     "LAG_STEPS",
+    "solver_health",
     "BOUNDARY_RADII",
     "AnalyticEvents",
     "analytic_events",
@@ -256,6 +257,9 @@ class AgreementRun:
       options, thresholds: the engine's options and the criteria used (dicts;
         ``stick_threshold`` is the STICK speed of this run's friction time constant).
       wall_time [s], steps_per_second: of the sweep.
+      solver_health: for an engine with a solver (``SweepResult.solver``):
+        states, steps in contact, steps and states that missed the solver's
+        tolerance, the largest iteration count; None otherwise.
     """
 
     engine: str
@@ -279,6 +283,7 @@ class AgreementRun:
     thresholds: dict = field(repr=False)
     wall_time: float
     steps_per_second: float
+    solver_health: dict | None = None
 
     labels = tuple(_NAMES)
 
@@ -313,7 +318,17 @@ class AgreementRun:
             "thresholds": self.thresholds,
             "wall_time": self.wall_time,
             "steps_per_second": self.steps_per_second,
+            "solver_health": self.solver_health,
         }
+
+
+def solver_health(solver: dict | None) -> dict | None:
+    """Totals of a sweep's per-state solver statistics (``SweepResult.solver``); None for an engine without a solver."""
+    if solver is None:
+        return None
+    un = np.asarray(solver["unconverged_steps"])
+    return {"states": int(un.size), "contact_steps": int(np.sum(solver["contact_steps"])), "unconverged_steps": int(un.sum()),
+            "unconverged_states": int((un > 0).sum()), "max_iterations": int(np.max(solver["max_iterations"]))}
 
 
 def quantiles(x: np.ndarray) -> dict:
@@ -375,7 +390,7 @@ class AgreementResult:
 
 
 def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a: AnalyticEvents, idx, distance, offplane,
-          wall_time: float, steps_per_second: float) -> AgreementRun:
+          wall_time: float, steps_per_second: float, solver: dict | None = None) -> AgreementRun:
     until = a.until[idx]
     tau = float(opts.contact_time)
     # A soft contact answers the rigid force with a lag ~ tau (its force builds up over tau; STICK is
@@ -413,6 +428,7 @@ def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a:
         thresholds={**th.as_dict(), "stick_threshold": th.stick_threshold(opts.friction_time)},
         wall_time=wall_time,
         steps_per_second=steps_per_second,
+        solver_health=solver_health(solver),
     )
 
 
@@ -428,7 +444,7 @@ def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresho
                 **{f.name: getattr(opts, f.name) for f in fields(opts)})
     return _rate(engine=engine, opts=opts, th=th, outcome=r.outcome, event_time=r.event_time, p_event=r.summary["jam_p_eff"], a=a,
                  idx=idx, distance=distance, offplane=np.abs(points["varphi"][idx] + math.pi / 2), wall_time=r.wall_time,
-                 steps_per_second=r.steps_per_second)
+                 steps_per_second=r.steps_per_second, solver=r.solver)
 
 
 def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings: Sequence[Mapping] = ({},), alpha: float = 3.0,
@@ -522,5 +538,8 @@ def convergence_table(result: AgreementResult) -> list[dict]:
             s = rated & sel
             row[f"n_{name}"] = int(s.sum())
             row[f"agreement_{name}"] = float(agree[s].mean()) if s.any() else math.nan
+        if r.solver_health is not None:
+            row["unconverged_steps"] = r.solver_health["unconverged_steps"]
+            row["unconverged_states"] = r.solver_health["unconverged_states"]
         rows.append(row)
     return rows

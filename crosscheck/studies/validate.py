@@ -29,9 +29,23 @@ An engine is validated by up to two sets of checks, each a list of
     the analytic jam time of the Corollary 4.2 states (fraction pooled over
     mu = 1.4, 1.7, 6);
 
-  plus the engine's own checks (``OWN_CHECKS``: for MuJoCo, its tip
+  For a rigid engine (``Options.contact_time == 0``) the window is
+  ``RIGID_JAM_WINDOW`` instead of 0.15, and the fraction of the slips that
+  end with a JAM (the impulse itself) in it is reported in ``extra`` as
+  ``corollary_jam_fraction``: at large mu the discrete slip can run out in
+  the last steps of the square-root approach to p = 0 (a STICK at the jam
+  row) instead of ending with a one-row impulse.
+
+  plus the engine's own checks (``OWN_CHECKS``): for MuJoCo, its tip
   acceleration with an active contact against eq. linode2 at the capsule's
-  contact point, ``crosscheck.studies.mujoco_contact``).
+  contact point (``crosscheck.studies.mujoco_contact``); for the rigid
+  engine (``crosscheck.studies.rigid``), one step's normal impulse against
+  eq. FZ, the order of convergence of a slipping trajectory, and the order
+  of convergence of its state after a jam to the impact without collision
+  (``crosscheck.iwc``), with the Corollary 4.2 states' aftermath in ``extra``.
+
+An engine with a dynamics-terms check takes ``n_states`` for that check and
+min(n_states, ``DEFAULT_STATES``) for its event agreement.
 
 Everything is in the paper's scaled units (m = l = g = 1, time 1/omega).
 """
@@ -55,7 +69,7 @@ from crosscheck.studies.jams import jam_check
 from crosscheck.studies.onset import liftoff_onset
 
 __all__ = ["names", "default_states", "validate", "contact_events", "DYNAMICS", "OWN_CHECKS", "DEFAULT_STATES", "ALPHA", "MUS_ONSET",
-           "MUS_BELOW"]
+           "MUS_BELOW", "RIGID_JAM_WINDOW", "PARTS", "parts_of"]
 
 #: Engines with a dynamics-terms check: name -> module with ``DEFAULT_STATES`` and ``validate(n, rng, *, progress)``.
 DYNAMICS = {"pinocchio": "crosscheck.studies.dynamics_terms"}
@@ -73,6 +87,11 @@ MUS_ONSET = (0.3, 1.0, 2.0)
 #: which of them are asserted (p_min(mu) > Thresholds.jam_p_eff).
 MUS_BELOW = (0.5, 1.0, 1.15, 1.3)
 
+#: How close to the analytic jam a rigid engine's JAM must be (scaled time): its jam comes early by
+#: O(sqrt(dt)) (the square-root approach to p = 0, crosscheck.tolerances), 0.03 at dt = 1e-3; 0.05
+#: leaves a margin and is a third of the soft contact's 0.15.
+RIGID_JAM_WINDOW = 0.05
+
 
 def _mujoco_contact(rod: Rod, n_states: int, rng: np.random.Generator) -> list[ErrorStat]:
     from crosscheck.studies.mujoco_contact import contact_acceleration
@@ -83,8 +102,26 @@ def _mujoco_contact(rod: Rod, n_states: int, rng: np.random.Generator) -> list[E
                        tol.MUJOCO_CONTACT_ACCELERATION, where)]
 
 
+def _rigid(rod: Rod, n_states: int, rng: np.random.Generator) -> list[ErrorStat]:
+    from crosscheck.studies import rigid
+
+    stats = []
+    steps = [(s, m, rigid.one_step(rod, s, m)) for s, m in rigid.slipping_states(min(n_states, 40), rng, rod.alpha)]
+    where = {k: np.array([getattr(s, k) for s, _, _ in steps]) for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi")}
+    where["mu"] = np.array([m for _, m, _ in steps])
+    stats.append(error_stat("one-step normal impulse / dt vs -b/p", [c.normal_force for _, _, c in steps],
+                            [c.slipping_force for _, _, c in steps], tol.RIGID_STEP_FORCE, where))
+    rate, errs = rigid.slip_order(rod)
+    stats.append(error_stat("slipping convergence order", [rate], [1.0], tol.RIGID_SLIP_ORDER, {"error_at_smallest_dt": errs[-1:]}))
+    impasses = [rigid.planar_impasse(m, T, rod.alpha) for m, T in ((1.4, 0.5), (1.4, -0.3), (2.0, 0.5))]
+    after = [rigid.jam_aftermath(rod, [s], m) for s, m in zip(impasses, (1.4, 1.4, 2.0))]
+    stats.append(error_stat("post-jam rates vs IWC order (planar impasse)", [a.orders()[0] for a in after], [1.0] * len(after),
+                            tol.RIGID_IWC_ORDER, {"mu": np.array([1.4, 1.4, 2.0]), "Theta": np.array([0.5, -0.3, 0.5])}))
+    return stats
+
+
 #: Checks only one engine has: name -> function(rod, n_states, rng) -> list of ErrorStat, run first.
-OWN_CHECKS = {"mujoco": _mujoco_contact}
+OWN_CHECKS = {"mujoco": _mujoco_contact, "pinocchio": _rigid}
 
 
 def names() -> list[str]:
@@ -108,8 +145,13 @@ def _count_stat(quantity: str, got, tolerance, states: dict) -> ErrorStat:
     return error_stat(quantity, got, np.zeros_like(got), tolerance, states)
 
 
-def contact_events(engine: str, n_states: int, rng: np.random.Generator, *, progress: bool = False) -> ValidationResult:
-    """The contact-event checks of the module docstring for ``engine``; the event agreement on ``n_states`` random states."""
+def contact_events(engine: str, n_states: int, rng: np.random.Generator, *, progress: bool = False,
+                   jam_states: tuple[int, int] | None = None) -> ValidationResult:
+    """The contact-event checks of the module docstring for ``engine``; the event agreement on ``n_states`` random states.
+
+    ``jam_states``: (random states per mu below mu_P, Corollary 4.2 states per mu above it); by default
+    (max(20, n_states // 5), max(30, n_states // 10)).
+    """
     if n_states < 1:
         raise ValueError(f"n_states must be >= 1; got {n_states}")
     if engine not in tol.EVENT_TOLERANCES:
@@ -142,8 +184,10 @@ def contact_events(engine: str, n_states: int, rng: np.random.Generator, *, prog
         "convergence_row": convergence_table(study),
     }
 
-    jc = jam_check(engine=engine, mus_below=MUS_BELOW, n_below=max(20, n_states // 5), n_above=max(30, n_states // 10), rng=rng,
-                   progress=progress)
+    rigid = engines.get(engine).Options().contact_time == 0.0
+    n_below, n_above = jam_states or (max(20, n_states // 5), max(30, n_states // 10))
+    jc = jam_check(engine=engine, mus_below=MUS_BELOW, n_below=n_below, n_above=n_above, rng=rng,
+                   near_window=RIGID_JAM_WINDOW if rigid else 0.15, progress=progress)
     p_jam = Thresholds().jam_p_eff
     decidable = [row for row in jc.below if p_min(row["mu"], ALPHA) > p_jam]
     stats.append(_count_stat("jams below mu_P", [row["n_jam"] for row in decidable], T["no_jam_below_mu_P"],
@@ -152,6 +196,7 @@ def contact_events(engine: str, n_states: int, rng: np.random.Generator, *, prog
     n_above = sum(row["n"] for row in jc.above)
     ended = sum(row["n"] * row["ended_near_fraction"] for row in jc.above)
     stats.append(error_stat("Corollary 4.2 slip not ended", [1.0 - ended / n_above], [0.0], T["corollary_stop"], {"n": np.array([n_above])}))
+    extra["corollary_jam_fraction"] = sum(row["n"] * row["near_fraction"]["JAM"] for row in jc.above) / n_above
     extra["jams"] = jc.to_dict()
     extra["jams"]["asserted_below"] = [row["mu"] for row in decidable]
     extra["jams"]["near_mu_P_not_asserted"] = {
@@ -163,14 +208,29 @@ def contact_events(engine: str, n_states: int, rng: np.random.Generator, *, prog
     return ValidationResult(engine=engine, stats=stats, extra=extra)
 
 
-def validate(name: str, n_states: int, rng: np.random.Generator, *, progress: bool = False) -> ValidationResult:
-    """Every check ``name`` has (dynamics terms, then contact events), as one ``ValidationResult``."""
+#: The parts ``validate`` can run: the dynamics terms and the contact events (``checks=``; all by default).
+PARTS = ("dynamics", "events")
+
+
+def parts_of(name: str) -> tuple[str, ...]:
+    """The parts of ``PARTS`` engine ``name`` has."""
+    return tuple(p for p in PARTS if (p == "dynamics" and name in DYNAMICS) or (p == "events" and name in tol.EVENT_TOLERANCES))
+
+
+def validate(name: str, n_states: int, rng: np.random.Generator, *, progress: bool = False, checks=PARTS) -> ValidationResult:
+    """Every check ``name`` has among ``checks`` (dynamics terms, then contact events), as one ``ValidationResult``."""
     _known(name)
+    checks = tuple(checks)
+    for c in checks:
+        if c not in PARTS:
+            raise ValueError(f"checks must be among {', '.join(PARTS)}; got {c!r}")
     parts = []
-    if name in DYNAMICS:
+    if name in DYNAMICS and "dynamics" in checks:
         parts.append(importlib.import_module(DYNAMICS[name]).validate(n_states, rng, progress=progress))
-    if name in tol.EVENT_TOLERANCES:
-        parts.append(contact_events(name, n_states, rng, progress=progress))
+    if name in tol.EVENT_TOLERANCES and "events" in checks:
+        parts.append(contact_events(name, min(n_states, DEFAULT_STATES) if name in DYNAMICS else n_states, rng, progress=progress))
+    if not parts:
+        raise ValueError(f"checks must include a part {name} has ({', '.join(parts_of(name))}); got {', '.join(checks) or 'none'}")
     if len(parts) == 1:
         return parts[0]
     extra = {}

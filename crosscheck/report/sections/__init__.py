@@ -1,10 +1,10 @@
 """The report's sections, in report order: the analytic figures of the paper, the printed numbers,
-the GB manifold (sections 3.5 to 5), then the Pinocchio and MuJoCo cross-validations."""
+the GB manifold (sections 3.5 to 5), then the Pinocchio and MuJoCo cross-validations and the rigid engine."""
 
 from __future__ import annotations
 
 from crosscheck.report.section import Section
-from crosscheck.report.sections import critical_angles, gb_det_zeros, gb_eigenvectors, gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, mechanisms, mode_maps, mujoco_convergence, mujoco_liftoff, mujoco_maps, mujoco_trajectories, mujoco_validate, p_region, pinocchio, printed_numbers
+from crosscheck.report.sections import critical_angles, gb_det_zeros, gb_eigenvectors, gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, mechanisms, mode_maps, mujoco_convergence, mujoco_liftoff, mujoco_maps, mujoco_trajectories, mujoco_validate, p_region, pinocchio, printed_numbers, rigid_engine
 
 __all__ = ["SECTIONS", "section_by_slug"]
 
@@ -26,6 +26,13 @@ SECTIONS: tuple[Section, ...] = (
     mujoco_convergence.SECTION,
     mujoco_trajectories.SECTION,
     mujoco_validate.SECTION,
+    # the rigid engine on the same starts as MuJoCo's maps; the quick report at a coarser timestep (its cost is the NCP's)
+    mujoco_maps.section("rigid_maps", "Rigid engine (Pinocchio) vs analytic: outcome maps beside MuJoCo's", "pinocchio",
+                        {"quick": {"timestep": 3e-3}, "full": {"timestep": 1e-3}}, beside="mujoco_maps"),
+    mujoco_convergence.section("rigid_convergence", "Rigid engine (Pinocchio) vs analytic: convergence in timestep", "pinocchio",
+                               {"quick": [{"timestep": dt} for dt in (1e-2, 3e-3, 1e-3)],
+                                "full": [{"timestep": dt} for dt in (3e-3, 1e-3, 3e-4)]}, n={"quick": 5, "full": 14}),
+    rigid_engine.SECTION,
 )
 
 

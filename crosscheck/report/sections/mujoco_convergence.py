@@ -2,7 +2,7 @@
 
 ``crosscheck.studies.agreement.agreement_study`` on one grid of starts with
 several (timestep, timeconst) settings of the engine named in the parameters
-(MuJoCo), and its ``convergence_table``: per setting, the agreement with the
+(MuJoCo here; the rigid engine in ``rigid_convergence``), and its ``convergence_table``: per setting, the agreement with the
 analytic first event (also
 with a JAM counted as any stop, and split into starts on the planar section
 varphi = -pi/2, Psi = 0 and off it) and the median |t_MuJoCo - t_analytic|.
@@ -21,12 +21,12 @@ from crosscheck.report.section import RenderContext, RunContext, Section, Table
 SLUG = "mujoco_convergence"
 
 
-def params(quick: bool) -> dict:
-    settings = [(3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02)]
-    if not quick:
-        settings += [(1e-4, 0.02), (1e-4, 0.006)]
-    n = 7 if quick else 20
-    return {"engine": "mujoco", "alpha": 3.0, "horizon": 2.0, "timesteps": [s[0] for s in settings], "timeconsts": [s[1] for s in settings],
+def params(quick: bool, engine: str = "mujoco", settings: list | None = None, n: int | None = None) -> dict:
+    if settings is None:  # MuJoCo: (timestep, timeconst), timeconst >= 2 timestep
+        pairs = [(3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02)] + ([] if quick else [(1e-4, 0.02), (1e-4, 0.006)])
+        settings = [{"timestep": dt, "timeconst": tc} for dt, tc in pairs]
+    n = n or (7 if quick else 20)
+    return {"engine": engine, "alpha": 3.0, "horizon": 2.0, "settings": settings,
             "grid": {"theta": [0.2, 1.5, n], "varphi": [-1.9, -1.5707963267948966], "Theta": [-1.5, 1.5, n], "Psi": [0.0], "mu": [1.4], "eta": [1.0]}}
 
 
@@ -38,8 +38,7 @@ def run(ctx: RunContext) -> None:
     g = P["grid"]
     grid = EventGrid(theta=tuple(cell_centres(*g["theta"])), varphi=tuple(g["varphi"]), Theta=tuple(cell_centres(*g["Theta"])), Psi=tuple(g["Psi"]),
                      mu=tuple(g["mu"]), eta=tuple(g["eta"]))
-    settings = [{"timestep": dt, "timeconst": tc} for dt, tc in zip(P["timesteps"], P["timeconsts"])]
-    res = agreement_study(grid, engine=P["engine"], settings=settings, alpha=P["alpha"], horizon=P["horizon"], rng=ctx.rng,
+    res = agreement_study(grid, engine=P["engine"], settings=P["settings"], alpha=P["alpha"], horizon=P["horizon"], rng=ctx.rng,
                           boundary_directions=0, progress=ctx.show_progress)
     (ctx.store.root / "study.json").write_text(res.to_json() + "\n")
     rows = convergence_table(res)
@@ -73,11 +72,24 @@ def render(ctx: RenderContext) -> list:
     rows = [[f"{c['timestep'][i]:g}", f"{c['timeconst'][i]:g}", f"{int(c['n_rated'][i])}", f"{100 * c['agreement'][i]:.1f}%",
              f"{100 * c['agreement_jam_as_stop'][i]:.1f}%", f"{100 * c['agreement_planar'][i]:.1f}% of {int(c['n_planar'][i])}",
              f"{100 * c['agreement_off_plane'][i]:.1f}% of {int(c['n_off_plane'][i])}", f"{c['median_abs_time_difference'][i]:.3g}"] for i in range(len(c["timestep"]))]
+    header = ["timestep", "timeconst", "rated", "agreement", "JAM as stop", "planar", "off plane", "median |dt event|"]
+    caption = "Convergence table: agreement (also with JAM counted as any stop; on and off the planar section) and median |event-time difference|."
+    if "unconverged_steps" in c:  # an engine with a solver: its health beside every row
+        header += ["steps missing the solver tolerance (states)"]
+        for i, r in enumerate(rows):
+            r.append(f"{int(c['unconverged_steps'][i])} ({int(c['unconverged_states'][i])})")
+        caption += " Solver health: steps whose NCP missed the tolerance after every retry, and in how many states."
     return [ctx.figure("convergence", fig, cap, ["convergence.csv", "study.json"]),
-            Table(caption="Convergence table: agreement (also with JAM counted as any stop; on and off the planar section) and median |event-time difference|.",
-                  header=["timestep", "timeconst", "rated", "agreement", "JAM as stop", "planar", "off plane", "median |dt event|"], rows=rows,
-                  data=ctx.data("convergence.csv", "study.json"))]
+            Table(caption=caption, header=header, rows=rows, data=ctx.data("convergence.csv", "study.json"))]
 
 
-SECTION = Section(slug=SLUG, title="MuJoCo vs analytic: convergence in timestep and contact time constant", paper="sections 3.1, 4",
-                  params=params, run=run, render=render, requires=("crosscheck.studies.agreement", "crosscheck.engines.mujoco"))
+def section(slug: str, title: str, engine: str, settings: dict | None = None, n: dict | None = None) -> Section:
+    """The convergence of ``engine`` over ``settings`` ({"quick": [...], "full": [...]} of option dicts; MuJoCo's by default),
+    on an n x n grid in (theta, Theta) (``n``: {"quick": ..., "full": ...}; 7 and 20 by default)."""
+    return Section(slug=slug, title=title, paper="sections 3.1, 4",
+                   params=lambda quick: params(quick, engine, None if settings is None else settings["quick" if quick else "full"],
+                                               None if n is None else n["quick" if quick else "full"]),
+                   run=run, render=render, requires=("crosscheck.studies.agreement", f"crosscheck.engines.{engine}"))
+
+
+SECTION = section(SLUG, "MuJoCo vs analytic: convergence in timestep and contact time constant", "mujoco")

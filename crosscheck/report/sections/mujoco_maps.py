@@ -2,7 +2,9 @@
 
 Each map is a ``crosscheck.studies.grids.EventGrid`` with two axes varied
 and the others fixed, run through ``crosscheck.studies.agreement.agreement_study``
-with the engine named in the parameters (MuJoCo): the analytic first event of
+with the engine and options named in the parameters (``section(engine,
+...)`` builds one such section per engine: MuJoCo's here, the rigid
+engine's in ``rigid_maps``, drawn beside MuJoCo's): the analytic first event of
 every start (``slip_until_event``), and for every start that slips at t = 0
 (b < 0 < p) the engine's outcome by the one classifier
 (``crosscheck.engines.classifier``, whose JAM rule measures the force against
@@ -31,10 +33,11 @@ SLUG = "mujoco_maps"
 NOT_SLIPPING = -2
 
 
-def params(quick: bool) -> dict:
+def params(quick: bool, engine: str = "mujoco", options: dict | None = None, beside: str | None = None) -> dict:
     n = 10 if quick else 32
     return {
-        "engine": "mujoco", "alpha": 3.0, "horizon": 2.0, "timestep": 3e-4, "timeconst": 0.06, "boundary_directions": 0 if quick else 3,
+        "engine": engine, "alpha": 3.0, "horizon": 2.0, "options": options or {"timestep": 3e-4, "timeconst": 0.06}, "beside": beside,
+        "boundary_directions": 0 if quick else 3,
         "maps": [
             {"name": "Psi_mu", "x": "Psi", "y": "mu", "x_range": [0.0, 3.0], "y_range": [0.0, 3.0], "n": n,
              "fixed": {"theta": 1.0, "varphi": -1.9, "Theta": 0.0, "eta": 1.0}},
@@ -63,7 +66,7 @@ def run(ctx: RunContext) -> None:
     summary = []
     for m in ctx.progress(P["maps"], desc="agreement maps"):
         grid, x, y = _grid(m)
-        res = agreement_study(grid, engine=engine, settings=({"timestep": P["timestep"], "timeconst": P["timeconst"]},), alpha=P["alpha"],
+        res = agreement_study(grid, engine=engine, settings=(P["options"],), alpha=P["alpha"],
                               horizon=P["horizon"], rng=ctx.rng, boundary_directions=P["boundary_directions"], progress=ctx.show_progress)
         (ctx.store.root / f"study_{m['name']}.json").write_text(res.to_json() + "\n")
         pts, a = res.points, res.analytic
@@ -91,6 +94,18 @@ def _label(name: str) -> str:
     return f"$\\{name}$"  # the axes are Greek letters of the paper
 
 
+def _beside(ctx: RenderContext, slug: str | None):
+    """The saved results of the section drawn beside this one (its store and its engine's name), or (None, "") if absent."""
+    from crosscheck.report.store import SectionStore
+
+    if not slug:
+        return None, ""
+    store = SectionStore(ctx.store.root.parent / slug)
+    if not store.exists("maps.json") or not store.exists("status.json"):
+        return None, ""
+    return store, store.read_json("status")["params"]["engine"]
+
+
 def render(ctx: RenderContext) -> list:
     from crosscheck.engines.base import engine_label
     from crosscheck.report.plotting import OUTCOME_COLORS, categorical_image, outcome_legend, plt
@@ -99,10 +114,15 @@ def render(ctx: RenderContext) -> list:
     engine, name = P["engine"], engine_label(P["engine"])
     maps = ctx.store.read_json("maps")
     colors = {**OUTCOME_COLORS, NOT_SLIPPING: (0.8, 0.8, 0.8)}
+    opts = ", ".join(f"{k} {v:g}" for k, v in P["options"].items())
+    other, other_engine = _beside(ctx, P.get("beside"))
+    other_name = engine_label(other_engine)
     blocks = [Text(f"Each cell is one start (alpha = {P['alpha']:g}), compared over the scaled horizon {P['horizon']:g} by "
-                   f"`crosscheck.studies.agreement.agreement_study` ({name} timestep {P['timestep']:g}, contact time constant {P['timeconst']:g}). Grey: not "
+                   f"`crosscheck.studies.agreement.agreement_study` ({name}: {opts}). Grey: not "
                    f"slipping at t = 0 (b >= 0 or p <= 0), not compared. Panels: the analytic first event, {name}'s outcome (counted only up to the "
-                   "analytic comparison time; a JAM is judged against the engine's own friction direction), and where they disagree.")]
+                   "analytic comparison time; a JAM is judged against the engine's own friction direction), "
+                   + (f"{other_name}'s outcome on the same starts (its own section), " if other is not None else "") + "and where "
+                   f"{name} and the analytic model disagree.")]
     conf = 0
     diffs = {"difference": [], "outcome": []}
     boundary_rows = []
@@ -120,18 +140,27 @@ def render(ctx: RenderContext) -> list:
 
         slipping = t["slipping"] == 1
         a = np.where(slipping, t["analytic_outcome"], NOT_SLIPPING)
-        fig, axes = plt.subplots(1, 3, figsize=(11.5, 3.6), sharey=True)
+        o = other.read_table(f"events_{mp['name']}", text=("analytic_reason",)) if other is not None and other.exists(f"events_{mp['name']}.csv") else None
+        panels = 3 if o is None else 4
+        fig, axes = plt.subplots(1, panels, figsize=(3.85 * panels, 3.6), sharey=True)
         categorical_image(axes[0], x, y, image(a), colors)
         axes[0].set_title("analytic first event")
         categorical_image(axes[1], x, y, image(t[engine]), colors)
         axes[1].set_title(name)
         outcome_legend(axes[1], np.concatenate([a[slipping], t[engine][slipping]]), loc="upper left", fontsize=6)
+        if o is not None:
+            oi = np.abs(o[mp["x"]["name"]][:, None] - x[None, :]).argmin(axis=1)
+            oj = np.abs(o[mp["y"]["name"]][:, None] - y[None, :]).argmin(axis=1)
+            img = np.full((y.size, x.size), np.nan)
+            img[oj, oi] = o[other_engine]
+            categorical_image(axes[2], x, y, img, colors)
+            axes[2].set_title(f"{other_name} (beside)")
         a_img = image(a)
         edge = boundary_cells(np.nan_to_num(a_img, nan=-9))
         m_img = image(t[engine])
         agree = np.where(a_img == NOT_SLIPPING, NOT_SLIPPING, np.where(a_img == m_img, 0, np.where(edge, 1, 2)))
-        categorical_image(axes[2], x, y, agree, {NOT_SLIPPING: (0.8, 0.8, 0.8), 0: (0.95, 0.95, 0.95), 1: (0.95, 0.6, 0.2), 2: (0.8, 0.0, 0.0)})
-        axes[2].set_title("disagreement (orange: on a boundary, red: interior)")
+        categorical_image(axes[-1], x, y, agree, {NOT_SLIPPING: (0.8, 0.8, 0.8), 0: (0.95, 0.95, 0.95), 1: (0.95, 0.6, 0.2), 2: (0.8, 0.0, 0.0)})
+        axes[-1].set_title(f"{name} differs (orange: boundary, red: interior)", fontsize=9)
         for ax in axes:
             ax.set_xlabel(_label(mp["x"]["name"]))
         axes[0].set_ylabel(_label(mp["y"]["name"]))
@@ -193,5 +222,15 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="MuJoCo vs analytic: outcome maps, confusion matrices, event times", paper="sections 3.1, 4 (Corollary 4.2)",
-                  params=params, run=run, render=render, requires=("crosscheck.studies.agreement", "crosscheck.engines.mujoco", "crosscheck.gb"))
+def section(slug: str, title: str, engine: str, options: dict | None = None, beside: str | None = None) -> Section:
+    """The maps of ``engine`` as a report section, drawn beside the maps of the section ``beside`` if given.
+
+    ``options``: {"quick": {...}, "full": {...}}, the engine's options in each report (MuJoCo's defaults if None).
+    """
+    return Section(slug=slug, title=title, paper="sections 3.1, 4 (Corollary 4.2)",
+                   params=lambda quick: params(quick, engine, None if options is None else options["quick" if quick else "full"], beside),
+                   run=run, render=render,
+                   requires=("crosscheck.studies.agreement", f"crosscheck.engines.{engine}", "crosscheck.gb"))
+
+
+SECTION = section(SLUG, "MuJoCo vs analytic: outcome maps, confusion matrices, event times", "mujoco")

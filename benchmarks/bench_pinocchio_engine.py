@@ -1,0 +1,114 @@
+"""Steps per second of the rigid engine (``crosscheck.engines.get("pinocchio")``) against a bare loop of the same Pinocchio calls, measured in the same run.
+
+Baseline (same rod, states, mu, horizon, timestep, solver settings): a Python
+loop that makes exactly the Pinocchio calls one engine step needs (aba,
+forward kinematics and the tip's dJ v, joint Jacobians, crba, the contact
+constraint's Jacobian, the Delassus Cholesky, the PGS solve, the impulse,
+M^-1 J^T lambda, semi-implicit Euler) and nothing else: no record, no
+classification, no retry of a missed tolerance.  The engine's time includes
+everything ``simulate`` does (building the model and the constraint, the
+scaled ``Record`` of every row, the solver-health bookkeeping, the
+classifier).  Best of ``--repeat`` (other processes share the 2 cores).
+Target: engine / bare >= 0.7.  The sweep on two processes is timed too
+(its parallel efficiency against the one-process sweep).
+
+    python benchmarks/bench_pinocchio_engine.py [--states 8] [--horizon 1.0] [--repeat 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+import pinocchio as pin
+
+from crosscheck import Rod, SlipState
+from crosscheck.coordinates import to_generalized
+from crosscheck.engines import get, n_steps
+from crosscheck.engines.pinocchio import Options
+from crosscheck.engines.pinocchio_model import TIP_FRAME, build_model
+
+LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+
+def bare(rod: Rod, state: SlipState, mu: float, opts: Options, nstep: int) -> None:
+    """The engine's Pinocchio calls for ``nstep`` steps, without anything else."""
+    model = build_model(rod)
+    data = model.createData()
+    tip = model.getFrameId(TIP_FRAME)
+    frame = model.frames[tip]
+    contact = pin.PointContactConstraintModel(model, 0, pin.SE3.Identity(), frame.parentJoint, frame.placement)
+    contact.setFriction(mu)
+    models = pin.StdVec_ConstraintModel()
+    models.append(pin.ConstraintModel(contact))
+    datas = pin.StdVec_ConstraintData()
+    datas.append(models[0].createData())
+    chol = pin.ConstraintCholeskyDecomposition(model, data, models, datas)
+    solver, settings, result = pin.PGSConstraintSolver(3), pin.PGSSolverSettings(), pin.PGSSolverResult()
+    settings.solve_ncp = True
+    dt = opts.timestep / rod.omega
+    settings.absolute_complementarity_tol = settings.absolute_feasibility_tol = opts.tolerance * rod.force_scale * dt
+    settings.relative_complementarity_tol = settings.relative_feasibility_tol = 0.0
+    settings.max_iterations = opts.max_iterations
+    zeros = np.zeros(model.nv)
+    q, v = to_generalized(rod, state)
+    for _ in range(nstep):
+        v_free = v + dt * pin.aba(model, data, q, v, zeros)
+        pin.forwardKinematics(model, data, q, v, zeros)
+        pin.updateFramePlacement(model, data, tip)
+        gap = data.oMf[tip].translation[2]
+        dJv = pin.getFrameClassicalAcceleration(model, data, tip, LWA).linear
+        pin.computeJointJacobians(model, data, q)
+        pin.crba(model, data, q)
+        models[0].calc(model, data, datas[0])
+        J = pin.getConstraintsJacobian(model, data, models, datas)
+        chol.compute(model, data, models, datas, 0.0)
+        u = J @ v_free + dt * dJv
+        u[2] += gap / dt
+        solver.solve(chol.getDelassusOperatorCholeskyExpression(), u, models, datas, settings, result)
+        lam = np.array(result.retrieveConstraintImpulses())
+        pin.cholesky.decompose(model, data)
+        v = v_free + pin.cholesky.solve(model, data, J.T @ lam)
+        q = q + dt * v
+
+
+def best(f, repeat: int) -> float:
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        f()
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--states", type=int, default=8)
+    ap.add_argument("--horizon", type=float, default=1.0, help="scaled time per state")
+    ap.add_argument("--repeat", type=int, default=3)
+    args = ap.parse_args()
+
+    rod = Rod.scaled(3.0)
+    mu = 0.5  # below mu_P: every step is an ordinary slip, stick or free flight (the solver's common case)
+    rng = np.random.default_rng(0)
+    states = [SlipState(theta=rng.uniform(0.2, 1.3), varphi=-rng.uniform(0.1, 3.0), Theta=0.7 * rng.normal(), Psi=rng.normal(), eta=rng.uniform(0.2, 3))
+              for _ in range(args.states)]
+    opts = Options()
+    nstep = n_steps(args.horizon, opts.timestep)
+    total = len(states) * nstep
+    engine = get("pinocchio")
+
+    t_bare = best(lambda: [bare(rod, s, mu, opts, nstep) for s in states], args.repeat)
+    t_engine = best(lambda: [engine.simulate(rod, s, mu, horizon=args.horizon) for s in states], args.repeat)
+    t_sweep1 = best(lambda: engine.sweep(rod, states, mu, horizon=args.horizon, progress=False, workers=1), args.repeat)
+    t_sweep2 = best(lambda: engine.sweep(rod, states, mu, horizon=args.horizon, progress=False, workers=2), args.repeat)
+    print(f"{len(states)} states x {nstep} steps (timestep {opts.timestep:g}, mu {mu:g}), best of {args.repeat}")
+    print(f"bare loop of the Pinocchio calls: {total / t_bare:10.0f} steps/s  ({1e6 * t_bare / total:.1f} us/step)")
+    print(f"engine simulate:                  {total / t_engine:10.0f} steps/s  ({1e6 * t_engine / total:.1f} us/step)  ratio {t_bare / t_engine:.2f} (target >= 0.7)")
+    print(f"engine sweep, 1 process:          {total / t_sweep1:10.0f} steps/s")
+    print(f"engine sweep, 2 processes:        {total / t_sweep2:10.0f} steps/s  parallel efficiency {t_sweep1 / (2 * t_sweep2):.2f}")
+
+
+if __name__ == "__main__":
+    main()

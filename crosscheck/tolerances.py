@@ -223,22 +223,27 @@ RIGID_IWC_ORDER = Tolerance(atol=0.05, rtol=0.0, why="one step = the IWC + O(dt)
 # -b/p grows like (t_jam - t)^(-1/2)), which a first-order step meets early by up to O(sqrt(dt)).
 
 #: Fraction of random slipping states whose rigid-engine first event differs from slip_until_event's
-#: (compared up to the analytic event + 3 dt).  Measured 0.077 at seed 0 (n = 300); the rest sit on
-#: event boundaries (RIGID_EVENT_* are regression guards from measured values, not derived bounds).
-RIGID_EVENT_DISAGREEMENT = Tolerance(atol=0.15, rtol=0.0, why="regression guard: measured 0.077 (n = 300, seed 0), on event boundaries")
+#: (compared up to the analytic event + 3 dt; an analytic JAM met by a STICK counts as agreement, as for
+#: MuJoCo).  Measured 0.033 at seed 0 (n = 300; 0.077 before the engine's sticking-impulse rescue and
+#: 0.133 at seed 1 with n = 30).  Without the JAM-as-STICK allowance the agreement is 0.85: 35 of 64
+#: analytic JAMs end in a STICK one row before the jam, because the slip, decelerated by the force
+#: -b/p ~ (t_jam - t)^(-1/2), runs out within the last step when the analytic slip speed at the jam is
+#: below ~ mu |b| sqrt(dt); those 35 become JAMs as dt shrinks: 0, 16, 30 of 35 at dt = 1e-3, 3e-4,
+#: 1e-4.  A regression guard from measured values, not a derived bound.
+RIGID_EVENT_DISAGREEMENT = Tolerance(atol=0.15, rtol=0.0, why="regression guard: measured 0.033 (n = 300, seed 0), on event boundaries")
 
 #: Median |t_engine - t_analytic| over states with the same event: a first-order stepper shifts an
-#: event by O(dt) = 1e-3 (measured 0.0019 at seed 0: lift-offs and jams, both O(dt)-O(sqrt(dt))).
-RIGID_EVENT_TIME = Tolerance(atol=0.01, rtol=0.0, why="regression guard: O(dt)-O(sqrt dt) event shift (measured 0.0019)")
+#: event by O(dt) = 1e-3 (measured 0.00155 at seed 0, n = 300: lift-offs and jams, O(dt)-O(sqrt(dt))).
+RIGID_EVENT_TIME = Tolerance(atol=0.01, rtol=0.0, why="regression guard: O(dt)-O(sqrt dt) event shift (measured 0.0016)")
 
 #: Rigid JAMs among random slipping states below mu_P: none (p > 0 for every slip direction).
 RIGID_NO_JAM_BELOW_MU_P = Tolerance(atol=0.5, rtol=0.0, why="integer count must be 0: p > 0 for all varphi below mu_P")
 
 #: Fraction of Corollary 4.2 states (mu = 1.4, 1.7, 6) whose rigid-engine slip does not end (JAM,
-#: STICK or LIFTOFF) within RIGID_JAM_WINDOW = 0.05 of the analytic jam.  Measured 0.067 at seed 1
-#: (n = 90); the JAMs alone are 0.74 of the states there (mu = 6: 0.57, the rest stick at the jam
-#: row: the discrete slip runs out in the last steps of the square-root approach to p = 0).
-RIGID_COROLLARY_STOP = Tolerance(atol=0.2, rtol=0.0, why="regression guard: measured 0.067 (n = 90, seed 1)")
+#: STICK or LIFTOFF) within RIGID_JAM_WINDOW = 0.05 of the analytic jam.  Measured 0.056 at seed 0
+#: (n = 90) and 0.067 at seed 1; the JAMs alone are 0.83 and 0.74 of the states (mu = 6: 0.73 and
+#: 0.57; the rest stick at the jam row, as in RIGID_EVENT_DISAGREEMENT).
+RIGID_COROLLARY_STOP = Tolerance(atol=0.2, rtol=0.0, why="regression guard: measured 0.056-0.067 (n = 90, seeds 0, 1)")
 
 #: The tolerances of the contact-event checks (crosscheck.studies.validate) per engine: an engine
 #: is validated on events only with its own entry here (its own derivations or measurements).

@@ -24,6 +24,7 @@ COMMAND_MODULES = [
     "crosscheck.cli.validate",
     "crosscheck.cli.report",
     "crosscheck.cli.gb",
+    "crosscheck.cli.sweep",
 ]
 
 

@@ -1,0 +1,39 @@
+"""``crosscheck sweep SPEC --out DIR`` (run or resume a sweep) and ``crosscheck compare DIR_A DIR_B`` (two stores run by run)."""
+
+from __future__ import annotations
+
+import sys
+
+
+def _sweep(args) -> int:
+    from crosscheck import sweeps
+
+    summary = sweeps.run(args.spec, args.out, workers=args.workers, scheduler=args.scheduler, fresh=args.fresh,
+                         progress=False if args.no_progress else None)
+    print(summary)
+    return 1 if summary.failed else 0
+
+
+def _compare(args) -> int:
+    from crosscheck.sweeps.compare import compare_stores
+
+    c, files = compare_stores(args.a, args.b, out=args.out)
+    print(c.table())
+    print("wrote " + ", ".join(str(f) for f in files), file=sys.stderr)
+    return 0
+
+
+def register(sub) -> None:
+    s = sub.add_parser("sweep", help="run (or resume) a sweep from a TOML spec into a result store")
+    s.add_argument("spec", help="the sweep's TOML spec (examples/sweep.toml)")
+    s.add_argument("--out", required=True, help="the store directory (resumed if it holds the same sweep)")
+    s.add_argument("--workers", type=int, default=None, help="processes (or Dask workers with --scheduler local); default: the usable cores")
+    s.add_argument("--scheduler", default=None, help="'local' (a Dask LocalCluster for this run) or a Dask scheduler address tcp://host:8786")
+    s.add_argument("--fresh", action="store_true", help="replace whatever sweep OUT holds")
+    s.add_argument("--no-progress", action="store_true", help="no progress bar or log lines")
+    s.set_defaults(func=_sweep)
+    c = sub.add_parser("compare", help="compare two sweep stores run by run (confusion, agreement, event times)")
+    c.add_argument("a", help="the reference store (e.g. an analytic sweep)")
+    c.add_argument("b", help="the store compared with it")
+    c.add_argument("--out", default=None, help="prefix of the JSON and CSV written (default: B/compare-<name of A>)")
+    c.set_defaults(func=_compare)

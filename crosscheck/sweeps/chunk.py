@@ -1,0 +1,105 @@
+"""One chunk of a sweep: its runs through the engine (or the analytic first event), as columns of one table.
+
+A chunk is the unit of work (one task on a worker) and of storage (one
+Parquet file).  It depends only on the spec and its id: nothing in it is
+random (random states are drawn when the spec is read), and an engine runs
+on one core inside a chunk (``ONE_CORE``: the parallelism is over chunks), so
+a chunk's table is the same whichever worker computes it and in whatever
+order chunks finish.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from crosscheck.sweeps.spec import ANALYTIC, AXES, Spec
+
+__all__ = ["compute_chunk", "RESULT_COLUMNS", "ONE_CORE"]
+
+#: Per-run result columns (besides the inputs): the outcome's name, times (scaled; NaN where none), the
+#: JAM's own p and impulse, the solver's health where the engine has a solver (-1 otherwise), and the
+#: wall time per run (the chunk's engine time over its runs; the one column that differs between runs).
+RESULT_COLUMNS = ("engine", "outcome", "event_time", "exit_time", "diverged_time", "jam_p_eff", "jam_impulse", "solver_contact_steps",
+                  "solver_unconverged_steps", "solver_max_iterations", "chunk", "wall_time")
+
+#: Keyword arguments that keep an engine's sweep on one core (chunks are the parallel unit).
+ONE_CORE = {"mujoco": {"nthread": 1}, "pinocchio": {"workers": 1}}
+
+
+def _analytic(cols: dict, horizon: float) -> dict:
+    from crosscheck.outcome import Outcome
+    from crosscheck.slipping import slip_until_event
+    from crosscheck.state import SlipState
+
+    n = len(cols["run"])
+    out = {"outcome": np.empty(n, object), "event_time": np.full(n, np.nan), "exit_time": np.full(n, np.nan)}
+    for i in range(n):
+        s = SlipState(**{a: float(cols[a][i]) for a in (*AXES, "psi")})
+        r = slip_until_event(s, float(cols["mu"][i]), float(cols["alpha"][i]), t_max=horizon)
+        out["outcome"][i] = r.outcome.name
+        if r.outcome != Outcome.SLIP:
+            out["event_time"][i] = r.time
+        elif r.reason.startswith("theta"):
+            out["exit_time"][i] = r.time
+    return out
+
+
+def _engine(spec: Spec, cols: dict) -> dict:
+    from crosscheck import engines
+    from crosscheck.outcome import Outcome
+    from crosscheck.rod import Rod
+    from crosscheck.state import SlipState
+
+    E = engines.get(spec.engine)
+    n = len(cols["run"])
+    out = {k: np.full(n, np.nan) for k in ("event_time", "exit_time", "diverged_time", "jam_p_eff", "jam_impulse")}
+    out["outcome"] = np.empty(n, object)
+    for k in ("solver_contact_steps", "solver_unconverged_steps", "solver_max_iterations"):
+        out[k] = np.full(n, -1, np.int64)
+    # one engine sweep per (alpha, option combination) in the chunk; mu may differ run by run
+    keys = ["alpha", *spec.options]
+    groups: dict[tuple, list[int]] = {}
+    for i in range(n):
+        groups.setdefault(tuple(cols[k][i] for k in keys), []).append(i)
+    for key, idx in groups.items():
+        alpha, opts = float(key[0]), dict(zip(keys[1:], key[1:]))
+        opts = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in opts.items()}
+        states = [SlipState(**{a: float(cols[a][i]) for a in (*AXES, "psi")}) for i in idx]
+        r = E.sweep(Rod.scaled(alpha), states, np.asarray(cols["mu"], float)[idx], horizon=spec.horizon, progress=False,
+                    **opts, **ONE_CORE.get(spec.engine, {}))
+        out["outcome"][idx] = [Outcome(int(o)).name for o in r.outcome]
+        for k in ("event_time", "exit_time", "diverged_time"):
+            out[k][idx] = getattr(r, k)
+        out["jam_p_eff"][idx] = r.summary["jam_p_eff"]
+        out["jam_impulse"][idx] = r.summary["jam_impulse"]
+        if r.solver is not None:
+            out["solver_contact_steps"][idx] = r.solver["contact_steps"]
+            out["solver_unconverged_steps"][idx] = r.solver["unconverged_steps"]
+            out["solver_max_iterations"][idx] = r.solver["max_iterations"]
+    return out
+
+
+def compute_chunk(spec: Spec, chunk_id: int) -> dict[str, np.ndarray]:
+    """The table of chunk ``chunk_id``: its input columns (``Spec.runs``) and ``RESULT_COLUMNS``, one row per run."""
+    if not (0 <= chunk_id < spec.n_chunks):
+        raise ValueError(f"chunk_id must be in [0, {spec.n_chunks - 1}]; got {chunk_id}")
+    cols = spec.runs(chunk_id)
+    n = len(cols["run"])
+    t0 = time.perf_counter()
+    res = _analytic(cols, spec.horizon) if spec.engine == ANALYTIC else _engine(spec, cols)
+    wall = (time.perf_counter() - t0) / max(n, 1)
+    out = dict(cols)
+    out["engine"] = np.full(n, spec.engine, object)
+    for k in RESULT_COLUMNS[1:]:
+        if k in res:
+            out[k] = res[k]
+        elif k.startswith("solver_"):
+            out[k] = np.full(n, -1, np.int64)
+        elif k not in ("chunk", "wall_time"):
+            out[k] = np.full(n, math.nan)
+    out["chunk"] = np.full(n, chunk_id, np.int64)
+    out["wall_time"] = np.full(n, wall)
+    return out

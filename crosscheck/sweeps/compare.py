@@ -1,0 +1,113 @@
+"""Two sweep stores compared run by run: confusion matrix, agreement with its confidence interval, event-time errors, the disagreeing states.
+
+Runs are matched on their inputs (theta, varphi, Theta, Psi, eta, psi, mu,
+alpha), so the two stores may differ in engine or options (MuJoCo against
+the analytic reference, or MuJoCo at two timesteps); each store must hold
+one run per input (one option combination).  Outcomes are compared as they
+are (no comparison window): use equal horizons.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from crosscheck.outcome import Outcome
+
+__all__ = ["Comparison", "compare_frames", "compare_stores", "wilson_interval", "KEYS"]
+
+#: The input columns that identify a run across stores.
+KEYS = ("theta", "varphi", "Theta", "Psi", "eta", "psi", "mu", "alpha")
+
+_NAMES = [o.name for o in Outcome]
+
+
+def wilson_interval(k: int, n: int, z: float = 1.959963984540054) -> tuple[float, float]:
+    """The Wilson score interval of a binomial proportion k/n (95 % by default); (nan, nan) for n = 0."""
+    if n == 0:
+        return math.nan, math.nan
+    p = k / n
+    d = 1 + z * z / n
+    c = (p + z * z / (2 * n)) / d
+    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return max(0.0, c - h), min(1.0, c + h)
+
+
+@dataclass
+class Comparison:
+    """The comparison of B against A (see the module docstring); ``as_dict()`` is JSON-able."""
+
+    a: str
+    b: str
+    n: int
+    confusion: np.ndarray  # rows: A's outcome, columns: B's, indexed by Outcome values
+    agreement: float
+    interval: tuple
+    time_difference: dict  # per event name: n, median, median |d|, 95th percentile |d| of t_B - t_A
+    disagreeing: object  # pandas.DataFrame of the runs whose outcomes differ
+
+    def as_dict(self) -> dict:
+        fin = lambda x: None if isinstance(x, float) and not math.isfinite(x) else x  # noqa: E731
+        return {"a": self.a, "b": self.b, "n": self.n, "labels": _NAMES, "confusion": self.confusion.tolist(), "agreement": fin(self.agreement),
+                "agreement_95": [fin(x) for x in self.interval], "time_difference": self.time_difference, "n_disagreeing": len(self.disagreeing)}
+
+    def table(self) -> str:
+        used = [i for i in range(len(_NAMES)) if self.confusion[i].sum() or self.confusion[:, i].sum()]
+        w = max(8, *(len(_NAMES[i]) for i in used))
+        corner = "A \\ B"
+        lines = [f"{self.b} against {self.a}: {self.n} runs, agreement {self.agreement:.3f} (95 % CI {self.interval[0]:.3f}-{self.interval[1]:.3f})",
+                 f"{corner:>{w}} " + " ".join(f"{_NAMES[j]:>{w}}" for j in used)]
+        for i in used:
+            lines.append(f"{_NAMES[i]:>{w}} " + " ".join(f"{int(self.confusion[i, j]):>{w}d}" for j in used))
+        for ev, d in self.time_difference.items():
+            if d["n"]:
+                lines.append(f"{ev}: {d['n']} shared, t_B - t_A median {d['median']:+.3g}, median |.| {d['median_abs']:.3g}, 95th pct |.| {d['p95_abs']:.3g}")
+        lines.append(f"{len(self.disagreeing)} runs disagree")
+        return "\n".join(lines)
+
+
+def compare_frames(a, b, *, name_a: str = "A", name_b: str = "B") -> Comparison:
+    """Compare two sweep tables (``crosscheck.sweeps.load``) matched on ``KEYS``."""
+    for df, name in ((a, name_a), (b, name_b)):
+        if df.duplicated(list(KEYS)).any():
+            raise ValueError(f"{name} has several runs per input (an option swept); compare needs one: filter its table and use compare_frames")
+    j = a.merge(b, on=list(KEYS), suffixes=("_a", "_b"))
+    if not len(j):
+        raise ValueError(f"{name_a} and {name_b} share no runs (no equal theta, varphi, Theta, Psi, eta, psi, mu, alpha)")
+    oa = np.array([Outcome[o] for o in j["outcome_a"]], int)
+    ob = np.array([Outcome[o] for o in j["outcome_b"]], int)
+    conf = np.zeros((len(_NAMES), len(_NAMES)), int)
+    np.add.at(conf, (oa, ob), 1)
+    agree = oa == ob
+    k, n = int(agree.sum()), len(j)
+    td = {}
+    for ev in (Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM):
+        s = agree & (oa == ev)
+        d = (j["event_time_b"] - j["event_time_a"]).to_numpy()[s]
+        td[ev.name] = {"n": int(s.sum()), "median": float(np.median(d)) if s.any() else None,
+                       "median_abs": float(np.median(np.abs(d))) if s.any() else None,
+                       "p95_abs": float(np.percentile(np.abs(d), 95)) if s.any() else None}
+    cols = [*KEYS, "outcome_a", "event_time_a", "outcome_b", "event_time_b"]
+    return Comparison(a=name_a, b=name_b, n=n, confusion=conf, agreement=k / n, interval=wilson_interval(k, n), time_difference=td,
+                      disagreeing=j.loc[~agree, cols].reset_index(drop=True))
+
+
+def compare_stores(dir_a: str | Path, dir_b: str | Path, *, out: str | Path | None = None) -> tuple[Comparison, list[Path]]:
+    """Compare the sweeps in two stores; write ``<out>.json`` (summary) and ``<out>-disagreeing.csv``.
+
+    ``out`` defaults to ``<dir_b>/compare-<name of dir_a>``.  Returns the comparison and the files written.
+    """
+    from crosscheck.sweeps import load
+
+    dir_a, dir_b = Path(dir_a), Path(dir_b)
+    c = compare_frames(load(dir_a), load(dir_b), name_a=str(dir_a), name_b=str(dir_b))
+    out = Path(out) if out is not None else dir_b / f"compare-{dir_a.resolve().name}"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    js, csv = out.with_name(out.name + ".json"), out.with_name(out.name + "-disagreeing.csv")
+    js.write_text(json.dumps(c.as_dict(), indent=1) + "\n")
+    c.disagreeing.to_csv(csv, index=False)
+    return c, [js, csv]

@@ -1,0 +1,276 @@
+"""A sweep's spec: the TOML file that names the engine, the states, mu and alpha and the engine options, checked before anything runs.
+
+    [sweep]
+    engine = "mujoco"        # a registered engine, or "analytic" (slip_until_event's first event)
+    horizon = 0.5            # scaled time
+    seed = 0                 # random states and each chunk's generator derive from it
+    chunk = 16               # runs per chunk (the unit of work and of storage)
+
+    [states]                 # a product grid: each axis a scalar, a list, or {start, stop, num}
+    theta = {start = 0.4, stop = 1.2, num = 5}
+    varphi = -1.5707963267948966
+    Theta = [0.0, 0.5]
+    Psi = {start = 0.0, stop = 2.0, num = 4}
+    eta = 1.0
+
+    # or random samples:  [states] random = 1000, with each axis {low, high} (uniform) or a scalar
+    # or a file:          [states] file = "states.csv"  (columns theta, varphi, Theta, Psi, eta[, psi])
+
+    [parameters]             # each a scalar or a list (a list sweeps it)
+    mu = [0.5, 1.4]
+    alpha = 3.0
+
+    [options]                # the engine's options (its ``Options`` fields); a list sweeps that option too
+    timestep = 3e-4
+
+Every run is one (state, mu, alpha, option combination); runs are ordered
+state-major, then mu, alpha and the options in the order written, and cut
+into chunks of ``chunk`` runs.  The paper's scaled units throughout
+(section 2.1); the state's domain is ``SlipState``'s (theta in (0, pi/2),
+varphi in (-pi, 0], eta > 0).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import math
+import tomllib
+from dataclasses import dataclass, fields
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["Spec", "SpecError", "load_spec", "parse_spec", "AXES", "ANALYTIC"]
+
+#: The state axes of a spec, in the paper's names (psi, the heading, is optional and 0 by default).
+AXES = ("theta", "varphi", "Theta", "Psi", "eta")
+
+#: The engine name of the analytic reference (the first event of ``slip_until_event``).
+ANALYTIC = "analytic"
+
+_TABLES = {"sweep": {"engine", "horizon", "seed", "chunk"}, "states": None, "parameters": {"mu", "alpha"}, "options": None}
+
+
+class SpecError(ValueError):
+    """An invalid spec: the message names the key, the value and what is allowed."""
+
+
+def _number(key: str, value: Any, *, low: float = -math.inf, high: float = math.inf, low_open: bool = False, integer: bool = False) -> float:
+    ok_type = isinstance(value, int) if integer else isinstance(value, (int, float))
+    if isinstance(value, bool) or not ok_type:
+        raise SpecError(f"{key} must be {'an integer' if integer else 'a number'}; got {value!r}")
+    v = float(value)
+    if math.isnan(v) or not ((low < v) if low_open else (low <= v)) or not v <= high:
+        rng = f"{'(' if low_open else '['}{low:g}, {high:g}]"
+        raise SpecError(f"{key} must be in {rng}; got {value!r}")
+    return int(value) if integer else v
+
+
+def _values(key: str, value: Any, **limits) -> list[float]:
+    """A scalar, a list, or {start, stop, num} (numpy.linspace, stop included) as a list of checked floats."""
+    if isinstance(value, dict):
+        unknown = sorted(set(value) - {"start", "stop", "num"})
+        if unknown or set(value) != {"start", "stop", "num"}:
+            raise SpecError(f"{key} as a range needs exactly the keys start, stop, num; got {sorted(value)}")
+        num = _number(f"{key}.num", value["num"], low=1, integer=True)
+        start, stop = _number(f"{key}.start", value["start"]), _number(f"{key}.stop", value["stop"])
+        out = np.linspace(start, stop, num).tolist()
+    elif isinstance(value, list):
+        if not value:
+            raise SpecError(f"{key} must not be an empty list")
+        out = [_number(f"{key}[{i}]", v) for i, v in enumerate(value)]
+    else:
+        out = [_number(key, value)]
+    return [_number(key, v, **limits) for v in out]
+
+
+# Where each state axis may lie (SlipState's domain), in scaled units.
+_LIMITS = {"theta": dict(low=0.0, high=math.pi / 2, low_open=True), "varphi": dict(low=-math.pi, high=0.0, low_open=True),
+           "Theta": {}, "Psi": {}, "eta": dict(low=0.0, low_open=True), "psi": {}}
+
+
+@dataclass(frozen=True)
+class Spec:
+    """A checked sweep spec (see the module docstring); ``runs()`` lists every run, ``digest`` identifies it."""
+
+    engine: str
+    horizon: float
+    seed: int
+    chunk: int
+    states: dict  # axis -> (n,) float array, one entry per state
+    mu: tuple
+    alpha: tuple
+    options: dict  # option -> tuple of values (a swept option has several)
+    source: dict  # the TOML as read (for the manifest)
+
+    @property
+    def option_combinations(self) -> list[dict]:
+        keys = list(self.options)
+        return [dict(zip(keys, combo)) for combo in itertools.product(*(self.options[k] for k in keys))]
+
+    @property
+    def n_states(self) -> int:
+        return len(self.states["theta"])
+
+    @property
+    def n_runs(self) -> int:
+        return self.n_states * len(self.mu) * len(self.alpha) * len(self.option_combinations)
+
+    @property
+    def n_chunks(self) -> int:
+        return math.ceil(self.n_runs / self.chunk)
+
+    def runs(self, chunk_id: int | None = None) -> dict[str, np.ndarray]:
+        """The runs (of one chunk, or all) as columns: the state axes and psi, mu, alpha, the options, and ``run`` (the run's index)."""
+        combos = self.option_combinations
+        n_inner = len(self.mu) * len(self.alpha) * len(combos)
+        lo, hi = (0, self.n_runs) if chunk_id is None else (chunk_id * self.chunk, min((chunk_id + 1) * self.chunk, self.n_runs))
+        idx = np.arange(lo, hi)
+        i_state, rest = np.divmod(idx, n_inner)
+        i_mu, rest = np.divmod(rest, len(self.alpha) * len(combos))
+        i_alpha, i_combo = np.divmod(rest, len(combos))
+        cols = {k: np.asarray(self.states[k], float)[i_state] for k in (*AXES, "psi")}
+        cols["mu"] = np.asarray(self.mu, float)[i_mu]
+        cols["alpha"] = np.asarray(self.alpha, float)[i_alpha]
+        for k in self.options:
+            cols[k] = np.array([combos[c][k] for c in i_combo])
+        cols["run"] = idx
+        return cols
+
+    @property
+    def digest(self) -> str:
+        """sha256 of the spec's content (its runs and settings), independent of the TOML's formatting."""
+        body = {"engine": self.engine, "horizon": self.horizon, "seed": self.seed, "chunk": self.chunk, "mu": self.mu, "alpha": self.alpha,
+                "options": {k: list(v) for k, v in self.options.items()},
+                "states": {k: np.asarray(v, float).tobytes().hex() for k, v in self.states.items()}}
+        return hashlib.sha256(json.dumps(body, sort_keys=True).encode()).hexdigest()
+
+
+def _check_tables(doc: dict) -> None:
+    for t, v in doc.items():
+        if t not in _TABLES:
+            raise SpecError(f"unknown table [{t}]; tables are {', '.join(f'[{k}]' for k in _TABLES)}")
+        if not isinstance(v, dict):
+            raise SpecError(f"[{t}] must be a table; got {v!r}")
+        allowed = _TABLES[t]
+        if allowed is not None:
+            for k in v:
+                if k not in allowed:
+                    raise SpecError(f"unknown key {k!r} in [{t}]; keys are {', '.join(sorted(allowed))}")
+    if "sweep" not in doc or "engine" not in doc["sweep"] or "horizon" not in doc["sweep"]:
+        raise SpecError("[sweep] needs engine and horizon")
+    if "states" not in doc:
+        raise SpecError("the spec needs a [states] table")
+    if "mu" not in doc.get("parameters", {}):
+        raise SpecError("[parameters] needs mu")
+
+
+def _states(table: dict, seed: int, base: Path | None) -> dict[str, np.ndarray]:
+    if "file" in table:
+        extra = sorted(set(table) - {"file"})
+        if extra:
+            raise SpecError(f"[states] with file takes no other keys; got {', '.join(extra)}")
+        path = Path(table["file"]) if base is None else base / table["file"]
+        if not path.is_file():
+            raise SpecError(f"states.file must be a readable CSV file; got {str(path)!r}")
+        data = np.genfromtxt(path, delimiter=",", names=True, dtype=float)
+        names = data.dtype.names or ()
+        missing = [a for a in AXES if a not in names]
+        if missing:
+            raise SpecError(f"states.file must have the columns {', '.join(AXES)}; {str(path)!r} lacks {', '.join(missing)}")
+        cols = {a: np.atleast_1d(data[a]).astype(float) for a in AXES}
+        cols["psi"] = np.atleast_1d(data["psi"]).astype(float) if "psi" in names else np.zeros_like(cols["theta"])
+        for a, v in cols.items():
+            for i, x in enumerate(v):
+                _number(f"states.file row {i + 1} {a}", float(x), **_LIMITS[a])
+        return cols
+    allowed = {*AXES, "psi", "random"}
+    for k in table:
+        if k not in allowed:
+            raise SpecError(f"unknown key {k!r} in [states]; keys are {', '.join(sorted(allowed))} (or file)")
+    missing = [a for a in AXES if a not in table]
+    if missing:
+        raise SpecError(f"[states] needs every axis {', '.join(AXES)}; missing {', '.join(missing)}")
+    if "random" in table:
+        n = _number("states.random", table["random"], low=1, integer=True)
+        rng = np.random.default_rng([seed, 0])  # the states' own stream; chunks draw from (seed, 1 + chunk id)
+        cols = {}
+        for a in (*AXES, "psi"):
+            v = table.get(a, 0.0)
+            if isinstance(v, dict):
+                if set(v) != {"low", "high"}:
+                    raise SpecError(f"states.{a} of random states must be a scalar or {{low, high}}; got {v!r}")
+                lo, hi = _number(f"states.{a}.low", v["low"], **_LIMITS[a]), _number(f"states.{a}.high", v["high"], **_LIMITS[a])
+                if not lo < hi:
+                    raise SpecError(f"states.{a} must have low < high; got low = {lo!r}, high = {hi!r}")
+                cols[a] = rng.uniform(lo, hi, n)
+            else:
+                cols[a] = np.full(n, _number(f"states.{a}", v, **_LIMITS[a]))
+        return cols
+    axes = {a: _values(f"states.{a}", table.get(a, 0.0), **_LIMITS[a]) for a in (*AXES, "psi")}
+    grid = np.array(list(itertools.product(*(axes[a] for a in (*AXES, "psi")))), float)
+    return {a: grid[:, i].copy() for i, a in enumerate((*AXES, "psi"))}
+
+
+def _options(engine: str, table: dict) -> dict[str, tuple]:
+    if engine == ANALYTIC:
+        if table:
+            raise SpecError(f"the analytic engine takes no [options]; got {', '.join(sorted(table))}")
+        return {}
+    from crosscheck import engines
+
+    E = engines.get(engine)
+    known = {f.name for f in fields(E.Options)}
+    out = {}
+    for k, v in table.items():
+        if k not in known:
+            raise SpecError(f"unknown {engine} option {k!r} in [options]; known options: {', '.join(sorted(known))}")
+        vals = v if isinstance(v, list) else [v]
+        if not vals:
+            raise SpecError(f"options.{k} must not be an empty list")
+        for x in vals:
+            try:
+                E.Options(**{k: x})
+            except ValueError as e:
+                raise SpecError(f"options.{k}: {e}") from None
+        out[k] = tuple(vals)
+    return out
+
+
+def parse_spec(doc: dict, *, base: Path | None = None) -> Spec:
+    """A ``Spec`` from a parsed TOML document (``base``: where a states file is looked up); ``SpecError`` names what is wrong."""
+    if not isinstance(doc, dict):
+        raise SpecError(f"a spec must be a TOML table; got {type(doc).__name__}")
+    _check_tables(doc)
+    sw = doc["sweep"]
+    from crosscheck import engines
+
+    engine = sw["engine"]
+    if not isinstance(engine, str) or (engine != ANALYTIC and engine not in engines.names()):
+        raise SpecError(f"sweep.engine must be one of {', '.join([ANALYTIC, *engines.names()])}; got {engine!r}")
+    horizon = _number("sweep.horizon", sw["horizon"], low=0.0, low_open=True)
+    seed = _number("sweep.seed", sw.get("seed", 0), low=0, integer=True)
+    chunk = _number("sweep.chunk", sw.get("chunk", 64), low=1, integer=True)
+    states = _states(doc["states"], seed, base)
+    par = doc.get("parameters", {})
+    mu = tuple(_values("parameters.mu", par["mu"], low=0.0))
+    alpha = tuple(_values("parameters.alpha", par.get("alpha", 3.0), low=0.0, low_open=True))
+    options = _options(engine, doc.get("options", {}))
+    return Spec(engine=engine, horizon=horizon, seed=seed, chunk=chunk, states=states, mu=mu, alpha=alpha, options=options, source=doc)
+
+
+def load_spec(path: str | Path) -> Spec:
+    """Read and check a spec file (``SpecError`` for an unreadable file, bad TOML or a bad value)."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as e:
+        raise SpecError(f"spec must be a readable TOML file; got {str(path)!r} ({e.strerror})") from None
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise SpecError(f"spec {str(path)!r} is not valid TOML: {e}") from None
+    return parse_spec(doc, base=path.parent)

@@ -1,0 +1,204 @@
+"""A sweep's result store: one Parquet file per chunk, written atomically, and a manifest that knows what is finished.
+
+Layout of a store directory::
+
+    manifest.json        the spec (as read), its sha256, versions, and every finished chunk
+                         with its file, row count and sha256; failed chunks with their error
+    chunks/chunk-000123.parquet
+    .lock                held (flock) by the one process writing
+
+Nothing half-written is ever read: a chunk is written to a temporary file in
+the same directory, flushed, and renamed into place (atomic on POSIX); the
+manifest, rewritten the same way after each chunk, lists a chunk only after
+its file is in place, with the file's sha256.  A chunk whose file is missing
+or whose checksum does not match (a truncated or edited file) is not
+trusted: ``verified`` drops it with a warning and the sweep recomputes it.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import hashlib
+import json
+import os
+import platform
+import shutil
+import warnings
+from contextlib import contextmanager
+from datetime import datetime, timezone
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["Store", "StoreError", "versions"]
+
+FORMAT = 1
+
+
+class StoreError(ValueError):
+    """A store that cannot be used as asked (another writer, another spec, a damaged manifest)."""
+
+
+def _sha256(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _write_atomic(path: Path, data: bytes) -> None:
+    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    with open(tmp, "wb") as f:
+        f.write(data)
+        f.flush()
+        os.fsync(f.fileno())
+    os.replace(tmp, path)
+
+
+def versions() -> dict:
+    """Versions of what computes a sweep (recorded in the manifest)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {"python": platform.python_version()}
+    for dist in ("crosscheck", "numpy", "scipy", "mujoco", "pin", "pyarrow", "dask", "distributed"):
+        try:
+            out[dist] = version(dist)
+        except PackageNotFoundError:
+            out[dist] = None
+    return out
+
+
+def _now() -> str:
+    return datetime.now(timezone.utc).isoformat(timespec="seconds")
+
+
+class Store:
+    """The result store in directory ``root`` (see the module docstring)."""
+
+    def __init__(self, root: str | Path):
+        self.root = Path(root)
+        self.chunks = self.root / "chunks"
+        self.manifest_path = self.root / "manifest.json"
+
+    # ------------------------------------------------------------- writer ---
+    @contextmanager
+    def writer(self):
+        """Hold the store's lock while writing; ``StoreError`` at once if another process holds it."""
+        self.root.mkdir(parents=True, exist_ok=True)
+        f = open(self.root / ".lock", "a+")
+        try:
+            try:
+                fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                f.seek(0)
+                holder = f.read().strip() or "another process"
+                raise StoreError(f"out {str(self.root)!r} is being written by {holder}; wait for it or use another directory") from None
+            f.seek(0)
+            f.truncate()
+            f.write(f"pid {os.getpid()} on {platform.node()}")
+            f.flush()
+            yield self
+        finally:
+            f.close()  # releases the flock (also when the process is killed)
+
+    def read_manifest(self) -> dict | None:
+        if not self.manifest_path.exists():
+            return None
+        try:
+            return json.loads(self.manifest_path.read_text())
+        except json.JSONDecodeError as e:
+            raise StoreError(f"manifest {str(self.manifest_path)!r} is damaged ({e}); use --fresh to start the sweep again") from None
+
+    def _write_manifest(self, m: dict) -> None:
+        m["updated"] = _now()
+        _write_atomic(self.manifest_path, (json.dumps(m, indent=1, sort_keys=True, default=str) + "\n").encode())
+
+    def open(self, spec, *, fresh: bool = False) -> dict:
+        """The manifest for ``spec``: a new one, or the existing one if it is for the same spec.
+
+        Raises StoreError when the directory holds another sweep (unless ``fresh``,
+        which deletes its chunks first) or something that is not a store.
+        """
+        m = self.read_manifest() if not fresh else None
+        if m is not None and m.get("spec_sha256") != spec.digest:
+            raise StoreError(f"out {str(self.root)!r} holds a different sweep (spec sha256 {m.get('spec_sha256', '?')[:12]}, this one "
+                             f"{spec.digest[:12]}); use --fresh to replace it or choose another directory")
+        if m is None:
+            if not fresh and self.root.exists() and any(p.name not in (".lock",) for p in self.root.iterdir()):
+                raise StoreError(f"out {str(self.root)!r} is not empty and has no sweep manifest; use --fresh to replace its sweep or choose another directory")
+            if self.chunks.exists():
+                shutil.rmtree(self.chunks)
+            if fresh and self.manifest_path.exists():
+                self.manifest_path.unlink()
+            m = {"format": FORMAT, "spec": spec.source, "spec_sha256": spec.digest, "engine": spec.engine, "n_runs": spec.n_runs,
+                 "n_chunks": spec.n_chunks, "chunk": spec.chunk, "versions": versions(), "created": _now(), "chunks": {}, "failed": {}}
+        self.chunks.mkdir(parents=True, exist_ok=True)
+        m["versions_resumed"] = versions() if m.get("chunks") else None
+        self._write_manifest(m)
+        return m
+
+    def verified(self, m: dict) -> set[int]:
+        """Ids of the manifest's chunks whose file is present with its recorded sha256; the others are dropped with a warning."""
+        ok = set()
+        for cid, rec in list(m["chunks"].items()):
+            path = self.chunks / rec["file"]
+            if path.is_file() and _sha256(path) == rec["sha256"]:
+                ok.add(int(cid))
+                continue
+            warnings.warn(f"chunk {cid} of {str(self.root)!r} is {'missing' if not path.is_file() else 'damaged (sha256 mismatch)'}; "
+                          "it will be recomputed", stacklevel=2)
+            del m["chunks"][cid]
+            if path.is_file():
+                path.unlink()
+        self._write_manifest(m)
+        return ok
+
+    def write_chunk(self, m: dict, chunk_id: int, columns: dict, seconds: float) -> None:
+        """Write chunk ``chunk_id``'s table atomically, then record it (file, rows, sha256) in the manifest."""
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        name = f"chunk-{chunk_id:06d}.parquet"
+        path = self.chunks / name
+        tmp = self.chunks / f".{name}.tmp-{os.getpid()}"
+        table = pa.table({k: pa.array(list(v) if np.asarray(v).dtype == object else np.asarray(v)) for k, v in columns.items()})
+        pq.write_table(table, tmp)
+        with open(tmp, "rb") as f:
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+        m["chunks"][str(chunk_id)] = {"file": name, "rows": table.num_rows, "sha256": _sha256(path), "seconds": seconds}
+        m["failed"].pop(str(chunk_id), None)
+        self._write_manifest(m)
+
+    def record_failure(self, m: dict, chunk_id: int, error: str) -> None:
+        m["failed"][str(chunk_id)] = error
+        self._write_manifest(m)
+
+    # ------------------------------------------------------------- reader ---
+    def load(self, *, partial: bool = False):
+        """Every finished chunk as one ``pandas.DataFrame`` in run order; each file checked against its sha256 first.
+
+        Raises StoreError for a directory without a manifest, a damaged chunk,
+        or (unless ``partial``) a sweep with chunks still missing.
+        """
+        import pandas as pd
+        import pyarrow.parquet as pq
+
+        m = self.read_manifest()
+        if m is None:
+            raise StoreError(f"out {str(self.root)!r} has no sweep manifest (manifest.json); run crosscheck sweep into it first")
+        missing = m["n_chunks"] - len(m["chunks"])
+        if missing and not partial:
+            raise StoreError(f"the sweep in {str(self.root)!r} is unfinished: {missing} of {m['n_chunks']} chunks missing; "
+                             "re-run the same crosscheck sweep command to finish it")
+        frames = []
+        for cid in sorted(m["chunks"], key=int):
+            rec = m["chunks"][cid]
+            path = self.chunks / rec["file"]
+            if not path.is_file() or _sha256(path) != rec["sha256"]:
+                raise StoreError(f"chunk {cid} of {str(self.root)!r} is missing or damaged (sha256 mismatch); re-run the sweep to recompute it")
+            frames.append(pq.read_table(path).to_pandas())
+        if not frames:
+            return pd.DataFrame()
+        return pd.concat(frames, ignore_index=True).sort_values("run", kind="stable").reset_index(drop=True)

@@ -129,3 +129,21 @@ def test_agreement_study_bad_input():
         agreement_study(lifting)
     with pytest.raises(ValueError, match="points lack the keys"):
         agreement_study({"theta": np.array([0.5])})
+
+
+def test_through_a_sweep_store_the_study_is_the_same_and_resumes(tmp_path):
+    """store=: the engine runs go through crosscheck.sweeps (chunks on 2 processes); same outcomes and times, and a rerun computes nothing."""
+    from crosscheck import sweeps
+    from crosscheck.studies.grids import SMALL_GRID
+
+    kw = dict(engine="mujoco", settings=[{"timestep": 1e-3, "timeconst": 0.06}], boundary_directions=0, horizon=1.0)
+    direct = agreement_study(SMALL_GRID, **kw).runs[0]
+    stored = agreement_study(SMALL_GRID, store=tmp_path, workers=2, **kw).runs[0]
+    np.testing.assert_array_equal(stored.outcome, direct.outcome)
+    np.testing.assert_array_equal(stored.event_time, direct.event_time)
+    assert stored.agreement == direct.agreement
+    (store,) = [p for p in tmp_path.iterdir() if p.is_dir()]
+    stamps = {p: p.stat().st_mtime_ns for p in (store / "chunks").iterdir()}
+    agreement_study(SMALL_GRID, store=tmp_path, workers=2, **kw)
+    assert {p: p.stat().st_mtime_ns for p in (store / "chunks").iterdir()} == stamps
+    assert len(sweeps.load(store)) == len(direct.outcome)

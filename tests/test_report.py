@@ -251,3 +251,35 @@ def test_unknown_section_is_a_one_line_error(tmp_path, capsys):
     assert main(["report", "--out", str(tmp_path), "--only", "nope"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("crosscheck: error: unknown report section 'nope'; sections are: p_region, ")
+
+
+def test_sweep_heavy_sections_keep_their_engine_runs_in_finished_stores(quick):
+    """The agreement maps and convergence tables ran their engines through crosscheck.sweeps: complete stores, one per setting."""
+    out, _ = quick
+    for slug, n_settings in (("mujoco_maps", 3), ("mujoco_convergence", 4), ("rigid_maps", 3), ("rigid_convergence", 3)):
+        manifests = sorted((out / "sweeps" / slug).rglob("manifest.json"))
+        assert len(manifests) == n_settings, slug
+        for m in map(lambda p: json.loads(p.read_text()), manifests):
+            assert len(m["chunks"]) == m["n_chunks"] and m["failed"] == {}
+
+
+def test_a_rerun_keeps_finished_sections_and_redoes_an_interrupted_one(tmp_path, monkeypatch):
+    """Resume: a section left 'running' (its process killed) is recomputed, a finished one is kept untouched."""
+    from crosscheck.report import pipeline, provenance
+    from crosscheck.report.sections import critical_angles, p_region
+
+    # the same clean revision for both runs (a dirty work tree never resumes: its code may have changed in between)
+    monkeypatch.setattr(provenance, "git_revision", lambda cwd=None: {"revision": "0" * 40, "dirty": False, "describe": "test"})
+    out = tmp_path / "r"
+    sections = [p_region.SECTION, critical_angles.SECTION]
+    pipeline.run(out, sections, quick=True, resume=True)
+    kept = {p: p.stat().st_mtime_ns for p in (out / "data" / "p_region").iterdir()}
+    status = out / "data" / "critical_angles" / "status.json"
+    st = json.loads(status.read_text())
+    status.write_text(json.dumps({**st, "status": "running"}))  # what a kill during the section leaves
+    res = pipeline.run(out, sections, quick=True, resume=True)
+    assert res["p_region"].get("resumed") is True and not res["critical_angles"].get("resumed")
+    assert res["critical_angles"]["status"] == "ok"
+    assert {p: p.stat().st_mtime_ns for p in (out / "data" / "p_region").iterdir()} == kept
+    res = pipeline.run(out, sections, quick=True, resume=False)
+    assert not any(v.get("resumed") for v in res.values())

@@ -254,3 +254,20 @@ def test_wilson_interval():
     lo, hi = wilson_interval(8, 10)
     assert lo == pytest.approx(0.4902, abs=1e-4) and hi == pytest.approx(0.9433, abs=1e-4)  # textbook values (Wilson 1927)
     assert wilson_interval(10, 10)[1] == pytest.approx(1.0, abs=1e-15) and all(math.isnan(x) for x in wilson_interval(0, 0))
+
+
+def test_listed_states_with_their_own_mu():
+    doc = __import__("tomllib").loads(small().replace("theta = {start = 0.5, stop = 1.1, num = 3}", "zip = true\ntheta = [0.5, 0.9]\nmu = [0.3, 2.0]")
+                                      .replace("Theta = [0.0, 0.6]", "Theta = [0.0, 0.6]").replace("Psi = [0.0, 1.5]", "Psi = [1.0, 0.0]")
+                                      .replace("eta = 1.0", "eta = [1.0, 2.0]").replace("varphi = -1.5707963267948966", "varphi = [-1.0, -2.0]")
+                                      .replace("mu = [0.5, 1.4]\n", ""))
+    spec = parse_spec(doc)
+    cols = spec.runs()
+    assert spec.n_runs == 2 and list(cols["mu"]) == [0.3, 2.0] and list(cols["eta"]) == [1.0, 2.0]
+    doc["parameters"]["mu"] = 1.0
+    with pytest.raises(SpecError, match="mu goes in \\[parameters\\] .* not both or neither"):
+        parse_spec(doc)
+    doc["parameters"].pop("mu")
+    doc["states"]["eta"] = [1.0]
+    with pytest.raises(SpecError, match="need lists of one length; got lengths theta 2, varphi 2, Theta 2, Psi 2, eta 1, mu 2"):
+        parse_spec(doc)

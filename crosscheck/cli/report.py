@@ -1,7 +1,12 @@
-"""``crosscheck report [--out DIR] [--quick] [--from-results] [--seed S] [--only SECTION ...]``.
+"""``crosscheck report [--out DIR] [--quick] [--from-results] [--seed S] [--only SECTION ...] [--fresh] [--scheduler ADDRESS]``.
 
 Runs every section of the report and saves its results under ``DIR/data``,
 then renders ``DIR/index.html`` and ``DIR/report.md`` from the saved results.
+A rerun into the same DIR resumes: sections finished by the same code with
+the same parameters are kept, and the engine sweeps of the others resume
+their finished chunks (``DIR/sweeps``); ``--fresh`` recomputes everything,
+``--only`` recomputes the sections named.  ``--scheduler`` sends the engine
+sweeps to a Dask cluster ("local" starts one for the run).
 ``--from-results`` skips the run stage (rebuilds the report without
 re-simulating).  Exits 1 when any section failed or any check failed (known
 misprints of the paper excepted), after writing everything that succeeded.
@@ -27,7 +32,17 @@ def _run(args) -> int:
     progress = not args.no_progress and sys.stderr.isatty()
     t0 = time.perf_counter()
     if not args.from_results:
-        report.run(out, selected, quick=args.quick, seed=args.seed, progress=progress, argv=["crosscheck", *sys.argv[1:]])
+        if args.fresh and (out / "sweeps").exists():
+            import shutil
+
+            shutil.rmtree(out / "sweeps")
+        if args.workers is not None and args.workers < 1:
+            raise ValueError(f"workers must be an integer >= 1; got {args.workers}")
+        results = report.run(out, selected, quick=args.quick, seed=args.seed, progress=progress, argv=["crosscheck", *sys.argv[1:]],
+                             resume=not (args.fresh or args.only), scheduler=args.scheduler, workers=args.workers)
+        kept = [k for k, v in results.items() if v.get("resumed")]
+        if kept:
+            print(f"kept {len(kept)} finished sections ({', '.join(kept)}); --fresh recomputes them")
     t1 = time.perf_counter()
     summary = report.render(out, sections, progress=progress)
     t2 = time.perf_counter()
@@ -46,4 +61,7 @@ def register(sub) -> None:
     r.add_argument("--seed", type=int, default=0, help="master seed of numpy.random.default_rng (each section derives its own)")
     r.add_argument("--only", action="append", metavar="SECTION", help="run only this section (repeatable); the others keep their saved results")
     r.add_argument("--no-progress", action="store_true", help="no progress bars")
+    r.add_argument("--fresh", action="store_true", help="recompute every section (default: keep those finished by the same code)")
+    r.add_argument("--scheduler", default=None, help="run the engine sweeps on a Dask cluster: 'local' or a scheduler address tcp://host:8786")
+    r.add_argument("--workers", type=int, default=None, help="processes (or local Dask workers) for the engine sweeps; default: the usable cores")
     r.set_defaults(func=_run)

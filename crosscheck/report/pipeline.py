@@ -4,10 +4,18 @@ Each section runs in its own ``try``: a section that raises is recorded as
 failed (error and traceback in its ``status.json``) and the next one runs.
 Results a section saved before failing stay on disk.  A section whose process
 was killed keeps ``status: running``, which the report shows as unfinished.
+
+Resuming (``resume=True``): a section whose saved status is ``ok`` with the
+same parameters, quick flag and seed, computed by the same code (the same
+clean git revision, or the same crosscheck version outside git), is kept as
+it is.  The sweep-heavy sections keep their engine runs in resumable stores
+under ``<out>/sweeps/<section>`` (``crosscheck.sweeps``), so a section
+killed half-way keeps its finished chunks too.
 """
 
 from __future__ import annotations
 
+import json
 import sys
 import time
 import traceback
@@ -41,7 +49,23 @@ def read_status(out: Path, slug: str) -> dict | None:
     return store.read_json(STATUS_FILE) if store.exists(f"{STATUS_FILE}.json") else None
 
 
-def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int = 0, progress: bool = False, argv: list[str] | None = None) -> dict[str, dict]:
+def _same_code(prev: dict, git: dict, version: str | None) -> bool:
+    if git.get("revision") is not None:
+        return prev.get("git") == git and git.get("dirty") is False
+    return version is not None and prev.get("crosscheck_version") == version
+
+
+def _version() -> str | None:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("crosscheck")
+    except PackageNotFoundError:
+        return None
+
+
+def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int = 0, progress: bool = False, argv: list[str] | None = None,
+        resume: bool = False, scheduler: str | None = None, workers: int | None = None) -> dict[str, dict]:
     """Run ``sections`` and save their results under ``<out>/data``.
 
     Args:
@@ -51,6 +75,11 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
       seed: master seed; each section draws from ``section_rng(seed, slug)``.
       progress: show tqdm progress bars on stderr.
       argv: the command line, recorded in the provenance.
+      resume: keep sections already finished by the same code with the same
+        parameters (module docstring).
+      scheduler, workers: where the sweep-heavy sections run their engine
+        sweeps (``crosscheck.sweeps.run``: None and the usable cores by
+        default; "local" or a Dask scheduler address).
 
     Returns:
       ``{slug: status}`` of the sections run; a status has ``status`` in
@@ -71,9 +100,16 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
     results: dict[str, dict] = {}
     t_all = time.perf_counter()
     outer = bar(sections, desc="report", total=len(sections), leave=True)
+    version = _version()
     for s in outer:
         if hasattr(outer, "set_postfix_str"):
             outer.set_postfix_str(s.slug)
+        prev = read_status(out, s.slug)
+        if (resume and prev is not None and prev.get("status") == "ok" and prev.get("quick") == quick and prev.get("seed") == seed
+                and json.loads(json.dumps(prev.get("params"), default=str)) == json.loads(json.dumps(params[s.slug], default=str))
+                and _same_code(prev, prov["git"], version)):
+            results[s.slug] = {**prev, "resumed": True}
+            continue
         store = SectionStore(data / s.slug)
         store.reset()
         status = {
@@ -85,10 +121,13 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
             "params": params[s.slug],
             "requires": list(s.requires),
             "git": prov["git"],
+            "crosscheck_version": version,
             "date": provenance.now(),
         }
         store.write_json(STATUS_FILE, status)
-        ctx = RunContext(slug=s.slug, params=params[s.slug], quick=quick, rng=section_rng(seed, s.slug), store=store, progress=bar, show_progress=progress)
+        sweeps = {"store": out / "sweeps" / s.slug, "scheduler": scheduler, "workers": workers}
+        ctx = RunContext(slug=s.slug, params=params[s.slug], quick=quick, rng=section_rng(seed, s.slug), store=store, progress=bar,
+                         show_progress=progress, sweeps=sweeps)
         t0 = time.perf_counter()
         try:
             s.run(ctx)
@@ -106,5 +145,6 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
         results[s.slug] = status
     prov["seconds"] = time.perf_counter() - t_all
     prov["section_seconds"] = {k: v["seconds"] for k, v in results.items()}
+    prov["sections_resumed"] = [k for k, v in results.items() if v.get("resumed")]
     root.write_json(PROVENANCE_FILE, prov)
     return results

@@ -111,6 +111,10 @@ class RunContext:
       store: where to save results; save each piece as soon as it is computed.
       progress: ``progress(iterable, desc=..., total=...)``: a tqdm bar (or the bare iterable).
       show_progress: whether bars are shown (for engines' own ``progress=`` flags).
+      sweeps: keyword arguments (store, scheduler, workers) for the engine
+        sweeps of ``crosscheck.studies.agreement.agreement_study``: a
+        resumable store per section (``crosscheck.sweeps``); None runs the
+        engines directly.
     """
 
     slug: str
@@ -120,6 +124,7 @@ class RunContext:
     store: SectionStore
     progress: Callable[..., Iterable] = _no_progress
     show_progress: bool = False
+    sweeps: dict | None = None
     checks: list[dict] = field(default_factory=list)
 
     def check(self, name: str, passed: bool, *, value: Any = None, allowance: Any = None, detail: str = "", known: str = "") -> bool:

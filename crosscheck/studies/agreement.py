@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, fields
 
@@ -57,7 +58,7 @@ from tqdm.auto import tqdm
 from crosscheck import engines
 from crosscheck.checks import ALPHA, POSITIVE, check
 from crosscheck.compare import as_json
-from crosscheck.engines.base import options_from_kwargs
+from crosscheck.engines.base import n_steps, options_from_kwargs
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
@@ -432,25 +433,63 @@ def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a:
     )
 
 
+def _sweep_through_store(E, rod: Rod, states_cols: dict, mu: np.ndarray, horizon: float, given: dict, opts, store, scheduler, workers,
+                         progress: bool):
+    """The engine's runs through ``crosscheck.sweeps`` (resumable chunks in ``store``): outcome, event_time, jam_p_eff, wall, solver."""
+    from crosscheck import sweeps
+
+    doc = {"sweep": {"engine": E.name, "horizon": horizon, "seed": 0, "chunk": STORE_CHUNK},
+           "states": {"zip": True, **{k: [float(x) for x in v] for k, v in states_cols.items()}, "mu": [float(x) for x in mu]},
+           "parameters": {"alpha": float(rod.alpha)}, "options": dict(given)}
+    spec = sweeps.parse_spec(doc)
+    summary = sweeps.run(spec, Path(store) / f"{E.name}-{spec.digest[:16]}", workers=workers, scheduler=scheduler, progress=progress)
+    if summary.failed:
+        raise RuntimeError(f"{len(summary.failed)} chunks of the {E.name} sweep failed; first: {next(iter(summary.failed.values()))}")
+    df = sweeps.load(summary.out)
+    outcome = np.array([Outcome[o] for o in df["outcome"]], np.int8)
+    solver = None
+    if (df["solver_contact_steps"] >= 0).all():
+        solver = {k: df[f"solver_{k}"].to_numpy() for k in ("contact_steps", "unconverged_steps", "max_iterations")}
+    wall = float(df["wall_time"].sum())
+    return outcome, df["event_time"].to_numpy(), df["jam_p_eff"].to_numpy(), wall, len(df) * n_steps(horizon, opts.timestep) / wall, solver
+
+
+#: Runs per chunk when an agreement study goes through a sweep store.
+STORE_CHUNK = 32
+
+
 def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresholds: Thresholds | None, progress: bool,
-                 options: dict) -> AgreementRun:
-    """One engine sweep of the studied states at one setting of its options, rated."""
+                 options: dict, store=None, scheduler: str | None = None, workers: int | None = None) -> AgreementRun:
+    """One engine sweep of the studied states at one setting of its options, rated.
+
+    With ``store`` (and the default thresholds and scalar options) the sweep goes
+    through ``crosscheck.sweeps``: chunks kept in ``store`` (a rerun resumes),
+    on this machine's cores or on a Dask ``scheduler``; the runs are the same.
+    """
     points, a, idx, distance, horizon = (base[k] for k in ("points", "analytic", "index", "distance", "horizon"))
     E = engines.get(engine)
-    opts = options_from_kwargs(E.Options, {**options, **setting}, E.name)
+    given = {**options, **setting}
+    opts = options_from_kwargs(E.Options, given, E.name)
     th = thresholds or Thresholds()
     margin = 2.0 * th.window_rows(opts.timestep) * opts.timestep
+    offplane = np.abs(points["varphi"][idx] + math.pi / 2)
+    if store is not None and thresholds is None and not any(isinstance(v, (list, tuple)) for v in given.values()):
+        cols = {k: points[k][idx] for k in ("theta", "varphi", "Theta", "Psi", "eta")}
+        outcome, event_time, p_event, wall, sps, solver = _sweep_through_store(E, rod, cols, points["mu"][idx], horizon + margin, given, opts,
+                                                                               store, scheduler, workers, progress)
+        return _rate(engine=engine, opts=opts, th=th, outcome=outcome, event_time=event_time, p_event=p_event, a=a, idx=idx, distance=distance,
+                     offplane=offplane, wall_time=wall, steps_per_second=sps, solver=solver)
     r = E.sweep(rod, states_at(points, idx), points["mu"][idx], horizon=horizon + margin, thresholds=th, progress=progress,
                 **{f.name: getattr(opts, f.name) for f in fields(opts)})
     return _rate(engine=engine, opts=opts, th=th, outcome=r.outcome, event_time=r.event_time, p_event=r.summary["jam_p_eff"], a=a,
-                 idx=idx, distance=distance, offplane=np.abs(points["varphi"][idx] + math.pi / 2), wall_time=r.wall_time,
+                 idx=idx, distance=distance, offplane=offplane, wall_time=r.wall_time,
                  steps_per_second=r.steps_per_second, solver=r.solver)
 
 
 def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings: Sequence[Mapping] = ({},), alpha: float = 3.0,
                     horizon: float = DEFAULT_HORIZON, rng: np.random.Generator | None = None, thresholds: Thresholds | None = None,
                     boundary_radii: Sequence[float] = BOUNDARY_RADII, boundary_directions: int = 6, progress: bool = False,
-                    **options) -> AgreementResult:
+                    store=None, scheduler: str | None = None, workers: int | None = None, **options) -> AgreementResult:
     """Event agreement, analytic vs an engine, over ``grid`` at one or more settings of the engine's options.
 
     Args:
@@ -467,6 +506,11 @@ def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings:
       boundary_radii, boundary_directions: as ``boundary_distance``;
         boundary_directions = 0 skips the probing (distances NaN).
       progress: tqdm bars.
+      store, scheduler, workers: run the engine's sweeps through
+        ``crosscheck.sweeps`` with their chunks kept under the directory
+        ``store`` (a rerun resumes them), on ``workers`` processes or a Dask
+        ``scheduler`` ("local" or an address); None (default) calls the
+        engine's ``sweep`` directly.  The runs are the same either way.
       **options: engine options shared by every setting (radius, ...).
 
     Returns:
@@ -504,8 +548,8 @@ def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings:
         dist = np.full(idx.size, np.nan)
     base = {"points": points, "analytic": a, "index": idx, "distance": dist, "horizon": horizon}
     rod = Rod.scaled(alpha)
-    runs = [_run_setting(base, engine=E.name, rod=rod, setting=s, thresholds=thresholds, progress=progress, options=options)
-            for s in settings]
+    runs = [_run_setting(base, engine=E.name, rod=rod, setting=s, thresholds=thresholds, progress=progress, options=options, store=store,
+                         scheduler=scheduler, workers=workers) for s in settings]
     return AgreementResult(engine=E.name, grid=grid, alpha=alpha, horizon=horizon, points=points, analytic=a, index=idx,
                            distance=dist, runs=runs)
 

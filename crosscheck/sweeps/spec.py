@@ -15,6 +15,7 @@
 
     # or random samples:  [states] random = 1000, with each axis {low, high} (uniform) or a scalar
     # or a file:          [states] file = "states.csv"  (columns theta, varphi, Theta, Psi, eta[, psi])
+    # or listed states:   [states] zip = true, each axis (and mu, if not in [parameters]) a list of one length
 
     [parameters]             # each a scalar or a list (a list sweeps it)
     mu = [0.5, 1.4]
@@ -117,23 +118,29 @@ class Spec:
 
     @property
     def n_runs(self) -> int:
-        return self.n_states * len(self.mu) * len(self.alpha) * len(self.option_combinations)
+        return self.n_states * (1 if self.mu_per_state else len(self.mu)) * len(self.alpha) * len(self.option_combinations)
 
     @property
     def n_chunks(self) -> int:
         return math.ceil(self.n_runs / self.chunk)
 
+    @property
+    def mu_per_state(self) -> bool:
+        """mu listed with the states (``zip = true``) rather than swept in [parameters]."""
+        return "mu" in self.states
+
     def runs(self, chunk_id: int | None = None) -> dict[str, np.ndarray]:
         """The runs (of one chunk, or all) as columns: the state axes and psi, mu, alpha, the options, and ``run`` (the run's index)."""
         combos = self.option_combinations
-        n_inner = len(self.mu) * len(self.alpha) * len(combos)
+        n_mu = 1 if self.mu_per_state else len(self.mu)
+        n_inner = n_mu * len(self.alpha) * len(combos)
         lo, hi = (0, self.n_runs) if chunk_id is None else (chunk_id * self.chunk, min((chunk_id + 1) * self.chunk, self.n_runs))
         idx = np.arange(lo, hi)
         i_state, rest = np.divmod(idx, n_inner)
         i_mu, rest = np.divmod(rest, len(self.alpha) * len(combos))
         i_alpha, i_combo = np.divmod(rest, len(combos))
         cols = {k: np.asarray(self.states[k], float)[i_state] for k in (*AXES, "psi")}
-        cols["mu"] = np.asarray(self.mu, float)[i_mu]
+        cols["mu"] = np.asarray(self.states["mu"], float)[i_state] if self.mu_per_state else np.asarray(self.mu, float)[i_mu]
         cols["alpha"] = np.asarray(self.alpha, float)[i_alpha]
         for k in self.options:
             cols[k] = np.array([combos[c][k] for c in i_combo])
@@ -164,8 +171,9 @@ def _check_tables(doc: dict) -> None:
         raise SpecError("[sweep] needs engine and horizon")
     if "states" not in doc:
         raise SpecError("the spec needs a [states] table")
-    if "mu" not in doc.get("parameters", {}):
-        raise SpecError("[parameters] needs mu")
+    zipped_mu = doc["states"].get("zip") is True and "mu" in doc["states"]
+    if zipped_mu == ("mu" in doc.get("parameters", {})):
+        raise SpecError("mu goes in [parameters] (or, with [states] zip = true, in [states]: one per state), not both or neither")
 
 
 def _states(table: dict, seed: int, base: Path | None) -> dict[str, np.ndarray]:
@@ -187,13 +195,27 @@ def _states(table: dict, seed: int, base: Path | None) -> dict[str, np.ndarray]:
             for i, x in enumerate(v):
                 _number(f"states.file row {i + 1} {a}", float(x), **_LIMITS[a])
         return cols
-    allowed = {*AXES, "psi", "random"}
+    allowed = {*AXES, "psi", "random", "zip", "mu"}
     for k in table:
         if k not in allowed:
             raise SpecError(f"unknown key {k!r} in [states]; keys are {', '.join(sorted(allowed))} (or file)")
     missing = [a for a in AXES if a not in table]
     if missing:
         raise SpecError(f"[states] needs every axis {', '.join(AXES)}; missing {', '.join(missing)}")
+    if table.get("zip", False) is not False:
+        if table["zip"] is not True or "random" in table:
+            raise SpecError(f"states.zip must be true (lists of equal length, one state per position, mu among them if wanted) and excludes random; got {table['zip']!r}")
+        cols = {a: _values(f"states.{a}", table[a], **_LIMITS[a]) for a in AXES if a in table}
+        for a, lim in (("psi", {}), ("mu", dict(low=0.0))):
+            if a in table:
+                cols[a] = _values(f"states.{a}", table[a], **lim)
+        n = {len(v) for v in cols.values()}
+        if len(n) != 1:
+            raise SpecError(f"states with zip = true need lists of one length; got lengths {', '.join(f'{a} {len(v)}' for a, v in cols.items())}")
+        cols.setdefault("psi", [0.0] * n.pop())
+        return {a: np.asarray(v, float) for a, v in cols.items()}
+    if "mu" in table:
+        raise SpecError("states.mu is allowed only with zip = true (one mu per listed state); otherwise mu goes in [parameters]")
     if "random" in table:
         n = _number("states.random", table["random"], low=1, integer=True)
         rng = np.random.default_rng([seed, 0])  # the states' own stream; chunks draw from (seed, 1 + chunk id)
@@ -256,7 +278,7 @@ def parse_spec(doc: dict, *, base: Path | None = None) -> Spec:
     chunk = _number("sweep.chunk", sw.get("chunk", 64), low=1, integer=True)
     states = _states(doc["states"], seed, base)
     par = doc.get("parameters", {})
-    mu = tuple(_values("parameters.mu", par["mu"], low=0.0))
+    mu = tuple(_values("parameters.mu", par["mu"], low=0.0)) if "mu" in par else ()
     alpha = tuple(_values("parameters.alpha", par.get("alpha", 3.0), low=0.0, low_open=True))
     options = _options(engine, doc.get("options", {}))
     return Spec(engine=engine, horizon=horizon, seed=seed, chunk=chunk, states=states, mu=mu, alpha=alpha, options=options, source=doc)

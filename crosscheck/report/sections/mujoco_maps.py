@@ -58,6 +58,11 @@ def _grid(m: dict):
     return EventGrid(**axes), x, y
 
 
+def _sweeps(ctx: RunContext, name: str) -> dict:
+    """The section's sweep settings with one store per map."""
+    return {} if ctx.sweeps is None else {**ctx.sweeps, "store": ctx.sweeps["store"] / name}
+
+
 def run(ctx: RunContext) -> None:
     from crosscheck.studies.agreement import agreement_study
 
@@ -67,7 +72,8 @@ def run(ctx: RunContext) -> None:
     for m in ctx.progress(P["maps"], desc="agreement maps"):
         grid, x, y = _grid(m)
         res = agreement_study(grid, engine=engine, settings=(P["options"],), alpha=P["alpha"],
-                              horizon=P["horizon"], rng=ctx.rng, boundary_directions=P["boundary_directions"], progress=ctx.show_progress)
+                              horizon=P["horizon"], rng=ctx.rng, boundary_directions=P["boundary_directions"], progress=ctx.show_progress,
+                              **_sweeps(ctx, m["name"]))
         (ctx.store.root / f"study_{m['name']}.json").write_text(res.to_json() + "\n")
         pts, a = res.points, res.analytic
         n = len(a.outcome)

@@ -271,3 +271,9 @@ def test_listed_states_with_their_own_mu():
     doc["states"]["eta"] = [1.0]
     with pytest.raises(SpecError, match="need lists of one length; got lengths theta 2, varphi 2, Theta 2, Psi 2, eta 1, mu 2"):
         parse_spec(doc)
+
+
+def test_without_a_terminal_progress_is_log_lines(tmp_path, capsys):
+    sweeps.run(write(tmp_path, small("analytic", chunk=2)), tmp_path / "s", workers=1)  # 12 chunks, stderr is not a terminal here
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert [line.split(",")[0] for line in lines] == ["sweep: 10/12 chunks", "sweep: 12/12 chunks"] and "runs/s, ETA" in lines[0]

@@ -76,7 +76,7 @@ class _Progress:
     def __init__(self, total: int, runs_per_chunk: float, enabled: bool | None):
         self.total, self.rpc, self.done, self.t0 = total, runs_per_chunk, 0, time.perf_counter()
         tty = sys.stderr.isatty()
-        self.enabled = tty if enabled is None else enabled
+        self.enabled = True if enabled is None else enabled
         self.bar = None
         if self.enabled and tty and total:
             from tqdm.auto import tqdm
@@ -141,6 +141,10 @@ def _results(spec: Spec, todo: list[int], workers: int, scheduler: str | None):
 def run(spec: Spec | str | Path, out: str | Path, *, workers: int | None = None, scheduler: str | None = None, fresh: bool = False,
         progress: bool | None = None) -> SweepSummary:
     """Run the sweep ``spec`` (a ``Spec`` or a TOML path) into the store ``out``, resuming what is there.
+
+    ``progress``: None or True shows a bar over chunks (runs/s, ETA) on a
+    terminal and one line per ``LOG_EVERY`` chunks on stderr otherwise; False
+    is silent.
 
     Raises ``SpecError`` / ``StoreError`` (both ``ValueError``) before any work
     for a bad spec, another writer, or another sweep in ``out`` (unless

@@ -141,3 +141,8 @@ def test_bad_mu_is_named():
     for mu in (-1.0, math.nan):
         with pytest.raises(ValueError, match=r"mu must be in \[0, inf\)"):
             ENGINE.simulate(ROD, SlipState(0.5, -1.0, 0.0, 0.0, 1.0), mu, horizon=0.1)
+
+
+def test_a_run_too_long_to_record_is_refused_before_allocating():
+    with pytest.raises(ValueError, match=r"horizon / timestep must be at most 2796202 steps \(a record of 4 GiB\); got 100000 / 0.001 = 100000000 steps"):
+        ENGINE.simulate(ROD, SlipState(0.5, -1.0, 0.0, 0.0, 1.0), 0.5, horizon=1e5)

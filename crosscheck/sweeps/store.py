@@ -2,17 +2,19 @@
 
 Layout of a store directory::
 
-    manifest.json        the spec (as read), its sha256, versions, and every finished chunk
-                         with its file, row count and sha256; failed chunks with their error
-    chunks/chunk-000123.parquet
-    .lock                held (flock) by the one process writing
+    manifest.json                the spec (as read), its sha256, the versions (written once)
+    chunks/chunk-000123.parquet  a finished chunk's table
+    chunks/chunk-000123.json     its record: file, row count, sha256, seconds
+    chunks/chunk-000123.failed.json   the error of a chunk that raised
+    .lock                        held (flock) by the one process writing
 
 Nothing half-written is ever read: a chunk is written to a temporary file in
-the same directory, flushed, and renamed into place (atomic on POSIX); the
-manifest, rewritten the same way after each chunk, lists a chunk only after
-its file is in place, with the file's sha256.  A chunk whose file is missing
-or whose checksum does not match (a truncated or edited file) is not
-trusted: ``verified`` drops it with a warning and the sweep recomputes it.
+the same directory, flushed, and renamed into place (atomic on POSIX); its
+record, written the same way after that, is what makes it count as finished
+(one small file per chunk, so a million-run sweep never rewrites a growing
+manifest).  A chunk whose file is missing or whose checksum does not match
+its record (a truncated or edited file) is not trusted: ``verified`` drops
+it with a warning and the sweep recomputes it.
 """
 
 from __future__ import annotations
@@ -103,16 +105,31 @@ class Store:
             f.close()  # releases the flock (also when the process is killed)
 
     def read_manifest(self) -> dict | None:
+        """The manifest with the chunk records as they are now (``chunks``: id -> record, ``failed``: id -> error); None if absent."""
         if not self.manifest_path.exists():
             return None
         try:
-            return json.loads(self.manifest_path.read_text())
+            m = json.loads(self.manifest_path.read_text())
         except json.JSONDecodeError as e:
             raise StoreError(f"manifest {str(self.manifest_path)!r} is damaged ({e}); use --fresh to start the sweep again") from None
+        m["chunks"], m["failed"] = {}, {}
+        if self.chunks.is_dir():
+            for p in self.chunks.glob("chunk-*.json"):
+                cid = str(int(p.name[6:12]))
+                try:
+                    rec = json.loads(p.read_text())
+                except json.JSONDecodeError:
+                    continue  # a damaged record: the chunk counts as not finished
+                if p.name.endswith(".failed.json"):
+                    m["failed"][cid] = rec["error"]
+                else:
+                    m["chunks"][cid] = rec
+        return m
 
     def _write_manifest(self, m: dict) -> None:
-        m["updated"] = _now()
-        _write_atomic(self.manifest_path, (json.dumps(m, indent=1, sort_keys=True, default=str) + "\n").encode())
+        body = {k: v for k, v in m.items() if k not in ("chunks", "failed")}  # those live in the chunk records
+        body["updated"] = _now()
+        _write_atomic(self.manifest_path, (json.dumps(body, indent=1, sort_keys=True, default=str) + "\n").encode())
 
     def open(self, spec, *, fresh: bool = False) -> dict:
         """The manifest for ``spec``: a new one, or the existing one if it is for the same spec.
@@ -149,9 +166,8 @@ class Store:
             warnings.warn(f"chunk {cid} of {str(self.root)!r} is {'missing' if not path.is_file() else 'damaged (sha256 mismatch)'}; "
                           "it will be recomputed", stacklevel=2)
             del m["chunks"][cid]
-            if path.is_file():
-                path.unlink()
-        self._write_manifest(m)
+            (self.chunks / f"chunk-{int(cid):06d}.json").unlink(missing_ok=True)
+            path.unlink(missing_ok=True)
         return ok
 
     def write_chunk(self, m: dict, chunk_id: int, columns: dict, seconds: float) -> None:
@@ -167,13 +183,15 @@ class Store:
         with open(tmp, "rb") as f:
             os.fsync(f.fileno())
         os.replace(tmp, path)
-        m["chunks"][str(chunk_id)] = {"file": name, "rows": table.num_rows, "sha256": _sha256(path), "seconds": seconds}
+        rec = {"file": name, "rows": table.num_rows, "sha256": _sha256(path), "seconds": seconds}
+        _write_atomic(self.chunks / f"chunk-{chunk_id:06d}.json", json.dumps(rec).encode())
+        (self.chunks / f"chunk-{chunk_id:06d}.failed.json").unlink(missing_ok=True)
+        m["chunks"][str(chunk_id)] = rec
         m["failed"].pop(str(chunk_id), None)
-        self._write_manifest(m)
 
     def record_failure(self, m: dict, chunk_id: int, error: str) -> None:
+        _write_atomic(self.chunks / f"chunk-{chunk_id:06d}.failed.json", json.dumps({"error": error}).encode())
         m["failed"][str(chunk_id)] = error
-        self._write_manifest(m)
 
     # ------------------------------------------------------------- reader ---
     def load(self, *, partial: bool = False):

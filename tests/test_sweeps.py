@@ -277,3 +277,24 @@ def test_without_a_terminal_progress_is_log_lines(tmp_path, capsys):
     sweeps.run(write(tmp_path, small("analytic", chunk=2)), tmp_path / "s", workers=1)  # 12 chunks, stderr is not a terminal here
     lines = capsys.readouterr().err.strip().splitlines()
     assert [line.split(",")[0] for line in lines] == ["sweep: 10/12 chunks", "sweep: 12/12 chunks"] and "runs/s, ETA" in lines[0]
+
+
+def test_analytic_hybrid_option_goes_through_the_impact(tmp_path):
+    """Corollary 4.2 states at mu = 1.7: the first event is JAM; with hybrid = true the run goes on through the IWC."""
+    import tomllib
+
+    from crosscheck.corollary import corollary_states
+
+    states, _, _ = corollary_states(1.7, 3, np.random.default_rng(0))
+    lists = {k: [getattr(s, k) for s in states] for k in ("theta", "varphi", "Theta", "Psi", "eta")}
+    body = "\n".join(f"{k} = {v!r}" for k, v in lists.items())
+    text = f"[sweep]\nengine = 'analytic'\nhorizon = 2.0\nchunk = 2\n[states]\nzip = true\n{body}\n[parameters]\nmu = 1.7\n[options]\nhybrid = [false, true]\n"
+    sweeps.run(sweeps.parse_spec(tomllib.loads(text)), tmp_path / "h", workers=1, progress=False)
+    df = sweeps.load(tmp_path / "h")
+    first, through = df[~df.hybrid], df[df.hybrid]
+    assert list(first.outcome) == ["JAM"] * 3 and first.jam_impulse.isna().all()
+    assert not (through.outcome == "JAM").any() and (through.jam_impulse > 0).all()
+    with pytest.raises(SpecError, match="unknown analytic option 'timestep'"):
+        parse_spec(tomllib.loads(text.replace("hybrid = [false, true]", "timestep = 1e-3")))
+    with pytest.raises(SpecError, match=r"options.restitution must be in \[0, 1\]; got 2"):
+        parse_spec(tomllib.loads(text.replace("hybrid = [false, true]", "restitution = 2")))

@@ -114,8 +114,9 @@ class Thresholds:
         is bounded: a slipping rod of the paper's ranges never exceeds O(10)),
         when any value is not finite, or when the engine's clock stops
         advancing (``mujoco.rollout`` stops stepping after a MuJoCo warning
-        and repeats the last row); only up to the row where theta leaves
-        (0, pi/2): past it the run is outside the paper's variables.
+        and repeats the last row).  A divergence is the outcome also after
+        theta has left (0, pi/2) (with ``exit_time`` before it): an engine
+        that blows up is never hidden as a censored SLIP.
     """
 
     window: float = 0.05
@@ -306,14 +307,9 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
         stick_speed = th.rigid_stick_steps * timestep if rigid else th.stick_threshold(friction_timeconst)
         has_stick, k_stick = _first((eta < stick_speed) & touched & (rows < end))
 
-    # A divergence after theta left (0, pi/2) is not the run's outcome (diverged_time still says when): past
-    # theta = 0 the rod lies below the horizontal and its angles run into the gimbal singularity of the
-    # (psi, theta) joints at |theta| = pi/2 (the rigid engine's Psi was seen to blow up there at mu = 1.3).
-    # A non-finite row counts as an exit too, so a divergence at the exit row stays DIVERGED.
-    div_in_domain = has_div & (k_div <= np.where(has_exit, k_exit, n))
     big = np.iinfo(np.int64).max
     order = [  # precedence on ties: earlier in the list wins
-        (Outcome.DIVERGED, div_in_domain, k_div),
+        (Outcome.DIVERGED, has_div, k_div),
         (Outcome.JAM, has_jam, k_jam),
         (Outcome.LIFTOFF, has_lift, k_lift),
         (Outcome.STICK, has_stick, k_stick),

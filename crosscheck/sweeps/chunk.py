@@ -30,20 +30,32 @@ ONE_CORE = {"mujoco": {"nthread": 1}, "pinocchio": {"workers": 1}}
 
 
 def _analytic(cols: dict, horizon: float) -> dict:
+    """The paper's first event (``slip_until_event``); with the option hybrid, the hybrid flow's last outcome
+    (``crosscheck.hybrid.run``: through impacts without collision) and the first impact's normal impulse."""
+    from crosscheck import hybrid
     from crosscheck.outcome import Outcome
     from crosscheck.slipping import slip_until_event
     from crosscheck.state import SlipState
 
     n = len(cols["run"])
-    out = {"outcome": np.empty(n, object), "event_time": np.full(n, np.nan), "exit_time": np.full(n, np.nan)}
+    out = {"outcome": np.empty(n, object), "event_time": np.full(n, np.nan), "exit_time": np.full(n, np.nan), "jam_impulse": np.full(n, np.nan)}
     for i in range(n):
         s = SlipState(**{a: float(cols[a][i]) for a in (*AXES, "psi")})
-        r = slip_until_event(s, float(cols["mu"][i]), float(cols["alpha"][i]), t_max=horizon)
-        out["outcome"][i] = r.outcome.name
-        if r.outcome != Outcome.SLIP:
-            out["event_time"][i] = r.time
-        elif r.reason.startswith("theta"):
-            out["exit_time"][i] = r.time
+        mu, alpha = float(cols["mu"][i]), float(cols["alpha"][i])
+        if "hybrid" in cols and bool(cols["hybrid"][i]):
+            e = float(cols["restitution"][i]) if "restitution" in cols else 0.0
+            h = hybrid.run(s, mu, alpha, horizon=horizon, restitution=e)
+            outcome, t, reason = h.outcome, h.time, h.reason
+            if h.impacts:
+                out["jam_impulse"][i] = h.impacts[0].normal_impulse
+        else:
+            r = slip_until_event(s, mu, alpha, t_max=horizon)
+            outcome, t, reason = r.outcome, r.time, r.reason
+        out["outcome"][i] = outcome.name
+        if outcome != Outcome.SLIP:
+            out["event_time"][i] = t
+        elif reason.startswith("theta"):
+            out["exit_time"][i] = t
     return out
 
 

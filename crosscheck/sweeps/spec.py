@@ -1,7 +1,8 @@
 """A sweep's spec: the TOML file that names the engine, the states, mu and alpha and the engine options, checked before anything runs.
 
     [sweep]
-    engine = "mujoco"        # a registered engine, or "analytic" (slip_until_event's first event)
+    engine = "mujoco"        # a registered engine, or "analytic": slip_until_event's first event, or with
+                             # [options] hybrid = true (and restitution = e) the hybrid flow through impacts
     horizon = 0.5            # scaled time
     seed = 0                 # random states and each chunk's generator derive from it
     chunk = 16               # runs per chunk (the unit of work and of storage)
@@ -239,9 +240,21 @@ def _states(table: dict, seed: int, base: Path | None) -> dict[str, np.ndarray]:
 
 def _options(engine: str, table: dict) -> dict[str, tuple]:
     if engine == ANALYTIC:
-        if table:
-            raise SpecError(f"the analytic engine takes no [options]; got {', '.join(sorted(table))}")
-        return {}
+        out = {}
+        for k, v in table.items():
+            vals = v if isinstance(v, list) else [v]
+            if not vals:
+                raise SpecError(f"options.{k} must not be an empty list")
+            if k == "hybrid":
+                for x in vals:
+                    if not isinstance(x, bool):
+                        raise SpecError(f"options.hybrid must be true or false; got {x!r}")
+            elif k == "restitution":
+                vals = [_number("options.restitution", x, low=0.0, high=1.0) for x in vals]
+            else:
+                raise SpecError(f"unknown analytic option {k!r} in [options]; known options: hybrid, restitution")
+            out[k] = tuple(vals)
+        return out
     from crosscheck import engines
 
     E = engines.get(engine)

@@ -257,9 +257,11 @@ def test_sweep_heavy_sections_keep_their_engine_runs_in_finished_stores(quick):
     """The agreement maps and convergence tables ran their engines through crosscheck.sweeps: complete stores, one per setting."""
     out, _ = quick
     for slug, n_settings in (("mujoco_maps", 3), ("mujoco_convergence", 4), ("rigid_maps", 3), ("rigid_convergence", 3)):
+        from crosscheck.sweeps import Store
+
         manifests = sorted((out / "sweeps" / slug).rglob("manifest.json"))
         assert len(manifests) == n_settings, slug
-        for m in map(lambda p: json.loads(p.read_text()), manifests):
+        for m in (Store(p.parent).read_manifest() for p in manifests):
             assert len(m["chunks"]) == m["n_chunks"] and m["failed"] == {}
 
 

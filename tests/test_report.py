@@ -285,3 +285,19 @@ def test_a_rerun_keeps_finished_sections_and_redoes_an_interrupted_one(tmp_path,
     assert {p: p.stat().st_mtime_ns for p in (out / "data" / "p_region").iterdir()} == kept
     res = pipeline.run(out, sections, quick=True, resume=False)
     assert not any(v.get("resumed") for v in res.values())
+
+
+def test_findings_come_first_with_a_line_per_engine(quick):
+    """The Findings block: one first-event line per engine with maps, its counts those of the saved confusion matrices."""
+    from crosscheck.report.findings import findings
+
+    out, _ = quick
+    found = findings(out / "data")
+    first = {f.slug: f for f in found if f.leg.endswith("first event")}
+    assert set(first) == {"mujoco_maps", "rigid_maps"} and first["rigid_maps"].leg.startswith("Pinocchio (rigid engine)")
+    for slug, f in first.items():
+        conf = sum(np.asarray(mp["runs"][0]["confusion"]) for mp in json.loads((out / "data" / slug / "maps.json").read_text()))
+        k, n = int(np.trace(conf[:4, :4])), int(conf[:4].sum())
+        assert f"{k} of {n} rated" in f.text and f.verdict in ("agrees", "disagrees", "inconclusive")
+    md = (out / "report.md").read_text()
+    assert md.index("## Findings") < md.index("## Summary") and all(f.text in md for f in found)

@@ -230,7 +230,7 @@ def _provenance_rows(prov: dict) -> list[list[str]]:
     return rows
 
 
-def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str]) -> Path:
+def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list) -> Path:
     h = ['<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crosscheck report</title>',
          f"<style>{_CSS}</style></head><body>",
          "<h1>crosscheck report: the 3D Painlevé rod, analytic theory vs Pinocchio vs MuJoCo</h1>",
@@ -238,6 +238,9 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
          "Every figure is recomputed from the project's model; beside each figure and table is the data behind it. "
          f"{html.escape(_NUMBERING)} "
          'Markdown twin: <a href="report.md">report.md</a>.</p>',
+         "<h2 id=findings>Findings</h2>",
+         "<ul>" + "".join(f'<li><b>{html.escape(f.leg)}</b>: {html.escape(f.text)}. <i>{html.escape(f.verdict)}</i> '
+                          f'(<a href="#{f.slug}">{html.escape(f.slug)}</a>)</li>' for f in found) + "</ul>",
          "<h2 id=summary>Summary</h2>"]
     table = _html_block(Table(caption="Sections, in report order.", header=["section", "paper", "status", "run time", "checks"], rows=[r[0] for r in summary_rows], data=[], row_class=[r[1] for r in summary_rows]))
     for v in views:  # section names link to their sections
@@ -295,10 +298,11 @@ def _md_block(b) -> str:
     raise TypeError(f"unknown block {type(b).__name__}")
 
 
-def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str]) -> Path:
+def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list) -> Path:
     m = ["# crosscheck report: the 3D Painlevé rod, analytic theory vs Pinocchio vs MuJoCo", "",
          "Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painlevé paradox*. Every figure is recomputed "
          f"from the project's model; beside each figure and table is the data behind it. {_NUMBERING} HTML version: [index.html](index.html).", "",
+         "## Findings", "", *(f"- **{f.leg}**: {f.text}. *{f.verdict}* ({f.slug})" for f in found), "",
          "## Summary", ""]
     m.append(_md_block(Table(caption="Sections, in report order.", header=["section", "paper", "status", "run time", "checks"], rows=[r[0] for r in summary_rows], data=[])))
     m.append("**Failures** (the command exits non-zero):\n\n" + "\n".join(f"- {f}" for f in failures) + "\n" if failures else "No failures.\n")
@@ -392,6 +396,9 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
         summary_rows.append((row, "ok" if v.state in ("ok", "skipped") and not nf else "fail"))
     summary = RenderSummary(html=out / "index.html", markdown=out / "report.md", views=views)
     failures = summary.failures
-    _write_html(out, views, prov, summary_rows, failures)
-    _write_md(out, views, prov, summary_rows, failures)
+    from crosscheck.report.findings import findings
+
+    found = findings(out / "data")  # from the saved results alone, like every block
+    _write_html(out, views, prov, summary_rows, failures, found)
+    _write_md(out, views, prov, summary_rows, failures, found)
     return summary

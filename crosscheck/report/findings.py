@@ -1,0 +1,117 @@
+"""The report's findings: one line per leg with its headline number and a verdict, read from the saved results alone.
+
+Lines (each only when its section's results are there):
+
+* the multibody model's dynamics terms (section ``pinocchio``): the worst
+  error against the analytic terms as a fraction of its tolerance; verdict
+  *agrees* when every term is within its tolerance;
+* per engine with outcome maps (every section that saved ``maps.json``, so
+  an engine added later gets its line): the share of rated slipping starts
+  whose first event is the analytic one, with its Wilson 95 % interval, and
+  what the engine does where the theory jams;
+* per engine with a convergence table (``convergence.csv``): the agreement
+  from the coarsest to the finest timestep, on and off the planar section;
+  verdict *converges* when the finest agrees on >= 95 % and at least as much
+  as the coarsest, *does not converge* when the finest is below 90 % or
+  below the coarsest, *inconclusive* otherwise;
+* lift-off onset checks (every section whose checks name the onset): how
+  many hold;
+* the paper's misprints found (checks marked as known discrepancies).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+__all__ = ["Finding", "findings", "CONVERGED", "NOT_CONVERGED"]
+
+#: Agreement at the finest timestep above which (and not below the coarsest) a convergence table "converges".
+CONVERGED = 0.95
+#: ... and below which it "does not converge".
+NOT_CONVERGED = 0.90
+
+_OUTCOMES = ("SLIP", "LIFTOFF", "STICK", "JAM")
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One line: the leg, what was found, the verdict, and the section it comes from (its anchor)."""
+
+    leg: str
+    text: str
+    verdict: str
+    slug: str
+
+
+def _json(path: Path):
+    return json.loads(path.read_text()) if path.is_file() else None
+
+
+def _engine_name(status: dict | None) -> str:
+    """The engine's label, marked rigid for an engine without contact compliance (``Options().contact_time == 0``)."""
+    from crosscheck import engines
+    from crosscheck.engines.base import engine_label
+
+    name = (status or {}).get("params", {}).get("engine", "?")
+    try:
+        rigid = engines.get(name).Options().contact_time == 0.0
+    except ValueError:  # an engine no longer registered: its saved results still have a line
+        rigid = False
+    return f"{engine_label(name)} (rigid engine)" if rigid else engine_label(name)
+
+
+def findings(data: Path) -> list[Finding]:
+    """The findings of the report whose saved results are in ``data`` (``<out>/data``)."""
+    from crosscheck.sweeps.compare import wilson_interval
+
+    data = Path(data)
+    out: list[Finding] = []
+    v = _json(data / "pinocchio" / "validate.json")
+    if v:
+        worst = max(v["stats"], key=lambda s: s["max_ratio"])
+        out.append(Finding("Pinocchio dynamics terms", f"{len(v['stats'])} quantities; worst: {worst['quantity']} at {worst['max_ratio']:.2g} of its "
+                           f"tolerance (relative error {worst['max_rel']:.2g})", "agrees" if v["passed"] else "disagrees", "pinocchio"))
+    for maps in sorted(data.glob("*/maps.json")):
+        slug, status = maps.parent.name, _json(maps.parent / "status.json")
+        name = _engine_name(status)
+        conf = None
+        for mp in json.loads(maps.read_text()):
+            c = mp["runs"][0]["confusion"]
+            conf = c if conf is None else [[a + b for a, b in zip(r1, r2)] for r1, r2 in zip(conf, c)]
+        labels = json.loads(maps.read_text())[0]["runs"][0]["labels"]
+        ix = [labels.index(o) for o in _OUTCOMES]
+        n = sum(conf[i][j] for i in ix for j in range(len(labels)))
+        k = sum(conf[i][i] for i in ix)
+        lo, hi = wilson_interval(k, n)
+        jam = conf[labels.index("JAM")]
+        at_jams = ", ".join(f"{jam[j]} {labels[j].lower()}" for j in range(len(labels)) if jam[j])
+        verdict = "agrees" if lo >= CONVERGED else "disagrees" if hi < NOT_CONVERGED else "inconclusive"
+        out.append(Finding(f"{name}: first event", f"same as the analytic one in {k} of {n} rated slipping starts ({100 * k / n:.0f} %, 95 % interval "
+                           f"{100 * lo:.0f}-{100 * hi:.0f} %); at the theory's jams: {at_jams or 'none'}", verdict, slug))
+    for conv in sorted(data.glob("*/convergence.csv")):
+        slug = conv.parent.name
+        rows = list(csv.DictReader(conv.open()))
+        if not rows:
+            continue
+        name = _engine_name(_json(conv.parent / "status.json"))
+        rows.sort(key=lambda r: -float(r["timestep"]))
+        first, last = float(rows[0]["agreement"]), float(rows[-1]["agreement"])
+        verdict = "converges" if last >= CONVERGED and last >= first else "does not converge" if last < NOT_CONVERGED or last < first else "inconclusive"
+        trend = " -> ".join(f"{100 * float(r['agreement']):.0f} %" for r in rows)
+        pl = rows[-1].get("agreement_planar") or "nan"
+        off = rows[-1].get("agreement_off_plane") or "nan"
+        out.append(Finding(f"{name}: convergence in timestep", f"agreement {trend} as the timestep goes {float(rows[0]['timestep']):g} -> "
+                           f"{float(rows[-1]['timestep']):g}; at the finest {100 * float(pl):.0f} % on the planar section, {100 * float(off):.0f} % off it",
+                           verdict, slug))
+    onset = [(p.parent.name, c) for p in sorted(data.glob("*/checks.json")) for c in json.loads(p.read_text()) if "onset" in c["name"]]
+    for slug in sorted({s for s, _ in onset}):
+        cs = [c for s, c in onset if s == slug]
+        ok = sum(c["passed"] for c in cs)
+        out.append(Finding(f"lift-off onset ({slug})", f"{ok} of {len(cs)} onset checks against Psi_L hold", "agrees" if ok == len(cs) else "disagrees", slug))
+    known = [(p.parent.name, c) for p in sorted(data.glob("*/checks.json")) for c in json.loads(p.read_text()) if c.get("known_discrepancy")]
+    if known:
+        out.append(Finding("the paper", f"{len(known)} printed values differ from the model (known misprints, listed in the sections)", "known", known[0][0]))
+    return out

@@ -55,11 +55,15 @@ def results(df: pd.DataFrame) -> pd.DataFrame:
     return df.drop(columns=["wall_time"])
 
 
-def test_the_issue_example_spec_runs_as_written(tmp_path):
+def test_the_example_spec_runs_as_written(tmp_path):
     spec = sweeps.load_spec(EXAMPLE)
     assert (spec.n_states, spec.n_runs, spec.n_chunks) == (40, 80, 5) and spec.options == {"timestep": (3e-4,)}
     cols = spec.runs()
     assert np.all(cols["mu"][:2] == [0.5, 1.4]) and np.all(cols["theta"][:2] == 0.4)  # state-major, then mu
+    s = sweeps.run(EXAMPLE, tmp_path / "example", workers=2, progress=False)
+    df = sweeps.load(tmp_path / "example")
+    assert s.failed == {} and len(df) == 80 and {"theta", "varphi", "Theta", "Psi", "eta", "mu", "alpha", "outcome", "event_time"} <= set(df.columns)
+    assert set(df.outcome) <= {"SLIP", "LIFTOFF", "STICK", "JAM", "DIVERGED"} and (df.timestep == 3e-4).all()
 
 
 @pytest.fixture(scope="module")

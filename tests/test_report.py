@@ -266,12 +266,10 @@ def test_sweep_heavy_sections_keep_their_engine_runs_in_finished_stores(quick):
 
 
 def test_a_rerun_keeps_finished_sections_and_redoes_an_interrupted_one(tmp_path, monkeypatch):
-    """Resume: a section left 'running' (its process killed) is recomputed, a finished one is kept untouched."""
-    from crosscheck.report import pipeline, provenance
+    """Resume: a section left 'running' (its process killed) is recomputed, a finished one is kept untouched; other code keeps nothing."""
+    from crosscheck.report import pipeline
     from crosscheck.report.sections import critical_angles, p_region
 
-    # the same clean revision for both runs (a dirty work tree never resumes: its code may have changed in between)
-    monkeypatch.setattr(provenance, "git_revision", lambda cwd=None: {"revision": "0" * 40, "dirty": False, "describe": "test"})
     out = tmp_path / "r"
     sections = [p_region.SECTION, critical_angles.SECTION]
     pipeline.run(out, sections, quick=True, resume=True)
@@ -284,6 +282,10 @@ def test_a_rerun_keeps_finished_sections_and_redoes_an_interrupted_one(tmp_path,
     assert res["critical_angles"]["status"] == "ok"
     assert {p: p.stat().st_mtime_ns for p in (out / "data" / "p_region").iterdir()} == kept
     res = pipeline.run(out, sections, quick=True, resume=False)
+    assert not any(v.get("resumed") for v in res.values())
+    # other code (an edit, an upgrade): nothing is kept
+    monkeypatch.setattr(pipeline, "code_digest", lambda: "0" * 64)
+    res = pipeline.run(out, sections, quick=True, resume=True)
     assert not any(v.get("resumed") for v in res.values())
 
 

@@ -6,9 +6,9 @@ Results a section saved before failing stay on disk.  A section whose process
 was killed keeps ``status: running``, which the report shows as unfinished.
 
 Resuming (``resume=True``): a section whose saved status is ``ok`` with the
-same parameters, quick flag and seed, computed by the same code (the same
-clean git revision, or the same crosscheck version outside git), is kept as
-it is.  The sweep-heavy sections keep their engine runs in resumable stores
+same parameters, quick flag and seed, computed by the same code (the
+sha256 of crosscheck's own source files, so an edited work tree or an
+upgraded install recomputes), is kept as it is.  The sweep-heavy sections keep their engine runs in resumable stores
 under ``<out>/sweeps/<section>`` (``crosscheck.sweeps``), so a section
 killed half-way keeps its finished chunks too.
 """
@@ -49,10 +49,19 @@ def read_status(out: Path, slug: str) -> dict | None:
     return store.read_json(STATUS_FILE) if store.exists(f"{STATUS_FILE}.json") else None
 
 
-def _same_code(prev: dict, git: dict, version: str | None) -> bool:
-    if git.get("revision") is not None:
-        return prev.get("git") == git and git.get("dirty") is False
-    return version is not None and prev.get("crosscheck_version") == version
+def code_digest() -> str:
+    """sha256 of crosscheck's source (every .py and model file of the package, by relative path): what computed a section."""
+    import hashlib
+
+    import crosscheck
+
+    root = Path(crosscheck.__file__).parent
+    h = hashlib.sha256()
+    for p in sorted(root.rglob("*")):
+        if p.suffix in (".py", ".xml") and "__pycache__" not in p.parts:
+            h.update(str(p.relative_to(root)).encode())
+            h.update(p.read_bytes())
+    return h.hexdigest()
 
 
 def _version() -> str | None:
@@ -100,14 +109,14 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
     results: dict[str, dict] = {}
     t_all = time.perf_counter()
     outer = bar(sections, desc="report", total=len(sections), leave=True)
-    version = _version()
+    version, code = _version(), code_digest()
     for s in outer:
         if hasattr(outer, "set_postfix_str"):
             outer.set_postfix_str(s.slug)
         prev = read_status(out, s.slug)
         if (resume and prev is not None and prev.get("status") == "ok" and prev.get("quick") == quick and prev.get("seed") == seed
                 and json.loads(json.dumps(prev.get("params"), default=str)) == json.loads(json.dumps(params[s.slug], default=str))
-                and _same_code(prev, prov["git"], version)):
+                and prev.get("code_sha256") == code):
             results[s.slug] = {**prev, "resumed": True}
             continue
         store = SectionStore(data / s.slug)
@@ -122,6 +131,7 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
             "requires": list(s.requires),
             "git": prov["git"],
             "crosscheck_version": version,
+            "code_sha256": code,
             "date": provenance.now(),
         }
         store.write_json(STATUS_FILE, status)

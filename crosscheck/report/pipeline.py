@@ -7,8 +7,9 @@ was killed keeps ``status: running``, which the report shows as unfinished.
 
 Resuming (``resume=True``): a section whose saved status is ``ok`` with the
 same parameters, quick flag and seed, computed by the same code (the
-sha256 of crosscheck's own source files, so an edited work tree or an
-upgraded install recomputes), is kept as it is.  The sweep-heavy sections keep their engine runs in resumable stores
+sha256 of crosscheck's own source files and the versions of numpy, scipy,
+MuJoCo and Pinocchio, so an edited work tree or an upgrade recomputes), is
+kept as it is.  The sweep-heavy sections keep their engine runs in resumable stores
 under ``<out>/sweeps/<section>`` (``crosscheck.sweeps``), so a section
 killed half-way keeps its finished chunks too.
 """
@@ -50,13 +51,20 @@ def read_status(out: Path, slug: str) -> dict | None:
 
 
 def code_digest() -> str:
-    """sha256 of crosscheck's source (every .py and model file of the package, by relative path): what computed a section."""
+    """sha256 of what computed a section: crosscheck's source (every .py and model file of the package, by
+    relative path) and the versions of the libraries that compute (numpy, scipy, mujoco, pin)."""
     import hashlib
+    from importlib.metadata import PackageNotFoundError, version
 
     import crosscheck
 
     root = Path(crosscheck.__file__).parent
     h = hashlib.sha256()
+    for dist in ("numpy", "scipy", "mujoco", "pin"):
+        try:
+            h.update(f"{dist}=={version(dist)};".encode())
+        except PackageNotFoundError:
+            h.update(f"{dist} absent;".encode())
     for p in sorted(root.rglob("*")):
         if p.suffix in (".py", ".xml") and "__pycache__" not in p.parts:
             h.update(str(p.relative_to(root)).encode())

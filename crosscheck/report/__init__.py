@@ -25,5 +25,6 @@ __all__ = ["SECTIONS", "Section", "RenderSummary", "run", "render", "default_out
 
 
 def default_out(quick: bool) -> Path:
-    """``reports/quick`` for the quick report, ``reports/latest`` (git-ignored) for the full one."""
-    return Path("reports") / ("quick" if quick else "latest")
+    """``reports/latest`` (git-ignored), for the quick and the full report alike: never over the committed
+    reference ``reports/quick``, which is written only when asked for (``--out reports/quick``)."""
+    return Path("reports") / "latest"

@@ -16,25 +16,13 @@ from crosscheck.engines import get
 from crosscheck.engines.pinocchio import Options, Stepper
 from crosscheck.slipping import slip_until_event
 from crosscheck.studies.onset import liftoff_onset
+from crosscheck.studies.rigid import slipping_states
 from crosscheck.tolerances import RIGID_LIFTOFF_ONSET, RIGID_SLIP_ORDER, RIGID_STEP_FORCE
 
 ALPHA = 3.0
 ROD = Rod.scaled(ALPHA)
 ENGINE = get("pinocchio")
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-
-
-def slipping_states(n: int, rng: np.random.Generator):
-    """n random (state, mu) that slip at t = 0 (b < 0 < p) with a normal force of at least 1e-2 m g."""
-    out = []
-    while len(out) < n:
-        s = SlipState(theta=rng.uniform(0.1, 1.45), varphi=-rng.uniform(0.05, 3.1), Theta=rng.normal(), Psi=rng.normal(),
-                      eta=rng.uniform(0.3, 3), psi=rng.uniform(-3, 3))
-        mu = rng.uniform(0.0, 2.0)
-        b, p = analytic.b(s.Psi, s.Theta, s.theta), analytic.p(s.theta, s.varphi, mu, ALPHA)
-        if b < 0 < p and -b / p > 1e-2:
-            out.append((s, mu))
-    return out
 
 
 @pytest.mark.parametrize("dt", [1e-3, 1e-4], ids=lambda d: f"dt={d:g}")
@@ -146,3 +134,17 @@ def test_bad_mu_is_named():
 def test_a_run_too_long_to_record_is_refused_before_allocating():
     with pytest.raises(ValueError, match=r"horizon / timestep must be at most 2796202 steps \(a record of 4 GiB\); got 100000 / 0.001 = 100000000 steps"):
         ENGINE.simulate(ROD, SlipState(0.5, -1.0, 0.0, 0.0, 1.0), 0.5, horizon=1e5)
+
+
+def test_above_mu_P_near_p_0_the_step_may_stick_the_tip_instead_of_slipping():
+    """The step's NCP has two solutions where the sticking impulse lies in the cone (sticking_admissible); PGS returned the
+    sticking one here (p = 0.085, mu = 1.79): an impulse, not eq. FZ.  Such states are outside the one-step check."""
+    from crosscheck.studies.rigid import one_step, sticking_admissible
+
+    s = SlipState(theta=1.0209058092047891, varphi=-2.3322266822458038, Theta=0.05795417383545341, Psi=-0.5873795214394222,
+                  eta=0.9898204260155745, psi=-2.0166827712132678)
+    mu = 1.793
+    assert 0 < analytic.p(s.theta, s.varphi, mu, ALPHA) < 0.1 and sticking_admissible(s, mu, ALPHA)
+    c = one_step(ROD, s, mu)
+    assert c.normal_force > 100 * c.slipping_force and c.friction_ratio < mu  # stuck inside the cone by one impulse
+    assert not sticking_admissible(s, 1.0, ALPHA)  # below mu_P the slip is the only solution

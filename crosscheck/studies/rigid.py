@@ -32,13 +32,13 @@ from crosscheck.corollary import corollary_states
 from crosscheck.critical import theta_12
 from crosscheck.engines import get
 from crosscheck.engines.pinocchio import Options, Stepper
-from crosscheck.iwc import impact
+from crosscheck.iwc import delassus, impact
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.slipping import slip_until_event
 from crosscheck.state import SlipState
 
-__all__ = ["StepCheck", "one_step", "slipping_states", "slip_order", "planar_impasse", "Aftermath", "jam_aftermath", "corollary_aftermath", "order"]
+__all__ = ["StepCheck", "one_step", "sticking_admissible", "slipping_states", "slip_order", "planar_impasse", "Aftermath", "jam_aftermath", "corollary_aftermath", "order"]
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
@@ -84,8 +84,27 @@ def one_step(rod: Rod, state: SlipState, mu: float, options: Options | None = No
                      cos_opposite=float(cos), varphi_end=float(varphi), w_end=float(u[2]))
 
 
+def sticking_admissible(state: SlipState, mu: float, alpha: float) -> bool:
+    """Whether the sticking impulse -G^-1 (u_t, 0) of a slipping tip lies in the Coulomb cone (G: eq.-based Delassus, ``crosscheck.iwc``).
+
+    If it does, a time step's NCP has a second solution beside the slip: the
+    tip stopped by one impulse (an impact without collision inside the step),
+    whatever dt (the impulse tends to that finite value as dt -> 0).  This
+    happens only above mu_P, near p = 0; PGS then may return either solution
+    (measured: 20 of 1600 random slipping states at mu < 2 are ambiguous, PGS
+    converged to the sticking one in 2 of them, e.g. p = 0.085 at mu = 1.79:
+    a normal force of 240 m g where -b/p = 0.81).  A one-step check against
+    eq. FZ is meaningful only where the slip is the step's only solution.
+    """
+    G = delassus(state, alpha)
+    a = state.varphi + state.psi  # the slip direction in world axes
+    lam = -np.linalg.solve(G, np.array([state.eta * math.cos(a), state.eta * math.sin(a), 0.0]))
+    return bool(lam[2] > 0.0 and math.hypot(lam[0], lam[1]) <= mu * lam[2])
+
+
 def slipping_states(n: int, rng: np.random.Generator, alpha: float = 3.0, *, min_force: float = 1e-2) -> list[tuple[SlipState, float]]:
-    """``n`` random (state, mu) that slip at t = 0 (b < 0 < p) with a normal force -b/p of at least ``min_force`` m g.
+    """``n`` random (state, mu) that slip at t = 0 (b < 0 < p) with a normal force -b/p of at least ``min_force`` m g,
+    and whose time step has the slip as its only solution (not ``sticking_admissible``).
 
     theta in (0.1, 1.45), varphi in (-3.1, -0.05), Theta and Psi standard
     normal, eta in (0.3, 3), psi in (-3, 3), mu in (0, 2).
@@ -96,7 +115,7 @@ def slipping_states(n: int, rng: np.random.Generator, alpha: float = 3.0, *, min
                       eta=rng.uniform(0.3, 3), psi=rng.uniform(-3, 3))
         mu = rng.uniform(0.0, 2.0)
         b, p = analytic.b(s.Psi, s.Theta, s.theta), analytic.p(s.theta, s.varphi, mu, alpha)
-        if b < 0 < p and -b / p >= min_force:
+        if b < 0 < p and -b / p >= min_force and not sticking_admissible(s, mu, alpha):
             out.append((s, mu))
     return out
 

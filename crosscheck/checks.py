@@ -67,3 +67,15 @@ def check(name: str, value, interval: Interval = FINITE) -> np.ndarray:
 def number(name: str, value, interval: Interval = FINITE) -> float:
     """``check`` for one scalar: also parses strings, so the CLI passes its raw text."""
     return float(check(name, value, interval))
+
+
+def integer(name: str, value, lo: int, hi: int) -> int:
+    """An integer in [lo, hi] from an int or the CLI's raw text ("1e3" and "2.5" are not integers); ValueError naming both."""
+    if isinstance(value, str):
+        text = value.strip()
+        v = int(text) if text.lstrip("+-").isdigit() else None
+    else:
+        v = int(value) if isinstance(value, (int, np.integer)) and not isinstance(value, bool) else None
+    if v is None or not lo <= v <= hi:
+        raise ValueError(f"{name} must be an integer in [{lo}, {hi}]; got {value!r}")
+    return v

@@ -1,6 +1,7 @@
 """Bad input raises ValueError naming the parameter and its allowed range (same text as the CLI)."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -64,3 +65,20 @@ def test_coordinates_vectorise():
     q, v = paper_to_qv(rod, np.full(5, 0.8), -1.0, 0.2, np.linspace(-1, 1, 5), 1.0)
     assert q.shape == v.shape == (5, 5)
     np.testing.assert_allclose(qv_to_paper(rod, q, v)["Psi"], np.linspace(-1, 1, 5), rtol=1e-15)
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["validate", "pinocchio", "--states", "1e3"], "states must be an integer in [1, 1000000]; got '1e3'"),
+    (["validate", "mujoco", "--states", "0"], "states must be an integer in [1, 1000000]; got '0'"),
+    (["validate", "mujoco", "--seed", "-1"], "seed must be an integer in [0, 9223372036854775807]; got '-1'"),
+    (["report", "--seed", "1.5", "--out", "unused"], "seed must be an integer in [0, 9223372036854775807]; got '1.5'"),
+    (["report", "--workers", "0", "--out", "unused"], "workers must be an integer in [1, 1024]; got '0'"),
+    (["sweep", "examples/sweep.toml", "--out", "unused", "--workers", "abc"], "workers must be an integer in [1, 1024]; got 'abc'"),
+], ids=["states-float", "states-zero", "seed-negative", "report-seed", "report-workers", "sweep-workers"])
+def test_integer_options_name_their_range(argv, message, capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(Path(__file__).parents[1])
+    from crosscheck.cli import main
+
+    assert main(argv) == 2
+    assert capsys.readouterr().err.strip().splitlines() == [f"crosscheck: error: {message}"]
+    assert not Path("unused").exists()

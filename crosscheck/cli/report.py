@@ -18,6 +18,8 @@ import sys
 import time
 from pathlib import Path
 
+from crosscheck.checks import integer
+
 
 def _run(args) -> int:
     from crosscheck import report
@@ -30,16 +32,16 @@ def _run(args) -> int:
     if args.from_results and not (out / "data" / "provenance.json").exists():
         raise ValueError(f"no saved results in {out / 'data'}; run `crosscheck report --out {out}` (without --from-results) first")
     progress = not args.no_progress and sys.stderr.isatty()
+    seed = integer("seed", args.seed, 0, 2**63 - 1)
     t0 = time.perf_counter()
     if not args.from_results:
         if args.fresh and (out / "sweeps").exists():
             import shutil
 
             shutil.rmtree(out / "sweeps")
-        if args.workers is not None and args.workers < 1:
-            raise ValueError(f"workers must be an integer >= 1; got {args.workers}")
-        results = report.run(out, selected, quick=args.quick, seed=args.seed, progress=progress, argv=["crosscheck", *sys.argv[1:]],
-                             resume=not (args.fresh or args.only), scheduler=args.scheduler, workers=args.workers)
+        workers = None if args.workers is None else integer("workers", args.workers, 1, 1024)
+        results = report.run(out, selected, quick=args.quick, seed=seed, progress=progress, argv=["crosscheck", *sys.argv[1:]],
+                             resume=not (args.fresh or args.only), scheduler=args.scheduler, workers=workers)
         kept = [k for k, v in results.items() if v.get("resumed")]
         if kept:
             print(f"kept {len(kept)} finished sections ({', '.join(kept)}); --fresh recomputes them")
@@ -58,10 +60,10 @@ def register(sub) -> None:
     r.add_argument("--out", default=None, help="report directory (default: reports/latest; the committed reference is written only with --out reports/quick)")
     r.add_argument("--quick", action="store_true", help="small grids and short horizons (about 1.5 minutes on 2 cores)")
     r.add_argument("--from-results", action="store_true", help="rebuild the report from DIR/data without running anything")
-    r.add_argument("--seed", type=int, default=0, help="master seed of numpy.random.default_rng (each section derives its own)")
+    r.add_argument("--seed", type=str, default="0", help="master seed of numpy.random.default_rng, >= 0 (each section derives its own; default 0)")
     r.add_argument("--only", action="append", metavar="SECTION", help="run only this section (repeatable); the others keep their saved results")
     r.add_argument("--no-progress", action="store_true", help="no progress bars")
     r.add_argument("--fresh", action="store_true", help="recompute every section (default: keep those finished by the same code)")
     r.add_argument("--scheduler", default=None, help="run the engine sweeps on a Dask cluster: 'local' or a scheduler address tcp://host:8786")
-    r.add_argument("--workers", type=int, default=None, help="processes (or local Dask workers) for the engine sweeps; default: the usable cores")
+    r.add_argument("--workers", type=str, default=None, help="processes (or local Dask workers) for the engine sweeps; default: the usable cores")
     r.set_defaults(func=_run)

@@ -4,11 +4,14 @@ from __future__ import annotations
 
 import sys
 
+from crosscheck.checks import integer
+
 
 def _sweep(args) -> int:
     from crosscheck import sweeps
 
-    summary = sweeps.run(args.spec, args.out, workers=args.workers, scheduler=args.scheduler, fresh=args.fresh,
+    workers = None if args.workers is None else integer("workers", args.workers, 1, 1024)
+    summary = sweeps.run(args.spec, args.out, workers=workers, scheduler=args.scheduler, fresh=args.fresh,
                          progress=False if args.no_progress else None)
     print(summary)
     return 1 if summary.failed else 0
@@ -27,7 +30,7 @@ def register(sub) -> None:
     s = sub.add_parser("sweep", help="run (or resume) a sweep from a TOML spec into a result store")
     s.add_argument("spec", help="the sweep's TOML spec (examples/sweep.toml)")
     s.add_argument("--out", required=True, help="the store directory (resumed if it holds the same sweep)")
-    s.add_argument("--workers", type=int, default=None, help="processes (or Dask workers with --scheduler local); default: the usable cores")
+    s.add_argument("--workers", type=str, default=None, help="processes (or Dask workers with --scheduler local); default: the usable cores")
     s.add_argument("--scheduler", default=None, help="'local' (a Dask LocalCluster for this run) or a Dask scheduler address tcp://host:8786")
     s.add_argument("--fresh", action="store_true", help="replace whatever sweep OUT holds")
     s.add_argument("--no-progress", action="store_true", help="no progress bar or log lines")

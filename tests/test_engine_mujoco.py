@@ -202,3 +202,15 @@ def test_model_file_without_the_rod_is_named(tmp_path):
     path.write_text("<mujoco><worldbody/></mujoco>")
     with pytest.raises(ModelFileError, match=f"{path} lacks body 'rod'"):
         simulate(ROD, SlipState(0.5, -1.0, 0.0, 0.0, 1.0), 0.5, horizon=0.1, model_file=path)
+
+
+@pytest.mark.parametrize("horizon, message", [
+    (1e5, r"horizon / timestep must be at most 5592405 steps with nthread = 1 \(records of 4 GiB\); got 100000 / 0.0003 = 333333334 steps"),
+    (1e308, r"horizon / timestep must be at most 1e15 steps; got 1e\+308 / 0.0003 = inf"),
+], ids=["27-GiB", "overflow"])
+def test_a_run_too_long_to_record_is_refused_before_allocating(horizon, message):
+    from crosscheck import Rod, SlipState
+    from crosscheck.engines import get
+
+    with pytest.raises(ValueError, match=message):
+        get("mujoco").simulate(Rod.scaled(3.0), SlipState(1.0, -1.9, 0.0, 1.0, 1.0), 0.5, horizon=horizon)

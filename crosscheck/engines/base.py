@@ -95,7 +95,10 @@ def engine_label(name: str) -> str:
 
 def n_steps(horizon: float, timestep: float) -> int:
     """Steps needed to cover ``horizon`` (both scaled): ceil(horizon / timestep), at least 1."""
-    return max(1, int(math.ceil(horizon / timestep - 1e-9)))
+    ratio = horizon / timestep
+    if not ratio <= 1e15:  # also inf and NaN: a step count no run can take (the engines bound it further by memory)
+        raise ValueError(f"horizon / timestep must be at most 1e15 steps; got {horizon:g} / {timestep:g} = {ratio:g}")
+    return max(1, int(math.ceil(ratio - 1e-9)))
 
 
 def check_states(states: Sequence[SlipState]) -> list[SlipState]:

@@ -42,6 +42,12 @@ __all__ = ["ENGINE", "MujocoEngine", "Options", "Batch", "simulate", "sweep", "C
 #: Memory for one chunk's sensordata; sets the chunk size.
 CHUNK_BYTES = 48 * 2**20
 
+#: Bytes per state and row of a run (sensordata, the Record, the classifier's temporaries): the peak
+#: resident memory of a 2e5-step run grew by 500 bytes per row; 1.5 x that as a margin.  And the most a
+#: chunk's records may take (the rigid engine uses the same bound).
+ROW_BYTES = 768
+MAX_RECORD_BYTES = 4 * 2**30
+
 
 @dataclass(frozen=True)
 class Options:
@@ -148,11 +154,18 @@ class Batch:
         if not (isinstance(nthread, int) and nthread >= 1):
             raise ValueError(f"nthread must be an integer >= 1; got {nthread!r}")
         mu = np.broadcast_to(check("mu", mu, MU), (B,)).astype(float)
+        nstep = n_steps(horizon, options.timestep)
+        # a chunk holds at least nthread states' whole time series: refuse what cannot fit before allocating it
+        need = nthread * nstep * ROW_BYTES
+        if need > MAX_RECORD_BYTES:
+            raise ValueError(f"horizon / timestep must be at most {MAX_RECORD_BYTES // (nthread * ROW_BYTES)} steps with nthread = {nthread} "
+                             f"(records of {MAX_RECORD_BYTES / 2**30:g} GiB); got {horizon:g} / {options.timestep:g} = {nstep} steps "
+                             f"({need / 2**30:.3g} GiB)")
         models = {m: build_model(rod, m, options) for m in np.unique(mu)}
         first = next(iter(models.values()))
         scratch = mujoco.MjData(first)  # all models share sizes; the state layout is the same
         x0 = np.stack([initial_state(first, rod, s, options.radius, data=scratch) for s in states])
-        return cls(models, SensorLayout.from_model(first), mu, x0, n_steps(horizon, options.timestep), nthread, options.radius)
+        return cls(models, SensorLayout.from_model(first), mu, x0, nstep, nthread, options.radius)
 
     def chunks(self, *, progress: bool, desc: str = "mujoco sweep"):
         """Run the batch; yield (slice of states, (n, nstep, nsensordata) sensordata) per chunk.

@@ -30,7 +30,7 @@ from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["Engine", "Run", "SweepResult", "SERIES", "SUMMARY", "STATE_KEYS", "n_steps", "options_from_kwargs", "check_states",
+__all__ = ["Engine", "Run", "SweepResult", "SERIES", "SUMMARY", "STATE_KEYS", "MAX_RECORD_BYTES", "n_steps", "n_steps_within_memory", "options_from_kwargs", "check_states",
            "summaries", "sweep_by_simulate"]
 
 #: Decimated time series kept per state by ``sweep`` (each (B, n_series)), scaled units:
@@ -99,6 +99,22 @@ def n_steps(horizon: float, timestep: float) -> int:
     if not ratio <= 1e15:  # also inf and NaN: a step count no run can take (the engines bound it further by memory)
         raise ValueError(f"horizon / timestep must be at most 1e15 steps; got {horizon:g} / {timestep:g} = {ratio:g}")
     return max(1, int(math.ceil(ratio - 1e-9)))
+
+
+#: The most memory the records of one run (or one chunk of runs) may take.
+MAX_RECORD_BYTES = 4 * 2**30
+
+
+def n_steps_within_memory(horizon: float, timestep: float, row_bytes: int, *, copies: int = 1, what: str = "a record",
+                          context: str = "") -> int:
+    """``n_steps``, refused with the step limit before anything is allocated when ``copies`` records of
+    ``row_bytes`` per row would exceed ``MAX_RECORD_BYTES`` (each engine measures its own bytes per row)."""
+    n = n_steps(horizon, timestep)
+    need = copies * n * row_bytes
+    if need > MAX_RECORD_BYTES:
+        raise ValueError(f"horizon / timestep must be at most {MAX_RECORD_BYTES // (copies * row_bytes)} steps{context} "
+                         f"({what} of {MAX_RECORD_BYTES / 2**30:g} GiB); got {horizon:g} / {timestep:g} = {n} steps ({need / 2**30:.3g} GiB)")
+    return n
 
 
 def check_states(states: Sequence[SlipState]) -> list[SlipState]:

@@ -31,7 +31,8 @@ from tqdm.auto import tqdm
 
 from crosscheck.checks import ETA as NONNEGATIVE
 from crosscheck.checks import FINITE, MU, POSITIVE, check
-from crosscheck.engines.base import SERIES, STATE_KEYS, SUMMARY, Run, SweepResult, check_states, n_steps, options_from_kwargs, summaries
+from crosscheck.engines.base import (SERIES, STATE_KEYS, SUMMARY, Run, SweepResult, check_states, n_steps_within_memory, options_from_kwargs,
+                                     summaries)
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.mujoco_model import SensorLayout, build_model, initial_state, record_from_sensordata
 from crosscheck.rod import Rod
@@ -43,10 +44,8 @@ __all__ = ["ENGINE", "MujocoEngine", "Options", "Batch", "simulate", "sweep", "C
 CHUNK_BYTES = 48 * 2**20
 
 #: Bytes per state and row of a run (sensordata, the Record, the classifier's temporaries): the peak
-#: resident memory of a 2e5-step run grew by 500 bytes per row; 1.5 x that as a margin.  And the most a
-#: chunk's records may take (the rigid engine uses the same bound).
+#: resident memory of a 2e5-step run grew by 500 bytes per row; 1.5 x that as a margin.
 ROW_BYTES = 768
-MAX_RECORD_BYTES = 4 * 2**30
 
 
 @dataclass(frozen=True)
@@ -154,13 +153,8 @@ class Batch:
         if not (isinstance(nthread, int) and nthread >= 1):
             raise ValueError(f"nthread must be an integer >= 1; got {nthread!r}")
         mu = np.broadcast_to(check("mu", mu, MU), (B,)).astype(float)
-        nstep = n_steps(horizon, options.timestep)
         # a chunk holds at least nthread states' whole time series: refuse what cannot fit before allocating it
-        need = nthread * nstep * ROW_BYTES
-        if need > MAX_RECORD_BYTES:
-            raise ValueError(f"horizon / timestep must be at most {MAX_RECORD_BYTES // (nthread * ROW_BYTES)} steps with nthread = {nthread} "
-                             f"(records of {MAX_RECORD_BYTES / 2**30:g} GiB); got {horizon:g} / {options.timestep:g} = {nstep} steps "
-                             f"({need / 2**30:.3g} GiB)")
+        nstep = n_steps_within_memory(horizon, options.timestep, ROW_BYTES, copies=nthread, what="records", context=f" with nthread = {nthread}")
         models = {m: build_model(rod, m, options) for m in np.unique(mu)}
         first = next(iter(models.values()))
         scratch = mujoco.MjData(first)  # all models share sizes; the state layout is the same

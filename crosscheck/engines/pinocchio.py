@@ -79,7 +79,7 @@ import pinocchio as pin
 
 from crosscheck.checks import MU, POSITIVE, check
 from crosscheck.coordinates import to_generalized
-from crosscheck.engines.base import Run, SweepResult, n_steps, options_from_kwargs, sweep_by_simulate
+from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, options_from_kwargs, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.pinocchio_model import TIP_FRAME, build_model
 from crosscheck.engines.record import Record
@@ -94,10 +94,8 @@ SOLVERS = ("pgs", "admm")
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 #: Bytes per record row (the raw row, the Record's columns and the classifier's temporaries): the peak
-#: resident memory of a 2e5-step run grew by 980 bytes per row; 1.5 x that as a margin.  And the
-#: largest record a run may build (two sweep workers stay within a third of this machine's 24 GiB).
+#: resident memory of a 2e5-step run grew by 980 bytes per row; 1.5 x that as a margin.
 ROW_BYTES = 1536
-MAX_RECORD_BYTES = 4 * 2**30
 
 
 @dataclass(frozen=True)
@@ -295,12 +293,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
         raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
     mu = float(check("mu", mu, MU))
     th = thresholds or Thresholds()
-    n = n_steps(horizon, opts.timestep)
-    # the record holds every row (~ 29 float64 and 3 flags per row with the classifier's copies): refuse before allocating
-    need = n * ROW_BYTES
-    if need > MAX_RECORD_BYTES:
-        raise ValueError(f"horizon / timestep must be at most {MAX_RECORD_BYTES // ROW_BYTES} steps (a record of {MAX_RECORD_BYTES / 2**30:g} GiB); "
-                         f"got {horizon:g} / {opts.timestep:g} = {n} steps ({need / 2**30:.3g} GiB)")
+    n = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES)  # the record holds every row: refuse before allocating
     stepper = Stepper(rod, mu, opts)
     q, v = to_generalized(rod, state)
     raw = np.empty((n, 16))  # per row, physical: tip position, velocity, acceleration, impulse; psi, theta and their rates

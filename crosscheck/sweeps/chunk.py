@@ -29,18 +29,24 @@ RESULT_COLUMNS = ("engine", "outcome", "event_time", "exit_time", "diverged_time
 ONE_CORE = {"mujoco": {"nthread": 1}, "pinocchio": {"workers": 1}}
 
 
+def _state(cols: dict, i: int):
+    """The ``SlipState`` of run ``i`` of a chunk's columns."""
+    from crosscheck.state import SlipState
+
+    return SlipState(**{a: float(cols[a][i]) for a in (*AXES, "psi")})
+
+
 def _analytic(cols: dict, horizon: float) -> dict:
     """The paper's first event (``slip_until_event``); with the option hybrid, the hybrid flow's last outcome
     (``crosscheck.hybrid.run``: through impacts without collision) and the first impact's normal impulse."""
     from crosscheck import hybrid
     from crosscheck.outcome import Outcome
     from crosscheck.slipping import slip_until_event
-    from crosscheck.state import SlipState
 
     n = len(cols["run"])
     out = {"outcome": np.empty(n, object), "event_time": np.full(n, np.nan), "exit_time": np.full(n, np.nan), "jam_impulse": np.full(n, np.nan)}
     for i in range(n):
-        s = SlipState(**{a: float(cols[a][i]) for a in (*AXES, "psi")})
+        s = _state(cols, i)
         mu, alpha = float(cols["mu"][i]), float(cols["alpha"][i])
         if "hybrid" in cols and bool(cols["hybrid"][i]):
             e = float(cols["restitution"][i]) if "restitution" in cols else 0.0
@@ -63,7 +69,6 @@ def _engine(spec: Spec, cols: dict) -> dict:
     from crosscheck import engines
     from crosscheck.outcome import Outcome
     from crosscheck.rod import Rod
-    from crosscheck.state import SlipState
 
     E = engines.get(spec.engine)
     n = len(cols["run"])
@@ -79,7 +84,7 @@ def _engine(spec: Spec, cols: dict) -> dict:
     for key, idx in groups.items():
         alpha, opts = float(key[0]), dict(zip(keys[1:], key[1:]))
         opts = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in opts.items()}
-        states = [SlipState(**{a: float(cols[a][i]) for a in (*AXES, "psi")}) for i in idx]
+        states = [_state(cols, i) for i in idx]
         r = E.sweep(Rod.scaled(alpha), states, np.asarray(cols["mu"], float)[idx], horizon=spec.horizon, progress=False,
                     **opts, **ONE_CORE.get(spec.engine, {}))
         out["outcome"][idx] = [Outcome(int(o)).name for o in r.outcome]

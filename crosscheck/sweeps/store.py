@@ -176,14 +176,12 @@ class Store:
         import pyarrow.parquet as pq
 
         name = f"chunk-{chunk_id:06d}.parquet"
-        path = self.chunks / name
-        tmp = self.chunks / f".{name}.tmp-{os.getpid()}"
         table = pa.table({k: pa.array(list(v) if np.asarray(v).dtype == object else np.asarray(v)) for k, v in columns.items()})
-        pq.write_table(table, tmp)
-        with open(tmp, "rb") as f:
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-        rec = {"file": name, "rows": table.num_rows, "sha256": _sha256(path), "seconds": seconds}
+        buf = pa.BufferOutputStream()
+        pq.write_table(table, buf)
+        data = buf.getvalue().to_pybytes()  # hashed as written: no second read of the file
+        _write_atomic(self.chunks / name, data)
+        rec = {"file": name, "rows": table.num_rows, "sha256": hashlib.sha256(data).hexdigest(), "seconds": seconds}
         _write_atomic(self.chunks / f"chunk-{chunk_id:06d}.json", json.dumps(rec).encode())
         (self.chunks / f"chunk-{chunk_id:06d}.failed.json").unlink(missing_ok=True)
         m["chunks"][str(chunk_id)] = rec

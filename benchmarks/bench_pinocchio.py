@@ -17,10 +17,11 @@ from __future__ import annotations
 
 import argparse
 import os
-import time
 
 import numpy as np
 import pinocchio as pin
+
+from timing import best_of  # benchmarks/timing.py (the script's directory is on sys.path)
 
 from crosscheck.engines import pinocchio_model as pinrod
 from crosscheck.studies import dynamics_terms
@@ -54,14 +55,6 @@ def bare_loop(model, data, tip, q, v, tau) -> None:
         pin.forwardKinematics(model, data, qi, vi, a)
         pin.getFrameClassicalAcceleration(model, data, tip, lwa)
 
-
-def best_of(repeat: int, f) -> float:
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        f()
-        times.append(time.perf_counter() - t)
-    return min(times)
 
 
 def main() -> None:

@@ -18,10 +18,11 @@ Target: engine / bare >= 0.7.  The sweep on two processes is timed too
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 import pinocchio as pin
+
+from timing import best_of  # benchmarks/timing.py (the script's directory is on sys.path)
 
 from crosscheck import Rod, SlipState
 from crosscheck.coordinates import to_generalized
@@ -73,14 +74,6 @@ def bare(rod: Rod, state: SlipState, mu: float, opts: Options, nstep: int) -> No
         q = q + dt * v
 
 
-def best(f, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        f()
-        times.append(time.perf_counter() - t0)
-    return min(times)
-
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -99,10 +92,10 @@ def main() -> None:
     total = len(states) * nstep
     engine = get("pinocchio")
 
-    t_bare = best(lambda: [bare(rod, s, mu, opts, nstep) for s in states], args.repeat)
-    t_engine = best(lambda: [engine.simulate(rod, s, mu, horizon=args.horizon) for s in states], args.repeat)
-    t_sweep1 = best(lambda: engine.sweep(rod, states, mu, horizon=args.horizon, progress=False, workers=1), args.repeat)
-    t_sweep2 = best(lambda: engine.sweep(rod, states, mu, horizon=args.horizon, progress=False, workers=2), args.repeat)
+    t_bare = best_of(args.repeat, lambda: [bare(rod, s, mu, opts, nstep) for s in states])
+    t_engine = best_of(args.repeat, lambda: [engine.simulate(rod, s, mu, horizon=args.horizon) for s in states])
+    t_sweep1 = best_of(args.repeat, lambda: engine.sweep(rod, states, mu, horizon=args.horizon, progress=False, workers=1))
+    t_sweep2 = best_of(args.repeat, lambda: engine.sweep(rod, states, mu, horizon=args.horizon, progress=False, workers=2))
     print(f"{len(states)} states x {nstep} steps (timestep {opts.timestep:g}, mu {mu:g}), best of {args.repeat}")
     print(f"bare loop of the Pinocchio calls: {total / t_bare:10.0f} steps/s  ({1e6 * t_bare / total:.1f} us/step)")
     print(f"engine simulate:                  {total / t_engine:10.0f} steps/s  ({1e6 * t_engine / total:.1f} us/step)  ratio {t_bare / t_engine:.2f} (target >= 0.7)")

@@ -25,6 +25,8 @@ import tomllib
 from pathlib import Path
 
 
+from timing import best_of  # benchmarks/timing.py (the script's directory is on sys.path)
+
 from crosscheck import Rod, SlipState, sweeps
 from crosscheck.engines import get
 
@@ -48,14 +50,6 @@ alpha = 3.0
 timestep = 1e-3
 """
 
-
-def best(f, repeat: int) -> float:
-    out = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        f()
-        out.append(time.perf_counter() - t0)
-    return min(out)
 
 
 def main() -> None:
@@ -96,7 +90,7 @@ def main() -> None:
     cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
     t_start = time.perf_counter() - t0
     try:
-        t_dask = best(layer(2, cluster.scheduler_address), args.repeat)
+        t_dask = best_of(args.repeat, layer(2, cluster.scheduler_address))
     finally:
         cluster.close()
     print(f"{n} MuJoCo runs (horizon {spec.horizon:g}, timestep 1e-3) in {spec.n_chunks} chunks of {spec.chunk}, best of {args.repeat}")

@@ -48,9 +48,9 @@ from __future__ import annotations
 
 import json
 import math
-from pathlib import Path
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, fields
+from pathlib import Path
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -433,6 +433,10 @@ def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a:
     )
 
 
+#: Runs per chunk when an agreement study goes through a sweep store.
+STORE_CHUNK = 32
+
+
 def _sweep_through_store(E, rod: Rod, states_cols: dict, mu: np.ndarray, horizon: float, given: dict, opts, store, scheduler, workers,
                          progress: bool):
     """The engine's runs through ``crosscheck.sweeps`` (resumable chunks in ``store``): outcome, event_time, jam_p_eff, wall, solver."""
@@ -452,10 +456,6 @@ def _sweep_through_store(E, rod: Rod, states_cols: dict, mu: np.ndarray, horizon
         solver = {k: df[f"solver_{k}"].to_numpy() for k in ("contact_steps", "unconverged_steps", "max_iterations")}
     wall = float(df["wall_time"].sum())
     return outcome, df["event_time"].to_numpy(), df["jam_p_eff"].to_numpy(), wall, len(df) * n_steps(horizon, opts.timestep) / wall, solver
-
-
-#: Runs per chunk when an agreement study goes through a sweep store.
-STORE_CHUNK = 32
 
 
 def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresholds: Thresholds | None, progress: bool,

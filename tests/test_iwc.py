@@ -10,19 +10,13 @@ import pytest
 from crosscheck import Rod, SlipState, analytic
 from crosscheck.coordinates import to_generalized
 from crosscheck.corollary import corollary_states
-from crosscheck.critical import theta_12
 from crosscheck.engines import get
 from crosscheck.engines.pinocchio import Options, Stepper
 from crosscheck.iwc import delassus, impact
 from crosscheck.slipping import slip_until_event
+from crosscheck.studies.rigid import planar_impasse
 
 ALPHA = 3.0
-
-
-def planar_inconsistent(mu: float = 1.4, Theta: float = 0.5) -> SlipState:
-    """On the planar section varphi = -pi/2, Psi = 0, midway between theta_1 and theta_2 (p < 0), b < 0."""
-    t1, t2 = theta_12(mu, ALPHA)
-    return SlipState(theta=0.5 * (float(t1) + float(t2)), varphi=-math.pi / 2, Theta=Theta, Psi=0.0, eta=1.0)
 
 
 def test_planar_impulse_is_keller_two_phase_closed_form():
@@ -33,7 +27,7 @@ def test_planar_impulse_is_keller_two_phase_closed_form():
     it is 0 again at P_c = P_s - p P_s / S.  The rod ends stuck, and the rates follow from v0 + M^-1 J^T (L_t, P_c).
     """
     mu = 1.4
-    s = planar_inconsistent(mu)
+    s = planar_impasse(mu, 0.5, ALPHA)
     p = float(analytic.p(s.theta, s.varphi, mu, ALPHA))
     assert p < -0.05 and analytic.b(s.Psi, s.Theta, s.theta) < 0
     G = delassus(s, ALPHA)
@@ -111,7 +105,7 @@ def test_rigid_engine_from_a_planar_impasse_converges_to_keller_at_first_order(m
     O(dt) gravity, Coriolis and dJ v terms of the step.
     """
     rod = Rod.scaled(ALPHA)
-    s = planar_inconsistent(mu, Theta)
+    s = planar_impasse(mu, Theta, ALPHA)
     r = impact(s, mu, ALPHA)
     dts, errs = [1e-3, 3e-4, 1e-4], []
     for dt in dts:
@@ -129,7 +123,7 @@ def test_rigid_engine_from_a_planar_impasse_converges_to_keller_at_first_order(m
     ({"alpha": 0.0}, r"alpha must be in \(0, inf\); got 0.0"),
 ], ids=["restitution", "mu", "alpha"])
 def test_bad_input_is_named(kwargs, message):
-    args = {"state": planar_inconsistent(), "mu": 1.4, "alpha": ALPHA, **kwargs}
+    args = {"state": planar_impasse(1.4, 0.5, ALPHA), "mu": 1.4, "alpha": ALPHA, **kwargs}
     with pytest.raises(ValueError, match=message):
         impact(args.pop("state"), args.pop("mu"), args.pop("alpha"), **args)
 
@@ -138,4 +132,4 @@ def test_no_impulse_where_the_rod_can_slip_or_does_not_slip():
     with pytest.raises(ValueError, match=r"p must be <= 1e-12 .*; got p = "):
         impact(SlipState(theta=0.5, varphi=-math.pi / 2, Theta=0.0, Psi=0.0, eta=1.0), 0.5, ALPHA)
     with pytest.raises(ValueError, match=r"eta must be in \(0, inf\) for an impact without collision"):
-        impact(SlipState(theta=planar_inconsistent().theta, varphi=-math.pi / 2, Theta=0.5, Psi=0.0, eta=0.0), 1.4, ALPHA)
+        impact(SlipState(theta=planar_impasse(1.4, 0.5, ALPHA).theta, varphi=-math.pi / 2, Theta=0.5, Psi=0.0, eta=0.0), 1.4, ALPHA)

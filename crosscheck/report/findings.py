@@ -77,11 +77,12 @@ def findings(data: Path) -> list[Finding]:
     for maps in sorted(data.glob("*/maps.json")):
         slug, status = maps.parent.name, _json(maps.parent / "status.json")
         name = _engine_name(status)
+        saved = json.loads(maps.read_text())
         conf = None
-        for mp in json.loads(maps.read_text()):
+        for mp in saved:
             c = mp["runs"][0]["confusion"]
             conf = c if conf is None else [[a + b for a, b in zip(r1, r2)] for r1, r2 in zip(conf, c)]
-        labels = json.loads(maps.read_text())[0]["runs"][0]["labels"]
+        labels = saved[0]["runs"][0]["labels"]
         ix = [labels.index(o) for o in _OUTCOMES]
         n = sum(conf[i][j] for i in ix for j in range(len(labels)))
         k = sum(conf[i][i] for i in ix)

@@ -144,6 +144,8 @@ def slip_order(rod: Rod, *, state: SlipState = SLIP_ORDER_STATE, mu: float = 0.5
     for dt in timesteps:
         R = engine.simulate(rod, state, mu, horizon=t_end + dt / 2, timestep=dt).record
         k = int(round(t_end / dt))
+        if abs(R.t[k] - t_end) > 1e-9 * t_end:
+            raise ValueError(f"timesteps must divide t_end = {t_end:g}; got {dt:g} (row {k} is at t = {R.t[k]:g})")
         errs.append(max(abs(R.theta[k] - a.state.theta), abs(R.eta[k] - a.state.eta), abs(R.Theta[k] - a.state.Theta),
                         abs(R.Psi[k] - a.state.Psi)))
     errs = np.array(errs)

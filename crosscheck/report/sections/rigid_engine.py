@@ -80,7 +80,8 @@ def run(ctx: RunContext) -> None:
     col = {k: x[:, i] for i, k in enumerate(X_STATE)}
     ctx.store.write_table("trajectory_analytic", {"t": seg.slip.t, "theta": col["theta"], "eta": col["eta"], "Theta": col["Theta"], "Psi": col["Psi"],
                                                   "varphi": col["varphi"]})
-    ctx.store.write_json("trajectory", {"state": s.as_dict(), "mu": T["mu"], "t_jam": float(t_jam), "hybrid": h.as_dict()})
+    traj = {"state": s.as_dict(), "mu": T["mu"], "t_jam": float(t_jam), "hybrid": h.as_dict()}
+    ctx.store.write_json("trajectory", traj)
     for name, opts in (("pinocchio", {}), ("mujoco", {"timestep": T["mujoco_timestep"]})):
         r = engines.get(name).simulate(rod, s, T["mu"], horizon=horizon, **opts)
         R = r.record
@@ -90,7 +91,6 @@ def run(ctx: RunContext) -> None:
         info = {"outcome": r.outcome.name, "event_time": r.event_time, "jam_impulse": r.jam_impulse, "options": r.options.as_dict()}
         if r.solver is not None:
             info["solver"] = {k: getattr(r.solver, k) for k in ("contact_steps", "max_iterations", "mean_iterations", "unconverged_steps")}
-        traj = ctx.store.read_json("trajectory")
         traj[name] = info
         ctx.store.write_json("trajectory", traj)
 

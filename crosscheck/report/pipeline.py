@@ -54,31 +54,17 @@ def code_digest() -> str:
     """sha256 of what computed a section: crosscheck's source (every .py and model file of the package, by
     relative path) and the versions of the libraries that compute (numpy, scipy, mujoco, pin)."""
     import hashlib
-    from importlib.metadata import PackageNotFoundError, version
 
     import crosscheck
 
     root = Path(crosscheck.__file__).parent
     h = hashlib.sha256()
-    for dist in ("numpy", "scipy", "mujoco", "pin"):
-        try:
-            h.update(f"{dist}=={version(dist)};".encode())
-        except PackageNotFoundError:
-            h.update(f"{dist} absent;".encode())
+    h.update(json.dumps(provenance.package_versions(("numpy", "scipy", "mujoco", "pin")), sort_keys=True).encode())
     for p in sorted(root.rglob("*")):
         if p.suffix in (".py", ".xml") and "__pycache__" not in p.parts:
             h.update(str(p.relative_to(root)).encode())
             h.update(p.read_bytes())
     return h.hexdigest()
-
-
-def _version() -> str | None:
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return version("crosscheck")
-    except PackageNotFoundError:
-        return None
 
 
 def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int = 0, progress: bool = False, argv: list[str] | None = None,
@@ -117,7 +103,7 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
     results: dict[str, dict] = {}
     t_all = time.perf_counter()
     outer = bar(sections, desc="report", total=len(sections), leave=True)
-    version, code = _version(), code_digest()
+    version, code = provenance.package_versions(("crosscheck",))["crosscheck"], code_digest()
     for s in outer:
         if hasattr(outer, "set_postfix_str"):
             outer.set_postfix_str(s.slug)

@@ -60,15 +60,9 @@ def _write_atomic(path: Path, data: bytes) -> None:
 
 def versions() -> dict:
     """Versions of what computes a sweep (recorded in the manifest)."""
-    from importlib.metadata import PackageNotFoundError, version
+    from crosscheck.report.provenance import package_versions
 
-    out = {"python": platform.python_version()}
-    for dist in ("crosscheck", "numpy", "scipy", "mujoco", "pin", "pyarrow", "dask", "distributed"):
-        try:
-            out[dist] = version(dist)
-        except PackageNotFoundError:
-            out[dist] = None
-    return out
+    return package_versions(("crosscheck", "numpy", "scipy", "mujoco", "pin", "pyarrow", "dask", "distributed"))
 
 
 def _now() -> str:

@@ -19,7 +19,7 @@ from enum import IntEnum
 
 import numpy as np
 
-from crosscheck.checks import ALPHA, FINITE, MU, THETA, check
+from crosscheck.checks import ALPHA, BOUNDED, FINITE, MU, THETA, check
 from crosscheck.critical import (
     CriticalValues,
     Mechanism,
@@ -40,6 +40,9 @@ __all__ = [
     "b",
     "p",
     "normal_force",
+    "b_rounding",
+    "p_rounding",
+    "boundary",
     "Q1",
     "Q2",
     "A1",
@@ -152,7 +155,7 @@ def b(Psi, Theta, theta):
     b = (Psi^2 cos^2 theta + Theta^2) sin theta - 1; in physical units
     l psi_dot^2 sin theta cos^2 theta + l theta_dot^2 sin theta - g, divided by g.
     """
-    return _b(check("Psi", Psi), check("Theta", Theta), check("theta", theta, THETA))
+    return _b(check("Psi", Psi, BOUNDED), check("Theta", Theta, BOUNDED), check("theta", theta, THETA))
 
 
 def p(theta, varphi, mu, alpha):
@@ -161,7 +164,39 @@ def p(theta, varphi, mu, alpha):
     p = 1 + alpha + alpha sin theta (mu cos theta sin varphi - sin theta).
     A paradox needs p < 0.
     """
-    return _p(check("theta", theta, THETA), check("varphi", varphi), check("mu", mu, MU), check("alpha", alpha, ALPHA))
+    return _p(check("theta", theta, THETA), check("varphi", varphi, BOUNDED), check("mu", mu, MU), check("alpha", alpha, ALPHA))
+
+
+#: Rounding operations in eqs. b and p: each term carries at most ~4 roundings (sin, cos,
+#: products, sums), and the sum's error is bounded by that many ulps of the sum of |terms|.
+_ROUNDINGS = 8
+
+
+def b_rounding(Psi, Theta, theta):
+    """Bound of the floating-point error of ``b``: 8 eps (|Psi^2 cos^2 theta sin theta| + Theta^2 sin theta + 1).
+
+    A computed |b| at or below it has no meaningful sign: the state is on b = 0.
+    """
+    Psi, Theta, theta = check("Psi", Psi, BOUNDED), check("Theta", Theta, BOUNDED), check("theta", theta, THETA)
+    s = np.sin(theta)
+    return _ROUNDINGS * np.finfo(float).eps * ((Psi**2 * np.cos(theta) ** 2 + Theta**2) * s + 1.0)
+
+
+def p_rounding(theta, varphi, mu, alpha):
+    """Bound of the floating-point error of ``p``: 8 eps (1 + alpha + alpha sin^2 theta + alpha mu |sin theta cos theta sin varphi|).
+
+    At mu = mu_P, theta = theta_P, varphi = -pi/2, where p = 0 exactly, ``p``
+    computes -8.9e-16 and this bound is 2.7e-15.
+    """
+    theta, varphi, mu, alpha = check("theta", theta, THETA), check("varphi", varphi), check("mu", mu, MU), check("alpha", alpha, ALPHA)
+    s, c = np.sin(theta), np.cos(theta)
+    return _ROUNDINGS * np.finfo(float).eps * (1.0 + alpha + alpha * s * s + alpha * mu * np.abs(s * c * np.sin(varphi)))
+
+
+def boundary(b, p, b_tol, p_tol) -> str:
+    """Which mode boundary (b, p) lies on within the rounding bounds: "", "b = 0", "p = 0" or "b = p = 0" (scalars)."""
+    on_b, on_p = abs(float(b)) <= float(b_tol), abs(float(p)) <= float(p_tol)
+    return {(True, True): "b = p = 0", (True, False): "b = 0", (False, True): "p = 0"}.get((on_b, on_p), "")
 
 
 def normal_force(Psi, Theta, theta, varphi, mu, alpha):

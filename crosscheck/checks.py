@@ -8,10 +8,12 @@ the same message on one line, so the error text is part of the interface.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Interval", "check", "number", "THETA", "VARPHI", "MU", "ALPHA", "ETA", "POSITIVE", "FINITE"]
+__all__ = ["Interval", "check", "number", "integer", "THETA", "VARPHI", "MU", "ALPHA", "ETA", "RATE", "AZIMUTH", "UNIT", "HORIZON", "POSITIVE",
+           "NONNEGATIVE", "FINITE", "BOUNDED"]
 
 
 class Interval:
@@ -35,13 +37,38 @@ class Interval:
         return lo_ok & hi_ok
 
 
+# The paper's quantities are scaled to be of order one (its figures: mu <= 2, |Theta|, |Psi| <= 3,
+# eta <= 10, alpha = 3).  The ranges below are a factor 30-300 wider than that and stop where the
+# computation stops meaning anything:
+# * rates (Theta, Psi, eta) at most 100: every engine calls a scaled tip speed above 1e3 a divergence
+#   (``Thresholds.diverged_speed``), and a rate of 100 already moves the tip at ~140;
+# * mu at most 1e3 and alpha in [1e-3, 1e3]: p (eq. p) is a sum of terms of size 1, alpha and
+#   alpha mu, so beyond that its sign near p = 0 is lost to rounding (8 eps alpha mu ~ 2e-9 at the
+#   bounds), and the critical angles of eqs. thetap-psi2 lose digits to cancellation;
+# * psi at most 1e3 rad in magnitude: it enters through sin and cos, which lose ~log10|psi| digits;
+# * horizons of the analytic runs at most 1e4 (scaled time, ~30 min for a 1 m rod): the events
+#   of a slipping rod come within O(10), and past 1e4 the time itself has lost 4 of its digits.
+MU_MAX = 1e3
+ALPHA_MIN, ALPHA_MAX = 1e-3, 1e3
+RATE_MAX = 100.0
+PSI_MAX = 1e3
+HORIZON_MAX = 1e4
+
 THETA = Interval(0.0, math.pi / 2, lo_open=True, hi_open=True, text="(0, pi/2)")
 VARPHI = Interval(-math.pi, 0.0, lo_open=True, hi_open=False, text="(-pi, 0]")
-MU = Interval(0.0, math.inf, lo_open=False, hi_open=True, text="[0, inf)")
-ALPHA = Interval(0.0, math.inf, lo_open=True, hi_open=True, text="(0, inf)")
-ETA = Interval(0.0, math.inf, lo_open=False, hi_open=True, text="[0, inf)")
+MU = Interval(0.0, MU_MAX, lo_open=False, hi_open=False)
+ALPHA = Interval(ALPHA_MIN, ALPHA_MAX, lo_open=False, hi_open=False)
+ETA = Interval(0.0, RATE_MAX, lo_open=False, hi_open=False)
+RATE = Interval(-RATE_MAX, RATE_MAX, lo_open=False, hi_open=False)
+AZIMUTH = Interval(-PSI_MAX, PSI_MAX, lo_open=False, hi_open=False)
+UNIT = Interval(0.0, 1.0, lo_open=False, hi_open=False)
+HORIZON = Interval(0.0, HORIZON_MAX, lo_open=True, hi_open=False)
 POSITIVE = Interval(0.0, math.inf, lo_open=True, hi_open=True, text="(0, inf)")
+NONNEGATIVE = Interval(0.0, math.inf, lo_open=False, hi_open=True, text="[0, inf)")
 FINITE = Interval(-math.inf, math.inf, lo_open=True, hi_open=True, text="(-inf, inf)")
+#: Values whose squares and products stay finite: arguments of the closed forms (eqs. b, p), which also
+#: see states a flow reached (their rates are not held to the ranges of a start).
+BOUNDED = Interval(-1e100, 1e100, lo_open=False, hi_open=False)
 
 
 def check(name: str, value, interval: Interval = FINITE) -> np.ndarray:
@@ -79,3 +106,27 @@ def integer(name: str, value, lo: int, hi: int) -> int:
     if v is None or not lo <= v <= hi:
         raise ValueError(f"{name} must be an integer in [{lo}, {hi}]; got {value!r}")
     return v
+
+
+def writable_directory(name: str, value) -> Path:
+    """``value`` as a directory this process can write, created if missing; ValueError naming ``name`` otherwise.
+
+    Checked before any work starts, so that a long run never fails at its first write.
+    """
+    import os
+    import tempfile
+
+    if value is None or not str(value).strip():
+        raise ValueError(f"{name} must be a writable directory path; got {value!r}")
+    path = Path(value)
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"{name} must be a writable directory; got {str(path)!r}, which is a file")
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=path):
+            pass
+    except OSError as e:
+        raise ValueError(f"{name} must be a writable directory; cannot write in {str(path)!r}: {e.strerror or e}") from None
+    if not os.access(path, os.W_OK | os.X_OK):
+        raise ValueError(f"{name} must be a writable directory; cannot write in {str(path)!r}: permission denied")
+    return path

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.checks import ETA, FINITE, THETA, check
+from crosscheck.checks import FINITE, NONNEGATIVE, THETA, check
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
@@ -63,7 +63,7 @@ def paper_to_qv(rod: Rod, theta, varphi, Theta, Psi, eta, psi=0.0, *, tip=(0.0, 
       (q, v), each an (..., 5) array ordered as ``GENERALIZED``.
     """
     theta = check("theta", theta, THETA)
-    eta = check("eta", eta, ETA)
+    eta = check("eta", eta, NONNEGATIVE)
     varphi, Theta, Psi, psi, w = (check(n, x, FINITE) for n, x in (("varphi", varphi), ("Theta", Theta), ("Psi", Psi), ("psi", psi), ("w", w)))
     theta, varphi, Theta, Psi, eta, psi, w = np.broadcast_arrays(theta, varphi, Theta, Psi, eta, psi, w)
     l, om = rod.length, rod.omega

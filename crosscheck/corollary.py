@@ -19,7 +19,7 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from crosscheck.checks import ALPHA, MU, check
+from crosscheck.checks import ALPHA, HORIZON, MU, check, integer
 from crosscheck.critical import mu_P, theta_pm
 from crosscheck.outcome import Outcome
 from crosscheck.slipping import slip_rhs, slip_until_event
@@ -83,6 +83,10 @@ def corollary_states(mu: float, n: int, rng: np.random.Generator, *, alpha: floa
     """
     mu = float(check("mu", mu, MU))
     alpha = float(check("alpha", alpha, ALPHA))
+    n = integer("n", n, 1, 100_000)
+    horizon = float(check("horizon", horizon, HORIZON))
+    if not isinstance(rng, np.random.Generator):
+        raise ValueError(f"rng must be a numpy.random.Generator (numpy.random.default_rng(seed)); got {type(rng).__name__}")
     ratio = 2.0 * math.sqrt(1.0 + alpha) / (alpha * mu)  # |sin varphi| must exceed this (eq. mup)
     half = math.acos(ratio) if ratio < 1 else 0.0
     if half <= min_offplane:

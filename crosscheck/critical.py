@@ -11,7 +11,7 @@ from enum import IntEnum
 
 import numpy as np
 
-from crosscheck.checks import ALPHA, FINITE, MU, THETA, check
+from crosscheck.checks import ALPHA, MU, RATE, THETA, check
 
 __all__ = [
     "CriticalValues",
@@ -121,7 +121,7 @@ def varphi_pm(theta, mu, alpha):
     theta = check("theta", theta, THETA)
     mu = check("mu", mu, MU)
     alpha = check("alpha", alpha, ALPHA)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # mu -> 0: arg -> inf, no root (NaN)
         arg = (1.0 + alpha * np.cos(theta) ** 2) / (alpha * mu * np.sin(theta) * np.cos(theta))
         # same rounding guard as theta_pm: arg = 1 + O(eps) is the tangency point
         arg = np.where((arg > 1) & (arg < 1 + 16 * np.finfo(float).eps), 1.0, arg)
@@ -229,7 +229,7 @@ def kinematic_case(mu, Psi, alpha):
     scalars, an int8 array otherwise.
     """
     mu = check("mu", mu, MU)
-    Psi = check("Psi", Psi, FINITE)
+    Psi = check("Psi", Psi, RATE)
     alpha = check("alpha", alpha, ALPHA)
     mech = np.asarray(mechanism(mu, alpha))
     th1, th2 = theta_12(mu, alpha)

@@ -24,10 +24,10 @@ import math
 from dataclasses import dataclass, field
 
 from crosscheck import analytic
-from crosscheck.checks import ALPHA, MU, POSITIVE, check
+from crosscheck.checks import ALPHA, HORIZON, MU, UNIT, check, integer
 from crosscheck.iwc import Impact, impact
 from crosscheck.outcome import Outcome
-from crosscheck.slipping import SlipResult, slip_until_event
+from crosscheck.slipping import SlipResult, continue_slip
 from crosscheck.state import SlipState
 
 __all__ = ["Segment", "HybridResult", "run"]
@@ -81,12 +81,15 @@ def run(state: SlipState, mu: float, alpha: float, *, horizon: float, restitutio
     """
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    state.check_start()
     mu, alpha = float(check("mu", mu, MU)), float(check("alpha", alpha, ALPHA))
-    horizon = float(check("horizon", horizon, POSITIVE))
+    horizon = float(check("horizon", horizon, HORIZON))
+    restitution = float(check("restitution", restitution, UNIT))
+    max_impacts = integer("max_impacts", max_impacts, 0, 1000)
     segments: list[Segment] = []
     t, s = 0.0, state
     for _ in range(max_impacts + 1):
-        r = slip_until_event(s, mu, alpha, t_max=horizon - t)
+        r = continue_slip(s, mu, alpha, t_max=horizon - t)
         if r.outcome != Outcome.JAM:
             segments.append(Segment(t, s, r))
             return HybridResult(tuple(segments), r.outcome, t + r.time, r.reason)

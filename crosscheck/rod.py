@@ -5,7 +5,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from crosscheck.checks import ALPHA, POSITIVE, check
+from crosscheck.checks import ALPHA, Interval, check
+
+#: Each physical parameter (SI units) in [1e-100, 1e100]: products of two stay finite in double precision.
+PHYSICAL = Interval(1e-100, 1e100, lo_open=False, hi_open=False)
 
 __all__ = ["Rod"]
 
@@ -31,7 +34,12 @@ class Rod:
 
     def __post_init__(self) -> None:
         for name in ("mass", "length", "inertia", "gravity"):
-            object.__setattr__(self, name, float(check(name, getattr(self, name), POSITIVE)))
+            object.__setattr__(self, name, float(check(name, getattr(self, name), PHYSICAL)))
+        # alpha = m l^2 / I0 in logarithms: the product may overflow or underflow where the ratio does not
+        log_alpha = math.log(self.mass) + 2.0 * math.log(self.length) - math.log(self.inertia)
+        if not math.log(ALPHA.lo) <= log_alpha <= math.log(ALPHA.hi):
+            raise ValueError(f"alpha = mass length^2 / inertia must be in {ALPHA}; got mass={self.mass:g}, length={self.length:g}, "
+                             f"inertia={self.inertia:g} (alpha = 10^{log_alpha / math.log(10):.4g})")
 
     @classmethod
     def scaled(cls, alpha: float = 3.0) -> "Rod":

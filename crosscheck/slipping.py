@@ -52,7 +52,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from crosscheck.checks import ALPHA, MU, POSITIVE, check
+from crosscheck.checks import ALPHA, HORIZON, MU, Interval, check
 from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
 from crosscheck.tolerances import GB_REACHED, P_RESOLVED, SLIP_INTEGRATION, STICK_SPEED, THETA_MARGIN
@@ -149,13 +149,22 @@ class SlipResult:
 
 
 def _start_outcome(eta: float, b: float, p: float) -> Outcome | None:
-    if eta == 0.0:
+    """The outcome decided at the start, by the same resolutions as the events of the run.
+
+    A start slower than the stick speed is stuck (the run's own STICK event
+    would fire at once); a start within ``P_RESOLVED`` of p = 0 is on the
+    boundary of the paradox region, not inside it: the run decides, and it
+    jams only if p then falls below -P_RESOLVED (at mu = mu_P, where p >= 0
+    everywhere, p = 0 at theta_P, varphi = -pi/2 computes as -8.9e-16 and
+    was once called a JAM at t = 0 although no paradox exists there).
+    """
+    if eta < STICK_SPEED.atol:
         return Outcome.STICK
     if math.hypot(p, b) < GB_REACHED.atol:
         return Outcome.GB
     if b > 0.0:
         return Outcome.LIFTOFF
-    if p <= 0.0:
+    if p <= -P_RESOLVED.atol:
         return Outcome.JAM
     return None
 
@@ -220,10 +229,16 @@ def slip_until_event(state: SlipState, mu, alpha, *, t_max: float = 10.0, s_max:
     """
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    return continue_slip(state.check_start(), mu, alpha, t_max=t_max, s_max=s_max)
+
+
+def continue_slip(state: SlipState, mu, alpha, *, t_max: float = 10.0, s_max: float = 1e4) -> SlipResult:
+    """``slip_until_event`` from a state the model itself reached (after an impact: its rates are not held
+    to the ranges of a user's start)."""
     mu = float(check("mu", mu, MU))
     alpha = float(check("alpha", alpha, ALPHA))
-    t_max = float(check("t_max", t_max, POSITIVE))
-    s_max = float(check("s_max", s_max, POSITIVE))
+    t_max = float(check("t_max", t_max, HORIZON))
+    s_max = float(check("s_max", s_max, Interval(0.0, 1e8, lo_open=True, hi_open=False)))
 
     y0 = np.array([state.eta, state.varphi, state.psi, state.Psi, state.theta, state.Theta, 0.0])
     b0, p0, *_ = _coefficients(state.eta, state.varphi, state.Psi, state.theta, state.Theta, mu, alpha)
@@ -251,12 +266,16 @@ def slip_until_event(state: SlipState, mu, alpha, *, t_max: float = 10.0, s_max:
         s_end, y_end = sol.t_events[i][0], sol.y_events[i][0]
         if outcome is Outcome.JAM:
             # fired at p = -P_RESOLVED; the crossing itself is the last root of p = 0 before it
-            s_end, y_end = sol.t_events[-1][-1], sol.y_events[-1][-1]
+            # (none when the run started on the boundary, -P_RESOLVED < p <= 0: then the start)
+            if len(sol.t_events[-1]):
+                s_end, y_end = sol.t_events[-1][-1], sol.y_events[-1][-1]
+            else:
+                s_end, y_end = 0.0, y0
         keep = s_arr < s_end
         s_arr = np.append(s_arr[keep], s_end)
         Y = np.vstack([Y[keep], y_end])
     y = Y[-1].copy()
-    t_end = float(y[6])
+    t_end = max(float(y[6]), 0.0)  # dt/ds = eta p < 0 only within P_RESOLVED of p = 0: rounding, not time
     eta_out = None
     if outcome is Outcome.STICK:
         # eta = 0 is reached as s -> inf but at finite real time: add the time

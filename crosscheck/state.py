@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass
 
-from crosscheck.checks import ETA, FINITE, THETA, VARPHI, check
+from crosscheck.checks import AZIMUTH, ETA, FINITE, NONNEGATIVE, RATE, THETA, VARPHI, check
 
 __all__ = ["SlipState"]
 
@@ -32,9 +32,17 @@ class SlipState:
     psi: float = 0.0
 
     def __post_init__(self) -> None:
-        limits = {"theta": THETA, "varphi": VARPHI, "Theta": FINITE, "Psi": FINITE, "eta": ETA, "psi": FINITE}
+        # Any finite rate: a state the slipping flow reaches may spin fast (Psi ~ 1/cos theta near theta =
+        # pi/2); the start of a run is held to the narrower ranges of ``check_start``.
+        limits = {"theta": THETA, "varphi": VARPHI, "Theta": FINITE, "Psi": FINITE, "eta": NONNEGATIVE, "psi": FINITE}
         for name, interval in limits.items():
             object.__setattr__(self, name, float(check(name, getattr(self, name), interval)))
+
+    def check_start(self) -> "SlipState":
+        """This state, if it may start a run: rates and azimuth within ``crosscheck.checks``'s ranges (ValueError otherwise)."""
+        for name, interval in (("Theta", RATE), ("Psi", RATE), ("eta", ETA), ("psi", AZIMUTH)):
+            check(name, getattr(self, name), interval)
+        return self
 
     @property
     def beta(self) -> float:

@@ -46,14 +46,14 @@ def test_slip_text(capsys):
 @pytest.mark.parametrize(
     "argv, message",
     [
-        (["gb", "--mu", "-1"], "mu must be in [0, inf); got -1.0"),
-        (["gb", "--mu", "1.4", "--Psi", "abc"], "Psi must be a number in (-inf, inf); got 'abc'"),
-        (["gb", "--mu", "1.4", "--eta", "-2"], "eta must be in [0, inf); got -2.0"),
-        (["gb"], "mu is required and must be in [0, inf)"),
+        (["gb", "--mu", "-1"], "mu must be in [0, 1000]; got -1.0"),
+        (["gb", "--mu", "1.4", "--Psi", "abc"], "Psi must be a number in [-100, 100]; got 'abc'"),
+        (["gb", "--mu", "1.4", "--eta", "-2"], "eta must be in [0, 100]; got -2.0"),
+        (["gb"], "the following arguments are required: --mu (--mu: friction coefficient, in [0, 1000])"),
         (["slip", "--theta", "2"] + SLIP_ARGS[3:], "theta must be in (0, pi/2); got 2.0"),
         (SLIP_ARGS[:3] + ["--varphi", "0.5"] + SLIP_ARGS[5:], "varphi must be in (-pi, 0]; got 0.5"),
-        (SLIP_ARGS[:-4] + ["--mu", "1.4"], "eta is required and must be in [0, inf)"),
-        (SLIP_ARGS + ["--t-max", "0"], "t_max must be in (0, inf); got 0.0"),
+        (SLIP_ARGS[:-4] + ["--mu", "1.4"], "the following arguments are required: --eta (--eta: scaled slip speed of the tip, in [0, 100])"),
+        (SLIP_ARGS + ["--t-max", "0"], "t_max must be in (0, 10000]; got 0.0"),
     ],
 )
 def test_bad_arguments_exit_2_with_one_line(argv, message, capsys):

@@ -244,7 +244,8 @@ def test_failed_check_makes_the_report_fail(tmp_path, monkeypatch):
 
 def test_from_results_without_results_is_a_one_line_error(tmp_path, capsys):
     assert main(["report", "--from-results", "--out", str(tmp_path / "none")]) == 2
-    assert capsys.readouterr().err == f"crosscheck: error: no saved results in {tmp_path / 'none' / 'data'}; run `crosscheck report --out {tmp_path / 'none'}` (without --from-results) first\n"
+    assert capsys.readouterr().err == (f"crosscheck: error: out must hold saved results with --from-results; {str(tmp_path / 'none' / 'data')!r} has none "
+                                       f"(run `crosscheck report --out {tmp_path / 'none'}` without --from-results first)\n")
 
 
 def test_unknown_section_is_a_one_line_error(tmp_path, capsys):

@@ -10,14 +10,14 @@ from crosscheck.cli import main
 @pytest.mark.parametrize(
     "argv, message",
     [
-        (["critical", "--mu", "-1"], "mu must be in [0, inf); got -1.0"),
-        (["critical", "--mu", "nan"], "mu must be in [0, inf); got nan"),
-        (["critical", "--mu", "1", "--alpha", "0"], "alpha must be in (0, inf); got 0.0"),
-        (["critical"], "mu is required and must be in [0, inf)"),
-        (["critical", "--mu", "abc"], "mu must be a number in [0, inf); got 'abc'"),
+        (["critical", "--mu", "-1"], "mu must be in [0, 1000]; got -1.0"),
+        (["critical", "--mu", "nan"], "mu must be in [0, 1000]; got nan"),
+        (["critical", "--mu", "1", "--alpha", "0"], "alpha must be in [0.001, 1000]; got 0.0"),
+        (["critical"], "the following arguments are required: --mu (--mu: friction coefficient, in [0, 1000])"),
+        (["critical", "--mu", "abc"], "mu must be a number in [0, 1000]; got 'abc'"),
         (["classify", "--theta", "2", "--varphi", "-1", "--Theta", "0", "--Psi", "0", "--mu", "1"], "theta must be in (0, pi/2); got 2.0"),
         (["classify", "--theta", "1", "--varphi", "0.5", "--Theta", "0", "--Psi", "0", "--mu", "1"], "varphi must be in (-pi, 0]; got 0.5"),
-        (["classify", "--theta", "1", "--varphi", "-1", "--Psi", "0", "--mu", "1"], "Theta is required and must be in (-inf, inf)"),
+        (["classify", "--theta", "1", "--varphi", "-1", "--Psi", "0", "--mu", "1"], "the following arguments are required: --Theta (--Theta: scaled polar rate theta_dot / omega, in [-100, 100])"),
     ],
 )
 def test_bad_arguments_exit_nonzero_with_one_line(argv, message, capsys):

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 
 __all__ = ["main", "COMMAND_MODULES"]
@@ -28,8 +29,28 @@ COMMAND_MODULES = [
 ]
 
 
+# argparse takes "-inf", "-nan" and "-1e400" for option names (its own pattern knows only digits), and
+# then says "expected one argument": values that look like negative numbers are values.
+_NEGATIVE_NUMBER = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
+_OPTION_IN_MESSAGE = re.compile(r"^argument (\S+?)(?:/\S+)?: ")
+
+
 class _Parser(argparse.ArgumentParser):
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE_NUMBER
+
     def error(self, message: str):  # one line, no usage dump: the message names the problem
+        # argparse's own messages ("expected one argument") name the option but not what it takes: add its help.
+        m = _OPTION_IN_MESSAGE.match(message)
+        action = self._option_string_actions.get(m.group(1)) if m else None
+        if action is not None and action.help and "choose from" not in message:
+            message = f"{message} ({m.group(1)}: {action.help})"
+        if message.startswith("the following arguments are required: "):
+            names = message.split(": ", 1)[1].split(", ")
+            helps = [f"{n}: {self._option_string_actions[n].help}" for n in names if n in self._option_string_actions]
+            if helps:
+                message = f"{message} ({'; '.join(helps)})"
         sys.stderr.write(f"crosscheck: error: {message}\n")
         raise SystemExit(2)
 
@@ -44,7 +65,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as e:  # a usage error (already printed on one line) or --help / --version
+        return e.code if isinstance(e.code, int) else 0
     try:
         return int(args.func(args) or 0)
     except ValueError as e:

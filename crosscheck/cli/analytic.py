@@ -6,7 +6,8 @@ import json
 import math
 
 from crosscheck import analytic
-from crosscheck.checks import ALPHA, FINITE, MU, THETA, VARPHI, number as _num
+from crosscheck.checks import ALPHA, MU, RATE, THETA, VARPHI, number as _num
+from crosscheck.cli.options import add_alpha, add_state
 
 # Number arguments are parsed by ``crosscheck.checks.number`` (type=str here) so
 # that the CLI and the Python API give the same message for the same mistake.
@@ -45,36 +46,42 @@ def _critical(args) -> int:
 def _classify(args) -> int:
     theta = _num("theta", args.theta, THETA)
     varphi = _num("varphi", args.varphi, VARPHI)
-    Theta = _num("Theta", args.Theta, FINITE)
-    Psi = _num("Psi", args.Psi, FINITE)
+    Theta = _num("Theta", args.Theta, RATE)
+    Psi = _num("Psi", args.Psi, RATE)
     mu = _num("mu", args.mu, MU)
     alpha = _num("alpha", args.alpha, ALPHA)
     bb = float(analytic.b(Psi, Theta, theta))
     pp = float(analytic.p(theta, varphi, mu, alpha))
-    fz = float(analytic.normal_force(Psi, Theta, theta, varphi, mu, alpha))
-    m = analytic.mode(bb, pp)
+    b_tol, p_tol = float(analytic.b_rounding(Psi, Theta, theta)), float(analytic.p_rounding(theta, varphi, mu, alpha))
+    on = analytic.boundary(bb, pp, b_tol, p_tol)
+    # On a boundary the computed sign is rounding noise: name the modes on either side instead of picking one.
+    b_sides = (-1.0, 1.0) if "b" in on else (bb,)
+    p_sides = (-1.0, 1.0) if "p" in on else (pp,)
+    sides = sorted({analytic.mode(x, y).name for x in b_sides for y in p_sides})
+    fz = -bb / pp if not on and pp != 0.0 else math.nan
     out = {"theta": theta, "varphi": varphi, "Theta": Theta, "Psi": Psi, "mu": mu, "alpha": alpha,
-           "b": bb, "p": pp, "F_z": fz if math.isfinite(fz) else None, "mode": m.name,
+           "b": bb, "p": pp, "b_rounding": b_tol, "p_rounding": p_tol, "F_z": fz if math.isfinite(fz) else None,
+           "mode": "BOUNDARY" if on else sides[0], "boundary": on or None, "modes_either_side": sides if on else None,
            "kinematic_case": analytic.kinematic_case(mu, Psi, alpha)}
     if args.json:
         print(json.dumps(out, indent=2))
+    elif on:
+        print(f"b = {bb:.6g}  p = {pp:.6g}  mode: on the boundary {on} (|b|, |p| within rounding {b_tol:.2g}, {p_tol:.2g}) "
+              f"between {' and '.join(sides)}; F_z = -b/p undefined  (kinematic case {out['kinematic_case']})")
     else:
-        print(f"b = {bb:.6g}  p = {pp:.6g}  F_z = -b/p = {fz:.6g}  mode = {m.name}  (kinematic case {out['kinematic_case']})")
+        print(f"b = {bb:.6g}  p = {pp:.6g}  F_z = -b/p = {fz:.6g}  mode = {out['mode']}  (kinematic case {out['kinematic_case']})")
     return 0
 
 
 def register(sub) -> None:
     c = sub.add_parser("critical", help="print every critical value of the paper for (mu, alpha)")
-    c.add_argument("--mu", type=str, help="friction coefficient, >= 0")
-    c.add_argument("--alpha", type=str, default="3", help="m l^2 / I0, > 0 (3: uniform rod)")
-    c.add_argument("--json", action="store_true")
+    add_state(c, ("mu",))
+    add_alpha(c)
+    c.add_argument("--json", action="store_true", help="print the result as JSON")
     c.set_defaults(func=_critical)
 
     k = sub.add_parser("classify", help="b, p, F_z and the contact mode of one state")
-    for name, text in (("theta", "polar angle, (0, pi/2)"), ("varphi", "relative slip angle, (-pi, 0]"),
-                       ("Theta", "scaled polar rate"), ("Psi", "scaled azimuthal rate"),
-                       ("mu", "friction coefficient, >= 0")):
-        k.add_argument(f"--{name}", type=str, help=text)
-    k.add_argument("--alpha", type=str, default="3", help="m l^2 / I0, > 0")
-    k.add_argument("--json", action="store_true")
+    add_state(k, ("theta", "varphi", "Theta", "Psi", "mu"))
+    add_alpha(k)
+    k.add_argument("--json", action="store_true", help="print the result as JSON")
     k.set_defaults(func=_classify)

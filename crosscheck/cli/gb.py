@@ -7,10 +7,17 @@ import math
 
 import numpy as np
 
-from crosscheck.checks import ALPHA, ETA, FINITE, MU, POSITIVE, THETA, VARPHI, number as _num
+from crosscheck.checks import ALPHA, AZIMUTH, ETA, HORIZON, MU, RATE, THETA, UNIT, VARPHI, integer, number as _num
+from crosscheck.cli.options import add_alpha, add_psi, add_state
 
 # Numbers are parsed by crosscheck.checks.number (type=str) so that the CLI and the
 # Python API give the same one-line message for the same mistake.
+
+
+#: Samples per theta interval of the curves the command computes (the det K zeros are bracketed between them).
+RESOLUTION = 201
+#: The most samples printed per curve.
+MAX_PRINTED = 1000
 
 
 def _complex(z) -> dict:
@@ -23,11 +30,13 @@ def _gb(args) -> int:
 
     mu = _num("mu", args.mu, MU)
     alpha = _num("alpha", args.alpha, ALPHA)
-    Psi = _num("Psi", args.Psi, FINITE)
+    Psi = _num("Psi", args.Psi, RATE)
     eta = _num("eta", args.eta, ETA)
-    n = int(_num("samples", args.samples, POSITIVE))
+    n = integer("samples", args.samples, 1, MAX_PRINTED)
     cv = critical_values(mu, alpha)
-    curves = gb.gb_manifold(mu, Psi, alpha, n=max(n, 2))
+    # The curves (and the det K zeros bracketed along them) at a fixed resolution: what is found
+    # must not depend on how many samples the user asks to see.
+    curves = gb.gb_manifold(mu, Psi, alpha, n=max(RESOLUTION, n))
     out = {"mu": mu, "alpha": alpha, "Psi": Psi, "eta": eta, "kinematic_case": kinematic_case(mu, Psi, alpha),
            "Psi_L": cv.Psi_L, "Psi_1": None if math.isnan(cv.Psi_1) else cv.Psi_1,
            "Psi_2": None if math.isnan(cv.Psi_2) else cv.Psi_2, "curves": []}
@@ -67,11 +76,11 @@ def _slip(args) -> int:
     from crosscheck.state import SlipState
 
     state = SlipState(theta=_num("theta", args.theta, THETA), varphi=_num("varphi", args.varphi, VARPHI),
-                      Theta=_num("Theta", args.Theta, FINITE), Psi=_num("Psi", args.Psi, FINITE),
-                      eta=_num("eta", args.eta, ETA), psi=_num("psi", args.psi, FINITE))
-    mu, alpha, t_max = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA), _num("t_max", args.t_max, POSITIVE)
+                      Theta=_num("Theta", args.Theta, RATE), Psi=_num("Psi", args.Psi, RATE),
+                      eta=_num("eta", args.eta, ETA), psi=_num("psi", args.psi, AZIMUTH))
+    mu, alpha, t_max = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA), _num("t_max", args.t_max, HORIZON)
     if args.continue_:
-        return _hybrid(state, mu, alpha, t_max, _num("restitution", args.restitution, FINITE), args.json)
+        return _hybrid(state, mu, alpha, t_max, _num("restitution", args.restitution, UNIT), args.json)
     r = slip_until_event(state, mu, alpha, t_max=t_max)
     if args.json:
         print(json.dumps(r.as_dict(), indent=2))
@@ -105,24 +114,21 @@ def _hybrid(state, mu, alpha, t_max, restitution, as_json) -> int:
 
 def register(sub) -> None:
     g = sub.add_parser("gb", help="samples of the GB manifold b = p = 0 with their type (node, saddle, focus)")
-    g.add_argument("--mu", type=str, help="friction coefficient, >= 0")
-    g.add_argument("--alpha", type=str, default="3", help="m l^2 / I0, > 0 (3: uniform rod)")
-    g.add_argument("--Psi", type=str, default="0", help="scaled azimuthal rate (fixed along the manifold)")
-    g.add_argument("--eta", type=str, default="1", help="scaled slip speed, >= 0 (K depends on it)")
-    g.add_argument("--samples", type=str, default="9", help="samples printed per curve")
-    g.add_argument("--json", action="store_true")
+    add_state(g, ("mu",))
+    add_alpha(g)
+    g.add_argument("--Psi", type=str, default="0", metavar="PSI_DOT", help=f"scaled azimuthal rate, fixed along the manifold, in {RATE} (default 0)")
+    g.add_argument("--eta", type=str, default="1", metavar="ETA", help=f"scaled slip speed (K depends on it), in {ETA} (default 1)")
+    g.add_argument("--samples", type=str, default="9", help=f"samples printed per curve, an integer in [1, {MAX_PRINTED}] (default 9)")
+    g.add_argument("--json", action="store_true", help="print the result as JSON")
     g.set_defaults(func=_gb)
 
     s = sub.add_parser("slip", help="integrate a slipping state to its first event (lift-off, jam, stick, GB)")
-    for name, text in (("theta", "polar angle, (0, pi/2)"), ("varphi", "relative slip angle, (-pi, 0]"),
-                       ("Theta", "scaled polar rate"), ("Psi", "scaled azimuthal rate"),
-                       ("eta", "scaled slip speed, >= 0"), ("mu", "friction coefficient, >= 0")):
-        s.add_argument(f"--{name}", type=str, help=text)
-    s.add_argument("--psi", type=str, default="0", help="azimuth [rad]")
-    s.add_argument("--alpha", type=str, default="3", help="m l^2 / I0, > 0")
-    s.add_argument("--t-max", dest="t_max", type=str, default="10", help="horizon in scaled time, > 0")
+    add_state(s)
+    add_psi(s)
+    add_alpha(s)
+    s.add_argument("--t-max", dest="t_max", type=str, default="10", help="horizon in scaled time, in (0, 1e4] (default 10)")
     s.add_argument("--continue", dest="continue_", action="store_true",
                    help="go on through an impact without collision at a jam (the hybrid rigid model)")
     s.add_argument("--restitution", type=str, default="0", help="Poisson restitution of the impact, in [0, 1] (with --continue)")
-    s.add_argument("--json", action="store_true")
+    s.add_argument("--json", action="store_true", help="print the result as JSON")
     s.set_defaults(func=_slip)

@@ -18,7 +18,7 @@ import sys
 import time
 from pathlib import Path
 
-from crosscheck.checks import integer
+from crosscheck.checks import integer, writable_directory
 
 
 def _run(args) -> int:
@@ -28,20 +28,32 @@ def _run(args) -> int:
     selected = sections
     if args.only:
         selected = [report.section_by_slug(s) for s in args.only]  # ValueError names an unknown section
+    if args.out is not None and not args.out.strip():
+        raise ValueError(f"out must be a writable directory path; got {args.out!r}")
     out = Path(args.out) if args.out is not None else report.default_out(args.quick)
     if args.from_results and not (out / "data" / "provenance.json").exists():
-        raise ValueError(f"no saved results in {out / 'data'}; run `crosscheck report --out {out}` (without --from-results) first")
-    progress = not args.no_progress and sys.stderr.isatty()
+        raise ValueError(f"out must hold saved results with --from-results; {str(out / 'data')!r} has none "
+                         f"(run `crosscheck report --out {out}` without --from-results first)")
     seed = integer("seed", args.seed, 0, 2**63 - 1)
+    workers = None if args.workers is None else integer("workers", args.workers, 1, 1024)
+    from crosscheck.sweeps.runner import check_scheduler
+
+    scheduler = check_scheduler(args.scheduler)
+    out = writable_directory("out", out)  # before anything runs: a long run never fails at its first write
+    with report.lock(out):
+        return _locked(args, report, out, sections, selected, seed, workers, scheduler)
+
+
+def _locked(args, report, out: Path, sections, selected, seed: int, workers, scheduler) -> int:
+    progress = not args.no_progress and sys.stderr.isatty()
     t0 = time.perf_counter()
     if not args.from_results:
         if args.fresh and (out / "sweeps").exists():
             import shutil
 
             shutil.rmtree(out / "sweeps")
-        workers = None if args.workers is None else integer("workers", args.workers, 1, 1024)
         results = report.run(out, selected, quick=args.quick, seed=seed, progress=progress, argv=["crosscheck", *sys.argv[1:]],
-                             resume=not (args.fresh or args.only), scheduler=args.scheduler, workers=workers)
+                             resume=not (args.fresh or args.only), scheduler=scheduler, workers=workers)
         kept = [k for k, v in results.items() if v.get("resumed")]
         if kept:
             print(f"kept {len(kept)} finished sections ({', '.join(kept)}); --fresh recomputes them")

@@ -6,8 +6,9 @@ import json
 import math
 
 from crosscheck import engines
-from crosscheck.checks import ALPHA, ETA, FINITE, MU, POSITIVE, THETA, VARPHI
+from crosscheck.checks import ALPHA, ETA, MU, POSITIVE, RATE, THETA, VARPHI
 from crosscheck.checks import number as _num
+from crosscheck.cli.options import add_alpha, add_state
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
@@ -15,7 +16,7 @@ from crosscheck.state import SlipState
 def _simulate(args) -> int:
     engine = engines.get(args.engine)
     state = SlipState(theta=_num("theta", args.theta, THETA), varphi=_num("varphi", args.varphi, VARPHI),
-                      Theta=_num("Theta", args.Theta, FINITE), Psi=_num("Psi", args.Psi, FINITE), eta=_num("eta", args.eta, ETA))
+                      Theta=_num("Theta", args.Theta, RATE), Psi=_num("Psi", args.Psi, RATE), eta=_num("eta", args.eta, ETA))
     mu, alpha = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA)
     options = {} if args.timestep is None else {"timestep": _num("timestep", args.timestep, POSITIVE)}
     run = engine.simulate(Rod.scaled(alpha), state, mu, horizon=_num("horizon", args.horizon, POSITIVE), **options)
@@ -34,12 +35,9 @@ def _simulate(args) -> int:
 def register(sub) -> None:
     s = sub.add_parser("simulate", help="one slipping state through a contact engine (scaled units)")
     s.add_argument("--engine", default="mujoco", help=f"contact engine ({', '.join(engines.names())}; default mujoco)")
-    for name, text in (("theta", "polar angle, (0, pi/2)"), ("varphi", "relative slip angle, (-pi, 0]"),
-                       ("Theta", "scaled polar rate"), ("Psi", "scaled azimuthal rate"), ("eta", "scaled slip speed, >= 0"),
-                       ("mu", "friction coefficient, >= 0")):
-        s.add_argument(f"--{name}", type=str, help=text)
-    s.add_argument("--alpha", type=str, default="3", help="m l^2 / I0, > 0 (default 3: uniform rod)")
-    s.add_argument("--horizon", type=str, default="2", help="scaled time to simulate, > 0 (default 2)")
+    add_state(s)
+    add_alpha(s)
+    s.add_argument("--horizon", type=str, default="2", help="scaled time to simulate, > 0, at most what a record of 4 GiB holds (default 2)")
     s.add_argument("--timestep", type=str, default=None, help="scaled timestep, > 0 (default: the engine's)")
     s.add_argument("--json", action="store_true", help="print the result as JSON")
     s.set_defaults(func=_simulate)

@@ -4,14 +4,19 @@ from __future__ import annotations
 
 import sys
 
-from crosscheck.checks import integer
+from crosscheck.checks import integer, writable_directory
 
 
 def _sweep(args) -> int:
     from crosscheck import sweeps
 
     workers = None if args.workers is None else integer("workers", args.workers, 1, 1024)
-    summary = sweeps.run(args.spec, args.out, workers=workers, scheduler=args.scheduler, fresh=args.fresh,
+    from crosscheck.sweeps.runner import check_scheduler
+
+    check_scheduler(args.scheduler)
+    spec = sweeps.load_spec(args.spec)  # before the store is touched: a bad spec leaves OUT as it was
+    out = writable_directory("out", args.out)
+    summary = sweeps.run(spec, out, workers=workers, scheduler=args.scheduler, fresh=args.fresh,
                          progress=False if args.no_progress else None)
     print(summary)
     return 1 if summary.failed else 0
@@ -20,7 +25,7 @@ def _sweep(args) -> int:
 def _compare(args) -> int:
     from crosscheck.sweeps.compare import compare_stores
 
-    c, files = compare_stores(args.a, args.b, out=args.out)
+    c, files = compare_stores(args.DIR_A, args.DIR_B, out=args.out)
     print(c.table())
     print("wrote " + ", ".join(str(f) for f in files), file=sys.stderr)
     return 0
@@ -36,7 +41,7 @@ def register(sub) -> None:
     s.add_argument("--no-progress", action="store_true", help="no progress bar or log lines")
     s.set_defaults(func=_sweep)
     c = sub.add_parser("compare", help="compare two sweep stores run by run (confusion, agreement, event times)")
-    c.add_argument("a", help="the reference store (e.g. an analytic sweep)")
-    c.add_argument("b", help="the store compared with it")
+    c.add_argument("DIR_A", help="the reference store (e.g. an analytic sweep)")
+    c.add_argument("DIR_B", help="the store compared with it")
     c.add_argument("--out", default=None, help="prefix of the JSON and CSV written (default: B/compare-<name of A>)")
     c.set_defaults(func=_compare)

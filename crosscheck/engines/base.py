@@ -84,7 +84,7 @@ def options_from_kwargs(cls: type, options: dict[str, Any], engine: str):
     known = {f.name for f in fields(cls)}
     unknown = sorted(set(options) - known)
     if unknown:
-        raise ValueError(f"unknown {engine_label(engine)} option {unknown[0]!r}; known options: {', '.join(sorted(known))}")
+        raise ValueError(f"unknown {engine_label(engine)} option {unknown[0]!r}: options must be one of {', '.join(sorted(known))}")
     return cls(**options)
 
 
@@ -123,6 +123,10 @@ def check_states(states: Sequence[SlipState]) -> list[SlipState]:
     for i, s in enumerate(states):
         if not isinstance(s, SlipState):
             raise ValueError(f"states[{i}] must be a SlipState; got {type(s).__name__}")
+        try:
+            s.check_start()
+        except ValueError as e:
+            raise ValueError(f"states[{i}].{e}") from None
     if not states:
         raise ValueError("states must contain at least one SlipState")
     return states

@@ -38,7 +38,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from crosscheck.checks import ETA, POSITIVE, check
+from crosscheck.checks import NONNEGATIVE, POSITIVE, check
 from crosscheck.engines.record import Record
 from crosscheck.outcome import Outcome
 
@@ -135,7 +135,7 @@ class Thresholds:
         for name in ("window", "jam_ratio", "diverged_speed"):
             object.__setattr__(self, name, float(check(name, getattr(self, name), POSITIVE)))
         for name in ("jam_force", "jam_slip_loss", "jam_p_eff", "stick_speed", "stick_creep", "rigid_stick_steps"):
-            object.__setattr__(self, name, float(check(name, getattr(self, name), ETA)))
+            object.__setattr__(self, name, float(check(name, getattr(self, name), NONNEGATIVE)))
         for name in ("window_steps", "lift_steps"):
             v = getattr(self, name)
             if not (isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 1):

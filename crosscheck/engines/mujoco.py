@@ -29,8 +29,7 @@ import numpy as np
 from mujoco import rollout
 from tqdm.auto import tqdm
 
-from crosscheck.checks import ETA as NONNEGATIVE
-from crosscheck.checks import FINITE, MU, POSITIVE, check
+from crosscheck.checks import FINITE, MU, NONNEGATIVE, POSITIVE, Interval, check
 from crosscheck.engines.base import (SERIES, STATE_KEYS, SUMMARY, Run, SweepResult, check_states, n_steps_within_memory, options_from_kwargs,
                                      summaries)
 from crosscheck.engines.classifier import Thresholds, classify
@@ -39,6 +38,9 @@ from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
 __all__ = ["ENGINE", "MujocoEngine", "Options", "Batch", "simulate", "sweep", "CHUNK_BYTES"]
+
+#: The capsule radius r / l (see Options.radius).
+RADIUS = Interval(0.0, 0.5, lo_open=True, hi_open=True)
 
 #: Memory for one chunk's sensordata; sets the chunk size.
 CHUNK_BYTES = 48 * 2**20
@@ -82,8 +84,11 @@ class Options:
     model_file: str | None = None
 
     def __post_init__(self) -> None:
-        for name in ("timestep", "radius", "timeconst", "dampratio"):
+        for name in ("timestep", "timeconst", "dampratio"):
             object.__setattr__(self, name, float(check(name, getattr(self, name), POSITIVE)))
+        # A slender rod's radius is a small fraction of l; at r >= l/2 the capsule's end cap reaches
+        # the centre of mass and the contact point C is no longer "below the tip".
+        object.__setattr__(self, "radius", float(check("radius", self.radius, RADIUS)))
         if self.friction_timeconst is not None:
             object.__setattr__(self, "friction_timeconst", float(check("friction_timeconst", self.friction_timeconst, POSITIVE)))
         for name in ("timeconst", "friction_timeconst"):
@@ -93,8 +98,10 @@ class Options:
         solimp = check("solimp", self.solimp, FINITE)
         if solimp.shape != (5,):
             raise ValueError(f"solimp must have 5 numbers (d0, dmax, width, midpoint, power); got {self.solimp!r}")
-        if not (0 < solimp[0] < 1 and 0 < solimp[1] < 1 and solimp[2] > 0):
-            raise ValueError(f"solimp must have 0 < d0, dmax < 1 and width > 0; got {tuple(solimp)!r}")
+        # MuJoCo's impedance d(r) (Computation chapter): d0, dmax in (0, 1), width > 0, the sigmoid's
+        # midpoint in (0, 1) and power >= 1 (MuJoCo clamps the others silently).
+        if not (0 < solimp[0] < 1 and 0 < solimp[1] < 1 and solimp[2] > 0 and 0 < solimp[3] < 1 and solimp[4] >= 1):
+            raise ValueError(f"solimp must have d0, dmax in (0, 1), width > 0, midpoint in (0, 1) and power >= 1; got {tuple(solimp)!r}")
         object.__setattr__(self, "solimp", tuple(float(x) for x in solimp))
         object.__setattr__(self, "solver_tolerance", float(check("solver_tolerance", self.solver_tolerance, NONNEGATIVE)))
         if self.model_file is not None:
@@ -216,6 +223,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     """
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    state.check_start()
     horizon = float(check("horizon", horizon, POSITIVE))
     opts = Options.from_kwargs(options)
     mu = float(check("mu", mu, MU))

@@ -287,6 +287,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     """
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    state.check_start()
     horizon = float(check("horizon", horizon, POSITIVE))
     opts = Options.from_kwargs(options)
     if opts.timestep > horizon:

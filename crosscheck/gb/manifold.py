@@ -24,7 +24,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from crosscheck.checks import ALPHA, ETA, FINITE, MU, THETA, check
+from crosscheck.checks import ALPHA, ETA, MU, RATE, THETA, check, integer
+
+#: The most samples per theta interval of ``gb_manifold`` (each curve then has up to 4e5 points).
+MAX_SAMPLES = 100_000
 from crosscheck.critical import Psi_L, theta_12, varphi_pm
 from crosscheck.gb.linearisation import K, classify
 
@@ -227,7 +230,7 @@ def gb_theta_gap(Psi) -> tuple[float, float] | None:
     Empty (None) for |Psi| <= Psi_L (eq. psil); otherwise the two roots in
     (0, pi/2) of Psi^2 s (1 - s^2) = 1, s = sin theta, around theta_L.
     """
-    Psi = float(check("Psi", Psi, FINITE))
+    Psi = float(check("Psi", Psi, RATE))
     if abs(Psi) <= Psi_L:
         return None
     roots = np.roots([Psi**2, 0.0, -(Psi**2), 1.0])
@@ -267,7 +270,8 @@ def gb_manifold(mu, Psi, alpha, *, n: int = 201) -> list[GBCurve]:
     """
     mu = float(check("mu", mu, MU))
     alpha = float(check("alpha", alpha, ALPHA))
-    Psi = float(check("Psi", Psi, FINITE))
+    Psi = float(check("Psi", Psi, RATE))
+    n = integer("n", n, 2, MAX_SAMPLES)
     th1, th2 = (float(t) for t in theta_12(mu, alpha))
     if math.isnan(th1):
         return []
@@ -330,6 +334,7 @@ def det_K_zeros(curve: GBCurve, eta, *, iterations: int = 60) -> np.ndarray:
       (m, 3) array of (theta, varphi, Theta).
     """
     eta = float(check("eta", eta, ETA))
+    iterations = integer("iterations", iterations, 1, 200)  # 60 halvings already reach the resolution of theta
     d = det_K(curve.theta, curve.varphi, curve.Psi, curve.Theta, eta, curve.mu, curve.alpha)
     out = []
     for i in np.nonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0)[0]:

@@ -16,12 +16,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from crosscheck.report.pipeline import run
+from crosscheck.report.pipeline import lock, run
 from crosscheck.report.render import RenderSummary, render
 from crosscheck.report.section import Section
 from crosscheck.report.sections import SECTIONS, section_by_slug
 
-__all__ = ["SECTIONS", "Section", "RenderSummary", "run", "render", "default_out", "section_by_slug"]
+__all__ = ["SECTIONS", "Section", "RenderSummary", "run", "render", "lock", "default_out", "section_by_slug"]
 
 
 def default_out(quick: bool) -> Path:

@@ -16,6 +16,7 @@ killed half-way keeps its finished chunks too.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import sys
 import time
@@ -23,11 +24,11 @@ import traceback
 from pathlib import Path
 from typing import Sequence
 
-from crosscheck.report import provenance
+from crosscheck.report import integrity, provenance
 from crosscheck.report.section import RunContext, Section, SkipSection, section_rng
 from crosscheck.report.store import SectionStore
 
-__all__ = ["run", "read_status", "STATUS_FILE", "PROVENANCE_FILE"]
+__all__ = ["run", "read_status", "read_provenance", "verified_status", "STATUS_FILE", "PROVENANCE_FILE"]
 
 STATUS_FILE = "status"
 PROVENANCE_FILE = "provenance"
@@ -45,9 +46,61 @@ def _progress_factory(enabled: bool):
 
 
 def read_status(out: Path, slug: str) -> dict | None:
-    """The saved status of a section, None if it never ran in ``out``."""
-    store = SectionStore(Path(out) / "data" / slug)
-    return store.read_json(STATUS_FILE) if store.exists(f"{STATUS_FILE}.json") else None
+    """The saved status of a section, None if it never ran in ``out``; ``DamagedResults`` if it is not one."""
+    path = Path(out) / "data" / slug / f"{STATUS_FILE}.json"
+    if not path.exists():
+        return None
+    return integrity.check_status(integrity.read_json(path, "the section status"), path)
+
+
+def read_provenance(out: Path) -> dict | None:
+    """The saved provenance of a report, None if there is none; ``DamagedResults`` if it is not one."""
+    path = Path(out) / "data" / f"{PROVENANCE_FILE}.json"
+    if not path.exists():
+        return None
+    return integrity.check_provenance(integrity.read_json(path, "the provenance"), path)
+
+
+def verified_status(out: Path, slug: str) -> dict | None:
+    """``read_status`` with the section's saved files checked against the manifest in it (``DamagedResults``)."""
+    status = read_status(out, slug)
+    if status is not None and status["status"] != "running":
+        SectionStore(Path(out) / "data" / slug).verify(status["files"])
+    return status
+
+
+LOCK_FILE = ".lock"
+
+
+@contextlib.contextmanager
+def lock(out: Path):
+    """Hold ``<out>/.lock`` (an exclusive ``flock``) while a report is written into ``out``.
+
+    A second ``crosscheck report`` into the same directory is refused with one
+    line instead of interleaving its files with the first one's.  The kernel
+    drops the lock when the process dies, also by SIGKILL, so a killed run
+    never leaves the directory locked.
+    """
+    import fcntl
+    import os
+
+    path = Path(out) / LOCK_FILE
+    f = open(path, "a+")
+    try:
+        try:
+            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            f.seek(0)
+            holder = f.read().strip() or "unknown"
+            raise ValueError(f"out must be a report directory no other process is writing; {str(out)!r} is being written by pid {holder} "
+                             "(wait for it, or choose another --out)") from None
+        f.seek(0)
+        f.truncate()
+        f.write(str(os.getpid()))
+        f.flush()
+        yield path
+    finally:
+        f.close()
 
 
 def code_digest() -> str:
@@ -95,7 +148,10 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
     params = {s.slug: s.params(quick) for s in sections}
     root = SectionStore(data)
     # A partial run (``--only``) keeps the parameters recorded for the sections it does not touch.
-    previous = root.read_json(PROVENANCE_FILE) if root.exists(f"{PROVENANCE_FILE}.json") else {}
+    try:
+        previous = read_provenance(out) or {}
+    except integrity.DamagedResults:
+        previous = {}  # rewritten below; the sections' own parameters are in their statuses
     prov = provenance.collect(quick=quick, seed=seed, parameters={**previous.get("parameters", {}), **params}, argv=argv)
     prov["sections_run"] = [s.slug for s in sections]
     root.write_json(PROVENANCE_FILE, prov)
@@ -107,7 +163,10 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
     for s in outer:
         if hasattr(outer, "set_postfix_str"):
             outer.set_postfix_str(s.slug)
-        prev = read_status(out, s.slug)
+        try:
+            prev = verified_status(out, s.slug)
+        except integrity.DamagedResults:
+            prev = None  # damaged results are recomputed, never kept
         if (resume and prev is not None and prev.get("status") == "ok" and prev.get("quick") == quick and prev.get("seed") == seed
                 and json.loads(json.dumps(prev.get("params"), default=str)) == json.loads(json.dumps(params[s.slug], default=str))
                 and prev.get("code_sha256") == code):
@@ -145,6 +204,7 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
             status["traceback"] = traceback.format_exc()
         status["seconds"] = time.perf_counter() - t0
         status["checks_failed"] = [c["name"] for c in ctx.checks if not c["passed"] and not c["known_discrepancy"]]
+        status["files"] = store.manifest()  # last: a section is finished only once its status lists what it wrote
         store.write_json(STATUS_FILE, status)
         results[s.slug] = status
     prov["seconds"] = time.perf_counter() - t_all

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Sequence
 
-from crosscheck.report.pipeline import PROVENANCE_FILE, read_status
+from crosscheck.report.pipeline import PROVENANCE_FILE, read_provenance, read_status, verified_status
 from crosscheck.report.section import Figure, Preformatted, RenderContext, Section, Table, Text
 from crosscheck.report.store import SectionStore
 
@@ -378,8 +378,10 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
     """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    root = SectionStore(out / "data")
-    prov = root.read_json(PROVENANCE_FILE) if root.exists(f"{PROVENANCE_FILE}.json") else {"date": "", "git": {}, "parameters": {}, "tolerances": {}}
+    # Everything read below is checked first against what the run wrote: a damaged file stops the render.
+    prov = read_provenance(out) or {"date": "", "git": {}, "parameters": {}, "tolerances": {}}
+    for s in sections:
+        verified_status(out, s.slug)
     # the render stage's own revision: a report rebuilt by newer code says so (the run stage's is in prov["git"])
     from crosscheck.report import provenance as _provenance
 

@@ -152,6 +152,18 @@ class SectionStore:
             return []
         return sorted(p.name for p in self.root.iterdir() if p.is_file() and p.name != "status.json" and not p.name.endswith(".tmp"))
 
+    def manifest(self) -> dict[str, dict]:
+        """Size and sha256 of every saved file (``crosscheck.report.integrity``), recorded in the status when the section ends."""
+        from crosscheck.report.integrity import manifest
+
+        return manifest(self.root, self.files())
+
+    def verify(self, files: dict[str, dict]) -> None:
+        """Check the saved files against the manifest ``files``; ``DamagedResults`` names the first that differs."""
+        from crosscheck.report.integrity import verify_files
+
+        verify_files(self.root, files, self.files())
+
     def read_table(self, name: str, *, text: Iterable[str] = ()) -> dict[str, np.ndarray]:
         """Columns of ``<name>.csv``: numeric columns as float arrays, others (and those named in ``text``) as str arrays."""
         text = set(text)

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from crosscheck.checks import ETA, FINITE, MU, THETA, VARPHI, check
+from crosscheck.checks import ETA, MU, RATE, THETA, VARPHI, check
 from crosscheck.critical import theta_L
 from crosscheck.state import SlipState
 
@@ -51,7 +51,7 @@ class EventGrid:
     eta: tuple = (1.0,)
 
     def __post_init__(self) -> None:
-        intervals = {"theta": THETA, "varphi": VARPHI, "Theta": FINITE, "Psi": FINITE, "mu": MU, "eta": ETA}
+        intervals = {"theta": THETA, "varphi": VARPHI, "Theta": RATE, "Psi": RATE, "mu": MU, "eta": ETA}
         for name in AXES:
             object.__setattr__(self, name, floats(name, getattr(self, name), intervals[name]))
 

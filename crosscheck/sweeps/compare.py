@@ -104,6 +104,9 @@ def compare_stores(dir_a: str | Path, dir_b: str | Path, *, out: str | Path | No
     from crosscheck.sweeps import load
 
     dir_a, dir_b = Path(dir_a), Path(dir_b)
+    for name, d in (("DIR_A", dir_a), ("DIR_B", dir_b)):
+        if not (d / "manifest.json").is_file():
+            raise ValueError(f"{name} must be a sweep store (a directory with the manifest.json of crosscheck sweep); got {str(d)!r}")
     c = compare_frames(load(dir_a), load(dir_b), name_a=str(dir_a), name_b=str(dir_b))
     out = Path(out) if out is not None else dir_b / f"compare-{dir_a.resolve().name}"
     out.parent.mkdir(parents=True, exist_ok=True)

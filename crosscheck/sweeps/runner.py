@@ -17,6 +17,7 @@ command computes only what is missing or failed.
 from __future__ import annotations
 
 import os
+import re
 import sys
 import time
 from dataclasses import dataclass, field
@@ -98,14 +99,37 @@ class _Progress:
             self.bar.close()
 
 
+#: A Dask scheduler address: protocol://host[:port] or host:port (distributed's own forms).
+_ADDRESS = re.compile(r"^((tcp|tls|ucx|ws|wss)://[^\s/:]+(:\d+)?|[^\s/:]+:\d+)$")
+
+#: Seconds to wait for a scheduler before calling it unreachable.
+CONNECT_TIMEOUT = 10.0
+
+
+def check_scheduler(scheduler) -> str | None:
+    """``scheduler`` if it is None, "local" or a Dask scheduler address; ValueError naming it otherwise."""
+    if scheduler is None or scheduler == "local" or (isinstance(scheduler, str) and _ADDRESS.match(scheduler)):
+        return scheduler
+    raise ValueError(f"scheduler must be 'local' or a Dask scheduler address such as tcp://host:8786; got {scheduler!r}")
+
+
+def _client(target, scheduler: str):
+    from distributed import Client
+
+    try:
+        return Client(target, timeout=CONNECT_TIMEOUT)
+    except (OSError, TimeoutError) as e:
+        raise ValueError(f"scheduler must be a reachable Dask scheduler; cannot connect to {scheduler!r} in {CONNECT_TIMEOUT:g} s ({e})") from None
+
+
 def _results(spec: Spec, todo: list[int], workers: int, scheduler: str | None):
     """Yield (chunk_id, (table, seconds) or exception) as chunks finish."""
     if scheduler is not None:
-        from distributed import Client, LocalCluster, as_completed
+        from distributed import LocalCluster, as_completed
 
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) if scheduler == "local" else None
         try:
-            with Client(cluster if cluster is not None else scheduler) as client:
+            with _client(cluster if cluster is not None else scheduler, scheduler) as client:
                 spec_f = client.scatter(spec, broadcast=True)
                 futures = {client.submit(_timed_chunk, spec_f, c, pure=False, key=f"chunk-{spec.digest[:8]}-{c}"): c for c in todo}
                 for fut in as_completed(futures):
@@ -156,8 +180,7 @@ def run(spec: Spec | str | Path, out: str | Path, *, workers: int | None = None,
         workers = _default_workers()
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ValueError(f"workers must be an integer >= 1; got {workers!r}")
-    if scheduler is not None and (not isinstance(scheduler, str) or not scheduler):
-        raise ValueError(f"scheduler must be 'local' or a Dask scheduler address such as tcp://host:8786; got {scheduler!r}")
+    check_scheduler(scheduler)
     store = Store(out)
     t0 = time.perf_counter()
     with store.writer():

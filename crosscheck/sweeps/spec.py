@@ -45,6 +45,8 @@ from typing import Any
 
 import numpy as np
 
+from crosscheck.checks import ALPHA_MAX, ALPHA_MIN, HORIZON_MAX, MU_MAX, PSI_MAX, RATE_MAX
+
 __all__ = ["Spec", "SpecError", "load_spec", "parse_spec", "AXES", "ANALYTIC"]
 
 #: The state axes of a spec, in the paper's names (psi, the heading, is optional and 0 by default).
@@ -65,7 +67,7 @@ def _number(key: str, value: Any, *, low: float = -math.inf, high: float = math.
     if isinstance(value, bool) or not ok_type:
         raise SpecError(f"{key} must be {'an integer' if integer else 'a number'}; got {value!r}")
     v = float(value)
-    if math.isnan(v) or not ((low < v) if low_open else (low <= v)) or not v <= high:
+    if not math.isfinite(v) or not ((low < v) if low_open else (low <= v)) or not v <= high:
         rng = f"{'(' if low_open else '['}{low:g}, {high:g}]"
         raise SpecError(f"{key} must be in {rng}; got {value!r}")
     return int(value) if integer else v
@@ -77,7 +79,7 @@ def _values(key: str, value: Any, **limits) -> list[float]:
         unknown = sorted(set(value) - {"start", "stop", "num"})
         if unknown or set(value) != {"start", "stop", "num"}:
             raise SpecError(f"{key} as a range needs exactly the keys start, stop, num; got {sorted(value)}")
-        num = _number(f"{key}.num", value["num"], low=1, integer=True)
+        num = _number(f"{key}.num", value["num"], low=1, high=MAX_STATES, integer=True)
         start, stop = _number(f"{key}.start", value["start"]), _number(f"{key}.stop", value["stop"])
         out = np.linspace(start, stop, num).tolist()
     elif isinstance(value, list):
@@ -90,8 +92,15 @@ def _values(key: str, value: Any, **limits) -> list[float]:
 
 
 # Where each state axis may lie (SlipState's domain), in scaled units.
+# (the same ranges as crosscheck.checks, which says where each bound comes from)
 _LIMITS = {"theta": dict(low=0.0, high=math.pi / 2, low_open=True), "varphi": dict(low=-math.pi, high=0.0, low_open=True),
-           "Theta": {}, "Psi": {}, "eta": dict(low=0.0, low_open=True), "psi": {}}
+           "Theta": dict(low=-RATE_MAX, high=RATE_MAX), "Psi": dict(low=-RATE_MAX, high=RATE_MAX), "eta": dict(low=0.0, high=RATE_MAX, low_open=True),
+           "psi": dict(low=-PSI_MAX, high=PSI_MAX)}
+_MU = dict(low=0.0, high=MU_MAX)
+_ALPHA = dict(low=ALPHA_MIN, high=ALPHA_MAX)
+
+#: The most states one spec may list: a sweep's columns are held in memory (8 bytes per axis and state).
+MAX_STATES = 10_000_000
 
 
 @dataclass(frozen=True)
@@ -207,7 +216,7 @@ def _states(table: dict, seed: int, base: Path | None) -> dict[str, np.ndarray]:
         if table["zip"] is not True or "random" in table:
             raise SpecError(f"states.zip must be true (lists of equal length, one state per position, mu among them if wanted) and excludes random; got {table['zip']!r}")
         cols = {a: _values(f"states.{a}", table[a], **_LIMITS[a]) for a in AXES if a in table}
-        for a, lim in (("psi", {}), ("mu", dict(low=0.0))):
+        for a, lim in (("psi", _LIMITS["psi"]), ("mu", _MU)):
             if a in table:
                 cols[a] = _values(f"states.{a}", table[a], **lim)
         n = {len(v) for v in cols.values()}
@@ -218,7 +227,7 @@ def _states(table: dict, seed: int, base: Path | None) -> dict[str, np.ndarray]:
     if "mu" in table:
         raise SpecError("states.mu is allowed only with zip = true (one mu per listed state); otherwise mu goes in [parameters]")
     if "random" in table:
-        n = _number("states.random", table["random"], low=1, integer=True)
+        n = _number("states.random", table["random"], low=1, high=MAX_STATES, integer=True)
         rng = np.random.default_rng([seed, 0])  # the states' own stream; chunks draw from (seed, 1 + chunk id)
         cols = {}
         for a in (*AXES, "psi"):
@@ -234,6 +243,9 @@ def _states(table: dict, seed: int, base: Path | None) -> dict[str, np.ndarray]:
                 cols[a] = np.full(n, _number(f"states.{a}", v, **_LIMITS[a]))
         return cols
     axes = {a: _values(f"states.{a}", table.get(a, 0.0), **_LIMITS[a]) for a in (*AXES, "psi")}
+    n = math.prod(len(v) for v in axes.values())
+    if n > MAX_STATES:
+        raise SpecError(f"[states] grid must have at most {MAX_STATES} states; got {' x '.join(str(len(v)) for v in axes.values())} = {n}")
     grid = np.array(list(itertools.product(*(axes[a] for a in (*AXES, "psi")))), float)
     return {a: grid[:, i].copy() for i, a in enumerate((*AXES, "psi"))}
 
@@ -286,13 +298,13 @@ def parse_spec(doc: dict, *, base: Path | None = None) -> Spec:
     engine = sw["engine"]
     if not isinstance(engine, str) or (engine != ANALYTIC and engine not in engines.names()):
         raise SpecError(f"sweep.engine must be one of {', '.join([ANALYTIC, *engines.names()])}; got {engine!r}")
-    horizon = _number("sweep.horizon", sw["horizon"], low=0.0, low_open=True)
+    horizon = _number("sweep.horizon", sw["horizon"], low=0.0, high=HORIZON_MAX, low_open=True)
     seed = _number("sweep.seed", sw.get("seed", 0), low=0, integer=True)
     chunk = _number("sweep.chunk", sw.get("chunk", 64), low=1, integer=True)
     states = _states(doc["states"], seed, base)
     par = doc.get("parameters", {})
-    mu = tuple(_values("parameters.mu", par["mu"], low=0.0)) if "mu" in par else ()
-    alpha = tuple(_values("parameters.alpha", par.get("alpha", 3.0), low=0.0, low_open=True))
+    mu = tuple(_values("parameters.mu", par["mu"], **_MU)) if "mu" in par else ()
+    alpha = tuple(_values("parameters.alpha", par.get("alpha", 3.0), **_ALPHA))
     options = _options(engine, doc.get("options", {}))
     return Spec(engine=engine, horizon=horizon, seed=seed, chunk=chunk, states=states, mu=mu, alpha=alpha, options=options, source=doc)
 

@@ -41,4 +41,4 @@ def section_by_slug(slug: str) -> Section:
     for s in SECTIONS:
         if s.slug == slug:
             return s
-    raise ValueError(f"unknown report section {slug!r}; sections are: {', '.join(s.slug for s in SECTIONS)}")
+    raise ValueError(f"--only must be one of: {', '.join(s.slug for s in SECTIONS)}; got {slug!r}")

@@ -1,0 +1,226 @@
+"""The table of bad inputs: every CLI command and public function, each with a value that must be refused.
+
+``cli_cases(tmp)`` and ``api_cases()`` return ``(id, input, param)`` triples:
+``input`` is an argv list (run by ``audit.judge_cli``) or a zero-argument
+callable (``audit.judge_api``), ``param`` the parameter the refusal must name.
+Each case is a valid call with one value replaced, so any answer other than a
+clean refusal is the fault of that value.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+# Values that are never a number of any of our parameters.
+NOT_FINITE = ["nan", "inf", "-inf", "abc", "", "1e400", "-1e400", "1,5"]
+
+# Valid starting points (the paper's Fig. 20 state IC2, alpha = 3, mu = 1.4) for each command.
+STATE = {"theta": "1.1031", "varphi": "-1.9233", "Theta": "0.9", "Psi": "0", "eta": "2"}
+
+# Values outside each parameter's range, beyond the non-numbers above (1e308: finite, but
+# beyond where the computation means anything in double precision).
+OUT_OF_RANGE = {
+    "theta": ["0", "-0.1", "1.5708", "2", "1e308"],
+    "varphi": ["0.1", "-3.1416", "-4", "1e308"],
+    "Theta": ["1e308", "-1e308", "1e7"],
+    "Psi": ["1e308", "-1e308", "1e7"],
+    "eta": ["-1", "1e308", "1e7"],  # (1e-300 is a valid start: below the stick speed, a stuck tip)
+    "mu": ["-0.1", "1e308", "1e7"],
+    "alpha": ["0", "-1", "1e308", "1e-300"],
+    "psi": ["1e308", "-1e308"],
+}
+
+
+def _argv(command: list[str], options: dict[str, str], replace: str, value: str) -> list[str]:
+    argv = list(command)
+    for k, v in options.items():
+        argv += [f"--{k}", value if k == replace else v]
+    return argv
+
+
+def _number_cases(name: str, command: list[str], options: dict[str, str], extra: dict[str, list[str]], only=None) -> list:
+    cases = []
+    for opt in only or options:
+        param = opt.replace("-", "_")
+        for v in NOT_FINITE + OUT_OF_RANGE.get(param, []) + extra.get(opt, []):
+            cases.append((f"{name} --{opt}={v!r}", _argv(command, options, opt, v), param))
+    return cases
+
+
+def cli_cases(tmp: Path) -> list:
+    """Every (id, argv, param) of the command line; ``tmp`` is a scratch directory for path cases."""
+    tmp = Path(tmp)
+    cases = []
+    cases += _number_cases("critical", ["critical"], {"mu": "1.4", "alpha": "3"}, {})
+    classify = {k: v for k, v in STATE.items() if k != "eta"}  # classify needs no slip speed
+    cases += _number_cases("classify", ["classify"], {**classify, "mu": "1.4", "alpha": "3"}, {})
+    cases += _number_cases("gb", ["gb"], {"mu": "1.7", "alpha": "3", "Psi": "0", "eta": "2", "samples": "5"},
+                           {"samples": ["0", "-1", "2.5", "1e9", "1e3", "100001"]})
+    cases += _number_cases("slip", ["slip"], {**STATE, "mu": "1.4", "alpha": "3", "psi": "0", "t-max": "1"},
+                           {"t-max": ["0", "-1", "1e308"]})
+    cases += _number_cases("slip --continue", ["slip", "--continue"], {**STATE, "mu": "1.4", "t-max": "1", "restitution": "0"},
+                           {"restitution": ["-0.1", "1.5"]}, only=["restitution"])
+    cases += _number_cases("simulate", ["simulate", "--engine", "mujoco"], {**STATE, "mu": "1.4", "alpha": "3", "horizon": "0.05", "timestep": "3e-3"},
+                           {"horizon": ["0", "-1", "1e308", "1e5"], "timestep": ["0", "-1", "1e-300", "10"]})
+    cases.append(("simulate --engine=nonexistent", _argv(["simulate", "--engine", "nonexistent"], {**STATE, "mu": "1.4"}, "", ""), "engine"))
+    for engine in ("mujoco", "pinocchio"):
+        for v in ["0", "-1", "1e3", "2.5", "1e9", "abc", ""]:
+            cases.append((f"validate {engine} --states={v!r}", ["validate", engine, "--states", v], "states"))
+        for v in ["-1", "1.5", "abc", "1e30", ""]:
+            cases.append((f"validate {engine} --seed={v!r}", ["validate", engine, "--states", "1", "--seed", v], "seed"))
+        cases.append((f"validate {engine} --checks=bogus", ["validate", engine, "--checks", "bogus"], "--checks"))
+    cases.append(("validate bogus", ["validate", "bogus"], "engine"))
+    # report: a cheap section, so that a wrongly accepted input costs seconds
+    quick = ["report", "--quick", "--only", "critical_angles", "--no-progress"]
+    a_file = tmp / "a_file"
+    a_file.write_text("x")
+    unwritable = tmp / "unwritable"
+    unwritable.mkdir(exist_ok=True)
+    unwritable.chmod(0o500)
+    # (root writes through permission bits: the unwritable directory is a case only for other users)
+    for v in ["", str(a_file), "/proc/x", str(a_file / "sub")] + ([str(unwritable / "r")] if os.geteuid() != 0 else []):
+        cases.append((f"report --out={v!r}", quick + ["--out", v], "out"))
+    for v in ["-1", "1.5", "abc", "", "1e30", "99999999999999999999"]:
+        cases.append((f"report --seed={v!r}", quick + ["--out", str(tmp / "r_seed"), "--seed", v], "seed"))
+    for v in ["0", "-1", "2000", "abc", "1.5"]:
+        cases.append((f"report --workers={v!r}", quick + ["--out", str(tmp / "r_workers"), "--workers", v], "workers"))
+    cases.append(("report --only=bogus", ["report", "--quick", "--only", "bogus", "--out", str(tmp / "r_only")], "--only"))
+    cases.append(("report --from-results (empty dir)", ["report", "--from-results", "--out", str(tmp / "empty_report")], "out"))
+    cases.append(("report --scheduler=bogus", quick + ["--out", str(tmp / "r_sched"), "--scheduler", "bogus"], "scheduler"))
+    # sweep: the spec file and its contents
+    good = {"sweep": 'engine = "analytic"\nhorizon = 0.5\nseed = 0\nchunk = 4',
+            "states": 'theta = 1.0\nvarphi = -1.5707963267948966\nTheta = 0.0\nPsi = 0.0\neta = 1.0',
+            "parameters": "mu = 0.5\nalpha = 3.0"}
+
+    def spec(name: str, **tables) -> str:
+        path = tmp / f"{name}.toml"
+        doc = {**good, **tables}
+        path.write_text("\n".join(f"[{k}]\n{v}" for k, v in doc.items() if v is not None) + "\n")
+        return str(path)
+
+    sweep_out = str(tmp / "sweep_out")
+    cases.append(("sweep missing spec", ["sweep", str(tmp / "missing.toml"), "--out", sweep_out], "spec"))
+    cases.append(("sweep spec is a directory", ["sweep", str(tmp), "--out", sweep_out], "spec"))
+    (tmp / "broken.toml").write_text("[sweep\nengine = ")
+    cases.append(("sweep malformed TOML", ["sweep", str(tmp / "broken.toml"), "--out", sweep_out], "spec"))
+    bad_specs = {
+        "engine": ('sweep', 'engine = "bogus"\nhorizon = 0.5\nseed = 0\nchunk = 4'),
+        "horizon": ('sweep', 'engine = "analytic"\nhorizon = -1\nseed = 0\nchunk = 4'),
+        "chunk": ('sweep', 'engine = "analytic"\nhorizon = 0.5\nseed = 0\nchunk = 0'),
+        "seed": ('sweep', 'engine = "analytic"\nhorizon = 0.5\nseed = -3\nchunk = 4'),
+        "theta": ('states', 'theta = 2.0\nvarphi = -1.5\nTheta = 0.0\nPsi = 0.0\neta = 1.0'),
+        "varphi": ('states', 'theta = 1.0\nvarphi = 0.5\nTheta = 0.0\nPsi = 0.0\neta = 1.0'),
+        "eta": ('states', 'theta = 1.0\nvarphi = -1.5\nTheta = 0.0\nPsi = 0.0\neta = -1.0'),
+        "Theta": ('states', 'theta = 1.0\nvarphi = -1.5\nTheta = nan\nPsi = 0.0\neta = 1.0'),
+        "Psi": ('states', 'theta = 1.0\nvarphi = -1.5\nTheta = 0.0\nPsi = inf\neta = 1.0'),
+        "num": ('states', 'theta = {start = 0.4, stop = 1.2, num = 0}\nvarphi = -1.5\nTheta = 0.0\nPsi = 0.0\neta = 1.0'),
+        "mu": ('parameters', 'mu = -0.5\nalpha = 3.0'),
+        "alpha": ('parameters', 'mu = 0.5\nalpha = 0.0'),
+    }
+    for param, (table, text) in bad_specs.items():
+        cases.append((f"sweep spec {param}", ["sweep", spec(f"bad_{param}", **{table: text}), "--out", sweep_out], param))
+    cases.append(("sweep --workers=0", ["sweep", spec("ok"), "--out", sweep_out, "--workers", "0"], "workers"))
+    cases.append(("sweep --out=''", ["sweep", spec("ok"), "--out", ""], "out"))
+    cases.append(("sweep --out=a file", ["sweep", spec("ok"), "--out", str(a_file)], "out"))
+    cases.append(("compare missing stores", ["compare", str(tmp / "no_a"), str(tmp / "no_b")], "a"))
+    cases.append(("compare non-store", ["compare", str(tmp), str(tmp)], "a"))
+    return cases
+
+
+def api_cases() -> list:
+    """Every (id, call, param) of the Python API."""
+    from crosscheck import analytic, critical, hybrid, iwc
+    from crosscheck.coordinates import paper_to_qv
+    from crosscheck.corollary import corollary_states
+    from crosscheck.engines import classifier, mujoco, pinocchio
+    from crosscheck.gb import det_K_zeros, gb_manifold
+    from crosscheck.rod import Rod
+    from crosscheck.slipping import slip_until_event
+    from crosscheck.state import SlipState
+
+    ok_state = dict(theta=1.1031, varphi=-1.9233, Theta=0.9, Psi=0.0, eta=2.0)
+    bad = [math.nan, math.inf, -math.inf, 1e308, -1e308, "abc", None]
+    out_of_range = {"theta": [0.0, -0.1, 2.0], "varphi": [0.1, -4.0], "eta": [-1.0, 1e7], "Theta": [1e7], "Psi": [1e7],
+                    "mu": [-0.1, 1e7], "alpha": [0.0, -1.0, 1e-300, 1e7]}
+    cases = []
+
+    def add(name, fn, param):
+        cases.append((name, fn, param))
+
+    for k in ok_state:
+        for v in [math.nan, math.inf, -math.inf, "abc", None]:
+            add(f"SlipState({k}={v!r})", lambda k=k, v=v: SlipState(**{**ok_state, k: v}), k)
+        for v in [1e308, -1e308] + out_of_range.get(k, []):
+            # a state may hold any finite rate (a flow can reach it); a run may not start from one out of range
+            add(f"slip_until_event(SlipState({k}={v!r}))", lambda k=k, v=v: slip_until_event(SlipState(**{**ok_state, k: v}), 1.4, 3.0), k)
+    for k, v in [("theta", 2.0), ("varphi", 1e308), ("mu", -1.0), ("alpha", 0.0), ("mu", 1e308), ("alpha", 1e308), ("mu", math.nan)]:
+        add(f"analytic.p({k}={v!r})", lambda k=k, v=v: analytic.p(**{**dict(theta=1.0, varphi=-1.5, mu=1.0, alpha=3.0), k: v}), k)
+    for k, v in [("theta", 0.0), ("Psi", math.inf), ("Theta", math.nan), ("Psi", 1e308), ("Theta", -1e308)]:
+        add(f"analytic.b({k}={v!r})", lambda k=k, v=v: analytic.b(**{**dict(Psi=0.0, Theta=0.5, theta=1.0), k: v}), k)
+    for k, v in [("mu", -1.0), ("mu", math.nan), ("mu", 1e308), ("alpha", 0.0), ("alpha", 1e308), ("alpha", math.inf)]:
+        add(f"critical_values({k}={v!r})", lambda k=k, v=v: critical.critical_values(**{**dict(mu=1.4, alpha=3.0), k: v}), k)
+    for k, v in [("mu", -1.0), ("Psi", 1e308), ("alpha", 0.0), ("Psi", math.nan)]:
+        add(f"kinematic_case({k}={v!r})", lambda k=k, v=v: critical.kinematic_case(**{**dict(mu=1.4, Psi=0.5, alpha=3.0), k: v}), k)
+    for v in [0, -1, 1, 2.5, 10**9, "abc"]:
+        add(f"gb_manifold(n={v!r})", lambda v=v: gb_manifold(1.7, 0.0, 3.0, n=v), "n")
+    for k, v in [("mu", 1e308), ("Psi", 1e308), ("alpha", 1e308), ("mu", math.nan)]:
+        add(f"gb_manifold({k}={v!r})", lambda k=k, v=v: gb_manifold(**{**dict(mu=1.7, Psi=0.0, alpha=3.0), k: v}), k)
+    for v in [-1.0, math.nan, 1e308]:
+        add(f"det_K_zeros(eta={v!r})", lambda v=v: det_K_zeros(gb_manifold(1.7, 0.0, 3.0)[0], v), "eta")
+    for v in [0, -1, 2.5]:
+        add(f"det_K_zeros(iterations={v!r})", lambda v=v: det_K_zeros(gb_manifold(1.7, 0.0, 3.0)[0], 1.0, iterations=v), "iterations")
+    s = SlipState(**ok_state)
+    for k, v in [("mu", -1.0), ("mu", 1e308), ("alpha", 0.0), ("t_max", 0.0), ("t_max", -1.0), ("t_max", math.nan), ("t_max", 1e308),
+                 ("s_max", 0.0), ("s_max", math.inf)]:
+        add(f"slip_until_event({k}={v!r})", lambda k=k, v=v: slip_until_event(s, **{**dict(mu=1.4, alpha=3.0, t_max=1.0), k: v}), k)
+    add("slip_until_event(state=dict)", lambda: slip_until_event(ok_state, 1.4, 3.0), "state")
+    for k, v in [("mu", -1.0), ("alpha", 0.0), ("restitution", -0.1), ("restitution", 1.5), ("restitution", math.nan)]:
+        add(f"iwc.impact({k}={v!r})", lambda k=k, v=v: iwc.impact(s, **{**dict(mu=1.4, alpha=3.0), k: v}), k)
+    for k, v in [("horizon", 0.0), ("horizon", math.inf), ("restitution", 2.0), ("max_impacts", -1), ("max_impacts", 2.5)]:
+        add(f"hybrid.run({k}={v!r})", lambda k=k, v=v: hybrid.run(s, **{**dict(mu=1.4, alpha=3.0, horizon=1.0), k: v}), k)
+    for k, v in [("mass", 1e-200), ("inertia", 1e200), ("mass", 1e200), ("length", 1e200), ("mass", 0.0), ("gravity", -9.81),
+                 ("length", math.nan), ("inertia", math.inf)]:
+        add(f"Rod({k}={v!r}).alpha", lambda k=k, v=v: Rod(**{k: v}).alpha, k)
+    add("Rod(mass=1e-200, inertia=1e200).alpha", lambda: Rod(mass=1e-200, inertia=1e200).alpha, "mass")
+    add("Rod(mass=1e200, length=1e200).alpha", lambda: Rod(mass=1e200, length=1e200).alpha, "mass")
+    add("Rod(mass=1e-50, inertia=1e50).alpha", lambda: Rod(mass=1e-50, inertia=1e50).alpha, "alpha")
+    add("Rod(mass=1e50, length=1e50).alpha", lambda: Rod(mass=1e50, length=1e50).alpha, "alpha")
+    rod = Rod.scaled(3.0)
+    for k, v in [("horizon", 0.0), ("horizon", 1e5), ("horizon", 1e308), ("horizon", math.nan), ("timestep", 0.0), ("timestep", 1e-300),
+                 ("radius", 5.0), ("radius", 1e308), ("radius", 0.0), ("radius", -0.01), ("timeconst", 0.0), ("dampratio", -1.0),
+                 ("solimp", (0.9, 0.95, 0.001, 0.5, -2.0)), ("solimp", (0.9, 0.95, 0.001, 1.5, 2.0)), ("solimp", (0.9, 0.95)),
+("solver_tolerance", -1.0), ("bogus_option", 1.0), ("mu", -1.0), ("mu", 1e308)]:
+        def call(k=k, v=v):
+            kw = dict(horizon=0.05)
+            mu = 1.4
+            if k == "mu":
+                mu = v
+            else:
+                kw[k] = v
+            return mujoco.simulate(rod, s, mu, **kw)
+        add(f"mujoco.simulate({k}={v!r})", call, k)
+    for k, v in [("horizon", 0.0), ("horizon", 1e5), ("timestep", -1.0), ("solver", "bogus"), ("tolerance", 0.0), ("max_iterations", 0),
+                 ("max_iterations", 2.5), ("contact_gap", -1.0), ("ncp", "yes")]:
+        def call(k=k, v=v):
+            kw = dict(horizon=0.05)
+            kw[k] = v
+            return pinocchio.simulate(rod, s, 1.4, **kw)
+        add(f"pinocchio.simulate({k}={v!r})", call, k)
+    for k, v in [("window", math.nan), ("window", -0.05), ("window_steps", 0), ("window_steps", 2.5), ("jam_force", -1.0),
+                 ("jam_ratio", 0.0), ("jam_p_eff", math.inf), ("lift_steps", 0), ("stick_speed", math.nan), ("diverged_speed", math.nan),
+                 ("diverged_speed", 0.0), ("rigid_stick_steps", -1.0)]:
+        add(f"Thresholds({k}={v!r})", lambda k=k, v=v: classifier.Thresholds(**{k: v}), k)
+    for k, v in [("n", 0), ("n", -1), ("n", 2.5), ("mu", 1.0), ("mu", math.nan), ("horizon", 0.0)]:
+        def call(k=k, v=v):
+            kw = dict(mu=1.7, n=2, rng=np.random.default_rng(0))
+            kw[k] = v
+            return corollary_states(**kw)
+        add(f"corollary_states({k}={v!r})", call, k)
+    add("corollary_states(rng=0)", lambda: corollary_states(1.7, 2, 0), "rng")
+    for k, v in [("theta", 2.0), ("eta", -1.0), ("Theta", math.nan), ("w", math.inf)]:
+        add(f"paper_to_qv({k}={v!r})", lambda k=k, v=v: paper_to_qv(rod, **{**ok_state, k: v}), k)
+    return cases

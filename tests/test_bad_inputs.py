@@ -1,0 +1,100 @@
+"""Every bad input, at every entry point, is refused with one line naming the parameter and its range.
+
+The table is ``bad_inputs.py`` (each case a valid call with one value made
+bad); ``audit.py`` judges the answers.  A case fails when the input got a
+traceback, an answer (a silent wrong result), a message without the
+parameter's name or range, or no answer at all.  ``python
+tools/audit_inputs.py`` prints the same verdicts as counts.
+"""
+
+from __future__ import annotations
+
+import atexit
+import math
+import re
+import shutil
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import audit
+import bad_inputs
+
+_TMP = Path(tempfile.mkdtemp(prefix="crosscheck-bad-inputs-"))
+atexit.register(shutil.rmtree, _TMP, ignore_errors=True)
+CLI = bad_inputs.cli_cases(_TMP)
+API = bad_inputs.api_cases()
+
+
+def test_the_table_covers_every_command():
+    from crosscheck.cli import build_parser
+
+    commands = set(build_parser()._subparsers._group_actions[0].choices)
+    covered = {argv[0] for _, argv, _ in CLI}
+    assert commands <= covered, f"commands without bad-input cases: {sorted(commands - covered)}"
+    assert len(CLI) + len(API) >= 336
+
+
+@pytest.mark.parametrize("argv, param", [c[1:] for c in CLI], ids=[c[0] for c in CLI])
+def test_cli_refuses(argv, param):
+    v = audit.judge_cli(argv, param, timeout=60)
+    assert v.verdict == "clean", v.detail
+
+
+@pytest.mark.parametrize("call, param", [c[1:] for c in API], ids=[c[0] for c in API])
+def test_api_refuses(call, param):
+    v = audit.judge_api(call, param, timeout=60)
+    assert v.verdict == "clean", v.detail
+
+
+def test_judge_tells_a_vague_message_from_a_clean_one():
+    assert audit.judge_message("mu must be in [0, 1000]; got -1.0", "mu")
+    assert not audit.judge_message("argument --mu: expected one argument", "mu")  # no range
+    assert not audit.judge_message("value must be in [0, 1]; got 2", "mu")  # names another parameter
+    assert not audit.judge_message("mu must be in [0, 1000]\ngot -1.0", "mu")  # two lines
+
+
+# ------------------------------------------------------------- property test ---
+
+# Each command's numeric options and a valid value for the others.
+_COMMANDS = {
+    "critical": {"mu": "1.4", "alpha": "3"},
+    "classify": {"theta": "1.1031", "varphi": "-1.9233", "Theta": "0.9", "Psi": "0", "mu": "1.4", "alpha": "3"},
+    "gb": {"mu": "1.7", "alpha": "3", "Psi": "0", "eta": "2", "samples": "3"},
+    "slip": {"theta": "1.1031", "varphi": "-1.9233", "Theta": "0.9", "Psi": "0", "eta": "2", "mu": "1.4", "alpha": "3", "t-max": "0.5"},
+}
+_NON_NUMBER = re.compile(r"\b(nan|inf|infinity)\b", re.IGNORECASE)
+
+
+def _draw(rng: np.random.Generator) -> str:
+    """A finite value of any size and sign (log-uniform magnitude), or a non-finite one."""
+    u = rng.uniform()
+    if u < 0.1:
+        return str(rng.choice(["nan", "inf", "-inf"]))
+    if u < 0.15:
+        return "0"
+    x = 10.0 ** rng.uniform(-320, 308) * rng.choice([-1.0, 1.0])
+    return repr(float(x))
+
+
+@pytest.mark.parametrize("command", sorted(_COMMANDS))
+def test_random_values_never_give_a_traceback_or_a_non_number(command):
+    """Random finite and non-finite values, one option at a time: a clean refusal or an answer without NaN/inf."""
+    rng = np.random.default_rng([2026, len(command)])
+    options = _COMMANDS[command]
+    answered = 0
+    for _ in range(40):
+        opt = str(rng.choice(list(options)))
+        value = _draw(rng)
+        argv = [command] + [x for k, v in options.items() for x in (f"--{k}", value if k == opt else v)]
+        code, out, err, tb = audit.run_cli(argv, timeout=60)
+        assert not tb and "Traceback" not in err, f"{argv}: {tb or err}"
+        if code == 0:
+            answered += 1
+            assert not _NON_NUMBER.search(out), f"{argv} printed a non-number:\n{out}"
+            assert math.isfinite(float(value)), f"{argv} accepted a non-finite value"
+        else:
+            assert code == 2 and audit.judge_message(err, opt.replace("-", "_")), f"{argv}: exit {code}: {err}"
+    assert answered >= 1, "every draw was refused: the property test tested nothing"

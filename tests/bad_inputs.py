@@ -143,7 +143,6 @@ def api_cases() -> list:
     from crosscheck.state import SlipState
 
     ok_state = dict(theta=1.1031, varphi=-1.9233, Theta=0.9, Psi=0.0, eta=2.0)
-    bad = [math.nan, math.inf, -math.inf, 1e308, -1e308, "abc", None]
     out_of_range = {"theta": [0.0, -0.1, 2.0], "varphi": [0.1, -4.0], "eta": [-1.0, 1e7], "Theta": [1e7], "Psi": [1e7],
                     "mu": [-0.1, 1e7], "alpha": [0.0, -1.0, 1e-300, 1e7]}
     cases = []

@@ -33,7 +33,7 @@ def test_grid_points_follow_the_axes_in_c_order():
 
 
 @pytest.mark.parametrize("axis, value, message", [("theta", 2.0, "theta must be in (0, pi/2)"), ("varphi", 0.5, "varphi must be in (-pi, 0]"),
-                                                  ("mu", -1.0, "mu must be in [0, inf)"), ("Psi", (), "Psi must be a non-empty")], ids=str)
+                                                  ("mu", -1.0, "mu must be in [0, 1000]"), ("Psi", (), "Psi must be a non-empty")], ids=str)
 def test_grid_rejects_values_outside_the_paper(axis, value, message):
     kw = {"theta": (0.5,), "varphi": (-1.0,), "Theta": (0.0,), "Psi": (0.0,), "mu": (1.0,)}
     kw[axis] = value

@@ -73,3 +73,47 @@ def test_gb_samples_are_on_the_manifold(capsys):
         Th = np.array([s["Theta"] for s in c["samples"]])
         assert np.max(np.abs(analytic.b(1.8997, Th, th))) < 1e-12
         assert np.max(np.abs(analytic.p(th, vp, 6.0, 3.0))) < 1e-12
+
+
+def test_det_K_zeros_do_not_depend_on_the_samples_printed(capsys):
+    """The zeros are bracketed on the command's own resolution: asking to see 1, 2 or 9 samples finds the same four."""
+    found = []
+    for n in ("1", "2", "9"):
+        assert main(["gb", "--mu", "1.7", "--Psi", "0", "--eta", "2", "--samples", n, "--json"]) == 0
+        doc = json.loads(capsys.readouterr().out)
+        assert all(len(c["samples"]) == int(n) for c in doc["curves"])
+        found.append([(z["theta"], z["varphi"], z["Theta"]) for c in doc["curves"] for z in c["det_K_zeros"]])
+    assert len(found[0]) == 4 and len({tuple(np.round(np.ravel(f), 12)) for f in found}) == 1
+
+
+def test_a_start_on_p_0_at_mu_P_is_on_the_boundary_and_does_not_jam(capsys):
+    """At mu = mu_P, theta_P, varphi = -pi/2 p = 0 exactly (computed -8.9e-16): no paradox exists (p_min = 0).
+
+    classify names the boundary and the modes either side of it; the run does not jam at t = 0: F_z = -b/p is
+    unbounded there, so the slip stops at once (STICK at t = 0, as MuJoCo's rod sticks)."""
+    from crosscheck import critical
+
+    th, mu = critical.theta_P(3.0), critical.mu_P(3.0)
+    state = ["--theta", repr(float(th)), "--varphi", repr(-np.pi / 2), "--Theta", "0", "--Psi", "0", "--mu", repr(float(mu))]
+    assert main(["classify", *state, "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert abs(doc["p"]) <= doc["p_rounding"] and doc["p"] != 0.0
+    assert doc["mode"] == "BOUNDARY" and doc["boundary"] == "p = 0" and doc["modes_either_side"] == ["INCONSISTENT", "SLIP"]
+    assert doc["F_z"] is None
+    assert main(["slip", *state, "--eta", "1", "--json"]) == 0
+    r = json.loads(capsys.readouterr().out)
+    assert r["outcome"] == "STICK" and r["time"] == 0.0
+    # just above mu_P the paradox exists and the same start is inside it: a JAM at t = 0
+    assert main(["slip", *state[:-1], repr(float(mu) * 1.01), "--eta", "1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["outcome"] == "JAM"
+
+
+def test_a_start_slower_than_the_stick_speed_is_stuck():
+    """eta = 1e-300 once gave a JAM at t = 1.7e-304: a start below the run's own stick speed is STICK at t = 0."""
+    from crosscheck.slipping import slip_until_event
+    from crosscheck.state import SlipState
+    from crosscheck.tolerances import STICK_SPEED
+
+    for eta in (1e-300, 0.5 * STICK_SPEED.atol):
+        r = slip_until_event(SlipState(theta=1.1031, varphi=-1.9233, Theta=0.9, Psi=0.0, eta=eta), 1.4, 3.0)
+        assert r.outcome.name == "STICK" and r.time == 0.0 and r.reason == "start"

@@ -180,7 +180,7 @@ def test_bad_options(kwargs, message):
 
 
 def test_bad_mu():
-    with pytest.raises(ValueError, match=r"mu must be in \[0, inf\); got -1.0"):
+    with pytest.raises(ValueError, match=r"mu must be in \[0, 1000\]; got -1.0"):
         simulate(ROD, SlipState(0.5, -1.0, 0.0, 0.0, 1.0), -1.0, horizon=0.1)
 
 

@@ -77,7 +77,7 @@ def test_bad_sweep_input():
         sweep(ROD, [s], 0.5, horizon=0.1, dt=1e-4, progress=False)
     with pytest.raises(ValueError, match="states\\[1\\] must be a SlipState; got dict"):
         sweep(ROD, [s, {"theta": 0.5}], 0.5, horizon=0.1, progress=False)
-    with pytest.raises(ValueError, match="mu must be in \\[0, inf\\); got -0.5"):
+    with pytest.raises(ValueError, match="mu must be in \\[0, 1000\\]; got -0.5"):
         sweep(ROD, [s, s], [0.5, -0.5], horizon=0.1, progress=False)
     with pytest.raises(ValueError, match="states must contain at least one SlipState"):
         sweep(ROD, [], 0.5, horizon=0.1, progress=False)

@@ -119,8 +119,8 @@ def test_rigid_engine_from_a_planar_impasse_converges_to_keller_at_first_order(m
 
 @pytest.mark.parametrize("kwargs, message", [
     ({"restitution": 1.5}, r"restitution must be in \[0, 1\]; got 1.5"),
-    ({"mu": -1.0}, r"mu must be in \[0, inf\); got -1.0"),
-    ({"alpha": 0.0}, r"alpha must be in \(0, inf\); got 0.0"),
+    ({"mu": -1.0}, r"mu must be in \[0, 1000\]; got -1.0"),
+    ({"alpha": 0.0}, r"alpha must be in \[0.001, 1000\]; got 0.0"),
 ], ids=["restitution", "mu", "alpha"])
 def test_bad_input_is_named(kwargs, message):
     args = {"state": planar_impasse(1.4, 0.5, ALPHA), "mu": 1.4, "alpha": ALPHA, **kwargs}

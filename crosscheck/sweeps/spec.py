@@ -87,7 +87,7 @@ def _values(key: str, value: Any, **limits) -> list[float]:
             raise SpecError(f"{key} must not be an empty list")
         out = [_number(f"{key}[{i}]", v) for i, v in enumerate(value)]
     else:
-        out = [_number(key, value)]
+        out = [_number(key, value, **limits)]
     return [_number(key, v, **limits) for v in out]
 
 

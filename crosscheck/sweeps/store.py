@@ -104,16 +104,21 @@ class Store:
             return None
         try:
             m = json.loads(self.manifest_path.read_text())
-        except json.JSONDecodeError as e:
+        except (json.JSONDecodeError, UnicodeDecodeError) as e:
             raise StoreError(f"manifest {str(self.manifest_path)!r} is damaged ({e}); use --fresh to start the sweep again") from None
+        missing = [k for k in ("format", "spec", "spec_sha256", "n_chunks") if not isinstance(m, dict) or k not in m]
+        if missing:
+            raise StoreError(f"manifest {str(self.manifest_path)!r} is damaged (no {', '.join(missing)}); use --fresh to start the sweep again")
         m["chunks"], m["failed"] = {}, {}
         if self.chunks.is_dir():
             for p in self.chunks.glob("chunk-*.json"):
                 cid = str(int(p.name[6:12]))
                 try:
                     rec = json.loads(p.read_text())
-                except json.JSONDecodeError:
+                except (json.JSONDecodeError, UnicodeDecodeError):
                     continue  # a damaged record: the chunk counts as not finished
+                if not isinstance(rec, dict) or not (isinstance(rec.get("file"), str) and isinstance(rec.get("sha256"), str) or "error" in rec):
+                    continue  # not a record this store wrote: the chunk counts as not finished
                 if p.name.endswith(".failed.json"):
                     m["failed"][cid] = rec["error"]
                 else:

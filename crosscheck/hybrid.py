@@ -61,7 +61,7 @@ class HybridResult:
         return [s.impact for s in self.segments if s.impact is not None]
 
     def as_dict(self) -> dict:
-        fin = lambda x: x if math.isfinite(x) else None  # noqa: E731
+        fin = lambda x: x if x is not None and math.isfinite(x) else None  # noqa: E731
         return {
             "outcome": self.outcome.name, "time": self.time, "reason": self.reason,
             "segments": [{"t0": s.t0, "t1": s.t1, "start": s.start.as_dict(), "event": s.slip.outcome.name, "reason": s.slip.reason,

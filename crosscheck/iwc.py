@@ -76,8 +76,8 @@ class Impact:
       state: the state before the impulse.
       mu, alpha, restitution: the parameters.
       Theta, Psi: rates after the impulse.
-      eta, varphi: slip speed and slip angle of the tip after it (varphi NaN
-        where eta = 0).
+      eta, varphi: slip speed and slip angle of the tip after it (varphi None
+        where eta = 0: a stuck tip has no slip direction).
       w: normal velocity of the tip after it (0 for e = 0; > 0 lifts off).
       normal_impulse: P_f; compression_impulse: P_c.
       tangential_impulse: (2,) world x, y [m g / omega].
@@ -93,7 +93,7 @@ class Impact:
     Theta: float
     Psi: float
     eta: float
-    varphi: float
+    varphi: float | None
     w: float
     normal_impulse: float
     compression_impulse: float
@@ -259,5 +259,5 @@ def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.
     stuck = eta1 <= 10 * stop
     energy = 0.5 * float(v0 @ M @ v0 - v1 @ M @ v1)
     return Impact(state=state, mu=mu, alpha=alpha, restitution=e, Theta=float(d["Theta"]), Psi=float(d["Psi"]), eta=0.0 if stuck else eta1,
-                  varphi=math.nan if stuck else float(d["varphi"]), w=float(u1[2]), normal_impulse=float(P), compression_impulse=float(P_c),
+                  varphi=None if stuck else float(d["varphi"]), w=float(u1[2]), normal_impulse=float(P), compression_impulse=float(P_c),
                   tangential_impulse=L[:2].copy(), phases=tuple(phases), energy_lost=energy, v_before=v0, v_after=v1)

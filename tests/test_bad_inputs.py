@@ -98,3 +98,65 @@ def test_random_values_never_give_a_traceback_or_a_non_number(command):
         else:
             assert code == 2 and audit.judge_message(err, opt.replace("-", "_")), f"{argv}: exit {code}: {err}"
     assert answered >= 1, "every draw was refused: the property test tested nothing"
+
+
+def _api_draw(rng: np.random.Generator):
+    u = rng.uniform()
+    if u < 0.1:
+        return float(rng.choice([math.nan, math.inf, -math.inf]))
+    if u < 0.15:
+        return 0.0
+    return float(10.0 ** rng.uniform(-320, 308) * rng.choice([-1.0, 1.0]))
+
+
+def _finite_numbers(obj) -> bool:
+    """Every float in a result (SlipResult, HybridResult, arrays, scalars) is finite."""
+    from dataclasses import fields, is_dataclass
+
+    if is_dataclass(obj):
+        return all(_finite_numbers(getattr(obj, f.name)) for f in fields(obj))
+    if isinstance(obj, (list, tuple)):
+        return all(_finite_numbers(x) for x in obj)
+    if isinstance(obj, np.ndarray) and obj.dtype.kind == "f":
+        return bool(np.all(np.isfinite(obj)))
+    if isinstance(obj, (float, np.floating)):
+        return math.isfinite(obj)
+    return True
+
+
+def _api_functions():
+    from crosscheck import analytic, critical, hybrid
+    from crosscheck.slipping import slip_until_event
+    from crosscheck.state import SlipState
+
+    ok = dict(theta=1.1031, varphi=-1.9233, Theta=0.9, Psi=0.0, eta=2.0, mu=1.4, alpha=3.0)
+
+    def state(kw):
+        return SlipState(**{k: kw[k] for k in ("theta", "varphi", "Theta", "Psi", "eta")})
+
+    return {
+        "analytic.b": (lambda kw: analytic.b(kw["Psi"], kw["Theta"], kw["theta"]), ("Psi", "Theta", "theta")),
+        "analytic.p": (lambda kw: analytic.p(kw["theta"], kw["varphi"], kw["mu"], kw["alpha"]), ("theta", "varphi", "mu", "alpha")),
+        "kinematic_case": (lambda kw: critical.kinematic_case(kw["mu"], kw["Psi"], kw["alpha"]), ("mu", "Psi", "alpha")),
+        "slip_until_event": (lambda kw: slip_until_event(state(kw), kw["mu"], kw["alpha"], t_max=0.5), tuple(ok)),
+        "hybrid.run": (lambda kw: hybrid.run(state(kw), kw["mu"], kw["alpha"], horizon=0.5), tuple(ok)),
+    }, ok
+
+
+@pytest.mark.parametrize("name", ["analytic.b", "analytic.p", "kinematic_case", "slip_until_event", "hybrid.run"])
+def test_random_api_values_never_give_an_exception_other_than_valueerror_or_a_nan(name):
+    functions, ok = _api_functions()
+    fn, params = functions[name]
+    rng = np.random.default_rng([2026, len(name)])
+    answered = 0
+    for _ in range(40):
+        param = str(rng.choice(params))
+        value = _api_draw(rng)
+        try:
+            result = fn({**ok, param: value})
+        except ValueError as e:
+            assert audit.judge_message(str(e), param), f"{name}({param}={value!r}): {e}"
+            continue
+        answered += 1
+        assert _finite_numbers(result), f"{name}({param}={value!r}) returned a non-finite number: {result!r}"
+    assert answered >= 1, "every draw was refused: the property test tested nothing"

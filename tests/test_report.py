@@ -304,3 +304,14 @@ def test_findings_come_first_with_a_line_per_engine(quick):
         assert f"{k} of {n} rated" in f.text and f.verdict in ("agrees", "disagrees", "inconclusive")
     md = (out / "report.md").read_text()
     assert md.index("## Findings") < md.index("## Summary") and all(f.text in md for f in found)
+
+
+def test_the_committed_quick_report_is_current(quick):
+    """A fresh quick report's numbers equal those of the committed reference reports/quick (timings and provenance
+    aside): a change that moves a number must regenerate it (`crosscheck report --quick --out reports/quick`)."""
+    from crosscheck.report.compare_data import compare
+
+    out, _ = quick
+    committed = Path(__file__).resolve().parents[1] / "reports" / "quick" / "data"
+    differ = {k: v[:3] for k, v in compare(committed, out / "data").items() if v}
+    assert not differ, f"reports/quick is stale; regenerate it: {differ}"

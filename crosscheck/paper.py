@@ -16,7 +16,7 @@ from typing import Callable
 
 from crosscheck import critical as cr
 
-__all__ = ["PrintedValue", "PRINTED", "FIG13_INITIAL_CONDITIONS", "GB_POINTS"]
+__all__ = ["PrintedValue", "PRINTED", "FIG20_INITIAL_CONDITIONS", "GB_POINTS", "PaperFigure", "FIGURES"]
 
 
 @dataclass(frozen=True)
@@ -100,23 +100,69 @@ PRINTED: tuple[PrintedValue, ...] = (
 )
 
 #: Points (theta_GB, varphi_GB) printed in Figs. planesmu1p4_w_traj (mu=1.4) and
-#: planesmu1p7_w_traj (mu=1.7), alpha = 3; they lie on p = 0.  Fig. 9(d) prints
+#: planesmu1p7_w_traj (mu=1.7), alpha = 3; they lie on p = 0.  Fig. 13(d) prints
 #: varphi = +2.1107, outside (-pi, 0]; -2.1107 is the value on p = 0 (a sign typo).
 GB_POINTS: tuple[tuple[float, str, str, str], ...] = (
-    (1.4, "0.9702", "-1.5708", "Fig. 8(a), P+"),
-    (1.4, "1.0094", "-1.7832", "Fig. 8(b)"),
-    (1.4, "1.0953", "-1.8793", "Fig. 8(c)"),
-    (1.4, "1.1872", "-1.7978", "Fig. 8(d)"),
-    (1.4, "1.2209", "-1.5708", "Fig. 8(e), Q+"),
-    (1.7, "0.7692", "-1.5708", "Fig. 9(a)"),
-    (1.7, "0.8517", "-1.9969", "Fig. 9(b)"),
-    (1.7, "1.0227", "-2.2143", "Fig. 9(c)"),
-    (1.7, "1.2562", "2.1107", "Fig. 9(d), printed with + sign"),
-    (1.7, "1.3333", "-1.5708", "Fig. 9(e)"),
+    (1.4, "0.9702", "-1.5708", "Fig. 12(a), P+"),
+    (1.4, "1.0094", "-1.7832", "Fig. 12(b)"),
+    (1.4, "1.0953", "-1.8793", "Fig. 12(c)"),
+    (1.4, "1.1872", "-1.7978", "Fig. 12(d)"),
+    (1.4, "1.2209", "-1.5708", "Fig. 12(e), Q+"),
+    (1.7, "0.7692", "-1.5708", "Fig. 13(a)"),
+    (1.7, "0.8517", "-1.9969", "Fig. 13(b)"),
+    (1.7, "1.0227", "-2.2143", "Fig. 13(c)"),
+    (1.7, "1.2562", "2.1107", "Fig. 13(d), printed with + sign"),
+    (1.7, "1.3333", "-1.5708", "Fig. 13(e)"),
 )
 
 #: Initial conditions of Fig. my_ugly_simulations (alpha = 3, mu = 1.4).
-FIG13_INITIAL_CONDITIONS = (
+FIG20_INITIAL_CONDITIONS = (
     dict(theta=1.1067, eta=2.1307, varphi=-1.8913, Psi=-0.1027, Theta=0.9000),
     dict(theta=1.1031, eta=2.0, varphi=-1.9233, Psi=0.0, Theta=0.9000),
+)
+
+
+@dataclass(frozen=True)
+class PaperFigure:
+    """One figure of the paper as it prints it (the order of its LaTeX figure environments)."""
+
+    number: int
+    labels: tuple[str, ...]  # its \label{...}s, panels first
+    shows: str
+    sections: tuple[str, ...]  # the report sections that recompute it (slugs); () if none
+    why_not: str = ""  # why the report does not draw it, when ``sections`` is empty or partial
+
+
+#: Every figure of the paper, numbered as printed, with where the report recomputes it.
+FIGURES = (
+    PaperFigure(1, ("fig:me2",), "the rod AB on the rough plane, its frames and angles", (), "a schematic drawing, not computed from the model"),
+    PaperFigure(2, ("fig:rod_orientations", "fig:badregion", "fig:badsection"), "(a) rod orientations with p < 0 in physical space, "
+                "(b) the region p < 0 in (theta, varphi), (c) its section", ("p_region",),
+                "panel (b) only: (a) and (c) are not drawn yet"),
+    PaperFigure(3, ("fig:pandb", "fig:p3.2", "fig:p3s"), "(a) the four modes in the (p, b) plane, (b) the 3D picture at Psi = 0", ("mode_maps",),
+                "the 3D surfaces are drawn as their sections at varphi = -pi/2 and Theta = 0"),
+    PaperFigure(4, ("fig:p3.3", "fig:p3.4", "fig:p3.5", "fig:p3.6", "fig:p3ss"), "the 3D picture as Psi grows (1.56, 1.7, 2.2, 5)", ("mode_maps",),
+                "as sections, like Fig. 3"),
+    PaperFigure(5, ("fig:psi1.61192D", "fig:psi1.61193D", "fig:psi1.6119"), "the modes at Psi = Psi_L", ("mode_maps",), "as sections, like Fig. 3"),
+    PaperFigure(6, ("fig:psi1.9482D", "fig:psi1.9483D", "fig:psi1.9483"), "the modes at Psi = Psi_1", ("mode_maps",), "as sections, like Fig. 3"),
+    PaperFigure(7, ("fig:psi3.00972D", "fig:psi3.00973D", "fig:psi3.0097"), "the modes at Psi = Psi_2", ("mode_maps",), "as sections, like Fig. 3"),
+    PaperFigure(8, ("fig:mechanisms",), "mechanisms I-III as Psi grows", ("mechanisms",), "a schematic; the report draws the mechanisms' regions (Fig. 9b)"),
+    PaperFigure(9, ("fig:muPsicases", "fig:alphamumech", "fig:CaseIs"), "(a) kinematic cases 1-7 in (mu, Psi), (b) mechanisms in (alpha, mu)",
+                ("kinematic_cases", "mechanisms")),
+    PaperFigure(10, ("fig:Psistheta",), "critical angles theta_L, theta_1, theta_2 against mu", ("critical_angles",)),
+    PaperFigure(11, ("fig:GBmanifoldmu1p4", "fig:GBmanifoldmu6", "fig:GBs_bif3"), "the GB manifold at mu = 1.4 and mu = 6", ("gb_manifold",)),
+    PaperFigure(12, ("fig:planesmu1p4_w_traj",), "eigenvectors of K in the (p, b) plane at mu = 1.4", ("gb_eigenvectors",)),
+    PaperFigure(13, ("fig:planesmu1p7_w_traj",), "eigenvectors of K in the (p, b) plane at mu = 1.7", ("gb_eigenvectors",)),
+    PaperFigure(14, ("fig:pp1", "fig:pp2", "fig:pp8", "fig:ppsThetapos"), "local (p, b) dynamics near the GB manifold, Theta > 0", (),
+                "sketches in the paper; computed orbits at GB points of each type are not drawn yet"),
+    PaperFigure(15, ("fig:pp3", "fig:pp6", "fig:pp5", "fig:pp4", "fig:pp7", "fig:ppsThetaneg"), "local (p, b) dynamics near the GB manifold, Theta < 0", (),
+                "as Fig. 14"),
+    PaperFigure(16, ("fig:expan",), "the quartic in Psi against its asymptotic form near mu_P", ("gb_quartic",)),
+    PaperFigure(17, ("fig:stabilty_on_GB",), "stability of the points of the GB manifold", ("gb_manifold",)),
+    PaperFigure(18, ("fig:determinant_bif",), "zeros of det K on the GB manifold (alpha = 3, mu = 1.7, eta = 10)", ("gb_det_zeros",)),
+    PaperFigure(19, ("fig:evsb", "fig:pandora"), "eigenvectors along the GB manifold at alpha = 3, mu = 1.7, eta = 10, Psi = 1.062", (),
+                "not drawn yet (computable from crosscheck.gb)"),
+    PaperFigure(20, ("fig:my_ugly_simulations",), "slipping trajectories near the separatrix (initial conditions IC1, IC2)", ("gb_separatrix",)),
+    PaperFigure(21, ("fig:mechbifs",), "codimension-1 and -2 bifurcations between the kinematic cases in (mu, Psi)", (),
+                "a schematic in the paper; the computed case boundaries are in Fig. 9a"),
 )

@@ -20,9 +20,18 @@ __all__ = ["Tolerance", "all_tolerances"]
 
 @dataclass(frozen=True)
 class Tolerance:
+    """An allowance atol + rtol |want| and where its numbers come from.
+
+    ``guard`` marks a regression guard: a threshold set from a measured
+    spread (so that a change which moves the measurement is noticed), not a
+    bound derived from the paper, the integrator or the timestep.  Reports
+    label the two kinds differently.
+    """
+
     atol: float
     rtol: float
     why: str
+    guard: bool = False
 
     def allowance(self, want) -> np.ndarray:
         """atol + rtol |want|: the largest |got - want| that passes."""
@@ -167,7 +176,7 @@ MUJOCO_DJV_KAPPA = Tolerance(atol=0.01, rtol=0.0, why="bisection on Psi + O(dt) 
 #: counting as agreement.  Measured 0.12 +- 0.026 (range 0.08-0.17) over 7 seeds of 300 states (the
 #: default of validate), so 0.2 is ~3 sd above the mean (sd ~0.06 at 30 states); the disagreement
 #: sits next to the analytic event boundaries, in the first few tau and off the planar section.
-MUJOCO_EVENT_DISAGREEMENT = Tolerance(atol=0.2, rtol=0.0, why="measured 0.12 +- 0.026 (n = 300): soft contact + friction skew")
+MUJOCO_EVENT_DISAGREEMENT = Tolerance(atol=0.2, rtol=0.0, why="regression guard: measured 0.12 +- 0.026 (n = 300): soft contact + friction skew", guard=True)
 
 #: Median |t_MuJoCo - t_analytic| over states where both report the same event: the soft contact's
 #: response time tau = 0.06 (its force builds up over tau; STICK is read at eta = tau).  Measured
@@ -188,7 +197,7 @@ MUJOCO_NO_JAM_BELOW_MU_P = Tolerance(atol=0.5, rtol=0.0, why="integer count must
 #: mu = 1.4, 1.7, 6.  Measured 0.37 +- 0.06 over 8 seeds of 45 states (max 0.51); validate pools 90
 #: states (binomial sd 0.05), so 0.55 is ~3.5 sd above the mean.  MuJoCo delivers the impulse itself
 #: (JAM) in 7-40 % of them; otherwise its soft contact ends the slip by sticking or lifting off.
-MUJOCO_COROLLARY_STOP = Tolerance(atol=0.55, rtol=0.0, why="measured 0.37 +- 0.06 (sd 0.05 at n = 90): soft contact ends the slip by stick/lift-off")
+MUJOCO_COROLLARY_STOP = Tolerance(atol=0.55, rtol=0.0, why="regression guard: measured 0.37 +- 0.06 (sd 0.05 at n = 90): soft contact ends the slip by stick/lift-off", guard=True)
 
 # The rigid engine (crosscheck.engines.pinocchio): a time-stepper on Pinocchio's NCP solvers.
 
@@ -232,11 +241,11 @@ RIGID_IWC_ORDER = Tolerance(atol=0.05, rtol=0.0, why="one step = the IWC + O(dt)
 #: -b/p ~ (t_jam - t)^(-1/2), runs out within the last step when the analytic slip speed at the jam is
 #: below ~ mu |b| sqrt(dt); those 35 become JAMs as dt shrinks: 0, 16, 30 of 35 at dt = 1e-3, 3e-4,
 #: 1e-4.  A regression guard from measured values, not a derived bound.
-RIGID_EVENT_DISAGREEMENT = Tolerance(atol=0.15, rtol=0.0, why="regression guard: measured 0.033 (n = 300, seed 0), on event boundaries")
+RIGID_EVENT_DISAGREEMENT = Tolerance(atol=0.15, rtol=0.0, why="regression guard: measured 0.033 (n = 300, seed 0), on event boundaries", guard=True)
 
 #: Median |t_engine - t_analytic| over states with the same event: a first-order stepper shifts an
 #: event by O(dt) = 1e-3 (measured 0.00155 at seed 0, n = 300: lift-offs and jams, O(dt)-O(sqrt(dt))).
-RIGID_EVENT_TIME = Tolerance(atol=0.01, rtol=0.0, why="regression guard: O(dt)-O(sqrt dt) event shift (measured 0.0016)")
+RIGID_EVENT_TIME = Tolerance(atol=0.01, rtol=0.0, why="regression guard: O(dt)-O(sqrt dt) event shift (measured 0.0016)", guard=True)
 
 #: Rigid JAMs among random slipping states below mu_P: none (p > 0 for every slip direction).
 RIGID_NO_JAM_BELOW_MU_P = Tolerance(atol=0.5, rtol=0.0, why="integer count must be 0: p > 0 for all varphi below mu_P")
@@ -245,7 +254,7 @@ RIGID_NO_JAM_BELOW_MU_P = Tolerance(atol=0.5, rtol=0.0, why="integer count must 
 #: STICK or LIFTOFF) within RIGID_JAM_WINDOW = 0.05 of the analytic jam.  Measured 0.056 at seed 0
 #: (n = 90) and 0.067 at seed 1; the JAMs alone are 0.83 and 0.74 of the states (mu = 6: 0.73 and
 #: 0.57; the rest stick at the jam row, as in RIGID_EVENT_DISAGREEMENT).
-RIGID_COROLLARY_STOP = Tolerance(atol=0.2, rtol=0.0, why="regression guard: measured 0.056-0.067 (n = 90, seeds 0, 1)")
+RIGID_COROLLARY_STOP = Tolerance(atol=0.2, rtol=0.0, why="regression guard: measured 0.056-0.067 (n = 90, seeds 0, 1)", guard=True)
 
 #: The tolerances of the contact-event checks (crosscheck.studies.validate) per engine: an engine
 #: is validated on events only with its own entry here (its own derivations or measurements).

@@ -20,7 +20,7 @@ def test_gb_json_matches_the_api(capsys):
     first = got["curves"][0]["samples"][0]  # P+ = (theta_1, -pi/2), a stable node (eq. K2d)
     assert first["type"] == "STABLE_NODE" and first["theta"] == pytest.approx(0.9702, abs=1e-4)
     zeros = got["curves"][0]["det_K_zeros"]
-    assert len(zeros) == 2 and zeros[0]["theta"] == pytest.approx(1.0953, abs=1e-4)  # Fig. 8(c)
+    assert len(zeros) == 2 and zeros[0]["theta"] == pytest.approx(1.0953, abs=1e-4)  # Fig. 12(c)
     assert got["kinematic_case"] == 3
 
 

@@ -150,7 +150,7 @@ def test_quartic_roots_are_the_det_K_zeros_along_the_manifold(mu, Psi, eta):
     assert found >= 2
 
 
-# Fig. 10 setting: alpha = 3, eta = 1, mu = mu_P (1 + eps^2 mu_hat), varphi = -pi/2 + eps varphi_hat
+# Fig. 16 setting: alpha = 3, eta = 1, mu = mu_P (1 + eps^2 mu_hat), varphi = -pi/2 + eps varphi_hat
 def _quartic_root_errors(eps, mu_hat=1.0, varphi_hat=0.8):
     mu = float(mu_P(ALPHA)) * (1 + eps**2 * mu_hat)
     varphi = -HALF_PI + eps * varphi_hat
@@ -352,7 +352,7 @@ def test_printed_GB_points_of_figs_8_9_lie_on_p_0(mu, theta, varphi):
 
 
 def test_fig_9d_prints_varphi_with_the_wrong_sign():
-    # Fig. 9(d) prints (1.2562, 2.1107): outside (-pi, 0] and far from p = 0; -2.1107 is on it
+    # Fig. 13(d) prints (1.2562, 2.1107): outside (-pi, 0] and far from p = 0; -2.1107 is on it
     assert analytic._p(1.2562, 2.1107, 1.7, ALPHA) > 2.5
     assert abs(analytic.p(1.2562, -2.1107, 1.7, ALPHA)) < 1e-4
 

@@ -57,3 +57,23 @@ def test_ci_runs_the_readme_test_command():
     assert "pytest" in test_command and "pytest" not in readme_lines[0]
     ci = (root / ".ci" / "run").read_text().splitlines()
     assert test_command in ci
+
+
+def test_version_and_required_options_in_usage(capsys):
+    from crosscheck import __version__
+
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out == f"crosscheck {__version__}\n"
+    assert main(["slip", "--help"]) == 0
+    usage = capsys.readouterr().out
+    # required options are shown without brackets, optional ones with; --theta and --Theta have distinct metavars
+    assert "--theta THETA --varphi VARPHI --Theta THETA_DOT" in " ".join(usage.split()) and "[--alpha ALPHA]" in usage
+
+
+def test_only_section_into_a_new_directory_renders_that_section_alone(tmp_path, capsys):
+    out = tmp_path / "new"
+    assert main(["report", "--quick", "--only", "critical_angles", "--out", str(out), "--no-progress"]) == 0
+    printed = capsys.readouterr().out
+    assert "FAILED" not in printed and "not run" not in printed
+    md = (out / "report.md").read_text()
+    assert "## Critical angles" in md and "## Region p < 0" not in md

@@ -57,6 +57,9 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="crosscheck", description="Cross-validation of the 3D Painleve rod: analytic vs Pinocchio vs MuJoCo.")
+    from crosscheck import __version__
+
+    parser.add_argument("--version", action="version", version=f"crosscheck {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for name in COMMAND_MODULES:
         importlib.import_module(name).register(sub)

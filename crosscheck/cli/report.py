@@ -58,6 +58,10 @@ def _locked(args, report, out: Path, sections, selected, seed: int, workers, sch
         if kept:
             print(f"kept {len(kept)} finished sections ({', '.join(kept)}); --fresh recomputes them")
     t1 = time.perf_counter()
+    if args.only:  # a partial run into a new directory renders what it has, not the sections it was not asked for
+        from crosscheck.report.pipeline import read_status
+
+        sections = [s for s in sections if s in selected or read_status(out, s.slug) is not None]
     summary = report.render(out, sections, progress=progress)
     t2 = time.perf_counter()
     print(f"report: {summary.html}  (markdown: {summary.markdown})")
@@ -67,13 +71,20 @@ def _locked(args, report, out: Path, sections, selected, seed: int, workers, sch
     return 1 if summary.failures else 0
 
 
+def _section_slugs() -> list[str]:
+    from crosscheck.report.sections import SECTIONS
+
+    return [s.slug for s in SECTIONS]
+
+
 def register(sub) -> None:
     r = sub.add_parser("report", help="run every comparison and write an HTML + Markdown report with figures and data")
     r.add_argument("--out", default=None, help="report directory (default: reports/latest; the committed reference is written only with --out reports/quick)")
     r.add_argument("--quick", action="store_true", help="small grids and short horizons (about 1.5 minutes on 2 cores)")
     r.add_argument("--from-results", action="store_true", help="rebuild the report from DIR/data without running anything")
     r.add_argument("--seed", type=str, default="0", help="master seed of numpy.random.default_rng, >= 0 (each section derives its own; default 0)")
-    r.add_argument("--only", action="append", metavar="SECTION", help="run only this section (repeatable); the others keep their saved results")
+    r.add_argument("--only", action="append", metavar="SECTION",
+                   help=f"run only this section (repeatable); the others keep their saved results. SECTION is one of: {', '.join(_section_slugs())}")
     r.add_argument("--no-progress", action="store_true", help="no progress bars")
     r.add_argument("--fresh", action="store_true", help="recompute every section (default: keep those finished by the same code)")
     r.add_argument("--scheduler", default=None, help="run the engine sweeps on a Dask cluster: 'local' or a scheduler address tcp://host:8786")

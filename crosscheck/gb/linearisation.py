@@ -269,7 +269,7 @@ def eigen(K) -> tuple[np.ndarray, np.ndarray]:
 
 
 class Quadrant(IntEnum):
-    """Where a real eigen-direction lies in the (p, b) plane (Theorem 4.1, Figs. 8-9)."""
+    """Where a real eigen-direction lies in the (p, b) plane (Theorem 4.1, Figs. 12-13)."""
 
     I_III = 1  # first and third quadrants (p b > 0)
     II_IV = 2  # second and fourth quadrants (p b < 0)

@@ -82,7 +82,7 @@ plt.rcParams.update(
 )
 
 
-#: Fig. 11's colours for the type of a GB point (md1 stable node, md2 saddle, md3 unstable node,
+#: Fig. 17's colours for the type of a GB point (md1 stable node, md2 saddle, md3 unstable node,
 #: md5 unstable focus); the paper shows no stable focus or degenerate point: grey and black here.
 GB_TYPE_COLORS = {0: LINE_COLORS[0], 1: LINE_COLORS[1], 2: LINE_COLORS[2], 3: (0.6, 0.6, 0.6), 4: LINE_COLORS[4], 5: (0, 0, 0)}
 
@@ -103,7 +103,7 @@ def outcome_legend(ax, codes=None, **kw):
 
 
 def pb_plane(ax, p_lim: float, b_lim: float) -> None:
-    """Shade the (p, b) plane by mode as Figs. 8 and 9: p > 0, b < 0 slipping; p > 0, b > 0 lift-off;
+    """Shade the (p, b) plane by mode as Figs. 12 and 13: p > 0, b < 0 slipping; p > 0, b > 0 lift-off;
     p < 0, b < 0 inconsistent; p < 0, b > 0 indeterminate."""
     for (x0, y0), m in (((0, -1), Mode.SLIP), ((0, 0), Mode.LIFTOFF), ((-1, -1), Mode.INCONSISTENT), ((-1, 0), Mode.INDETERMINATE)):
         ax.add_patch(plt.Rectangle((x0 * p_lim, y0 * b_lim), p_lim, b_lim, color=MODE_COLORS[m], alpha=0.55, lw=0))

@@ -131,9 +131,23 @@ def _badge(state: str) -> str:
     return {"ok": "ok", "skipped": "skipped", "failed": "FAILED", "unfinished": "UNFINISHED", "not run": "NOT RUN"}[state]
 
 
-_NUMBERING = ("Figure numbers are this report's own, not the printed paper's (Fig. 2b p < 0, 3a modes, 5a cases, 5b mechanisms, 6 critical angles, 7 and 11 GB manifolds, "
-              "8 and 9 eigenvectors, 10 quartic, 12 zeros of det K, 13 separatrix); each section also names the paper's LaTeX labels (fig:...), "
-              "which are unambiguous.")
+_NUMBERING = ("Figure numbers are the printed paper's (the order of its figure environments), with panel letters; "
+              "the table of the paper's figures below says which ones this report recomputes.")
+
+
+def _figures_table(views: list[SectionView]) -> Table:
+    """The paper's figures: where the report recomputes each, or why it does not (``crosscheck.paper.FIGURES``)."""
+    from crosscheck.paper import FIGURES
+
+    titles = {v.section.slug: v.section.title for v in views}
+    rows, cls = [], []
+    for f in FIGURES:
+        where = ", ".join(titles.get(s, s) for s in f.sections)
+        rows.append([f"Fig. {f.number}", f.shows, where or "not recomputed", f.why_not, ", ".join(f.labels)])
+        cls.append("ok" if f.sections and not f.why_not else ("known" if f.sections else "skip"))
+    return Table(caption="The paper's figures, numbered as printed: where this report recomputes each, and what it leaves out and why.",
+                 header=["figure", "shows", "recomputed in", "not drawn / why", "LaTeX labels"], rows=rows, data=[], row_class=cls)
+
 
 # ------------------------------------------------------------------- html ---
 
@@ -142,7 +156,7 @@ body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;max-width:11
 h1{font-size:1.6em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:2em}
 table{border-collapse:collapse;margin:.6em 0;font-size:.88em}
 th,td{border:1px solid #ccc;padding:.25em .5em;text-align:left;vertical-align:top}
-th{background:#f3f3f3}tr.fail td{background:#fdd}tr.known td{background:#fff3c4}tr.ok td{background:#fff}
+th{background:#f3f3f3}tr.fail td{background:#fdd}tr.known td{background:#fff3c4}tr.ok td{background:#fff}tr.guard td{background:#e8f0fe}tr.skip td{background:#f2f2f2;color:#666}
 .badge{font-weight:bold;padding:0 .4em;border-radius:3px}.b-ok{background:#d4f4d4}.b-skipped{background:#e8e8e8}.b-FAILED,.b-UNFINISHED,.b-NOTRUN{background:#f7c6c6}
 figure{margin:1em 0}figure img{max-width:100%;border:1px solid #eee}figcaption{font-size:.9em;color:#444}
 .data{font-size:.85em}.data a{margin-right:.8em}
@@ -192,15 +206,18 @@ def _html_error(v: SectionView) -> str:
 def _checks_table(checks: list[dict]):
     rows, cls = [], []
     for c in checks:
+        kind = c.get("kind", "physics")
         if c["passed"]:
-            verdict, k = "passed", "ok"
+            verdict, k = "passed", "guard" if kind == "regression guard" else "ok"
         elif c.get("known_discrepancy"):
             verdict, k = "KNOWN DISCREPANCY: " + c["known_discrepancy"], "known"
         else:
             verdict, k = "FAILED", "fail"
-        rows.append([c["name"], _short(c.get("value")), _short(c.get("allowance")), verdict, c.get("detail", "")])
+        rows.append([c["name"], kind, _short(c.get("value")), _short(c.get("allowance")), verdict, c.get("detail", "")])
         cls.append(k)
-    return Table(caption="Checks recorded by this section.", header=["check", "value", "allowance", "result", "detail"], rows=rows, data=[], row_class=cls)
+    return Table(caption="Checks recorded by this section. A physics check's allowance comes from the paper, the integrator or the timestep; "
+                 "a regression guard's from a measured spread: it flags a change, it does not prove the physics.",
+                 header=["check", "kind", "value", "allowance", "result", "detail"], rows=rows, data=[], row_class=cls)
 
 
 def _short(v) -> str:
@@ -254,6 +271,11 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
     known = [(v.section.slug, c) for v in views for c in v.known_checks]
     if known:
         h.append('<div class="known"><p><b>Known discrepancies of the paper</b> (shown, not hidden):</p><ul>' + "".join(f"<li>{html.escape(s)}: {html.escape(c['name'])}: {html.escape(c['known_discrepancy'])}</li>" for s, c in known) + "</ul></div>")
+    h.append("<h2 id=figures>The paper's figures</h2>")
+    table = _html_block(_figures_table(views))
+    for v in views:  # section names link to their sections
+        table = table.replace(_html_text(v.section.title), f'<a href="#{v.section.slug}">{_html_text(v.section.title)}</a>')
+    h.append(table)
     h.append("<h2 id=provenance>Provenance</h2>")
     h.append(_html_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=_provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"])))
     for v in views:
@@ -309,6 +331,7 @@ def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, fai
     known = [(v.section.slug, c) for v in views for c in v.known_checks]
     if known:
         m.append("**Known discrepancies of the paper** (shown, not hidden):\n\n" + "\n".join(f"- {s}: {c['name']}: {c['known_discrepancy']}" for s, c in known) + "\n")
+    m += ["## The paper's figures", "", _md_block(_figures_table(views))]
     m += ["## Provenance", "", _md_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=_provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"]))]
     for v in views:
         s = v.section

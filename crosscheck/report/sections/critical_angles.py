@@ -1,4 +1,4 @@
-"""Fig. 6: the critical polar angles theta_L, theta_1, theta_2 against mu (alpha = 3).
+"""Fig. 10: the critical polar angles theta_L, theta_1, theta_2 against mu (alpha = 3).
 
 Curves from eqs. thetal and theta12.  Checks: theta_1 = theta_2 = theta_P at
 mu_P (eq. thetap), theta_1 = theta_L at mu_L (eq. mul), and the paper's
@@ -64,10 +64,10 @@ def render(ctx: RenderContext) -> list:
     ax.set_xlabel("$\\mu$")
     ax.set_ylabel("$\\theta$")
     ax.legend(loc="center right", fontsize=8)
-    caption = (f"Fig. 6 recomputed: theta_L = {c['theta_L']:.4f}, theta_1(mu) and theta_2(mu) for alpha = {c['alpha']:g}. theta_1 = theta_2 = theta_P = "
+    caption = (f"Fig. 10 recomputed: theta_L = {c['theta_L']:.4f}, theta_1(mu) and theta_2(mu) for alpha = {c['alpha']:g}. theta_1 = theta_2 = theta_P = "
                f"{c['theta_P']:.4f} at mu_P = {c['mu_P']:.4f} (dot); theta_1 = theta_L at mu_L = {c['mu_L']:.4f} (square).")
-    return [ctx.figure("fig6_critical_angles", fig, caption, ["theta_curves.csv", "constants.json"])]
+    return [ctx.figure("fig10_critical_angles", fig, caption, ["theta_curves.csv", "constants.json"])]
 
 
-SECTION = Section(slug=SLUG, title="Critical angles theta_L, theta_1, theta_2 against mu", paper="Fig. 6 (fig:Psistheta); eqs. thetal, theta12, thetap",
+SECTION = Section(slug=SLUG, title="Critical angles theta_L, theta_1, theta_2 against mu", paper="Fig. 10 (fig:Psistheta); eqs. thetal, theta12, thetap",
                   params=params, run=run, render=render)

@@ -1,4 +1,4 @@
-"""Fig. 12: where det K = 0 (a zero eigenvalue) on the GB manifold, Psi against cos varphi (alpha = 3, mu = 1.7, eta = 10).
+"""Fig. 18: where det K = 0 (a zero eigenvalue) on the GB manifold, Psi against cos varphi (alpha = 3, mu = 1.7, eta = 10).
 
 Computed as the paper does: for varphi across (varphi_1, varphi_2) the two
 points of p = 0, theta_+(varphi) and theta_-(varphi) (eq. thetastar), and at
@@ -100,10 +100,10 @@ def render(ctx: RenderContext) -> list:
     ax.set_xlabel("cos $\\varphi$")
     ax.set_ylabel("$\\Psi$")
     ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
-    cap = (f"Fig. 12 recomputed: positions of the zeros of det K on the GB manifold with Theta > 0, alpha = {P['alpha']:g}, mu = {P['mu']:g}, eta = {P['eta']:g} "
+    cap = (f"Fig. 18 recomputed: positions of the zeros of det K on the GB manifold with Theta > 0, alpha = {P['alpha']:g}, mu = {P['mu']:g}, eta = {P['eta']:g} "
            f"(Psi_1 = {cv['Psi_1']:.4f}, Psi_2 = {cv['Psi_2']:.4f}). The asymmetry in cos varphi is the effect of Psi != 0 (eq. group: K is symmetric under "
            "varphi -> -pi - varphi together with Psi -> -Psi only). Crosses: the same zeros found independently by bisection along the manifold.")
-    blocks = [ctx.figure("fig12_det_zeros", fig, cap, ["det_zeros_quartic.csv", "det_zeros_bisection.csv", "critical_values.json"])]
+    blocks = [ctx.figure("fig18_det_zeros", fig, cap, ["det_zeros_quartic.csv", "det_zeros_bisection.csv", "critical_values.json"])]
     rows = [[f"{ind['Psi'][i]:g}", f"{ind['theta'][i]:.6f}", f"{ind['varphi'][i]:.6f}", f"{ind['Theta'][i]:.6f}", f"{ind['quartic_distance'][i]:.1e}"]
             for i in range(len(ind["Psi"]))]
     blocks.append(Table(caption="Zeros of det K found by bisection along the GB manifold (both signs of Theta) and their distance to the quartic's roots.",
@@ -111,5 +111,5 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="Zeros of det K on the GB manifold", paper="Fig. 12 (fig:determinant_bif); eqs. detK, detK0, B, Psiquartic, ghastly",
+SECTION = Section(slug=SLUG, title="Zeros of det K on the GB manifold", paper="Fig. 18 (fig:determinant_bif); eqs. detK, detK0, B, Psiquartic, ghastly",
                   params=params, run=run, render=render, requires=("crosscheck.gb",))

@@ -1,4 +1,4 @@
-"""Figs. 8 and 9: the eigenvectors of K in the (p, b) plane at the paper's points around the GB manifold.
+"""Figs. 12 and 13: the eigenvectors of K in the (p, b) plane at the paper's points around the GB manifold.
 
 At each point (theta_GB, varphi_GB) of ``crosscheck.paper.GB_POINTS`` (eta =
 1, Psi = 0, Theta_GB = sqrt(csc theta_GB), alpha = 3, mu = 1.4 and 1.7) the
@@ -38,7 +38,7 @@ def params(quick: bool) -> dict:
 def _snap(mu, alpha, theta_s, varphi_s):
     """The point of the GB manifold the printed digits stand for: (theta, varphi) exactly on p = 0."""
     th, vp = float(theta_s), float(varphi_s)
-    if vp > 0:  # Fig. 9(d)'s sign typo, documented in crosscheck.paper
+    if vp > 0:  # Fig. 13(d)'s sign typo, documented in crosscheck.paper
         vp = -vp
     if varphi_s == "-1.5708":  # P+ / Q+: theta_1 or theta_2 at varphi = -pi/2
         th1, th2 = critical.theta_12(mu, alpha)
@@ -85,7 +85,7 @@ def run(ctx: RunContext) -> None:
     def expect(where, name, ok, detail):
         ctx.check(f"{where}: {name}", ok, detail=detail)
 
-    for mu, fig in ((1.4, "8"), (1.7, "9")):
+    for mu, fig in ((1.4, "12"), (1.7, "13")):
         a, e = by[next(w for w in by if w.startswith(f"Fig. {fig}(a)"))], by[next(w for w in by if w.startswith(f"Fig. {fig}(e)"))]
         expect(a["where"], "P+ is a stable node", a["type"] == "STABLE_NODE", a["type"])
         expect(e["where"], "Q+ is a saddle", e["type"] == "SADDLE", e["type"])
@@ -96,15 +96,15 @@ def run(ctx: RunContext) -> None:
         expect(a["where"], f"eq. evecK2D: e_1 in quadrants {e1_quadrant.replace('_', '/')}, e_2 on the b axis", e1 == e1_quadrant and e2 == "B_AXIS",
                f"e_1 {e1}, e_2 {e2}; strong {a['quadrant_strong']}, weak {a['quadrant_weak']}")
         if mu < critical.mu_C(alpha):
-            expect(a["where"], "text of Fig. 8: strong direction on the b axis, weak in quadrants I/III",
+            expect(a["where"], "text of Fig. 12: strong direction on the b axis, weak in quadrants I/III",
                    a["quadrant_strong"] == "B_AXIS" and a["quadrant_weak"] == "I_III", f"strong {a['quadrant_strong']}, weak {a['quadrant_weak']}")
         else:
             ok = a["quadrant_strong"] == "I_III" and a["quadrant_weak"] == "B_AXIS"
-            ctx.check(f"{a['where']}: text of Fig. 9: strong direction in quadrants I/III, weak on the b axis", ok,
+            ctx.check(f"{a['where']}: text of Fig. 13: strong direction in quadrants I/III, weak on the b axis", ok,
                       detail=f"strong {a['quadrant_strong']}, weak {a['quadrant_weak']}",
                       known="" if ok else ("the paper contradicts itself: its eq. evecK2D gives e_1 = (3 tan^2 theta_1 - (1 + alpha), 1), negative first "
                                            "component for mu > mu_C (its own summary: 'e_1 in the second and fourth quadrants'); the strong "
-                                           "eigenvector here is e_1, so it lies in quadrants II/IV, not I/III as the text of Fig. 9 says"))
+                                           "eigenvector here is e_1, so it lies in quadrants II/IV, not I/III as the text of Fig. 13 says"))
         b_, d_ = by[next(w for w in by if w.startswith(f"Fig. {fig}(b)"))], by[next(w for w in by if w.startswith(f"Fig. {fig}(d)"))]
         expect(b_["where"], "a stable node before the bifurcation", b_["type"] == "STABLE_NODE", b_["type"])
         expect(d_["where"], "a saddle after the bifurcation", d_["type"] == "SADDLE", d_["type"])
@@ -125,7 +125,7 @@ def render(ctx: RenderContext) -> list:
     points = ctx.store.read_json("points")
     orb = ctx.store.read_table("orbits")
     blocks = []
-    for mu, fig_no in ((1.4, "8"), (1.7, "9")):
+    for mu, fig_no in ((1.4, "12"), (1.7, "13")):
         pts = [p for p in points if p["mu"] == mu]
         fig, axes = plt.subplots(1, len(pts), figsize=(2.6 * len(pts), 2.7))
         for ax, p in zip(axes, pts):
@@ -166,5 +166,5 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="Eigenvectors of K at the paper's GB points", paper="Figs. 8 (fig:planesmu1p4_w_traj) and 9 (fig:planesmu1p7_w_traj); eqs. K, evalK2D, evecK2D",
+SECTION = Section(slug=SLUG, title="Eigenvectors of K at the paper's GB points", paper="Figs. 12 (fig:planesmu1p4_w_traj) and 13 (fig:planesmu1p7_w_traj); eqs. K, evalK2D, evecK2D",
                   params=params, run=run, render=render, requires=("crosscheck.gb",))

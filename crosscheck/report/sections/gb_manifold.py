@@ -1,9 +1,9 @@
-"""Figs. 7 and 11: the GB manifold b = p = 0 at fixed Psi for mu = 1.4 and mu = 6, with the type of each point.
+"""Figs. 11 and 17: the GB manifold b = p = 0 at fixed Psi for mu = 1.4 and mu = 6, with the type of each point.
 
 For each mu (alpha = 3) the manifold is drawn at Psi = 0, (Psi_L + Psi_1)/2 and
-(Psi_1 + Psi_2)/2 (``crosscheck.gb.gb_manifold``), coloured by Psi (Fig. 7)
+(Psi_1 + Psi_2)/2 (``crosscheck.gb.gb_manifold``), coloured by Psi (Fig. 11)
 and by the type of the point as an equilibrium of eq. f, from the eigenvalues
-of K (eq. K) at eta (Fig. 11).
+of K (eq. K) at eta (Fig. 17).
 
 Checks: the topology of section 3.5 (number of closed curves and whether
 they cross Theta = 0: mechanism II, mu = 1.4: cases 3, 4, 6 give two
@@ -122,13 +122,13 @@ def render(ctx: RenderContext) -> list:
         fig.legend(handles=handles, loc="outside lower center", ncol=len(handles), fontsize=8)
         vals = "; ".join(f"mu = {s['mu']:g}: Psi = {s['Psi_label']} = {s['Psi']:.4f} (case {s['case']}, {s['curves']} curve(s))" for s in topo)
         if kind == "psi":
-            cap = (f"Fig. 7 recomputed: the GB manifold b = p = 0 projected to (theta, varphi, Theta) at three values of Psi, alpha = {P['alpha']:g} "
+            cap = (f"Fig. 11 recomputed: the GB manifold b = p = 0 projected to (theta, varphi, Theta) at three values of Psi, alpha = {P['alpha']:g} "
                    f"(crosscheck.gb.gb_manifold). {vals}.")
-            name = "fig7_gb_manifolds"
+            name = "fig11_gb_manifolds"
         else:
-            cap = (f"Fig. 11 recomputed: the same manifolds coloured by the type of each point as an equilibrium of eq. f (eigenvalues of K, eq. K, at eta = {P['eta']:g}): "
+            cap = (f"Fig. 17 recomputed: the same manifolds coloured by the type of each point as an equilibrium of eq. f (eigenvalues of K, eq. K, at eta = {P['eta']:g}): "
                    "stable node blue, saddle red, unstable node yellow, unstable focus green (stable focus grey, degenerate black: not expected).")
-            name = "fig11_gb_stability"
+            name = "fig17_gb_stability"
         blocks.append(ctx.figure(name, fig, cap, [f"manifold_mu{_tag(mu)}.csv" for mu in P["mu"]] + ["topology.json"]))
     rows = []
     for mu in P["mu"]:
@@ -142,5 +142,5 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="GB manifolds and their stability", paper="Figs. 7 (fig:GBs_bif3) and 11 (fig:stabilty_on_GB); eq. K, Theorem 4.1",
+SECTION = Section(slug=SLUG, title="GB manifolds and their stability", paper="Figs. 11 (fig:GBs_bif3) and 17 (fig:stabilty_on_GB); eq. K, Theorem 4.1",
                   params=params, run=run, render=render, requires=("crosscheck.gb",))

@@ -1,6 +1,6 @@
-"""Fig. 13 (fig:my_ugly_simulations): two slipping trajectories near the separatrix, and the leading eigenvector along the GB manifold.
+"""Fig. 20 (fig:my_ugly_simulations): two slipping trajectories near the separatrix, and the leading eigenvector along the GB manifold.
 
-The two initial conditions of the figure (``crosscheck.paper.FIG13_INITIAL_CONDITIONS``,
+The two initial conditions of the figure (``crosscheck.paper.FIG20_INITIAL_CONDITIONS``,
 alpha = 3, mu = 1.4) are run to their first event by
 ``crosscheck.gb.slip_until_event`` (the desingularised flow eq. f, time s with
 eta p ds = dt, real time recovered); the orbit is then sampled densely by
@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from crosscheck import analytic
-from crosscheck.paper import FIG13_INITIAL_CONDITIONS
+from crosscheck.paper import FIG20_INITIAL_CONDITIONS
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 
 SLUG = "gb_separatrix"
@@ -42,7 +42,7 @@ def run(ctx: RunContext) -> None:
     mu, alpha = P["mu"], P["alpha"]
     summary = []
     cols = {k: [] for k in ("run", "s", "eta", "varphi", "Psi", "theta", "Theta", "p", "b")}
-    for i, ic in enumerate(FIG13_INITIAL_CONDITIONS):
+    for i, ic in enumerate(FIG20_INITIAL_CONDITIONS):
         state = SlipState(**ic)
         res = gb.slip_until_event(state, mu, alpha, t_max=P["t_max"])
         s_end = float(res.s[-1])
@@ -65,7 +65,7 @@ def run(ctx: RunContext) -> None:
     ctx.store.write_table("orbits", cols)
 
     # leading eigenvector along the GB manifold (Psi = 0, Theta > 0), lifted to state space by A
-    eta_ref = float(np.mean([ic["eta"] for ic in FIG13_INITIAL_CONDITIONS]))
+    eta_ref = float(np.mean([ic["eta"] for ic in FIG20_INITIAL_CONDITIONS]))
     (curve,) = [c for c in gb.gb_manifold(mu, 0.0, alpha, n=P["n_manifold"]) if c.sign > 0]
     x = curve.x(eta_ref)
     lam, vec = gb.eigen(curve.K(eta_ref))
@@ -114,11 +114,11 @@ def render(ctx: RenderContext) -> list:
     ax3.view_init(elev=20, azim=-70)
     ax3.set_title("(b) orbits, GB manifold and leading eigenvector (green)")
     eta = ctx.store.read_json("eigen_eta")["eta"]
-    cap = (f"Fig. 13 recomputed (fig:my_ugly_simulations): the two initial conditions of the paper (alpha = {P['alpha']:g}, mu = {P['mu']:g}) integrated with the "
+    cap = (f"Fig. 20 recomputed (fig:my_ugly_simulations): the two initial conditions of the paper (alpha = {P['alpha']:g}, mu = {P['mu']:g}) integrated with the "
            "desingularised flow (eq. f) to their first event (crosscheck.gb.slip_until_event). (a) the orbits in the (p, b) plane near the GB manifold "
            "(shading as Fig. 3a); (b) the orbits in (theta, varphi, Theta) with the GB manifold at Psi = 0 and, in green, the direction A e_+ of the leading "
            f"eigenvalue of K (eq. K, eta = {eta:.3g}) at its points: the separatrix between orbits that reach p = 0 and orbits that lift off is tangent to it.")
-    blocks = [ctx.figure("fig13_separatrix", fig, cap, ["orbits.csv", "manifold_eigen.csv", "runs.json"])]
+    blocks = [ctx.figure("fig20_separatrix", fig, cap, ["orbits.csv", "manifold_eigen.csv", "runs.json"])]
     rows = []
     for r in runs:
         ic = r["initial"]
@@ -129,5 +129,5 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="Separatrix trajectories near the GB manifold", paper="Fig. 13 (fig:my_ugly_simulations); eqs. f, matA, K",
+SECTION = Section(slug=SLUG, title="Separatrix trajectories near the GB manifold", paper="Fig. 20 (fig:my_ugly_simulations); eqs. f, matA, K",
                   params=params, run=run, render=render, requires=("crosscheck.gb", "crosscheck.slipping"))

@@ -1,4 +1,4 @@
-"""Fig. 5a: the kinematic cases 1-7 of section 3.4 in the (mu, Psi) plane, with Psi_L, Psi_1, Psi_2 and Psi_P.
+"""Fig. 9a: the kinematic cases 1-7 of section 3.4 in the (mu, Psi) plane, with Psi_L, Psi_1, Psi_2 and Psi_P.
 
 The map is ``crosscheck.critical.kinematic_case`` on a grid; the curves are
 eqs. psil, psi1, psi2 and the point (mu_P, Psi_P) of eq. psip.  Checks: the
@@ -78,13 +78,13 @@ def render(ctx: RenderContext) -> list:
     ax.set_xlabel("$\\mu$")
     ax.set_ylabel("$\\Psi$")
     ax.set_title(f"kinematic cases, $\\alpha$ = {c['alpha']:g}")
-    caption = (f"Fig. 5a recomputed: the kinematic cases 1-7 of section 3.4 (crosscheck.critical.kinematic_case) for alpha = {c['alpha']:g}, Psi >= 0. "
+    caption = (f"Fig. 9a recomputed: the kinematic cases 1-7 of section 3.4 (crosscheck.critical.kinematic_case) for alpha = {c['alpha']:g}, Psi >= 0. "
                f"Dashed: Psi_L = {c['Psi_L']:.4f} (eq. psil); solid: Psi_1(mu) below, Psi_2(mu) above (eqs. psi1, psi2), meeting at "
                f"(mu_P, Psi_P) = ({c['mu_P']:.4f}, {c['Psi_P']:.4f}) (eq. psip); dotted: mu_P and mu_L = {c['mu_L']:.4f} (eq. mul).")
-    fig_block = ctx.figure("fig5a_cases", fig, caption, ["cases.json", "Psi_curves.csv", "constants.json"])
+    fig_block = ctx.figure("fig9a_cases", fig, caption, ["cases.json", "Psi_curves.csv", "constants.json"])
     rows = [[k, f"{v:.6f}" if isinstance(v, float) else str(v)] for k, v in c.items()]
     return [fig_block, Table(caption="Constants drawn in the figure.", header=["quantity", "value"], rows=rows, data=ctx.data("constants.json"))]
 
 
-SECTION = Section(slug=SLUG, title="Kinematic cases 1-7 in (mu, Psi)", paper="Fig. 5a (fig:muPsicases); eqs. psil, psi1, psi2, psip, mul",
+SECTION = Section(slug=SLUG, title="Kinematic cases 1-7 in (mu, Psi)", paper="Fig. 9a (fig:muPsicases); eqs. psil, psi1, psi2, psip, mul",
                   params=params, run=run, render=render)

@@ -1,4 +1,4 @@
-"""Fig. 5b: the mechanisms I, II, III of section 3.4 in the (alpha, mu) plane, bounded by mu_P(alpha) and mu_L(alpha).
+"""Fig. 9b: the mechanisms I, II, III of section 3.4 in the (alpha, mu) plane, bounded by mu_P(alpha) and mu_L(alpha).
 
 The map is ``crosscheck.critical.mechanism`` on a grid; the curves are eqs.
 mup2D and mul.  Check: mu_L > mu_P for every alpha (mechanism II always
@@ -53,10 +53,10 @@ def render(ctx: RenderContext) -> list:
     ax.set_xlabel("$\\alpha$")
     ax.set_ylabel("$\\mu$")
     ax.legend(loc="upper right", fontsize=8)
-    caption = ("Fig. 5b recomputed: mechanisms I (mu <= mu_P, no paradox), II (mu_P < mu <= mu_L) and III (mu > mu_L) of section 3.4 "
+    caption = ("Fig. 9b recomputed: mechanisms I (mu <= mu_P, no paradox), II (mu_P < mu <= mu_L) and III (mu > mu_L) of section 3.4 "
                "(crosscheck.critical.mechanism) in (alpha, mu). Dotted: the uniform rod, alpha = 3.")
-    return [ctx.figure("fig5b_mechanisms", fig, caption, ["mechanisms.json", "mu_curves.csv"])]
+    return [ctx.figure("fig9b_mechanisms", fig, caption, ["mechanisms.json", "mu_curves.csv"])]
 
 
-SECTION = Section(slug=SLUG, title="Mechanisms I-III in (alpha, mu)", paper="Fig. 5b (fig:alphamumech); eqs. mup2D, mul",
+SECTION = Section(slug=SLUG, title="Mechanisms I-III in (alpha, mu)", paper="Fig. 9b (fig:alphamumech); eqs. mup2D, mul",
                   params=params, run=run, render=render)

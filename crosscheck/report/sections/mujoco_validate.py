@@ -43,7 +43,8 @@ def run(ctx: RunContext) -> None:
         "tolerance": [json.dumps(s.tolerance) for s in result.stats],
         "worst_state": [json.dumps({k: round(v, 6) if isinstance(v, float) else v for k, v in s.worst_state.items()}) for s in result.stats]})
     for s in result.stats:
-        ctx.check(f"{engine_label(engine)} {s.quantity} within tolerance", s.passed, value=s.max_ratio, allowance=1.0, detail=f"max abs {s.max_abs:.3g}; {s.tolerance.get('why', '')}")
+        ctx.check(f"{engine_label(engine)} {s.quantity} within tolerance", s.passed, value=s.max_ratio, allowance=1.0, detail=f"max abs {s.max_abs:.3g}; {s.tolerance.get('why', '')}",
+                  guard=bool(s.tolerance.get("guard")))
 
 
 def render(ctx: RenderContext) -> list:

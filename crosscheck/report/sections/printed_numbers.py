@@ -8,7 +8,7 @@ Two tables:
   known discrepancy when the registry documents the misprint, as a failure
   otherwise (and a documented misprint that in fact agrees is a failure too:
   the registry would be wrong).
-* ``GB_POINTS``: the points (theta_GB, varphi_GB) of Figs. 8 and 9, which lie
+* ``GB_POINTS``: the points (theta_GB, varphi_GB) of Figs. 12 and 13, which lie
   on p = 0.  For each, the residual |p| at the printed digits against the bound
   the printed precision allows, |p_theta| h_theta + |p_varphi| h_varphi with h
   half a unit of each printed last digit (first order; the second-order term
@@ -122,12 +122,12 @@ def render(ctx: RenderContext) -> list:
         rows.append([g["where"][i], f"{g['mu'][i]:g}", g["theta_printed"][i], g["varphi_printed"][i], f"{g['abs_p'][i]:.1e}", f"{g['bound'][i]:.1e}",
                      f"{g['varphi_on_p0'][i]:.5f}", f"{g['varphi_difference'][i]:+.1e}", verdict])
         cls.append(c)
-    blocks.append(Table(caption="Points (theta_GB, varphi_GB) of Figs. 8 and 9 (crosscheck.paper.GB_POINTS, alpha = 3): they must lie on p = 0. |p| at the printed digits "
+    blocks.append(Table(caption="Points (theta_GB, varphi_GB) of Figs. 12 and 13 (crosscheck.paper.GB_POINTS, alpha = 3): they must lie on p = 0. |p| at the printed digits "
                                 "against the bound from the printed precision; varphi on p = 0 at the printed theta (eq. varphistar, the root nearest the printed varphi). "
                                 "At varphi = -pi/2 that root is ill-conditioned (p = 0 is tangent to theta = theta_1, theta_2 there), so |p| is the test.",
                         header=["point", "mu", "theta", "varphi", "|p|", "bound", "varphi on p = 0", "difference", "result"], rows=rows, data=ctx.data("gb_points.csv"), row_class=cls))
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="Every number the paper prints", paper="critical values (section 3), GB points of Figs. 8-9, mechanism examples (section 3.5)",
+SECTION = Section(slug=SLUG, title="Every number the paper prints", paper="critical values (section 3), GB points of Figs. 12-13, mechanism examples (section 3.5)",
                   params=params, run=run, render=render)

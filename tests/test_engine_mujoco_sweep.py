@@ -81,3 +81,24 @@ def test_bad_sweep_input():
         sweep(ROD, [s, s], [0.5, -0.5], horizon=0.1, progress=False)
     with pytest.raises(ValueError, match="states must contain at least one SlipState"):
         sweep(ROD, [], 0.5, horizon=0.1, progress=False)
+
+
+def test_mujoco_warnings_are_counted_not_printed(tmp_path, monkeypatch, capfd):
+    """MuJoCo's instability warnings go to crosscheck.engines.mujoco_warnings: counted by kind in the sweep's result and
+    in a stored sweep's chunk records, never printed on the console nor logged to MUJOCO_LOG.TXT in the working directory."""
+    from crosscheck import sweeps
+    from crosscheck.engines import mujoco as mj
+
+    monkeypatch.chdir(tmp_path)
+    fast = SlipState(theta=1.1, varphi=-1.9, Theta=90.0, Psi=90.0, eta=90.0)  # rates at the top of the start range, a coarse step
+    r = mj.sweep(Rod.scaled(3.0), [fast] * 3, 1.4, horizon=0.2, progress=False, timestep=3e-3)
+    assert r.warnings == {"Nan, Inf or huge value in QACC": 3}
+    assert np.all(np.isfinite(r.diverged_time))  # every warned run is one MuJoCo reset: its divergence is recorded
+    spec = sweeps.parse_spec({"sweep": {"engine": "mujoco", "horizon": 0.2, "seed": 0, "chunk": 2},
+                              "states": {"zip": True, "theta": [1.1] * 3, "varphi": [-1.9] * 3, "Theta": [90.0] * 3, "Psi": [90.0] * 3,
+                                         "eta": [90.0] * 3, "mu": [1.4] * 3},
+                              "parameters": {"alpha": 3.0}, "options": {"timestep": 3e-3}})
+    sweeps.run(spec, tmp_path / "store", workers=1, progress=False)
+    assert sweeps.Store(tmp_path / "store").warnings() == {"Nan, Inf or huge value in QACC": 3}
+    err = capfd.readouterr().err
+    assert "WARNING" not in err and not (tmp_path / "MUJOCO_LOG.TXT").exists()

@@ -53,7 +53,8 @@ def _locked(args, report, out: Path, sections, selected, seed: int, workers, sch
 
             shutil.rmtree(out / "sweeps")
         results = report.run(out, selected, quick=args.quick, seed=seed, progress=progress, argv=["crosscheck", *sys.argv[1:]],
-                             resume=not (args.fresh or args.only), scheduler=scheduler, workers=workers)
+                             resume=not (args.fresh or args.only), scheduler=scheduler, workers=workers,
+                             log=not args.no_progress and not sys.stderr.isatty())
         kept = [k for k, v in results.items() if v.get("resumed")]
         if kept:
             print(f"kept {len(kept)} finished sections ({', '.join(kept)}); --fresh recomputes them")
@@ -85,7 +86,7 @@ def register(sub) -> None:
     r.add_argument("--seed", type=str, default="0", help="master seed of numpy.random.default_rng, >= 0 (each section derives its own; default 0)")
     r.add_argument("--only", action="append", metavar="SECTION",
                    help=f"run only this section (repeatable); the others keep their saved results. SECTION is one of: {', '.join(_section_slugs())}")
-    r.add_argument("--no-progress", action="store_true", help="no progress bars")
+    r.add_argument("--no-progress", action="store_true", help="no progress bars (nor, when stderr is not a terminal, the log line per section)")
     r.add_argument("--fresh", action="store_true", help="recompute every section (default: keep those finished by the same code)")
     r.add_argument("--scheduler", default=None, help="run the engine sweeps on a Dask cluster: 'local' or a scheduler address tcp://host:8786")
     r.add_argument("--workers", type=str, default=None, help="processes (or local Dask workers) for the engine sweeps; default: the usable cores")

@@ -196,6 +196,9 @@ class SweepResult:
       wall_time: seconds spent in the sweep; steps_per_second: B nstep / wall_time.
       solver: for an engine with a solver (its runs' ``Run.solver``), a dict
         of (B,) arrays, one per field of its statistics; None otherwise.
+      warnings: the engine's own warnings during the sweep, by kind (MuJoCo's
+        "Nan, Inf or huge value in QACC": each resets one run, classified
+        DIVERGED); empty when there were none or the engine has no such channel.
     """
 
     engine: str
@@ -215,6 +218,7 @@ class SweepResult:
     wall_time: float
     steps_per_second: float
     solver: dict | None = field(default=None, repr=False)
+    warnings: dict = field(default_factory=dict)
 
     def __len__(self) -> int:
         return len(self.outcome)

@@ -33,11 +33,15 @@ from crosscheck.checks import FINITE, MU, NONNEGATIVE, POSITIVE, Interval, check
 from crosscheck.engines.base import (SERIES, STATE_KEYS, SUMMARY, Run, SweepResult, check_states, n_steps_within_memory, options_from_kwargs,
                                      summaries)
 from crosscheck.engines.classifier import Thresholds, classify
+from crosscheck.engines import mujoco_warnings
 from crosscheck.engines.mujoco_model import SensorLayout, build_model, initial_state, record_from_sensordata
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
 __all__ = ["ENGINE", "MujocoEngine", "Options", "Batch", "simulate", "sweep", "CHUNK_BYTES"]
+
+# MuJoCo's warnings are counted, not printed (nor logged to MUJOCO_LOG.TXT in the user's directory).
+mujoco_warnings.install()
 
 #: The capsule radius r / l (see Options.radius).
 RADIUS = Interval(0.0, 0.5, lo_open=True, hi_open=True)
@@ -269,6 +273,7 @@ def sweep(
     opts = Options.from_kwargs(options)
     th = thresholds or Thresholds()
     t0 = time.perf_counter()
+    warned_before = mujoco_warnings.counts()
     batch = Batch.build(rod, states, mu, horizon=horizon, options=opts, nthread=nthread)
     B, mu, nstep = len(states), batch.mu, batch.nstep
     every = max(1, nstep // max(1, n_series))
@@ -305,6 +310,7 @@ def sweep(
         thresholds=th,
         wall_time=wall,
         steps_per_second=B * nstep / wall,
+        warnings=mujoco_warnings.since(warned_before),
     )
 
 

@@ -111,8 +111,14 @@ def findings(data: Path) -> list[Finding]:
     for slug in sorted({s for s, _ in onset}):
         cs = [c for s, c in onset if s == slug]
         ok = sum(c["passed"] for c in cs)
-        out.append(Finding(f"lift-off onset ({slug})", f"{ok} of {len(cs)} onset checks against Psi_L hold", "agrees" if ok == len(cs) else "disagrees", slug))
+        sized = [c for c in cs if isinstance(c.get("value"), (int, float)) and isinstance(c.get("allowance"), (int, float)) and c["allowance"] > 0]
+        worst = max(sized, key=lambda c: abs(c["value"]) / c["allowance"], default=None)
+        how = (f"; worst |onset - Psi_L| = {abs(worst['value']):.2g} against its allowance {worst['allowance']:.2g} ({worst['name'].split(':')[0]})"
+               if worst else "")
+        out.append(Finding(f"lift-off onset ({slug})", f"{ok} of {len(cs)} onset checks against Psi_L hold{how}", "agrees" if ok == len(cs) else "disagrees", slug))
     known = [(p.parent.name, c) for p in sorted(data.glob("*/checks.json")) for c in json.loads(p.read_text()) if c.get("known_discrepancy")]
     if known:
-        out.append(Finding("the paper", f"{len(known)} printed values differ from the model (known misprints, listed in the sections)", "known", known[0][0]))
+        where = sorted({s for s, _ in known})
+        out.append(Finding("the paper", f"{len(known)} known discrepancies between what the paper prints and its own model (misprints, a caption "
+                           f"that does not fit its figure's numbers), shown in {', '.join(where)}", "known", known[0][0]))
     return out

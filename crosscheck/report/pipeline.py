@@ -121,7 +121,7 @@ def code_digest() -> str:
 
 
 def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int = 0, progress: bool = False, argv: list[str] | None = None,
-        resume: bool = False, scheduler: str | None = None, workers: int | None = None) -> dict[str, dict]:
+        resume: bool = False, scheduler: str | None = None, workers: int | None = None, log: bool = False) -> dict[str, dict]:
     """Run ``sections`` and save their results under ``<out>/data``.
 
     Args:
@@ -130,6 +130,8 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
       quick: small grids and short horizons (the quick report).
       seed: master seed; each section draws from ``section_rng(seed, slug)``.
       progress: show tqdm progress bars on stderr.
+      log: one line on stderr per section start and end, with its time (for a
+        stderr that is not a terminal, where bars would leave stale lines).
       argv: the command line, recorded in the provenance.
       resume: keep sections already finished by the same code with the same
         parameters (module docstring).
@@ -174,6 +176,9 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
             continue
         store = SectionStore(data / s.slug)
         store.reset()
+        if log:
+            sys.stderr.write(f"report: {s.slug}: started\n")
+            sys.stderr.flush()
         status = {
             "slug": s.slug,
             "title": s.title,
@@ -189,7 +194,10 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
         }
         store.write_json(STATUS_FILE, status)
         sweeps = {"store": out / "sweeps" / s.slug, "scheduler": scheduler, "workers": workers}
-        ctx = RunContext(slug=s.slug, params=params[s.slug], quick=quick, rng=section_rng(seed, s.slug), store=store, progress=bar,
+        def named(iterable, *, desc: str = "", _slug=s.slug, **kw):  # a section's bars say whose they are
+            return bar(iterable, desc=f"{_slug}: {desc}" if desc else _slug, **kw)
+
+        ctx = RunContext(slug=s.slug, params=params[s.slug], quick=quick, rng=section_rng(seed, s.slug), store=store, progress=named,
                          show_progress=progress, sweeps=sweeps)
         t0 = time.perf_counter()
         try:
@@ -206,6 +214,9 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
         status["checks_failed"] = [c["name"] for c in ctx.checks if not c["passed"] and not c["known_discrepancy"]]
         status["files"] = store.manifest()  # last: a section is finished only once its status lists what it wrote
         store.write_json(STATUS_FILE, status)
+        if log:
+            sys.stderr.write(f"report: {s.slug}: {status['status']} in {status['seconds']:.1f} s\n")
+            sys.stderr.flush()
         results[s.slug] = status
     prov["seconds"] = time.perf_counter() - t_all
     prov["section_seconds"] = {k: v["seconds"] for k, v in results.items()}

@@ -258,6 +258,9 @@ class AgreementRun:
       options, thresholds: the engine's options and the criteria used (dicts;
         ``stick_threshold`` is the STICK speed of this run's friction time constant).
       wall_time [s], steps_per_second: of the sweep.
+      engine_warnings: the engine's own warnings during the runs, by kind
+        (``SweepResult.warnings``; MuJoCo's instability warnings, each a run
+        reset and classified DIVERGED).
       solver_health: for an engine with a solver (``SweepResult.solver``):
         states, steps in contact, steps and states that missed the solver's
         tolerance, the largest iteration count; None otherwise.
@@ -285,6 +288,7 @@ class AgreementRun:
     wall_time: float
     steps_per_second: float
     solver_health: dict | None = None
+    engine_warnings: dict = field(default_factory=dict)
 
     labels = tuple(_NAMES)
 
@@ -320,6 +324,7 @@ class AgreementRun:
             "wall_time": self.wall_time,
             "steps_per_second": self.steps_per_second,
             "solver_health": self.solver_health,
+            "engine_warnings": self.engine_warnings,
         }
 
 
@@ -391,7 +396,7 @@ class AgreementResult:
 
 
 def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a: AnalyticEvents, idx, distance, offplane,
-          wall_time: float, steps_per_second: float, solver: dict | None = None) -> AgreementRun:
+          wall_time: float, steps_per_second: float, solver: dict | None = None, warnings: dict | None = None) -> AgreementRun:
     until = a.until[idx]
     tau = float(opts.contact_time)
     # A soft contact answers the rigid force with a lag ~ tau (its force builds up over tau; STICK is
@@ -430,6 +435,7 @@ def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a:
         wall_time=wall_time,
         steps_per_second=steps_per_second,
         solver_health=solver_health(solver),
+        engine_warnings=dict(warnings or {}),
     )
 
 
@@ -455,7 +461,9 @@ def _sweep_through_store(E, rod: Rod, states_cols: dict, mu: np.ndarray, horizon
     if (df["solver_contact_steps"] >= 0).all():
         solver = {k: df[f"solver_{k}"].to_numpy() for k in ("contact_steps", "unconverged_steps", "max_iterations")}
     wall = float(df["wall_time"].sum())
-    return outcome, df["event_time"].to_numpy(), df["jam_p_eff"].to_numpy(), wall, len(df) * n_steps(horizon, opts.timestep) / wall, solver
+    warned = sweeps.Store(summary.out).warnings()
+    return (outcome, df["event_time"].to_numpy(), df["jam_p_eff"].to_numpy(), wall, len(df) * n_steps(horizon, opts.timestep) / wall, solver,
+            warned)
 
 
 def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresholds: Thresholds | None, progress: bool,
@@ -475,15 +483,15 @@ def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresho
     offplane = np.abs(points["varphi"][idx] + math.pi / 2)
     if store is not None and thresholds is None and not any(isinstance(v, (list, tuple)) for v in given.values()):
         cols = {k: points[k][idx] for k in ("theta", "varphi", "Theta", "Psi", "eta")}
-        outcome, event_time, p_event, wall, sps, solver = _sweep_through_store(E, rod, cols, points["mu"][idx], horizon + margin, given, opts,
-                                                                               store, scheduler, workers, progress)
+        outcome, event_time, p_event, wall, sps, solver, warned = _sweep_through_store(E, rod, cols, points["mu"][idx], horizon + margin, given,
+                                                                                       opts, store, scheduler, workers, progress)
         return _rate(engine=engine, opts=opts, th=th, outcome=outcome, event_time=event_time, p_event=p_event, a=a, idx=idx, distance=distance,
-                     offplane=offplane, wall_time=wall, steps_per_second=sps, solver=solver)
+                     offplane=offplane, wall_time=wall, steps_per_second=sps, solver=solver, warnings=warned)
     r = E.sweep(rod, states_at(points, idx), points["mu"][idx], horizon=horizon + margin, thresholds=th, progress=progress,
                 **{f.name: getattr(opts, f.name) for f in fields(opts)})
     return _rate(engine=engine, opts=opts, th=th, outcome=r.outcome, event_time=r.event_time, p_event=r.summary["jam_p_eff"], a=a,
                  idx=idx, distance=distance, offplane=offplane, wall_time=r.wall_time,
-                 steps_per_second=r.steps_per_second, solver=r.solver)
+                 steps_per_second=r.steps_per_second, solver=r.solver, warnings=r.warnings)
 
 
 def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings: Sequence[Mapping] = ({},), alpha: float = 3.0,
@@ -577,6 +585,7 @@ def convergence_table(result: AgreementResult) -> list[dict]:
             "agreement_jam_as_stop": r.agreement_jam_as_stop,
             "median_abs_time_difference": r.median_abs_time_difference,
             "steps_per_second": r.steps_per_second,
+            "engine_warnings": int(sum(r.engine_warnings.values())),
         }
         for name, sel in (("planar", planar), ("off_plane", ~planar)):
             s = rated & sel

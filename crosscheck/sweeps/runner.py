@@ -63,8 +63,14 @@ class SweepSummary:
 
 
 def _timed_chunk(spec: Spec, chunk_id: int):
+    """(table, seconds, the engine's warnings by kind) of one chunk, measured in the process that computes it."""
+    from crosscheck.engines import mujoco_warnings
+
+    mujoco_warnings.install()
+    before = mujoco_warnings.counts()
     t0 = time.perf_counter()
-    return compute_chunk(spec, chunk_id), time.perf_counter() - t0
+    table = compute_chunk(spec, chunk_id)
+    return table, time.perf_counter() - t0, mujoco_warnings.since(before)
 
 
 def _default_workers() -> int:
@@ -196,8 +202,8 @@ def run(spec: Spec | str | Path, out: str | Path, *, workers: int | None = None,
                     store.record_failure(m, c, err)
                     summary.failed[c] = err
                 else:
-                    table, seconds = res
-                    store.write_chunk(m, c, table, seconds)
+                    table, seconds, warned = res
+                    store.write_chunk(m, c, table, seconds, warnings=warned)
                     summary.computed.append(c)
                     summary.computed_runs += len(table["run"])
                 bar.update()

@@ -154,6 +154,14 @@ class Store:
         self._write_manifest(m)
         return m
 
+    def warnings(self) -> dict[str, int]:
+        """The engine's warnings over the store's finished chunks, by kind (recorded by the process that computed each)."""
+        total: dict[str, int] = {}
+        for rec in (self.read_manifest() or {"chunks": {}})["chunks"].values():
+            for k, n in (rec.get("warnings") or {}).items():
+                total[k] = total.get(k, 0) + int(n)
+        return total
+
     def verified(self, m: dict) -> set[int]:
         """Ids of the manifest's chunks whose file is present with its recorded sha256; the others are dropped with a warning."""
         ok = set()
@@ -169,7 +177,7 @@ class Store:
             path.unlink(missing_ok=True)
         return ok
 
-    def write_chunk(self, m: dict, chunk_id: int, columns: dict, seconds: float) -> None:
+    def write_chunk(self, m: dict, chunk_id: int, columns: dict, seconds: float, *, warnings: dict | None = None) -> None:
         """Write chunk ``chunk_id``'s table atomically, then record it (file, rows, sha256) in the manifest."""
         import pyarrow as pa
         import pyarrow.parquet as pq
@@ -180,7 +188,7 @@ class Store:
         pq.write_table(table, buf)
         data = buf.getvalue().to_pybytes()  # hashed as written: no second read of the file
         _write_atomic(self.chunks / name, data)
-        rec = {"file": name, "rows": table.num_rows, "sha256": hashlib.sha256(data).hexdigest(), "seconds": seconds}
+        rec = {"file": name, "rows": table.num_rows, "sha256": hashlib.sha256(data).hexdigest(), "seconds": seconds, "warnings": dict(warnings or {})}
         _write_atomic(self.chunks / f"chunk-{chunk_id:06d}.json", json.dumps(rec).encode())
         (self.chunks / f"chunk-{chunk_id:06d}.failed.json").unlink(missing_ok=True)
         m["chunks"][str(chunk_id)] = rec

@@ -74,6 +74,10 @@ def render(ctx: RenderContext) -> list:
              f"{100 * c['agreement_off_plane'][i]:.1f}% of {int(c['n_off_plane'][i])}", f"{c['median_abs_time_difference'][i]:.3g}"] for i in range(len(c["timestep"]))]
     header = ["timestep", "timeconst", "rated", "agreement", "JAM as stop", "planar", "off plane", "median |dt event|"]
     caption = "Convergence table: agreement (also with JAM counted as any stop; on and off the planar section) and median |event-time difference|."
+    if "engine_warnings" in c and np.nansum(c["engine_warnings"]) > 0:  # the engine's own warnings (each a run it reset: DIVERGED)
+        header += [f"{name} warnings"]
+        for i, r in enumerate(rows):
+            r.append(str(int(c["engine_warnings"][i])))
     if "unconverged_steps" in c:  # an engine with a solver: its health beside every row
         header += ["steps missing the solver tolerance (states)"]
         for i, r in enumerate(rows):

@@ -129,6 +129,14 @@ def render(ctx: RenderContext) -> list:
                    "analytic comparison time; a JAM is judged against the engine's own friction direction), "
                    + (f"{other_name}'s outcome on the same starts (its own section), " if other is not None else "") + "and where "
                    f"{name} and the analytic model disagree.")]
+    warned: dict[str, int] = {}
+    for mp in maps:
+        for r in mp["runs"]:
+            for kind, count in (r.get("engine_warnings") or {}).items():
+                warned[kind] = warned.get(kind, 0) + int(count)
+    if warned:  # the engine's own console warnings, captured (crosscheck.engines.mujoco_warnings) and reported here
+        blocks.append(Text(f"{name} warned during these runs: " + "; ".join(f"{n} x \"{k}\"" for k, n in sorted(warned.items()))
+                           + ". Each is MuJoCo resetting a run after an instability; the classifier records the run's divergence (DIVERGED unless an event came first)."))
     conf = 0
     diffs = {"difference": [], "outcome": []}
     boundary_rows = []

@@ -145,7 +145,8 @@ def _figures_table(views: list[SectionView]) -> Table:
         where = ", ".join(titles.get(s, s) for s in f.sections)
         rows.append([f"Fig. {f.number}", f.shows, where or "not recomputed", f.why_not, ", ".join(f.labels)])
         cls.append("ok" if f.sections and not f.why_not else ("known" if f.sections else "skip"))
-    return Table(caption="The paper's figures, numbered as printed: where this report recomputes each, and what it leaves out and why.",
+    return Table(caption="The paper's figures, numbered as printed: where this report recomputes each, and what it leaves out and why "
+                 "(white: recomputed; yellow: recomputed in part or in another form; grey: not recomputed).",
                  header=["figure", "shows", "recomputed in", "not drawn / why", "LaTeX labels"], rows=rows, data=[], row_class=cls)
 
 
@@ -163,13 +164,37 @@ figure{margin:1em 0}figure img{max-width:100%;border:1px solid #eee}figcaption{f
 pre{background:#f6f6f6;padding:.6em;overflow-x:auto;font-size:.8em}
 .error{border-left:4px solid #c00;padding:.3em .8em;background:#fff0f0}
 .known{border-left:4px solid #d90;padding:.3em .8em;background:#fffbe8}
+nav.toc{font-size:.82em;line-height:1.3}nav.toc a{display:block;padding:.12em 0;color:#235;text-decoration:none}nav.toc a:hover{text-decoration:underline}
+nav.toc .st{font-size:.8em;margin-left:.3em}
+@media (min-width:1500px){nav.toc{position:fixed;top:1em;left:1em;width:230px;max-height:95vh;overflow-y:auto;border-right:1px solid #ddd;padding-right:.6em}}
+@media (min-width:1500px){body{margin-left:280px}}
+@media (max-width:1499px){nav.toc{border:1px solid #ddd;padding:.5em 1em;columns:2}}
+.v-agrees,.v-converges{color:#176317;font-weight:bold}.v-disagrees,.v-doesnotconverge{color:#a11;font-weight:bold}.v-inconclusive,.v-known{color:#8a5a00;font-weight:bold}
+a.top{font-size:.6em;font-weight:normal;margin-left:.6em;color:#888;text-decoration:none}
 """
+
+
+def _toc(views: list[SectionView]) -> str:
+    """A table of contents that stays in view on a wide screen (a list on top otherwise)."""
+    fixed = [("findings", "Findings"), ("summary", "Summary"), ("figures", "The paper's figures"), ("provenance", "Provenance")]
+    items = [f'<a href="#{a}">{t}</a>' for a, t in fixed]
+    items += [f'<a href="#{v.section.slug}">{html.escape(v.section.title)}<span class="st badge b-{_badge(v.state).replace(" ", "")}">'
+              f'{_badge(v.state)}</span></a>' for v in views]
+    items.append('<a href="#parameters">Parameters and tolerances</a>')
+    return '<nav class="toc" id="top"><b>Contents</b>' + "".join(items) + "</nav>"
+
+
+def _h2(anchor: str, inner: str) -> str:
+    return f'<h2 id="{anchor}">{inner}<a class="top" href="#top">top</a></h2>'
+
 
 
 def _html_block(b) -> str:
     if isinstance(b, Text):
         return f"<p>{_html_text(b.text)}</p>"
     if isinstance(b, Preformatted):
+        if b.text.count("\n") > 15:  # long raw output (JSON, a command's table) folded: the figures and tables come first
+            return f"<details><summary>{html.escape(b.title or 'raw output')}</summary><pre>{html.escape(b.text)}</pre></details>"
         title = f"<p><b>{html.escape(b.title)}</b></p>" if b.title else ""
         return f"{title}<pre>{html.escape(b.text)}</pre>"
     if isinstance(b, Figure):
@@ -255,10 +280,11 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
          "Every figure is recomputed from the project's model; beside each figure and table is the data behind it. "
          f"{html.escape(_NUMBERING)} "
          'Markdown twin: <a href="report.md">report.md</a>.</p>',
-         "<h2 id=findings>Findings</h2>",
-         "<ul>" + "".join(f'<li><b>{html.escape(f.leg)}</b>: {html.escape(f.text)}. <i>{html.escape(f.verdict)}</i> '
+         _toc(views),
+         _h2("findings", "Findings"),
+         "<ul>" + "".join(f'<li><b>{html.escape(f.leg)}</b>: {html.escape(f.text)}. <span class="v-{f.verdict.replace(" ", "")}">{html.escape(f.verdict)}</span> '
                           f'(<a href="#{f.slug}">{html.escape(f.slug)}</a>)</li>' for f in found) + "</ul>",
-         "<h2 id=summary>Summary</h2>"]
+         _h2("summary", "Summary")]
     table = _html_block(Table(caption="Sections, in report order.", header=["section", "paper", "status", "run time", "checks"], rows=[r[0] for r in summary_rows], data=[], row_class=[r[1] for r in summary_rows]))
     for v in views:  # section names link to their sections
         cell = f"<td>{_html_text(v.section.title)}</td>"
@@ -271,16 +297,16 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
     known = [(v.section.slug, c) for v in views for c in v.known_checks]
     if known:
         h.append('<div class="known"><p><b>Known discrepancies of the paper</b> (shown, not hidden):</p><ul>' + "".join(f"<li>{html.escape(s)}: {html.escape(c['name'])}: {html.escape(c['known_discrepancy'])}</li>" for s, c in known) + "</ul></div>")
-    h.append("<h2 id=figures>The paper's figures</h2>")
+    h.append(_h2("figures", "The paper's figures"))
     table = _html_block(_figures_table(views))
     for v in views:  # section names link to their sections
         table = table.replace(_html_text(v.section.title), f'<a href="#{v.section.slug}">{_html_text(v.section.title)}</a>')
     h.append(table)
-    h.append("<h2 id=provenance>Provenance</h2>")
+    h.append(_h2("provenance", "Provenance"))
     h.append(_html_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=_provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"])))
     for v in views:
         s = v.section
-        h.append(f'<h2 id="{s.slug}">{html.escape(s.title)} <span class="badge b-{_badge(v.state).replace(" ", "")}">{_badge(v.state)}</span></h2>')
+        h.append(_h2(s.slug, f'{html.escape(s.title)} <span class="badge b-{_badge(v.state).replace(" ", "")}">{_badge(v.state)}</span>'))
         if s.paper:
             h.append(f"<p><i>Paper: {html.escape(s.paper)}</i></p>")
         h.append(_html_error(v))
@@ -289,9 +315,9 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
             h.append(_html_block(_checks_table(v.checks)))
         if v.status and v.status.get("params"):
             h.append(f"<details><summary>parameters</summary><pre>{html.escape(json.dumps(v.status['params'], indent=1))}</pre></details>")
-    h.append("<h2 id=parameters>Parameters and tolerances</h2>")
+    h.append(_h2("parameters", "Parameters and tolerances"))
     h.append("<p>Every parameter of every section (also in each section's <code>data/&lt;section&gt;/status.json</code>) and every tolerance of <code>crosscheck.tolerances</code>.</p>")
-    h.append(f"<pre>{html.escape(json.dumps(prov.get('parameters', {}), indent=1))}</pre>")
+    h.append(f"<details><summary>every parameter (JSON)</summary><pre>{html.escape(json.dumps(prov.get('parameters', {}), indent=1))}</pre></details>")
     h.append(_html_block(Table(caption="Tolerances (`crosscheck.tolerances.all_tolerances()`).", header=["name", "atol", "rtol", "why"],
                                rows=[[k, str(t["atol"]), str(t["rtol"]), t["why"]] for k, t in prov.get("tolerances", {}).items()], data=[f"data/{PROVENANCE_FILE}.json"])))
     h.append("</body></html>\n")

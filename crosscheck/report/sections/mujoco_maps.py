@@ -66,8 +66,13 @@ def _sweeps(ctx: RunContext, name: str) -> dict:
 def run(ctx: RunContext) -> None:
     from crosscheck.studies.agreement import agreement_study
 
+    from crosscheck import critical
+    from crosscheck.engines.base import engine_label
+
     P = ctx.params
     engine = P["engine"]
+    mu_P = float(critical.mu_P(P["alpha"]))
+    below_mu_P, jams_below = 0, 0
     summary = []
     for m in ctx.progress(P["maps"], desc="agreement maps"):
         grid, x, y = _grid(m)
@@ -87,6 +92,9 @@ def run(ctx: RunContext) -> None:
         lab, t = np.full(n, NOT_SLIPPING), np.full(n, np.nan)
         lab[res.index], t[res.index] = r.label, r.event_time
         cols[engine], cols[f"{engine}_time"] = lab, t
+        below = pts["mu"][res.index] < mu_P
+        below_mu_P += int(below.sum())
+        jams_below += int(np.sum(below & (r.label == 3)))  # 3: Outcome.JAM
         ctx.store.write_table(f"events_{m['name']}", cols)
         summary.append({"name": m["name"], "x": {"name": m["x"], "values": x}, "y": {"name": m["y"], "values": y}, "fixed": m["fixed"],
                         "runs": [{k: v for k, v in r.summary().items() if k not in ("time_difference", "time_difference_outcome")} for r in res.runs],
@@ -94,6 +102,9 @@ def run(ctx: RunContext) -> None:
                                             "outcome": [OUTCOME_NAMES[int(o)] for o in r.time_difference_outcome],
                                             "analytic_time": a.time[res.index][(r.label == a.outcome[res.index]) & np.isin(a.outcome[res.index], [1, 2, 3])].tolist()}})
         ctx.store.write_json("maps", summary)
+    # Physics: below mu_P, p > 0 for every state (eq. mup2D), so no paradox and no impact without collision exists
+    ctx.check(f"{engine_label(engine)}: no jam below mu_P = {mu_P:.4f} (p > 0 for every state there, eq. mup2D)", jams_below == 0,
+              value=jams_below, allowance=0, detail=f"{below_mu_P} rated starts below mu_P on the maps")
 
 
 def _label(name: str) -> str:
@@ -161,7 +172,14 @@ def render(ctx: RenderContext) -> list:
         axes[0].set_title("analytic first event")
         categorical_image(axes[1], x, y, image(t[engine]), colors)
         axes[1].set_title(name)
-        outcome_legend(axes[1], np.concatenate([a[slipping], t[engine][slipping]]), loc="upper left", fontsize=6)
+        # below the panels, not over the data, with every colour used: grey is "not compared"
+        from matplotlib.patches import Patch
+
+        used = [a[slipping], t[engine][slipping]] + ([o[other_engine][o["slipping"] == 1]] if o is not None else [])
+        handles = outcome_legend(axes[1], np.concatenate(used)).legend_handles
+        axes[1].get_legend().remove()
+        handles.append(Patch(color=colors[NOT_SLIPPING], label="not slipping at t = 0 (not compared)"))
+        fig.legend(handles=handles, loc="outside lower center", ncol=len(handles), fontsize=7, frameon=False)  # constrained layout makes room
         if o is not None:
             oi = np.abs(o[mp["x"]["name"]][:, None] - x[None, :]).argmin(axis=1)
             oj = np.abs(o[mp["y"]["name"]][:, None] - y[None, :]).argmin(axis=1)
@@ -222,13 +240,18 @@ def render(ctx: RenderContext) -> list:
         dd, oo = np.asarray(diffs["difference"]), np.asarray(diffs["outcome"])
         fig, ax = plt.subplots(figsize=(6, 3.6))
         rows = []
+        bins = np.histogram_bin_edges(dd, bins=30)  # one set of bins for every event, stacked: each stays visible
+        stack, colors_, labels = [], [], []
         for event, code in (("LIFTOFF", 1), ("STICK", 2), ("JAM", 3)):
             s = oo == event
             if s.any():
-                ax.hist(dd[s], bins=30, color=OUTCOME_COLORS[code], alpha=0.8, label=f"{event.lower()} ({int(s.sum())})", edgecolor="k", lw=0.3)
+                stack.append(dd[s])
+                colors_.append(OUTCOME_COLORS[code])
+                labels.append(f"{event.lower()} ({int(s.sum())})")
                 rows.append([event.lower(), str(int(s.sum())), f"{np.median(dd[s]):+.3g}", f"{np.median(np.abs(dd[s])):.3g}", f"{np.max(np.abs(dd[s])):.3g}"])
+        ax.hist(stack, bins=bins, color=colors_, label=labels, stacked=True, edgecolor="k", lw=0.3)
         ax.set_xlabel(f"t_{name} - t_analytic (scaled)")
-        ax.set_ylabel("starts")
+        ax.set_ylabel("starts (stacked by event)")
         ax.legend(fontsize=7)
         blocks.append(ctx.figure("event_time_errors", fig, f"Event-time errors where {name} and the analytic model report the same event, all maps.", ["maps.json"]))
         blocks.append(Table(caption=f"Event-time differences ({name} - analytic, scaled time).", header=["event", "n", "median", "median |diff|", "max |diff|"],

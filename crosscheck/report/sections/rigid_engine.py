@@ -125,18 +125,18 @@ def render(ctx: RenderContext) -> list:
                          _fmt(float(np.nanmedian(re[i])) if jammed[i].any() else None)])
         med_t = [np.nanmedian(np.abs(te[i])) if jammed[i].any() else np.nan for i in range(len(dts))]
         med_r = [np.nanmedian(re[i]) if jammed[i].any() else np.nan for i in range(len(dts))]
-        ax[0].loglog(dts, med_t, "o-", color=LINE_COLORS[k % 7], label=f"Corollary 4.2, mu = {mu}")
-        ax[1].loglog(dts, med_r, "o-", color=LINE_COLORS[k % 7], label=f"Corollary 4.2, mu = {mu}")
+        ax[0].loglog(dts, med_t, "o-", color=LINE_COLORS[k % 7], label=f"Corollary 4.2, $\\mu$ = {mu}")
+        ax[1].loglog(dts, med_r, "o-", color=LINE_COLORS[k % 7], label=f"Corollary 4.2, $\\mu$ = {mu}")
     imp = ctx.store.read_json("impasses")
     for k, x in enumerate(imp):
         re = np.asarray(x["rate_error"], float)[:, 0]
-        ax[1].loglog(x["timesteps"], re, "s--", color=LINE_COLORS[(k + 3) % 7], label=f"planar impasse mu = {x['mu']}, Theta = {x['Theta']}")
+        ax[1].loglog(x["timesteps"], re, "s--", color=LINE_COLORS[(k + 3) % 7], label=f"planar impasse $\\mu$ = {x['mu']}, $\\Theta$ = {x['Theta']}")
     for a in ax:
         a.set_xlabel("rigid engine timestep (scaled)")
         a.invert_xaxis()
         a.legend(fontsize=6)
     ax[0].set_ylabel("median |t_jam engine - t_jam analytic|")
-    ax[1].set_ylabel("median post-jam |rates - IWC| (Theta, Psi, eta)")
+    ax[1].set_ylabel("median post-jam |rates - IWC| ($\\Theta$, $\\Psi$, $\\eta$)")
     blocks.append(ctx.figure("jams", fig, "Jams of the rigid engine against the theory: jam-time error (left) and the state one row after the jam against the "
                              "impact without collision (crosscheck.iwc) at the analytic jam (right), as the timestep shrinks. Planar impasses start in "
                              "p < 0, b < 0 (the step is the impulse problem plus O(dt) terms: first order); Corollary 4.2 states meet p = 0 along "

@@ -33,7 +33,7 @@ EXPECTED_FIGURES = {
     "gb_manifold": ["fig11_gb_manifolds", "fig17_gb_stability"],
     "gb_eigenvectors": ["fig12_eigenvectors", "fig13_eigenvectors"],
     "gb_quartic": ["fig16_quartic"],
-    "gb_det_zeros": ["fig18_det_zeros"],
+    "gb_det_zeros": ["fig18_det_zeros", "fig19_eigenvectors"],
     "gb_separatrix": ["fig20_separatrix"],
     "pinocchio": ["error_vs_theta"],
     "mujoco_liftoff": ["liftoff_onset"],

@@ -76,6 +76,48 @@ def run(ctx: RunContext) -> None:
     n_pandora = int(np.sum(sel))
     ctx.check(f"Psi = {P['Psi_pandora']}: four critical points on the GB manifold with Theta > 0 (fig:pandora: (d), (h), (j), (l))", n_pandora == 4,
               value=n_pandora, allowance=4, detail="the figure shows the Theta > 0 part (Theta from 0.8 to 1)")
+    _pandora(ctx)
+
+
+def _pandora(ctx: RunContext) -> None:
+    """Fig. 19: K's eigenvectors along the Theta > 0 GB curve at Psi = Psi_pandora, at each zero of det K and between them.
+
+    The paper does not print its panels' points; here a panel sits at every zero of det K (bisected) and at the
+    sample halfway (in curve order) between consecutive zeros, so that each change of type is shown from both sides.
+    """
+    from crosscheck import gb
+
+    P = ctx.params
+    alpha, mu, eta, Psi = P["alpha"], P["mu"], P["eta"], P["Psi_pandora"]
+    curve = next(c for c in gb.gb_manifold(mu, Psi, alpha, n=P["n_curve"]) if c.sign > 0)
+    zeros = gb.det_K_zeros(curve, eta)
+    d = gb.det_K(curve.theta, curve.varphi, curve.Psi, curve.Theta, eta, mu, alpha)
+    cross = np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0)  # the samples each zero was bracketed between
+    picks = [("zero", tuple(z)) for z in zeros]
+    bounds = [0, *[int(i) + 1 for i in cross], len(curve.theta)]
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        if b - a > 2:
+            m = (a + b) // 2
+            picks.append(("between", (float(curve.theta[m]), float(curve.varphi[m]), float(curve.Theta[m]))))
+    # in curve order: by the position along the curve (the nearest sample)
+    def order(pick):
+        th, vp, Th = pick[1]
+        return int(np.argmin(np.abs(curve.theta - th) + np.abs(curve.varphi - vp) + np.abs(curve.Theta - Th)))
+
+    points = []
+    for where, (th, vp, Th) in sorted(picks, key=order):
+        Km = gb.K(th, vp, Psi, Th, eta, mu, alpha)
+        lam, vec = gb.eigen(Km)
+        points.append({"where": where, "theta": th, "varphi": vp, "Theta": Th, "det_K": float(np.linalg.det(Km)),
+                       "lambda": [[float(l.real), float(l.imag)] for l in lam], "e_plus": [float(v.real) for v in vec[:, 0]],
+                       "e_minus": [float(v.real) for v in vec[:, 1]], "type": gb.classify(Km).name,
+                       "strong": "plus" if np.abs(lam[0]) >= np.abs(lam[1]) else "minus"})
+    ctx.store.write_json("pandora_points", points)
+    # Physics: a zero of det K is an eigenvalue through 0, so on its two sides the type is a saddle on one, not on the other
+    between = [p for p in points if p["where"] == "between"]
+    changes = sum((a["type"] == "SADDLE") != (b["type"] == "SADDLE") for a, b in zip(between, between[1:]))
+    ctx.check(f"Psi = {Psi}: the type changes saddle <-> non-saddle across each zero of det K inside the curve", changes == len(between) - 1,
+              value=changes, allowance=len(between) - 1, detail=", ".join(p["type"].lower() for p in between))
 
 
 def render(ctx: RenderContext) -> list:
@@ -104,6 +146,7 @@ def render(ctx: RenderContext) -> list:
            f"(Psi_1 = {cv['Psi_1']:.4f}, Psi_2 = {cv['Psi_2']:.4f}). The asymmetry in cos varphi is the effect of Psi != 0 (eq. group: K is symmetric under "
            "varphi -> -pi - varphi together with Psi -> -Psi only). Crosses: the same zeros found independently by bisection along the manifold.")
     blocks = [ctx.figure("fig18_det_zeros", fig, cap, ["det_zeros_quartic.csv", "det_zeros_bisection.csv", "critical_values.json"])]
+    blocks += _render_pandora(ctx)
     rows = [[f"{ind['Psi'][i]:g}", f"{ind['theta'][i]:.6f}", f"{ind['varphi'][i]:.6f}", f"{ind['Theta'][i]:.6f}", f"{ind['quartic_distance'][i]:.1e}"]
             for i in range(len(ind["Psi"]))]
     blocks.append(Table(caption="Zeros of det K found by bisection along the GB manifold (both signs of Theta) and their distance to the quartic's roots.",
@@ -111,5 +154,37 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="Zeros of det K on the GB manifold", paper="Fig. 18 (fig:determinant_bif); eqs. detK, detK0, B, Psiquartic, ghastly",
+def _render_pandora(ctx: RenderContext) -> list:
+    from crosscheck.report.plotting import LINE_COLORS, pb_plane, plt
+
+    if not ctx.store.exists("pandora_points.json"):
+        return []
+    P = ctx.params
+    pts = ctx.store.read_json("pandora_points")
+    cols = min(len(pts), 5)
+    rows_ = -(-len(pts) // cols)
+    fig, axes = plt.subplots(rows_, cols, figsize=(2.3 * cols, 2.4 * rows_), squeeze=False)
+    for ax in axes.flat[len(pts):]:
+        ax.set_visible(False)
+    for k, (ax, p) in enumerate(zip(axes.flat, pts)):
+        pb_plane(ax, 1.0, 1.0)
+        for key, idx in (("e_plus", 0), ("e_minus", 1)):
+            v = np.array(p[key])
+            strong = (p["strong"] == "plus") == (idx == 0)
+            ax.plot([-v[0], v[0]], [-v[1], v[1]], color=LINE_COLORS[0] if strong else LINE_COLORS[6], lw=2.0)
+        lam = [complex(*l) for l in p["lambda"]]
+        label = "det K = 0" if p["where"] == "zero" else p["type"].lower().replace("_", " ")
+        ax.set_title(f"({chr(ord('a') + k)}) {label}", fontsize=8)
+        ax.text(0.03, 0.03, f"$\\theta$={p['theta']:.4f}\n$\\varphi$={p['varphi']:.4f}\n$\\lambda$={lam[0].real:.3g}, {lam[1].real:.3g}",
+                transform=ax.transAxes, fontsize=6, va="bottom")
+        ax.set_xticks([])
+        ax.set_yticks([])
+    cap = (f"Fig. 19 recomputed: eigenvectors of K in the (p, b) plane along the GB manifold with Theta > 0 at alpha = {P['alpha']:g}, mu = {P['mu']:g}, "
+           f"eta = {P['eta']:g}, Psi = {P['Psi_pandora']}, in curve order: at each of the four zeros of det K (where an eigenvalue passes through 0) and "
+           "halfway between them. Strong eigenvector (larger |lambda|) blue, weak red; shading as Fig. 3a. The paper's own panel points are not printed, "
+           "so its panels (b)-(m) are matched by kind, not by position.")
+    return [ctx.figure("fig19_eigenvectors", fig, cap, ["pandora_points.json"])]
+
+
+SECTION = Section(slug=SLUG, title="Zeros of det K on the GB manifold", paper="Figs. 18 (fig:determinant_bif) and 19 (fig:pandora); eqs. detK, detK0, B, Psiquartic, ghastly",
                   params=params, run=run, render=render, requires=("crosscheck.gb",))

@@ -32,6 +32,7 @@ EXPECTED_FIGURES = {
     "printed_numbers": [],
     "gb_manifold": ["fig11_gb_manifolds", "fig17_gb_stability"],
     "gb_eigenvectors": ["fig12_eigenvectors", "fig13_eigenvectors"],
+    "gb_local": ["fig14_local_dynamics", "fig15_local_dynamics"],
     "gb_quartic": ["fig16_quartic"],
     "gb_det_zeros": ["fig18_det_zeros", "fig19_eigenvectors"],
     "gb_separatrix": ["fig20_separatrix"],

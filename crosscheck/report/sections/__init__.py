@@ -4,7 +4,7 @@ the GB manifold (sections 3.5 to 5), then the Pinocchio and MuJoCo cross-validat
 from __future__ import annotations
 
 from crosscheck.report.section import Section
-from crosscheck.report.sections import critical_angles, gb_det_zeros, gb_eigenvectors, gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, mechanisms, mode_maps, mujoco_convergence, mujoco_liftoff, mujoco_maps, mujoco_trajectories, mujoco_validate, p_region, pinocchio, printed_numbers, rigid_engine
+from crosscheck.report.sections import critical_angles, gb_det_zeros, gb_eigenvectors, gb_local, gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, mechanisms, mode_maps, mujoco_convergence, mujoco_liftoff, mujoco_maps, mujoco_trajectories, mujoco_validate, p_region, pinocchio, printed_numbers, rigid_engine
 
 __all__ = ["SECTIONS", "section_by_slug"]
 
@@ -17,6 +17,7 @@ SECTIONS: tuple[Section, ...] = (
     printed_numbers.SECTION,
     gb_manifold.SECTION,
     gb_eigenvectors.SECTION,
+    gb_local.SECTION,
     gb_quartic.SECTION,
     gb_det_zeros.SECTION,
     gb_separatrix.SECTION,

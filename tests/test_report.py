@@ -316,3 +316,14 @@ def test_the_committed_quick_report_is_current(quick):
     committed = Path(__file__).resolve().parents[1] / "reports" / "quick" / "data"
     differ = {k: v[:3] for k, v in compare(committed, out / "data").items() if v}
     assert not differ, f"reports/quick is stale; regenerate it: {differ}"
+
+
+def test_provenance_outside_a_checkout_names_the_installed_version(tmp_path):
+    from crosscheck.report import provenance
+    from crosscheck.report.render import _revision
+
+    git = provenance.git_revision(tmp_path)
+    assert git == {"revision": None, "dirty": None, "describe": "not a git checkout"}
+    assert _revision(git, {"versions": {"crosscheck": "0.1.0"}}) == "installed package, version 0.1.0 (not a git checkout)"
+    here = provenance.git_revision()
+    assert here["revision"] and _revision(here, {}).startswith(here["revision"])

@@ -46,6 +46,9 @@ def git_revision(cwd: Path | None = None) -> dict[str, object]:
     files are ignored: generated reports live in the tree).
     """
     cwd = cwd or _repo_root()
+    if not ((Path(cwd) / "pyproject.toml").is_file() and (Path(cwd) / "crosscheck").is_dir()):
+        # an installed package (site-packages), even one inside some other work tree: its revision is its version
+        return {"revision": None, "dirty": None, "describe": "not a git checkout"}
 
     def git(*args: str) -> str | None:
         try:

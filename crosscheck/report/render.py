@@ -253,11 +253,18 @@ def _short(v) -> str:
     return str(v)
 
 
+def _revision(git: dict, prov: dict) -> str:
+    """The source revision as a reader can use it: the commit (clean or dirty), or the installed version outside a checkout."""
+    if not git.get("revision"):
+        return f"installed package, version {prov.get('versions', {}).get('crosscheck', '?')} (not a git checkout)"
+    return f"{git['revision']} ({'dirty' if git.get('dirty') else 'clean'})"
+
+
 def _provenance_rows(prov: dict) -> list[list[str]]:
     git = prov.get("git", {})
     m = prov.get("machine", {})
     rows = [["date (UTC)", prov.get("date", "")],
-            ["git revision", f"{git.get('revision')} ({'dirty' if git.get('dirty') else 'clean'})"],
+            ["git revision", _revision(git, prov)],
             ["command", " ".join(prov.get("command") or [])],
             ["mode", "quick" if prov.get("quick") else "full"],
             ["seed", str(prov.get("seed"))]]
@@ -265,7 +272,7 @@ def _provenance_rows(prov: dict) -> list[list[str]]:
     rendered = prov.get("rendered", {})
     if rendered:
         rows += [["rendered (UTC)", rendered.get("date", "")],
-                 ["render git revision", f"{rendered.get('git', {}).get('revision')} ({'dirty' if rendered.get('git', {}).get('dirty') else 'clean'})"]]
+                 ["render git revision", _revision(rendered.get("git", {}), prov)]]
     rows += [["machine: platform", str(m.get("platform"))], ["machine: processor", str(m.get("processor"))],
              ["machine: CPUs (usable)", f"{m.get('cpu_count')} ({m.get('usable_cpus')})"],
              ["run time of the run stage", _fmt_seconds(prov.get("seconds"))]]

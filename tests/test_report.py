@@ -24,7 +24,7 @@ from crosscheck.tolerances import all_tolerances
 
 #: Every figure the report must contain (stem under figures/<section>/), by paper figure.
 EXPECTED_FIGURES = {
-    "p_region": ["fig2b_p_region"],
+    "p_region": ["fig2a_p_region_space", "fig2b_p_region"],
     "mode_maps": ["fig3a_modes_planar", "slices_theta_Theta", "slices_theta_varphi"],
     "kinematic_cases": ["fig9a_cases"],
     "mechanisms": ["fig9b_mechanisms"],

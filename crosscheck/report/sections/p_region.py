@@ -79,8 +79,46 @@ def render(ctx: RenderContext) -> list:
                "Grid of p, closed-form boundary and critical values are in the data files.")
     fig_block = ctx.figure("fig2b_p_region", fig, caption, ["p_grid.json", "p_zero.csv", "critical_values.json"])
     rows = [[k, f"{cv[k]:.6f}"] for k in ("theta_1", "theta_2", "theta_P", "varphi_1", "varphi_2")]
-    return [fig_block, Table(caption="Bounds of the region p < 0 (closed forms).", header=["quantity", "value"], rows=rows, data=ctx.data("critical_values.json"))]
+    return [_physical(ctx, theta, varphi, p, cv), fig_block, Table(caption="Bounds of the region p < 0 (closed forms).", header=["quantity", "value"], rows=rows, data=ctx.data("critical_values.json"))]
 
 
-SECTION = Section(slug=SLUG, title="Region p < 0 in (theta, varphi)", paper="Fig. 2b (fig:badregion); eqs. p, thetastar, varphistar, theta12, varphi12",
+def _physical(ctx: RenderContext, theta, varphi, p, cv):
+    """Fig. 2a: the same grid as rod directions in space, in the frame where the tip slips along +x.
+
+    By eq. tipfromcentre the rod points from the tip A to B along (-cos theta sin psi, cos theta cos psi, sin theta):
+    horizontally at heading psi + pi/2, which is pi/2 - varphi from the slip heading beta = psi + varphi.  In the
+    slip frame the direction is (cos theta sin varphi, cos theta cos varphi, sin theta); varphi = -pi/2 is the
+    planar section (B straight behind A).  Only the saved half varphi in (-pi, 0] is drawn; on the other half
+    sin varphi > 0 and p > 0 everywhere (eq. p)."""
+    from crosscheck.report.plotting import plt
+
+    TH, VP = np.meshgrid(theta, varphi)
+    X, Y, Z = np.cos(TH) * np.sin(VP), np.cos(TH) * np.cos(VP), np.sin(TH)
+    fig = plt.figure(figsize=(5.6, 4.6))
+    ax = fig.add_subplot(projection="3d")
+    ax.plot_wireframe(X, Y, Z, rstride=12, cstride=12, color="0.75", lw=0.4)  # the hemisphere of directions, for reference
+    bad = p < 0
+    ax.plot_surface(np.where(bad, X, np.nan), np.where(bad, Y, np.nan), np.where(bad, Z, np.nan), color=(0.85, 0.25, 0.2), linewidth=0, shade=True)
+    ax.quiver(0, 0, 0, 0.9, 0, 0, color="k", lw=1.5, arrow_length_ratio=0.15)
+    ax.text(0.6, 0, 0.08, "slip of A", fontsize=7)
+    ax.scatter([0], [0], [0], color="k", s=12)
+    ax.set_xlabel("x (slip)")
+    ax.set_ylabel("y")
+    ax.set_zlabel("z")
+    ax.set_xlim(-1, 1)
+    ax.set_ylim(-1, 1)
+    ax.set_zlim(0, 1)
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(plt.MaxNLocator(3))
+    ax.set_box_aspect((2, 2, 1))
+    ax.view_init(elev=25, azim=-150)  # from behind the tip, where the region is (x < 0: sin varphi < 0)
+    ax.set_title(f"rod directions AB with p < 0 (red), $\\alpha$ = {cv['alpha']:g}, $\\mu$ = {cv['mu']:g}", fontsize=9)
+    cap = (f"Fig. 2a recomputed: the directions of the rod from its tip A (the dot) to B for which p < 0 (red), on the unit hemisphere, in the frame where A "
+           f"slips along +x: elevation theta, heading pi/2 - varphi from the slip (eq. tipfromcentre; alpha = {cv['alpha']:g}, mu = {cv['mu']:g}). p < 0 only "
+           "with B behind A (sin varphi < 0), steep, around the planar section varphi = -pi/2 (y = 0). The same grid as Fig. 2b, mapped to space; the "
+           "other half (sin varphi > 0, B ahead of A) has p > 0 everywhere (eq. p).")
+    return ctx.figure("fig2a_p_region_space", fig, cap, ["p_grid.json", "critical_values.json"])
+
+
+SECTION = Section(slug=SLUG, title="Region p < 0 in (theta, varphi)", paper="Figs. 2a and 2b (fig:rod_orientations, fig:badregion); eqs. p, thetastar, varphistar, theta12, varphi12",
                   params=params, run=run, render=render)

@@ -327,3 +327,16 @@ def test_provenance_outside_a_checkout_names_the_installed_version(tmp_path):
     assert _revision(git, {"versions": {"crosscheck": "0.1.0"}}) == "installed package, version 0.1.0 (not a git checkout)"
     here = provenance.git_revision()
     assert here["revision"] and _revision(here, {}).startswith(here["revision"])
+
+
+def test_findings_read_a_validate_ratio_as_a_ratio(tmp_path):
+    """An onset check recorded as a ratio to its tolerance (allowance 1) is reported as a ratio, not as |onset - Psi_L|."""
+    from crosscheck.report.findings import findings
+
+    for slug, check in (("toy_ratio", {"name": "MuJoCo lift-off onset Psi within tolerance", "passed": True, "value": 1.1e-4, "allowance": 1.0}),
+                        ("toy_abs", {"name": "mu = 0.3, timestep 0.0003: onset = Psi_L", "passed": True, "value": 6e-11, "allowance": 5.5e-7})):
+        (tmp_path / slug).mkdir()
+        (tmp_path / slug / "checks.json").write_text(json.dumps([check]))
+    text = {f.slug: f.text for f in findings(tmp_path)}
+    assert text["toy_ratio"].endswith("worst at 0.00011 of its tolerance")
+    assert text["toy_abs"].endswith("worst |onset - Psi_L| = 6e-11 against its allowance 5.5e-07 (mu = 0.3, timestep 0.0003)")

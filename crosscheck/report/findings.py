@@ -113,8 +113,12 @@ def findings(data: Path) -> list[Finding]:
         ok = sum(c["passed"] for c in cs)
         sized = [c for c in cs if isinstance(c.get("value"), (int, float)) and isinstance(c.get("allowance"), (int, float)) and c["allowance"] > 0]
         worst = max(sized, key=lambda c: abs(c["value"]) / c["allowance"], default=None)
-        how = (f"; worst |onset - Psi_L| = {abs(worst['value']):.2g} against its allowance {worst['allowance']:.2g} ({worst['name'].split(':')[0]})"
-               if worst else "")
+        if worst is None:
+            how = ""
+        elif worst["allowance"] == 1.0 and "within tolerance" in worst["name"]:  # a validate statistic: its value is already a ratio
+            how = f"; worst at {abs(worst['value']):.2g} of its tolerance"
+        else:
+            how = f"; worst |onset - Psi_L| = {abs(worst['value']):.2g} against its allowance {worst['allowance']:.2g} ({worst['name'].split(':')[0]})"
         out.append(Finding(f"lift-off onset ({slug})", f"{ok} of {len(cs)} onset checks against Psi_L hold{how}", "agrees" if ok == len(cs) else "disagrees", slug))
     known = [(p.parent.name, c) for p in sorted(data.glob("*/checks.json")) for c in json.loads(p.read_text()) if c.get("known_discrepancy")]
     if known:

@@ -137,8 +137,7 @@ class PaperFigure:
 FIGURES = (
     PaperFigure(1, ("fig:me2",), "the rod AB on the rough plane, its frames and angles", (), "a schematic drawing, not computed from the model"),
     PaperFigure(2, ("fig:rod_orientations", "fig:badregion", "fig:badsection"), "(a) rod orientations with p < 0 in physical space, "
-                "(b) the region p < 0 in (theta, varphi), (c) its section", ("p_region",),
-                "panels (a) and (b); (c) is not drawn yet"),
+                "(b) the region p < 0 in (theta, varphi)", ("p_region",)),
     PaperFigure(3, ("fig:pandb", "fig:p3.2", "fig:p3s"), "(a) the four modes in the (p, b) plane, (b) the 3D picture at Psi = 0", ("mode_maps",),
                 "the 3D surfaces are drawn as their sections at varphi = -pi/2 and Theta = 0"),
     PaperFigure(4, ("fig:p3.3", "fig:p3.4", "fig:p3.5", "fig:p3.6", "fig:p3ss"), "the 3D picture as Psi grows (1.56, 1.7, 2.2, 5)", ("mode_maps",),

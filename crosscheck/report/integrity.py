@@ -11,9 +11,10 @@ file, and ``crosscheck report --from-results`` exits 2 on it.
 
 from __future__ import annotations
 
-import hashlib
 import json
 from pathlib import Path
+
+from crosscheck.files import sha256_file
 
 __all__ = ["DamagedResults", "manifest", "check_status", "check_provenance", "verify_files", "STATES"]
 
@@ -25,17 +26,9 @@ class DamagedResults(ValueError):
     """A saved result does not match what the run wrote (the message names the file)."""
 
 
-def _sha256(path: Path) -> str:
-    h = hashlib.sha256()
-    with open(path, "rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
-
-
 def manifest(root: Path, names: list[str]) -> dict[str, dict]:
     """{name: {"bytes", "sha256"}} of the files ``names`` under ``root``."""
-    return {n: {"bytes": (root / n).stat().st_size, "sha256": _sha256(root / n)} for n in names}
+    return {n: {"bytes": (root / n).stat().st_size, "sha256": sha256_file(root / n)} for n in names}
 
 
 def read_json(path: Path, what: str):
@@ -89,5 +82,5 @@ def verify_files(root: Path, files: dict[str, dict], present: list[str]) -> None
         size = path.stat().st_size
         if size != want["bytes"]:
             raise DamagedResults(f"{path}: {size} bytes, the run wrote {want['bytes']} (truncated or edited after the run)")
-        if _sha256(path) != want["sha256"]:
+        if sha256_file(path) != want["sha256"]:
             raise DamagedResults(f"{path}: sha256 differs from what the run wrote (edited after the run)")

@@ -16,7 +16,6 @@ killed half-way keeps its finished chunks too.
 
 from __future__ import annotations
 
-import contextlib
 import json
 import sys
 import time
@@ -72,35 +71,22 @@ def verified_status(out: Path, slug: str) -> dict | None:
 LOCK_FILE = ".lock"
 
 
-@contextlib.contextmanager
 def lock(out: Path):
-    """Hold ``<out>/.lock`` (an exclusive ``flock``) while a report is written into ``out``.
+    """Hold ``<out>/.lock`` (an exclusive ``flock``, ``crosscheck.files.exclusive``) while a report is written into ``out``.
 
     A second ``crosscheck report`` into the same directory is refused with one
-    line instead of interleaving its files with the first one's.  The kernel
-    drops the lock when the process dies, also by SIGKILL, so a killed run
+    line instead of interleaving its files with the first one's; a killed run
     never leaves the directory locked.
     """
-    import fcntl
     import os
 
-    path = Path(out) / LOCK_FILE
-    f = open(path, "a+")
-    try:
-        try:
-            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            f.seek(0)
-            holder = f.read().strip() or "unknown"
-            raise ValueError(f"out must be a report directory no other process is writing; {str(out)!r} is being written by pid {holder} "
-                             "(wait for it, or choose another --out)") from None
-        f.seek(0)
-        f.truncate()
-        f.write(str(os.getpid()))
-        f.flush()
-        yield path
-    finally:
-        f.close()
+    from crosscheck.files import exclusive
+
+    def refuse(holder: str) -> ValueError:
+        return ValueError(f"out must be a report directory no other process is writing; {str(out)!r} is being written by pid {holder or 'unknown'} "
+                          "(wait for it, or choose another --out)")
+
+    return exclusive(Path(out) / LOCK_FILE, str(os.getpid()), refuse)
 
 
 def code_digest() -> str:

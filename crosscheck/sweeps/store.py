@@ -19,7 +19,6 @@ it with a warning and the sweep recomputes it.
 
 from __future__ import annotations
 
-import fcntl
 import hashlib
 import json
 import os
@@ -32,6 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
+from crosscheck.files import exclusive, sha256_file
+
 __all__ = ["Store", "StoreError", "versions"]
 
 FORMAT = 1
@@ -39,14 +40,6 @@ FORMAT = 1
 
 class StoreError(ValueError):
     """A store that cannot be used as asked (another writer, another spec, a damaged manifest)."""
-
-
-def _sha256(path: Path) -> str:
-    h = hashlib.sha256()
-    with open(path, "rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
 
 
 def _write_atomic(path: Path, data: bytes) -> None:
@@ -82,21 +75,12 @@ class Store:
     def writer(self):
         """Hold the store's lock while writing; ``StoreError`` at once if another process holds it."""
         self.root.mkdir(parents=True, exist_ok=True)
-        f = open(self.root / ".lock", "a+")
-        try:
-            try:
-                fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except BlockingIOError:
-                f.seek(0)
-                holder = f.read().strip() or "another process"
-                raise StoreError(f"out {str(self.root)!r} is being written by {holder}; wait for it or use another directory") from None
-            f.seek(0)
-            f.truncate()
-            f.write(f"pid {os.getpid()} on {platform.node()}")
-            f.flush()
+
+        def refuse(holder: str) -> StoreError:
+            return StoreError(f"out {str(self.root)!r} is being written by {holder or 'another process'}; wait for it or use another directory")
+
+        with exclusive(self.root / ".lock", f"pid {os.getpid()} on {platform.node()}", refuse):
             yield self
-        finally:
-            f.close()  # releases the flock (also when the process is killed)
 
     def read_manifest(self) -> dict | None:
         """The manifest with the chunk records as they are now (``chunks``: id -> record, ``failed``: id -> error); None if absent."""
@@ -167,7 +151,7 @@ class Store:
         ok = set()
         for cid, rec in list(m["chunks"].items()):
             path = self.chunks / rec["file"]
-            if path.is_file() and _sha256(path) == rec["sha256"]:
+            if path.is_file() and sha256_file(path) == rec["sha256"]:
                 ok.add(int(cid))
                 continue
             warnings.warn(f"chunk {cid} of {str(self.root)!r} is {'missing' if not path.is_file() else 'damaged (sha256 mismatch)'}; "
@@ -219,7 +203,7 @@ class Store:
         for cid in sorted(m["chunks"], key=int):
             rec = m["chunks"][cid]
             path = self.chunks / rec["file"]
-            if not path.is_file() or _sha256(path) != rec["sha256"]:
+            if not path.is_file() or sha256_file(path) != rec["sha256"]:
                 raise StoreError(f"chunk {cid} of {str(self.root)!r} is missing or damaged (sha256 mismatch); re-run the sweep to recompute it")
             frames.append(pq.read_table(path).to_pandas())
         if not frames:

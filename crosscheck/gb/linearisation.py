@@ -21,7 +21,7 @@ import numpy as np
 from crosscheck.checks import ALPHA, ETA, MU, THETA, check
 from crosscheck.slipping import X_STATE
 
-__all__ = ["f", "jacobian", "matrix_A", "matrix_B", "K", "K_from_AB", "GBType", "classify", "eigen", "Quadrant", "quadrant"]
+__all__ = ["f", "jacobian", "matrix_A", "matrix_B", "K", "K_from_AB", "GBType", "classify", "eigen", "linear_orbits", "Quadrant", "quadrant"]
 
 
 # --------------------------------------------------------------------------
@@ -289,3 +289,23 @@ def quadrant(v, *, atol: float = 0.0):
         Quadrant.II_IV,
     ).astype(np.int8)
     return Quadrant(int(out)) if out.ndim == 0 else out
+
+
+def linear_orbits(K, *, n_orbits: int, n_s: int, span: float = 3.0) -> tuple[np.ndarray, np.ndarray]:
+    """Orbits of the linearised flow (p, b)' = K (p, b) (desingularised time s) from ``n_orbits`` starts on the unit circle.
+
+    s runs over [-span, span] / max |lambda| (``n_s`` samples, forward and backward), the time scale of the
+    faster eigenvalue, so every type of point shows its whole local picture.
+
+    Returns:
+      (s (n_s,), y (n_orbits, n_s, 2)): y[j] = expm(K s) (cos a_j, sin a_j), a_j = 2 pi j / n_orbits.
+    """
+    from scipy.linalg import expm
+
+    K = np.asarray(check("K", K), dtype=float)
+    lam, _ = eigen(K)
+    scale = 1.0 / max(float(np.max(np.abs(lam))), 1e-12)
+    s = np.linspace(-span * scale, span * scale, n_s)
+    Phi = expm(K[None, :, :] * s[:, None, None])  # one batched call: (n_s, 2, 2)
+    starts = [np.array([np.cos(a), np.sin(a)]) for a in np.linspace(0, 2 * np.pi, n_orbits, endpoint=False)]
+    return s, np.stack([Phi @ y0 for y0 in starts])

@@ -37,6 +37,9 @@ __all__ = [
     "OUTCOME_COLORS",
     "outcome_legend",
     "pb_plane",
+    "pb_orbits",
+    "pb_eigenvectors",
+    "strong_weak_colors",
 ]
 
 # The paper's shading (ex_shared.tex: myyellow, myorange, mylime, mypurple), Fig. 3a caption:
@@ -113,6 +116,31 @@ def pb_plane(ax, p_lim: float, b_lim: float) -> None:
     ax.set_ylim(-b_lim, b_lim)
     ax.set_xlabel("p")
     ax.set_ylabel("b")
+
+
+def pb_orbits(ax, p: np.ndarray, b: np.ndarray, orbit: np.ndarray, *, color: str = "0.35", radius: float = 1.5) -> None:
+    """Draw orbits in the (p, b) plane (samples of each orbit in order, ``orbit`` its id), inside ``radius``, each with an
+    arrow at its middle in the direction of its samples (increasing s)."""
+    for j in np.unique(orbit):
+        o = orbit == j
+        x, y = p[o], b[o]
+        keep = np.flatnonzero(np.hypot(x, y) < radius)
+        ax.plot(x[keep], y[keep], color=color, lw=0.6)
+        if keep.size > 3:
+            m = keep[keep.size // 2]
+            ax.annotate("", xy=(x[m + 1], y[m + 1]), xytext=(x[m], y[m]), arrowprops=dict(arrowstyle="->", color=color, lw=0.6))
+
+
+def pb_eigenvectors(ax, e_plus, e_minus, colors: tuple, *, lw: float = 2.0) -> None:
+    """Draw the eigen-directions e_+ and e_- through the origin of the (p, b) plane in ``colors`` (one per vector)."""
+    for v, color in zip((e_plus, e_minus), colors):
+        v = np.asarray(v, float)
+        ax.plot([-v[0], v[0]], [-v[1], v[1]], color=color, lw=lw)
+
+
+def strong_weak_colors(strong: str) -> tuple:
+    """(colour of e_+, colour of e_-): blue for the strong eigenvector (larger |lambda|; ``strong`` "plus" or "minus"), red for the weak."""
+    return (LINE_COLORS[0], LINE_COLORS[6]) if strong == "plus" else (LINE_COLORS[6], LINE_COLORS[0])
 
 
 def save_figure(fig, stem: Path) -> None:

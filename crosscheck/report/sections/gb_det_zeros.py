@@ -155,7 +155,7 @@ def render(ctx: RenderContext) -> list:
 
 
 def _render_pandora(ctx: RenderContext) -> list:
-    from crosscheck.report.plotting import LINE_COLORS, pb_plane, plt
+    from crosscheck.report.plotting import pb_eigenvectors, pb_plane, plt, strong_weak_colors
 
     if not ctx.store.exists("pandora_points.json"):
         return []
@@ -168,10 +168,7 @@ def _render_pandora(ctx: RenderContext) -> list:
         ax.set_visible(False)
     for k, (ax, p) in enumerate(zip(axes.flat, pts)):
         pb_plane(ax, 1.0, 1.0)
-        for key, idx in (("e_plus", 0), ("e_minus", 1)):
-            v = np.array(p[key])
-            strong = (p["strong"] == "plus") == (idx == 0)
-            ax.plot([-v[0], v[0]], [-v[1], v[1]], color=LINE_COLORS[0] if strong else LINE_COLORS[6], lw=2.0)
+        pb_eigenvectors(ax, p["e_plus"], p["e_minus"], strong_weak_colors(p["strong"]))
         lam = [complex(*l) for l in p["lambda"]]
         label = "det K = 0" if p["where"] == "zero" else p["type"].lower().replace("_", " ")
         ax.set_title(f"({chr(ord('a') + k)}) {label}", fontsize=8)

@@ -48,8 +48,6 @@ def _snap(mu, alpha, theta_s, varphi_s):
 
 
 def run(ctx: RunContext) -> None:
-    from scipy.linalg import expm
-
     from crosscheck import gb
 
     P = ctx.params
@@ -71,11 +69,8 @@ def run(ctx: RunContext) -> None:
                        "quadrant_strong": quads[strong], "quadrant_weak": quads[1 - strong]})
         ctx.store.write_json("points", points)
         # orbits of the linear flow from a circle, forward and backward in s; time scale 1/max|lambda|
-        scale = 1.0 / max(float(np.max(np.abs(lam))), 1e-12)
-        s = np.linspace(-3 * scale, 3 * scale, P["n_s"])
-        Phi = expm(Km[None, :, :] * s[:, None, None])  # one batched call: (n_s, 2, 2)
-        for j, a in enumerate(np.linspace(0, 2 * np.pi, P["n_orbits"], endpoint=False)):
-            y = Phi @ np.array([math.cos(a), math.sin(a)])
+        s, ys = gb.linear_orbits(Km, n_orbits=P["n_orbits"], n_s=P["n_s"])
+        for j, y in enumerate(ys):
             for k, v in (("point", np.full(s.size, i)), ("orbit", np.full(s.size, j)), ("s", s), ("p", y[:, 0]), ("b", y[:, 1])):
                 orbits[k] += list(v)
     ctx.store.write_table("orbits", orbits)
@@ -120,7 +115,7 @@ def run(ctx: RunContext) -> None:
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.report.plotting import LINE_COLORS, pb_plane, plt
+    from crosscheck.report.plotting import pb_eigenvectors, pb_orbits, pb_plane, plt, strong_weak_colors
 
     points = ctx.store.read_json("points")
     orb = ctx.store.read_table("orbits")
@@ -131,21 +126,9 @@ def render(ctx: RenderContext) -> list:
         for ax, p in zip(axes, pts):
             pb_plane(ax, 1.0, 1.0)
             sel = orb["point"] == p["index"]
-            for j in np.unique(orb["orbit"][sel]):
-                o = sel & (orb["orbit"] == j)
-                x, y = orb["p"][o], orb["b"][o]
-                r = np.hypot(x, y)
-                keep = r < 1.5
-                ax.plot(x[keep], y[keep], color="0.35", lw=0.6)
-                k = np.flatnonzero(keep)
-                if k.size > 3:  # an arrow in the direction of increasing s
-                    m = k[k.size // 2]
-                    ax.annotate("", xy=(x[m + 1], y[m + 1]), xytext=(x[m], y[m]), arrowprops=dict(arrowstyle="->", color="0.35", lw=0.6))
+            pb_orbits(ax, orb["p"][sel], orb["b"][sel], orb["orbit"][sel])
             lam = [complex(*l) for l in p["lambda"]]
-            for key, k in (("e_plus", 0), ("e_minus", 1)):
-                v = np.array(p[key])
-                strong = (p["strong"] == "plus") == (k == 0)
-                ax.plot([-v[0], v[0]], [-v[1], v[1]], color=LINE_COLORS[0] if strong else LINE_COLORS[6], lw=2.0)
+            pb_eigenvectors(ax, p["e_plus"], p["e_minus"], strong_weak_colors(p["strong"]))
             ax.set_title(f"{p['where'].split(',')[0].replace('Fig. ', '')}: {p['type'].lower().replace('_', ' ')}", fontsize=8)
             ax.text(0.03, 0.03, f"$\\theta$={p['theta']:.4f}\n$\\varphi$={p['varphi']:.4f}\n$\\lambda$={lam[0].real:.3g}, {lam[1].real:.3g}",
                     transform=ax.transAxes, fontsize=6, va="bottom")

@@ -15,8 +15,6 @@ sampled point; every orbit of the linear flow satisfies (p, b)(s) = expm(K s)
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
@@ -30,8 +28,6 @@ def params(quick: bool) -> dict:
 
 
 def run(ctx: RunContext) -> None:
-    from scipy.linalg import expm
-
     from crosscheck import gb
 
     P = ctx.params
@@ -61,12 +57,8 @@ def run(ctx: RunContext) -> None:
         lam, vec = gb.eigen(Km)
         p.update({"lambda": [[float(v.real), float(v.imag)] for v in lam], "e_plus": [float(v.real) for v in vec[:, 0]],
                   "e_minus": [float(v.real) for v in vec[:, 1]], "complex": bool(np.any(np.abs(np.imag(lam)) > 0))})
-        scale = 1.0 / max(float(np.max(np.abs(lam))), 1e-12)
-        s = np.linspace(-3 * scale, 3 * scale, P["n_s"])
-        Phi = expm(Km[None, :, :] * s[:, None, None])
-        for k, a in enumerate(np.linspace(0, 2 * np.pi, P["n_orbits"], endpoint=False)):
-            y0 = np.array([math.cos(a), math.sin(a)])
-            y = Phi @ y0
+        s, ys = gb.linear_orbits(Km, n_orbits=P["n_orbits"], n_s=P["n_s"])
+        for k, y in enumerate(ys):
             # the orbit solves y' = K y: central differences against K y, relative to |K y|
             dy = np.gradient(y, s, axis=0)[2:-2]
             ky = (Km @ y.T).T[2:-2]
@@ -84,7 +76,7 @@ def run(ctx: RunContext) -> None:
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.report.plotting import LINE_COLORS, pb_plane, plt
+    from crosscheck.report.plotting import LINE_COLORS, pb_eigenvectors, pb_orbits, pb_plane, plt
 
     points = ctx.store.read_json("points")
     orb = ctx.store.read_table("orbits")
@@ -97,18 +89,9 @@ def render(ctx: RenderContext) -> list:
         for ax, (j, p) in zip(axes[0], pts):
             pb_plane(ax, 1.0, 1.0)
             sel = orb["point"] == j
-            for k in np.unique(orb["orbit"][sel]):
-                o = sel & (orb["orbit"] == k)
-                x, y = orb["p"][o], orb["b"][o]
-                keep = np.flatnonzero(np.hypot(x, y) < 1.5)
-                ax.plot(x[keep], y[keep], color="0.3", lw=0.6)
-                if keep.size > 3:  # the direction of increasing s (time runs with s where p > 0)
-                    m = keep[keep.size // 2]
-                    ax.annotate("", xy=(x[m + 1], y[m + 1]), xytext=(x[m], y[m]), arrowprops=dict(arrowstyle="->", color="0.3", lw=0.6))
+            pb_orbits(ax, orb["p"][sel], orb["b"][sel], orb["orbit"][sel], color="0.3")  # arrows: increasing s (time runs with s where p > 0)
             if not p["complex"]:
-                for key, color in (("e_plus", LINE_COLORS[0]), ("e_minus", LINE_COLORS[6])):
-                    v = np.array(p[key])
-                    ax.plot([-v[0], v[0]], [-v[1], v[1]], color=color, lw=1.8)
+                pb_eigenvectors(ax, p["e_plus"], p["e_minus"], (LINE_COLORS[0], LINE_COLORS[6]), lw=1.8)
             ax.set_title(p["type"].lower().replace("_", " "), fontsize=8)
             ax.text(0.03, 0.03, f"$\\mu$={p['mu']:g}, $\\Psi$={p['Psi']:g}, $\\eta$={p['eta']:g}\n$\\theta$={p['theta']:.3f}, $\\Theta$={p['Theta']:.3f}",
                     transform=ax.transAxes, fontsize=6, va="bottom")

@@ -131,6 +131,13 @@ def cli_cases(tmp: Path) -> list:
     return cases
 
 
+def _simulate(engine, rod, state, key: str, value):
+    """``engine.simulate`` of a short valid run at mu = 1.4 with ``key`` (mu or an option) set to ``value``."""
+    kw = {"mu": 1.4, "horizon": 0.05, key: value}
+    mu = kw.pop("mu")
+    return engine.simulate(rod, state, mu, **kw)
+
+
 def api_cases() -> list:
     """Every (id, call, param) of the Python API."""
     from crosscheck import analytic, critical, hybrid, iwc
@@ -193,22 +200,10 @@ def api_cases() -> list:
                  ("radius", 5.0), ("radius", 1e308), ("radius", 0.0), ("radius", -0.01), ("timeconst", 0.0), ("dampratio", -1.0),
                  ("solimp", (0.9, 0.95, 0.001, 0.5, -2.0)), ("solimp", (0.9, 0.95, 0.001, 1.5, 2.0)), ("solimp", (0.9, 0.95)),
 ("solver_tolerance", -1.0), ("bogus_option", 1.0), ("mu", -1.0), ("mu", 1e308)]:
-        def call(k=k, v=v):
-            kw = dict(horizon=0.05)
-            mu = 1.4
-            if k == "mu":
-                mu = v
-            else:
-                kw[k] = v
-            return mujoco.simulate(rod, s, mu, **kw)
-        add(f"mujoco.simulate({k}={v!r})", call, k)
+        add(f"mujoco.simulate({k}={v!r})", lambda k=k, v=v: _simulate(mujoco, rod, s, k, v), k)
     for k, v in [("horizon", 0.0), ("horizon", 1e5), ("timestep", -1.0), ("solver", "bogus"), ("tolerance", 0.0), ("max_iterations", 0),
                  ("max_iterations", 2.5), ("contact_gap", -1.0), ("ncp", "yes")]:
-        def call(k=k, v=v):
-            kw = dict(horizon=0.05)
-            kw[k] = v
-            return pinocchio.simulate(rod, s, 1.4, **kw)
-        add(f"pinocchio.simulate({k}={v!r})", call, k)
+        add(f"pinocchio.simulate({k}={v!r})", lambda k=k, v=v: _simulate(pinocchio, rod, s, k, v), k)
     for k, v in [("window", math.nan), ("window", -0.05), ("window_steps", 0), ("window_steps", 2.5), ("jam_force", -1.0),
                  ("jam_ratio", 0.0), ("jam_p_eff", math.inf), ("lift_steps", 0), ("stick_speed", math.nan), ("diverged_speed", math.nan),
                  ("diverged_speed", 0.0), ("rigid_stick_steps", -1.0)]:

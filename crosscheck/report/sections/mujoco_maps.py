@@ -68,6 +68,7 @@ def run(ctx: RunContext) -> None:
 
     from crosscheck import critical
     from crosscheck.engines.base import engine_label
+    from crosscheck.outcome import Outcome
 
     P = ctx.params
     engine = P["engine"]
@@ -94,7 +95,7 @@ def run(ctx: RunContext) -> None:
         cols[engine], cols[f"{engine}_time"] = lab, t
         below = pts["mu"][res.index] < mu_P
         below_mu_P += int(below.sum())
-        jams_below += int(np.sum(below & (r.label == 3)))  # 3: Outcome.JAM
+        jams_below += int(np.sum(below & (r.label == Outcome.JAM)))
         ctx.store.write_table(f"events_{m['name']}", cols)
         summary.append({"name": m["name"], "x": {"name": m["x"], "values": x}, "y": {"name": m["y"], "values": y}, "fixed": m["fixed"],
                         "runs": [{k: v for k, v in r.summary().items() if k not in ("time_difference", "time_difference_outcome")} for r in res.runs],

@@ -25,7 +25,8 @@ __all__ = ["names", "get", "register", "unregister", "Engine", "Run", "SweepResu
            "classify", "n_steps", "sweep_by_simulate", "SERIES", "SUMMARY"]
 
 #: Engines shipped with crosscheck: name -> module whose ``ENGINE`` it is.
-BUILTIN = {"mujoco": "crosscheck.engines.mujoco", "pinocchio": "crosscheck.engines.pinocchio"}
+BUILTIN = {"mujoco": "crosscheck.engines.mujoco", "pinocchio": "crosscheck.engines.pinocchio", "compliant": "crosscheck.engines.compliant",
+           "mujoco_law": "crosscheck.engines.mujoco_ode"}
 
 _registered: dict[str, Engine] = {}
 

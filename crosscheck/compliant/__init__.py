@@ -1,0 +1,26 @@
+"""The compliant rod in 3D: the paper's rod on an elastic plane (contact regularisation) with exact Coulomb friction.
+
+The paper's closing remark: contact regularisation, a rigid rod on an elastic
+surface, resolves the Painleve paradox in 2D, and its 3D extension is left to
+further work.  This package is that model: the rod of section 2 (eq.
+inertia, alpha = m l^2 / I0) with a unilateral normal law of small parameter
+eps (Kelvin-Voigt by default: stiffness 1/eps^2, damping xi/eps in scaled
+units) at the tip A or at a capsule's lowest point C = A - r K, exact Coulomb
+friction with a stick phase, integrated event by event with a stiff method.
+
+Energy.  With xi >= 0 and mu >= 0 the total mechanical energy (kinetic,
+gravity, and the law's elastic energy while penetrating) never increases:
+the dashpot dissipates xi/eps delta'^2, slipping friction mu F_n |s|, stuck
+friction does no work, and where the clipped force is zero inside the plane
+(the law would pull) the stored elastic energy only drains.
+
+Modules: ``laws`` (the normal laws), ``model`` (the dynamics), ``integrate``
+(the event-driven solution), ``simulate`` (the engine's ``Run``).
+"""
+
+from crosscheck.compliant.integrate import EVENT_KINDS, Event, Trajectory, integrate
+from crosscheck.compliant.laws import LAWS, NormalLaw
+from crosscheck.compliant.model import Dynamics
+from crosscheck.compliant.simulate import Options, simulate
+
+__all__ = ["integrate", "simulate", "Options", "Trajectory", "Event", "EVENT_KINDS", "Dynamics", "NormalLaw", "LAWS"]

@@ -1,0 +1,183 @@
+"""The compliant rod as a contact engine: its ``Options`` and one run's ``Record`` at a fixed timestep, classified.
+
+``simulate`` integrates the event-driven model (``crosscheck.compliant.integrate``)
+and samples it by the solver's dense output at t_k = k timestep, filling the
+``Record`` every engine fills (scaled units, world frame): the tip A's
+position, velocity and acceleration (gravity included), the contact force at
+C and its normal part, whether the contact is active (a contact mode: the law
+pushes), the gap and slip velocity of C, and the angles and rates.
+
+Classifier settings (``crosscheck.engines.classifier.classify``):
+
+* ``rigid=False``: the force builds up over the law's time scale eps (the
+  contact oscillates at ~ sqrt(G_nn)/eps with G_nn in [1, 1 + alpha]), so a
+  lift-off is judged over ``lift_steps`` force-free rows and a jam over a
+  window, as for MuJoCo's soft contact;
+* ``friction_timeconst=0``: the stick phase is exact (C's slip speed is
+  held at 0 to the solver's tolerance, no creep), so the STICK threshold is
+  the classifier's floor ``stick_speed`` (1e-2).  That floor does not fit
+  an exact stick perfectly: it calls the run stuck when eta falls below
+  1e-2, i.e. ~1e-2 / |eta'| early (|eta'| = O(mu F_z)), and would call a
+  slow slip that swings round through small eta a STICK.  The classifier is
+  shared, so we do not bend it; the trajectory's own ``slip_stop`` event
+  (``integrate``) gives the exact stop time.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from crosscheck.checks import NONNEGATIVE, POSITIVE, check
+from crosscheck.compliant import laws as _laws
+from crosscheck.compliant.integrate import METHODS, RADIUS, integrate
+from crosscheck.compliant.model import FREE, SLIP, STICK
+from crosscheck.engines.base import Run, n_steps_within_memory, options_from_kwargs
+from crosscheck.engines.classifier import Thresholds, classify
+from crosscheck.engines.record import Record
+from crosscheck.rod import Rod
+from crosscheck.state import SlipState
+from crosscheck.tolerances import COMPLIANT_INTEGRATION
+
+__all__ = ["Options", "simulate", "record_of", "NAME"]
+
+#: The engine's registry name.
+NAME = "compliant"
+
+#: Bytes per record row (13 fields, ~25 float64 columns, plus the classifier's temporaries): 1.5 x 25 x 8 x 4 copies.
+ROW_BYTES = 1200
+
+
+@dataclass(frozen=True)
+class Options:
+    """Parameters of the compliant rod, in the paper's scaled units.
+
+    Attributes:
+      eps: the normal law's small parameter (stiffness 1/eps^2, damping
+        xi/eps; the resting penetration is eps^2 F_z), > 0 (default 1e-2).
+      xi: damping, >= 0 (default 1: near critical, xi_c = 2/sqrt(G_nn) in [1, 2] for alpha = 3).
+      radius: capsule radius r / l in [0, 0.5) (default 0: contact at the tip A).
+      law: the normal law's name (``crosscheck.compliant.laws``).
+      timestep: scaled time between record rows (default 1e-3); the
+        integration itself is adaptive (dense output).
+      method: "Radau" (default) or "BDF".
+      rtol, atol: solver tolerances (``COMPLIANT_INTEGRATION``).
+    """
+
+    eps: float = 1e-2
+    xi: float = 1.0
+    radius: float = 0.0
+    law: str = "kelvin-voigt"
+    timestep: float = 1e-3
+    method: str = "Radau"
+    rtol: float = COMPLIANT_INTEGRATION.rtol
+    atol: float = COMPLIANT_INTEGRATION.atol
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "eps", float(check("eps", self.eps, POSITIVE)))
+        object.__setattr__(self, "xi", float(check("xi", self.xi, NONNEGATIVE)))
+        object.__setattr__(self, "radius", float(check("radius", self.radius, RADIUS)))
+        _laws.get(self.law)
+        for name in ("timestep", "rtol", "atol"):
+            object.__setattr__(self, name, float(check(name, getattr(self, name), POSITIVE)))
+        if self.method not in METHODS:
+            raise ValueError(f"method must be one of {', '.join(METHODS)}; got {self.method!r}")
+
+    @classmethod
+    def from_kwargs(cls, options: dict) -> "Options":
+        return options_from_kwargs(cls, options, NAME)
+
+    @property
+    def contact_time(self) -> float:
+        """Time over which the normal force builds up: the law's time scale eps."""
+        return self.eps
+
+    @property
+    def friction_time(self) -> float:
+        """The stick phase is exact (no creep): 0."""
+        return 0.0
+
+    def as_dict(self) -> dict:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+def record_of(traj, times: np.ndarray) -> Record:
+    """The ``Record`` of a ``Trajectory`` at ``times`` (scaled, world frame) by the segments' dense output.
+
+    At a time shared by two segments (a mode switch) the later segment is used.
+    """
+    dyn = traj.dynamics
+    n = len(times)
+    Y = np.empty((n, 10))
+    modes = np.zeros(n, dtype=int)
+    dirs: list = [None] * n
+    segs = traj.segments
+    k0 = 0
+    for j, seg in enumerate(segs):
+        last = j == len(segs) - 1
+        k1 = n if last else int(np.searchsorted(times, seg.t1, side="left"))
+        if k1 > k0:
+            tt = np.minimum(times[k0:k1], seg.t1)
+            Y[k0:k1] = np.asarray(seg.sol(tt)).T
+            modes[k0:k1] = seg.mode
+            for k in range(k0, k1):
+                dirs[k] = seg.direction
+        k0 = max(k0, k1)
+    force = np.zeros((n, 3))
+    acc = np.empty((n, 3))
+    slip = np.zeros((n, 3))
+    for k in range(n):
+        F = dyn.force(Y[k], int(modes[k]), dirs[k]) if modes[k] != FREE else np.zeros(3)
+        force[k] = F
+        acc[k] = dyn.tip_acceleration(Y[k], F)
+        slip[k, :2] = dyn.slip(Y[k])
+    from crosscheck.compliant.model import q_from_y
+    from crosscheck.coordinates import tip_position, tip_velocity
+
+    rod = Rod.scaled(dyn.alpha)
+    q, v = q_from_y(Y, dyn.radius)
+    return Record(t=np.asarray(times, float), tip_pos=tip_position(rod, q), tip_vel=tip_velocity(rod, q, v), tip_acc=acc, force=force,
+                  normal_force=force[:, 2].copy(), active=np.isin(modes, (SLIP, STICK)), gap=Y[:, 2].copy(), slip_vel=slip,
+                  psi=Y[:, 3].copy(), theta=Y[:, 4].copy(), Psi=Y[:, 8].copy(), Theta=Y[:, 9].copy())
+
+
+def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: float = Options.eps, xi: float = Options.xi,
+             radius: float = 0.0, law: str = "kelvin-voigt", thresholds: Thresholds | None = None, **options) -> Run:
+    """Run one slipping state with the compliant rod and classify its first event.
+
+    The capsule starts touching the plane (z_A = r, the gap of C zero) with
+    the velocities of ``state``, exactly as the MuJoCo engine's
+    ``initial_state``; ``ceil(horizon / timestep)`` record rows at
+    t_k = k timestep.  ``Run.solver`` holds the ``Trajectory`` (events,
+    dense output).  Options: see ``Options``.
+    """
+    if not isinstance(state, SlipState):
+        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    state.check_start()
+    horizon = float(check("horizon", horizon, POSITIVE))
+    opts = Options.from_kwargs(dict(options, eps=eps, xi=xi, radius=radius, law=law))
+    if opts.timestep > horizon:
+        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
+    th = thresholds or Thresholds()
+    n = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES)
+    times = opts.timestep * np.arange(n)
+    # integrate past the last row by one timestep so that every row lies inside the dense output
+    traj = integrate(rod, state, mu, horizon=max(horizon, times[-1] + opts.timestep), eps=opts.eps, xi=opts.xi, radius=opts.radius,
+                     law=opts.law, method=opts.method, rtol=opts.rtol, atol=opts.atol)
+    end = traj.segments[-1].t1
+    if end < times[-1]:
+        # the run stopped early (theta left the domain): rows past the end are the last state, the classifier's exit rule sees theta
+        times = np.minimum(times, end)
+    record = record_of(traj, times)
+    if end < opts.timestep * (n - 1):
+        # rows past a domain exit hold the exit state with theta on the boundary it reached (0 or pi/2), so the
+        # classifier's exit rule sees the exit; the clock keeps its fixed step
+        past = opts.timestep * np.arange(n) > end
+        theta = np.where(past, np.where(record.theta[-1] < 0.75, 0.0, 0.5 * np.pi), record.theta)
+        record = Record(**{f.name: getattr(record, f.name) for f in fields(Record)} | {"t": opts.timestep * np.arange(n), "theta": theta})
+    c = classify(record, mu=float(mu), alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=False,
+                 thresholds=th)
+    return Run.from_classification(NAME, c, record, state=state, mu=float(mu), alpha=rod.alpha, options=opts, thresholds=th,
+                                   horizon=horizon, nstep=n, solver=traj)
+

@@ -1,0 +1,326 @@
+"""The rigid rod with its contact at the capsule point C = A - r K: eqs. b and p at C and the slipping flow to the first event.
+
+MuJoCo's rod is a capsule of radius r (units of l): the end cap is centred on
+the tip A and, for theta in (0, pi/2), touches the plane at C = A - r K,
+straight below A.  Everything else here is the paper's model: a rigid
+unilateral contact and exact Coulomb friction, now acting at C.  The
+difference between this model and the paper's (r = 0) is geometry alone.
+
+Kinematics (scaled units, section 2.1; i = (cos psi, sin psi, 0),
+j = (-sin psi, cos psi, 0) the horizontal axes of the rod's vertical plane,
+j pointing from A towards the centre of mass S).  The rod has no axial spin,
+so its angular velocity is Psi K + Theta i and C's material velocity is
+
+    v_C = v_A + omega x (-r K) = v_A + r Theta j,
+
+horizontal part eta_C (cos varphi_C i + sin varphi_C j): ``contact_slip``.
+
+Dynamics.  The gap is z_A - r, so its free acceleration is still b (eq. b).
+A force F = F_i i + F_j j + F_z K at C adds to eq. rotode the torque
+(C - S) x F, whose theta component is (sin theta + r) F_j - cos theta F_z (the
+lever of F_j is r longer than at A) and whose psi component is unchanged,
+cos theta F_i.  With Coulomb friction opposite C's slip,
+F_i = -mu F_z cos varphi_C, F_j = -mu F_z sin varphi_C, the gap's normal
+acceleration is b + p_C F_z with
+
+    p_C = 1 + alpha cos^2 theta + alpha mu cos theta (sin theta + r) sin varphi_C      (``p``)
+
+(eq. p at r = 0: 1 + alpha + alpha sin theta (mu cos theta sin varphi - sin theta)).
+The offset lowers p by alpha mu r cos theta |sin varphi_C| on the paradox side
+varphi_C in (-pi, 0).  While slipping F_z = -b / p_C (eq. FZ at C) and the
+horizontal acceleration of C in the (i, j) frame is
+
+    a_i = (1 + alpha) F_i - r Theta Psi,
+    a_j = (1 + alpha (sin theta + r)^2) F_j - alpha cos theta (sin theta + r) F_z
+          + cos theta (Psi^2 cos^2 theta + Theta^2) - r sin theta cos theta Psi^2,
+
+which gives eta_C' = a_i cos varphi_C + a_j sin varphi_C and
+eta_C (varphi_C' + Psi) = a_j cos varphi_C - a_i sin varphi_C, together with
+Psi' = alpha F_i / cos theta + 2 tan theta Psi Theta and
+Theta' = alpha ((sin theta + r) F_j - cos theta F_z) - sin theta cos theta Psi^2
+(eq. rotode with the force at C).  At r = 0 these are eq. polareqs_varphi with
+the coefficients of Appendix A, term by term.
+
+Time.  ``slip_until_event`` integrates these equations in the desingularised
+time of eq. f, eta_C p_C ds = dt, exactly as ``crosscheck.slipping`` does at A
+(and the same vector field at r = 0).  What it buys: near a JAM, p_C ~
+(t_jam - t)^(1/2) and F_z = -b/p_C ~ (t_jam - t)^(-1/2), so in real time the
+right-hand side is unbounded, an adaptive integrator must shrink its steps
+towards t_jam and the event p_C = 0 is a root with infinite slope; in s the
+field is smooth through p_C = 0, the crossing is transversal and located to
+the integrator's tolerance, and t is an ordinary state.  Near eta_C = 0
+(STICK) the 1/eta_C of varphi_C' is likewise removed.  Event rules, domain
+exits and start rules are those of ``crosscheck.slipping`` (its module
+docstring), judged at C: LIFTOFF b = 0 with p_C > 0, JAM p_C below
+-``P_RESOLVED`` with b < 0 (reported at the last crossing of p_C = 0), GB,
+STICK when eta_C falls below ``STICK_SPEED``, SLIP at t_max or when
+varphi_C reaches 0 or -pi or theta comes within ``THETA_MARGIN`` of 0 or
+pi/2.  A start whose varphi_C lies outside (-pi, 0] (r Theta tips C's slip
+across the rod's plane) is outside the paper's domain: SLIP at t = 0 with
+reason "varphi=0" or "varphi=-pi", as a run reaching that boundary would end.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from crosscheck import analytic
+from crosscheck.checks import ALPHA, HORIZON, MU, THETA, BOUNDED, Interval, check
+from crosscheck.coordinates import tip_velocity, to_generalized
+from crosscheck.outcome import Outcome
+from crosscheck.rod import Rod
+from crosscheck.slipping import SlipResult, _start_outcome, _state_from
+from crosscheck.state import SlipState
+from crosscheck.tolerances import GB_REACHED, P_RESOLVED, SLIP_INTEGRATION, STICK_SPEED, THETA_MARGIN
+
+__all__ = ["RADIUS", "CapsuleSlipResult", "b", "p", "contact_slip", "tip_slip", "slip_rhs", "slip_until_event"]
+
+#: Capsule radius r in units of l: a cap wider than half the rod's half-length is no longer a slender rod's tip.
+RADIUS = Interval(0.0, 0.5, lo_open=False, hi_open=True)
+
+_HALF_PI = 0.5 * math.pi
+
+
+def b(Psi, Theta, theta):
+    """Scaled free normal acceleration of the capsule's gap z_A - r, eq. b (the same as at A).
+
+    b = (Psi^2 cos^2 theta + Theta^2) sin theta - 1 (units of g); vectorised.
+    """
+    return analytic.b(Psi, Theta, theta)
+
+
+def p(theta, varphi_C, mu, alpha, radius):
+    """Normal acceleration of the gap per unit normal force at C, slipping with friction opposite C's slip (eq. p at C).
+
+    p_C = 1 + alpha cos^2 theta + alpha mu cos theta (sin theta + r) sin varphi_C,
+    eq. p at r = 0 (see the module docstring for the derivation).
+
+    Args:
+      theta: polar angle [rad], in (0, pi/2).
+      varphi_C: relative slip angle of C's material velocity [rad] (any finite value).
+      mu: friction coefficient; alpha: m l^2 / I0.
+      radius: capsule radius r [units of l], in [0, 0.5).
+
+    Returns:
+      p_C (units of g per m g), broadcast over the arguments.
+    """
+    theta = check("theta", theta, THETA)
+    varphi_C = check("varphi_C", varphi_C, BOUNDED)
+    mu, alpha = check("mu", mu, MU), check("alpha", alpha, ALPHA)
+    r = check("radius", radius, RADIUS)
+    c = np.cos(theta)
+    return 1.0 + alpha * c * c + alpha * mu * c * (np.sin(theta) + r) * np.sin(varphi_C)
+
+
+def contact_slip(state: SlipState, *, radius) -> tuple[float, float]:
+    """(eta_C, varphi_C): scaled speed and relative slip angle of C's material velocity v_A + r Theta j.
+
+    The state's eta and varphi are the tip A's (as ``crosscheck.coordinates.to_generalized``
+    and the MuJoCo engine read them); C's velocity is formed from the same (q, v),
+    with the tip at height r so that the capsule touches the plane.  varphi_C is
+    wrapped to (-pi, pi]: it may leave the paper's (-pi, 0] when r Theta is
+    comparable to eta sin varphi.
+    """
+    r = float(check("radius", radius, RADIUS))
+    rod = Rod.scaled()  # kinematics only: alpha does not enter
+    q, v = to_generalized(rod, state, tip=(0.0, 0.0, r))
+    vA = tip_velocity(rod, q, v)
+    psi = q[3]
+    u = vA[:2] + r * v[4] * np.array([-math.sin(psi), math.cos(psi)])  # omega x (-r K), omega = Psi K + Theta i
+    eta_C = float(math.hypot(u[0], u[1]))
+    varphi_C = float(np.angle(np.exp(1j * (math.atan2(u[1], u[0]) - psi))))
+    return eta_C, varphi_C
+
+
+def tip_slip(eta_C, varphi_C, Theta, *, radius) -> tuple[np.ndarray, np.ndarray]:
+    """(eta, varphi) of the tip A from C's slip: v_A = v_C - r Theta j (inverse of ``contact_slip``); varphi in (-pi, pi]."""
+    r = check("radius", radius, RADIUS)
+    eta_C, varphi_C, Theta = (check(n, x) for n, x in (("eta_C", eta_C), ("varphi_C", varphi_C), ("Theta", Theta)))
+    ui = eta_C * np.cos(varphi_C)
+    uj = eta_C * np.sin(varphi_C) - r * Theta
+    return np.hypot(ui, uj), np.arctan2(uj, ui)
+
+
+def _coefficients(varphi, Psi, theta, Theta, mu, alpha, r):
+    """b, p_C and the per-unit-F_z (…1) and force-free (…0) parts of a_i, a_j, Psi', Theta' (scalars: hot loop)."""
+    st, ct = math.sin(theta), math.cos(theta)
+    sp, cp = math.sin(varphi), math.cos(varphi)
+    sr = st + r
+    W = Psi * Psi * ct * ct + Theta * Theta
+    bb = W * st - 1.0
+    pp = 1.0 + alpha * ct * ct + alpha * mu * ct * sr * sp
+    ai1 = -(1.0 + alpha) * mu * cp
+    ai0 = -r * Theta * Psi
+    aj1 = -mu * sp * (1.0 + alpha * sr * sr) - alpha * ct * sr
+    aj0 = ct * W - r * st * ct * Psi * Psi
+    Psi1 = -alpha * mu * cp / ct
+    Psi0 = 2.0 * Psi * Theta * st / ct
+    Theta1 = -alpha * mu * sr * sp - alpha * ct
+    Theta0 = -st * ct * Psi * Psi
+    return bb, pp, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0
+
+
+def _rhs7(y, mu, alpha, r):
+    """The slipping field at C in s (eta_C p_C ds = dt), plus dt/ds, for y = (eta_C, varphi_C, psi, Psi, theta, Theta, t)."""
+    eta, varphi, Psi, theta, Theta = y[0], y[1], y[3], y[4], y[5]
+    bb, pp, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0 = _coefficients(varphi, Psi, theta, Theta, mu, alpha, r)
+    # p_C times each acceleration: F_z p_C = -b removes the 1/p_C of eq. FZ
+    Ai = -bb * ai1 + pp * ai0
+    Aj = -bb * aj1 + pp * aj0
+    sp, cp = math.sin(varphi), math.cos(varphi)
+    ep = eta * pp
+    return [
+        eta * (cp * Ai + sp * Aj),
+        (cp * Aj - sp * Ai) - eta * Psi * pp,
+        ep * Psi,
+        eta * (-bb * Psi1 + pp * Psi0),
+        ep * Theta,
+        eta * (-bb * Theta1 + pp * Theta0),
+        ep,
+    ]
+
+
+def slip_rhs(x, mu, alpha, *, radius) -> np.ndarray:
+    """The desingularised slipping field at C (eq. f at r = 0) for x = (eta_C, varphi_C, psi, Psi, theta, Theta).
+
+    Returns the (6,) derivative with respect to s, eta_C p_C ds = dt.
+    """
+    x = np.asarray(x, dtype=float)
+    return np.array(_rhs7(x, float(mu), float(alpha), float(check("radius", radius, RADIUS)))[:6])
+
+
+@dataclass(frozen=True, eq=False)
+class CapsuleSlipResult(SlipResult):
+    """``SlipResult`` of a run with the contact at C.
+
+    ``state`` is the state at the event with eta, varphi those of C's slip
+    (clamped to the paper's domain on a domain exit, as in ``crosscheck.slipping``);
+    ``p`` is p_C; the columns eta, varphi of ``x`` are eta_C, varphi_C.
+    ``tip_eta``, ``tip_varphi``: the tip A's slip at the event (``tip_slip``).
+    """
+
+    radius: float = 0.0
+    tip_eta: float = math.nan
+    tip_varphi: float = math.nan
+
+
+def _events(mu: float, alpha: float, r: float, t_max: float):
+    """Terminal event functions g(s, y) and their (outcome, reason): ``crosscheck.slipping``'s, with b and p_C."""
+    gb_r, eta_stick, margin, p_resolved = GB_REACHED.atol, STICK_SPEED.atol, THETA_MARGIN.atol, P_RESOLVED.atol
+
+    def bp(y):
+        bb, pp, *_ = _coefficients(y[1], y[3], y[4], y[5], mu, alpha, r)
+        return bb, pp
+
+    table = [
+        (lambda s, y: bp(y)[0], +1, Outcome.LIFTOFF, "b=0"),
+        (lambda s, y: bp(y)[1] + p_resolved, -1, Outcome.JAM, "p=0"),
+        (lambda s, y: math.hypot(*bp(y)) - gb_r, -1, Outcome.GB, "gb"),
+        (lambda s, y: y[0] - eta_stick, -1, Outcome.STICK, "eta=0"),
+        (lambda s, y: y[6] - t_max, +1, Outcome.SLIP, "t_max"),
+        (lambda s, y: y[1], +1, Outcome.SLIP, "varphi=0"),
+        (lambda s, y: y[1] + math.pi, -1, Outcome.SLIP, "varphi=-pi"),
+        (lambda s, y: y[4] - margin, -1, Outcome.SLIP, "theta=0"),
+        (lambda s, y: _HALF_PI - margin - y[4], -1, Outcome.SLIP, "theta=pi/2"),
+    ]
+    funcs = []
+    for g, direction, _, _ in table:
+        g.terminal = True
+        g.direction = direction
+        funcs.append(g)
+    p_zero = lambda s, y: bp(y)[1]  # noqa: E731  (not terminal: a JAM is reported at the last crossing of p_C = 0)
+    p_zero.terminal, p_zero.direction = False, -1
+    funcs.append(p_zero)
+    return funcs, [(o, reason) for _, _, o, reason in table]
+
+
+def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0, s_max: float = 1e4,
+                     rtol: float | None = None, atol: float | None = None) -> CapsuleSlipResult:
+    """Integrate the rigid rod slipping with its contact at C from ``state`` to its first event.
+
+    The start is MuJoCo's: (q, v) = ``to_generalized(rod, state, tip=(0, 0, radius))``,
+    i.e. ``state``'s eta and varphi are the tip A's; C's slip is v_A + r Theta j.
+    F_z = -b / p_C and friction opposite C's slip; integrated in s, eta_C p_C ds = dt,
+    with ``solve_ivp`` (DOP853).  Events, domain exits and start rules: the module
+    docstring (those of ``crosscheck.slipping`` judged at C).
+
+    Args:
+      state: the initial ``SlipState`` (scaled; eta, varphi of the tip A).
+      mu: friction coefficient, >= 0; alpha: m l^2 / I0.
+      radius: capsule radius r [units of l], in [0, 0.5).
+      t_max: horizon in real scaled time; s_max: horizon in s.
+      rtol, atol: integrator tolerances (default ``SLIP_INTEGRATION``, as ``crosscheck.slipping``).
+
+    Returns:
+      A ``CapsuleSlipResult`` (a ``SlipResult``): outcome, real time, state at C, trajectory.
+    """
+    if not isinstance(state, SlipState):
+        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    state.check_start()
+    r = float(check("radius", radius, RADIUS))
+    mu = float(check("mu", mu, MU))
+    alpha = float(check("alpha", alpha, ALPHA))
+    t_max = float(check("t_max", t_max, HORIZON))
+    s_max = float(check("s_max", s_max, Interval(0.0, 1e8, lo_open=True, hi_open=False)))
+    rtol = SLIP_INTEGRATION.rtol if rtol is None else float(check("rtol", rtol, Interval(1e-14, 1e-3, lo_open=False, hi_open=False)))
+    atol = SLIP_INTEGRATION.atol if atol is None else float(check("atol", atol, Interval(1e-16, 1e-3, lo_open=False, hi_open=False)))
+
+    eta_C, varphi_C = contact_slip(state, radius=r)
+    y0 = np.array([eta_C, varphi_C, state.psi, state.Psi, state.theta, state.Theta, 0.0])
+
+    def result(outcome, t, y, reason, s_arr, Y, *, eta_out=None):
+        bb, pp, *_ = _coefficients(y[1], y[3], y[4], y[5], mu, alpha, r)
+        eta_A, varphi_A = tip_slip(y[0] if eta_out is None else eta_out, y[1], y[5], radius=r)
+        return CapsuleSlipResult(outcome, t, _state_from(y, eta=eta_out), reason, bb, pp, s_arr, Y[:, 6].copy(), Y[:, :6].copy(),
+                                 radius=r, tip_eta=float(eta_A), tip_varphi=float(varphi_A))
+
+    b0, p0, *_ = _coefficients(varphi_C, state.Psi, state.theta, state.Theta, mu, alpha, r)
+    early = _start_outcome(eta_C, b0, p0)
+    if early is None and not -math.pi < varphi_C <= 0.0:
+        # C slips across the rod's vertical plane: outside the paper's domain, where a run would stop
+        early, reason = Outcome.SLIP, ("varphi=0" if varphi_C < _HALF_PI else "varphi=-pi")
+    else:
+        reason = "start"
+    if early is not None:
+        return result(early, 0.0, y0, reason, np.zeros(1), y0[None, :].copy())
+
+    events, meaning = _events(mu, alpha, r, t_max)
+    sol = solve_ivp(lambda s, y: _rhs7(y, mu, alpha, r), (0.0, s_max), y0, method="DOP853", rtol=rtol, atol=atol, events=events)
+    s_arr, Y = sol.t, sol.y.T
+    if sol.status == -1 or not np.all(np.isfinite(Y)):
+        good = np.all(np.isfinite(Y), axis=1)
+        Y, s_arr = Y[good], s_arr[good]
+        return result(Outcome.DIVERGED, float(Y[-1, 6]), Y[-1], "solver", s_arr, Y)
+
+    outcome, reason = Outcome.SLIP, "s_max"
+    if sol.status == 1:
+        fired = [i for i, te in enumerate(sol.t_events[: len(meaning)]) if len(te)]
+        i = min(fired, key=lambda k: (sol.t_events[k][0], k))  # earliest; on a tie the table's order
+        outcome, reason = meaning[i]
+        s_end, y_end = sol.t_events[i][0], sol.y_events[i][0]
+        if outcome is Outcome.JAM:
+            # fired at p_C = -P_RESOLVED; the crossing is the last root of p_C = 0 before it (or the start)
+            if len(sol.t_events[-1]):
+                s_end, y_end = sol.t_events[-1][-1], sol.y_events[-1][-1]
+            else:
+                s_end, y_end = 0.0, y0
+        keep = s_arr < s_end
+        s_arr = np.append(s_arr[keep], s_end)
+        Y = np.vstack([Y[keep], y_end])
+    y = Y[-1].copy()
+    t_end = max(float(y[6]), 0.0)  # dt/ds = eta_C p_C < 0 only within P_RESOLVED of p_C = 0: rounding
+    eta_out = None
+    if outcome is Outcome.STICK:
+        # eta_C = 0 is reached as s -> inf at a finite real time: add eta_C / |d eta_C/dt|
+        f7 = _rhs7(y, mu, alpha, r)
+        deta_dt = f7[0] / f7[6]
+        if deta_dt < 0:
+            t_end += -y[0] / deta_dt
+        eta_out = 0.0
+    if outcome is Outcome.SLIP and reason == "t_max":
+        t_end = t_max
+    return result(outcome, t_end, y, reason, s_arr, Y, eta_out=eta_out)

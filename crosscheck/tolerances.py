@@ -371,34 +371,3 @@ CAPSULE_REDUCTION_TIME = Tolerance(atol=1e-9, rtol=1e-9, why="r = 0 vs crosschec
 #: tolerance-proportional integrator's global error is ~ rtol times the number of steps' error growth; over the
 #: O(1) times of a run 10 covers it (measured ratio 0.01-1.2 at rtol 1e-5 ... 1e-10 on the test's jam).
 CAPSULE_JAM_CONVERGENCE = Tolerance(atol=0.0, rtol=10.0, why="JAM time at C converges with the integrator's tolerance (error <= 10 rtol t)")
-
-# ----------------------------------------------------------------- capsule ---
-# The rigid rod with its contact at the capsule point C = A - r K (crosscheck.capsule), scaled units.
-
-#: p_C and b of crosscheck.capsule against Pinocchio with the tip Jacobian moved to C (J_C = J + r [K]x J_omega):
-#: the allowance is atol * (1 + alpha)(1 + mu)(1 + r)(1 + |v_s|_1 / eta_C).  (1 + alpha)(1 + mu)(1 + r) bounds
-#: the terms of p_C (1, alpha cos^2 theta, alpha mu cos theta (sin theta + r)); as for PIN_SLIP, ~45 eps of it.
-#: Pinocchio's friction direction comes from J_C v, whose rounding eps |v_s|_1 turns the slip angle by
-#: eps |v_s|_1 / eta_C, hence the last factor.  Measured 7e-16 of the scale (800 states, r = 0 ... 0.3).
-CAPSULE_PIN_SLIP = Tolerance(atol=1e-14, rtol=0.0, why="p_C, b at C vs Pinocchio: ~45 eps of the term scale x (1 + |v_s|/eta_C)")
-
-#: C's slip velocity (eta_C, and varphi_C x eta_C) of crosscheck.capsule.contact_slip against Pinocchio's J_C v:
-#: rounding of sums of the five scaled velocities, atol * (1 + |v_s|_1).  Measured 3e-15 absolute.
-CAPSULE_PIN_VELOCITY = Tolerance(atol=1e-14, rtol=0.0, why="C's slip velocity vs Pinocchio J_C v: ~45 eps of 1 + |v_s|_1")
-
-#: The real-time slipping field at C (eta_C', varphi_C', Psi', Theta' = f / (eta_C p_C)) against Pinocchio's aba
-#: with tau = J_C^T F, F = F_z (-mu u_C/|u_C|, 1), F_z from Pinocchio's own Delassus row at C: quantities through
-#: M^-1, so PIN_THROUGH_MINV's 2e-14 of the term scale (1 + alpha)(1 + |F_z|)(1 + |v_s|_1)^2 / cos^2 theta,
-#: times (1 + 1 / eta_C) for varphi_C' (an angular rate of the slip).  Measured 7e-16 of that scale.
-CAPSULE_PIN_DYNAMICS = Tolerance(atol=2e-14, rtol=0.0, why="slip dynamics at C vs Pinocchio aba: through M^-1, as PIN_THROUGH_MINV")
-
-#: crosscheck.capsule.slip_until_event at r = 0 against crosscheck.slipping.slip_until_event: the same vector
-#: field (eq. f) written with other roundings (~1e-16 relative), both at SLIP_INTEGRATION, so event times agree
-#: to the integrators' error, ~1e-9 over O(1) times (SLIP_INTEGRATION's level).  Measured 2e-14 (200 states).
-CAPSULE_REDUCTION_TIME = Tolerance(atol=1e-9, rtol=1e-9, why="r = 0 vs crosscheck.slipping: same field, SLIP_INTEGRATION error")
-
-#: A JAM approached at C (F_z ~ (t_jam - t)^(-1/2)) in the desingularised time: the event time at integrator
-#: tolerance rtol (atol = rtol / 100) lies within atol + rtol * (this factor) * t of the rtol = 1e-13 time.  A
-#: tolerance-proportional integrator's global error is ~ rtol times the number of steps' error growth; over the
-#: O(1) times of a run 10 covers it (measured ratio 0.01-1.2 at rtol 1e-5 ... 1e-10 on the test's jam).
-CAPSULE_JAM_CONVERGENCE = Tolerance(atol=0.0, rtol=10.0, why="JAM time at C converges with the integrator's tolerance (error <= 10 rtol t)")

@@ -340,3 +340,21 @@ def test_findings_read_a_validate_ratio_as_a_ratio(tmp_path):
     text = {f.slug: f.text for f in findings(tmp_path)}
     assert text["toy_ratio"].endswith("worst at 0.00011 of its tolerance")
     assert text["toy_abs"].endswith("worst |onset - Psi_L| = 6e-11 against its allowance 5.5e-07 (mu = 0.3, timestep 0.0003)")
+
+
+def test_compare_data_allows_only_the_machine_dependent_bits(tmp_path):
+    """The wider allowances across machines cover last-bit effects and nothing a code change would make:
+    a 1e-6 shift of an adaptive integration's rows passes, 1e-3 does not; a 4 % change of PGS's unconverged
+    steps passes, 20 % does not; every other number keeps the 1e-9 default."""
+    from crosscheck.report.compare_data import compare
+
+    def tree(root, t, unconverged, other):
+        (root / "mujoco_trajectories").mkdir(parents=True)
+        (root / "mujoco_trajectories" / "analytic_jam.csv").write_text(f"t,Psi\n{t!r},1.0\n")
+        (root / "maps.json").write_text(json.dumps({"solver_health": {"unconverged_steps": unconverged}, "agreement": other}))
+        return root
+
+    old = tree(tmp_path / "old", 0.5, 250, 0.8)
+    assert not any(compare(old, tree(tmp_path / "a", 0.5 * (1 + 1e-6), 240, 0.8)).values())
+    differ = compare(old, tree(tmp_path / "b", 0.5 * (1 + 1e-3), 200, 0.8 * (1 + 1e-8)))
+    assert differ["mujoco_trajectories/analytic_jam.csv"] and len(differ["maps.json"]) == 2

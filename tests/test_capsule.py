@@ -171,3 +171,37 @@ def test_bad_radius(radius):
         capsule.slip_until_event(state, 1.0, 3.0, radius=radius)
     with pytest.raises(ValueError, match=r"^radius must be in \[0, 0\.5\)"):
         capsule.p(0.8, -1.0, 1.0, 3.0, radius)
+
+
+def test_start_rules_judged_at_C():
+    r, Theta = 0.02, 1.0
+    # A slips straight across the rod's plane (varphi = -pi/2) at exactly r Theta: C's material point is at rest
+    stuck = SlipState(theta=0.7, varphi=-math.pi / 2, Theta=Theta, Psi=0.3, eta=r * Theta)
+    assert capsule.contact_slip(stuck, radius=r)[0] < 1e-15
+    got = capsule.slip_until_event(stuck, 0.5, 3.0, radius=r)
+    assert (got.outcome, got.time, got.reason) == (Outcome.STICK, 0.0, "start")
+    at_A = slipping.slip_until_event(stuck, 0.5, 3.0)
+    assert at_A.time > 0.0  # the tip itself slips at r Theta
+    # a slow A slipping near the rod's plane: r Theta turns C's slip across it, varphi_C in (0, pi/2)
+    varphi, eta = -0.3, 0.5 * r * Theta
+    across = SlipState(theta=0.7, varphi=varphi, Theta=Theta, Psi=0.3, eta=eta)
+    eta_C, varphi_C = capsule.contact_slip(across, radius=r)
+    u_i, u_j = eta * math.cos(varphi), eta * math.sin(varphi) + r * Theta  # v_C = v_A + r Theta j
+    assert CLOSED_FORM.ok([eta_C, varphi_C], [math.hypot(u_i, u_j), math.atan2(u_j, u_i)]) and 0 < varphi_C < math.pi / 2
+    got = capsule.slip_until_event(across, 0.5, 3.0, radius=r)
+    assert (got.outcome, got.time, got.reason) == (Outcome.SLIP, 0.0, "varphi=0")
+    # and tip_slip inverts contact_slip
+    eta_A, varphi_A = capsule.tip_slip(eta_C, varphi_C, Theta, radius=r)
+    assert CLOSED_FORM.ok([eta_A, varphi_A], [across.eta, across.varphi])
+
+
+def test_normal_force_along_a_run_is_eq_FZ_at_C():
+    state = SlipState(theta=0.558491807212282, varphi=-2.1265159074397824, Theta=0.926342075423221, Psi=-0.31659380758977446,
+                      eta=1.4916615350187519)
+    got = capsule.slip_until_event(state, 1.6, 3.0, radius=0.01)
+    x = got.x
+    with np.errstate(divide="ignore"):  # p_C = 0 at the JAM itself
+        want = -capsule.b(x[:, 3], x[:, 5], x[:, 4]) / capsule.p(x[:, 4], x[:, 1], 1.6, 3.0, 0.01)
+    np.testing.assert_array_equal(got.normal_force, want)
+    assert np.all(want[:-1] > 0) and want[-2] > 10 * want[0]  # it grows without bound towards the JAM (p_C -> 0+)
+    assert math.isclose(got.p, 0.0, abs_tol=1e-9) and got.b < 0

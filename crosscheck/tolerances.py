@@ -371,16 +371,3 @@ CAPSULE_REDUCTION_TIME = Tolerance(atol=1e-9, rtol=1e-9, why="r = 0 vs crosschec
 #: tolerance-proportional integrator's global error is ~ rtol times the number of steps' error growth; over the
 #: O(1) times of a run 10 covers it (measured error 2e-4 ... 0.12 rtol t at rtol 1e-5 ... 1e-11 on the test's jam).
 CAPSULE_JAM_CONVERGENCE = Tolerance(atol=0.0, rtol=10.0, why="JAM time at C converges with the integrator's tolerance (error <= 10 rtol t)")
-
-
-# ------------------------------------------------------------------ ladder ---
-# The ladder (crosscheck.studies.ladder): a named cause for each MuJoCo-theory disagreement.
-
-#: The IC2 lift-off time of the paper's rod (Fig. 20, alpha = 3, mu = 1.4) is quoted as 0.01654: half a
-#: unit of its last digit.  Rung 1 computes it to ~1e-9 (EVENT_TIME), so this is the quote's rounding.
-LADDER_QUOTED_TIME = Tolerance(atol=5e-6, rtol=0.0, why="half a unit of the last digit of the quoted IC2 lift-off time 0.01654")
-
-#: The ladder's goal: at least 90 % of the disagreements of the MuJoCo maps attributed to a named cause
-#: (geometry, compliance, friction law, discretisation).  A target set for the study, not a bound derived
-#: from the physics or the numerics: the report labels its check a regression guard.
-LADDER_ATTRIBUTED = Tolerance(atol=0.1, rtol=0.0, why="goal, not a derived bound: at least 90% of the disagreements get a named cause", guard=True)

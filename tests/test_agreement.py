@@ -120,7 +120,7 @@ def test_agreement_study_bad_input():
     g = EventGrid(theta=(0.3,), varphi=(-1.0,), Theta=(0.0,), Psi=(0.0,), mu=(1.0,))
     with pytest.raises(ValueError, match="settings must hold at least one dict"):
         agreement_study(g, settings=())
-    with pytest.raises(ValueError, match="engine must be one of compliant, mujoco, pinocchio; got 'bullet'"):
+    with pytest.raises(ValueError, match="engine must be one of compliant, mujoco, mujoco_law, pinocchio; got 'bullet'"):
         agreement_study(g, engine="bullet")
     with pytest.raises(ValueError, match="unknown MuJoCo option 'stiffness'"):
         agreement_study(g, stiffness=3.0)

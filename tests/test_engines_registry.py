@@ -86,7 +86,7 @@ def toy():
 def test_registry_lists_and_refuses():
     assert "mujoco" in engines.names()
     assert engines.get("mujoco").name == "mujoco"
-    with pytest.raises(ValueError, match="engine must be one of compliant, mujoco, pinocchio; got 'nope'"):
+    with pytest.raises(ValueError, match="engine must be one of compliant, mujoco, mujoco_law, pinocchio; got 'nope'"):
         engines.get("nope")
     with pytest.raises(ValueError, match="an engine named 'mujoco' is already registered"):
         engines.register(engines.get("mujoco"))
@@ -97,7 +97,7 @@ def test_registry_lists_and_refuses():
 
 
 def test_a_registered_engine_is_available_by_name(toy):
-    assert engines.names() == ["compliant", "mujoco", "pinocchio", "toy"] and engines.get("toy") is toy
+    assert engines.names() == ["compliant", "mujoco", "mujoco_law", "pinocchio", "toy"] and engines.get("toy") is toy
     run = toy.simulate(Rod.scaled(3.0), SlipState(theta=0.6154797087, varphi=-math.pi / 2, Theta=0.0, Psi=1.7, eta=1.0), 0.5, horizon=0.2)
     assert run.engine == "toy" and run.outcome == Outcome.LIFTOFF and run.event_time == 0.0
 

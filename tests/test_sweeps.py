@@ -205,7 +205,7 @@ BAD = {
     "unknown key": ("[sweep]\nengine = 'mujoco'\nhorizon = 1\nspeed = 2\n[states]\n", r"unknown key 'speed' in \[sweep\]; keys are chunk, engine, horizon, seed"),
     "horizon type": ("[sweep]\nengine = 'mujoco'\nhorizon = 'long'\n[states]\ntheta=1\n[parameters]\nmu=1\n", "sweep.horizon must be a number; got 'long'"),
     "horizon nan": ("[sweep]\nengine = 'mujoco'\nhorizon = nan\n[states]\ntheta=1\n[parameters]\nmu=1\n", r"sweep.horizon must be in \(0, 10000\]; got nan"),
-    "engine": ("[sweep]\nengine = 'bullet'\nhorizon = 1\n[states]\ntheta=1\n[parameters]\nmu=1\n", "sweep.engine must be one of analytic, compliant, mujoco, pinocchio; got 'bullet'"),
+    "engine": ("[sweep]\nengine = 'bullet'\nhorizon = 1\n[states]\ntheta=1\n[parameters]\nmu=1\n", "sweep.engine must be one of analytic, compliant, mujoco, mujoco_law, pinocchio; got 'bullet'"),
 }
 
 

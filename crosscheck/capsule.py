@@ -69,10 +69,11 @@ What the offset changes.  Near p = 0 the shift p_C - p_A at one physical state
 is alpha mu r cos theta (sin varphi + sin theta Theta cos^2 varphi / eta) to
 first order (the longer lever, then C's turned slip), so a start within O(r)
 of p = 0 can change between slipping and jamming (tests/test_capsule.py has
-one each way).  Along a run the largest effect is at the end of a slip: when
-the tip A stops, C still slips at r |Theta| straight across the rod's plane
-(varphi_C = -pi/2 for Theta < 0), where p_C is smallest, and it may jam
-instead.  On 7000 starts of ``crosscheck.studies.grids.random_event_points``
+one each way).  Along a run the largest effect is near the end of a slip:
+C's slip angle differs from A's by O(r Theta / eta), large as eta -> 0 (when A
+stops, C still slips at r |Theta| straight across the rod's plane), and runs
+that stick at A jam at C, at varphi_C near -pi/2 where p_C is smallest,
+before A would have stopped.  On 7000 starts of ``crosscheck.studies.grids.random_event_points``
 (seeds 0, 1, 2; mu in [0.3, 6], alpha = 3) at r = 0.01, the outcome at C
 differs from the outcome at A in 1.7 % (0.9 % - 2.2 % by seed); 0.9 % are
 two different events of the paper (mostly STICK at A, JAM at C), the rest

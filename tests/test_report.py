@@ -26,7 +26,9 @@ from crosscheck.tolerances import all_tolerances
 EXPECTED_FIGURES = {
     "p_region": ["fig2a_p_region_space", "fig2b_p_region"],
     "mode_maps": ["fig3a_modes_planar", "slices_theta_Theta", "slices_theta_varphi"],
+    "kinematic_surfaces": ["fig3_surfaces", "fig4_surfaces", "fig5_surfaces", "fig6_surfaces", "fig7_surfaces"],
     "kinematic_cases": ["fig9a_cases"],
+    "bifurcations": ["fig21_curves", "fig21_strata"],
     "mechanisms": ["fig9b_mechanisms"],
     "critical_angles": ["fig10_critical_angles"],
     "printed_numbers": [],

@@ -4,14 +4,16 @@ the GB manifold (sections 3.5 to 5), then the Pinocchio and MuJoCo cross-validat
 from __future__ import annotations
 
 from crosscheck.report.section import Section
-from crosscheck.report.sections import critical_angles, gb_det_zeros, gb_eigenvectors, gb_local, gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, mechanisms, mode_maps, mujoco_convergence, mujoco_liftoff, mujoco_maps, mujoco_trajectories, mujoco_validate, p_region, pinocchio, printed_numbers, rigid_engine
+from crosscheck.report.sections import bifurcations, critical_angles, gb_det_zeros, gb_eigenvectors, gb_local, gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, kinematic_surfaces, mechanisms, mode_maps, mujoco_convergence, mujoco_liftoff, mujoco_maps, mujoco_trajectories, mujoco_validate, p_region, pinocchio, printed_numbers, rigid_engine
 
 __all__ = ["SECTIONS", "section_by_slug"]
 
 SECTIONS: tuple[Section, ...] = (
     p_region.SECTION,
     mode_maps.SECTION,
+    kinematic_surfaces.SECTION,
     kinematic_cases.SECTION,
+    bifurcations.SECTION,
     mechanisms.SECTION,
     critical_angles.SECTION,
     printed_numbers.SECTION,

@@ -1,0 +1,332 @@
+"""Fig. 21: the codimension-1 and -2 bifurcations between the kinematic cases 1-7 in (mu, Psi), as computed curves and points.
+
+Section 6 of the paper (fig:mechbifs) lays the cases of section 3.4 out on a
+grid of strata: mu in [0, mu_P), mu = mu_P, (mu_P, mu_L), mu = mu_L, > mu_L
+against |Psi| below, at and between Psi_L, Psi_1, Psi_2, with a picture in
+each of its 19 cells.  Here the strata are computed:
+
+* codimension 1, the curves where the case changes, each the zero set of one
+  function of (mu, Psi) (alpha fixed):
+  - Psi = Psi_L (eq. psil): F_L = b(Psi, Theta = 0, theta_L) = 0, the largest b at
+    Theta = 0 over theta (db/dtheta = 0 at theta_L for every Psi, eq. thetal):
+    b = 0 reaches Theta = 0; cases 1|2, 3|4, 3|5 for mu below mu_P, between
+    mu_P and mu_L, above mu_L;
+  - Psi = Psi_1(mu), Psi_2(mu) (eqs. psi1, psi2): F_1,2 = b(Psi, 0, theta_1,2(mu)) = 0,
+    b = 0 touches the cylinder p = 0 at theta_1,2 (eq. theta12); cases 4|6,
+    5|6 and 6|7;
+  - mu = mu_P (eq. mup2D): F_P = p_min(mu) = 0 (the cylinder p < 0 appears);
+    cases 1|3, 2|4, 2|7 below Psi_L, between Psi_L and Psi_P, above Psi_P;
+* codimension 2, where those curves meet: (mu_P, Psi_L), (mu_P, Psi_P) (eq.
+  psip: Psi_1 = Psi_2) and (mu_L, Psi_L) (eq. mul: Psi_1 = Psi_L, tangent).
+
+Checks: every sampled point of each curve is a zero of its function (closed
+form); just across each curve ``crosscheck.critical.kinematic_case`` gives
+the two cases the paper puts on either side; each codimension-2 point is a
+zero of the functions of every curve through it (CLOSED_FORM); the case at a
+point of each generic cell of the paper's grid is the one it circles.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from crosscheck import analytic, critical
+from crosscheck.report.grids import cell_centres
+from crosscheck.report.section import RenderContext, RunContext, Section, Table
+from crosscheck.tolerances import CLOSED_FORM, ROOT_RESIDUAL
+
+__all__ = ["SECTION", "CURVES", "POINTS", "CELLS", "defining_function"]
+
+SLUG = "bifurcations"
+
+#: Codimension-1 curves: id -> (critical value it is, the function that vanishes on it, varied coordinate,
+#: its range as names of the constants, (case below or left, case above or right)).
+CURVES = {
+    "L_I": ("Psi = Psi_L", "L", "mu", ("0", "mu_P"), (1, 2)),
+    "L_II": ("Psi = Psi_L", "L", "mu", ("mu_P", "mu_L"), (3, 4)),
+    "L_III": ("Psi = Psi_L", "L", "mu", ("mu_L", "mu_max"), (3, 5)),
+    "1_II": ("Psi = Psi_1(mu)", "1", "mu", ("mu_P", "mu_L"), (4, 6)),
+    "1_III": ("Psi = Psi_1(mu)", "1", "mu", ("mu_L", "mu_max"), (5, 6)),
+    "2": ("Psi = Psi_2(mu)", "2", "mu", ("mu_P", "mu_max"), (6, 7)),
+    "P_a": ("mu = mu_P", "P", "Psi", ("0", "Psi_L"), (1, 3)),
+    "P_b": ("mu = mu_P", "P", "Psi", ("Psi_L", "Psi_P"), (2, 4)),
+    "P_c": ("mu = mu_P", "P", "Psi", ("Psi_P", "Psi_max"), (2, 7)),
+}
+
+#: Codimension-2 points: name -> (mu, Psi as names of constants, the curves through it).
+POINTS = {
+    "(mu_P, Psi_L)": ("mu_P", "Psi_L", ("L_I", "L_II", "P_a", "P_b")),
+    "(mu_P, Psi_P)": ("mu_P", "Psi_P", ("1_II", "2", "P_b", "P_c")),
+    "(mu_L, Psi_L)": ("mu_L", "Psi_L", ("L_II", "L_III", "1_II", "1_III")),
+}
+
+#: The paper's 19 cells (column: mu stratum 0-4, row: |Psi| stratum 0-6) and what each shows:
+#: ("case", k) a generic case, ("curve", id) a codimension-1 curve, ("point", name) a codimension-2 point.
+#: Cells spanning several strata in the paper (cases 2, 3, 6, 7 and Psi = Psi_2) sit in their middle column or row.
+CELLS = (
+    (0, 0, ("case", 1)), (0, 1, ("curve", "L_I")), (0, 4, ("case", 2)),
+    (1, 0, ("curve", "P_a")), (1, 1, ("point", "(mu_P, Psi_L)")), (1, 3, ("curve", "P_b")), (1, 5, ("point", "(mu_P, Psi_P)")), (1, 6, ("curve", "P_c")),
+    (2, 1, ("curve", "L_II")), (2, 2, ("case", 4)), (2, 3, ("curve", "1_II")),
+    (3, 0, ("case", 3)), (3, 2, ("point", "(mu_L, Psi_L)")), (3, 4, ("case", 6)), (3, 5, ("curve", "2")), (3, 6, ("case", 7)),
+    (4, 1, ("curve", "L_III")), (4, 2, ("case", 5)), (4, 3, ("curve", "1_III")),
+)
+MU_STRATA = ("$\\mu\\in[0,\\mu_P)$", "$\\mu=\\mu_P$", "$\\mu\\in(\\mu_P,\\mu_L)$", "$\\mu=\\mu_L$", "$\\mu>\\mu_L$")
+PSI_STRATA = ("$|\\Psi|\\in[0,\\Psi_L)$", "$|\\Psi|=\\Psi_L$", "$|\\Psi|\\in(\\Psi_L,\\Psi_1)$", "$|\\Psi|=\\Psi_1$", "$|\\Psi|\\in(\\Psi_1,\\Psi_2)$",
+              "$|\\Psi|=\\Psi_2$", "$|\\Psi|>\\Psi_2$")
+
+
+def params(quick: bool) -> dict:
+    return {"alpha": 3.0, "mu_max": 3.0, "Psi_max": 6.0, "mu_examples": [1.0, 1.4, 6.0], "n_curve": 200 if quick else 1000,
+            "n_map_mu": 150 if quick else 450, "n_map_Psi": 120 if quick else 360, "n_thumb": 80 if quick else 160, "offset": 1e-6}
+
+
+def defining_function(kind: str, mu, Psi, alpha: float):
+    """The function of (mu, Psi) whose zeros are the codimension-1 curve of ``kind`` ("L", "1", "2" or "P"); see the module docstring."""
+    if kind == "L":
+        return analytic.b(Psi, 0.0, critical.theta_L) + 0.0 * np.asarray(mu, float)
+    if kind == "P":
+        return critical.p_min(mu, alpha) + 0.0 * np.asarray(Psi, float)
+    theta = critical.theta_12(mu, alpha)[0 if kind == "1" else 1]
+    return analytic.b(Psi, 0.0, theta)
+
+
+def _scale(kind: str, mu, Psi, alpha: float):
+    # size of the terms each function sums, for the closed-form allowance
+    if kind == "P":
+        return 1.0 + alpha * (1.0 + np.sqrt(1.0 + np.asarray(mu, float) ** 2))
+    return 1.0 + np.asarray(Psi, float) ** 2
+
+
+def _constants(alpha: float, mu_max: float, Psi_max: float) -> dict:
+    return {"0": 0.0, "alpha": alpha, "mu_P": float(critical.mu_P(alpha)), "mu_L": float(critical.mu_L(alpha)), "Psi_L": critical.Psi_L,
+            "Psi_P": float(critical.Psi_P(alpha)), "theta_L": critical.theta_L, "theta_P": float(critical.theta_P(alpha)), "mu_max": mu_max, "Psi_max": Psi_max}
+
+
+def _curve_samples(cid: str, c: dict, n: int) -> tuple[np.ndarray, np.ndarray]:
+    _, kind, along, (lo, hi), _ = CURVES[cid]
+    t = np.linspace(c[lo], c[hi], n)
+    if along == "Psi":
+        return np.full(n, c["mu_P"]), t
+    if kind == "L":
+        return t, np.full(n, c["Psi_L"])
+    th = critical.theta_12(t, c["alpha"])[0 if kind == "1" else 1]
+    return t, critical.Psi_on_b0(th)
+
+
+def _cell_point(col: int, row: int, what: tuple, c: dict, mu_ex: list[float]) -> tuple[float, float]:
+    """A (mu, Psi) inside the stratum of one cell of the paper's grid."""
+    mu = {0: mu_ex[0], 1: c["mu_P"], 2: mu_ex[1], 3: c["mu_L"], 4: mu_ex[2]}[col]
+    if what[0] == "point":
+        pm, pP, _ = POINTS[what[1]]
+        return c[pm], c[pP]
+    if col == 1:  # mu = mu_P: Psi_1 = Psi_2 = Psi_P
+        return mu, {0: 0.0, 3: (c["Psi_L"] + c["Psi_P"]) / 2, 6: c["Psi_P"] + 1.0}[row]
+    if col == 0:
+        return mu, {0: 0.0, 1: c["Psi_L"], 4: 2.0 * c["Psi_L"]}[row]
+    cv = critical.critical_values(mu, c["alpha"])
+    return mu, {0: 0.0, 1: cv.Psi_L, 2: (cv.Psi_L + cv.Psi_1) / 2, 3: cv.Psi_1, 4: (cv.Psi_1 + cv.Psi_2) / 2, 5: cv.Psi_2, 6: cv.Psi_2 + 1.0}[row]
+
+
+def _across(cid: str, mu, Psi, d: float, alpha: float) -> tuple[np.ndarray, np.ndarray]:
+    """kinematic_case just below/left and above/right of points of a curve (a relative step ``d``)."""
+    if CURVES[cid][2] == "Psi":  # a line mu = const: step in mu
+        return critical.kinematic_case(mu - d, Psi, alpha), critical.kinematic_case(mu + d, Psi, alpha)
+    return critical.kinematic_case(mu, Psi - d * np.maximum(1, Psi), alpha), critical.kinematic_case(mu, Psi + d * np.maximum(1, Psi), alpha)
+
+
+def run(ctx: RunContext) -> None:
+    P = ctx.params
+    alpha = P["alpha"]
+    c = _constants(alpha, P["mu_max"], P["Psi_max"])
+    ctx.store.write_json("constants", c)
+    mu = cell_centres(0.0, P["mu_max"], P["n_map_mu"])
+    Psi = cell_centres(0.0, P["Psi_max"], P["n_map_Psi"])
+    ctx.store.write_grid("cases", ("mu", mu), ("Psi", Psi), ("case", critical.kinematic_case(mu[None, :], Psi[:, None], alpha)))
+
+    cols = {k: [] for k in ("curve", "mu", "Psi", "residual", "allowance")}
+    summary = []
+    for cid, (label, kind, along, _, (below, above)) in CURVES.items():
+        m, s = _curve_samples(cid, c, P["n_curve"])
+        res = np.abs(defining_function(kind, m, s, alpha))
+        allow = CLOSED_FORM.allowance(_scale(kind, m, s, alpha))
+        for k, v in (("curve", [cid] * m.size), ("mu", m), ("Psi", s), ("residual", res), ("allowance", allow)):
+            cols[k] += list(v)
+        inner = slice(max(1, m.size // 50), m.size - max(1, m.size // 50))  # off the codimension-2 ends
+        lo_case, hi_case = _across(cid, m[inner], s[inner], P["offset"], alpha)
+        wrong = int(np.sum((lo_case != below) | (hi_case != above)))
+        # on the curves Psi_1,2 the cylinder p = 0 itself must hold at theta_1,2 (eq. theta12)
+        p_res = 0.0
+        if kind in ("1", "2"):
+            th = critical.theta_12(m, alpha)[0 if kind == "1" else 1]
+            p_res = float(np.max(np.abs(analytic.p(th, -np.pi / 2, m, alpha))))
+        worst = int(np.argmax(res / allow))
+        summary.append({"curve": cid, "label": label, "function": kind, "cases": [below, above], "samples": int(m.size), "max_ratio": float(res[worst] / allow[worst]),
+                        "allowance_at_worst": float(allow[worst]),
+                        "max_residual": float(res[worst]), "p_residual": p_res, "side_mismatches": wrong, "sides_tested": int(lo_case.size),
+                        "cases_seen": sorted({int(v) for v in np.concatenate([lo_case, hi_case])})})
+        ctx.store.write_json("curves", summary)
+    ctx.store.write_table("curve_samples", cols)
+
+    points = []
+    for name, (pm, pP, through) in POINTS.items():
+        m, s = c[pm], c[pP]
+        kinds = sorted({CURVES[cid][1] for cid in through})
+        res = {k: float(abs(defining_function(k, m, s, alpha))) for k in kinds}
+        allow = {k: float(CLOSED_FORM.allowance(_scale(k, m, s, alpha))) for k in kinds}
+        points.append({"point": name, "mu": m, "Psi": s, "curves": list(through), "residuals": res, "allowances": allow})
+    ctx.store.write_json("points", points)
+
+    cells = []
+    theta = cell_centres(0.0, np.pi / 2, P["n_thumb"])
+    varphi = cell_centres(-np.pi, 0.0, P["n_thumb"])
+    for col, row, what in CELLS:
+        m, s = _cell_point(col, row, what, c, P["mu_examples"])
+        cell = {"col": col, "row": row, "kind": what[0], "what": what[1], "mu": m, "Psi": s, "case": critical.kinematic_case(m, s, alpha)}
+        if what[0] == "curve":
+            lo_case, hi_case = _across(what[1], np.array([m]), np.array([s]), P["offset"], alpha)
+            cell["sides"] = [int(lo_case[0]), int(hi_case[0])]
+        # the modes with no polar motion (Theta = 0) in (theta, varphi): they tell the cases apart (section 3.4)
+        modes = analytic.mode(np.broadcast_to(analytic.b(s, 0.0, theta)[None, :], (varphi.size, theta.size)),
+                              analytic.p(theta[None, :], varphi[:, None], m, alpha))
+        ctx.store.write_grid(f"thumb_{col}_{row}", ("theta", theta), ("varphi", varphi), ("mode", modes))
+        cells.append(cell)
+        ctx.store.write_json("cells", cells)
+
+    for s_ in summary:
+        ctx.check(f"{s_['label']} ({s_['curve']}): its {s_['samples']} samples are zeros of F_{s_['function']}", s_["max_ratio"] <= 1.0, value=s_["max_residual"],
+                  allowance=s_["allowance_at_worst"], detail=f"largest |F| / CLOSED_FORM allowance {s_['max_ratio']:.2g}" +
+                  (f"; max |p(theta_{s_['function']}, -pi/2)| {s_['p_residual']:.1e} (ROOT_RESIDUAL {ROOT_RESIDUAL.atol:g})" if s_["function"] in "12" else ""))
+        if s_["function"] in "12":
+            ctx.check(f"{s_['label']} ({s_['curve']}): theta_{s_['function']}(mu) lies on p = 0 (eq. theta12)", s_["p_residual"] <= ROOT_RESIDUAL.atol,
+                      value=s_["p_residual"], allowance=ROOT_RESIDUAL.atol)
+        ctx.check(f"{s_['label']} ({s_['curve']}) separates cases {s_['cases'][0]} | {s_['cases'][1]}", s_["side_mismatches"] == 0, value=s_["side_mismatches"],
+                  allowance=0, detail=f"kinematic_case at +-{P['offset']:g} across {s_['sides_tested']} samples; cases seen {s_['cases_seen']}")
+    for pt in points:
+        k_ = max(pt["residuals"], key=lambda k: pt["residuals"][k] / pt["allowances"][k])
+        ctx.check(f"codimension-2 point {pt['point']} = ({pt['mu']:.4f}, {pt['Psi']:.4f}) lies on each of its curves {', '.join(pt['curves'])}",
+                  pt["residuals"][k_] <= pt["allowances"][k_], value=pt["residuals"][k_], allowance=pt["allowances"][k_],
+                  detail=", ".join(f"|F_{k}| = {v:.1e}" for k, v in pt["residuals"].items()))
+    cv_L = critical.critical_values(c["mu_L"], alpha)
+    gap = abs(cv_L.theta_1 - critical.theta_L)
+    allow = float(CLOSED_FORM.allowance(critical.theta_L))
+    ctx.check("at (mu_L, Psi_L) the curve Psi_1 touches Psi = Psi_L: theta_1(mu_L) = theta_L (eq. mul)", gap <= allow, value=gap, allowance=allow)
+    wrong = [f"({cl['col']},{cl['row']})" for cl in cells if (cl["kind"] == "case" and cl["case"] != cl["what"])
+             or (cl["kind"] == "curve" and cl["sides"] != list(CURVES[cl["what"]][4]))]
+    ctx.check("each cell of the paper's grid: the case it circles, or the two cases either side of its curve", not wrong, value=len(wrong), allowance=0,
+              detail=f"{len(cells)} cells; wrong: {', '.join(wrong) or 'none'}")
+
+
+# ------------------------------------------------------------------ render ---
+
+_FN_COLOR = {"L": 0, "1": 1, "2": 3, "P": 4}  # LINE_COLORS index per critical value
+_TEX = {"Psi = Psi_L": "$\\Psi=\\Psi_L$", "Psi = Psi_1(mu)": "$\\Psi=\\Psi_1(\\mu)$", "Psi = Psi_2(mu)": "$\\Psi=\\Psi_2(\\mu)$", "mu = mu_P": "$\\mu=\\mu_P$"}
+_POINT_TEX = {"(mu_P, Psi_L)": "$(\\mu_P,\\Psi_L)$", "(mu_P, Psi_P)": "$(\\mu_P,\\Psi_P)$", "(mu_L, Psi_L)": "$(\\mu_L,\\Psi_L)$"}
+
+
+def _case_colors():
+    from crosscheck.report.plotting import LINE_COLORS
+
+    return {k: tuple(0.7 + 0.3 * np.array(LINE_COLORS[k - 1])) for k in range(1, 8)}  # pale: the curves carry the figure
+
+
+def render(ctx: RenderContext) -> list:
+    from matplotlib.lines import Line2D
+
+    from crosscheck.report.plotting import LINE_COLORS, categorical_image, mode_image, mode_legend, plt
+
+    c = ctx.store.read_json("constants")
+    t = ctx.store.read_table("curve_samples", text=("curve",))
+    points = ctx.store.read_json("points")
+    curves = ctx.store.read_json("curves")
+    cells = ctx.store.read_json("cells")
+    mu, Psi, cases, _ = ctx.store.read_grid("cases")
+
+    fig, ax = plt.subplots(figsize=(7.0, 5.4))
+    categorical_image(ax, mu, Psi, cases, _case_colors())
+    ax.axvline(c["mu_L"], color="0.45", lw=0.7, ls=":")
+    handles = {}
+    for cid, (label, kind, *_rest) in CURVES.items():
+        sel = t["curve"] == cid
+        (h,) = ax.plot(t["mu"][sel], t["Psi"][sel], color=LINE_COLORS[_FN_COLOR[kind]], lw=2.0, solid_capstyle="butt")
+        handles.setdefault(label, h)
+    for pt in points:
+        ax.plot(pt["mu"], pt["Psi"], "o", color="k", ms=6, zorder=5)
+        off = {"(mu_P, Psi_L)": (-62, -14), "(mu_P, Psi_P)": (-64, 4), "(mu_L, Psi_L)": (4, -14)}[pt["point"]]
+        ax.annotate(_POINT_TEX[pt["point"]], (pt["mu"], pt["Psi"]), textcoords="offset points", xytext=off, fontsize=9,
+                    bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.8))
+    # the curves' names where they are alone
+    ax.annotate("$\\Psi_L$", (0.35, c["Psi_L"]), textcoords="offset points", xytext=(0, 4), color=LINE_COLORS[0], fontsize=10)
+    for kind, cid, frac, dy in (("1", "1_III", 0.55, 5), ("2", "2", 0.3, 6)):
+        sel = t["curve"] == cid
+        i = int(frac * sel.sum())
+        ax.annotate(f"$\\Psi_{kind}(\\mu)$", (t["mu"][sel][i], t["Psi"][sel][i]), textcoords="offset points", xytext=(0, dy), color=LINE_COLORS[_FN_COLOR[kind]], fontsize=10)
+    ax.annotate("$\\mu_P$", (c["mu_P"], 0.5), textcoords="offset points", xytext=(-20, 0), color=LINE_COLORS[_FN_COLOR["P"]], fontsize=10)
+    circle = dict(boxstyle="circle,pad=0.2", fc="white", ec="k", lw=0.8)
+    for k, (x, y) in {1: (0.6, 0.8), 2: (0.6, 4.0), 3: (2.4, 0.8), 6: (2.2, 3.6), 7: (1.6, 5.4)}.items():
+        ax.text(x, y, str(k), ha="center", va="center", fontsize=10, fontweight="bold", bbox=circle)
+    # cases 4 and 5 are thin wedges between Psi_L and Psi_1: label them beside, with a line in (as the paper's Fig. 9a)
+    for k, cid, x, label_at in ((4, "1_II", 1.45, (1.75, 2.5)), (5, "1_III", 2.9, (2.75, 1.0))):
+        sel = t["curve"] == cid
+        y = 0.5 * (c["Psi_L"] + np.interp(x, t["mu"][sel], t["Psi"][sel]))
+        ax.annotate(str(k), (x, y), xytext=label_at, ha="center", va="center", fontsize=10, fontweight="bold", bbox=circle,
+                    arrowprops=dict(arrowstyle="-", lw=0.8, color="k", shrinkA=6, shrinkB=0))
+    ax.set_xticks([0, 1, c["mu_P"], 2, c["mu_L"], 3], ["0", "1", "$\\mu_P$", "2", "$\\mu_L$", "3"])
+    ax.set_xlim(0, c["mu_max"])
+    ax.set_ylim(0, c["Psi_max"])
+    ax.set_xlabel("$\\mu$")
+    ax.set_ylabel("$|\\Psi|$")
+    ax.set_title(f"codimension-1 curves and codimension-2 points, $\\alpha$ = {c['alpha']:g}")
+    leg = list(handles.items()) + [("codimension 2", Line2D([], [], marker="o", ls="", color="k"))]
+    ax.legend([h for _, h in leg], [_TEX.get(k, k) for k, _ in leg], loc="upper left", fontsize=8, framealpha=0.9)
+    curve_rows = "; ".join(f"{s['label']} ({s['curve']}): {s['cases'][0]}|{s['cases'][1]}" for s in curves)
+    cap_a = (f"Fig. 21 recomputed (fig:mechbifs), the (mu, |Psi|) plane for alpha = {c['alpha']:g}: the codimension-1 curves where the kinematic case changes, "
+             f"coloured by the critical value each is (Psi_L = {c['Psi_L']:.4f}, eq. psil; Psi_1(mu), Psi_2(mu), eqs. psi1, psi2; mu_P = {c['mu_P']:.4f}, eq. mup2D), "
+             f"and the codimension-2 points where they meet (black): (mu_P, Psi_L), (mu_P, Psi_P = {c['Psi_P']:.4f}) (eq. psip) and (mu_L = {c['mu_L']:.4f}, Psi_L) (eq. mul), "
+             f"where Psi_1 touches Psi_L and cases 4 and 5 meet. mu = mu_L (dotted) is no boundary elsewhere. Pale shading: the cases of Fig. 9a. Curves and the cases either side: {curve_rows}.")
+    blocks = [ctx.figure("fig21_curves", fig, cap_a, ["curve_samples.csv", "curves.json", "points.json", "cases.json", "constants.json"])]
+
+    # the paper's layout: mu strata across, |Psi| strata up, one picture per cell
+    fig, axes = plt.subplots(7, 5, figsize=(8.4, 11.0), squeeze=False)
+    for ax in axes.flat:
+        ax.set_axis_off()
+    for cl in cells:
+        ax = axes[6 - cl["row"], cl["col"]]
+        ax.set_axis_on()
+        x, y, z, _ = ctx.store.read_grid(f"thumb_{cl['col']}_{cl['row']}")
+        mode_image(ax, x, y, z)
+        ax.set_xticks([])
+        ax.set_yticks([])
+        if cl["kind"] == "case":
+            color, lw, text = "k", 0.8, f"case {cl['case']}"
+        elif cl["kind"] == "curve":
+            label, kind = CURVES[cl["what"]][:2]
+            color, lw, text = LINE_COLORS[_FN_COLOR[kind]], 3.0, f"{_TEX[label]}: {cl['sides'][0]}|{cl['sides'][1]}"
+        else:
+            color, lw, text = "k", 3.0, _POINT_TEX[cl["what"]]
+        for sp in ax.spines.values():
+            sp.set_edgecolor(color)
+            sp.set_linewidth(lw)
+        ax.set_title(text, fontsize=7, pad=2)
+        ax.text(0.03, 0.04, f"$\\mu$={cl['mu']:.3g}, $\\Psi$={cl['Psi']:.3g}", transform=ax.transAxes, fontsize=5.5, bbox=dict(fc="white", ec="none", alpha=0.75, pad=0.5))
+    for j, name in enumerate(MU_STRATA):
+        axes[6, j].annotate(name, (0.5, -0.12), xycoords="axes fraction", ha="center", va="top", fontsize=8, annotation_clip=False)
+    for i, name in enumerate(PSI_STRATA):
+        axes[6 - i, 0].annotate(name, (-0.08, 0.5), xycoords="axes fraction", ha="right", va="center", fontsize=8, annotation_clip=False)
+    mode_legend(axes[0, 0], loc="center", fontsize=7, title="modes at $\\Theta=0$", title_fontsize=7)
+    axes[0, 0].set_axis_off()
+    cap_b = ("Fig. 21 in the paper's layout: columns are the mu strata, rows the |Psi| strata, one picture per cell of the 19 the paper draws (cells spanning several "
+             "strata there sit in their middle column here). Each picture is computed at the (mu, Psi) printed in it: the modes with no polar motion (Theta = 0) "
+             "in (theta in (0, pi/2) across, varphi in (-pi, 0) up), which tell the cases apart (section 3.4). Thin frame: a generic case; thick coloured frame: a "
+             "codimension-1 curve (colour as in the (mu, Psi) plane) with the cases just either side; thick black: a codimension-2 point.")
+    blocks.append(ctx.figure("fig21_strata", fig, cap_b, ["cells.json"] + [f"thumb_{cl['col']}_{cl['row']}.json" for cl in cells]))
+    rows = [[pt["point"], f"{pt['mu']:.6f}", f"{pt['Psi']:.6f}", ", ".join(pt["curves"]), ", ".join(f"|F_{k}| = {v:.1e}" for k, v in pt["residuals"].items())] for pt in points]
+    blocks.append(Table(caption="Codimension-2 points and the residuals there of the functions whose zeros are the curves through them (F_L = b(Psi, 0, theta_L), "
+                                "F_1,2 = b(Psi, 0, theta_1,2(mu)), F_P = p_min(mu)).",
+                        header=["point", "mu", "Psi", "curves", "residuals"], rows=rows, data=ctx.data("points.json")))
+    return blocks
+
+
+SECTION = Section(slug=SLUG, title="Bifurcations between the kinematic cases: Fig. 21", paper="Fig. 21 (fig:mechbifs); eqs. psil, psi1, psi2, psip, mul, mup2D",
+                  params=params, run=run, render=render)

@@ -1,0 +1,122 @@
+"""Figs. 3-7 (the surfaces b = 0 and p = 0 in 3D) and Fig. 21 (the bifurcations between the kinematic cases): geometry and the sections' checks."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from crosscheck import analytic, critical, gb
+from crosscheck.report.section import RunContext, section_rng
+from crosscheck.report.sections import bifurcations, kinematic_surfaces as ks
+from crosscheck.report.store import SectionStore
+from crosscheck.tolerances import CLOSED_FORM, ROOT_RESIDUAL
+
+MU, ALPHA, TMAX = 1.4, 3.0, 2.2
+
+
+def _run(section, tmp_path):
+    store = SectionStore(tmp_path / section.slug)
+    ctx = RunContext(slug=section.slug, params=section.params(True), quick=True, rng=section_rng(0, section.slug), store=store)
+    section.run(ctx)
+    return ctx
+
+
+@pytest.fixture(scope="module")
+def surfaces(tmp_path_factory):
+    return _run(ks.SECTION, tmp_path_factory.mktemp("ks"))
+
+
+@pytest.fixture(scope="module")
+def bifs(tmp_path_factory):
+    return _run(bifurcations.SECTION, tmp_path_factory.mktemp("bif"))
+
+
+def test_b0_below_Psi_L_is_one_piece_clipped_where_Theta_reaches_its_top():
+    (lo, hi), = ks.b0_pieces(0.0, TMAX)
+    # at Psi = 0, Theta^2 = 1/sin theta on b = 0: the top Theta_max is reached at sin theta = 1/Theta_max^2
+    assert abs(lo - math.asin(1 / TMAX**2)) <= CLOSED_FORM.allowance(lo)
+    assert hi == pytest.approx(math.pi / 2, abs=1e-3)
+
+
+def test_b0_above_Psi_L_leaves_Theta_0_exactly_across_the_theta_gap():
+    pieces = ks.b0_pieces(2.2, TMAX)
+    ga, gb_ = gb.gb_theta_gap(2.2)
+    assert len(pieces) == 2
+    # brentq on Theta^2 = 0 and the cubic's roots of gb_theta_gap are two routes to the same edges
+    assert abs(pieces[0][1] - ga) <= 1e-12 and abs(pieces[1][0] - gb_) <= 1e-12
+    for edge in (pieces[0][1], pieces[1][0]):
+        assert abs(analytic.b(2.2, 0.0, edge)) <= 1e-12
+
+
+def test_b0_at_Psi_L_touches_Theta_0_without_splitting():
+    pieces = ks.b0_pieces(critical.Psi_L, TMAX)
+    assert len(pieces) == 1 and pieces[0][0] < critical.theta_L < pieces[0][1]
+    # slightly above Psi_L the surface does split (lift-off at Theta = 0 opens around theta_L)
+    assert len(ks.b0_pieces(critical.Psi_L * (1 + 1e-4), TMAX)) == 2
+
+
+def test_p0_cylinder_is_closed_and_on_p_zero():
+    theta, varphi = ks.p0_cylinder(MU, ALPHA, n=41)
+    cv = critical.critical_values(MU, ALPHA)
+    assert theta[0] == theta[-1] and varphi[0] == varphi[-1]
+    assert theta.min() == pytest.approx(cv.theta_1, abs=1e-15) and theta.max() == pytest.approx(cv.theta_2, abs=1e-15)
+    assert np.max(np.abs(analytic.p(theta, varphi, MU, ALPHA))) <= ROOT_RESIDUAL.atol
+
+
+def test_surfaces_section_checks_pass(surfaces):
+    failed = [c["name"] for c in surfaces.checks if not c["passed"]]
+    assert not failed
+    # the figures' claims, measured: no inconsistent cell from Psi_2 on, some below it
+    cells = {s["label"]: s["inconsistent_cells"] for s in surfaces.store.read_json("slices")}
+    assert cells["Psi_2"] == 0 and cells["5"] == 0
+    assert all(v > 0 for k, v in cells.items() if k not in ("Psi_2", "5"))
+
+
+def test_surfaces_gb_curve_lies_on_both_surfaces(surfaces):
+    for label in ("0", "2.2", "Psi_1"):
+        g = surfaces.store.read_table(f"gb_{ks._tag(label)}")
+        Psi = {"0": 0.0, "2.2": 2.2, "Psi_1": critical.critical_values(MU, ALPHA).Psi_1}[label]
+        assert g["theta"].size > 10 and np.all(g["Theta"] >= 0)
+        assert np.max(np.abs(analytic.b(Psi, g["Theta"], g["theta"]))) <= 1e-9
+        assert np.max(np.abs(analytic.p(g["theta"], g["varphi"], MU, ALPHA))) <= 1e-9
+
+
+def test_bifurcation_section_checks_pass(bifs):
+    failed = [c["name"] for c in bifs.checks if not c["passed"]]
+    assert not failed
+    cells = bifs.store.read_json("cells")
+    assert len(cells) == 19
+    assert sorted(cl["case"] for cl in cells if cl["kind"] == "case") == [1, 2, 3, 4, 5, 6, 7]
+
+
+@pytest.mark.parametrize("name", list(bifurcations.POINTS))
+def test_codim2_points_are_zeros_of_each_curve_function_and_a_step_off_is_not(name):
+    pm, pP, through = bifurcations.POINTS[name]
+    c = {"mu_P": float(critical.mu_P(ALPHA)), "mu_L": float(critical.mu_L(ALPHA)), "Psi_L": critical.Psi_L, "Psi_P": float(critical.Psi_P(ALPHA))}
+    mu, Psi = c[pm], c[pP]
+    for kind in {bifurcations.CURVES[cid][1] for cid in through}:
+        assert abs(bifurcations.defining_function(kind, mu, Psi, ALPHA)) <= CLOSED_FORM.allowance(1 + Psi**2)
+        # a relative step of 1e-6 off the point (in the coordinate the function depends on) leaves the curve by far more than rounding
+        off = bifurcations.defining_function(kind, mu * (1 + 1e-6), Psi, ALPHA) if kind == "P" else bifurcations.defining_function(kind, mu, Psi * (1 + 1e-6), ALPHA)
+        assert abs(off) > 1e3 * CLOSED_FORM.allowance(1 + Psi**2)
+
+
+def test_every_case_boundary_of_fig_9a_is_one_of_the_curves():
+    # the case map on a grid changes only across a listed curve: adjacent cells with different cases are the two sides of one.
+    # Cases 4, 5 and 6 are wedges that close at the codimension-2 points, so a grid steps over them there: cell pairs
+    # within 0.3 (in mu and Psi) of a point are left out; elsewhere the wedges are wider than a cell (0.025 x 0.005).
+    mu = np.linspace(0.0125, 2.9875, 120)
+    Psi = np.linspace(0.0025, 5.9975, 1200)
+    M, S = np.meshgrid(mu, Psi)
+    cases = critical.kinematic_case(M, S, ALPHA)
+    corners = [(float(critical.mu_P(ALPHA)), critical.Psi_L), (float(critical.mu_P(ALPHA)), float(critical.Psi_P(ALPHA))), (float(critical.mu_L(ALPHA)), critical.Psi_L)]
+    far = np.all([(np.abs(M - m) > 0.3) | (np.abs(S - p) > 0.3) for m, p in corners], axis=0)
+    pairs = {tuple(sorted(v[4])) for v in bifurcations.CURVES.values()}
+    seen = set()
+    for a, b, keep in ((cases[:, :-1], cases[:, 1:], far[:, :-1] & far[:, 1:]), (cases[:-1, :], cases[1:, :], far[:-1, :] & far[1:, :])):
+        diff = (a != b) & keep
+        seen |= {tuple(sorted((int(x), int(y)))) for x, y in zip(a[diff], b[diff])}
+    assert seen <= pairs, seen - pairs
+    assert len(seen) == len(pairs)  # and every listed curve is crossed somewhere

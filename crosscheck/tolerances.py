@@ -357,8 +357,10 @@ CAPSULE_PIN_VELOCITY = Tolerance(atol=1e-14, rtol=0.0, why="C's slip velocity vs
 
 #: The real-time slipping field at C (eta_C', varphi_C', Psi', Theta' = f / (eta_C p_C)) against Pinocchio's aba
 #: with tau = J_C^T F, F = F_z (-mu u_C/|u_C|, 1), F_z from Pinocchio's own Delassus row at C: quantities through
-#: M^-1, so PIN_THROUGH_MINV's 2e-14 of the term scale (1 + alpha)(1 + |F_z|)(1 + |v_s|_1)^2 / cos^2 theta,
-#: times (1 + 1 / eta_C) for varphi_C' (an angular rate of the slip).  Measured 7e-16 of that scale.
+#: M^-1, so PIN_THROUGH_MINV's 2e-14 of the term scale (1 + alpha)(1 + f)(1 + |v_s|_1)^2 / cos^2 theta,
+#: times (1 + 1 / eta_C) for varphi_C' (an angular rate of the slip).  f = |F_z| (1 + (1 + alpha)(1 + mu) / |p_C|):
+#: F_z = -b / p_C carries the rounding of p_C's terms relative to |p_C| (measured without that factor: 1.2e-14
+#: at p_C = 0.0014).  Measured 2e-17 of that scale (2000 states, r = 0 ... 0.3).
 CAPSULE_PIN_DYNAMICS = Tolerance(atol=2e-14, rtol=0.0, why="slip dynamics at C vs Pinocchio aba: through M^-1, as PIN_THROUGH_MINV")
 
 #: crosscheck.capsule.slip_until_event at r = 0 against crosscheck.slipping.slip_until_event: the same vector

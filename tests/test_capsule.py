@@ -17,6 +17,7 @@ from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 from crosscheck.tolerances import (
     CAPSULE_JAM_CONVERGENCE,
+    CAPSULE_JAM_FORCE_LAW,
     CAPSULE_PIN_DYNAMICS,
     CAPSULE_PIN_SLIP,
     CAPSULE_PIN_VELOCITY,
@@ -207,3 +208,13 @@ def test_normal_force_along_a_run_is_eq_FZ_at_C():
     np.testing.assert_array_equal(got.normal_force, want)
     assert np.all(want[:-1] > 0) and want[-2] > 10 * want[0]  # it grows without bound towards the JAM (p_C -> 0+)
     assert math.isclose(got.p, 0.0, abs_tol=1e-9) and got.b < 0
+    # F_z ~ (t_jam - t)^(-1/2): p_C dp_C/dt = (dp_C/ds) / eta_C = -k at the jam, so F_z sqrt(t_jam - t) -> -b / sqrt(2 k)
+    eta_C, varphi_C, theta = got.state.eta, got.state.varphi, got.state.theta
+    dp_dvarphi = 3.0 * 1.6 * math.cos(theta) * (math.sin(theta) + 0.01) * math.cos(varphi_C)  # d p_C / d varphi_C
+    k = -dp_dvarphi * capsule.slip_rhs(x[-1], 1.6, 3.0, radius=0.01)[1] / eta_C  # d theta/ds = eta_C p_C Theta = 0 there
+    limit = -got.b / math.sqrt(2 * k)
+    lag = got.time - got.t[:-1]
+    near = lag < 5e-3
+    assert near.sum() >= 3
+    c = (want[:-1][near] * np.sqrt(lag[near]) / limit - 1) / np.sqrt(lag[near])  # the next order's coefficient
+    assert CAPSULE_JAM_FORCE_LAW.ok(c, c[-1])

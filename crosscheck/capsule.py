@@ -99,7 +99,7 @@ from crosscheck.tolerances import GB_REACHED, P_RESOLVED, SLIP_INTEGRATION, STIC
 
 __all__ = ["RADIUS", "CapsuleSlipResult", "b", "p", "contact_slip", "tip_slip", "slip_rhs", "slip_until_event"]
 
-#: Capsule radius r in units of l: a cap wider than half the rod's half-length is no longer a slender rod's tip.
+#: Capsule radius r in units of l (the tip-to-centre distance): a thicker capsule is no longer the paper's slender rod.
 RADIUS = Interval(0.0, 0.5, lo_open=False, hi_open=True)
 
 _HALF_PI = 0.5 * math.pi

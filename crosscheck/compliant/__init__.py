@@ -14,13 +14,13 @@ the dashpot dissipates xi/eps delta'^2, slipping friction mu F_n |s|, stuck
 friction does no work, and where the clipped force is zero inside the plane
 (the law would pull) the stored elastic energy only drains.
 
-Modules: ``laws`` (the normal laws), ``model`` (the dynamics), ``integrate``
-(the event-driven solution), ``simulate`` (the engine's ``Run``).
+Modules: ``laws`` (the normal laws), ``model`` (the dynamics), ``trajectory``
+(the event-driven solution, ``integrate``), ``run`` (``simulate``: the engine's ``Run``).
 """
 
-from crosscheck.compliant.integrate import EVENT_KINDS, Event, Trajectory, integrate
+from crosscheck.compliant.trajectory import EVENT_KINDS, Event, Trajectory, integrate
 from crosscheck.compliant.laws import LAWS, NormalLaw
 from crosscheck.compliant.model import Dynamics
-from crosscheck.compliant.simulate import Options, simulate
+from crosscheck.compliant.run import Options, simulate
 
 __all__ = ["integrate", "simulate", "Options", "Trajectory", "Event", "EVENT_KINDS", "Dynamics", "NormalLaw", "LAWS"]

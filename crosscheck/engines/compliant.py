@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from crosscheck.compliant.simulate import NAME, Options, simulate
+from crosscheck.compliant.run import NAME, Options, simulate
 from crosscheck.engines.base import Run, SweepResult, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.rod import Rod

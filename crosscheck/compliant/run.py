@@ -31,8 +31,9 @@ import numpy as np
 
 from crosscheck.checks import NONNEGATIVE, POSITIVE, check
 from crosscheck.compliant import laws as _laws
-from crosscheck.compliant.integrate import METHODS, RADIUS, integrate
-from crosscheck.compliant.model import FREE, SLIP, STICK
+from crosscheck.compliant.trajectory import METHODS, RADIUS, integrate
+from crosscheck.compliant.model import FREE, SLIP, STICK, q_from_y
+from crosscheck.coordinates import tip_position, tip_velocity
 from crosscheck.engines.base import Run, n_steps_within_memory, options_from_kwargs
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.record import Record
@@ -132,9 +133,6 @@ def record_of(traj, times: np.ndarray) -> Record:
         force[k] = F
         acc[k] = dyn.tip_acceleration(Y[k], F)
         slip[k, :2] = dyn.slip(Y[k])
-    from crosscheck.compliant.model import q_from_y
-    from crosscheck.coordinates import tip_position, tip_velocity
-
     rod = Rod.scaled(dyn.alpha)
     q, v = q_from_y(Y, dyn.radius)
     return Record(t=np.asarray(times, float), tip_pos=tip_position(rod, q), tip_vel=tip_velocity(rod, q, v), tip_acc=acc, force=force,

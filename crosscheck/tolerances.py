@@ -442,3 +442,40 @@ COMPLIANT_LIMIT_POST_ORDER = Tolerance(atol=0.15, rtol=0.0, why="eps ln(1/eps) l
 #: which shift a fitted slope over eps in [1e-5, 1e-3] by (1/5) c eps^(1/5)
 #: <= 0.05 c, c = O(1): 0.1.  Measured 0.76-0.80.
 COMPLIANT_LIMIT_JAM_LAG_ORDER = Tolerance(atol=0.1, rtol=0.0, why="t_stop - t_jam ~ eps^(4/5) (1 + O(eps^(1/5)))")
+
+
+# -------------------------------------------------------------- mujoco_law ---
+# MuJoCo's contact law in continuous time (crosscheck.engines.mujoco_law, the engine "mujoco_law").
+
+#: The law's force against MuJoCo's efc_force at the same state, solver run to its iteration limit
+#: (solver_tolerance 0): both are the exact minimiser of the same 3 x 3 cone problem, so they differ by
+#: rounding amplified by the condition number of A + R (measured <= 7 on the test's states) and by the
+#: slip angle's root polish (1e-15 rad): ~1e-14 to 1e-13 of |f|.  1e-11 leaves a factor 100.  Measured
+#: 8e-14 (16 random states).
+MUJOCO_LAW_FORCE = Tolerance(atol=0.0, rtol=1e-11, why="same convex problem solved exactly twice: rounding x cond(A + R) <= 7 (measured 8e-14)")
+
+#: R and aref against efc_R and efc_aref: closed forms of the same ~20 flops (impedance sigmoid,
+#: (1 - d)/d diagApprox, -B J v - K d dist) with J v through a 3 x 5 product: CLOSED_FORM's 1e-12,
+#: relative to the size of the terms (aref's normal row is a difference of two terms ~1e3 m/s^2 that
+#: nearly cancel).  Measured 0.5 of the allowance at worst.
+MUJOCO_LAW_PIECES = Tolerance(atol=1e-12, rtol=1e-12, why="closed forms of the same ~20 flops (as CLOSED_FORM)")
+
+#: The cone solver's optimality (KKT) residuals on random problems, relative to |g| + |H| |f|: f in K,
+#: y = H f + g in the dual cone, f . y = 0.  A 3 x 3 solve and a Brent root to 1e-15 rad: 1e-12.
+MUJOCO_LAW_KKT = Tolerance(atol=1e-12, rtol=0.0, why="3 x 3 solve + slip-angle root to 1e-15 rad: KKT residuals ~1e-14")
+
+#: Order p of MuJoCo's approach to the continuous-time law as its timestep shrinks: the slope of
+#: log(RMS over rows of |tip (x, y) error|) against log(timestep) over three timesteps (2e-4, 1e-4, 5e-5),
+#: horizon 0.4.  Semi-implicit Euler is first order, but the slipping capsule rides on dist = 0 in a
+#: sliding mode that MuJoCo realises as a chatter of contact and free steps, whose phase makes the error
+#: irregular.  Measured slopes 0.79-1.54 over 8 states and 3 timestep triples (the test's state: 1.08).
+MUJOCO_LAW_ORDER = Tolerance(atol=0.6, rtol=0.0, why="regression guard: first order, measured slopes 0.79-1.54 (chatter of the sliding mode)", guard=True)
+
+#: The friction skew predicted by the law's run against MuJoCo's measured skew on the same state, first
+#: 0.1 of the run, timestep 3e-4: the runs differ by MuJoCo's O(dt) discretisation (tip errors ~3e-5 l).
+#: Measured max 0.25 deg, median 0.04 deg over 40 states; 0.5 deg = 0.0087 rad.
+MUJOCO_LAW_SKEW = Tolerance(atol=0.0087, rtol=0.0, why="regression guard: law run vs MuJoCo at dt = 3e-4, measured max 0.25 deg (n = 40)", guard=True)
+
+#: The closed form angle(u, u + a_t / B) against the angle of the solved force: an identity of the cone's
+#: optimality conditions (f_t anti-parallel to a_t + B u + R_t f_t), so rounding of the solve only.
+MUJOCO_LAW_SKEW_IDENTITY = Tolerance(atol=1e-9, rtol=0.0, why="identity of the KKT conditions: rounding of the solve (~1e-13 rad)")

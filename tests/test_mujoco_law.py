@@ -1,0 +1,162 @@
+"""MuJoCo's contact law (crosscheck.engines.mujoco_law) against MuJoCo's own solver arrays, and its continuous-time engine."""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+import pytest
+
+from crosscheck import Rod, SlipState
+from crosscheck.coordinates import to_generalized
+from crosscheck.engines import get
+from crosscheck.engines.mujoco import Options
+from crosscheck.engines.mujoco_law import accelerations, contact_force, contact_problem, inverse_weight, skew_angle, solve_cone
+from crosscheck.engines.mujoco_ode import integrate
+from crosscheck.engines.mujoco_model import build_model, initial_state
+from crosscheck.studies import friction_skew as fs
+from crosscheck.studies.mujoco_contact import friction_skew
+from crosscheck.tolerances import (MUJOCO_LAW_FORCE, MUJOCO_LAW_KKT, MUJOCO_LAW_ORDER, MUJOCO_LAW_PIECES, MUJOCO_LAW_SKEW,
+                                   MUJOCO_LAW_SKEW_IDENTITY)
+
+
+def _random_contact(rng: np.random.Generator):
+    """A penetrating, slipping capsule with random mu, radius, solref, solimp, impratio; MuJoCo's forward at it."""
+    rod = Rod.scaled(rng.choice([1.5, 3.0, 6.0]))
+    s = SlipState(theta=rng.uniform(0.1, 1.45), varphi=-rng.uniform(0.05, 3.1), Theta=0.7 * rng.normal(), Psi=rng.normal(),
+                  eta=rng.uniform(0.2, 3), psi=rng.uniform(-3, 3))
+    mu = float(rng.choice([0.0, rng.uniform(0.05, 2.5)], p=[0.1, 0.9]))
+    opts = Options(radius=rng.uniform(0.005, 0.05), solver_tolerance=0.0, timeconst=rng.uniform(0.02, 0.1), dampratio=rng.uniform(0.5, 1.5),
+                   friction_timeconst=[None, rng.uniform(0.01, 0.1)][rng.integers(2)],
+                   solimp=(rng.uniform(0.5, 0.9), rng.uniform(0.91, 0.99), rng.uniform(5e-4, 3e-3), rng.uniform(0.2, 0.8), rng.uniform(1, 3)))
+    impratio = float(rng.choice([1.0, 0.3, 5.0]))
+    model = build_model(rod, mu, opts)
+    model.opt.impratio = impratio
+    data = mujoco.MjData(model)
+    mujoco.mj_setState(model, data, initial_state(model, rod, s, opts.radius), mujoco.mjtState.mjSTATE_FULLPHYSICS)
+    data.qpos[2] -= rng.uniform(1e-6, 4e-3) * rod.length  # inside and beyond solimp's width
+    mujoco.mj_forward(model, data)
+    return rod, mu, opts, impratio, model, data
+
+
+def test_force_R_aref_equal_mujoco_solver_arrays():
+    rng = np.random.default_rng(7)
+    worst = 0.0
+    for _ in range(16):
+        rod, mu, opts, impratio, model, data = _random_contact(rng)
+        assert data.nefc == 3
+        pb = contact_problem(rod, data.qpos, data.qvel, mu, opts, impratio=impratio)
+        # MuJoCo's diagApprox is the rod's translational invweight0, not A's diagonal
+        assert MUJOCO_LAW_PIECES.ok(inverse_weight(rod), model.body_invweight0[1, 0])
+        assert MUJOCO_LAW_PIECES.ok(pb.dist, data.contact[0].dist)
+        assert MUJOCO_LAW_PIECES.ok(pb.frame.ravel(), data.contact[0].frame)
+        assert MUJOCO_LAW_PIECES.ok(pb.R, data.efc_R)
+        # aref = -B v - K imp dist: its normal row is a near-cancelling difference, so the allowance is on the terms' size
+        terms = np.abs(data.efc_KBIP[:, 1] * data.efc_vel) + np.abs(data.efc_KBIP[:, 0] * data.efc_KBIP[:, 2] * data.efc_pos)
+        assert np.all(np.abs(pb.aref - data.efc_aref) <= MUJOCO_LAW_PIECES.allowance(terms))
+        assert MUJOCO_LAW_PIECES.ok(pb.imp, data.efc_KBIP[0, 2])
+        assert MUJOCO_LAW_PIECES.ok(pb.B, data.efc_KBIP[:, 1])
+        f = pb.force()
+        scale = np.abs(data.efc_force).max()
+        assert np.abs(f - data.efc_force).max() <= MUJOCO_LAW_FORCE.allowance(scale)
+        worst = max(worst, np.abs(f - data.efc_force).max() / scale)
+        # the public world force in m g is the same force
+        world = contact_force(rod, data.qpos, data.qvel, mu, opts, impratio=impratio) * rod.force_scale
+        assert np.abs(world - data.contact[0].frame.reshape(3, 3).T @ data.efc_force).max() <= MUJOCO_LAW_FORCE.allowance(scale)
+    assert worst > 0.0  # the comparison saw two independent computations
+
+
+def test_cone_solution_satisfies_the_optimality_conditions():
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        L = rng.normal(size=(3, 3))
+        H = L @ L.T + 0.05 * np.eye(3)
+        g, mu = rng.normal(size=3) * 3, rng.uniform(0.0, 3.0)
+        f = solve_cone(H, g, mu)
+        y = H @ f + g
+        size = np.abs(g).max() + np.abs(H).max() * np.abs(f).max()
+        assert f[0] >= -MUJOCO_LAW_KKT.atol * size and math.hypot(f[1], f[2]) <= mu * f[0] + MUJOCO_LAW_KKT.atol * size
+        if mu > 0:  # y in the dual cone {y_n >= mu |y_t|} (for mu = 0 the tangential rows are free of force: y_t unconstrained)
+            assert y[0] >= mu * math.hypot(y[1], y[2]) - MUJOCO_LAW_KKT.atol * size
+        else:
+            assert y[0] >= -MUJOCO_LAW_KKT.atol * size
+        assert abs(f @ y) <= MUJOCO_LAW_KKT.atol * size * max(1.0, np.abs(f).max())
+
+
+def test_friction_opposes_slip_extrapolated_over_one_over_B_and_anisotropy_of_A_makes_the_skew():
+    rod = Rod.scaled(3.0)
+    opts = Options()
+    off = SlipState(theta=0.4665, varphi=-2.9864, Theta=0.741, Psi=-0.9655, eta=1.98)
+    q, v = to_generalized(rod, off, tip=(0.0, 0.0, opts.radius))
+    q[2] -= 1e-9
+    pb = contact_problem(rod, q, v, 1.7, opts)
+    f = pb.force()
+    assert abs(math.hypot(f[1], f[2]) - 1.7 * f[0]) < 1e-9 * f[0]  # slipping: on the cone's surface
+    at = pb.J @ (pb.qacc_smooth + pb.minv * (pb.J.T @ f))
+    solved = math.atan2(f[2], f[1]) - math.atan2(-pb.vel[2], -pb.vel[1])
+    assert MUJOCO_LAW_SKEW_IDENTITY.ok(np.angle(np.exp(1j * solved)), skew_angle(pb.vel[1:], at[1:], pb.B[1]))
+    a = fs.ablation(rod, off, 1.7)
+    assert abs(a["law"]) > 0.3  # ~25 degrees, as mujoco_contact's test measures in MuJoCo
+    assert abs(a["neither"]) <= MUJOCO_LAW_SKEW_IDENTITY.atol  # isotropic, decoupled A and no free tangential acceleration: none
+    assert abs(a["isotropic"]) < 0.2 * abs(a["law"])  # the anisotropy and coupling of A carry it
+
+
+def test_predicted_skew_equals_measured_and_measured_is_friction_skew():
+    rng = np.random.default_rng(0)
+    states, mu = fs.random_states(3, rng)
+    mine = fs.measured(states, mu, duration=0.1)
+    theirs = friction_skew(states, mu, duration=0.1)
+    assert np.array_equal(mine["skew"], theirs["skew"], equal_nan=True)
+    law = fs.predicted(states, mu, duration=0.1)
+    on = np.isfinite(mine["skew"])
+    assert np.array_equal(on, np.isfinite(law["skew"])) and on.sum() >= 2  # no force in either only where the start lifts off
+    assert MUJOCO_LAW_SKEW.ok(law["skew"][on], mine["skew"][on])
+    assert MUJOCO_LAW_SKEW_IDENTITY.ok(law["closed"][on], law["solved"][on])
+
+
+def test_mujoco_approaches_the_continuous_law_at_first_order():
+    rod = Rod.scaled(3.0)
+    s, mu, H = SlipState(theta=0.8, varphi=-1.2, Theta=0.3, Psi=1.0, eta=1.0), 0.3, 0.4
+    law = get("mujoco_law").simulate(rod, s, mu, horizon=H, timestep=1e-2).record
+    dts = np.array([2e-4, 1e-4, 5e-5])
+    rms = []
+    for dt in dts:
+        M = get("mujoco").simulate(rod, s, mu, horizon=H, timestep=dt).record
+        idx = np.arange(0, len(M.t), int(round(1e-2 / dt)))[: len(law.t)]
+        assert np.abs(M.t[idx] - law.t).max() < 1e-9
+        rms.append(np.sqrt(np.mean(np.sum((M.tip_pos[idx, :2] - law.tip_pos[:, :2]) ** 2, -1))))
+    order = np.polyfit(np.log(dts), np.log(rms), 1)[0]
+    assert MUJOCO_LAW_ORDER.ok(order, 1.0)
+    assert rms[-1] < 1e-4  # and it is close: 1e-5 l at dt = 5e-5
+
+
+def test_sliding_mode_holds_the_capsule_on_the_plane_with_a_fraction_of_the_force():
+    rod, opts, mu = Rod.scaled(3.0), Options(timestep=1e-2), 0.3
+    q0, v0 = to_generalized(rod, SlipState(theta=0.8, varphi=-1.2, Theta=0.3, Psi=1.0, eta=1.0), tip=(0.0, 0.0, opts.radius))
+    traj = integrate(rod, q0, v0, mu, opts, times=np.arange(30) * 1e-2)
+    assert traj.events == []  # it slides on dist = 0 from the start to the end
+    dist = traj.q[:, 2] - np.sin(traj.q[:, 4]) - opts.radius
+    assert np.abs(dist).max() < 1e-9
+    # the law's own force there would push the capsule off the plane: the sliding mode applies a fraction of it
+    full = np.array([accelerations(rod, q, v, mu, opts, contact=True)[1][0] for q, v in zip(traj.q, traj.v)])
+    assert np.all(traj.force[:, 0] > 0) and np.all(traj.force[:, 0] < 0.2 * full)
+
+
+def test_bad_inputs():
+    rod = Rod.scaled(3.0)
+    with pytest.raises(ValueError, match="q and v must each have 5 numbers"):
+        contact_force(rod, np.zeros(4), np.zeros(5), 1.0, Options())
+    with pytest.raises(ValueError, match="mu"):
+        contact_force(rod, np.zeros(5), np.zeros(5), -1.0, Options())
+    with pytest.raises(ValueError, match="options must be crosscheck.engines.mujoco.Options"):
+        contact_problem(rod, np.zeros(5), np.zeros(5), 1.0, {"timestep": 1e-3})
+    with pytest.raises(ValueError, match="impratio"):
+        contact_force(rod, np.zeros(5), np.zeros(5), 1.0, Options(), impratio=0.0)
+    s = SlipState(theta=0.8, varphi=-1.2, Theta=0.3, Psi=1.0, eta=1.0)
+    with pytest.raises(ValueError, match="model_file must be None"):
+        get("mujoco_law").simulate(rod, s, 1.0, horizon=0.1, model_file="x.xml")
+    with pytest.raises(ValueError, match="rtol"):
+        get("mujoco_law").simulate(rod, s, 1.0, horizon=0.1, rtol=1.0)
+    with pytest.raises(ValueError, match="unknown"):
+        get("mujoco_law").simulate(rod, s, 1.0, horizon=0.1, bogus=1)

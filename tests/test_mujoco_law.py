@@ -16,35 +16,17 @@ from crosscheck.engines.mujoco_law import accelerations, contact_force, contact_
 from crosscheck.engines.mujoco_ode import integrate
 from crosscheck.engines.mujoco_model import build_model, initial_state
 from crosscheck.studies import friction_skew as fs
+from crosscheck.studies.mujoco_law_check import convergence_order, random_contact
 from crosscheck.studies.mujoco_contact import friction_skew
 from crosscheck.tolerances import (MUJOCO_LAW_FORCE, MUJOCO_LAW_KKT, MUJOCO_LAW_ORDER, MUJOCO_LAW_PIECES, MUJOCO_LAW_SKEW,
                                    MUJOCO_LAW_SKEW_IDENTITY)
-
-
-def _random_contact(rng: np.random.Generator):
-    """A penetrating, slipping capsule with random mu, radius, solref, solimp, impratio; MuJoCo's forward at it."""
-    rod = Rod.scaled(rng.choice([1.5, 3.0, 6.0]))
-    s = SlipState(theta=rng.uniform(0.1, 1.45), varphi=-rng.uniform(0.05, 3.1), Theta=0.7 * rng.normal(), Psi=rng.normal(),
-                  eta=rng.uniform(0.2, 3), psi=rng.uniform(-3, 3))
-    mu = float(rng.choice([0.0, rng.uniform(0.05, 2.5)], p=[0.1, 0.9]))
-    opts = Options(radius=rng.uniform(0.005, 0.05), solver_tolerance=0.0, timeconst=rng.uniform(0.02, 0.1), dampratio=rng.uniform(0.5, 1.5),
-                   friction_timeconst=[None, rng.uniform(0.01, 0.1)][rng.integers(2)],
-                   solimp=(rng.uniform(0.5, 0.9), rng.uniform(0.91, 0.99), rng.uniform(5e-4, 3e-3), rng.uniform(0.2, 0.8), rng.uniform(1, 3)))
-    impratio = float(rng.choice([1.0, 0.3, 5.0]))
-    model = build_model(rod, mu, opts)
-    model.opt.impratio = impratio
-    data = mujoco.MjData(model)
-    mujoco.mj_setState(model, data, initial_state(model, rod, s, opts.radius), mujoco.mjtState.mjSTATE_FULLPHYSICS)
-    data.qpos[2] -= rng.uniform(1e-6, 4e-3) * rod.length  # inside and beyond solimp's width
-    mujoco.mj_forward(model, data)
-    return rod, mu, opts, impratio, model, data
 
 
 def test_force_R_aref_equal_mujoco_solver_arrays():
     rng = np.random.default_rng(7)
     worst = 0.0
     for _ in range(16):
-        rod, mu, opts, impratio, model, data = _random_contact(rng)
+        rod, mu, opts, impratio, model, data = random_contact(rng)
         assert data.nefc == 3
         pb = contact_problem(rod, data.qpos, data.qvel, mu, opts, impratio=impratio)
         # MuJoCo's diagApprox is the rod's translational invweight0, not A's diagonal
@@ -116,19 +98,9 @@ def test_predicted_skew_equals_measured_and_measured_is_friction_skew():
 
 
 def test_mujoco_approaches_the_continuous_law_at_first_order():
-    rod = Rod.scaled(3.0)
-    s, mu, H = SlipState(theta=0.8, varphi=-1.2, Theta=0.3, Psi=1.0, eta=1.0), 0.3, 0.4
-    law = get("mujoco_law").simulate(rod, s, mu, horizon=H, timestep=1e-2).record
-    dts = np.array([2e-4, 1e-4, 5e-5])
-    rms = []
-    for dt in dts:
-        M = get("mujoco").simulate(rod, s, mu, horizon=H, timestep=dt).record
-        idx = np.arange(0, len(M.t), int(round(1e-2 / dt)))[: len(law.t)]
-        assert np.abs(M.t[idx] - law.t).max() < 1e-9
-        rms.append(np.sqrt(np.mean(np.sum((M.tip_pos[idx, :2] - law.tip_pos[:, :2]) ** 2, -1))))
-    order = np.polyfit(np.log(dts), np.log(rms), 1)[0]
-    assert MUJOCO_LAW_ORDER.ok(order, 1.0)
-    assert rms[-1] < 1e-4  # and it is close: 1e-5 l at dt = 5e-5
+    c = convergence_order(Rod.scaled(3.0), SlipState(theta=0.8, varphi=-1.2, Theta=0.3, Psi=1.0, eta=1.0), 0.3, timesteps=(2e-4, 1e-4, 5e-5))
+    assert MUJOCO_LAW_ORDER.ok(c["order"], 1.0)
+    assert c["rms"][-1] < 1e-4  # and close: ~1e-5 l at dt = 5e-5
 
 
 def test_sliding_mode_holds_the_capsule_on_the_plane_with_a_fraction_of_the_force():

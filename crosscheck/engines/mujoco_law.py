@@ -38,8 +38,15 @@ and ((A + R) f + a0 - aref)_t = a_t + B v_t + R_t f_t with a_t = J_t qacc the
 contact point's tangential acceleration.  R_t f_t is parallel to f_t, so
 f_t is anti-parallel to v_t + a_t / B: MuJoCo's friction opposes the slip
 velocity extrapolated over the friction damping time 1/B = dmax tau_f / 2,
-not the slip velocity itself (``skew_angle``).  The skew vanishes as
-tau_f -> 0 and does not depend on impratio (which only scales R_t).
+not the slip velocity itself (``skew_angle``).  While slipping, aref_t =
+-B v_t dominates g and f grows like B, so a_t / B does not shrink with
+tau_f: the direction is that of the cone-constrained minimiser of
+1/2 f^T (A + R) f + B v_t . f_t, which is -v_t only when the tangential block
+of A + R is isotropic and decoupled from the normal row.  At the rod's
+contact point it is neither (the point is far more mobile across the rod
+than along it), hence the skew; R_t = R_n / impratio is isotropic, so a
+small impratio (R_t >> A_tt) dilutes it, at the price of a softer friction.
+``crosscheck.studies.friction_skew`` measures all of this in MuJoCo.
 
 Units.  ``contact_problem`` and the solver work in the rod's physical units
 (MuJoCo's SI); ``contact_force`` returns the world force in m g.  q, v are
@@ -316,7 +323,7 @@ def accelerations(rod: Rod, q, v, mu: float, options: Options, *, contact: bool,
 
 
 def skew_angle(slip, accel, damping) -> np.ndarray:
-    """Predicted angle [rad] from -slip to MuJoCo's friction on the cone's surface: the angle from u to u + a/B.
+    """Angle [rad] from -slip to MuJoCo's friction on the cone's surface: the angle from u to u + a/B (an identity).
 
     slip: (..., 2) tangential contact-point velocity u; accel: (..., 2) its
     tangential acceleration a = J_t qacc; damping: B of the friction rows

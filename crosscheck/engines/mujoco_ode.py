@@ -11,7 +11,14 @@ located by the integrator and followed by a restart:
   (MuJoCo has the contact while dist < 0; the force jumps there, since
   aref = -B v is not 0 when the capsule arrives with a normal velocity);
 * |dist| = width: the impedance d(dist) stops growing (solimp saturates),
-  a kink of the force in the state.
+  a kink of the force in the state;
+* sliding on dist = 0: a slipping capsule that touches the plane with no
+  normal speed meets a force that pushes it off (MuJoCo's elliptic cone
+  raises f_n to carry the friction aref_t = -B v_t asks for) while gravity
+  pulls it back; the motion is then Filippov's sliding mode on
+  dist = dist' = 0 with the fraction lambda in [0, 1] of the law's force that
+  holds dist'' = 0 (MuJoCo realises it as a chatter of contact and free
+  steps).  It ends when lambda reaches 0 (lift-off) or 1 (the capsule sinks in).
 
 The run starts as the MuJoCo engine's (``initial_state``: tip at z = r, the
 capsule touching the plane) in the phase the motion enters: in contact when

@@ -162,6 +162,6 @@ FIGURES = (
     PaperFigure(19, ("fig:evsb", "fig:pandora"), "eigenvectors along the GB manifold at alpha = 3, mu = 1.7, eta = 10, Psi = 1.062", ("gb_det_zeros",),
                 "at the four zeros of det K and between them: the paper does not print its panels' points"),
     PaperFigure(20, ("fig:my_ugly_simulations",), "slipping trajectories near the separatrix (initial conditions IC1, IC2)", ("gb_separatrix",)),
-    PaperFigure(21, ("fig:mechbifs",), "codimension-1 and -2 bifurcations between the kinematic cases in (mu, Psi)", ("bifurcations",),
-                "the paper's 19 pictures are schematic; each is drawn here as the computed modes at Theta = 0 at a point of its stratum"),
+    PaperFigure(21, ("fig:mechbifs",), "codimension-1 and -2 bifurcations between the kinematic cases in (mu, Psi): the curves and points, and the "
+                "surfaces b = 0, p = 0 in each of the 19 strata", ("bifurcations",)),
 )

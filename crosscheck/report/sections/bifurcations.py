@@ -35,6 +35,7 @@ import numpy as np
 from crosscheck import analytic, critical
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
+from crosscheck.report.sections.kinematic_surfaces import draw_surfaces, surface_meshes
 from crosscheck.tolerances import CLOSED_FORM, ROOT_RESIDUAL
 
 __all__ = ["SECTION", "CURVES", "POINTS", "CELLS", "defining_function"]
@@ -79,7 +80,7 @@ PSI_STRATA = ("$|\\Psi|\\in[0,\\Psi_L)$", "$|\\Psi|=\\Psi_L$", "$|\\Psi|\\in(\\P
 
 def params(quick: bool) -> dict:
     return {"alpha": 3.0, "mu_max": 3.0, "Psi_max": 6.0, "mu_examples": [1.0, 1.4, 6.0], "n_curve": 200 if quick else 1000,
-            "n_map_mu": 150 if quick else 450, "n_map_Psi": 120 if quick else 360, "n_thumb": 80 if quick else 160, "offset": 1e-6}
+            "n_map_mu": 150 if quick else 450, "n_map_Psi": 120 if quick else 360, "n_thumb": 21 if quick else 41, "Theta_max": 2.2, "offset": 1e-6}
 
 
 def defining_function(kind: str, mu, Psi, alpha: float):
@@ -179,18 +180,17 @@ def run(ctx: RunContext) -> None:
     ctx.store.write_json("points", points)
 
     cells = []
-    theta = cell_centres(0.0, np.pi / 2, P["n_thumb"])
-    varphi = cell_centres(-np.pi, 0.0, P["n_thumb"])
     for col, row, what in CELLS:
         m, s = _cell_point(col, row, what, c, P["mu_examples"])
         cell = {"col": col, "row": row, "kind": what[0], "what": what[1], "mu": m, "Psi": s, "case": critical.kinematic_case(m, s, alpha)}
         if what[0] == "curve":
             lo_case, hi_case = _across(what[1], np.array([m]), np.array([s]), P["offset"], alpha)
             cell["sides"] = [int(lo_case[0]), int(hi_case[0])]
-        # the modes with no polar motion (Theta = 0) in (theta, varphi): they tell the cases apart (section 3.4)
-        modes = analytic.mode(np.broadcast_to(analytic.b(s, 0.0, theta)[None, :], (varphi.size, theta.size)),
-                              analytic.p(theta[None, :], varphi[:, None], m, alpha))
-        ctx.store.write_grid(f"thumb_{col}_{row}", ("theta", theta), ("varphi", varphi), ("mode", modes))
+        # the paper's picture of the cell: b = 0, p = 0 and the GB manifold in (theta, varphi, Theta) at this (mu, Psi)
+        meshes = surface_meshes(m, s, alpha, P["Theta_max"], n_surface=P["n_thumb"], n_varphi=P["n_thumb"] // 2 + 1, n_Theta=6, n_gb=P["n_thumb"])
+        for part in ("b0", "p0", "gb"):
+            ctx.store.write_table(f"cell_{col}_{row}_{part}", meshes[part])
+        cell["gb_points"] = len(meshes["gb"]["theta"])
         cells.append(cell)
         ctx.store.write_json("cells", cells)
 
@@ -234,7 +234,7 @@ def _case_colors():
 def render(ctx: RenderContext) -> list:
     from matplotlib.lines import Line2D
 
-    from crosscheck.report.plotting import LINE_COLORS, categorical_image, mode_image, mode_legend, plt
+    from crosscheck.report.plotting import LINE_COLORS, categorical_image, plt
 
     c = ctx.store.read_json("constants")
     t = ctx.store.read_table("curve_samples", text=("curve",))
@@ -288,39 +288,35 @@ def render(ctx: RenderContext) -> list:
     blocks = [ctx.figure("fig21_curves", fig, cap_a, ["curve_samples.csv", "curves.json", "points.json", "cases.json", "constants.json"])]
 
     # the paper's layout: mu strata across, |Psi| strata up, one picture per cell
-    fig, axes = plt.subplots(7, 5, figsize=(8.4, 11.0), squeeze=False)
-    for ax in axes.flat:
+    fig = plt.figure(figsize=(9.4, 11.8))
+    gs = fig.add_gridspec(8, 6, width_ratios=[0.42] + [1] * 5, height_ratios=[1] * 7 + [0.16])
+    for j, name in enumerate(MU_STRATA):
+        ax = fig.add_subplot(gs[7, j + 1])
         ax.set_axis_off()
+        ax.text(0.5, 0.5, name, ha="center", va="center", fontsize=8.5, transform=ax.transAxes)
+    for i, name in enumerate(PSI_STRATA):
+        ax = fig.add_subplot(gs[6 - i, 0])
+        ax.set_axis_off()
+        ax.text(0.5, 0.5, name, ha="center", va="center", fontsize=8.5, rotation=90, transform=ax.transAxes)
     for cl in cells:
-        ax = axes[6 - cl["row"], cl["col"]]
-        ax.set_axis_on()
-        x, y, z, _ = ctx.store.read_grid(f"thumb_{cl['col']}_{cl['row']}")
-        mode_image(ax, x, y, z)
-        ax.set_xticks([])
-        ax.set_yticks([])
+        ax = fig.add_subplot(gs[6 - cl["row"], cl["col"] + 1], projection="3d", computed_zorder=False)
+        tables = [ctx.store.read_table(f"cell_{cl['col']}_{cl['row']}_{part}") for part in ("b0", "p0", "gb")]
+        draw_surfaces(ax, *tables, ctx.params["Theta_max"], labels=False)
         if cl["kind"] == "case":
-            color, lw, text = "k", 0.8, f"case {cl['case']}"
+            color, text = "k", f"case {cl['case']}"
         elif cl["kind"] == "curve":
             label, kind = CURVES[cl["what"]][:2]
-            color, lw, text = LINE_COLORS[_FN_COLOR[kind]], 3.0, f"{_TEX[label]}: {cl['sides'][0]}|{cl['sides'][1]}"
+            color, text = LINE_COLORS[_FN_COLOR[kind]], f"{_TEX[label]}: {cl['sides'][0]}|{cl['sides'][1]}"
         else:
-            color, lw, text = "k", 3.0, _POINT_TEX[cl["what"]]
-        for sp in ax.spines.values():
-            sp.set_edgecolor(color)
-            sp.set_linewidth(lw)
-        ax.set_title(text, fontsize=7, pad=2)
-        ax.text(0.03, 0.04, f"$\\mu$={cl['mu']:.3g}, $\\Psi$={cl['Psi']:.3g}", transform=ax.transAxes, fontsize=5.5, bbox=dict(fc="white", ec="none", alpha=0.75, pad=0.5))
-    for j, name in enumerate(MU_STRATA):
-        axes[6, j].annotate(name, (0.5, -0.12), xycoords="axes fraction", ha="center", va="top", fontsize=8, annotation_clip=False)
-    for i, name in enumerate(PSI_STRATA):
-        axes[6 - i, 0].annotate(name, (-0.08, 0.5), xycoords="axes fraction", ha="right", va="center", fontsize=8, annotation_clip=False)
-    mode_legend(axes[0, 0], loc="center", fontsize=7, title="modes at $\\Theta=0$", title_fontsize=7)
-    axes[0, 0].set_axis_off()
-    cap_b = ("Fig. 21 in the paper's layout: columns are the mu strata, rows the |Psi| strata, one picture per cell of the 19 the paper draws (cells spanning several "
-             "strata there sit in their middle column here). Each picture is computed at the (mu, Psi) printed in it: the modes with no polar motion (Theta = 0) "
-             "in (theta in (0, pi/2) across, varphi in (-pi, 0) up), which tell the cases apart (section 3.4). Thin frame: a generic case; thick coloured frame: a "
-             "codimension-1 curve (colour as in the (mu, Psi) plane) with the cases just either side; thick black: a codimension-2 point.")
-    blocks.append(ctx.figure("fig21_strata", fig, cap_b, ["cells.json"] + [f"thumb_{cl['col']}_{cl['row']}.json" for cl in cells]))
+            color, text = "k", "codim 2: " + _POINT_TEX[cl["what"]]
+        ax.set_title(text, fontsize=7.5, pad=0, color=color, fontweight="bold" if cl["kind"] != "case" else "normal")
+        ax.text2D(0.5, 0.0, f"$\\mu$={cl['mu']:.3g}, $\\Psi$={cl['Psi']:.3g}", transform=ax.transAxes, ha="center", fontsize=6)
+    cap_b = ("Fig. 21 in the paper's layout: columns are the mu strata, rows the |Psi| strata, one picture for each of the 19 cells the paper draws (cells "
+             "spanning several strata there sit in their middle column or row here). Each is computed at the (mu, Psi) printed under it: b = 0 (red), "
+             "p = 0 (blue: absent below mu_P, a segment at mu_P) and the GB manifold (black) in (theta, varphi, Theta), Theta in [0, 2.2], viewed as Figs. 3-7. "
+             "Titles: the case of a generic cell, a codimension-1 curve (coloured as in the (mu, Psi) plane) with the cases just either side, or a "
+             "codimension-2 point.")
+    blocks.append(ctx.figure("fig21_strata", fig, cap_b, ["cells.json"] + [f"cell_{cl['col']}_{cl['row']}_{p}.csv" for cl in cells for p in ("b0", "p0", "gb")]))
     rows = [[pt["point"], f"{pt['mu']:.6f}", f"{pt['Psi']:.6f}", ", ".join(pt["curves"]), ", ".join(f"|F_{k}| = {v:.1e}" for k, v in pt["residuals"].items())] for pt in points]
     blocks.append(Table(caption="Codimension-2 points and the residuals there of the functions whose zeros are the curves through them (F_L = b(Psi, 0, theta_L), "
                                 "F_1,2 = b(Psi, 0, theta_1,2(mu)), F_P = p_min(mu)).",

@@ -39,7 +39,7 @@ from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 from crosscheck.tolerances import CLOSED_FORM, GB_IDENTITY
 
-__all__ = ["SECTION", "FIGURE_PANELS", "Theta2_on_b0", "b0_pieces", "p0_cylinder"]
+__all__ = ["SECTION", "FIGURE_PANELS", "Theta2_on_b0", "b0_pieces", "p0_cylinder", "surface_meshes", "draw_surfaces"]
 
 SLUG = "kinematic_surfaces"
 
@@ -117,13 +117,67 @@ def p0_cylinder(mu: float, alpha: float, *, n: int) -> tuple[np.ndarray, np.ndar
     return np.concatenate([th, th[::-1][1:]]), np.concatenate([vm, vp[::-1][1:]])
 
 
+def surface_meshes(mu: float, Psi: float, alpha: float, Theta_max: float, *, n_surface: int, n_varphi: int, n_Theta: int, n_gb: int,
+                   n_fine: int = 20001) -> dict:
+    """The 3D picture at one (mu, Psi) as tables (columns of equal length) ready to save and draw.
+
+    Returns a dict with
+      "b0": piece, i, j, theta, varphi, Theta: the mesh of b = 0 for Theta in [0, Theta_max] (i along theta, j along varphi);
+      "p0": part, i, j, theta, varphi, Theta: the cylinder p = 0 in two parts, below b = 0 (part 0, inconsistent inside)
+        and above it (part 1, indeterminate inside), so that a view from above draws b = 0 between them; empty for
+        mu < mu_P, a segment at mu = mu_P;
+      "gb": curve, theta, varphi, Theta: the GB manifold in Theta >= 0 (``crosscheck.gb.gb_manifold``); where that is
+        empty but b = 0 touches the cylinder at theta_1 or theta_2 with Theta = 0 (|Psi| = Psi_1, Psi_2), that point;
+      "pieces": the theta intervals of b = 0 (``b0_pieces``); "gb_curves": the ``GBCurve`` list; "tangency": whether
+        "gb" is such a touching point.
+    """
+    from crosscheck import gb
+
+    vp = np.linspace(-np.pi, 0.0, n_varphi)
+    pieces = b0_pieces(Psi, Theta_max, n=n_fine)
+    b0 = {k: [] for k in ("piece", "i", "j", "theta", "varphi", "Theta")}
+    for k, (lo, hi) in enumerate(pieces):
+        th = _spaced(lo, hi, n_surface)
+        if lo < critical.theta_L < hi:  # where b = 0 comes closest to Theta = 0 at Psi_L (a tangency, eq. thetal): sample it
+            th = np.sort(np.append(th, critical.theta_L))
+        T = np.sqrt(np.maximum(Theta2_on_b0(Psi, th), 0.0))  # the edges are roots: clip their rounding
+        for key, v in (("piece", np.full(th.size * vp.size, k)), ("i", np.repeat(np.arange(th.size), vp.size)), ("j", np.tile(np.arange(vp.size), th.size)),
+                       ("theta", np.repeat(th, vp.size)), ("varphi", np.tile(vp, th.size)), ("Theta", np.repeat(T, vp.size))):
+            b0[key] += list(v)
+    p0 = {k: [] for k in ("part", "i", "j", "theta", "varphi", "Theta")}
+    g = {k: [] for k in ("curve", "theta", "varphi", "Theta")}
+    th1, th2 = (float(t) for t in critical.theta_12(mu, alpha))
+    curves, tangency = [], False
+    if not math.isnan(th1):  # p < 0 somewhere: mu >= mu_P
+        cth, cvp = p0_cylinder(mu, alpha, n=n_surface)
+        u = np.linspace(0.0, 1.0, n_Theta)
+        cut = np.minimum(np.sqrt(np.maximum(Theta2_on_b0(Psi, cth), 0.0)), Theta_max)  # b = 0 on the cylinder (0 in the theta gap)
+        for part, (lo, hi) in enumerate(((np.zeros_like(cut), cut), (cut, np.full_like(cut, Theta_max)))):
+            Th = lo[:, None] + (hi - lo)[:, None] * u[None, :]
+            for key, v in (("part", np.full(Th.size, part)), ("i", np.repeat(np.arange(cth.size), u.size)), ("j", np.tile(np.arange(u.size), cth.size)),
+                           ("theta", np.repeat(cth, u.size)), ("varphi", np.repeat(cvp, u.size)), ("Theta", Th.ravel())):
+                p0[key] += list(v)
+        curves = gb.gb_manifold(mu, Psi, alpha, n=n_gb)
+        for k, c in enumerate(curves):
+            keep = c.Theta >= 0
+            for key, v in (("curve", np.full(keep.sum(), k)), ("theta", c.theta[keep]), ("varphi", c.varphi[keep]), ("Theta", c.Theta[keep])):
+                g[key] += list(v)
+        if not curves:
+            # at |Psi| = Psi_2 the manifold is the point where b = 0 touches the cylinder at Theta = 0; gb_manifold's theta
+            # gap can miss it by rounding (its edge lands 1e-15 beyond theta_2)
+            for t in (th1, th2):
+                if abs(Theta2_on_b0(Psi, t)) <= CLOSED_FORM.allowance(1 / math.sin(t)):
+                    g = {"curve": [0], "theta": [t], "varphi": [-math.pi / 2], "Theta": [0.0]}
+                    tangency = True
+                    break
+    return {"b0": b0, "p0": p0, "gb": g, "pieces": pieces, "gb_curves": curves, "tangency": tangency}
+
+
 def _tag(label: str) -> str:
     return "Psi" + label.replace("Psi", "").replace(".", "p")
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck import gb
-
     P = ctx.params
     mu, alpha, Tmax = P["mu"], P["alpha"], P["Theta_max"]
     cv = critical.critical_values(mu, alpha)
@@ -132,10 +186,6 @@ def run(ctx: RunContext) -> None:
     labels = list(dict.fromkeys(lab for panels in FIGURE_PANELS.values() for _, _, lab in panels))
     Psis = {lab: named[lab] if lab in named else float(lab) for lab in labels}
 
-    # p = 0: the same cylinder for every Psi, cut by b = 0 into the part below it (inconsistent inside) and above it
-    # (indeterminate inside), so that a 3D view can draw b = 0 between the two
-    cth, cvp = p0_cylinder(mu, alpha, n=P["n_surface"])
-    u = np.linspace(0.0, 1.0, P["n_Theta"])
     # the (theta, varphi, Theta) grid on which the inconsistent region is counted
     gth = cell_centres(0.0, np.pi / 2, P["n_count"])
     gvp = cell_centres(-np.pi, 0.0, P["n_count"])
@@ -149,39 +199,10 @@ def run(ctx: RunContext) -> None:
     summary = []
     for label in ctx.progress(labels, desc="kinematic surfaces"):
         Psi, tag = Psis[label], _tag(label)
-        # b = 0 as a mesh: (theta samples of each piece) x varphi
-        vp = np.linspace(-np.pi, 0.0, P["n_varphi"])
-        pieces = b0_pieces(Psi, Tmax, n=P["n_fine"])
-        cols = {k: [] for k in ("piece", "i", "j", "theta", "varphi", "Theta")}
-        for k, (lo, hi) in enumerate(pieces):
-            th = _spaced(lo, hi, P["n_surface"])
-            if lo < critical.theta_L < hi:  # where b = 0 comes closest to Theta = 0 at Psi_L (a tangency, eq. thetal): sample it
-                th = np.sort(np.append(th, critical.theta_L))
-            T = np.sqrt(np.maximum(Theta2_on_b0(Psi, th), 0.0))  # the edges are roots: clip their rounding
-            for key, v in (("piece", np.full(th.size * vp.size, k)), ("i", np.repeat(np.arange(th.size), vp.size)), ("j", np.tile(np.arange(vp.size), th.size)),
-                           ("theta", np.repeat(th, vp.size)), ("varphi", np.tile(vp, th.size)), ("Theta", np.repeat(T, vp.size))):
-                cols[key] += list(v)
-        ctx.store.write_table(f"b0_surface_{tag}", cols)
-        cut = np.minimum(np.sqrt(np.maximum(Theta2_on_b0(Psi, cth), 0.0)), Tmax)  # b = 0 on the cylinder (0 in the theta gap)
-        p0 = {k: [] for k in ("part", "i", "j", "theta", "varphi", "Theta")}
-        for part, (lo, hi) in enumerate(((np.zeros_like(cut), cut), (cut, np.full_like(cut, Tmax)))):
-            Th = lo[:, None] + (hi - lo)[:, None] * u[None, :]
-            for key, v in (("part", np.full(Th.size, part)), ("i", np.repeat(np.arange(cth.size), u.size)), ("j", np.tile(np.arange(u.size), cth.size)),
-                           ("theta", np.repeat(cth, u.size)), ("varphi", np.repeat(cvp, u.size)), ("Theta", Th.ravel())):
-                p0[key] += list(v)
-        ctx.store.write_table(f"p0_surface_{tag}", p0)
-
-        # the GB manifold in Theta >= 0; at Psi_2 it is the tangency point (theta_2, -pi/2, 0), which
-        # gb_manifold's theta gap can miss by rounding (its edge lands 1e-15 beyond theta_2)
-        curves = gb.gb_manifold(mu, Psi, alpha, n=P["n_gb"])
-        g = {k: [] for k in ("curve", "theta", "varphi", "Theta")}
-        for k, c in enumerate(curves):
-            keep = c.Theta >= 0
-            for key, v in (("curve", np.full(keep.sum(), k)), ("theta", c.theta[keep]), ("varphi", c.varphi[keep]), ("Theta", c.Theta[keep])):
-                g[key] += list(v)
-        tangency = not curves and label == "Psi_2"
-        if tangency:
-            g = {"curve": [0], "theta": [cv.theta_2], "varphi": [-math.pi / 2], "Theta": [0.0]}
+        m = surface_meshes(mu, Psi, alpha, Tmax, n_surface=P["n_surface"], n_varphi=P["n_varphi"], n_Theta=P["n_Theta"], n_gb=P["n_gb"], n_fine=P["n_fine"])
+        pieces, curves, tangency, g = m["pieces"], m["gb_curves"], m["tangency"], m["gb"]
+        ctx.store.write_table(f"b0_surface_{tag}", m["b0"])
+        ctx.store.write_table(f"p0_surface_{tag}", m["p0"])
         ctx.store.write_table(f"gb_{tag}", g)
         gth_, gvp_, gTh_ = (np.asarray(g[k], float) for k in ("theta", "varphi", "Theta"))
         b_gb = analytic.b(Psi, gTh_, gth_) if gth_.size else np.zeros(0)
@@ -253,45 +274,62 @@ def _psi_title(s: dict) -> str:
     return "$\\Psi$ = 0" if s["Psi"] == 0 else f"$\\Psi=\\pm${s['label']}"
 
 
-def _draw_3d(ax, ctx: RenderContext, s: dict, cv: dict) -> None:
+def draw_surfaces(ax, b0: dict, p0: dict, g: dict, Theta_max: float, *, labels: bool = True) -> None:
+    """Draw the tables of ``surface_meshes`` on a 3D axes made with ``computed_zorder=False``: b = 0 red, p = 0 blue, GB black."""
     from matplotlib.colors import LightSource
 
     from crosscheck.report.plotting import B_COLOR, P_COLOR
 
-    tag = _tag(s["label"])
-    b0 = ctx.store.read_table(f"b0_surface_{tag}")
-    p0 = ctx.store.read_table(f"p0_surface_{tag}")
-
     def mesh(t, key, k):
         sel = t[key] == k
         ni, nj = int(t["i"][sel].max()) + 1, int(t["j"][sel].max()) + 1
-        return (t[c][sel].reshape(ni, nj) for c in ("theta", "varphi", "Theta"))
+        return (np.asarray(t[c])[sel].reshape(ni, nj) for c in ("theta", "varphi", "Theta"))
 
     light = LightSource(azdeg=300, altdeg=70)  # nearly overhead: b = 0 falling and rising in theta shade alike
+    style = dict(alpha=0.55, linewidth=0, antialiased=True, shade=True, lightsource=light)
+    p0 = {k: np.asarray(v) for k, v in p0.items()}
+    b0 = {k: np.asarray(v) for k, v in b0.items()}
     # painter's order for a view from above: the cylinder below b = 0, then b = 0, then the cylinder above it
-    ax.plot_surface(*mesh(p0, "part", 0), color=P_COLOR, alpha=0.55, linewidth=0, antialiased=True, shade=True, lightsource=light)
+    degenerate = p0["part"].size and np.ptp(p0["theta"]) == 0  # mu = mu_P: p = 0 only on the segment theta_P, varphi = -pi/2
+    if degenerate:
+        ax.plot(p0["theta"][:2], p0["varphi"][:2], [0, Theta_max], color=P_COLOR, lw=2.0)
+    elif p0["part"].size:
+        ax.plot_surface(*mesh(p0, "part", 0), color=P_COLOR, **style)
     for k in np.unique(b0["piece"]):
-        ax.plot_surface(*mesh(b0, "piece", k), color=B_COLOR, alpha=0.55, linewidth=0, antialiased=True, shade=True, lightsource=light)
-    ax.plot_surface(*mesh(p0, "part", 1), color=P_COLOR, alpha=0.55, linewidth=0, antialiased=True, shade=True, lightsource=light)
-    g = ctx.store.read_table(f"gb_{tag}")
+        ax.plot_surface(*mesh(b0, "piece", k), color=B_COLOR, **style)
+    if p0["part"].size and not degenerate:
+        ax.plot_surface(*mesh(p0, "part", 1), color=P_COLOR, **style)
+    g = {k: np.asarray(v, float) for k, v in g.items()}
     for k in np.unique(g["curve"]):
         sel = g["curve"] == k
         if sel.sum() == 1:
-            ax.scatter(g["theta"][sel], g["varphi"][sel], g["Theta"][sel], color="k", s=14, zorder=10, depthshade=False)
+            ax.scatter(g["theta"][sel], g["varphi"][sel], g["Theta"][sel], color="k", s=14 if labels else 6, zorder=10, depthshade=False)
         else:
-            ax.plot(g["theta"][sel], g["varphi"][sel], g["Theta"][sel], color="k", lw=1.8, zorder=10)
+            ax.plot(g["theta"][sel], g["varphi"][sel], g["Theta"][sel], color="k", lw=1.8 if labels else 1.0, zorder=10)
     ax.set_xlim(0, np.pi / 2)
     ax.set_ylim(-np.pi, 0)
-    ax.set_zlim(0, ctx.params["Theta_max"])
-    ax.set_xticks([0, np.pi / 4, np.pi / 2], ["0", "$\\pi/4$", "$\\pi/2$"])
-    ax.set_yticks([-np.pi, -np.pi / 2, 0], ["$-\\pi$", "$-\\pi/2$", "0"])
-    ax.set_zticks([0, 1, 2])
-    ax.set_xlabel("$\\theta$", labelpad=-6)
-    ax.set_ylabel("$\\varphi$", labelpad=-6)
-    ax.set_zlabel("$\\Theta$", labelpad=-8)
-    ax.tick_params(pad=-2, labelsize=7)
+    ax.set_zlim(0, Theta_max)
     ax.view_init(elev=24, azim=-122)
-    ax.set_box_aspect(None, zoom=0.92)
+    if labels:
+        ax.set_xticks([0, np.pi / 4, np.pi / 2], ["0", "$\\pi/4$", "$\\pi/2$"])
+        ax.set_yticks([-np.pi, -np.pi / 2, 0], ["$-\\pi$", "$-\\pi/2$", "0"])
+        ax.set_zticks([0, 1, 2])
+        ax.set_xlabel("$\\theta$", labelpad=-6)
+        ax.set_ylabel("$\\varphi$", labelpad=-6)
+        ax.set_zlabel("$\\Theta$", labelpad=-8)
+        ax.tick_params(pad=-2, labelsize=7)
+        ax.set_box_aspect(None, zoom=1.05)
+    else:
+        ax.set_xticks([])
+        ax.set_yticks([])
+        ax.set_zticks([])
+        ax.set_box_aspect(None, zoom=1.15)
+
+
+def _draw_3d(ax, ctx: RenderContext, s: dict, cv: dict) -> None:
+    tag = _tag(s["label"])
+    draw_surfaces(ax, ctx.store.read_table(f"b0_surface_{tag}"), ctx.store.read_table(f"p0_surface_{tag}"), ctx.store.read_table(f"gb_{tag}"),
+                  ctx.params["Theta_max"])
 
 
 def _draw_2d(ax, ctx: RenderContext, s: dict, cv: dict) -> None:

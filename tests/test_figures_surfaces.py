@@ -120,3 +120,29 @@ def test_every_case_boundary_of_fig_9a_is_one_of_the_curves():
         seen |= {tuple(sorted((int(x), int(y)))) for x, y in zip(a[diff], b[diff])}
     assert seen <= pairs, seen - pairs
     assert len(seen) == len(pairs)  # and every listed curve is crossed somewhere
+
+
+def _meshes(mu, Psi):
+    return ks.surface_meshes(mu, Psi, ALPHA, TMAX, n_surface=21, n_varphi=11, n_Theta=6, n_gb=21)
+
+
+def test_surface_meshes_below_mu_P_have_no_cylinder_and_at_mu_P_a_segment():
+    assert len(_meshes(1.0, 0.0)["p0"]["theta"]) == 0 and len(_meshes(1.0, 0.0)["gb"]["theta"]) == 0
+    m = _meshes(float(critical.mu_P(ALPHA)), 0.0)
+    # at mu_P, p = 0 only at theta_P, varphi = -pi/2 (eqs. thetap, theta12): the cylinder is a segment
+    assert np.ptp(m["p0"]["theta"]) == 0 and m["p0"]["theta"][0] == pytest.approx(float(critical.theta_P(ALPHA)), abs=1e-12)
+    assert np.allclose(m["p0"]["varphi"], -np.pi / 2, atol=1e-12)
+
+
+def test_surface_meshes_cut_the_cylinder_at_b_zero_and_find_the_Psi_2_tangency_point():
+    cv = critical.critical_values(MU, ALPHA)
+    m = _meshes(MU, 1.7)
+    p0 = {k: np.asarray(v) for k, v in m["p0"].items()}
+    top_of_lower = p0["Theta"][(p0["part"] == 0) & (p0["j"] == p0["j"].max())]
+    th = p0["theta"][(p0["part"] == 0) & (p0["j"] == p0["j"].max())]
+    # the lower part of the cylinder ends on b = 0 (where that is above Theta = 0)
+    on = top_of_lower > 0
+    assert on.any() and np.max(np.abs(analytic.b(1.7, top_of_lower[on], th[on]))) <= 1e-12
+    m2 = _meshes(MU, cv.Psi_2)
+    assert m2["tangency"] and m2["gb"]["theta"] == [cv.theta_2] and m2["gb"]["Theta"] == [0.0]
+    assert not _meshes(MU, cv.Psi_2 * (1 + 1e-6))["gb"]["theta"]  # beyond Psi_2: no GB point at all

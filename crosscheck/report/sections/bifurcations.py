@@ -1,6 +1,6 @@
 """Fig. 21: the codimension-1 and -2 bifurcations between the kinematic cases 1-7 in (mu, Psi), as computed curves and points.
 
-Section 6 of the paper (fig:mechbifs) lays the cases of section 3.4 out on a
+The paper's last section (sec:geobifs, fig:mechbifs) lays the cases of section 3.4 out on a
 grid of strata: mu in [0, mu_P), mu = mu_P, (mu_P, mu_L), mu = mu_L, > mu_L
 against |Psi| below, at and between Psi_L, Psi_1, Psi_2, with a picture in
 each of its 19 cells.  Here the strata are computed:
@@ -19,6 +19,10 @@ each of its 19 cells.  Here the strata are computed:
 * codimension 2, where those curves meet: (mu_P, Psi_L), (mu_P, Psi_P) (eq.
   psip: Psi_1 = Psi_2) and (mu_L, Psi_L) (eq. mul: Psi_1 = Psi_L, tangent).
 
+The picture in each of the 19 cells is computed at one (mu, Psi) of its
+stratum as Figs. 3-7 are (``kinematic_surfaces.surface_meshes``): b = 0, p = 0
+and the GB manifold in (theta, varphi, Theta).
+
 Checks: every sampled point of each curve is a zero of its function (closed
 form); just across each curve ``crosscheck.critical.kinematic_case`` gives
 the two cases the paper puts on either side; each codimension-2 point is a
@@ -27,8 +31,6 @@ point of each generic cell of the paper's grid is the one it circles.
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 

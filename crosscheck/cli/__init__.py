@@ -26,6 +26,7 @@ COMMAND_MODULES = [
     "crosscheck.cli.report",
     "crosscheck.cli.gb",
     "crosscheck.cli.sweep",
+    "crosscheck.cli.explain",
 ]
 
 

@@ -1,0 +1,76 @@
+"""``crosscheck explain --theta ... --mu ...``: one start through the ladder, and the cause of a MuJoCo-theory disagreement."""
+
+from __future__ import annotations
+
+import json
+import math
+
+from crosscheck.checks import ALPHA, ETA, HORIZON, MU, RATE, THETA, VARPHI
+from crosscheck.checks import number as _num
+from crosscheck.cli.options import add_alpha, add_state
+
+
+def _fmt_time(t: float) -> str:
+    return "" if not math.isfinite(t) else f" at t = {t:.6g}"
+
+
+def _explain(args) -> int:
+    import warnings
+
+    from crosscheck.state import SlipState
+    from crosscheck.studies.ladder import RUNG_TITLES, run_ladder
+
+    state = SlipState(theta=_num("theta", args.theta, THETA), varphi=_num("varphi", args.varphi, VARPHI),
+                      Theta=_num("Theta", args.Theta, RATE), Psi=_num("Psi", args.Psi, RATE), eta=_num("eta", args.eta, ETA))
+    mu, alpha = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA)
+    horizon = _num("horizon", args.horizon, HORIZON)
+    from crosscheck.checks import Interval
+    from crosscheck.engines.mujoco import RADIUS, Options
+
+    options = {}
+    if args.timestep is not None:
+        # MuJoCo's refsafe: its solref time constant must be at least two timesteps (Options refuses less)
+        options["timestep"] = _num("timestep", args.timestep, Interval(0.0, Options.timeconst / 2, lo_open=True, hi_open=False))
+    if args.radius is not None:
+        options["radius"] = _num("radius", args.radius, RADIUS)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a rung that cannot run is printed below, loudly
+        ladder = run_ladder(state, mu, alpha=alpha, horizon=horizon, **options)
+    if args.json:
+        print(json.dumps(ladder.as_dict(), indent=2, allow_nan=False))
+        return 0
+    m = ladder.match
+    print(f"start: theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; "
+          f"mu {mu:g}, alpha {alpha:g}")
+    o = ladder.options
+    print(f"MuJoCo: timestep {o['timestep']:g}, radius {o['radius']:g}, timeconst {o['timeconst']:g}, dampratio {o['dampratio']:g}; "
+          f"rung 3 at eps {m.eps:.4g}, xi {m.xi:.4g} (A_nn {m.A_nn:.4g}, impedance d {m.d:.4g})")
+    print(f"compared up to t = {ladder.until + ladder.lag:.6g} (comparison time {ladder.until:.6g} + lag {ladder.lag:.6g})")
+    for r in ladder.rungs:
+        head = f"{r.rung} {r.name:<11} {RUNG_TITLES[r.name]:<64}"
+        if r.ok:
+            relabel = "" if r.label == r.outcome else f" -> {r.label.name} as compared"
+            print(f"{head} {r.outcome.name}{_fmt_time(r.time)}{relabel}")
+        else:
+            print(f"{head} {r.status.upper()}: {r.detail}")
+    if ladder.missing:
+        print(f"WARNING: rung(s) {', '.join(ladder.missing)} did not run; a cause after them cannot be attributed")
+    if ladder.cause == "agree":
+        print(f"cause: none (MuJoCo agrees with the theory: {ladder.reference.name})")
+    elif ladder.cause == "not rated":
+        print(f"cause: none (the theory's outcome {ladder.rungs[0].label.name} is not rated)")
+    else:
+        print(f"cause: {ladder.cause} (MuJoCo {ladder.reference.name}, theory {ladder.rungs[0].label.name})")
+    return 0
+
+
+def register(sub) -> None:
+    s = sub.add_parser("explain", help="run one start through the ladder (tip, capsule, compliant, MuJoCo's law, MuJoCo) and name the "
+                                       "cause of a MuJoCo-theory disagreement")
+    add_state(s)
+    add_alpha(s)
+    s.add_argument("--timestep", type=str, default=None, metavar="DT", help="MuJoCo's scaled timestep, in (0, 0.03] (at most half its time constant 0.06; default 3e-4)")
+    s.add_argument("--radius", type=str, default=None, metavar="R", help="capsule radius r / l, in (0, 0.5) (default 0.01)")
+    s.add_argument("--horizon", type=str, default="2", help="scaled comparison horizon, in (0, 10000] (default 2, the agreement study's)")
+    s.add_argument("--json", action="store_true", help="print the ladder as JSON")
+    s.set_defaults(func=_explain)

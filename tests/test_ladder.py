@@ -1,0 +1,178 @@
+"""The ladder (crosscheck.studies.ladder): MuJoCo-equivalent (eps, xi), causes, the study's relabelling, IC2, and ``crosscheck explain``."""
+
+import json
+import math
+
+import mujoco
+import numpy as np
+import pytest
+
+from crosscheck import engines
+from crosscheck.cli import main
+from crosscheck.engines.classifier import Thresholds
+from crosscheck.engines.mujoco import Options
+from crosscheck.engines.mujoco_model import build_model, initial_state
+from crosscheck.outcome import Outcome
+from crosscheck.paper import FIG20_INITIAL_CONDITIONS
+from crosscheck.rod import Rod
+from crosscheck.slipping import slip_until_event
+from crosscheck.state import SlipState
+from crosscheck.studies import ladder as L
+from crosscheck.studies.agreement import comparison_labels
+from crosscheck.tolerances import CLOSED_FORM, EVENT_TIME, LADDER_QUOTED_TIME
+
+IC2 = SlipState(**FIG20_INITIAL_CONDITIONS[1])
+#: A start of the quick report's (theta, Theta) map at which the rigid rod jams at A and at C, MuJoCo sticks.
+STICKS = SlipState(theta=1.175, varphi=-1.9, Theta=0.25, Psi=0.0, eta=1.0)
+
+
+@pytest.fixture(scope="module")
+def ic2():
+    return L.run_ladder(IC2, 1.4, keep=True)
+
+
+def test_mujoco_equivalent_matches_mujocos_own_normal_row():
+    """(eps, xi) give the Kelvin-Voigt gap MuJoCo's stiffness and damping: checked against MuJoCo's efc_KBIP, efc_aref and J M^-1 J^T."""
+    alpha, opts = 3.0, Options()
+    m = L.mujoco_equivalent(IC2, alpha, timeconst=opts.timeconst, dampratio=opts.dampratio, solimp=opts.solimp)
+    rod = Rod.scaled(alpha)
+    model = build_model(rod, 0.0, opts)
+    data = mujoco.MjData(model)
+    mujoco.mj_setState(model, data, initial_state(model, rod, IC2, opts.radius, data=data), mujoco.mjtState.mjSTATE_FULLPHYSICS)
+    vel = -0.3  # the gap closing: a damping term of either sign would show
+    data.qpos[2] -= m.penetration  # the centre of mass and with it C sink by the operating penetration
+    data.qvel[:] = 0.0
+    data.qvel[2] = vel
+    mujoco.mj_forward(model, data)
+    pos, v = data.efc_pos[0], data.efc_vel[0]
+    assert CLOSED_FORM.ok(pos, -m.penetration) and CLOSED_FORM.ok(v, vel)
+    K, B, d, _ = data.efc_KBIP[0]
+    assert CLOSED_FORM.ok(K, m.K) and CLOSED_FORM.ok(B, m.B) and CLOSED_FORM.ok(d, m.d)
+    # the normal Delassus entry is the frictionless eq. p, 1 + alpha cos^2 theta, at C as at A
+    J = data.efc_J.reshape(data.nefc, model.nv)[0].copy()
+    x = np.zeros((1, model.nv))
+    mujoco.mj_solveM(model, data, x, J[None, :])
+    assert CLOSED_FORM.ok(J @ x[0], m.A_nn) and CLOSED_FORM.ok(m.A_nn, 1 + alpha * math.cos(IC2.theta) ** 2)
+    # the impedance-weighted reference acceleration d aref = -d B v - d^2 K r is what the spring-damper's force does to the gap
+    kv = -pos / m.eps ** 2 - (m.xi / m.eps) * v
+    assert CLOSED_FORM.ok(m.A_nn * kv, d * data.efc_aref[0])
+    # the operating penetration is MuJoCo's static balance of the normal row: (1 - d) |b| = d^2 K |r|
+    assert CLOSED_FORM.ok((1 - d) * -m.b, d * d * K * m.penetration)
+    # and both gaps ring at d / (dmax tau zeta) with damping ratio zeta
+    assert CLOSED_FORM.ok(math.sqrt(m.A_nn) / m.eps, m.frequency) and CLOSED_FORM.ok(m.xi * math.sqrt(m.A_nn) / 2, opts.dampratio)
+
+
+def test_impedance_is_mujocos_sigmoid_at_its_ends_and_midpoint():
+    solimp = (0.9, 0.95, 0.001, 0.5, 2.0)
+    d = L.impedance([0.0, 0.0005, -0.0005, 0.001, 0.01], solimp)
+    assert np.allclose(d, [0.9, 0.925, 0.925, 0.95, 0.95], rtol=0, atol=1e-15)
+
+
+def test_ic2_rungs(ic2):
+    """IC2: the paper's rod lifts off at t = 0.01654 with p = 0.0125; the rod at C jams; MuJoCo jams at once: cause geometry."""
+    one, two, five = ic2.rung("tip"), ic2.rung("capsule"), ic2.rung("mujoco")
+    assert one.outcome == Outcome.LIFTOFF and LADDER_QUOTED_TIME.ok(one.time, 0.01654) and abs(one.p - 0.0125) <= 5e-5
+    assert EVENT_TIME.ok(one.time, slip_until_event(IC2, 1.4, 3.0, t_max=2.0).time)
+    # geometry by construction: the same rigid rod at r = 0 lifts off like rung 1, at MuJoCo's r = 0.01 it jams
+    from crosscheck import capsule
+
+    assert capsule.slip_until_event(IC2, 1.4, 3.0, radius=0.0, t_max=2.0).outcome == Outcome.LIFTOFF
+    assert two.outcome == Outcome.JAM and two.time < one.time
+    # rung 5 is MuJoCo's own label as the agreement study compares it: rerun over the study's whole horizon (2 + two windows)
+    opts = Options()
+    full = engines.get("mujoco").simulate(Rod.scaled(3.0), IC2, 1.4, horizon=2.0 + 2 * Thresholds().window_rows(opts.timestep) * opts.timestep)
+    study_label = comparison_labels(np.array([int(full.outcome)]), np.array([full.event_time]), np.array([ic2.until + ic2.lag]))[0]
+    assert five.label == Outcome(int(study_label)) == Outcome.JAM and five.time == full.event_time == 0.0
+    assert ic2.disagree and ic2.cause == "geometry" and ic2.first_change == 2 and not ic2.missing
+    # the series behind the report's figure: every rung starts at the same slip speed of C (A's for rung 1)
+    series = L.trajectories(ic2)
+    assert set(series) == set(L.RUNGS)
+    assert abs(series["tip"]["eta"][0] - IC2.eta) < 1e-12
+    eta_C = series["mujoco"]["eta"][0]
+    assert abs(series["compliant"]["eta"][0] - eta_C) < 1e-9 and abs(series["mujoco_law"]["eta"][0] - eta_C) < 1e-9
+
+
+def test_every_rung_is_relabelled_by_the_studys_comparison_time():
+    """At STICKS the rigid rod jams at t ~ 0.002: the comparison ends at that time + 2 tau; the compliant rod's later stick counts as SLIP."""
+    ld = L.run_ladder(STICKS, 1.4)
+    end = ld.until + ld.lag
+    assert ld.rung("tip").outcome == Outcome.JAM and ld.lag == pytest.approx(2 * Options().timeconst)
+    for r in ld.rungs:
+        assert r.ok
+        assert r.label == (r.outcome if r.outcome == Outcome.SLIP or r.time <= end else Outcome.SLIP)
+    three = ld.rung("compliant")
+    assert three.outcome == Outcome.STICK and three.time > end and three.label == Outcome.SLIP
+    # MuJoCo sticks within the comparison, and so does MuJoCo's law in continuous time; rungs 1-3 do not: "friction law"
+    assert ld.rung("mujoco").label == ld.rung("mujoco_law").label == Outcome.STICK
+    assert ld.cause == "friction law" and ld.first_change == 3
+
+
+def test_discretisation_by_construction():
+    """A start MuJoCo gets right at its default timestep (it slips on, as every other rung) but sticks at dt = 0.02: "discretisation"."""
+    s, mu = SlipState(theta=0.8630037871702823, varphi=-0.4238407591851616, Theta=-0.7116807745607325, Psi=1.3459483414117317,
+                      eta=0.7612966136188739), 1.2313181877396664
+    fine = L.run_ladder(s, mu, rungs=("mujoco",))
+    assert fine.rung("tip").label == fine.rung("mujoco").label == Outcome.SLIP and fine.cause == "agree"
+    coarse = L.run_ladder(s, mu, timestep=0.02)
+    assert [r.label for r in coarse.rungs] == [Outcome.SLIP] * 4 + [Outcome.STICK]
+    assert coarse.cause == "discretisation" and coarse.first_change == 5
+
+
+def _rung(k, label, status="ok"):
+    return L.RungResult(k, L.RUNGS[k - 1], status, label, 0.0, label if status == "ok" else None)
+
+
+@pytest.mark.parametrize("labels, reference, cause", [
+    ((Outcome.LIFTOFF, Outcome.JAM, Outcome.SLIP, Outcome.JAM, Outcome.JAM), Outcome.JAM, "geometry"),
+    ((Outcome.SLIP, Outcome.SLIP, Outcome.STICK, Outcome.SLIP, Outcome.STICK), Outcome.STICK, "compliance"),
+    ((Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.STICK, Outcome.STICK), Outcome.STICK, "friction law"),
+    ((Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.STICK), Outcome.STICK, "discretisation"),
+    ((Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.JAM), Outcome.STICK, "unexplained"),
+    ((Outcome.JAM, Outcome.JAM, None, Outcome.STICK, Outcome.STICK), Outcome.STICK, "undetermined"),
+    ((Outcome.JAM, Outcome.STICK, None, Outcome.JAM, Outcome.JAM), Outcome.STICK, "geometry"),
+    ((Outcome.STICK, Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.STICK), Outcome.STICK, "agree"),
+    ((Outcome.GB, Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.STICK), Outcome.STICK, "not rated"),
+])
+def test_cause_is_the_first_rung_matching_mujoco(labels, reference, cause):
+    rungs = [_rung(k, lab, "ok" if lab is not None else "not available") for k, lab in enumerate(labels, start=1)]
+    disagree, got, _ = L._cause(rungs, reference)
+    assert got == cause and disagree == (cause not in ("agree", "not rated"))
+
+
+def test_a_missing_rung_is_reported_and_blocks_later_causes(monkeypatch):
+    monkeypatch.setitem(L._RUNG_CALLABLE, "compliant", ("crosscheck.no_such_module", "simulate"))
+    with pytest.warns(RuntimeWarning, match="rung 3 \\(compliant\\) not available"):
+        ld = L.run_ladder(STICKS, 1.4, rungs=("capsule", "compliant", "mujoco"))
+    assert ld.rung("compliant").status == "not available" and "crosscheck.no_such_module" in ld.rung("compliant").detail
+    assert ld.missing == ["compliant", "mujoco_law"] and ld.cause == "undetermined"
+
+
+def test_disagreements_are_the_rated_starts_where_mujoco_differs():
+    a = np.array([Outcome.SLIP, Outcome.JAM, Outcome.GB, Outcome.LIFTOFF, Outcome.STICK], int)
+    m = np.array([Outcome.SLIP, Outcome.STICK, Outcome.JAM, -2, Outcome.DIVERGED], int)
+    assert L.disagreements({"theta": np.zeros(5)}, a, m).tolist() == [1, 4]
+
+
+def test_explain_prints_each_rung_and_the_cause(ic2, capsys):
+    argv = ["explain", "--theta", "1.1031", "--varphi", "-1.9233", "--Theta", "0.9", "--Psi", "0", "--eta", "2", "--mu", "1.4"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out.splitlines()
+    rungs = [line for line in out if line[:2] in ("1 ", "2 ", "3 ", "4 ", "5 ")]
+    assert [line.split()[1] for line in rungs] == list(L.RUNGS)
+    assert rungs[0].endswith(f"LIFTOFF at t = {ic2.rung('tip').time:.6g}") and rungs[1].endswith(f"JAM at t = {ic2.rung('capsule').time:.6g}")
+    assert out[-1] == "cause: geometry (MuJoCo JAM, theory LIFTOFF)"
+    assert main(argv + ["--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    assert got["cause"] == "geometry" and [r["label"] for r in got["rungs"]] == [r.label.name for r in ic2.rungs]
+    assert got["match"]["eps"] == pytest.approx(ic2.match.eps, rel=1e-15)
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--radius", "0.7"], "radius must be in (0, 0.5); got 0.7"),
+    (["--timestep", "0.1"], "timestep must be in (0, 0.03]; got 0.1"),
+    (["--mu", "-1"], "mu must be in [0, 1000]; got -1.0"),
+])
+def test_explain_bad_input_is_one_line(extra, message, capsys):
+    argv = ["explain", "--theta", "1.1031", "--varphi", "-1.9233", "--Theta", "0.9", "--Psi", "0", "--eta", "2", "--mu", "1.4"] + extra
+    assert main(argv) == 2
+    assert capsys.readouterr().err == f"crosscheck: error: {message}\n"

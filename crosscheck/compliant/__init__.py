@@ -15,12 +15,16 @@ friction does no work, and where the clipped force is zero inside the plane
 (the law would pull) the stored elastic energy only drains.
 
 Modules: ``laws`` (the normal laws), ``model`` (the dynamics), ``trajectory``
-(the event-driven solution, ``integrate``), ``run`` (``simulate``: the engine's ``Run``).
+(the event-driven solution, ``integrate``), ``manifold`` (the slow
+manifold's start, ``slow_manifold``), ``run`` (``simulate``: the engine's
+``Run``).
 """
 
 from crosscheck.compliant.trajectory import EVENT_KINDS, Event, Trajectory, integrate
 from crosscheck.compliant.laws import LAWS, NormalLaw
 from crosscheck.compliant.model import Dynamics
+from crosscheck.compliant.manifold import rigid_normal_force, slow_manifold
 from crosscheck.compliant.run import Options, simulate
 
-__all__ = ["integrate", "simulate", "Options", "Trajectory", "Event", "EVENT_KINDS", "Dynamics", "NormalLaw", "LAWS"]
+__all__ = ["integrate", "simulate", "slow_manifold", "rigid_normal_force", "Options", "Trajectory", "Event", "EVENT_KINDS", "Dynamics",
+           "NormalLaw", "LAWS"]

@@ -55,7 +55,7 @@ from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 from crosscheck.tolerances import COMPLIANT_INTEGRATION, SLIP_STOP, THETA_MARGIN
 
-__all__ = ["Event", "Segment", "Trajectory", "integrate", "RADIUS", "GAP", "EVENT_KINDS", "METHODS"]
+__all__ = ["Event", "Segment", "Trajectory", "integrate", "start_state", "make_dynamics", "RADIUS", "GAP", "EVENT_KINDS", "METHODS"]
 
 #: Capsule radius r / l: 0 is the tip A itself; at r >= l/2 the end cap reaches the centre of mass.
 RADIUS = Interval(0.0, 0.5, lo_open=False, hi_open=True)
@@ -284,6 +284,19 @@ def _direction(dyn: Dynamics, y) -> np.ndarray:
     return restart_direction(G[:2, 2], G[:2, :2], dyn.mu)
 
 
+def start_state(rod: Rod, state: SlipState, dyn: Dynamics, *, gap: float, gap_rate: float) -> np.ndarray:
+    """The integrator's state y of ``state`` with C at height ``gap`` and normal velocity ``gap_rate``.
+
+    The tip A is at (0, 0, r + gap), as the MuJoCo engine's ``initial_state``
+    puts it at (0, 0, r) (``crosscheck.coordinates.to_generalized`` with
+    tip = (0, 0, radius)); the velocities are the tip's of ``state`` plus
+    the normal velocity gap_rate (C's normal velocity equals A's).
+    """
+    q0, v0 = paper_to_qv(Rod.scaled(rod.alpha), state.theta, state.varphi, state.Theta, state.Psi, state.eta, state.psi,
+                         tip=(0.0, 0.0, dyn.radius + gap), w=gap_rate)
+    return y_from_qv(q0, v0, dyn.radius)
+
+
 def integrate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: float, xi: float, radius: float = 0.0,
               law="kelvin-voigt", gap: float = 0.0, gap_rate: float = 0.0, stop_at=None, method: str = "Radau",
               rtol: float | None = None, atol: float | None = None, max_step: float = math.inf) -> Trajectory:
@@ -327,9 +340,7 @@ def integrate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: flo
     e = dyn.eps
     atol_v = atol * np.array([1, 1, min(1.0, e), 1, 1, 1, 1, 1, 1, 1])
 
-    q0, v0 = paper_to_qv(Rod.scaled(rod.alpha), state.theta, state.varphi, state.Theta, state.Psi, state.eta, state.psi,
-                         tip=(0.0, 0.0, dyn.radius + gap), w=gap_rate)
-    y = y_from_qv(q0, v0, dyn.radius)
+    y = start_state(rod, state, dyn, gap=gap, gap_rate=gap_rate)
     events: list[Event] = []
     # the first mode: contact if the law pushes, or if it is zero (C on the plane at rest) and C's free normal acceleration
     # is downwards (the rod sinks into the plane at once); free otherwise

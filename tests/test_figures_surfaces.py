@@ -146,3 +146,21 @@ def test_surface_meshes_cut_the_cylinder_at_b_zero_and_find_the_Psi_2_tangency_p
     m2 = _meshes(MU, cv.Psi_2)
     assert m2["tangency"] and m2["gb"]["theta"] == [cv.theta_2] and m2["gb"]["Theta"] == [0.0]
     assert not _meshes(MU, cv.Psi_2 * (1 + 1e-6))["gb"]["theta"]  # beyond Psi_2: no GB point at all
+
+
+def test_interactive_page_is_self_contained_with_one_tooltip_per_start():
+    from crosscheck.report.interactive import GridMap, Panel, engine_line, outcome_maps_page, start_tooltip
+
+    t = {"theta": np.array([1.0, 1.1]), "varphi": np.array([-1.9, -1.9]), "Theta": np.array([0.0, 0.5]), "Psi": np.array([0.0, 0.0]),
+         "mu": np.array([1.4, 1.4]), "eta": np.array([1.0, 1.0]), "b0": np.array([-0.5, 0.2]), "p0": np.array([0.3, 0.3]),
+         "slipping": np.array([1, 0]), "analytic_outcome": np.array([1, 0]), "analytic_time": np.array([0.25, np.nan]),
+         "analytic_reason": np.array(["b=0", ""]), "comparison_time": np.array([0.25, 0.0]), "mujoco": np.array([1, -2]), "mujoco_time": np.array([0.26, np.nan])}
+    tips = [[start_tooltip(t, 0) + "\n" + engine_line(t, 0, "mujoco", "MuJoCo"), start_tooltip(t, 1) + "\n" + engine_line(t, 1, "mujoco", "MuJoCo")]]
+    assert "analytic: liftoff at t = 0.25 (b=0)" in tips[0][0] and "MuJoCo: liftoff at t = 0.26" in tips[0][0]
+    assert "not compared" in tips[0][1] and "b >= 0" in tips[0][1]
+    codes = np.array([[1.0, np.nan]])  # a cell with no start is not drawn
+    page = outcome_maps_page("t", [GridMap("m", "theta", "Theta", np.array([1.0, 1.1]), np.array([0.0]), [Panel("a", codes)], tips)],
+                             colors={1: (1, 0.5, 0), -2: (0.8, 0.8, 0.8)}, names={1: "liftoff", -2: "not compared"})
+    assert page.count("<title>") == 2  # the page's own and one cell's
+    assert "b &gt;= 0" not in page.split("<title>", 2)[2]  # only the drawn cell carries a tooltip
+    assert "<script" not in page and " src=" not in page and "<link" not in page

@@ -117,7 +117,8 @@ def test_every_figure_and_table_has_its_files(quick, views, section):
         assert p.stat().st_size > 0, path
         if p.suffix == ".json":
             json.loads(p.read_text())
-        assert p.suffix in (".csv", ".json")
+        # data files, and the outcome maps' hover page (crosscheck.report.interactive): self-contained, no script
+        assert p.suffix in (".csv", ".json") or (p.suffix == ".html" and "<script" not in p.read_text() and " src=" not in p.read_text()), path
     # the HTML and the Markdown twin link every figure and data file
     html, md = (out / "index.html").read_text(), (out / "report.md").read_text()
     for f in figures:

@@ -126,6 +126,7 @@ def _beside(ctx: RenderContext, slug: str | None):
 
 def render(ctx: RenderContext) -> list:
     from crosscheck.engines.base import engine_label
+    from crosscheck.report.interactive import GridMap, Panel, engine_line, outcome_maps_page, start_tooltip, write_page
     from crosscheck.report.plotting import OUTCOME_COLORS, categorical_image, outcome_legend, plt
 
     P = ctx.params
@@ -140,7 +141,10 @@ def render(ctx: RenderContext) -> list:
                    f"slipping at t = 0 (b >= 0 or p <= 0), not compared. Panels: the analytic first event, {name}'s outcome (counted only up to the "
                    "analytic comparison time; a JAM is judged against the engine's own friction direction), "
                    + (f"{other_name}'s outcome on the same starts (its own section), " if other is not None else "") + "and where "
-                   f"{name} and the analytic model disagree.")]
+                   f"{name} and the analytic model disagree. Hover the cells of the interactive maps (`figures/{ctx.slug}/outcome_maps.html`, "
+                   "linked under each map) for each start's state and its analytic and engine outcomes and times.")]
+    page_rel = f"figures/{ctx.slug}/outcome_maps.html"
+    pages = []
     warned: dict[str, int] = {}
     for mp in maps:
         for r in mp["runs"]:
@@ -191,6 +195,15 @@ def render(ctx: RenderContext) -> list:
         a_img = image(a)
         edge = boundary_cells(np.nan_to_num(a_img, nan=-9))
         m_img = image(t[engine])
+        # the same panels as SVG cells whose tooltips give each start (crosscheck.report.interactive)
+        tips = [[""] * x.size for _ in y]
+        for k in range(a.size):
+            tips[yi[k]][xi[k]] = start_tooltip(t, k) + "\n" + engine_line(t, k, engine, name)
+        svg_panels = [Panel("analytic first event", a_img), Panel(name, m_img)]
+        if o is not None:
+            for k in range(len(o[other_engine])):
+                tips[oj[k]][oi[k]] += "\n" + engine_line(o, k, other_engine, other_name)
+            svg_panels.append(Panel(f"{other_name} (beside)", img))
         agree = np.where(a_img == NOT_SLIPPING, NOT_SLIPPING, np.where(a_img == m_img, 0, np.where(edge, 1, 2)))
         categorical_image(axes[-1], x, y, agree, {NOT_SLIPPING: (0.8, 0.8, 0.8), 0: (0.95, 0.95, 0.95), 1: (0.95, 0.6, 0.2), 2: (0.8, 0.0, 0.0)})
         axes[-1].set_title(f"{name} differs (orange: boundary, red: interior)", fontsize=9)
@@ -203,12 +216,18 @@ def render(ctx: RenderContext) -> list:
                                  f"Analytic vs {name} over ({mp['x']['name']}, {mp['y']['name']}) at {fixed}: {int(slipping.sum())} of {a.size} starts slip at t = 0; "
                                  f"{name} agrees on {100 * run['agreement']:.0f}% of the rated ones.",
                                  [f"events_{mp['name']}.csv", f"study_{mp['name']}.json", "maps.json"]))
+        blocks[-1].data.append(page_rel)
+        pages.append(GridMap(f"({mp['x']['name']}, {mp['y']['name']}) at {fixed}", mp["x"]["name"], mp["y"]["name"], x, y, svg_panels, tips))
         differ = (agree == 1) | (agree == 2)
         boundary_rows.append([mp["name"], str(int(slipping.sum())), str(int((edge & (agree != NOT_SLIPPING)).sum())), str(int(differ.sum())),
                               str(int((agree == 1).sum())), str(int((agree == 2).sum()))])
         conf = conf + np.asarray(run["confusion"])
         for k in ("difference", "outcome"):
             diffs[k] += mp["time_difference"][k]
+    names_ = {**{k: OUTCOME_NAMES[k].lower() for k in sorted(OUTCOME_COLORS)}, NOT_SLIPPING: "not slipping at t = 0 (not compared)"}
+    write_page(ctx.out / page_rel, outcome_maps_page(f"Analytic vs {name}: outcome maps (hover a cell)", pages, colors=colors, names=names_,
+                                                     intro=f"Each cell is one start (alpha = {P['alpha']:g}, scaled units); its tooltip gives the state, b and p "
+                                                           f"(eqs. b, p), the analytic first event and time, and each engine's outcome and time ({name}: {opts})."))
     used = [i for i in range(len(OUTCOME_NAMES)) if conf[i].sum() or conf[:, i].sum()]
     sub = conf[np.ix_(used, used)]
     names = [OUTCOME_NAMES[i].lower() for i in used]

@@ -82,7 +82,7 @@ from crosscheck.rod import Rod
 from crosscheck.slipping import slip_until_event
 from crosscheck.state import SlipState
 
-__all__ = ["growth_rates", "FastLimit", "fast_limit", "planar_restitution", "indeterminate_boundary", "gb_reaching_rates", "time_corrections",
+__all__ = ["growth_rates", "FastLimit", "fast_limit", "planar_restitution", "slope_bound", "indeterminate_boundary", "gb_reaching_rates", "time_corrections",
            "LimitRun", "limit_run", "impact_tip_velocity", "post_errors", "jam_state_past", "inconsistent_study", "indeterminate_study",
            "jam_study", "fit_log_slope", "fit_power"]
 
@@ -416,6 +416,20 @@ def fit_log_slope(eps, t_over_eps) -> tuple[float, float]:
     return float(slope), float(intercept)
 
 
+def slope_bound(eps, corrections, tolerance) -> float:
+    """How far the least-squares slope of t_stop/eps against ln(1/eps) may lie from 1/lambda.
+
+    Each point may depart from the leading law by its correction plus the
+    correction's allowance (``tolerance.allowance``); a least-squares slope
+    moves by sum_i |w_i| d_i for departures d_i, w_i = (x_i - mean x) /
+    sum (x - mean x)^2 with x = ln(1/eps).
+    """
+    x = np.log(1.0 / np.asarray(eps, float))
+    w = (x - x.mean()) / np.sum((x - x.mean()) ** 2)
+    c = np.abs(np.asarray(corrections, float))
+    return float(np.sum(np.abs(w) * (c + tolerance.allowance(c))))
+
+
 def fit_power(eps, err) -> float:
     """Least-squares slope of ln|err| against ln(eps): the observed order of convergence."""
     return float(np.polyfit(np.log(np.asarray(eps, float)), np.log(np.abs(np.asarray(err, float))), 1)[0])
@@ -574,8 +588,11 @@ def inconsistent_study(state: SlipState, mu: float, alpha: float, *, xi: float, 
 
     Returns a JSON-able dict: the fast limit, the derived coefficient 1/lambda
     and offset, C1 and C2 (``time_corrections``), per eps the measured t_stop/eps,
-    the prediction, the post-event errors against the limit impact, and the
-    fitted slope of t_stop/eps against ln(1/eps).
+    the prediction, the post-event errors against the limit impact, the
+    fitted slope of t_stop/eps against ln(1/eps), the observed order of the
+    post-event error and that of the impulse's end time t_end (the error's
+    derived scale: the O(1) dynamics drift over the time the compliant
+    impulse lags the rigid one).
     """
     fast = fast_limit(state, mu, alpha, xi=xi)
     C1, C2 = time_corrections(fast)
@@ -588,8 +605,11 @@ def inconsistent_study(state: SlipState, mu: float, alpha: float, *, xi: float, 
     eps_a = np.array([x["eps"] for x in rows])
     slope, intercept = fit_log_slope(eps_a, [x["T"] for x in rows])
     errs = [x["errors"]["max"] for x in rows]
+    # the impulse ends at t_end = O(eps ln(1/eps)) after the rigid one: the O(1) dynamics drift by that much
+    t_end = [x["t_end"] for x in rows]
     return {"state": state.as_dict(), "mu": mu, "alpha": alpha, "xi": xi, "fast": fast.as_dict(), "C1": C1, "C2": C2, "rows": rows,
-            "slope": slope, "intercept": intercept, "post_order": fit_power(eps_a, errs) if len(rows) > 1 else math.nan}
+            "slope": slope, "intercept": intercept, "post_order": fit_power(eps_a, errs) if len(rows) > 1 else math.nan,
+            "t_end_order": fit_power(eps_a, t_end) if len(rows) > 1 else math.nan}
 
 
 def indeterminate_study(state: SlipState, mu: float, alpha: float, *, xi: float, eps: float, D0: float, offsets, horizon: float = 1.0) -> dict:

@@ -4,6 +4,7 @@ the GB manifold (sections 3.5 to 5), then the Pinocchio and MuJoCo cross-validat
 from __future__ import annotations
 
 from crosscheck.report.section import Section
+from crosscheck.report.sections import compliant_limit
 from crosscheck.report.sections import ladder
 from crosscheck.report.sections import bifurcations, critical_angles, gb_det_zeros, gb_eigenvectors, gb_local, gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, kinematic_surfaces, mechanisms, mode_maps, mujoco_convergence, mujoco_liftoff, mujoco_maps, mujoco_trajectories, mujoco_validate, p_region, pinocchio, printed_numbers, rigid_engine
 
@@ -37,6 +38,8 @@ SECTIONS: tuple[Section, ...] = (
                                {"quick": [{"timestep": dt} for dt in (1e-2, 3e-3, 1e-3)],
                                 "full": [{"timestep": dt} for dt in (3e-3, 1e-3, 3e-4)]}, n={"quick": 5, "full": 14}),
     rigid_engine.SECTION,
+    # the compliant rod as eps -> 0 against the impact without collision (after the rigid engine's jams)
+    compliant_limit.SECTION,
     # a named cause for each MuJoCo-theory disagreement of mujoco_maps (reads that section's saved results in the full report)
     ladder.SECTION,
 )

@@ -1,0 +1,280 @@
+"""The compliant rod as eps -> 0: slip stops after inconsistent starts, the law's restitution, the indeterminate boundary, the planar GB point and 3-D Corollary 4.2 jams, against the rigid impact without collision.
+
+All from ``crosscheck.studies.compliant_limit`` (its module docstring has the
+derivations) with the compliant rod of ``crosscheck.compliant``
+(Kelvin-Voigt law, stiffness 1/eps^2, damping xi/eps, exact Coulomb
+friction):
+
+* inconsistent starts (p < 0, b < 0): t_stop/eps against
+  ln(1/eps)/lambda + C (+ the derived corrections), and the state after the
+  impulse against the limit impact;
+* the restitution e(xi) the Kelvin-Voigt law implies (the fast problem; the
+  planar closed form and its 1/(S xi^2) tail);
+* the indeterminate boundary (p < 0 < b): starts either side of the stable
+  manifold of the slipping force;
+* the planar GB point P+ (Genot-Brogliato's alpha = 3, mu = 5/3, theta0 = 31
+  degrees): slip stop against the rigid arrival and the plastic impact;
+* Corollary 4.2 jams in 3-D: slip stop against the rigid jam time (lag
+  ~ eps^(4/5)) and the post-event state against the limit impact.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from crosscheck.report.section import RenderContext, RunContext, Section, Table, Text
+
+SLUG = "compliant_limit"
+
+
+def params(quick: bool) -> dict:
+    if quick:
+        return {"alpha": 3.0, "xi": 1.0, "inconsistent": [[2.0, "planar", 0.5], [2.0, "3d", [0.9, -1.2, 0.3, 0.8, 1.0]]],
+                "eps": [1e-2, 1e-3, 1e-4], "xi_grid": [0.0, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0],
+                "indeterminate": {"mu": 2.0, "state": [0.9, -1.2, 1.3, 0.8, 1.0], "eps": [1e-4], "D0": 2.0, "offsets": [-0.05, -0.02, 0.02, 0.05]},
+                "gb": {"mu": 5.0 / 3.0, "theta0_deg": 31.0, "Theta0": 1.0, "scan": [0.0, 3.0, 31], "eps": [1e-3, 1e-4, 1e-5]},
+                "corollary": {"mu": [1.7], "states": 2, "eps": [1e-3, 1e-4, 1e-5]}}
+    return {"alpha": 3.0, "xi": 1.0,
+            "inconsistent": [[2.0, "planar", 0.5], [1.4, "planar", 0.5], [2.0, "3d", [0.9, -1.2, 0.3, 0.8, 1.0]],
+                             [2.0, "3d", [0.9, -1.8, -0.4, -0.6, 1.5]]],
+            "eps": [1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6], "xi_grid": [0.0, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0],
+            "indeterminate": {"mu": 2.0, "state": [0.9, -1.2, 1.3, 0.8, 1.0], "eps": [1e-3, 1e-4, 1e-5], "D0": 2.0,
+                              "offsets": [-0.2, -0.05, -0.02, -0.005, 0.005, 0.02, 0.05, 0.2]},
+            "gb": {"mu": 5.0 / 3.0, "theta0_deg": 31.0, "Theta0": 1.0, "scan": [0.0, 3.0, 121], "eps": [1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6]},
+            "corollary": {"mu": [1.7, 6.0], "states": 5, "eps": [1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6]}}
+
+
+def _state(spec, mu, alpha):
+    from crosscheck.state import SlipState
+    from crosscheck.studies.rigid import planar_impasse
+
+    kind, x = spec
+    return planar_impasse(mu, x, alpha) if kind == "planar" else SlipState(*x)
+
+
+def run(ctx: RunContext) -> None:
+    from crosscheck.corollary import corollary_states
+    from crosscheck.iwc import delassus
+    from crosscheck.state import SlipState
+    from crosscheck.studies import compliant_limit as cl
+    from crosscheck.tolerances import COMPLIANT_LIMIT_JAM_LAG_ORDER, COMPLIANT_LIMIT_POST_ORDER, COMPLIANT_LIMIT_SLIP_TIME
+
+    P = ctx.params
+    alpha, xi = P["alpha"], P["xi"]
+
+    # inconsistent starts: the eps ln(1/eps) law and the post-event state
+    studies, flat = [], {k: [] for k in ("case", "mu", "eps", "T", "predicted", "correction", "post_error", "seconds")}
+    for k, (mu, *spec) in enumerate(ctx.progress(P["inconsistent"], desc="inconsistent starts")):
+        d = cl.inconsistent_study(_state(spec, mu, alpha), mu, alpha, xi=xi, eps_values=P["eps"])
+        studies.append(d)
+        for r in d["rows"]:
+            for key, v in zip(flat, (k, mu, r["eps"], r["T"], r["predicted"], r["correction"], r["errors"]["max"], r["seconds"])):
+                flat[key].append(v)
+        ctx.store.write_json("inconsistent", studies)
+    ctx.store.write_table("inconsistent", flat)
+    ok_time = all(COMPLIANT_LIMIT_SLIP_TIME.ok(r["T"] - r["predicted"], r["correction"]) for d in studies for r in d["rows"])
+    worst = max(float(COMPLIANT_LIMIT_SLIP_TIME.ratio(r["T"] - r["predicted"], r["correction"])) for d in studies for r in d["rows"])
+    ctx.check("inconsistent starts: t_stop/eps = ln(1/eps)/lambda + C + derived corrections", ok_time, value=worst, allowance=1.0,
+              detail="ratio to the allowance; crosscheck.tolerances.COMPLIANT_LIMIT_SLIP_TIME")
+    slopes = [[d["slope"], d["fast"]["coefficient"], cl.slope_bound(P["eps"], [r["correction"] for r in d["rows"]], COMPLIANT_LIMIT_SLIP_TIME)]
+              for d in studies]
+    ctx.check("inconsistent starts: fitted slope of t_stop/eps against ln(1/eps) = 1/lambda", all(abs(a - b) <= c for a, b, c in slopes),
+              value=[[a, b] for a, b, _ in slopes], allowance=[c for _, _, c in slopes],
+              detail="[fitted, 1/lambda]; allowance: the corrections and their allowance carried through the fit (compliant_limit.slope_bound)")
+    orders = [[d["post_order"], d["t_end_order"]] for d in studies]
+    ctx.check("inconsistent starts: post-event state -> limit impact at the order of the impulse's end time t_end = O(eps ln(1/eps))",
+              all(COMPLIANT_LIMIT_POST_ORDER.ok(a, b) for a, b in orders), value=orders, allowance=f"+- {COMPLIANT_LIMIT_POST_ORDER.atol}",
+              detail="[post-event error order, t_end order]; crosscheck.tolerances.COMPLIANT_LIMIT_POST_ORDER")
+
+    # the law's restitution e(xi), per state (fast problem only)
+    rest = {"xi": P["xi_grid"]}
+    for k, d in enumerate(studies):
+        mu = d["mu"]
+        s = SlipState(**d["state"])
+        rest[f"e_{k}"] = [cl.fast_limit(s, mu, alpha, xi=x).restitution for x in P["xi_grid"]]
+        G = delassus(s, alpha)
+        S = float(G[2, 2] - G[2, :2] @ np.linalg.solve(G[:2, :2], G[:2, 2]))
+        rest[f"tail_{k}"] = [1.0 / (S * x * x) if x > 0 else math.nan for x in P["xi_grid"]]
+    ctx.store.write_table("restitution", rest)
+
+    # indeterminate boundary
+    I = P["indeterminate"]
+    ind = [cl.indeterminate_study(SlipState(*I["state"]), I["mu"], alpha, xi=xi, eps=eps, D0=I["D0"], offsets=I["offsets"], horizon=0.05)
+           for eps in ctx.progress(I["eps"], desc="indeterminate")]
+    ctx.store.write_json("indeterminate", ind)
+    flips = [r["outcome"] == r["predicted"] for d in ind for r in d["rows"]]
+    ctx.check("indeterminate starts: lift-off / impact as the stable manifold of the slipping force predicts", all(flips),
+              value=f"{sum(flips)} of {len(flips)}", allowance="all")
+
+    # the planar GB point
+    g = P["gb"]
+    theta0 = math.radians(g["theta0_deg"])
+    Theta0, outcome = cl.gb_reaching_rates(g["mu"], alpha, theta0, Theta_range=(g["scan"][0], g["scan"][1]), n=g["scan"][2])
+    ctx.store.write_table("gb_scan", {"Theta0": Theta0, "outcome": outcome})
+    gb = cl.jam_study(SlipState(theta=theta0, varphi=-math.pi / 2, Theta=g["Theta0"], Psi=0.0, eta=1.0), g["mu"], alpha, xi=xi, eps_values=g["eps"])
+    ctx.store.write_json("gb", gb)
+    err = _finite([r["errors"]["max"] for r in gb["rows"]])
+    lag = _finite([r["lag"] for r in gb["rows"]])
+    ctx.check("planar GB point: slip stop -> the rigid arrival, post-event state -> the plastic impact (rates measured)",
+              all(a > b for a, b in zip(err, err[1:])) and all(a > b > 0 for a, b in zip(lag, lag[1:])),
+              value={"lag_order": gb["lag_order"], "post_order": gb["post_order"]}, allowance="monotone decrease")
+
+    # Corollary 4.2 jams in 3-D
+    C = P["corollary"]
+    cor = []
+    table = {k: [] for k in ("mu", "state", "eps", "t_jam", "t_stop", "lag", "restitution", "Theta", "Theta_iwc", "Psi", "Psi_iwc", "w", "w_iwc",
+                             "post_error", "seconds")}
+    for mu in C["mu"]:
+        states, _, _ = corollary_states(mu, C["states"], ctx.rng, alpha=alpha)
+        for k, s in enumerate(ctx.progress(states, desc=f"Corollary 4.2, mu = {mu}")):
+            d = cl.jam_study(s, mu, alpha, xi=xi, eps_values=C["eps"])
+            cor.append(d)
+            ctx.store.write_json("corollary", cor)
+            for r in d["rows"]:
+                post = r["post"] or {}
+                vals = (mu, k, r["eps"], d["t_jam"], r["t_stop"], r["lag"], d["restitution"], post.get("Theta", math.nan), d["iwc"]["Theta"],
+                        post.get("Psi", math.nan), d["iwc"]["Psi"], post.get("w", math.nan), d["iwc"]["w"], r["errors"]["max"], r["seconds"])
+                for key, v in zip(table, vals):
+                    table[key].append(v)
+    ctx.store.write_table("corollary", table)
+    lag_orders = [d["lag_order"] for d in cor]
+    ctx.check("Corollary 4.2 jams: slip-stop lag t_stop - t_jam ~ eps^(4/5)", all(COMPLIANT_LIMIT_JAM_LAG_ORDER.ok(o, 0.8) for o in lag_orders),
+              value=lag_orders, allowance=f"0.8 +- {COMPLIANT_LIMIT_JAM_LAG_ORDER.atol}", detail="crosscheck.tolerances.COMPLIANT_LIMIT_JAM_LAG_ORDER")
+    conv = [all(a > b for a, b in zip(e, e[1:])) for e in (_finite([r["errors"]["max"] for r in d["rows"]]) for d in cor)]
+    ctx.check("Corollary 4.2 jams: post-event state -> the limit impact (the law's restitution) as eps decreases", all(conv),
+              value=[d["post_order"] for d in cor], allowance="monotone decrease (orders shown are measured)")
+
+
+def _finite(xs) -> list:
+    """The finite numbers of ``xs`` in order (a run the compliant solver could not finish has none)."""
+    return [x for x in xs if x is not None and math.isfinite(x)]
+
+
+def _fmt(x, spec=".3g") -> str:
+    return "-" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, spec)
+
+
+def render(ctx: RenderContext) -> list:
+    from crosscheck.report.plotting import LINE_COLORS, plt
+
+    blocks: list = []
+    inc = ctx.store.read_json("inconsistent")
+    fig, ax = plt.subplots(1, 2, figsize=(10, 3.6))
+    rows = []
+    for k, d in enumerate(inc):
+        eps = np.array([r["eps"] for r in d["rows"]])
+        T = np.array([r["T"] for r in d["rows"]])
+        pred = np.array([r["predicted"] for r in d["rows"]])
+        corr = np.array([r["correction"] for r in d["rows"]])
+        c = LINE_COLORS[k % 7]
+        x = np.log(1 / eps)
+        ax[0].plot(x, T, "o", color=c, label=f"case {k}: compliant")
+        ax[0].plot(x, pred, "-", color=c, lw=1, label=f"case {k}: ln(1/eps)/lambda + C")
+        ax[1].loglog(eps, np.abs(T - pred), "o-", color=c, label=f"case {k}: |t/eps - law|")
+        ax[1].loglog(eps, np.abs(corr), "--", color=c, lw=1, label=f"case {k}: C1 eps T + C2 eps T^2")
+        s = d["state"]
+        f = d["fast"]
+        rows.append([str(k), f"{d['mu']:g}", f"theta={s['theta']:.3f} varphi={s['varphi']:.3f} Theta={s['Theta']:.3f} Psi={s['Psi']:.3f} eta={s['eta']:.3f}",
+                     f"{f['p']:.4f}", f"{f['b']:.4f}", f"{f['lambda']:.4f}", f"{f['coefficient']:.4f}", f"{d['slope']:.4f}", f"{f['offset']:.4f}",
+                     f"{d['C1']:.3g}, {d['C2']:.3g}", f"{f['restitution']:.4f}", f"{_fmt(d['post_order'], '.3f')} ({_fmt(d['t_end_order'], '.3f')})"])
+    ax[0].set_xlabel("ln(1/eps)")
+    ax[0].set_ylabel("t_stop / eps")
+    ax[1].set_xlabel("eps")
+    ax[1].invert_xaxis()
+    for a in ax:
+        a.legend(fontsize=6)
+    blocks.append(ctx.figure("slip_stop_time", fig, "Inconsistent starts (p < 0, b < 0): the compliant rod's slip-stop time over eps (left, dots) against the "
+                             "derived law t_stop/eps = ln(1/eps)/lambda + C (lines; lambda^2 - |p| xi lambda - |p| = 0, C from the fast problem); right: "
+                             "the departure from the law against the derived first corrections (drift of the slip speed and of lambda along the formal "
+                             "slipping flow).", ["inconsistent.json", "inconsistent.csv"]))
+    blocks.append(Table(caption="Inconsistent starts: derived and measured coefficients (xi as in the parameters). slope: least-squares slope of "
+                                "t_stop/eps against ln(1/eps) over the eps of this report; e: the restitution the law implies in the limit; order: "
+                                "observed order of the post-event error against the limit impact, and in brackets that of the impulse's end time t_end = "
+                                "O(eps ln(1/eps)), its derived scale.",
+                        header=["case", "mu", "state", "p", "b", "lambda", "1/lambda", "slope", "C", "C1, C2", "e(xi)", "post order"],
+                        rows=rows, data=ctx.data("inconsistent.json", "inconsistent.csv")))
+
+    rest = ctx.store.read_table("restitution")
+    fig, ax = plt.subplots(figsize=(5, 3.6))
+    xi = np.asarray(rest["xi"], float)
+    for k in range(len(inc)):
+        c = LINE_COLORS[k % 7]
+        ax.plot(xi[xi > 0], np.asarray(rest[f"e_{k}"], float)[xi > 0], "o-", color=c, label=f"case {k}: fast problem")
+        ax.plot(xi[xi > 0], np.asarray(rest[f"tail_{k}"], float)[xi > 0], ":", color=c, lw=1, label=f"case {k}: 1/(S xi^2)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("xi")
+    ax.set_ylabel("e = P_f / P_c - 1")
+    ax.legend(fontsize=6)
+    blocks.append(ctx.figure("restitution", fig, "The restitution the Kelvin-Voigt law implies in the eps -> 0 limit, by state: not a constant of xi, since "
+                             "the slip phase (normal 'mass' 1/p < 0) sets the penetration rate the stick phase (Schur complement S) starts from; at "
+                             "xi = 0 e < 1 all the same. For large xi e ~ 1/(S xi^2) (dotted): the plastic impact.", ["restitution.csv"]))
+
+    ind = ctx.store.read_json("indeterminate")
+    rows = [[f"{d['eps']:g}", f"{r['offset']:+g}", f"{r['gap_rate']:.6g}", r["predicted"], r["outcome"], _fmt(r["t_stop"]), _fmt(r["t_end"])]
+            for d in ind for r in d["rows"]]
+    d0 = ind[0]
+    blocks.append(Table(caption=f"Indeterminate start (p = {d0['p']:.4f} < 0 < b = {d0['b']:.4f}, mu = {d0['mu']:g}): gap = -eps^2 D0 with D0 = "
+                                f"{d0['D0']:g} (the slipping force D* = b/|p| = {d0['b'] / abs(d0['p']):.4f}), gap rates a relative offset from the "
+                                f"boundary eps |lambda_2| (D0 - D*) (lambda_2 = {d0['lambda_2']:.4f}): inwards the force grows into an impact without "
+                                "collision, outwards the tip lifts off.",
+                        header=["eps", "offset", "gap rate", "predicted", "compliant", "slip stop", "contact end"], rows=rows,
+                        data=ctx.data("indeterminate.json")))
+
+    gb = ctx.store.read_json("gb")
+    cor = ctx.store.read_json("corollary")
+    scan = ctx.store.read_table("gb_scan")
+    reach = np.asarray(scan["Theta0"], float)[np.asarray(scan["outcome"], int) == 5]
+    fig, ax = plt.subplots(1, 2, figsize=(10, 3.8))
+    for k, d in enumerate([gb] + cor):
+        eps = np.array([r["eps"] for r in d["rows"]])
+        lag = np.abs(np.array([r["lag"] for r in d["rows"]], float))
+        err = np.array([r["errors"]["max"] for r in d["rows"]], float)
+        label = "planar GB point" if k == 0 else f"Corollary 4.2, mu = {d['mu']:g}, #{k - 1}"
+        style = "s-" if k == 0 else "o-"
+        ax[0].loglog(eps, lag, style, color=LINE_COLORS[k % 7], lw=1, ms=3, label=label)
+        ax[1].loglog(eps, err, style, color=LINE_COLORS[k % 7], lw=1, ms=3, label=label)
+    if cor:
+        e_ref = np.array([r["eps"] for r in cor[0]["rows"]])
+        ax[0].loglog(e_ref, np.abs(cor[0]["rows"][0]["lag"]) * (e_ref / e_ref[0]) ** 0.8, "k:", lw=1, label="eps^(4/5)")
+    ax[0].set_ylabel("|t_stop - t_jam| (rigid)")
+    ax[1].set_ylabel("max |post-event - limit impact| (Theta, Psi, tip velocity)")
+    for a in ax:
+        a.set_xlabel("eps")
+        a.invert_xaxis()
+        a.legend(fontsize=5)
+    blocks.append(ctx.figure("jam_convergence", fig, "Slips into p = 0: the compliant rod's slip-stop lag behind the rigid jam (left) and its state at the "
+                             "contact end against the limit impact (right), per state, as eps -> 0. Corollary 4.2 jams (3-D, b < 0): the limit impact "
+                             "is crosscheck.iwc with the restitution the law implies (the fast problem from its self-similar start), the lag is "
+                             "derived ~ eps^(4/5). Planar GB point P+ (alpha = 3, mu = 5/3, theta0 = 31 degrees): against the plastic impact at P+; "
+                             "its rates are measured, not derived.", ["gb.json", "gb_scan.csv", "corollary.json", "corollary.csv"]))
+    rows = []
+    for k, d in enumerate([gb] + cor):
+        name = "GB P+" if k == 0 else f"mu={d['mu']:g} #{k - 1}"
+        for r in d["rows"]:
+            post = r["post"] or {}
+            rows.append([name, f"{r['eps']:g}", f"{d['t_jam']:.6f}", _fmt(r["t_stop"], ".6f"), _fmt(r["lag"]),
+                         f"{_fmt(post.get('Theta'), '.5f')} / {d['iwc']['Theta']:.5f}", f"{_fmt(post.get('Psi'), '.5f')} / {d['iwc']['Psi']:.5f}",
+                         f"{_fmt(post.get('w'), '.4g')} / {d['iwc']['w']:.4g}", _fmt(r["errors"]["max"]), f"{d['restitution']:.4f}",
+                         f"{_fmt(d['lag_order'], '.3f')}, {_fmt(d['post_order'], '.3f')}"])
+    blocks.append(Table(caption="Slips into p = 0, per state and eps: the compliant slip stop against the rigid jam (GB arrival) time, the post-event rates "
+                                "and the tip's normal velocity w against the limit impact (compliant / rigid), the restitution e the law implies there, "
+                                "and the fitted orders of the lag and of the post-event error over eps.",
+                        header=["state", "eps", "t_jam", "t_stop", "lag", "Theta", "Psi", "w", "post error", "e", "orders (lag, post)"], rows=rows,
+                        data=ctx.data("gb.json", "corollary.json", "corollary.csv")))
+    failed = [(("GB P+" if k == 0 else f"mu={d['mu']:g} #{k - 1}"), r["eps"], r["kinds"][-1] if r["kinds"] else "-")
+              for k, d in enumerate([gb] + cor) for r in d["rows"] if r["post"] is None]
+    if failed:
+        blocks.append(Text("Compliant runs that did not reach a contact end (left out of the fits and of the convergence checks): "
+                           + "; ".join(f"{n} at eps = {e:g} ({why})" for n, e, why in failed) + "."))
+    blocks.append(Text(f"Planar starts at theta0 = {gb['state']['theta']:.4f} (31 degrees), varphi = -pi/2, Psi = 0, eta = 1 that slip into P+: Theta0 in "
+                       f"[{reach.min():.3f}, {reach.max():.3f}] on the scanned grid ({len(reach)} of {len(scan['Theta0'])} points; data gb_scan.csv)."
+                       if len(reach) else "No scanned planar start reached P+."))
+    return blocks
+
+
+SECTION = Section(slug=SLUG, title="Compliant rod: the eps -> 0 limit against the impact without collision", paper="eqs. b, p, FZ, Corollary 4.2, section 6",
+                  params=params, run=run, render=render,
+                  requires=("crosscheck.compliant", "crosscheck.studies.compliant_limit", "crosscheck.iwc", "crosscheck.corollary"))

@@ -21,6 +21,17 @@ Classifier settings (``crosscheck.engines.classifier.classify``):
   slow slip that swings round through small eta a STICK.  The classifier is
   shared, so we do not bend it; the trajectory's own ``slip_stop`` event
   (``integrate``) gives the exact stop time.
+* JAM does not fit this model at eps >= 1e-3.  The compliant rod's impact
+  without collision is not one impulsive window: from the rigid jam time
+  (p = 0) the normal force grows over a time that shrinks slowly with eps
+  (measured on one jamming state at mu = 1.6: the slip stops 0.026 after
+  the rigid jam at eps = 1e-2, 0.0054 at eps = 1e-3, i.e. ~eps^(2/3)), to
+  peaks of 9-190 m g, and the slip stops.  Over the classifier's 0.05
+  window the mean force (3.6 m g) stays below jam_ratio x the slipping
+  force -b/p_eff (4.4 m g: large because p_eff ~ 0.2 there), so the run is
+  classified STICK at the end of the impulse (0.031 against the rigid
+  0.025).  The jam is visible in the trajectory instead: the first
+  ``slip_stop`` event with its normal force (``Trajectory.after_slip_stop``).
 """
 
 from __future__ import annotations

@@ -286,7 +286,7 @@ def draw_surfaces(ax, b0: dict, p0: dict, g: dict, Theta_max: float, *, labels: 
         return (np.asarray(t[c])[sel].reshape(ni, nj) for c in ("theta", "varphi", "Theta"))
 
     light = LightSource(azdeg=300, altdeg=70)  # nearly overhead: b = 0 falling and rising in theta shade alike
-    style = dict(alpha=0.55, linewidth=0, antialiased=True, shade=True, lightsource=light)
+    style = dict(alpha=0.55, linewidth=0, antialiased=True, shade=True, lightsource=light, rasterized=True)  # vector text, raster surfaces: small SVG
     p0 = {k: np.asarray(v) for k, v in p0.items()}
     b0 = {k: np.asarray(v) for k, v in b0.items()}
     # painter's order for a view from above: the cylinder below b = 0, then b = 0, then the cylinder above it

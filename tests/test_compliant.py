@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from crosscheck import analytic
+from crosscheck import analytic, engines
 from crosscheck.compliant import integrate, simulate, slow_manifold
 from crosscheck.compliant.model import SLIP, STICK, q_from_y, y_from_qv
 from crosscheck.compliant.trajectory import make_dynamics
@@ -278,6 +278,17 @@ def test_the_engines_record_has_the_free_tip_acceleration_b_and_classifies_each_
     rec = free.record
     assert free.outcome == Outcome.LIFTOFF and not rec.active.any()
     assert CLOSED_FORM.ok(rec.tip_acc[:, 2], rec.b) and np.all(rec.gap[1:] > 0)
+
+
+def test_the_engine_is_registered_and_sweeps_as_it_simulates():
+    """engines.get("compliant") satisfies the Engine protocol; its sweep gives each state the outcome of its own simulate."""
+    engine = engines.get("compliant")
+    assert isinstance(engine, engines.Engine) and engine.Options().friction_time == 0.0 and engine.Options(eps=0.02).contact_time == 0.02
+    states = [SLIPPING[0], SlipState(theta=0.6, varphi=-1.0, Theta=0.3, Psi=0.5, eta=0.2)]
+    res = engine.sweep(ROD, states, [MUS[0], 1.0], horizon=0.4, progress=False, eps=1e-2, xi=1.0, timestep=2e-3)
+    one = [engine.simulate(ROD, s, m, horizon=0.4, eps=1e-2, xi=1.0, timestep=2e-3) for s, m in zip(states, [MUS[0], 1.0])]
+    assert list(res.outcome) == [int(Outcome.SLIP), int(Outcome.STICK)] == [int(r.outcome) for r in one]
+    assert res.solver["slip_stops"].tolist() == [0, 1]
 
 
 # ------------------------------------------------------------------------- bad input

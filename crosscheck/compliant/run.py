@@ -52,7 +52,7 @@ from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 from crosscheck.tolerances import COMPLIANT_INTEGRATION
 
-__all__ = ["Options", "simulate", "record_of", "NAME"]
+__all__ = ["Options", "SolverStats", "simulate", "record_of", "NAME"]
 
 #: The engine's registry name.
 NAME = "compliant"
@@ -114,6 +114,35 @@ class Options:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
+@dataclass(frozen=True)
+class SolverStats:
+    """Per-run statistics of the event-driven integration (``Run.solver``; scalars, so a sweep stacks them).
+
+    steps: solver steps; nfev, njev: right-hand side and Jacobian evaluations;
+    segments: mode segments; events: mode switches; slip_stops, stick_breaks,
+    contact_ends: how many of each; slip_stop_time: the first slip stop (NaN if
+    none); end_time: where the integration ended (the horizon, or a domain exit).
+    """
+
+    steps: int
+    nfev: int
+    njev: int
+    segments: int
+    events: int
+    slip_stops: int
+    stick_breaks: int
+    contact_ends: int
+    slip_stop_time: float
+    end_time: float
+
+    @classmethod
+    def of(cls, traj) -> "SolverStats":
+        kinds = [e.kind for e in traj.events]
+        return cls(steps=len(traj.t), nfev=int(traj.nfev), njev=int(traj.njev), segments=len(traj.segments), events=len(kinds),
+                   slip_stops=kinds.count("slip_stop"), stick_breaks=kinds.count("stick_break"), contact_ends=kinds.count("contact_end"),
+                   slip_stop_time=float(traj.slip_stop_time), end_time=float(traj.segments[-1].t1))
+
+
 def record_of(traj, times: np.ndarray) -> Record:
     """The ``Record`` of a ``Trajectory`` at ``times`` (scaled, world frame) by the segments' dense output.
 
@@ -158,8 +187,9 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: floa
     The capsule starts touching the plane (z_A = r, the gap of C zero) with
     the velocities of ``state``, exactly as the MuJoCo engine's
     ``initial_state``; ``ceil(horizon / timestep)`` record rows at
-    t_k = k timestep.  ``Run.solver`` holds the ``Trajectory`` (events,
-    dense output).  Options: see ``Options``.
+    t_k = k timestep.  ``Run.solver`` holds the ``SolverStats`` (for the
+    events and the dense output themselves, call ``integrate``).  Options:
+    see ``Options``.
     """
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
@@ -188,5 +218,5 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: floa
     c = classify(record, mu=float(mu), alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=False,
                  thresholds=th)
     return Run.from_classification(NAME, c, record, state=state, mu=float(mu), alpha=rod.alpha, options=opts, thresholds=th,
-                                   horizon=horizon, nstep=n, solver=traj)
+                                   horizon=horizon, nstep=n, solver=SolverStats.of(traj))
 

@@ -303,19 +303,24 @@ BAD = {
     "stop_at": (dict(eps=1e-2, xi=1.0, stop_at={"bang"}), "stop_at must name event kinds among contact_start, contact_end, slip_stop, "
                 "slip_restart, stick_break, domain_exit, segments, solver_failure; got 'bang'"),
     "method": (dict(eps=1e-2, xi=1.0, method="RK45"), "method must be one of Radau, BDF; got 'RK45'"),
+    "horizon": (dict(eps=1e-2, xi=1.0, horizon=0.0), "horizon must be in (0, inf); got 0.0"),
 }
 
 
 @pytest.mark.parametrize("case", BAD, ids=str)
 def test_bad_inputs_are_named_literally(case):
     kw, message = BAD[case]
+    kw = {"horizon": 0.1, **kw}
     with pytest.raises(ValueError) as e:
-        integrate(ROD, SLIPPING[0], 0.3, horizon=0.1, **kw)
+        integrate(ROD, SLIPPING[0], 0.3, **kw)
     assert str(e.value) == message
-    if case in ("eps", "xi", "radius", "negative radius", "law", "method"):
+    if case in ("eps", "xi", "radius", "negative radius", "law", "method", "horizon"):
         with pytest.raises(ValueError) as e:
-            simulate(ROD, SLIPPING[0], 0.3, horizon=0.1, **kw)
+            simulate(ROD, SLIPPING[0], 0.3, **kw)
         assert str(e.value) == message
+    with pytest.raises(ValueError) as e:
+        integrate(ROD, SLIPPING[0], -1.0, horizon=0.1, eps=1e-2, xi=1.0)
+    assert str(e.value) == "mu must be in [0, 1000]; got -1.0"
 
 
 def test_bad_engine_options_are_named_literally():

@@ -138,8 +138,9 @@ class Trajectory:
     njev: int = 0
 
     def _segment(self, t: float) -> Segment:
+        """The segment holding time t; at a switch (t the end of one and the start of the next) the later one."""
         for seg in self.segments:
-            if t <= seg.t1:
+            if t < seg.t1:
                 return seg
         return self.segments[-1]
 

@@ -31,21 +31,23 @@ MUS = (0.3, 0.5)
 KEYS = ("eta", "varphi", "Psi", "theta", "Theta")
 
 
-def _slow_error(state: SlipState, mu: float, eps: float, horizon: float = 1.0) -> float:
+def _slow_error(state: SlipState, mu: float, eps: float, law: str, horizon: float = 1.0) -> float:
     """Largest error of (eta, varphi, Psi, theta, Theta) at t = horizon against the rigid flow (slip_until_event)."""
     rigid = slip_until_event(state, mu, ALPHA, t_max=horizon)
     assert rigid.reason == "t_max"
     want = dict(zip(("eta", "varphi", "psi", "Psi", "theta", "Theta"), rigid.x[-1]))
-    gap, gap_rate = slow_manifold(ROD, state, mu, eps=eps, xi=1.0)
-    got = integrate(ROD, state, mu, horizon=horizon, eps=eps, xi=1.0, gap=gap, gap_rate=gap_rate).state_at(horizon)
+    gap, gap_rate = slow_manifold(ROD, state, mu, eps=eps, xi=1.0, law=law)
+    got = integrate(ROD, state, mu, horizon=horizon, eps=eps, xi=1.0, gap=gap, gap_rate=gap_rate, law=law).state_at(horizon)
     return max(abs(got[k] - want[k]) for k in KEYS)
 
 
-@pytest.mark.parametrize("k", range(len(SLIPPING)))
-def test_slipping_from_the_slow_manifold_converges_to_the_rigid_flow_at_second_order(k):
-    """Started on the slow manifold, the slow variables' error at t = 1 is O(eps^2): the fitted order over eps = 0.04, 0.02, 0.01."""
+@pytest.mark.parametrize("k, law", [(0, "kelvin-voigt"), (1, "kelvin-voigt"), (1, "hunt-crossley")])
+def test_slipping_from_the_slow_manifold_converges_to_the_rigid_flow_at_second_order(k, law):
+    """Started on the slow manifold, the slow variables' error at t = 1 is O(eps^2): the fitted order over eps = 0.04, 0.02, 0.01.
+
+    Both laws share the manifold delta = eps^2 F_z to leading order (measured slopes 2.006 and 1.986 for Hunt-Crossley)."""
     eps = np.array([0.04, 0.02, 0.01])
-    err = np.array([_slow_error(SLIPPING[k], MUS[k], e) for e in eps])
+    err = np.array([_slow_error(SLIPPING[k], MUS[k], e, law) for e in eps])
     assert np.all(np.diff(err) < 0)
     # the solver's error (COMPLIANT_INTEGRATION: ~5e-9) is 1e-3 of the smallest model error: it does not move the fit
     assert err[-1] > 1e3 * 5e-9

@@ -33,6 +33,7 @@ def params(quick: bool) -> dict:
     if quick:
         return {"alpha": 3.0, "xi": 1.0, "inconsistent": [[2.0, "planar", 0.5], [2.0, "3d", [0.9, -1.2, 0.3, 0.8, 1.0]]],
                 "eps": [1e-2, 1e-3, 1e-4], "xi_grid": [0.0, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0],
+                "xi_post": {"case": [2.0, "3d", [0.9, -1.2, 0.3, 0.8, 1.0]], "eps": 1e-4, "xi": [0.3, 3.0]},
                 "indeterminate": {"mu": 2.0, "state": [0.9, -1.2, 1.3, 0.8, 1.0], "eps": [1e-4], "D0": 2.0, "offsets": [-0.05, -0.02, 0.02, 0.05]},
                 "gb": {"mu": 5.0 / 3.0, "theta0_deg": 31.0, "Theta0": 1.0, "scan": [0.0, 3.0, 31], "eps": [1e-3, 1e-4, 1e-5]},
                 "corollary": {"mu": [1.7], "states": 2, "eps": [1e-3, 1e-4, 1e-5]}}
@@ -40,6 +41,7 @@ def params(quick: bool) -> dict:
             "inconsistent": [[2.0, "planar", 0.5], [1.4, "planar", 0.5], [2.0, "3d", [0.9, -1.2, 0.3, 0.8, 1.0]],
                              [2.0, "3d", [0.9, -1.8, -0.4, -0.6, 1.5]]],
             "eps": [1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6], "xi_grid": [0.0, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0],
+            "xi_post": {"case": [2.0, "3d", [0.9, -1.2, 0.3, 0.8, 1.0]], "eps": 1e-5, "xi": [0.0, 0.3, 1.0, 3.0, 10.0]},
             "indeterminate": {"mu": 2.0, "state": [0.9, -1.2, 1.3, 0.8, 1.0], "eps": [1e-3, 1e-4, 1e-5], "D0": 2.0,
                               "offsets": [-0.2, -0.05, -0.02, -0.005, 0.005, 0.02, 0.05, 0.2]},
             "gb": {"mu": 5.0 / 3.0, "theta0_deg": 31.0, "Theta0": 1.0, "scan": [0.0, 3.0, 121], "eps": [1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6]},
@@ -87,6 +89,22 @@ def run(ctx: RunContext) -> None:
     ctx.check("inconsistent starts: post-event state -> limit impact at the order of the impulse's end time t_end = O(eps ln(1/eps))",
               all(COMPLIANT_LIMIT_POST_ORDER.ok(a, b) for a, b in orders), value=orders, allowance=f"+- {COMPLIANT_LIMIT_POST_ORDER.atol}",
               detail="[post-event error order, t_end order]; crosscheck.tolerances.COMPLIANT_LIMIT_POST_ORDER")
+
+    # the post-event state follows the restitution of its own xi (the 3-D inconsistent start, at the smallest eps of the quick list)
+    X = P["xi_post"]
+    s3, mu3 = _state(X["case"][1:], X["case"][0], alpha), X["case"][0]
+    xrows = []
+    for x in X["xi"]:
+        f = cl.fast_limit(s3, mu3, alpha, xi=x)
+        r = cl.limit_run(s3, mu3, alpha, eps=X["eps"], xi=x, horizon=0.05)
+        xrows.append({"xi": x, "restitution": f.restitution, "iwc_w": f.impact.w, "iwc_Theta": f.impact.Theta, "iwc_Psi": f.impact.Psi,
+                      "w": None if r.post is None else r.post["w"], "Theta": None if r.post is None else r.post["Theta"],
+                      "Psi": None if r.post is None else r.post["Psi"], "error": cl.post_errors(r, f.impact)["max"]})
+    ctx.store.write_json("xi_post", {"case": X["case"], "eps": X["eps"], "rows": xrows})
+    ws = [r["iwc_w"] for r in xrows]
+    spread = max(ws) - min(ws)
+    ctx.check("post-event state follows e(xi): |compliant - limit impact at its own xi| < 5 % of the spread of the limit impacts over xi",
+              all(r["error"] < 0.05 * spread for r in xrows), value=[r["error"] for r in xrows], allowance=0.05 * spread)
 
     # the law's restitution e(xi), per state (fast problem only)
     rest = {"xi": P["xi_grid"]}
@@ -212,6 +230,15 @@ def render(ctx: RenderContext) -> list:
                              "the slip phase (normal 'mass' 1/p < 0) sets the penetration rate the stick phase (Schur complement S) starts from; at "
                              "xi = 0 e < 1 all the same. For large xi e ~ 1/(S xi^2) (dotted): the plastic impact.", ["restitution.csv"]))
 
+    xp = ctx.store.read_json("xi_post")
+    blocks.append(Table(caption=f"The post-event state depends on xi as the law's restitution predicts: the 3-D inconsistent start (mu = "
+                                f"{xp['case'][0]:g}) at eps = {xp['eps']:g}, the compliant state at the contact end against the limit impact "
+                                "with e(xi) (compliant / limit).",
+                        header=["xi", "e(xi)", "w", "Theta", "Psi", "max error"],
+                        rows=[[f"{r['xi']:g}", f"{r['restitution']:.4f}", f"{_fmt(r['w'], '.5f')} / {r['iwc_w']:.5f}",
+                               f"{_fmt(r['Theta'], '.5f')} / {r['iwc_Theta']:.5f}", f"{_fmt(r['Psi'], '.5f')} / {r['iwc_Psi']:.5f}", _fmt(r["error"])]
+                              for r in xp["rows"]], data=ctx.data("xi_post.json")))
+
     ind = ctx.store.read_json("indeterminate")
     rows = [[f"{d['eps']:g}", f"{r['offset']:+g}", f"{r['gap_rate']:.6g}", r["predicted"], r["outcome"], _fmt(r["t_stop"]), _fmt(r["t_end"])]
             for d in ind for r in d["rows"]]
@@ -234,11 +261,12 @@ def render(ctx: RenderContext) -> list:
         err = np.array([r["errors"]["max"] for r in d["rows"]], float)
         label = "planar GB point" if k == 0 else f"Corollary 4.2, mu = {d['mu']:g}, #{k - 1}"
         style = "s-" if k == 0 else "o-"
-        ax[0].loglog(eps, lag, style, color=LINE_COLORS[k % 7], lw=1, ms=3, label=label)
-        ax[1].loglog(eps, err, style, color=LINE_COLORS[k % 7], lw=1, ms=3, label=label)
+        color = "k" if k == 0 else plt.cm.tab20((k - 1) % 20)
+        ax[0].loglog(eps, lag, style, color=color, lw=1, ms=3, label=label)
+        ax[1].loglog(eps, err, style, color=color, lw=1, ms=3, label=label)
     if cor:
         e_ref = np.array([r["eps"] for r in cor[0]["rows"]])
-        ax[0].loglog(e_ref, np.abs(cor[0]["rows"][0]["lag"]) * (e_ref / e_ref[0]) ** 0.8, "k:", lw=1, label="eps^(4/5)")
+        ax[0].loglog(e_ref, np.abs(cor[0]["rows"][0]["lag"]) * (e_ref / e_ref[0]) ** 0.8, ":", color="0.4", lw=1.5, label="eps^(4/5)")
     ax[0].set_ylabel("|t_stop - t_jam| (rigid)")
     ax[1].set_ylabel("max |post-event - limit impact| (Theta, Psi, tip velocity)")
     for a in ax:

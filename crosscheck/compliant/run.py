@@ -25,7 +25,8 @@ Classifier settings (``crosscheck.engines.classifier.classify``):
   without collision is not one impulsive window: from the rigid jam time
   (p = 0) the normal force grows over a time that shrinks slowly with eps
   (measured on one jamming state at mu = 1.6: the slip stops 0.026 after
-  the rigid jam at eps = 1e-2, 0.0054 at eps = 1e-3, i.e. ~eps^(2/3)), to
+  the rigid jam at eps = 1e-2, 0.0054 at eps = 1e-3: slope 0.69 from these
+  two points; the report's compliant_limit section fits the lag), to
   peaks of 9-190 m g, and the slip stops.  Over the classifier's 0.05
   window the mean force (3.6 m g) stays below jam_ratio x the slipping
   force -b/p_eff (4.4 m g: large because p_eff ~ 0.2 there), so the run is

@@ -296,16 +296,20 @@ def test_the_engine_is_registered_and_sweeps_as_it_simulates():
 # ------------------------------------------------------------------------- bad input
 
 BAD = {
-    "eps": (dict(eps=0.0, xi=1.0), "eps must be in (0, inf); got 0.0"),
-    "xi": (dict(eps=1e-2, xi=-1.0), "xi must be in [0, inf); got -1.0"),
+    "eps": (dict(eps=0.0, xi=1.0), "eps must be in [1e-07, 1]; got 0.0"),
+    "xi": (dict(eps=1e-2, xi=-1.0), "xi must be in [0, 1000]; got -1.0"),
     "radius": (dict(eps=1e-2, xi=1.0, radius=0.5), "radius must be in [0, 0.5); got 0.5"),
     "negative radius": (dict(eps=1e-2, xi=1.0, radius=-0.1), "radius must be in [0, 0.5); got -0.1"),
     "law": (dict(eps=1e-2, xi=1.0, law="hertz"), "law must be one of hunt-crossley, kelvin-voigt; got 'hertz'"),
-    "gap": (dict(eps=1e-2, xi=1.0, gap=1e-3), "gap must be in (-inf, 0]; got 0.001"),
+    "gap": (dict(eps=1e-2, xi=1.0, gap=1e-3), "gap must be in [-1, 0]; got 0.001"),
+    "tiny eps": (dict(eps=1e-300, xi=1.0), "eps must be in [1e-07, 1]; got 1e-300"),
+    "huge eps": (dict(eps=1e300, xi=1.0), "eps must be in [1e-07, 1]; got 1e+300"),
+    "huge xi": (dict(eps=1e-2, xi=1e300), "xi must be in [0, 1000]; got 1e+300"),
+    "gap rate": (dict(eps=1e-2, xi=1.0, gap_rate=1e308), "gap_rate must be in [-100, 100]; got 1e+308"),
     "stop_at": (dict(eps=1e-2, xi=1.0, stop_at={"bang"}), "stop_at must name event kinds among contact_start, contact_end, slip_stop, "
                 "slip_restart, stick_break, domain_exit, segments, solver_failure; got 'bang'"),
     "method": (dict(eps=1e-2, xi=1.0, method="RK45"), "method must be one of Radau, BDF; got 'RK45'"),
-    "horizon": (dict(eps=1e-2, xi=1.0, horizon=0.0), "horizon must be in (0, inf); got 0.0"),
+    "horizon": (dict(eps=1e-2, xi=1.0, horizon=0.0), "horizon must be in (0, 10000]; got 0.0"),
 }
 
 

@@ -16,7 +16,19 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["NormalLaw", "KelvinVoigt", "HuntCrossley", "LAWS", "get", "register", "names"]
+from crosscheck.checks import Interval
+
+__all__ = ["NormalLaw", "KelvinVoigt", "HuntCrossley", "LAWS", "get", "register", "names", "EPS", "XI"]
+
+#: The contact's time scale eps (scaled by 1/omega).  Below 1e-7 the resting penetration eps^2 F_n
+#: (~1e-14 l) comes within ~100 ulp of the O(1) position it is a difference of, and the stiffness
+#: 1/eps^2 > 1e14 leaves the gap's rounding error as the force; above 1 the contact is slower than
+#: the rod's own time 1/omega and no longer a regularisation of the rigid contact the paper studies.
+EPS = Interval(1e-7, 1.0, lo_open=False, hi_open=False)
+
+#: The dimensionless damping xi (damping xi / eps).  Critical damping of the normal row is
+#: xi = 2 / sqrt(p) = O(1); 1000 is three orders past it, where the contact is all dashpot.
+XI = Interval(0.0, 1e3, lo_open=False, hi_open=False)
 
 
 @dataclass(frozen=True)

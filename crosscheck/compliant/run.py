@@ -41,9 +41,9 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from crosscheck.checks import NONNEGATIVE, POSITIVE, check
+from crosscheck.checks import HORIZON, POSITIVE, check
 from crosscheck.compliant import laws as _laws
-from crosscheck.compliant.trajectory import METHODS, RADIUS, integrate
+from crosscheck.compliant.trajectory import ATOL, METHODS, RADIUS, RTOL, integrate
 from crosscheck.compliant.model import FREE, SLIP, STICK, q_from_y
 from crosscheck.coordinates import tip_position, tip_velocity
 from crosscheck.engines.base import Run, n_steps_within_memory, options_from_kwargs
@@ -88,12 +88,13 @@ class Options:
     atol: float = COMPLIANT_INTEGRATION.atol
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "eps", float(check("eps", self.eps, POSITIVE)))
-        object.__setattr__(self, "xi", float(check("xi", self.xi, NONNEGATIVE)))
+        object.__setattr__(self, "eps", float(check("eps", self.eps, _laws.EPS)))
+        object.__setattr__(self, "xi", float(check("xi", self.xi, _laws.XI)))
         object.__setattr__(self, "radius", float(check("radius", self.radius, RADIUS)))
         _laws.get(self.law)
-        for name in ("timestep", "rtol", "atol"):
-            object.__setattr__(self, name, float(check(name, getattr(self, name), POSITIVE)))
+        object.__setattr__(self, "timestep", float(check("timestep", self.timestep, POSITIVE)))
+        object.__setattr__(self, "rtol", float(check("rtol", self.rtol, RTOL)))
+        object.__setattr__(self, "atol", float(check("atol", self.atol, ATOL)))
         if self.method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}; got {self.method!r}")
 
@@ -195,7 +196,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: floa
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
     state.check_start()
-    horizon = float(check("horizon", horizon, POSITIVE))
+    horizon = float(check("horizon", horizon, HORIZON))
     opts = Options.from_kwargs(dict(options, eps=eps, xi=xi, radius=radius, law=law))
     if opts.timestep > horizon:
         raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")

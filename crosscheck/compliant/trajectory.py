@@ -59,7 +59,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from crosscheck.checks import FINITE, MU, NONNEGATIVE, POSITIVE, Interval, check
+from crosscheck.checks import FINITE, HORIZON, MU, NONNEGATIVE, POSITIVE, RATE, Interval, check
 from crosscheck.compliant import laws as _laws
 from crosscheck.compliant.model import FREE, MODES, SLIP, STICK, Dynamics, q_from_y, restart_direction, y_from_qv
 from crosscheck.coordinates import paper_to_qv, qv_to_paper
@@ -71,8 +71,13 @@ __all__ = ["Event", "Segment", "Trajectory", "integrate", "start_state", "make_d
 
 #: Capsule radius r / l: 0 is the tip A itself; at r >= l/2 the end cap reaches the centre of mass.
 RADIUS = Interval(0.0, 0.5, lo_open=False, hi_open=True)
-#: Initial gap of the contact point [l]: a contact start has C on or in the plane.
-GAP = Interval(-math.inf, 0.0, lo_open=True, hi_open=False, text="(-inf, 0]")
+#: Initial gap of the contact point [l]: a contact start has C on or in the plane, and a penetration
+#: deeper than l (the tip-to-centre distance) is no contact of this rod.
+GAP = Interval(-1.0, 0.0, lo_open=False, hi_open=False)
+#: Solver tolerances: below 1e-13 relative scipy's Radau works under its own rounding floor (it raises
+#: rtol to 100 ulp and warns); looser than 1e-2 no event of the study is located.
+RTOL = Interval(1e-13, 1e-2, lo_open=False, hi_open=False)
+ATOL = Interval(1e-16, 1e-2, lo_open=False, hi_open=False)
 #: Event kinds an ``Event`` may have (and ``stop_at`` may name).
 EVENT_KINDS = ("contact_start", "contact_end", "slip_stop", "slip_restart", "stick_break", "domain_exit", "segments", "solver_failure")
 #: The stiff methods of ``solve_ivp`` this integrator accepts.
@@ -202,8 +207,8 @@ def _check_stop(stop_at) -> frozenset:
 def make_dynamics(alpha: float, mu: float, *, eps: float, xi: float, radius: float, law) -> Dynamics:
     """Checked ``Dynamics``: each bad parameter one ValueError naming it and its range."""
     mu = float(check("mu", mu, MU))
-    eps = float(check("eps", eps, POSITIVE))
-    xi = float(check("xi", xi, NONNEGATIVE))
+    eps = float(check("eps", eps, _laws.EPS))
+    xi = float(check("xi", xi, _laws.XI))
     radius = float(check("radius", radius, RADIUS))
     law = _laws.get(law)
     return Dynamics(alpha=float(alpha), mu=mu, eps=eps, xi=xi, radius=radius, law=law, slip_floor=SLIP_STOP.atol)
@@ -341,15 +346,15 @@ def integrate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: flo
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
     state.check_start()
-    horizon = float(check("horizon", horizon, POSITIVE))
+    horizon = float(check("horizon", horizon, HORIZON))
     dyn = make_dynamics(rod.alpha, mu, eps=eps, xi=xi, radius=radius, law=law)
     gap = float(check("gap", gap, GAP))
-    gap_rate = float(check("gap_rate", gap_rate, FINITE))
+    gap_rate = float(check("gap_rate", gap_rate, RATE))
     stops = _check_stop(stop_at)
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
-    rtol = float(check("rtol", COMPLIANT_INTEGRATION.rtol if rtol is None else rtol, POSITIVE))
-    atol = float(check("atol", COMPLIANT_INTEGRATION.atol if atol is None else atol, POSITIVE))
+    rtol = float(check("rtol", COMPLIANT_INTEGRATION.rtol if rtol is None else rtol, RTOL))
+    atol = float(check("atol", COMPLIANT_INTEGRATION.atol if atol is None else atol, ATOL))
     e = dyn.eps
     atol_v = atol * np.array([1, 1, min(1.0, e), 1, 1, 1, 1, 1, 1, 1])
 

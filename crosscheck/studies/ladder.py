@@ -580,8 +580,9 @@ class LadderStudy:
         return {c: self.counts[c] / n for c in CAUSES[:6]} if self.n_disagree else {c: math.nan for c in CAUSES[:6]}
 
     def summary(self) -> dict:
+        wall = {name: float(sum(ld.rung(name).wall_time for ld in self.ladders)) for name in RUNGS}  # seconds per rung, over all starts
         return as_json({"n": len(self.ladders), "n_disagree": self.n_disagree, "attributed": self.attributed, "counts": self.counts,
-                        "fractions": self.fractions(), "missing": self.missing, "reference_mismatch": self.reference_mismatch})
+                        "fractions": self.fractions(), "missing": self.missing, "reference_mismatch": self.reference_mismatch, "wall_time": wall})
 
 
 def ladder_study(states: Sequence[SlipState], mu, *, alpha: float = 3.0, horizon: float = DEFAULT_HORIZON, references=None,

@@ -503,9 +503,12 @@ MUJOCO_LAW_KKT = Tolerance(atol=1e-12, rtol=0.0, why="3 x 3 solve + slip-angle r
 MUJOCO_LAW_ORDER = Tolerance(atol=0.6, rtol=0.0, why="regression guard: first order, measured slopes 0.79-1.54 (chatter of the sliding mode)", guard=True)
 
 #: The friction skew predicted by the law's run against MuJoCo's measured skew on the same state, first
-#: 0.1 of the run, timestep 3e-4: the runs differ by MuJoCo's O(dt) discretisation (tip errors ~3e-5 l).
-#: Measured max 0.25 deg, median 0.04 deg over 40 states; 0.5 deg = 0.0087 rad.
-MUJOCO_LAW_SKEW = Tolerance(atol=0.0087, rtol=0.0, why="regression guard: law run vs MuJoCo at dt = 3e-4, measured max 0.25 deg (n = 40)", guard=True)
+#: 0.1 of the run, timestep 3e-4, over states whose law run has a contact and keeps theta in (0, pi/2):
+#: the runs differ by MuJoCo's O(dt) discretisation of the sliding mode's chatter, and MuJoCo's value
+#: converges to the law's as dt -> 0 (worst state: 5.79, 3.44, 3.63, 3.49 degrees at dt = 3e-4, 1e-4,
+#: 3e-5, 1e-5 against the law's 3.50).  Measured at 3e-4: median 0.04, p99 1.8, max 2.3 degrees
+#: (n = 234, seeds 1, 2); 3 degrees = 0.052 rad.
+MUJOCO_LAW_SKEW = Tolerance(atol=0.052, rtol=0.0, why="regression guard: law run vs MuJoCo at dt = 3e-4, measured max 2.3 deg (n = 234)", guard=True)
 
 #: The closed form angle(u, u + a_t / B) against the angle of the solved force: an identity of the cone's
 #: optimality conditions (f_t anti-parallel to a_t + B u + R_t f_t), so rounding of the solve only.

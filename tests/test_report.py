@@ -47,6 +47,7 @@ EXPECTED_FIGURES = {
     "rigid_maps": ["map_Psi_mu", "map_theta_Theta_0", "map_theta_Theta_1", "confusion", "event_time_errors"],
     "rigid_convergence": ["convergence"],
     "rigid_engine": ["jams", "trajectory_jam"],
+    "friction_skew": ["skew"],
     "compliant_limit": ["slip_stop_time", "restitution", "jam_convergence"],
 }
 

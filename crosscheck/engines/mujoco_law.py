@@ -69,10 +69,11 @@ from crosscheck.engines.mujoco_model import AXIAL_INERTIA
 from crosscheck.rod import Rod
 
 __all__ = ["Parameters", "ContactProblem", "impedance", "inverse_weight", "mass_matrix", "smooth_force", "contact_problem",
-           "solve_cone", "contact_frame", "contact_force", "accelerations", "skew_angle", "simulate", "MINIMP", "MAXIMP", "MINVAL"]
+           "solve_cone", "contact_frame", "contact_force", "accelerations", "skew_angle", "simulate", "MINIMP", "MAXIMP", "MINVAL", "MINMU"]
 
-#: MuJoCo's clamps (mjMINIMP, mjMAXIMP: impedance parameters; mjMINVAL: smallest R).
-MINIMP, MAXIMP, MINVAL = 1e-4, 0.9999, 1e-15
+#: MuJoCo's clamps (mjMINIMP, mjMAXIMP: impedance parameters; mjMINVAL: smallest R; mjMINMU: smallest friction,
+#: so that mu = 0 is a cone of opening 1e-5, not a frictionless contact).
+MINIMP, MAXIMP, MINVAL, MINMU = 1e-4, 0.9999, 1e-15, 1e-5
 
 #: Sample count of the slip direction on the cone's surface before the stationarity root is polished:
 #: 5 degrees apart, so the two sign changes of the stationarity function around the optimum are bracketed.
@@ -200,7 +201,8 @@ class ContactProblem:
       A: (3, 3) Delassus operator J M^-1 J^T [1/kg].
       R: (3,) regulariser [1/kg]; aref: (3,) reference acceleration [m/s^2].
       a0: (3,) unconstrained contact-point acceleration J qacc_smooth [m/s^2].
-      vel: (3,) contact-point velocity J v [m/s]; mu: friction; B: (3,) damping [1/s].
+      vel: (3,) contact-point velocity J v [m/s]; mu: friction, at least MINMU as MuJoCo clamps it;
+      B: (3,) damping [1/s].
       minv: (5,) inverse mass matrix diagonal; qacc_smooth: (5,).
     """
 
@@ -250,7 +252,8 @@ def contact_problem(rod: Rod, q, v, mu: float, options: Options, *, impratio: fl
     aref[0] -= par.stiffness * imp * dist
     Rn = max(MINVAL, (1.0 - imp) * inverse_weight(rod) / imp)
     Rt = Rn / max(MINVAL, par.impratio)
-    return ContactProblem(dist, imp, frame, J, A, np.array([Rn, Rt, Rt]), aref, a0, vel, float(mu), B, minv, qacc_smooth)
+    mu = max(MINMU, float(mu))  # mj_assignFriction's clamp
+    return ContactProblem(dist, imp, frame, J, A, np.array([Rn, Rt, Rt]), aref, a0, vel, mu, B, minv, qacc_smooth)
 
 
 def _cone_direction(a, mu):

@@ -21,9 +21,10 @@ located by the integrator and followed by a restart:
   steps).  It ends when lambda reaches 0 (lift-off) or 1 (the capsule sinks in).
 
 The run starts as the MuJoCo engine's (``initial_state``: tip at z = r, the
-capsule touching the plane) in the phase the motion enters: in contact when
-the contact point moves into the plane, or rests on it with a downward free
-acceleration.  The ``Options.timestep`` is only the spacing of the recorded
+capsule touching the plane with no normal speed) in the phase the motion
+enters: free flight when the free dist'' >= 0 (eq. b's lift-off at C),
+contact when the law's force still lets the capsule sink, sliding otherwise
+(the usual start of a slipping rod).  The ``Options.timestep`` is only the spacing of the recorded
 rows (t_k = k timestep, k = 0 .. ceil(horizon / timestep) - 1, as the MuJoCo
 engine's rows), which the one classifier reads exactly as it reads MuJoCo's
 (same friction time constant, not rigid).

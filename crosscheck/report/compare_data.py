@@ -42,6 +42,12 @@ ACROSS_MACHINES = (
     # PGS iterations and the steps that miss its tolerance, at the tolerance's edge (measured 255 vs 245)
     ("unconverged_steps", 0.1, 0.0, "PGS steps missing its tolerance at the edge (measured 4 % between CPUs)"),
     ("mean_iterations", 0.01, 0.0, "PGS mean iteration count (measured 3e-5 relative)"),
+    # MuJoCo's contact law against mj_forward: measured rounding errors (~1e-13) are the CPU's last bits; the law's runs are
+    # solve_ivp DOP853 at rtol 1e-10 sampled on dense output, whose steps follow them (as the analytic trajectories above;
+    # not measured across CPUs for this section)
+    ("friction_skew/law_check.json", 1.0, 1e-12, "measured rounding errors of the law against efc_force / efc_R / efc_aref (~1e-13)"),
+    ("friction_skew/checks.json", 1e-5, 1e-12, "a rounding error (~1e-13) and the law's adaptive integrator steps"),
+    ("friction_skew/*", 1e-5, 1e-6, "adaptive integrator steps follow the CPU's last bits (as the analytic trajectories)"),
 )
 
 #: Keys that hold timings or provenance, not results.

@@ -32,7 +32,7 @@ Scaled units (section 2.1); angles in radians unless a key says degrees.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import mujoco
 import numpy as np
@@ -49,7 +49,12 @@ from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["BANDS", "MU_BINS", "VARIANTS", "random_states", "skew_of_record", "measured", "predicted", "ablation", "study"]
+__all__ = ["BANDS", "MU_BINS", "VARIANTS", "random_states", "skew_of_record", "measured", "predicted", "ablation", "study", "option_effects",
+           "REMOVES", "REDUCES"]
+
+#: What a MuJoCo option does to the skew, from the per-band medians against the default's: it removes it when every
+#: band falls below REMOVES of the default, reduces it below REDUCES, and leaves it otherwise.
+REMOVES, REDUCES = 0.2, 0.6
 
 #: Bands of |varphi + pi/2| [rad]: near the planar section, intermediate, towards the rod's axis.
 BANDS = ((0.0, math.pi / 6), (math.pi / 6, math.pi / 3), (math.pi / 3, math.pi / 2 + 1e-9))
@@ -109,7 +114,8 @@ def measured(states: Sequence[SlipState], mu, *, alpha: float = 3.0, duration: f
 def predicted(states: Sequence[SlipState], mu, *, alpha: float = 3.0, duration: float = 0.1, **options) -> dict[str, np.ndarray]:
     """The continuous-time law's skew per state (B,): ``skew`` from its run (as ``measured``); on its rows on the
     cone's surface, ``closed`` the force-weighted mean of angle(u, u + a_t / B) (a_t under the full contact force,
-    u and a_t at MuJoCo's contact point) and ``solved`` the same mean of the solved force's angle from -u."""
+    u and a_t at MuJoCo's contact point) and ``solved`` the same mean of the solved force's angle from -u;
+    ``exits``: theta left (0, pi/2) within the window (the law then misses MuJoCo's contact at the other end)."""
     opts = Options.from_kwargs(options)
     rod = Rod.scaled(float(check("alpha", alpha, ALPHA)))
     states = list(states)
@@ -117,11 +123,15 @@ def predicted(states: Sequence[SlipState], mu, *, alpha: float = 3.0, duration: 
     nstep = n_steps(float(check("duration", duration, POSITIVE)), opts.timestep)
     times = np.arange(nstep) * opts.timestep / rod.omega
     out = {k: np.full(len(states), np.nan) for k in ("skew", "saturation", "closed", "solved")}
+    out["exits"] = np.zeros(len(states), bool)
     for i, (s, m) in enumerate(zip(states, mu)):
         q0, v0 = to_generalized(rod, s, tip=(0.0, 0.0, opts.radius))
         traj = integrate(rod, q0, v0, m, opts, times=times)
         rec = record(rod, traj, opts)
         out["skew"][i], out["saturation"][i] = skew_of_record(rec, m)
+        # theta leaves (0, pi/2): the rod lies flat and MuJoCo's capsule touches with its other end (a second contact
+        # the law does not model), so the run is outside the comparison from there on
+        out["exits"][i] = bool(np.any((rec.theta <= 0) | (rec.theta >= math.pi / 2)))
         # the closed form holds on the cone's surface (slipping rows); the run's own angle on the same rows beside it
         f = traj.force
         on = np.flatnonzero((f[:, 0] > 0) & (np.hypot(f[:, 1], f[:, 2]) >= (1 - 1e-9) * m * f[:, 0]))
@@ -177,14 +187,17 @@ def _medians(x: np.ndarray, key: np.ndarray, bins) -> list[float]:
     return out
 
 
-def study(n: int, rng: np.random.Generator, *, alpha: float = 3.0, duration: float = 0.1, variants: Sequence[str] = tuple(VARIANTS),
+def study(n: int, rng: np.random.Generator, *, alpha: float = 3.0, duration: float = 0.1, variants: Mapping[str, dict] | Sequence[str] = tuple(VARIANTS),
           friction_timeconsts: Sequence[float] = (0.03, 0.01), n_ablation: int = 20, **options) -> dict:
     """The skew on n random states: measured (MuJoCo, each variant), predicted (law run and closed form), by band and mu bin.
 
+    ``variants``: names of ``VARIANTS`` or a mapping name -> model.opt settings.
     ``friction_timeconsts``: MuJoCo runs with a shorter friction time constant
-    (solreffriction), which the law says shrinks the skew like 1/B.  Returns
-    per-state arrays and per-band / per-mu-bin medians of |skew| [degrees].
+    (solreffriction).  Returns per-state arrays, per-band / per-mu-bin medians
+    of |skew| [degrees], the median saturation |F_t| / (mu F_z) of each run
+    kind, and the ablation's median |skew| [degrees].
     """
+    variants = dict(variants) if isinstance(variants, Mapping) else {k: VARIANTS[k] for k in variants}
     states, mu = random_states(n, rng)
     offset = np.array([abs(s.varphi + math.pi / 2) for s in states])
     rod = Rod.scaled(alpha)
@@ -192,18 +205,43 @@ def study(n: int, rng: np.random.Generator, *, alpha: float = 3.0, duration: flo
     law = predicted(states, mu, alpha=alpha, duration=duration, **options)
     out["predicted"], out["closed"], out["saturation_law"] = law["skew"], law["closed"], law["saturation"]
     runs = {}
-    for name in variants:
-        runs[name] = measured(states, mu, alpha=alpha, duration=duration, model_options=VARIANTS[name], **options)
+    for name, settings in variants.items():
+        runs[name] = measured(states, mu, alpha=alpha, duration=duration, model_options=settings, **options)
     for tf in friction_timeconsts:
         runs[f"friction timeconst {tf:g}"] = measured(states, mu, alpha=alpha, duration=duration, **{**options, "friction_timeconst": tf})
     out["measured"] = {k: r["skew"] for k, r in runs.items()}
     out["saturation"] = {k: r["saturation"] for k, r in runs.items()}
+    out["saturation_median"] = {"law": float(np.nanmedian(law["saturation"])), **{k: float(np.nanmedian(r["saturation"])) for k, r in runs.items()}}
     table = {"predicted (law run)": law["skew"], "predicted (closed form)": law["closed"], **{f"MuJoCo {k}": r["skew"] for k, r in runs.items()}}
     out["band_median_deg"] = {k: _medians(x, offset, BANDS) for k, x in table.items()}
     out["mu_median_deg"] = {k: _medians(x, mu, MU_BINS) for k, x in table.items()}
-    d = law["skew"] - runs["default"]["skew"] if "default" in runs else np.full(n, np.nan)
-    out["max_abs_difference_deg"] = float(np.degrees(np.nanmax(np.abs(d))))
-    out["median_abs_difference_deg"] = float(np.degrees(np.nanmedian(np.abs(d))))
+    # compared: states where the law's run has a contact force and stays in theta in (0, pi/2); the others are counted:
+    # "lifts off" (b > 0 at the start: the law has no force, MuJoCo's first step may apply one from its dJ/dt v / 2 term)
+    # and "exits" (the rod lies flat within the window and MuJoCo's capsule touches with its other end)
+    out["exits"], out["lifts_off"] = law["exits"], ~np.isfinite(law["skew"])
+    compared = np.isfinite(law["skew"]) & ~law["exits"]
+    d = np.abs(law["skew"] - runs["default"]["skew"])[compared] if "default" in runs else np.full(1, np.nan)
+    out["n_compared"], out["n_exits"], out["n_lifts_off"] = int(compared.sum()), int(law["exits"].sum()), int(out["lifts_off"].sum())
+    out["max_abs_difference_deg"] = float(np.degrees(np.nanmax(d))) if d.size else math.nan
+    out["median_abs_difference_deg"] = float(np.degrees(np.nanmedian(d))) if d.size else math.nan
     abl = [ablation(rod, s, float(m), **options) for s, m in zip(states[:n_ablation], mu[:n_ablation])]
     out["ablation_median_deg"] = {k: float(np.degrees(np.median(np.abs([a[k] for a in abl])))) for k in abl[0]} if abl else {}
+    return out
+
+
+def option_effects(band_median_deg: Mapping[str, Sequence[float]]) -> dict[str, dict[str, list[float]]]:
+    """Sort the measured MuJoCo variants of ``study``'s ``band_median_deg`` ("MuJoCo <name>" keys) by their effect on the skew.
+
+    Returns {"removes": {name: medians}, "reduces": {...}, "leaves": {...}}:
+    the largest ratio over the bands of a variant's median to the default's
+    against REMOVES and REDUCES.
+    """
+    default = band_median_deg["MuJoCo default"]
+    out: dict[str, dict[str, list[float]]] = {"removes": {}, "reduces": {}, "leaves": {}}
+    for k, x in band_median_deg.items():
+        if not k.startswith("MuJoCo ") or k == "MuJoCo default":
+            continue
+        r = max((a / m for a, m in zip(x, default) if m > 0), default=math.nan)
+        kind = "removes" if r < REMOVES else "reduces" if r < REDUCES else "leaves"
+        out[kind][k[len("MuJoCo "):]] = list(x)
     return out

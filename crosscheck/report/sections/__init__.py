@@ -6,7 +6,7 @@ from __future__ import annotations
 from crosscheck.report.section import Section
 from crosscheck.report.sections import compliant_limit
 from crosscheck.report.sections import ladder
-from crosscheck.report.sections import bifurcations, critical_angles, gb_det_zeros, gb_eigenvectors, gb_local, gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, kinematic_surfaces, mechanisms, mode_maps, mujoco_convergence, mujoco_liftoff, mujoco_maps, mujoco_trajectories, mujoco_validate, p_region, pinocchio, printed_numbers, rigid_engine
+from crosscheck.report.sections import bifurcations, critical_angles, friction_skew, gb_det_zeros, gb_eigenvectors, gb_local, gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, kinematic_surfaces, mechanisms, mode_maps, mujoco_convergence, mujoco_liftoff, mujoco_maps, mujoco_trajectories, mujoco_validate, p_region, pinocchio, printed_numbers, rigid_engine
 
 __all__ = ["SECTIONS", "section_by_slug"]
 
@@ -31,6 +31,8 @@ SECTIONS: tuple[Section, ...] = (
     mujoco_convergence.SECTION,
     mujoco_trajectories.SECTION,
     mujoco_validate.SECTION,
+    # MuJoCo's contact law written out: its friction-direction skew predicted and measured
+    friction_skew.SECTION,
     # the rigid engine on the same starts as MuJoCo's maps; the quick report at a coarser timestep (its cost is the NCP's)
     mujoco_maps.section("rigid_maps", "Rigid engine (Pinocchio) vs analytic: outcome maps beside MuJoCo's", "pinocchio",
                         {"quick": {"timestep": 3e-3}, "full": {"timestep": 1e-3}}, beside="mujoco_maps"),

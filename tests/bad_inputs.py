@@ -66,6 +66,9 @@ def cli_cases(tmp: Path) -> list:
                            {"restitution": ["-0.1", "1.5"]}, only=["restitution"])
     cases += _number_cases("simulate", ["simulate", "--engine", "mujoco"], {**STATE, "mu": "1.4", "alpha": "3", "horizon": "0.05", "timestep": "3e-3"},
                            {"horizon": ["0", "-1", "1e308", "1e5"], "timestep": ["0", "-1", "1e-300", "10"]})
+    # explain: every value is refused before any rung of the ladder runs
+    cases += _number_cases("explain", ["explain"], {**STATE, "mu": "1.4", "alpha": "3", "timestep": "3e-4", "radius": "0.01", "horizon": "2"},
+                           {"horizon": ["0", "-1", "1e308", "1e5"], "timestep": ["0", "-1", "1e-300", "0.1"], "radius": ["0", "-0.1", "0.5", "1"]})
     cases.append(("simulate --engine=nonexistent", _argv(["simulate", "--engine", "nonexistent"], {**STATE, "mu": "1.4"}, "", ""), "engine"))
     for engine in ("mujoco", "pinocchio"):
         for v in ["0", "-1", "1e3", "2.5", "1e9", "abc", ""]:
@@ -217,4 +220,15 @@ def api_cases() -> list:
     add("corollary_states(rng=0)", lambda: corollary_states(1.7, 2, 0), "rng")
     for k, v in [("theta", 2.0), ("eta", -1.0), ("Theta", math.nan), ("w", math.inf)]:
         add(f"paper_to_qv({k}={v!r})", lambda k=k, v=v: paper_to_qv(rod, **{**ok_state, k: v}), k)
+    from crosscheck.studies import ladder
+
+    for k, v in [("mu", -1.0), ("alpha", 0.0), ("horizon", 0.0), ("horizon", 1e5), ("timestep", 1e-300), ("radius", 0.7), ("timeconst", 0.0),
+                 ("solimp", (0.9, 0.95)), ("rungs", ("bogus",)), ("reference", 9), ("bogus_option", 1.0)]:
+        def call(k=k, v=v):
+            kw = {"mu": 1.4, k: v}
+            return ladder.run_ladder(s, kw.pop("mu"), **kw)
+        add(f"ladder.run_ladder({k}={v!r})", call, k)
+    for k, v in [("alpha", 0.0), ("timeconst", -1.0), ("dampratio", math.nan)]:
+        add(f"ladder.mujoco_equivalent({k}={v!r})", lambda k=k, v=v: ladder.mujoco_equivalent(s, **{"alpha": 3.0, "timeconst": 0.06, "dampratio": 1.0,
+                                                                                                "solimp": (0.9, 0.95, 0.001, 0.5, 2.0), k: v}), k)
     return cases

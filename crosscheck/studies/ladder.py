@@ -122,6 +122,7 @@ from tqdm.auto import tqdm
 
 from crosscheck.checks import ALPHA, HORIZON, MU, POSITIVE, check
 from crosscheck.compare import as_json
+from crosscheck.engines.base import n_steps_within_memory
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
@@ -169,6 +170,10 @@ CAUSES = ("geometry", "compliance", "friction law", "discretisation", "unexplain
 
 #: Integer code of each cause (maps and CSV columns).
 CAUSE_CODES = {c: i for i, c in enumerate(CAUSES)}
+
+#: Bytes per record row of the hungriest engine rung (the compliant rod's records, 1200; MuJoCo's 768): a start whose
+#: horizon / timestep would need more than ``MAX_RECORD_BYTES`` is refused before any rung runs.
+ROW_BYTES = 1200
 
 #: The module and function of each rung from 2 to 4 (rung 1 and 5 are always there).
 _RUNG_CALLABLE = {
@@ -498,9 +503,17 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
     horizon = float(check("horizon", horizon, HORIZON))
     unknown = sorted(set(rungs) - set(RUNGS))
     if unknown:
-        raise ValueError(f"rungs must be among {', '.join(RUNGS)}; got {unknown[0]!r}")
+        raise ValueError(f"rungs must each be one of {', '.join(RUNGS)}; got {unknown[0]!r}")
     opts = Options.from_kwargs(options)
     th = thresholds or Thresholds()
+    margin = 2.0 * th.window_rows(opts.timestep) * opts.timestep  # the study's margin: windows of events near the end are complete
+    # refuse a record no engine rung can hold before anything runs (a rung would only fail one by one)
+    n_steps_within_memory(horizon + margin, opts.timestep, ROW_BYTES, what="a rung's record")
+    if reference is not None:
+        try:
+            reference = Outcome(int(reference))
+        except (TypeError, ValueError):
+            raise ValueError(f"reference must be an Outcome ({', '.join(o.name for o in Outcome)}) or None; got {reference!r}") from None
     rod = Rod.scaled(alpha)
     match = mujoco_equivalent(state, alpha, timeconst=opts.timeconst, dampratio=opts.dampratio, solimp=opts.solimp)
 
@@ -512,7 +525,6 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
     until = min(first.time, horizon) if outcome1 == Outcome.SLIP else (first.time if outcome1 in EVENTS else horizon)
     lag = max(LAG_TAU * opts.contact_time, LAG_STEPS * opts.timestep) if outcome1 in EVENTS else 0.0
     run_until = max(min(until + lag, horizon), opts.timestep)
-    margin = 2.0 * th.window_rows(opts.timestep) * opts.timestep  # the study's margin: windows of events near the end are complete
     results = [first]
     for k, name in enumerate(RUNGS[1:], start=2):
         if name not in rungs:

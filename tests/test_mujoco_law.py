@@ -132,3 +132,21 @@ def test_bad_inputs():
         get("mujoco_law").simulate(rod, s, 1.0, horizon=0.1, rtol=1.0)
     with pytest.raises(ValueError, match="unknown"):
         get("mujoco_law").simulate(rod, s, 1.0, horizon=0.1, bogus=1)
+
+
+def test_hops_shrink_and_end_in_the_sliding_mode():
+    # a stuck rod whose capsule starts hopping at t ~ 0.59: the hops shrink (algebraically) until the engine averages them
+    rod, opts = Rod.scaled(3.0), Options()
+    states, mu = fs.random_states(1, np.random.default_rng(5))
+    q0, v0 = to_generalized(rod, states[0], tip=(0.0, 0.0, opts.radius))
+    traj = integrate(rod, q0, v0, float(mu[0]), opts, times=np.arange(0, 2.0, 0.01))
+    kinds = [k for _, k in traj.events]
+    assert kinds.count("contact_end") >= 5 and "slide_start" in kinds
+    last = max(t for t, k in traj.events if k == "slide_start")
+    hops = [t for t, k in traj.events if k == "contact_end" and t < last]
+    assert np.all(np.diff(np.diff(hops)) < 0)  # each hop shorter than the one before
+    # then on the plane: the sliding mode pulls the last hop's dist' <= GRAZING_SPEED back to 0 over the time constant
+    # (critically damped: an excursion <= GRAZING_SPEED tau, then (1 + t/tau) e^(-t/tau): 5e-4 of it at 10 tau)
+    after = traj.t >= last + 10 * opts.timeconst
+    assert after.sum() >= 10
+    assert np.abs(traj.q[after, 2] - np.sin(traj.q[after, 4]) - opts.radius).max() < 1e-8

@@ -211,10 +211,6 @@ def study(n: int, rng: np.random.Generator, *, alpha: float = 3.0, duration: flo
         runs[f"friction timeconst {tf:g}"] = measured(states, mu, alpha=alpha, duration=duration, **{**options, "friction_timeconst": tf})
     out["measured"] = {k: r["skew"] for k, r in runs.items()}
     out["saturation"] = {k: r["saturation"] for k, r in runs.items()}
-    out["saturation_median"] = {"law": float(np.nanmedian(law["saturation"])), **{k: float(np.nanmedian(r["saturation"])) for k, r in runs.items()}}
-    table = {"predicted (law run)": law["skew"], "predicted (closed form)": law["closed"], **{f"MuJoCo {k}": r["skew"] for k, r in runs.items()}}
-    out["band_median_deg"] = {k: _medians(x, offset, BANDS) for k, x in table.items()}
-    out["mu_median_deg"] = {k: _medians(x, mu, MU_BINS) for k, x in table.items()}
     # compared: states where the law's run has a contact force and stays in theta in (0, pi/2); the others are counted:
     # "lifts off" (b > 0 at the start: the law has no force, MuJoCo's first step may apply one from its dJ/dt v / 2 term)
     # and "exits" (the rod lies flat within the window and MuJoCo's capsule touches with its other end)
@@ -223,6 +219,12 @@ def study(n: int, rng: np.random.Generator, *, alpha: float = 3.0, duration: flo
     d = np.abs(law["skew"] - runs["default"]["skew"])[compared] if "default" in runs else np.full(1, np.nan)
     out["n_compared"], out["n_exits"], out["n_lifts_off"] = int(compared.sum()), int(law["exits"].sum()), int(out["lifts_off"].sum())
     out["max_abs_difference_deg"] = float(np.degrees(np.nanmax(d))) if d.size else math.nan
+    # medians side by side on the same (compared) states
+    table = {"predicted (law run)": law["skew"], "predicted (closed form)": law["closed"], **{f"MuJoCo {k}": r["skew"] for k, r in runs.items()}}
+    out["band_median_deg"] = {k: _medians(np.where(compared, x, np.nan), offset, BANDS) for k, x in table.items()}
+    out["mu_median_deg"] = {k: _medians(np.where(compared, x, np.nan), mu, MU_BINS) for k, x in table.items()}
+    sat = {"law": law["saturation"], **{k: r["saturation"] for k, r in runs.items()}}
+    out["saturation_median"] = {k: float(np.nanmedian(x[compared])) if compared.any() else math.nan for k, x in sat.items()}
     out["median_abs_difference_deg"] = float(np.degrees(np.nanmedian(d))) if d.size else math.nan
     abl = [ablation(rod, s, float(m), **options) for s, m in zip(states[:n_ablation], mu[:n_ablation])]
     out["ablation_median_deg"] = {k: float(np.degrees(np.median(np.abs([a[k] for a in abl])))) for k in abl[0]} if abl else {}

@@ -29,6 +29,11 @@ rows (t_k = k timestep, k = 0 .. ceil(horizon / timestep) - 1, as the MuJoCo
 engine's rows), which the one classifier reads exactly as it reads MuJoCo's
 (same friction time constant, not rigid).
 
+Limits.  The contact is the A end cap's: once theta leaves (0, pi/2) (the
+classifier's exit) MuJoCo's capsule can touch with its other end, which this
+engine does not model.  Hops slower than ``GRAZING_SPEED`` are averaged into
+the sliding mode.
+
 Units: physical inside (the rod's SI, as MuJoCo's), scaled at the interface.
 """
 

@@ -150,3 +150,16 @@ def test_hops_shrink_and_end_in_the_sliding_mode():
     after = traj.t >= last + 10 * opts.timeconst
     assert after.sum() >= 10
     assert np.abs(traj.q[after, 2] - np.sin(traj.q[after, 4]) - opts.radius).max() < 1e-8
+
+
+def test_delassus_operator_closed_forms_at_the_contact_point():
+    # across the rod (along i) the contact point has inverse inertia (1 + alpha)/m, along the rod's horizontal projection
+    # (1 + alpha (sin theta + offset/l)^2)/m with offset = r + dist/2: the anisotropy behind the skew
+    for alpha, theta in ((3.0, 0.3), (1.5, 1.2)):
+        rod, opts = Rod.scaled(alpha), Options()
+        q, v = to_generalized(rod, SlipState(theta=theta, varphi=-1.0, Theta=0.2, Psi=0.5, eta=1.0), tip=(0.0, 0.0, opts.radius))
+        q[2] -= 1e-6
+        pb = contact_problem(rod, q, v, 1.0, opts)
+        off = opts.radius + pb.dist / 2
+        assert MUJOCO_LAW_PIECES.ok(pb.A[1, 1], 1 + alpha * (math.sin(theta) + off) ** 2)
+        assert abs(pb.A[2, 2] - (1 + alpha)) < 1e-9  # the axial inertia 1e-12 I0 enters at 1e-12 tan^2(theta)

@@ -43,8 +43,10 @@ not the slip velocity itself (``skew_angle``).  While slipping, aref_t =
 tau_f: the direction is that of the cone-constrained minimiser of
 1/2 f^T (A + R) f + B v_t . f_t, which is -v_t only when the tangential block
 of A + R is isotropic and decoupled from the normal row.  At the rod's
-contact point it is neither (the point is far more mobile across the rod
-than along it), hence the skew; R_t = R_n / impratio is isotropic, so a
+contact point it is neither: across the rod (along i) A_tt = (1 + alpha)/m,
+along its horizontal projection (1 + alpha (sin theta + r/l)^2)/m, smaller
+(1.28 against 4 at theta = 0.3, alpha = 3), and a push along the rod also
+moves the point vertically (A_nt != 0); hence the skew; R_t = R_n / impratio is isotropic, so a
 small impratio (R_t >> A_tt) dilutes it, at the price of a softer friction.
 ``crosscheck.studies.friction_skew`` measures all of this in MuJoCo.
 
@@ -302,7 +304,9 @@ def contact_force(rod: Rod, q, v, mu: float, options: Options, *, impratio: floa
     """MuJoCo's contact force on the rod at generalised (q, v) [physical], world frame, in m g.
 
     Zero while the capsule does not penetrate (dist >= 0: MuJoCo keeps a
-    contact only while dist < margin = 0).  ``options``: the MuJoCo engine's
+    contact only while dist < margin = 0).  mu is clamped to MINMU as MuJoCo
+    does.  On the sliding mode at dist = 0 (``crosscheck.engines.mujoco_ode``)
+    the motion applies a fraction lambda of this force, not all of it.  ``options``: the MuJoCo engine's
     scaled ``Options``; impratio as rod.xml's (1) unless given.
     """
     mu = float(check("mu", mu, MU))

@@ -49,6 +49,7 @@ EXPECTED_FIGURES = {
     "rigid_engine": ["jams", "trajectory_jam"],
     "friction_skew": ["skew"],
     "compliant_limit": ["slip_stop_time", "restitution", "jam_convergence"],
+    "ladder": ["causes_Psi_mu", "causes_theta_Theta_0", "causes_theta_Theta_1", "ic2_rungs"],
 }
 
 #: Sections the quick report skips (shown as skipped, with the reason): full report only.

@@ -53,7 +53,7 @@ def params(quick: bool) -> dict:
         for m in maps:
             m["n"] = 8
     return {"alpha": base["alpha"], "horizon": base["horizon"], "options": base["options"], "maps": maps,
-            "reuse": None if quick else mujoco_maps.SLUG, "max_states": 16 if quick else None,
+            "reuse": None if quick else mujoco_maps.SLUG, "max_states": 8 if quick else None,
             "ic2": dict(FIG20_INITIAL_CONDITIONS[1]), "ic2_mu": 1.4}
 
 

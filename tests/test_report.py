@@ -364,3 +364,24 @@ def test_compare_data_allows_only_the_machine_dependent_bits(tmp_path):
     assert not any(compare(old, tree(tmp_path / "a", 0.5 * (1 + 1e-6), 240, 0.8)).values())
     differ = compare(old, tree(tmp_path / "b", 0.5 * (1 + 1e-3), 200, 0.8 * (1 + 1e-8)))
     assert differ["mujoco_trajectories/analytic_jam.csv"] and len(differ["maps.json"]) == 2
+
+
+def test_findings_name_the_causes_of_disagreement_and_the_compliant_limit(tmp_path):
+    """The ladder's line counts what its summary counts, and says 'partly explained' below 90 % attributed; the compliant
+    limit's line fails when one of its physics checks does (regression guards do not count)."""
+    from crosscheck.report.findings import findings
+
+    (tmp_path / "ladder").mkdir()
+    counts = {"geometry": 1, "compliance": 0, "friction law": 2, "discretisation": 0, "unexplained": 2, "undetermined": 0}
+    (tmp_path / "ladder" / "summary.json").write_text(json.dumps({"n_disagree": 5, "attributed": 0.6, "counts": counts}))
+    (tmp_path / "compliant_limit").mkdir()
+    checks = [{"name": "inconsistent starts: fitted slope", "passed": True, "value": [[0.70, 0.69]], "kind": "physics"},
+              {"name": "indeterminate starts", "passed": False, "value": "3 of 4", "kind": "physics"},
+              {"name": "some guard", "passed": False, "value": 1, "kind": "regression guard"}]
+    (tmp_path / "compliant_limit" / "checks.json").write_text(json.dumps(checks))
+    by_slug = {f.slug: f for f in findings(tmp_path)}
+    ladder = by_slug["ladder"]
+    assert ladder.verdict == "partly explained"
+    assert "60 % attributed" in ladder.text and "geometry 1, friction law 2, unexplained 2" in ladder.text
+    limit = by_slug["compliant_limit"]
+    assert limit.verdict == "disagrees" and limit.text.startswith("1 of 2 physics checks")

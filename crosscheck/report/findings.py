@@ -20,6 +20,13 @@ Lines (each only when its section's results are there):
   and predicted by its contact law per band, the ingredient and the option
   that removes it; verdict *explained* when the law's prediction is within
   the section's allowance of the measurement on every state;
+* MuJoCo's friction direction (section ``friction_skew``): the measured skew
+  beside the skew MuJoCo's own contact law predicts, its cause and the
+  options that do or do not remove it;
+* the compliant rod's eps -> 0 limit (section ``compliant_limit``): its
+  physics checks and the measured rates;
+* the causes of MuJoCo's disagreements (section ``ladder``): the share
+  attributed to geometry, compliance, the friction law or discretisation;
 * the paper's misprints found (checks marked as known discrepancies).
 """
 
@@ -142,6 +149,34 @@ def findings(data: Path) -> list[Finding]:
                            f"anisotropic and coupled to the normal row at the rod's contact point (made isotropic and decoupled: "
                            f"{ab.get('isotropic', float('nan')):.2f} instead of {ab.get('law', float('nan')):.1f} degrees). MuJoCo options: {options}. "
                            f"Consequence: MuJoCo slips with -b/p_eff, not -b/p", "explained" if ok else "not explained", "friction_skew"))
+    limit = _json(data / "compliant_limit" / "checks.json")
+    if limit:
+        physics = [c for c in limit if c.get("kind") == "physics"]
+        ok = sum(c["passed"] for c in physics)
+        slopes = next((c["value"] for c in limit if "fitted slope" in c["name"]), [])
+        lag = next((c["value"] for c in limit if "slip-stop lag" in c["name"]), [])
+        gb_rates = next((c["value"] for c in limit if "planar GB point" in c["name"]), {})
+        text = (f"{ok} of {len(physics)} physics checks of the eps -> 0 limit hold: an inconsistent start stops slipping after "
+                f"(eps/lambda) ln(1/eps) (fitted slopes {', '.join(f'{a:.3f}' for a, _ in slopes)} against 1/lambda "
+                f"{', '.join(f'{b:.3f}' for _, b in slopes)}) and its post-event state tends to the rigid impact without collision with the "
+                f"restitution its damping implies; the lift-off / impact boundary of an indeterminate start holds")
+        if lag:
+            text += f"; at Corollary 4.2 jams the slip stop lags the rigid jam as eps^{min(lag):.2f}-eps^{max(lag):.2f} (derived eps^0.8)"
+        if gb_rates:
+            text += f"; at the planar GB point convergence is slow (lag order {gb_rates['lag_order']:.2f}, post-event order {gb_rates['post_order']:.2f})"
+        out.append(Finding("compliant rod: eps -> 0", text, "agrees" if ok == len(physics) else "disagrees", "compliant_limit"))
+    ladder = _json(data / "ladder" / "summary.json")
+    if ladder and ladder.get("n_disagree"):
+        counts, n = ladder["counts"], ladder["n_disagree"]
+        causes = ", ".join(f"{k} {counts[k]}" for k in ("geometry", "compliance", "friction law", "discretisation", "unexplained", "undetermined")
+                           if counts.get(k))
+        ic2 = _json(data / "ladder" / "ic2.json") or {}
+        text = (f"{n} MuJoCo-theory disagreements laddered (of {ladder.get('n_disagreements_on_maps', n)} on the maps), "
+                f"{100 * ladder['attributed']:.0f} % attributed to a named cause: {causes}")
+        if ic2.get("cause"):
+            text += f"; the paper's IC2 (theory lifts off, MuJoCo jams): {ic2['cause']}"
+        verdict = "explained" if ladder["attributed"] >= 0.9 else "partly explained"
+        out.append(Finding("MuJoCo: causes of disagreement", text, verdict, "ladder"))
     known = [(p.parent.name, c) for p in sorted(data.glob("*/checks.json")) for c in json.loads(p.read_text()) if c.get("known_discrepancy")]
     if known:
         where = sorted({s for s, _ in known})

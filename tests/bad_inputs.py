@@ -220,6 +220,19 @@ def api_cases() -> list:
     add("corollary_states(rng=0)", lambda: corollary_states(1.7, 2, 0), "rng")
     for k, v in [("theta", 2.0), ("eta", -1.0), ("Theta", math.nan), ("w", math.inf)]:
         add(f"paper_to_qv({k}={v!r})", lambda k=k, v=v: paper_to_qv(rod, **{**ok_state, k: v}), k)
+    from crosscheck import capsule, compliant
+    from crosscheck.engines import mujoco_ode
+
+    for k, v in [("eps", 0.0), ("eps", -1.0), ("eps", 1e-300), ("eps", 1e300), ("eps", math.nan), ("xi", -0.1), ("xi", 1e300), ("radius", 0.5),
+                 ("radius", -0.01), ("law", "bogus"), ("timestep", 0.0), ("rtol", 1e-300), ("horizon", 0.0), ("horizon", 1e308), ("mu", -1.0)]:
+        add(f"compliant.simulate({k}={v!r})", lambda k=k, v=v: _simulate(compliant, rod, s, k, v), k)
+    for k, v in [("gap", 0.01), ("gap", -1e308), ("gap_rate", math.inf), ("gap_rate", 1e308), ("stop_at", "bogus"), ("eps", 0.0)]:
+        add(f"compliant.integrate({k}={v!r})", lambda k=k, v=v: compliant.integrate(rod, s, 1.4, **{**dict(horizon=0.05, eps=1e-2, xi=1.0), k: v}), k)
+    for k, v in [("radius", -0.01), ("radius", 0.5), ("radius", math.nan), ("mu", -1.0), ("alpha", 0.0), ("t_max", 0.0)]:
+        add(f"capsule.slip_until_event({k}={v!r})", lambda k=k, v=v: capsule.slip_until_event(s, **{**dict(mu=1.4, alpha=3.0, radius=0.01), k: v}), k)
+    for k, v in [("horizon", 0.0), ("horizon", 1e5), ("radius", 0.0), ("radius", 0.7), ("timeconst", 0.0), ("solimp", (0.9, 0.95)),
+                 ("bogus_option", 1.0), ("mu", -1.0)]:
+        add(f"mujoco_ode.simulate({k}={v!r})", lambda k=k, v=v: _simulate(mujoco_ode, rod, s, k, v), k)
     from crosscheck.studies import ladder
 
     for k, v in [("mu", -1.0), ("alpha", 0.0), ("horizon", 0.0), ("horizon", 1e5), ("timestep", 1e-300), ("radius", 0.7), ("timeconst", 0.0),

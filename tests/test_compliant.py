@@ -306,7 +306,7 @@ BAD = {
     "huge eps": (dict(eps=1e300, xi=1.0), "eps must be in [1e-07, 1]; got 1e+300"),
     "huge xi": (dict(eps=1e-2, xi=1e300), "xi must be in [0, 1000]; got 1e+300"),
     "gap rate": (dict(eps=1e-2, xi=1.0, gap_rate=1e308), "gap_rate must be in [-100, 100]; got 1e+308"),
-    "stop_at": (dict(eps=1e-2, xi=1.0, stop_at={"bang"}), "stop_at must name event kinds among contact_start, contact_end, slip_stop, "
+    "stop_at": (dict(eps=1e-2, xi=1.0, stop_at={"bang"}), "stop_at must be event kinds, each one of contact_start, contact_end, slip_stop, "
                 "slip_restart, stick_break, domain_exit, segments, solver_failure; got 'bang'"),
     "method": (dict(eps=1e-2, xi=1.0, method="RK45"), "method must be one of Radau, BDF; got 'RK45'"),
     "horizon": (dict(eps=1e-2, xi=1.0, horizon=0.0), "horizon must be in (0, 10000]; got 0.0"),

@@ -200,7 +200,7 @@ def _check_stop(stop_at) -> frozenset:
     kinds = frozenset([stop_at] if isinstance(stop_at, str) else stop_at)
     bad = sorted(kinds - set(EVENT_KINDS))
     if bad:
-        raise ValueError(f"stop_at must name event kinds among {', '.join(EVENT_KINDS)}; got {bad[0]!r}")
+        raise ValueError(f"stop_at must be event kinds, each one of {', '.join(EVENT_KINDS)}; got {bad[0]!r}")
     return kinds
 
 

@@ -93,9 +93,9 @@ from crosscheck.checks import ALPHA, BOUNDED, HORIZON, MU, THETA, Interval, chec
 from crosscheck.coordinates import tip_velocity, to_generalized
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.slipping import SlipResult, _start_outcome, _state_from
+from crosscheck.slipping import SlipResult, _start_outcome, _state_from, event_table
 from crosscheck.state import SlipState
-from crosscheck.tolerances import GB_REACHED, P_RESOLVED, SLIP_INTEGRATION, STICK_SPEED, THETA_MARGIN
+from crosscheck.tolerances import SLIP_INTEGRATION
 
 __all__ = ["RADIUS", "CapsuleSlipResult", "b", "p", "contact_slip", "tip_slip", "slip_rhs", "slip_until_event"]
 
@@ -240,32 +240,12 @@ class CapsuleSlipResult(SlipResult):
 
 def _events(mu: float, alpha: float, r: float, t_max: float):
     """Terminal event functions g(s, y) and their (outcome, reason): ``crosscheck.slipping``'s, with b and p_C."""
-    gb_r, eta_stick, margin, p_resolved = GB_REACHED.atol, STICK_SPEED.atol, THETA_MARGIN.atol, P_RESOLVED.atol
 
     def bp(y):
         bb, pp, *_ = _coefficients(y[1], y[3], y[4], y[5], mu, alpha, r)
         return bb, pp
 
-    table = [
-        (lambda s, y: bp(y)[0], +1, Outcome.LIFTOFF, "b=0"),
-        (lambda s, y: bp(y)[1] + p_resolved, -1, Outcome.JAM, "p=0"),
-        (lambda s, y: math.hypot(*bp(y)) - gb_r, -1, Outcome.GB, "gb"),
-        (lambda s, y: y[0] - eta_stick, -1, Outcome.STICK, "eta=0"),
-        (lambda s, y: y[6] - t_max, +1, Outcome.SLIP, "t_max"),
-        (lambda s, y: y[1], +1, Outcome.SLIP, "varphi=0"),
-        (lambda s, y: y[1] + math.pi, -1, Outcome.SLIP, "varphi=-pi"),
-        (lambda s, y: y[4] - margin, -1, Outcome.SLIP, "theta=0"),
-        (lambda s, y: _HALF_PI - margin - y[4], -1, Outcome.SLIP, "theta=pi/2"),
-    ]
-    funcs = []
-    for g, direction, _, _ in table:
-        g.terminal = True
-        g.direction = direction
-        funcs.append(g)
-    p_zero = lambda s, y: bp(y)[1]  # noqa: E731  (not terminal: a JAM is reported at the last crossing of p_C = 0)
-    p_zero.terminal, p_zero.direction = False, -1
-    funcs.append(p_zero)
-    return funcs, [(o, reason) for _, _, o, reason in table]
+    return event_table(bp, t_max)
 
 
 def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0, s_max: float = 1e4,

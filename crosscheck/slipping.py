@@ -171,12 +171,18 @@ def _start_outcome(eta: float, b: float, p: float) -> Outcome | None:
 
 def _events(mu: float, alpha: float, t_max: float):
     """Terminal event functions g(s, y) of the run and the (outcome, reason) each one means."""
-    gb_r, eta_stick, margin, p_resolved = GB_REACHED.atol, STICK_SPEED.atol, THETA_MARGIN.atol, P_RESOLVED.atol
 
     def bp(y):
         b, p, *_ = _coefficients(y[0], y[1], y[3], y[4], y[5], mu, alpha)
         return b, p
 
+    return event_table(bp, t_max)
+
+
+def event_table(bp, t_max: float):
+    """The run's event functions g(s, y) on the state y = (eta, varphi, psi, Psi, theta, Theta, t) of eq. f and
+    the (outcome, reason) each one means, for any ``bp(y) -> (b, p)`` (the paper's at A, or at another contact point)."""
+    gb_r, eta_stick, margin, p_resolved = GB_REACHED.atol, STICK_SPEED.atol, THETA_MARGIN.atol, P_RESOLVED.atol
     table = [
         (lambda s, y: bp(y)[0], +1, Outcome.LIFTOFF, "b=0"),
         (lambda s, y: bp(y)[1] + p_resolved, -1, Outcome.JAM, "p=0"),

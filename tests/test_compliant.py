@@ -12,9 +12,9 @@ import pytest
 
 from crosscheck import analytic, engines
 from crosscheck.compliant import integrate, simulate, slow_manifold
-from crosscheck.compliant.model import SLIP, STICK, q_from_y, y_from_qv
+from crosscheck.compliant.model import SLIP, STICK, y_from_qv
 from crosscheck.compliant.trajectory import make_dynamics
-from crosscheck.coordinates import paper_to_qv, tip_position, tip_velocity, to_generalized
+from crosscheck.coordinates import tip_position, tip_velocity, to_generalized
 from crosscheck.iwc import delassus
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod

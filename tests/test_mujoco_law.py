@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 
-import mujoco
 import numpy as np
 import pytest
 
@@ -14,7 +13,6 @@ from crosscheck.engines import get
 from crosscheck.engines.mujoco import Options
 from crosscheck.engines.mujoco_law import accelerations, contact_force, contact_problem, inverse_weight, skew_angle, solve_cone
 from crosscheck.engines.mujoco_ode import integrate
-from crosscheck.engines.mujoco_model import build_model, initial_state
 from crosscheck.studies import friction_skew as fs
 from crosscheck.studies.mujoco_law_check import convergence_order, random_contact
 from crosscheck.studies.mujoco_contact import friction_skew

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from crosscheck.compliant.model import SLIP, Dynamics
+from crosscheck.compliant.model import Dynamics
 from crosscheck.compliant.trajectory import make_dynamics, start_state
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState

@@ -59,7 +59,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from crosscheck.checks import FINITE, HORIZON, MU, NONNEGATIVE, POSITIVE, RATE, Interval, check
+from crosscheck.checks import HORIZON, MU, RATE, Interval, check
 from crosscheck.compliant import laws as _laws
 from crosscheck.compliant.model import FREE, MODES, SLIP, STICK, Dynamics, q_from_y, restart_direction, y_from_qv
 from crosscheck.coordinates import paper_to_qv, qv_to_paper

@@ -18,7 +18,7 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field, fields
-from typing import Any, Protocol, runtime_checkable
+from typing import Any, Callable, Protocol, runtime_checkable
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -30,7 +30,7 @@ from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["Engine", "Run", "SweepResult", "SERIES", "SUMMARY", "STATE_KEYS", "MAX_RECORD_BYTES", "n_steps", "n_steps_within_memory", "options_from_kwargs", "check_states",
+__all__ = ["Engine", "ModuleEngine", "Run", "SweepResult", "SERIES", "SUMMARY", "STATE_KEYS", "MAX_RECORD_BYTES", "n_steps", "n_steps_within_memory", "options_from_kwargs", "check_states",
            "summaries", "sweep_by_simulate"]
 
 #: Decimated time series kept per state by ``sweep`` (each (B, n_series)), scaled units:
@@ -77,6 +77,21 @@ class Engine(Protocol):
 
     def sweep(self, rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None,
               progress: bool = True, **options) -> "SweepResult": ...
+
+
+@dataclass(frozen=True)
+class ModuleEngine:
+    """An engine made of one module's pieces: what each engine module exposes as ``ENGINE``.
+
+    ``simulate`` and ``sweep`` are the module's own functions with the signatures
+    of ``Engine`` (module-level functions, so the engine pickles by reference
+    into a sweep's worker processes).
+    """
+
+    name: str
+    Options: type
+    simulate: Callable[..., "Run"]
+    sweep: Callable[..., "SweepResult"]
 
 
 def options_from_kwargs(cls: type, options: dict[str, Any], engine: str):

@@ -5,12 +5,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from crosscheck.compliant.run import NAME, Options, simulate
-from crosscheck.engines.base import Run, SweepResult, sweep_by_simulate
+from crosscheck.engines.base import ModuleEngine, SweepResult, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["ENGINE", "CompliantEngine", "Options", "simulate", "sweep"]
+__all__ = ["ENGINE", "Options", "simulate", "sweep"]
 
 
 def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
@@ -20,20 +20,4 @@ def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, threshol
                              **options)
 
 
-class CompliantEngine:
-    """The compliant rod behind ``crosscheck.engines.base.Engine``."""
-
-    name = NAME
-    Options = Options
-
-    @staticmethod
-    def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
-        return simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, **options)
-
-    @staticmethod
-    def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None,
-              progress: bool = True, **options) -> SweepResult:
-        return sweep(rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
-
-
-ENGINE = CompliantEngine()
+ENGINE = ModuleEngine(NAME, Options, simulate, sweep)

@@ -30,7 +30,7 @@ from mujoco import rollout
 from tqdm.auto import tqdm
 
 from crosscheck.checks import FINITE, MU, NONNEGATIVE, POSITIVE, Interval, check
-from crosscheck.engines.base import (SERIES, STATE_KEYS, SUMMARY, Run, SweepResult, check_states, n_steps_within_memory, options_from_kwargs,
+from crosscheck.engines.base import (SERIES, ModuleEngine, STATE_KEYS, SUMMARY, Run, SweepResult, check_states, n_steps_within_memory, options_from_kwargs,
                                      summaries)
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines import mujoco_warnings
@@ -38,7 +38,7 @@ from crosscheck.engines.mujoco_model import SensorLayout, build_model, initial_s
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["ENGINE", "MujocoEngine", "Options", "Batch", "simulate", "sweep", "CHUNK_BYTES"]
+__all__ = ["ENGINE", "Options", "Batch", "simulate", "sweep", "CHUNK_BYTES"]
 
 # MuJoCo's warnings are counted, not printed (nor logged to MUJOCO_LOG.TXT in the user's directory).
 mujoco_warnings.install()
@@ -314,20 +314,4 @@ def sweep(
     )
 
 
-class MujocoEngine:
-    """The MuJoCo engine behind the shared interface (``crosscheck.engines.base.Engine``)."""
-
-    name = "mujoco"
-    Options = Options
-
-    @staticmethod
-    def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
-        return simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, **options)
-
-    @staticmethod
-    def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None,
-              progress: bool = True, **options) -> SweepResult:
-        return sweep(rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
-
-
-ENGINE = MujocoEngine()
+ENGINE = ModuleEngine("mujoco", Options, simulate, sweep)

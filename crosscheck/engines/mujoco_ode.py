@@ -47,15 +47,15 @@ from scipy.integrate import solve_ivp
 
 from crosscheck.checks import MU, POSITIVE, Interval, check
 from crosscheck.coordinates import to_generalized
-from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
+from crosscheck.engines.base import ModuleEngine, Run, SweepResult, n_steps_within_memory, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.mujoco import Options
-from crosscheck.engines.mujoco_law import Parameters, accelerations, contact_problem
+from crosscheck.engines.mujoco_law import Parameters, accelerations
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["ENGINE", "MujocoLawEngine", "Trajectory", "integrate", "record", "simulate", "RTOL", "ROW_BYTES"]
+__all__ = ["ENGINE", "Trajectory", "integrate", "record", "simulate", "sweep", "RTOL", "ROW_BYTES"]
 
 #: DOP853's relative tolerance; atol is RTOL times the state's scale (l, l omega, 1 rad, omega).
 RTOL = 1e-10
@@ -335,20 +335,10 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
                                    horizon=horizon, nstep=nstep)
 
 
-class MujocoLawEngine:
-    """MuJoCo's contact law in continuous time behind the shared interface (``crosscheck.engines.base.Engine``)."""
-
-    name = "mujoco_law"
-    Options = Options
-
-    @staticmethod
-    def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
-        return simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, **options)
-
-    @staticmethod
-    def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None,
-              progress: bool = True, **options) -> SweepResult:
-        return sweep_by_simulate(ENGINE, rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
+def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
+          **options) -> SweepResult:
+    """Every state through ``simulate`` (``sweep_by_simulate``)."""
+    return sweep_by_simulate(ENGINE, rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
 
 
-ENGINE = MujocoLawEngine()
+ENGINE = ModuleEngine("mujoco_law", Options, simulate, sweep)

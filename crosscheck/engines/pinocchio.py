@@ -79,14 +79,14 @@ import pinocchio as pin
 
 from crosscheck.checks import MU, POSITIVE, check
 from crosscheck.coordinates import to_generalized
-from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, options_from_kwargs, sweep_by_simulate
+from crosscheck.engines.base import ModuleEngine, Run, SweepResult, n_steps_within_memory, options_from_kwargs, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.pinocchio_model import TIP_FRAME, build_model
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["ENGINE", "PinocchioEngine", "Options", "Stepper", "SOLVERS", "simulate", "sweep"]
+__all__ = ["ENGINE", "Options", "Stepper", "SOLVERS", "simulate", "sweep"]
 
 #: Constraint solvers of Pinocchio that ``Options.solver`` names.
 SOLVERS = ("pgs", "admm")
@@ -330,20 +330,4 @@ def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, threshol
     return sweep_by_simulate(ENGINE, rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options)
 
 
-class PinocchioEngine:
-    """The rigid engine behind the shared interface (``crosscheck.engines.base.Engine``)."""
-
-    name = "pinocchio"
-    Options = Options
-
-    @staticmethod
-    def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
-        return simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, **options)
-
-    @staticmethod
-    def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None,
-              progress: bool = True, **options) -> SweepResult:
-        return sweep(rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
-
-
-ENGINE = PinocchioEngine()
+ENGINE = ModuleEngine("pinocchio", Options, simulate, sweep)

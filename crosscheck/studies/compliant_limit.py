@@ -347,13 +347,12 @@ def planar_restitution(p, S, xi) -> float:
 
     # bracket the first sign change of f on a grid fine against both time scales
     step = 0.01 * min(1.0 / math.sqrt(S), 1.0 / (S * xi) if xi > 0 else math.inf, xi if xi > 0 else math.inf)
-    t0, f0 = 0.0, f(0.0)
+    t0 = 0.0
     while True:
         t1 = t0 + step
-        f1 = f(t1)
-        if f1 <= 0.0:
+        if f(t1) <= 0.0:
             break
-        t0, f0 = t1, f1
+        t0 = t1
         step *= 1.02
         if t0 > 1e6:
             raise RuntimeError("planar_restitution: no release found")

@@ -338,6 +338,28 @@ COMPLIANT_INTEGRATION = Tolerance(atol=1e-10, rtol=1e-8, why="Radau on the compl
 #: ~1e-18) and the time still needed, 1e-9 / |ds/dt|, is added linearly.
 SLIP_STOP = Tolerance(atol=1e-9, rtol=0.0, why="compliant rod: slip speed of C at which the slip-stop event fires")
 
+#: Below this slip speed of C the compliant rod's slipping friction takes the
+#: state's restart direction d instead of s/|s| (``Dynamics.slip_floor``).
+#: d depends on the state, not on s: for a stopping slip it is the approach's
+#: friction direction, so inside the floor a solver step can carry s through
+#: 0 to the far side smoothly; with |s| above the slip-stop speed at both of
+#: its ends the event (a sign change of |s| - SLIP_STOP.atol between step
+#: ends) is not seen.  On the far side the friction s/|s| has turned round
+#: while d has not: outside the floor |s| falls, inside it rises (measured at
+#: a Corollary 4.2 stop, mu = 6, eps = 1e-3: d|s|/dt = -475 and +393), so a
+#: floor at the event's speed is a surface attracting from both sides, which
+#: an implicit solver approaches geometrically and never crosses (|s| ->
+#: 1.0002e-9, steps 1e-11 -> 7e-16, step-size underflow).  The floor must lie
+#: strictly below the slip-stop event, so the far side's slip falls through
+#: the event's speed where s/|s| is smooth.  Half of it leaves a window of
+#: 5e-10 in |s| (>= 5e-13 in time at the measured |ds/dt| <= 1e3, ~1e4 ulp of
+#: t ~ 1) and keeps the switch 5x above the solver's absolute velocity
+#: tolerance (COMPLIANT_INTEGRATION.atol = 1e-10), so a restarting slip's
+#: direction at the switch is not the solver's error.  A stop seen on the far
+#: side is late by ~2 SLIP_STOP.atol / |ds/dt| (5e-12 there): the far side's return.
+SLIP_FLOOR = Tolerance(atol=0.5 * SLIP_STOP.atol, rtol=0.0,
+                       why="compliant rod: restart-direction floor of the slip speed, strictly below the slip-stop event")
+
 #: Order of convergence of the compliant rod to the rigid flow (slow
 #: variables at t = 1, eps = 0.04, 0.02, 0.01, started on the slow manifold;
 #: slip-stop time against the rigid STICK time).  The error is

@@ -1,6 +1,7 @@
 """The compliant rod (crosscheck.compliant): the rigid limit, stick and its edge, the capsule's contact point, energy, bad inputs.
 
-Every run is short (horizon <= 1, eps >= 1e-2): the file takes a few seconds.
+Every run is short (horizon <= 1, eps >= 1e-2, but for one fast slip stop at eps 3e-3 to 3e-4, 0.5 s): the file takes a
+few seconds.
 """
 
 from __future__ import annotations
@@ -143,6 +144,31 @@ def test_at_the_cone_edge_the_slip_restarts_with_continuous_friction_along_it():
         assert COMPLIANT_RESTART.ok(np.arccos(np.clip(-friction_dir @ s / speeds[-1], -1, 1)) / tau, 0.0)
     # tau^2 growth: ten times the time, a hundred times the speed (a finite acceleration would give ten)
     assert speeds[1] / speeds[0] == pytest.approx(100.0, rel=0.1)
+
+
+#: A Corollary 4.2 state at mu = 6 (b < 0 < p, slipping into p = 0) whose slip stops fast (|ds/dt| ~ 400 at the stop).
+JAM_STATE = SlipState(theta=0.28608144662606594, varphi=-2.8900580018074526, Theta=-0.04555998322800074, Psi=-1.8305718794815617,
+                      eta=3.4509638878123847)
+
+
+def test_a_fast_slip_stop_is_located_and_tends_to_the_rigid_jam():
+    """Slipping into a Corollary 4.2 jam (mu = 6), the compliant slip stops after the rigid jam, the later the larger eps.
+
+    At eps = 1e-3 one solver step carries C's slip through s = 0 to the far side with |s| above the slip-stop speed at
+    both ends, so the event is not seen there; the far side's slip must then fall through that speed where the
+    friction direction s/|s| is smooth (a slip floor at the event's speed made |s| = 1e-9 attract from both sides,
+    and the run ended in a solver failure).  The stop is located at each eps, and its lag behind the rigid jam falls
+    with eps (the compliant rod tends to the rigid one; the section compliant_limit measures the rate).
+    """
+    mu = 6.0
+    rigid = slip_until_event(JAM_STATE, mu, ALPHA, t_max=2.0)
+    assert rigid.outcome == Outcome.JAM
+    lags = []
+    for eps in (3e-3, 1e-3, 3e-4):
+        traj = integrate(ROD, JAM_STATE, mu, horizon=rigid.time + 0.3, eps=eps, xi=1.0, stop_at={"slip_stop"})
+        assert [e.kind for e in traj.events][:1] == ["slip_stop"], (eps, [(e.kind, e.time, e.reason) for e in traj.events])
+        lags.append(traj.slip_stop_time - rigid.time)
+    assert 0.0 < lags[2] < lags[1] < lags[0], lags
 
 
 # ------------------------------------------------------------------------- the contact point's kinematics

@@ -26,12 +26,23 @@ stick_break      stick -> slip: |F_t| reaches mu F_n; the slip restarts in
                  cannot cancel (``restart_direction``; friction is
                  continuous across the break).  C's residual slip of the
                  stick phase (the solver's error, ~atol) is removed first.
-                 While |s| < ``SLIP_STOP.atol`` the friction direction is
-                 the current state's self-consistent restart direction.
+                 While |s| < ``SLIP_FLOOR.atol`` (half the slip-stop
+                 speed) the friction direction is the current state's
+                 self-consistent restart direction.  The floor lies strictly
+                 below the slip-stop event: inside it the
+                 friction direction does not turn with s, so one step may
+                 carry a stopping slip through s = 0 to the far side unseen
+                 by the event; there |s| rises inside the floor and falls
+                 outside, and a floor at the event's speed would attract
+                 from both sides, approached but never crossed (a solver
+                 failure).  Below the event the far side's slip falls
+                 through the event's speed where s/|s| is smooth.
 domain_exit      theta leaves (0, pi/2) (M is singular at pi/2).
 segments         more than ``MAX_SEGMENTS`` mode switches (a chatter): the
                  run ends there.
-solver_failure   the solver failed (step size underflow): the run ends.
+solver_failure   the solver failed (step size underflow): the run ends;
+                 the event's ``reason`` is the solver's message with the
+                 mode, C's slip speed and gap there.
 ===============  ==========================================================
 
 Radau or BDF.  Both are scipy's stiff methods; measured on 12 random
@@ -65,7 +76,7 @@ from crosscheck.compliant.model import FREE, MODES, SLIP, STICK, Dynamics, q_fro
 from crosscheck.coordinates import paper_to_qv, qv_to_paper
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
-from crosscheck.tolerances import COMPLIANT_INTEGRATION, SLIP_STOP, THETA_MARGIN
+from crosscheck.tolerances import COMPLIANT_INTEGRATION, SLIP_FLOOR, SLIP_STOP, THETA_MARGIN
 
 __all__ = ["Event", "Segment", "Trajectory", "integrate", "start_state", "make_dynamics", "RADIUS", "GAP", "EVENT_KINDS", "METHODS"]
 
@@ -90,7 +101,8 @@ MAX_SEGMENTS = 20000
 @dataclass(frozen=True)
 class Event:
     """A mode switch at scaled time ``time``: ``kind`` (``EVENT_KINDS``), the mode before and after it, and the
-    state y (gap coordinates, ``crosscheck.compliant.model``) and restart direction after it."""
+    state y (gap coordinates, ``crosscheck.compliant.model``) and restart direction after it; ``reason`` says why a
+    ``solver_failure`` happened (empty for the other kinds)."""
 
     time: float
     kind: str
@@ -98,6 +110,7 @@ class Event:
     after: str
     y: np.ndarray | None = field(default=None, repr=False, compare=False)
     direction: np.ndarray | None = field(default=None, repr=False, compare=False)
+    reason: str = field(default="", compare=False)
 
 
 @dataclass(frozen=True, eq=False)
@@ -211,7 +224,7 @@ def make_dynamics(alpha: float, mu: float, *, eps: float, xi: float, radius: flo
     xi = float(check("xi", xi, _laws.XI))
     radius = float(check("radius", radius, RADIUS))
     law = _laws.get(law)
-    return Dynamics(alpha=float(alpha), mu=mu, eps=eps, xi=xi, radius=radius, law=law, slip_floor=SLIP_STOP.atol)
+    return Dynamics(alpha=float(alpha), mu=mu, eps=eps, xi=xi, radius=radius, law=law, slip_floor=SLIP_FLOOR.atol)
 
 
 def _events(dyn: Dynamics, mode: int, below: bool):
@@ -394,7 +407,10 @@ def integrate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: flo
         if sol.status == -1:
             segments.append(Segment(t, float(seg_t[-1]), mode, direction, y.copy(), sol.sol, sol.nfev, sol.njev))
             T.append(seg_t), Y.append(seg_y), MODE.append(np.full(len(seg_t), mode))
-            events.append(Event(float(seg_t[-1]), "solver_failure", MODES[mode], MODES[mode]))
+            y_end = seg_y[-1]
+            reason = (f"{sol.message} (mode {MODES[mode]}, C's slip speed {math.hypot(*dyn.slip(y_end)):.3g}, gap {y_end[2]:.3g}, "
+                      f"last step {seg_t[-1] - seg_t[-2] if len(seg_t) > 1 else math.nan:.3g})")
+            events.append(Event(float(seg_t[-1]), "solver_failure", MODES[mode], MODES[mode], y_end.copy(), direction, reason))
             break
         if sol.status == 0:
             segments.append(Segment(t, horizon, mode, direction, y.copy(), sol.sol, sol.nfev, sol.njev))

@@ -176,3 +176,17 @@ def test_explain_bad_input_is_one_line(extra, message, capsys):
     argv = ["explain", "--theta", "1.1031", "--varphi", "-1.9233", "--Theta", "0.9", "--Psi", "0", "--eta", "2", "--mu", "1.4"] + extra
     assert main(argv) == 2
     assert capsys.readouterr().err == f"crosscheck: error: {message}\n"
+
+
+def test_a_rerun_that_differs_from_the_study_is_the_same_start_but_for_its_last_bits():
+    """A start of the maps whose MuJoCo outcome is decided by rounding: the study (array-built starts) saw a JAM at
+    t = 0.0027, the ladder's rerun a LIFTOFF at 0.0186; one ulp of theta away MuJoCo jams, and no ulp change makes it
+    slip, so the probe tells a rounding-decided start from a rerun that is really different."""
+    from crosscheck.outcome import Outcome
+    from crosscheck.studies.ladder import decided_by_rounding, run_ladder
+
+    s = SlipState(theta=0.9515625, varphi=-1.9, Theta=0.890625, Psi=0.0, eta=1.0)
+    ld = run_ladder(s, 1.4, reference=Outcome.JAM, rungs=("mujoco",))
+    assert ld.rung("mujoco").label == Outcome.LIFTOFF
+    assert decided_by_rounding(ld, Outcome.JAM)
+    assert not decided_by_rounding(ld, Outcome.SLIP)

@@ -167,9 +167,11 @@ def run(ctx: RunContext) -> None:
     # Checks
     ctx.check("every rung ran at every start (none missing or failed)", not any(study.missing.values()),
               value=study.missing, allowance=0, detail="; ".join(failures[:5]))
-    ctx.check("rung 5 (MuJoCo rerun at the same options) reproduces the agreement study's MuJoCo label at every disagreement",
-              study.reference_mismatch == 0, value=study.reference_mismatch, allowance=0,
-              detail=f"{study.n_disagree} disagreements laddered; the rerun runs only to the comparison time + lag, as the study compares")
+    ctx.check("rung 5 (MuJoCo rerun at the same options) reproduces the agreement study's MuJoCo label at every disagreement, "
+              "or 1-2 ulp of theta away (MuJoCo's first-row contact decided by rounding)",
+              study.reference_mismatch == study.rounding_decided, value=study.reference_mismatch - study.rounding_decided, allowance=0,
+              detail=f"{study.n_disagree} disagreements laddered; the rerun runs only to the comparison time + lag, as the study compares; "
+                     f"{study.reference_mismatch} reruns differ, {study.rounding_decided} of them decided by the start's last bits")
     one = ld.rungs[0]
     ctx.check("IC2: rung 1 (the paper's rod) lifts off at t = 0.01654", one.outcome is not None and one.outcome.name == "LIFTOFF"
               and tol.LADDER_QUOTED_TIME.ok(one.time, 0.01654), value=one.time, allowance=tol.LADDER_QUOTED_TIME.atol,
@@ -218,7 +220,10 @@ def render(ctx: RenderContext) -> list:
                         rows=rows, data=ctx.data("summary.json", "ladder.csv")))
     blocks.append(Text("What the attributed fraction means: rung 5 is MuJoCo itself at the same options, rerun to the comparison time plus "
                        "the lag, so it reproduces the study's label whenever the rerun is faithful "
-                       f"({summary['reference_mismatch']} of {n} did not), and then every disagreement gets some named cause. The information is in "
+                       f"({summary['reference_mismatch']} of {n} did not; of those, {summary.get('rounding_decided', 0)} give the study's label "
+                       "1-2 units in the last place of theta away: MuJoCo's contact in the first row, and with it the outcome, is decided by "
+                       "the start's last bits there, which the study's array-built starts and the ladder's one-by-one starts round differently), "
+                       "and then every disagreement gets some named cause. The information is in "
                        "the split: which of MuJoCo's differences from the paper's rod is the first to produce its outcome."))
     # the ladder need not be monotone: an outcome may change at one rung and reach MuJoCo's only at a later one
     changes = sorted({int(v) for v in lad["first_change"]})

@@ -93,7 +93,7 @@ from crosscheck.checks import ALPHA, BOUNDED, HORIZON, MU, THETA, Interval, chec
 from crosscheck.coordinates import tip_velocity, to_generalized
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.slipping import SlipResult, _start_outcome, _state_from, event_table
+from crosscheck.slipping import SlipResult, _start_outcome, _state_from, event_table, first_event
 from crosscheck.state import SlipState
 from crosscheck.tolerances import SLIP_INTEGRATION
 
@@ -306,21 +306,7 @@ def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0
         Y, s_arr = Y[good], s_arr[good]
         return result(Outcome.DIVERGED, float(Y[-1, 6]), Y[-1], "solver", s_arr, Y)
 
-    outcome, reason = Outcome.SLIP, "s_max"
-    if sol.status == 1:
-        fired = [i for i, te in enumerate(sol.t_events[: len(meaning)]) if len(te)]
-        i = min(fired, key=lambda k: (sol.t_events[k][0], k))  # earliest; on a tie the table's order
-        outcome, reason = meaning[i]
-        s_end, y_end = sol.t_events[i][0], sol.y_events[i][0]
-        if outcome is Outcome.JAM:
-            # fired at p_C = -P_RESOLVED; the crossing is the last root of p_C = 0 before it (or the start)
-            if len(sol.t_events[-1]):
-                s_end, y_end = sol.t_events[-1][-1], sol.y_events[-1][-1]
-            else:
-                s_end, y_end = 0.0, y0
-        keep = s_arr < s_end
-        s_arr = np.append(s_arr[keep], s_end)
-        Y = np.vstack([Y[keep], y_end])
+    outcome, reason, s_arr, Y = first_event(sol, meaning, y0)  # a JAM at the last crossing of p_C = 0
     y = Y[-1].copy()
     t_end = max(float(y[6]), 0.0)  # dt/ds = eta_C p_C < 0 only within P_RESOLVED of p_C = 0: rounding
     eta_out = None

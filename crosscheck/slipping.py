@@ -206,6 +206,31 @@ def event_table(bp, t_max: float):
     return funcs, [(o, r) for _, _, o, r in table]
 
 
+def first_event(sol, meaning, y0) -> tuple[Outcome, str, np.ndarray, np.ndarray]:
+    """(outcome, reason, s, Y) of a finished ``solve_ivp`` run with the events of ``event_table``.
+
+    The earliest terminal event (solve_ivp stops there; on a tie the table's
+    order), or SLIP "s_max" when none fired.  A JAM fires at p = -P_RESOLVED;
+    the crossing itself is the last root of p = 0 before it (none when the run
+    started on the boundary, -P_RESOLVED < p <= 0: then the start ``y0``).  The
+    trajectory (s, Y) is cut at the event and ends on its state.
+    """
+    s_arr, Y = sol.t, sol.y.T
+    if sol.status != 1:
+        return Outcome.SLIP, "s_max", s_arr, Y
+    fired = [i for i, te in enumerate(sol.t_events[: len(meaning)]) if len(te)]
+    i = min(fired, key=lambda k: (sol.t_events[k][0], k))
+    outcome, reason = meaning[i]
+    s_end, y_end = sol.t_events[i][0], sol.y_events[i][0]
+    if outcome is Outcome.JAM:
+        if len(sol.t_events[-1]):
+            s_end, y_end = sol.t_events[-1][-1], sol.y_events[-1][-1]
+        else:
+            s_end, y_end = 0.0, y0
+    keep = s_arr < s_end
+    return outcome, reason, np.append(s_arr[keep], s_end), np.vstack([Y[keep], y_end])
+
+
 def _state_from(y, *, eta=None) -> SlipState:
     varphi = min(max(float(y[1]), _VARPHI_LOW), 0.0)
     theta = min(max(float(y[4]), THETA_MARGIN.atol), _HALF_PI - THETA_MARGIN.atol)
@@ -263,23 +288,7 @@ def continue_slip(state: SlipState, mu, alpha, *, t_max: float = 10.0, s_max: fl
         b, p, *_ = _coefficients(y[0], y[1], y[3], y[4], y[5], mu, alpha)
         return SlipResult(Outcome.DIVERGED, float(y[6]), _state_from(y), "solver", b, p, s_arr, Y[:, 6].copy(), Y[:, :6].copy())
 
-    outcome, reason = Outcome.SLIP, "s_max"
-    if sol.status == 1:
-        fired = [i for i, te in enumerate(sol.t_events[: len(meaning)]) if len(te)]
-        # solve_ivp stops at the earliest terminal event; on a tie keep the table's order
-        i = min(fired, key=lambda k: (sol.t_events[k][0], k))
-        outcome, reason = meaning[i]
-        s_end, y_end = sol.t_events[i][0], sol.y_events[i][0]
-        if outcome is Outcome.JAM:
-            # fired at p = -P_RESOLVED; the crossing itself is the last root of p = 0 before it
-            # (none when the run started on the boundary, -P_RESOLVED < p <= 0: then the start)
-            if len(sol.t_events[-1]):
-                s_end, y_end = sol.t_events[-1][-1], sol.y_events[-1][-1]
-            else:
-                s_end, y_end = 0.0, y0
-        keep = s_arr < s_end
-        s_arr = np.append(s_arr[keep], s_end)
-        Y = np.vstack([Y[keep], y_end])
+    outcome, reason, s_arr, Y = first_event(sol, meaning, y0)
     y = Y[-1].copy()
     t_end = max(float(y[6]), 0.0)  # dt/ds = eta p < 0 only within P_RESOLVED of p = 0: rounding, not time
     eta_out = None

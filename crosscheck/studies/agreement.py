@@ -70,6 +70,7 @@ __all__ = [
     "DEFAULT_HORIZON",
     "LAG_TAU",
     "LAG_STEPS",
+    "window_margin",
     "solver_health",
     "BOUNDARY_RADII",
     "AnalyticEvents",
@@ -192,6 +193,11 @@ def boundary_distance(points: dict, outcome: np.ndarray, *, alpha: float, horizo
 # --------------------------------------------------------------------------
 # Engine side, rated against the analytic side
 # --------------------------------------------------------------------------
+
+
+def window_margin(thresholds: Thresholds, timestep: float) -> float:
+    """How far past the horizon an engine runs: two classifier windows, so an event near the end is judged whole."""
+    return 2.0 * thresholds.window_rows(timestep) * timestep
 
 
 def comparison_labels(outcome: np.ndarray, event_time: np.ndarray, until: np.ndarray) -> np.ndarray:
@@ -479,7 +485,7 @@ def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresho
     given = {**options, **setting}
     opts = options_from_kwargs(E.Options, given, E.name)
     th = thresholds or Thresholds()
-    margin = 2.0 * th.window_rows(opts.timestep) * opts.timestep
+    margin = window_margin(th, opts.timestep)
     offplane = np.abs(points["varphi"][idx] + math.pi / 2)
     if store is not None and thresholds is None and not any(isinstance(v, (list, tuple)) for v in given.values()):
         cols = {k: points[k][idx] for k in ("theta", "varphi", "Theta", "Psi", "eta")}

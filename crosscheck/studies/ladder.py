@@ -128,7 +128,7 @@ from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.slipping import slip_until_event
 from crosscheck.state import SlipState
-from crosscheck.studies.agreement import DEFAULT_HORIZON, EVENTS, LAG_STEPS, LAG_TAU, RATED, comparison_labels
+from crosscheck.studies.agreement import DEFAULT_HORIZON, EVENTS, LAG_STEPS, LAG_TAU, RATED, comparison_labels, window_margin
 
 __all__ = [
     "RUNGS",
@@ -506,7 +506,7 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
         raise ValueError(f"rungs must each be one of {', '.join(RUNGS)}; got {unknown[0]!r}")
     opts = Options.from_kwargs(options)
     th = thresholds or Thresholds()
-    margin = 2.0 * th.window_rows(opts.timestep) * opts.timestep  # the study's margin: windows of events near the end are complete
+    margin = window_margin(th, opts.timestep)
     # refuse a record no engine rung can hold before anything runs (a rung would only fail one by one)
     n_steps_within_memory(horizon + margin, opts.timestep, ROW_BYTES, what="a rung's record")
     if reference is not None:
@@ -623,8 +623,8 @@ def decided_by_rounding(ladder: "Ladder", label: Outcome, *, thresholds: Thresho
     from crosscheck import engines
 
     th = thresholds or Thresholds()
-    opts = {k: v for k, v in ladder.options.items()}
-    margin = 2.0 * th.window_rows(opts["timestep"]) * opts["timestep"]
+    opts = ladder.options
+    margin = window_margin(th, opts["timestep"])
     for k in ROUNDING_ULPS:
         theta = ladder.state.theta
         for _ in range(abs(k)):

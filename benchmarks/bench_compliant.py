@@ -1,4 +1,4 @@
-"""Cost of the compliant rod (crosscheck.compliant.integrate) per state against the rigid flow, and its solver choices.
+"""Cost of the compliant rod (crosscheck.engines.compliant.integrate) per state against the rigid flow, and its solver choices.
 
 Three measurements on the same random slipping states (b < 0 < p, seeded),
 each run to the rigid flow's first event (``crosscheck.slipping.slip_until_event``,
@@ -26,8 +26,8 @@ import numpy as np
 import scipy.integrate
 
 from crosscheck import analytic
-from crosscheck.compliant import integrate
-from crosscheck.compliant import trajectory as _trajectory
+from crosscheck.engines.compliant import integrate
+from crosscheck.engines.compliant import trajectory as _trajectory
 from crosscheck.rod import Rod
 from crosscheck.slipping import slip_until_event
 from crosscheck.state import SlipState

@@ -25,8 +25,8 @@ from mujoco import rollout
 
 from crosscheck import Rod, SlipState
 from crosscheck.engines import get, n_steps
-from crosscheck.engines.mujoco import Options
-from crosscheck.engines.mujoco_model import build_model, initial_state
+from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.model import build_model, initial_state
 
 
 def main() -> None:

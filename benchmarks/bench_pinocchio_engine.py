@@ -27,8 +27,8 @@ from timing import best_of  # benchmarks/timing.py (the script's directory is on
 from crosscheck import Rod, SlipState
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get, n_steps
-from crosscheck.engines.pinocchio import Options
-from crosscheck.engines.pinocchio_model import TIP_FRAME, build_model
+from crosscheck.engines.pinocchio.stepper import Options
+from crosscheck.engines.pinocchio.model import TIP_FRAME, build_model
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 

@@ -73,7 +73,7 @@ FINITE_DIFFERENCE = Tolerance(atol=1e-7, rtol=1e-6, why="central differences, h 
 
 
 # --------------------------------------------------------------- pinocchio ---
-# Pinocchio (crosscheck.engines.pinocchio_model) against the analytic reference, compared in the paper's scaled
+# Pinocchio (crosscheck.engines.pinocchio.model) against the analytic reference, compared in the paper's scaled
 # units.  Each allowance is atol * scale, where scale is the size of the terms the quantity is summed
 # from (its term scale; crosscheck.studies.dynamics_terms): A = (1 + alpha)|F|_1 + V for tip accelerations,
 # V = (1 + |v_s|_1)^2 for velocity terms (v_s the five scaled velocities), 1 for M and g, 1 + |v_s|_1
@@ -199,7 +199,7 @@ MUJOCO_NO_JAM_BELOW_MU_P = Tolerance(atol=0.5, rtol=0.0, why="integer count must
 #: (JAM) in 7-40 % of them; otherwise its soft contact ends the slip by sticking or lifting off.
 MUJOCO_COROLLARY_STOP = Tolerance(atol=0.55, rtol=0.0, why="regression guard: measured 0.37 +- 0.06 (sd 0.05 at n = 90): soft contact ends the slip by stick/lift-off", guard=True)
 
-# The rigid engine (crosscheck.engines.pinocchio): a time-stepper on Pinocchio's NCP solvers.
+# The rigid engine (crosscheck.engines.pinocchio.stepper): a time-stepper on Pinocchio's NCP solvers.
 
 #: One step of a slipping tip: normal impulse / dt against eq. FZ, -b/p, with p evaluated for the
 #: friction direction of the step (the end-of-step slip, which the NCP's Coulomb law sees).  The
@@ -256,24 +256,9 @@ RIGID_NO_JAM_BELOW_MU_P = Tolerance(atol=0.5, rtol=0.0, why="integer count must 
 #: 0.57; the rest stick at the jam row, as in RIGID_EVENT_DISAGREEMENT).
 RIGID_COROLLARY_STOP = Tolerance(atol=0.2, rtol=0.0, why="regression guard: measured 0.056-0.067 (n = 90, seeds 0, 1)", guard=True)
 
-#: The tolerances of the contact-event checks (crosscheck.studies.validate) per engine: an engine
-#: is validated on events only with its own entry here (its own derivations or measurements).
-EVENT_TOLERANCES = {
-    "mujoco": {
-        "liftoff_onset": MUJOCO_LIFTOFF_ONSET,
-        "event_disagreement": MUJOCO_EVENT_DISAGREEMENT,
-        "event_time": MUJOCO_EVENT_TIME,
-        "no_jam_below_mu_P": MUJOCO_NO_JAM_BELOW_MU_P,
-        "corollary_stop": MUJOCO_COROLLARY_STOP,
-    },
-    "pinocchio": {
-        "liftoff_onset": RIGID_LIFTOFF_ONSET,
-        "event_disagreement": RIGID_EVENT_DISAGREEMENT,
-        "event_time": RIGID_EVENT_TIME,
-        "no_jam_below_mu_P": RIGID_NO_JAM_BELOW_MU_P,
-        "corollary_stop": RIGID_COROLLARY_STOP,
-    },
-}
+#: The keys of an engine's event-tolerance profile (``EngineSpec.tolerances``, declared by each engine
+#: with its own derivations or measurements): the checks of ``crosscheck.studies.validate``.
+EVENT_TOLERANCE_KEYS = ("liftoff_onset", "event_disagreement", "event_time", "no_jam_below_mu_P", "corollary_stop")
 
 
 # ---------------------------------------------------------------------- gb ---
@@ -319,7 +304,7 @@ GB_IDENTITY = Tolerance(atol=1e-9, rtol=1e-9, why="identities on b = p = 0 at cl
 EVENT_TIME = Tolerance(atol=1e-7, rtol=1e-7, why="event time: eq. f (s-time) vs real-time eq. polareqs_varphi, both rtol 1e-10")
 
 # -------------------------------------------------------- compliant rod ---
-#: solve_ivp (Radau) on the compliant rod (crosscheck.compliant): rtol 1e-8
+#: solve_ivp (Radau) on the compliant rod (crosscheck.engines.compliant): rtol 1e-8
 #: and atol 1e-10 on O(1) states; on the gap g of the contact point atol is
 #: scaled by eps, so a gap error moves the force F_n = -g / eps^2 + ... by at
 #: most 1e-10 / eps (1e-7 m g at eps = 1e-3).  Scaling by eps^2 instead (the
@@ -498,7 +483,7 @@ COMPLIANT_LIMIT_JAM_LAG_ORDER = Tolerance(atol=0.1, rtol=0.0, why="t_stop - t_ja
 
 
 # -------------------------------------------------------------- mujoco_law ---
-# MuJoCo's contact law in continuous time (crosscheck.engines.mujoco_law, the engine "mujoco_law").
+# MuJoCo's contact law in continuous time (crosscheck.engines.mujoco.law, the engine "mujoco_law").
 
 #: The law's force against MuJoCo's efc_force at the same state, solver run to its iteration limit
 #: (solver_tolerance 0): both are the exact minimiser of the same 3 x 3 cone problem, so they differ by

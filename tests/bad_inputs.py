@@ -146,7 +146,9 @@ def api_cases() -> list:
     from crosscheck import analytic, critical, hybrid, iwc
     from crosscheck.coordinates import paper_to_qv
     from crosscheck.corollary import corollary_states
-    from crosscheck.engines import classifier, mujoco, pinocchio
+    from crosscheck.engines import classifier
+    from crosscheck.engines.mujoco import engine as mujoco
+    from crosscheck.engines.pinocchio import stepper as pinocchio
     from crosscheck.gb import det_K_zeros, gb_manifold
     from crosscheck.rod import Rod
     from crosscheck.slipping import slip_until_event
@@ -220,8 +222,9 @@ def api_cases() -> list:
     add("corollary_states(rng=0)", lambda: corollary_states(1.7, 2, 0), "rng")
     for k, v in [("theta", 2.0), ("eta", -1.0), ("Theta", math.nan), ("w", math.inf)]:
         add(f"paper_to_qv({k}={v!r})", lambda k=k, v=v: paper_to_qv(rod, **{**ok_state, k: v}), k)
-    from crosscheck import capsule, compliant
-    from crosscheck.engines import mujoco_ode
+    from crosscheck import capsule
+    from crosscheck.engines import compliant
+    from crosscheck.engines.mujoco import ode as mujoco_ode
 
     for k, v in [("eps", 0.0), ("eps", -1.0), ("eps", 1e-300), ("eps", 1e300), ("eps", math.nan), ("xi", -0.1), ("xi", 1e300), ("radius", 0.5),
                  ("radius", -0.01), ("law", "bogus"), ("timestep", 0.0), ("rtol", 1e-300), ("horizon", 0.0), ("horizon", 1e308), ("mu", -1.0)]:

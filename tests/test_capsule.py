@@ -11,7 +11,7 @@ from scipy.optimize import brentq
 
 from crosscheck import analytic, capsule, slipping
 from crosscheck.coordinates import to_generalized
-from crosscheck.engines import pinocchio_model as pinrod
+from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState

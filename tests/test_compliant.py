@@ -1,4 +1,4 @@
-"""The compliant rod (crosscheck.compliant): the rigid limit, stick and its edge, the capsule's contact point, energy, bad inputs.
+"""The compliant rod (crosscheck.engines.compliant): the rigid limit, stick and its edge, the capsule's contact point, energy, bad inputs.
 
 Every run is short (horizon <= 1, eps >= 1e-2, but for one fast slip stop at eps 3e-3 to 3e-4, 0.5 s): the file takes a
 few seconds.
@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 from crosscheck import analytic, engines
-from crosscheck.compliant import integrate, simulate, slow_manifold
-from crosscheck.compliant.model import SLIP, STICK, y_from_qv
-from crosscheck.compliant.trajectory import make_dynamics
+from crosscheck.engines.compliant import integrate, simulate, slow_manifold
+from crosscheck.engines.compliant.model import SLIP, STICK, y_from_qv
+from crosscheck.engines.compliant.trajectory import make_dynamics
 from crosscheck.coordinates import tip_position, tip_velocity, to_generalized
 from crosscheck.iwc import delassus
 from crosscheck.outcome import Outcome

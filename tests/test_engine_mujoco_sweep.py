@@ -84,10 +84,10 @@ def test_bad_sweep_input():
 
 
 def test_mujoco_warnings_are_counted_not_printed(tmp_path, monkeypatch, capfd):
-    """MuJoCo's instability warnings go to crosscheck.engines.mujoco_warnings: counted by kind in the sweep's result and
+    """MuJoCo's instability warnings go to crosscheck.engines.mujoco.warning_counts: counted by kind in the sweep's result and
     in a stored sweep's chunk records, never printed on the console nor logged to MUJOCO_LOG.TXT in the working directory."""
     from crosscheck import sweeps
-    from crosscheck.engines import mujoco as mj
+    from crosscheck.engines.mujoco import engine as mj
 
     monkeypatch.chdir(tmp_path)
     fast = SlipState(theta=1.1, varphi=-1.9, Theta=90.0, Psi=90.0, eta=90.0)  # rates at the top of the start range, a coarse step

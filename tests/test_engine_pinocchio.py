@@ -13,7 +13,7 @@ from crosscheck.coordinates import to_generalized
 from crosscheck.corollary import corollary_states
 from crosscheck.critical import Psi_L
 from crosscheck.engines import get
-from crosscheck.engines.pinocchio import Options, Stepper
+from crosscheck.engines.pinocchio.stepper import Options, Stepper
 from crosscheck.studies.onset import liftoff_onset
 from crosscheck.studies.rigid import slip_order, slipping_states
 from crosscheck.tolerances import RIGID_LIFTOFF_ONSET, RIGID_SLIP_ORDER, RIGID_STEP_FORCE

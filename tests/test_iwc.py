@@ -11,7 +11,7 @@ from crosscheck import Rod, SlipState, analytic
 from crosscheck.coordinates import to_generalized
 from crosscheck.corollary import corollary_states
 from crosscheck.engines import get
-from crosscheck.engines.pinocchio import Options, Stepper
+from crosscheck.engines.pinocchio.stepper import Options, Stepper
 from crosscheck.iwc import delassus, impact
 from crosscheck.slipping import slip_until_event
 from crosscheck.studies.rigid import planar_impasse

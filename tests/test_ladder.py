@@ -10,8 +10,8 @@ import pytest
 from crosscheck import engines
 from crosscheck.cli import main
 from crosscheck.engines.classifier import Thresholds
-from crosscheck.engines.mujoco import Options
-from crosscheck.engines.mujoco_model import build_model, initial_state
+from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.model import build_model, initial_state
 from crosscheck.outcome import Outcome
 from crosscheck.paper import FIG20_INITIAL_CONDITIONS
 from crosscheck.rod import Rod

@@ -12,8 +12,8 @@ from crosscheck import Outcome, Rod, SlipState
 from crosscheck import analytic as an
 from crosscheck.critical import Psi_L, Psi_on_b0, theta_L
 from crosscheck.engines import Thresholds, get
-from crosscheck.engines.mujoco import Options
-from crosscheck.engines.mujoco_model import SensorLayout, build_model, initial_state, record_from_sensordata
+from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.model import SensorLayout, build_model, initial_state, record_from_sensordata
 from crosscheck.studies.mujoco_contact import capsule_tip_acceleration, friction_skew
 from crosscheck.tolerances import MUJOCO_CONTACT_ACCELERATION, MUJOCO_DJV_KAPPA, MUJOCO_LIFTOFF_ONSET, MUJOCO_LIFTOFF_ONSET_COARSE
 

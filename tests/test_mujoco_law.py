@@ -1,4 +1,4 @@
-"""MuJoCo's contact law (crosscheck.engines.mujoco_law) against MuJoCo's own solver arrays, and its continuous-time engine."""
+"""MuJoCo's contact law (crosscheck.engines.mujoco.law) against MuJoCo's own solver arrays, and its continuous-time engine."""
 
 from __future__ import annotations
 
@@ -10,9 +10,9 @@ import pytest
 from crosscheck import Rod, SlipState
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get
-from crosscheck.engines.mujoco import Options
-from crosscheck.engines.mujoco_law import accelerations, contact_force, contact_problem, inverse_weight, skew_angle, solve_cone
-from crosscheck.engines.mujoco_ode import integrate
+from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.law import accelerations, contact_force, contact_problem, inverse_weight, skew_angle, solve_cone
+from crosscheck.engines.mujoco.ode import integrate
 from crosscheck.studies import friction_skew as fs
 from crosscheck.studies.mujoco_law_check import convergence_order, random_contact
 from crosscheck.studies.mujoco_contact import friction_skew
@@ -119,7 +119,7 @@ def test_bad_inputs():
         contact_force(rod, np.zeros(4), np.zeros(5), 1.0, Options())
     with pytest.raises(ValueError, match="mu"):
         contact_force(rod, np.zeros(5), np.zeros(5), -1.0, Options())
-    with pytest.raises(ValueError, match="options must be crosscheck.engines.mujoco.Options"):
+    with pytest.raises(ValueError, match="options must be crosscheck.engines.mujoco.engine.Options"):
         contact_problem(rod, np.zeros(5), np.zeros(5), 1.0, {"timestep": 1e-3})
     with pytest.raises(ValueError, match="impratio"):
         contact_force(rod, np.zeros(5), np.zeros(5), 1.0, Options(), impratio=0.0)

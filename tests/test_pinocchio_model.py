@@ -1,4 +1,4 @@
-"""Pinocchio's rod (crosscheck.engines.pinocchio_model) against the paper, state by state.
+"""Pinocchio's rod (crosscheck.engines.pinocchio.model) against the paper, state by state.
 
 Real Pinocchio, seeded random rods and states.  Allowances are atol * scale
 with the tolerances and term scales of the Pinocchio section of
@@ -15,7 +15,7 @@ import pinocchio as pin
 import pytest
 
 from crosscheck import analytic
-from crosscheck.engines import pinocchio_model as pinrod
+from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck import tolerances as tol
 from crosscheck.coordinates import GENERALIZED, paper_to_qv, tip_position
 from crosscheck.critical import mu_P

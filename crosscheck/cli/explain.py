@@ -25,7 +25,7 @@ def _explain(args) -> int:
     mu, alpha = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA)
     horizon = _num("horizon", args.horizon, HORIZON)
     from crosscheck.checks import Interval
-    from crosscheck.engines.mujoco import RADIUS, Options
+    from crosscheck.engines.mujoco.engine import RADIUS, Options
 
     options = {}
     if args.timestep is not None:

@@ -1,16 +1,21 @@
-"""Contact engines behind one interface, looked up by name.
+"""The registry: the one place that knows which contact engines exist.
 
     from crosscheck import engines
-    engines.names()                                   # ['mujoco']
+    engines.names()                                   # ['compliant', 'mujoco', 'mujoco_law', 'pinocchio', ...]
     run = engines.get("mujoco").simulate(rod, state, mu, horizon=1.0, timestep=3e-4)
 
-One module per engine (``crosscheck.engines.mujoco``), each exposing
-``ENGINE``, an object with the attributes of ``crosscheck.engines.base.Engine``;
-the shared pieces are the ``Record`` every engine fills, the one classifier
-(``classify``) and the ``Run`` / ``SweepResult`` they return.  Built-in engines
-are imported on first use, so ``import crosscheck.engines`` does not load
-MuJoCo.  ``register`` adds an engine (for example one defined in a test or a
-user's script); every study and ``--engine`` option then accepts its name.
+Each engine is a subpackage (``crosscheck/engines/<name>/``) that declares
+itself in ``ENGINES``, a tuple of ``crosscheck.engines.spec.EngineSpec``: its
+names, label, libraries, options, tags, tolerance profile, ladder and report
+sections.  ``BUILTIN`` lists those subpackages; everything else in the
+harness (studies, sweeps, tolerances, findings, provenance, the report's
+engine sections) reads ``specs()`` and never names an engine.  An engine's
+library is imported only when it runs, so listing the engines is cheap.
+
+The shared pieces are the ``Record`` every engine fills, the one classifier
+(``classify``) and the ``Run`` / ``SweepResult`` they return.  ``register``
+adds an engine defined elsewhere (a test, a user's script); every study,
+``--engine`` option and generated report section then accepts it.
 """
 
 from __future__ import annotations
@@ -20,41 +25,64 @@ import importlib
 from crosscheck.engines.base import SERIES, SUMMARY, Engine, Run, SweepResult, n_steps, sweep_by_simulate
 from crosscheck.engines.classifier import Classification, Thresholds, classify
 from crosscheck.engines.record import Record
+from crosscheck.engines.spec import TAGS, EngineSpec, ReportPlan
 
-__all__ = ["names", "get", "register", "unregister", "Engine", "Run", "SweepResult", "Record", "Thresholds", "Classification",
-           "classify", "n_steps", "sweep_by_simulate", "SERIES", "SUMMARY"]
+__all__ = ["names", "get", "specs", "register", "unregister", "labels", "Engine", "EngineSpec", "ReportPlan", "TAGS", "Run", "SweepResult",
+           "Record", "Thresholds", "Classification", "classify", "n_steps", "sweep_by_simulate", "SERIES", "SUMMARY"]
 
-#: Engines shipped with crosscheck: name -> module whose ``ENGINE`` it is.
-BUILTIN = {"mujoco": "crosscheck.engines.mujoco", "pinocchio": "crosscheck.engines.pinocchio", "compliant": "crosscheck.engines.compliant",
-           "mujoco_law": "crosscheck.engines.mujoco_ode"}
+#: The engine subpackages shipped with crosscheck, each with ``ENGINES``.
+BUILTIN = (
+    "crosscheck.engines.mujoco",
+    "crosscheck.engines.pinocchio",
+    "crosscheck.engines.compliant",
+)
 
-_registered: dict[str, Engine] = {}
+_builtin: dict[str, EngineSpec] = {}
+_registered: dict[str, EngineSpec] = {}
+
+
+def _builtins() -> dict[str, EngineSpec]:
+    if not _builtin:
+        for package in BUILTIN:
+            for spec in importlib.import_module(package).ENGINES:
+                if spec.name in _builtin:
+                    raise RuntimeError(f"two built-in engines are named {spec.name!r}")
+                _builtin[spec.name] = spec
+    return _builtin
+
+
+def specs() -> list[EngineSpec]:
+    """Every available engine's record: built-in ones by their report order, then registered ones in the order added."""
+    builtin = sorted(_builtins().values(), key=lambda s: (s.report.order if s.report else 1000, list(_builtins()).index(s.name)))
+    return builtin + list(_registered.values())
 
 
 def names() -> list[str]:
     """Names of every available engine, sorted."""
-    return sorted(set(BUILTIN) | set(_registered))
+    return sorted(set(_builtins()) | set(_registered))
 
 
-def get(name: str) -> Engine:
+def get(name: str) -> EngineSpec:
     """The engine called ``name`` (ValueError listing the available names otherwise)."""
     if name in _registered:
         return _registered[name]
-    if name in BUILTIN:
-        return importlib.import_module(BUILTIN[name]).ENGINE
+    if name in _builtins():
+        return _builtin[name]
     raise ValueError(f"engine must be one of {', '.join(names())}; got {name!r}")
 
 
-def register(engine: Engine) -> Engine:
+def labels() -> dict[str, str]:
+    """Engine name -> its label for tables and messages ("mujoco" -> "MuJoCo")."""
+    return {s.name: s.label for s in specs()}
+
+
+def register(engine: EngineSpec) -> EngineSpec:
     """Make ``engine`` available by ``engine.name``; returns it.  A built-in or taken name is refused."""
-    if not isinstance(engine, Engine):
-        raise ValueError(f"engine must have name, Options, simulate and sweep; got {type(engine).__name__}")
-    name = engine.name
-    if not (isinstance(name, str) and name.isidentifier()):
-        raise ValueError(f"engine name must be an identifier; got {name!r}")
-    if name in BUILTIN or name in _registered:
-        raise ValueError(f"an engine named {name!r} is already registered")
-    _registered[name] = engine
+    if not isinstance(engine, EngineSpec):
+        raise ValueError(f"engine must be a crosscheck.engines.EngineSpec; got {type(engine).__name__}")
+    if engine.name in _builtins() or engine.name in _registered:
+        raise ValueError(f"an engine named {engine.name!r} is already registered")
+    _registered[engine.name] = engine
     return engine
 
 

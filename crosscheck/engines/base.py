@@ -6,9 +6,9 @@ classifier ``crosscheck.engines.classifier``.  Everything is in the paper's
 scaled units (section 2.1): time in 1/omega, lengths in l, velocities in
 l omega, accelerations in g, forces in m g; so are an engine's ``Options``.
 
-An engine is any object with the attributes of ``Engine``; register it with
-``crosscheck.engines.register`` and every study and CLI command that takes an
-engine name can use it.  ``sweep_by_simulate`` gives an engine without a
+An engine declares itself in a ``crosscheck.engines.spec.EngineSpec``, which has
+the attributes of ``Engine``; register it with ``crosscheck.engines.register``
+and every study and CLI command that takes an engine name can use it.  ``sweep_by_simulate`` gives an engine without a
 batched path its ``sweep``.
 """
 
@@ -18,7 +18,7 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field, fields
-from typing import Any, Callable, Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -30,7 +30,7 @@ from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["Engine", "ModuleEngine", "Run", "SweepResult", "SERIES", "SUMMARY", "STATE_KEYS", "MAX_RECORD_BYTES", "n_steps", "n_steps_within_memory", "options_from_kwargs", "check_states",
+__all__ = ["Engine", "Run", "SweepResult", "SERIES", "SUMMARY", "STATE_KEYS", "MAX_RECORD_BYTES", "n_steps", "n_steps_within_memory", "options_from_kwargs", "check_states",
            "summaries", "sweep_by_simulate"]
 
 #: Decimated time series kept per state by ``sweep`` (each (B, n_series)), scaled units:
@@ -79,21 +79,6 @@ class Engine(Protocol):
               progress: bool = True, **options) -> "SweepResult": ...
 
 
-@dataclass(frozen=True)
-class ModuleEngine:
-    """An engine made of one module's pieces: what each engine module exposes as ``ENGINE``.
-
-    ``simulate`` and ``sweep`` are the module's own functions with the signatures
-    of ``Engine`` (module-level functions, so the engine pickles by reference
-    into a sweep's worker processes).
-    """
-
-    name: str
-    Options: type
-    simulate: Callable[..., "Run"]
-    sweep: Callable[..., "SweepResult"]
-
-
 def options_from_kwargs(cls: type, options: dict[str, Any], engine: str):
     """``cls(**options)`` with an error naming any unknown option and the known ones."""
     known = {f.name for f in fields(cls)}
@@ -104,8 +89,10 @@ def options_from_kwargs(cls: type, options: dict[str, Any], engine: str):
 
 
 def engine_label(name: str) -> str:
-    """How messages name an engine: its product name where it has one ("MuJoCo"), else its registry name."""
-    return {"mujoco": "MuJoCo", "pinocchio": "Pinocchio"}.get(name, name)
+    """How messages name an engine: its registered label ("MuJoCo" for "mujoco"), else ``name`` itself."""
+    from crosscheck.engines import labels
+
+    return labels().get(name, name)
 
 
 def n_steps(horizon: float, timestep: float) -> int:

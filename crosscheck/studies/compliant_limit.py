@@ -532,10 +532,10 @@ def _tip_velocity_of(d: dict) -> np.ndarray:
 
 def limit_run(state: SlipState, mu: float, alpha: float, *, eps: float, xi: float, horizon: float, gap: float = 0.0, gap_rate: float = 0.0,
               stop_at=("contact_end",)) -> LimitRun:
-    """The compliant rod (``crosscheck.compliant.integrate``, Kelvin-Voigt) from ``state`` until its first contact end (or ``horizon``)."""
+    """The compliant rod (``crosscheck.engines.compliant.integrate``, Kelvin-Voigt) from ``state`` until its first contact end (or ``horizon``)."""
     import time
 
-    from crosscheck.compliant import integrate
+    from crosscheck.engines.compliant import integrate
 
     t0 = time.perf_counter()
     tr = integrate(Rod.scaled(alpha), state, mu, horizon=horizon, eps=eps, xi=xi, gap=gap, gap_rate=gap_rate, stop_at=set(stop_at))

@@ -19,7 +19,7 @@ is compared in the paper's scaled units (m = l = g = 1, forces in m g, time in
 An error is measured against an allowance ``atol * scale + rtol * |want|``,
 with ``scale`` the size of the terms the quantity is summed from (its *term
 scale*) times, for quantities that go through M^-1, the condition number
-1/cos^2 theta of M (see ``crosscheck.engines.pinocchio_model``).  The tolerances and
+1/cos^2 theta of M (see ``crosscheck.engines.pinocchio.model``).  The tolerances and
 their reasons are in the Pinocchio section of ``crosscheck.tolerances``.
 """
 
@@ -30,7 +30,7 @@ import math
 import numpy as np
 
 from crosscheck import analytic
-from crosscheck.engines import pinocchio_model as pinrod
+from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck import tolerances as tol
 from crosscheck.compare import ErrorStat, ValidationResult, error_stat
 from crosscheck.coordinates import paper_to_qv

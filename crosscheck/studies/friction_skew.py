@@ -2,7 +2,7 @@
 
 MuJoCo's friction is not anti-parallel to the slip off the planar section
 (``crosscheck.studies.mujoco_contact.friction_skew`` measures it).  Its
-contact law (``crosscheck.engines.mujoco_law``) says why: on the cone's
+contact law (``crosscheck.engines.mujoco.law``) says why: on the cone's
 surface the force is anti-parallel to
 
     u + a_t / B      (u: contact-point slip velocity, a_t = J_t qacc its
@@ -41,10 +41,10 @@ from mujoco import rollout
 from crosscheck.checks import ALPHA, MU, POSITIVE, check
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines.base import n_steps
-from crosscheck.engines.mujoco import Options
-from crosscheck.engines.mujoco_law import accelerations, contact_problem, skew_angle, solve_cone
-from crosscheck.engines.mujoco_model import SensorLayout, build_model, initial_state, record_from_sensordata
-from crosscheck.engines.mujoco_ode import integrate, record
+from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.law import accelerations, contact_problem, skew_angle, solve_cone
+from crosscheck.engines.mujoco.model import SensorLayout, build_model, initial_state, record_from_sensordata
+from crosscheck.engines.mujoco.ode import integrate, record
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState

@@ -13,9 +13,9 @@ rung  name            model
 1     ``tip``         rigid rod, contact at A (the paper): ``crosscheck.slipping.slip_until_event``
 2     ``capsule``     rigid rod, contact at C: ``crosscheck.capsule.slip_until_event(radius=r)``
 3     ``compliant``   Kelvin-Voigt rod at C, exact Coulomb friction, MuJoCo-equivalent
-                      (eps, xi) (``mujoco_equivalent``): ``crosscheck.compliant.simulate``
+                      (eps, xi) (``mujoco_equivalent``): ``crosscheck.engines.compliant.simulate``
 4     ``mujoco_law``  MuJoCo's contact law at C in continuous time:
-                      ``crosscheck.engines.mujoco_law.simulate``
+                      ``crosscheck.engines.mujoco.law.simulate``
 5     ``mujoco``      MuJoCo at the run's timestep: ``crosscheck.engines.get("mujoco").simulate``
 ====  ==============  =========================================================================
 
@@ -60,7 +60,7 @@ obeys
 
     r'' = (1 - d) a0 - d B r' - d^2 K r          (an acceleration law),
 
-while the Kelvin-Voigt law of ``crosscheck.compliant`` is a force law,
+while the Kelvin-Voigt law of ``crosscheck.engines.compliant`` is a force law,
 F_n = -r / eps^2 - (xi / eps) r', so that r'' = a0 + A_nn F_n.  Matching the
 stiffness and damping of the two (the coefficients of r and r') gives
 
@@ -178,8 +178,8 @@ ROW_BYTES = 1200
 #: The module and function of each rung from 2 to 4 (rung 1 and 5 are always there).
 _RUNG_CALLABLE = {
     "capsule": ("crosscheck.capsule", "slip_until_event"),
-    "compliant": ("crosscheck.compliant", "simulate"),
-    "mujoco_law": ("crosscheck.engines.mujoco_law", "simulate"),
+    "compliant": ("crosscheck.engines.compliant", "simulate"),
+    "mujoco_law": ("crosscheck.engines.mujoco.law", "simulate"),
 }
 
 
@@ -241,7 +241,7 @@ class KelvinVoigtMatch:
     """MuJoCo's normal row matched by a Kelvin-Voigt contact at the start state (module docstring).
 
     Attributes:
-      eps, xi: the Kelvin-Voigt compliance and damping of ``crosscheck.compliant``
+      eps, xi: the Kelvin-Voigt compliance and damping of ``crosscheck.engines.compliant``
         (F_n = -gap/eps^2 - (xi/eps) gap' in m g, gap in l, time in 1/omega).
       A_nn: the normal Delassus entry 1 + alpha cos^2 theta (frictionless eq. p).
       b: eq. b at the start (the free normal acceleration a0).
@@ -343,7 +343,7 @@ class Ladder:
 
     Attributes:
       state, mu, alpha: the start.
-      options: MuJoCo's options (a dict of ``crosscheck.engines.mujoco.Options``' fields).
+      options: MuJoCo's options (a dict of ``crosscheck.engines.mujoco.engine.Options``' fields).
       match: the Kelvin-Voigt (eps, xi) of rung 3 (``mujoco_equivalent``).
       horizon: the study's horizon; until: rung 1's comparison time; lag: the
         extension of an analytic event's comparison; run_until: how far rungs 2-5 ran.
@@ -486,14 +486,14 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
       rungs: the rungs to run besides rung 1 (the others are reported
         "not available: not requested"); all by default.
       keep: keep each rung's own result object (``RungResult.result``).
-      **options: MuJoCo's options (fields of ``crosscheck.engines.mujoco.Options``:
+      **options: MuJoCo's options (fields of ``crosscheck.engines.mujoco.engine.Options``:
         timestep, radius, timeconst, dampratio, solimp, ...); rungs 2-4 use
         the same radius, solref and solimp.
 
     Returns:
       ``Ladder``.
     """
-    from crosscheck.engines.mujoco import Options
+    from crosscheck.engines.mujoco.engine import Options
 
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
@@ -610,7 +610,7 @@ def decided_by_rounding(ladder: "Ladder", label: Outcome, *, thresholds: Thresho
     """Whether MuJoCo gives ``label`` at a start 1 or 2 units in the last place of theta away from ``ladder``'s.
 
     MuJoCo's capsule starts touching the plane, its lowest point at z = 0 up to
-    rounding (``crosscheck.engines.mujoco_model.initial_state``), so whether its
+    rounding (``crosscheck.engines.mujoco.model.initial_state``), so whether its
     contact is active in the first row is decided by the last bits of the
     start, and near p = 0 that decides the outcome (a start of the maps
     jams at t = 0.0027 or lifts off at t = 0.0186 as theta moves by one ulp).

@@ -1,4 +1,4 @@
-"""Is ``crosscheck.engines.mujoco_law`` MuJoCo's law?  Its force against mj_forward's, and MuJoCo's approach to it as dt -> 0.
+"""Is ``crosscheck.engines.mujoco.law`` MuJoCo's law?  Its force against mj_forward's, and MuJoCo's approach to it as dt -> 0.
 
 * ``random_contact`` / ``efc_agreement``: at seeded random penetrating,
   slipping contacts (random alpha, mu, radius, solref, solreffriction,
@@ -20,9 +20,9 @@ import mujoco
 import numpy as np
 
 from crosscheck.engines import get
-from crosscheck.engines.mujoco import Options
-from crosscheck.engines.mujoco_law import contact_problem
-from crosscheck.engines.mujoco_model import build_model, initial_state
+from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.law import contact_problem
+from crosscheck.engines.mujoco.model import build_model, initial_state
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 

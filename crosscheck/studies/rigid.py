@@ -1,6 +1,6 @@
 """Checks only a rigid time-stepper has: one step against eq. FZ, first-order slipping, and the aftermath of a jam against the IWC.
 
-A rigid contact (``crosscheck.engines.pinocchio``) answers within one step,
+A rigid contact (``crosscheck.engines.pinocchio.stepper``) answers within one step,
 so three things can be checked that a soft contact cannot give:
 
 * ``one_step``: while the tip slips, the step's normal impulse / dt is the
@@ -31,7 +31,7 @@ from crosscheck.coordinates import to_generalized
 from crosscheck.corollary import corollary_states
 from crosscheck.critical import theta_12
 from crosscheck.engines import get
-from crosscheck.engines.pinocchio import Options, Stepper
+from crosscheck.engines.pinocchio.stepper import Options, Stepper
 from crosscheck.iwc import delassus, impact
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod

@@ -64,7 +64,7 @@ class SweepSummary:
 
 def _timed_chunk(spec: Spec, chunk_id: int):
     """(table, seconds, the engine's warnings by kind) of one chunk, measured in the process that computes it."""
-    from crosscheck.engines import mujoco_warnings
+    from crosscheck.engines.mujoco import warning_counts as mujoco_warnings
 
     mujoco_warnings.install()
     before = mujoco_warnings.counts()

@@ -1,7 +1,7 @@
 """The compliant rod as eps -> 0: slip stops after inconsistent starts, the law's restitution, the indeterminate boundary, the planar GB point and 3-D Corollary 4.2 jams, against the rigid impact without collision.
 
 All from ``crosscheck.studies.compliant_limit`` (its module docstring has the
-derivations) with the compliant rod of ``crosscheck.compliant``
+derivations) with the compliant rod of ``crosscheck.engines.compliant``
 (Kelvin-Voigt law, stiffness 1/eps^2, damping xi/eps, exact Coulomb
 friction):
 
@@ -305,4 +305,4 @@ def render(ctx: RenderContext) -> list:
 
 SECTION = Section(slug=SLUG, title="Compliant rod: the eps -> 0 limit against the impact without collision", paper="eqs. b, p, FZ, Corollary 4.2, section 6",
                   params=params, run=run, render=render,
-                  requires=("crosscheck.compliant", "crosscheck.studies.compliant_limit", "crosscheck.iwc", "crosscheck.corollary"))
+                  requires=("crosscheck.engines.compliant", "crosscheck.studies.compliant_limit", "crosscheck.iwc", "crosscheck.corollary"))

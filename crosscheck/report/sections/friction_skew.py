@@ -1,6 +1,6 @@
 """MuJoCo's friction-direction skew: its contact law written out, predicted against measured, its cause and what removes it.
 
-* The law (``crosscheck.engines.mujoco_law``) against MuJoCo's own solver
+* The law (``crosscheck.engines.mujoco.law``) against MuJoCo's own solver
   arrays at random contacts (``crosscheck.studies.mujoco_law_check``).
 * MuJoCo's approach to the law integrated in continuous time (engine
   "mujoco_law") as its timestep shrinks: the order.
@@ -78,7 +78,7 @@ def render(ctx: RenderContext) -> list:
     st = ctx.store.read_table("states")
     P = ctx.params
     blocks: list = [Text(
-        "MuJoCo's contact force, written out (`crosscheck.engines.mujoco_law`): f = argmin over the elliptic cone |f_t| <= mu f_n of "
+        "MuJoCo's contact force, written out (`crosscheck.engines.mujoco.law`): f = argmin over the elliptic cone |f_t| <= mu f_n of "
         "1/2 f^T (A + R) f + f^T (a0 - aref), with A = J M^-1 J^T at MuJoCo's contact point, a0 = J qacc_smooth (no dJ/dt v term), "
         "aref = -B J v - K d(dist) dist (B = 2/(dmax tau), K = 1/(dmax^2 tau^2 zeta^2), K = 0 on the friction rows), "
         "R = (1 - d)/d times the rod's translational body_invweight0 (1/m, not A's diagonal), R_t = R_n / impratio. "
@@ -158,5 +158,5 @@ def render(ctx: RenderContext) -> list:
 
 SECTION = Section(slug=SLUG, title="MuJoCo's contact law: friction-direction skew predicted and measured", paper="eqs. friction, p, FZ",
                   params=params, run=run, render=render,
-                  requires=("crosscheck.engines.mujoco_law", "crosscheck.engines.mujoco_ode", "crosscheck.studies.friction_skew",
+                  requires=("crosscheck.engines.mujoco.law", "crosscheck.engines.mujoco.ode", "crosscheck.studies.friction_skew",
                             "crosscheck.studies.mujoco_law_check"))

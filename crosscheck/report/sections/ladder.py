@@ -304,5 +304,5 @@ def render(ctx: RenderContext) -> list:
 
 SECTION = Section(slug=SLUG, title="The ladder: a named cause for each MuJoCo-theory disagreement", paper="Fig. 20 (IC2); sections 2, 4",
                   params=params, run=run, render=render,
-                  requires=("crosscheck.studies.ladder", "crosscheck.capsule", "crosscheck.compliant", "crosscheck.engines.mujoco_law",
-                            "crosscheck.engines.mujoco"))
+                  requires=("crosscheck.studies.ladder", "crosscheck.capsule", "crosscheck.engines.compliant", "crosscheck.engines.mujoco.law",
+                            "crosscheck.engines.mujoco.engine"))

@@ -92,4 +92,4 @@ def render(ctx: RenderContext) -> list:
 
 
 SECTION = Section(slug=SLUG, title="MuJoCo: lift-off onset against Psi_L", paper="eqs. thetal, psil (section 3.3)",
-                  params=params, run=run, render=render, requires=("crosscheck.studies.onset", "crosscheck.engines.mujoco"))
+                  params=params, run=run, render=render, requires=("crosscheck.studies.onset", "crosscheck.engines.mujoco.engine"))

@@ -150,7 +150,7 @@ def render(ctx: RenderContext) -> list:
         for r in mp["runs"]:
             for kind, count in (r.get("engine_warnings") or {}).items():
                 warned[kind] = warned.get(kind, 0) + int(count)
-    if warned:  # the engine's own console warnings, captured (crosscheck.engines.mujoco_warnings) and reported here
+    if warned:  # the engine's own console warnings, captured (crosscheck.engines.mujoco.warning_counts) and reported here
         blocks.append(Text(f"{name} warned during these runs: " + "; ".join(f"{n} x \"{k}\"" for k, n in sorted(warned.items()))
                            + ". Each is MuJoCo resetting a run after an instability; the classifier records the run's divergence (DIVERGED unless an event came first)."))
     conf = 0

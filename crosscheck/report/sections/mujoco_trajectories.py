@@ -156,4 +156,4 @@ def render(ctx: RenderContext) -> list:
 
 
 SECTION = Section(slug=SLUG, title="MuJoCo vs analytic: trajectories through a lift-off and a jam", paper="eqs. polareqs_varphi, FZ, f",
-                  params=params, run=run, render=render, requires=("crosscheck.engines.mujoco", "crosscheck.gb"))
+                  params=params, run=run, render=render, requires=("crosscheck.engines.mujoco.engine", "crosscheck.gb"))

@@ -82,4 +82,4 @@ def render(ctx: RenderContext) -> list:
 
 
 SECTION = Section(slug=SLUG, title="MuJoCo: validate (contact acceleration, onset, event agreement, jams)", paper="eqs. linode2, psil, FZ; Corollary 4.2",
-                  params=params, run=run, render=render, requires=("crosscheck.studies.validate", "crosscheck.engines.mujoco"))
+                  params=params, run=run, render=render, requires=("crosscheck.studies.validate", "crosscheck.engines.mujoco.engine"))

@@ -11,7 +11,7 @@ Two parts:
   ``route="delassus"``, G F + free acceleration) and its b and p against eqs.
   linode2, b and p.  Near the vertical rod M_psipsi = I0 cos^2 theta, so
   anything solved through M^-1 in the psi direction loses accuracy like
-  eps / cos^2 theta (``crosscheck.engines.pinocchio_model``'s docstring); the figure
+  eps / cos^2 theta (``crosscheck.engines.pinocchio.model``'s docstring); the figure
   shows whether each route follows its expected growth.  Errors are in units
   of the term scale A = (1 + alpha) |F|_1 + (1 + |rates|)^2 (scaled units), the
   size of the terms eq. linode2 sums.
@@ -36,7 +36,7 @@ def params(quick: bool) -> dict:
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck.engines import pinocchio_model as pinrod
+    from crosscheck.engines.pinocchio import model as pinrod
     from crosscheck.studies import dynamics_terms
 
     P = ctx.params
@@ -141,4 +141,4 @@ def render(ctx: RenderContext) -> list:
 
 
 SECTION = Section(slug=SLUG, title="Pinocchio vs analytic", paper="eqs. rotode, linode, linode2, b, p, mup2D",
-                  params=params, run=run, render=render, requires=("crosscheck.studies.dynamics_terms", "crosscheck.engines.pinocchio_model"))
+                  params=params, run=run, render=render, requires=("crosscheck.studies.dynamics_terms", "crosscheck.engines.pinocchio.model"))

@@ -188,4 +188,4 @@ def render(ctx: RenderContext) -> list:
 
 SECTION = Section(slug=SLUG, title="Rigid engine: lift-off onset, jams and the impact without collision", paper="eq. psil, Corollary 4.2, section 6",
                   params=params, run=run, render=render,
-                  requires=("crosscheck.studies.rigid", "crosscheck.engines.pinocchio", "crosscheck.iwc", "crosscheck.hybrid"))
+                  requires=("crosscheck.studies.rigid", "crosscheck.engines.pinocchio.stepper", "crosscheck.iwc", "crosscheck.hybrid"))

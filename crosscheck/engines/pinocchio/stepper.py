@@ -1,6 +1,6 @@
 """The rigid engine: a Moreau / Stewart-Trinkle time-stepper on Pinocchio's constraint solvers with the exact Coulomb cone.
 
-The rod is the 5-joint model of ``crosscheck.engines.pinocchio_model`` (the
+The rod is the 5-joint model of ``crosscheck.engines.pinocchio.model`` (the
 same one whose M, C, g, Jacobians and Delassus operator are checked against
 the paper); the contact is Pinocchio's ``PointContactConstraintModel``
 between the plane (the universe, world axes: two tangential rows, then the
@@ -72,102 +72,32 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
 
 from crosscheck.checks import MU, POSITIVE, check
 from crosscheck.coordinates import to_generalized
-from crosscheck.engines.base import ModuleEngine, Run, SweepResult, n_steps_within_memory, options_from_kwargs, sweep_by_simulate
+from crosscheck.engines import get
+from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds, classify
-from crosscheck.engines.pinocchio_model import TIP_FRAME, build_model
+from crosscheck.engines.pinocchio.model import TIP_FRAME, build_model
+from crosscheck.engines.pinocchio.options import SOLVERS, Options
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["ENGINE", "Options", "Stepper", "SOLVERS", "simulate", "sweep"]
+__all__ = ["NAME", "Options", "Stepper", "SOLVERS", "simulate", "sweep"]
 
-#: Constraint solvers of Pinocchio that ``Options.solver`` names.
-SOLVERS = ("pgs", "admm")
+#: The engine's registry name.
+NAME = "pinocchio"
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 #: Bytes per record row (the raw row, the Record's columns and the classifier's temporaries): the peak
 #: resident memory of a 2e5-step run grew by 980 bytes per row; 1.5 x that as a margin.
 ROW_BYTES = 1536
-
-
-@dataclass(frozen=True)
-class Options:
-    """Parameters of the rigid engine, in the paper's scaled units.
-
-    Attributes:
-      timestep: omega dt (default 1e-3).
-      solver: "pgs" (projected Gauss-Seidel, default) or "admm".
-      tolerance: absolute complementarity and feasibility tolerance of the NCP
-        as a force (m g): the solver stops when they are below tolerance x dt
-        in impulses (default 1e-13, ~1e-13 of a step's impulse while slipping,
-        whose force is O(1) m g).
-      max_iterations: the solver's first iteration cap (default 1000).
-      max_iterations_limit: the cap is raised tenfold, up to this, on a step
-        that misses the tolerance (default 1e4: past the paradox the NCP may
-        have several solutions and PGS cycles; more iterations did not help).
-      contact_gap: the contact enters the NCP when the tip's height is at
-        most this (units of l); None means 10 timestep^2 (module docstring).
-      ncp: True solves the NCP on the exact cone; False the convex relaxation
-        (kept only to show what it does wrong; ADMM only: Pinocchio 4.1's PGS
-        solves the NCP whatever ``solve_ncp`` says).
-    """
-
-    timestep: float = 1e-3
-    solver: str = "pgs"
-    tolerance: float = 1e-13
-    max_iterations: int = 1000
-    max_iterations_limit: int = 10_000
-    contact_gap: float | None = None
-    ncp: bool = True
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "timestep", float(check("timestep", self.timestep, POSITIVE)))
-        object.__setattr__(self, "tolerance", float(check("tolerance", self.tolerance, POSITIVE)))
-        if self.solver not in SOLVERS:
-            raise ValueError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")
-        for name in ("max_iterations", "max_iterations_limit"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 1):
-                raise ValueError(f"{name} must be an integer >= 1; got {v!r}")
-        if self.max_iterations_limit < self.max_iterations:
-            raise ValueError(f"max_iterations_limit must be >= max_iterations = {self.max_iterations}; got {self.max_iterations_limit}")
-        if self.contact_gap is not None:
-            object.__setattr__(self, "contact_gap", float(check("contact_gap", self.contact_gap, POSITIVE)))
-        if not isinstance(self.ncp, (bool, np.bool_)):
-            raise ValueError(f"ncp must be True or False; got {self.ncp!r}")
-        if not self.ncp and self.solver != "admm":
-            # Pinocchio 4.1's PGS solves the NCP whatever solve_ncp says (measured); ADMM follows it.
-            raise ValueError(f"ncp=False (the convex relaxation) needs solver='admm'; got solver={self.solver!r}")
-
-    @classmethod
-    def from_kwargs(cls, options: dict) -> "Options":
-        return options_from_kwargs(cls, options, "pinocchio")
-
-    @property
-    def gap(self) -> float:
-        """The activation height of the contact [l]."""
-        return self.contact_gap if self.contact_gap is not None else 10.0 * self.timestep**2
-
-    @property
-    def contact_time(self) -> float:
-        """A rigid contact has no force build-up time."""
-        return 0.0
-
-    @property
-    def friction_time(self) -> float:
-        """A rigid contact does not creep."""
-        return 0.0
-
-    def as_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
 @dataclass
@@ -316,7 +246,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
                     slip_vel=np.column_stack([vel[:, 0], vel[:, 1], np.zeros(n)]), psi=raw[:, 12].copy(), theta=raw[:, 13].copy(),
                     Psi=raw[:, 14] / w, Theta=raw[:, 15] / w)
     c = classify(record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=0.0, rigid=True, thresholds=th)
-    run = Run.from_classification(ENGINE.name, c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
+    run = Run.from_classification(NAME, c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
                                   horizon=horizon, nstep=n)
     health = SolverHealth(contact_steps=int(active.sum()), max_iterations=int(iters.max(initial=0)),
                           mean_iterations=float(iters[active].mean()) if active.any() else 0.0,
@@ -327,7 +257,5 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
 def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
           workers: int = 2, **options) -> SweepResult:
     """Every state through ``simulate`` (one classifier, the same records), on ``workers`` processes (both cores by default)."""
-    return sweep_by_simulate(ENGINE, rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options)
+    return sweep_by_simulate(get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options)
 
-
-ENGINE = ModuleEngine("pinocchio", Options, simulate, sweep)

@@ -20,11 +20,24 @@ manifold's start, ``slow_manifold``), ``run`` (``simulate``: the engine's
 ``Run``).
 """
 
-from crosscheck.compliant.trajectory import EVENT_KINDS, Event, Trajectory, integrate
-from crosscheck.compliant.laws import LAWS, NormalLaw
-from crosscheck.compliant.model import Dynamics
-from crosscheck.compliant.manifold import rigid_normal_force, slow_manifold
-from crosscheck.compliant.run import Options, simulate
+from crosscheck.engines.spec import EngineSpec, ReportPlan
+from crosscheck.engines.compliant.trajectory import EVENT_KINDS, Event, Trajectory, integrate
+from crosscheck.engines.compliant.laws import LAWS, NormalLaw
+from crosscheck.engines.compliant.model import Dynamics
+from crosscheck.engines.compliant.manifold import rigid_normal_force, slow_manifold
+from crosscheck.engines.compliant.run import Options, simulate, sweep
 
-__all__ = ["integrate", "simulate", "slow_manifold", "rigid_normal_force", "Options", "Trajectory", "Event", "EVENT_KINDS", "Dynamics",
+__all__ = ["ENGINES", "integrate", "simulate", "sweep", "slow_manifold", "rigid_normal_force", "Options", "Trajectory", "Event", "EVENT_KINDS", "Dynamics",
            "NormalLaw", "LAWS"]
+
+
+def _sections():
+    from crosscheck.report.sections import compliant_limit
+
+    return (compliant_limit.SECTION,)
+
+
+ENGINES = (
+    EngineSpec(name="compliant", module="crosscheck.engines.compliant.run", label="compliant rod", one_core={"workers": 1},
+               tags={"compliant", "continuous"}, report=ReportPlan(sections=_sections, order=30)),
+)

@@ -1,6 +1,6 @@
 """Event-driven integration of the compliant rod: contact start and end, slip stop, stick break, each a mode switch.
 
-The rod of ``crosscheck.compliant.model`` is integrated mode by mode (free,
+The rod of ``crosscheck.engines.compliant.model`` is integrated mode by mode (free,
 slipping, stuck) with scipy's implicit Radau method and the analytic stiff
 Jacobian of ``Dynamics.jac``; each mode's right-hand side is smooth, and a
 mode ends at a terminal event where the next mode begins:
@@ -71,8 +71,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from crosscheck.checks import HORIZON, MU, RATE, Interval, check
-from crosscheck.compliant import laws as _laws
-from crosscheck.compliant.model import FREE, MODES, SLIP, STICK, Dynamics, q_from_y, restart_direction, y_from_qv
+from crosscheck.engines.compliant import laws as _laws
+from crosscheck.engines.compliant.model import FREE, MODES, SLIP, STICK, Dynamics, q_from_y, restart_direction, y_from_qv
 from crosscheck.coordinates import paper_to_qv, qv_to_paper
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
@@ -101,7 +101,7 @@ MAX_SEGMENTS = 20000
 @dataclass(frozen=True)
 class Event:
     """A mode switch at scaled time ``time``: ``kind`` (``EVENT_KINDS``), the mode before and after it, and the
-    state y (gap coordinates, ``crosscheck.compliant.model``) and restart direction after it; ``reason`` says why a
+    state y (gap coordinates, ``crosscheck.engines.compliant.model``) and restart direction after it; ``reason`` says why a
     ``solver_failure`` happened (empty for the other kinds)."""
 
     time: float
@@ -344,7 +344,7 @@ def integrate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: flo
       eps: the law's small parameter (stiffness 1/eps^2, damping xi/eps), > 0.
       xi: damping, >= 0.
       radius: capsule radius r / l in [0, 0.5) (0: the contact is the tip A).
-      law: a name of ``crosscheck.compliant.laws`` ("kelvin-voigt" default).
+      law: a name of ``crosscheck.engines.compliant.laws`` ("kelvin-voigt" default).
       gap: initial gap of C [l], <= 0 (initial penetration -gap).
       gap_rate: initial normal velocity of C [l omega].
       stop_at: event kinds (``EVENT_KINDS``) that end the run.

@@ -18,8 +18,8 @@ import math
 
 import numpy as np
 
-from crosscheck.compliant.model import Dynamics
-from crosscheck.compliant.trajectory import make_dynamics, start_state
+from crosscheck.engines.compliant.model import Dynamics
+from crosscheck.engines.compliant.trajectory import make_dynamics, start_state
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 

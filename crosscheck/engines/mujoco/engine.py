@@ -8,7 +8,7 @@ every step).  Both go through ``Batch``, so a state gives the same numbers
 either way (tests assert equality), and both classify with the one classifier
 ``crosscheck.engines.classifier``, with the STICK threshold following the run's
 friction time constant.  The model, its start and its sensors are in
-``crosscheck.engines.mujoco_model``.
+``crosscheck.engines.mujoco.model``.
 
 Units.  Everything this module takes and returns is in the paper's scaled
 units (section 2.1): time in 1/omega, lengths in l, velocities in l omega,
@@ -18,33 +18,31 @@ omega dt, ``radius`` is r / l, ...).  ``Rod`` supplies m, l, I0, g.
 
 from __future__ import annotations
 
-import os
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, fields
-from typing import Any
+from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 from mujoco import rollout
 from tqdm.auto import tqdm
 
-from crosscheck.checks import FINITE, MU, NONNEGATIVE, POSITIVE, Interval, check
-from crosscheck.engines.base import (SERIES, ModuleEngine, STATE_KEYS, SUMMARY, Run, SweepResult, check_states, n_steps_within_memory, options_from_kwargs,
-                                     summaries)
+from crosscheck.checks import MU, POSITIVE, check
+from crosscheck.engines.base import (SERIES, STATE_KEYS, SUMMARY, Run, SweepResult, check_states, n_steps_within_memory, summaries)
 from crosscheck.engines.classifier import Thresholds, classify
-from crosscheck.engines import mujoco_warnings
-from crosscheck.engines.mujoco_model import SensorLayout, build_model, initial_state, record_from_sensordata
+from crosscheck.engines.mujoco import warning_counts as mujoco_warnings
+from crosscheck.engines.mujoco.options import Options
+from crosscheck.engines.mujoco.model import SensorLayout, build_model, initial_state, record_from_sensordata
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["ENGINE", "Options", "Batch", "simulate", "sweep", "CHUNK_BYTES"]
+__all__ = ["NAME", "Options", "Batch", "simulate", "sweep", "CHUNK_BYTES"]
+
+#: The engine's registry name.
+NAME = "mujoco"
 
 # MuJoCo's warnings are counted, not printed (nor logged to MUJOCO_LOG.TXT in the user's directory).
 mujoco_warnings.install()
-
-#: The capsule radius r / l (see Options.radius).
-RADIUS = Interval(0.0, 0.5, lo_open=True, hi_open=True)
 
 #: Memory for one chunk's sensordata; sets the chunk size.
 CHUNK_BYTES = 48 * 2**20
@@ -52,83 +50,6 @@ CHUNK_BYTES = 48 * 2**20
 #: Bytes per state and row of a run (sensordata, the Record, the classifier's temporaries): the peak
 #: resident memory of a 2e5-step run grew by 500 bytes per row; 1.5 x that as a margin.
 ROW_BYTES = 768
-
-
-@dataclass(frozen=True)
-class Options:
-    """MuJoCo parameters of a run, in the paper's scaled units.
-
-    Attributes:
-      timestep: omega dt (default 3e-4, i.e. ~1e-4 s for a 1 m rod under
-        g = 9.81 m/s^2).
-      radius: capsule radius r / l (default 0.01).
-      timeconst: normal contact time constant omega tau of solref (default
-        0.06, ~0.02 s for a 1 m rod: MuJoCo's default).  Must be >= 2
-        timestep, else MuJoCo would silently raise it ("refsafe").
-      dampratio: damping ratio of solref (default 1, critical).
-      friction_timeconst: time constant of the friction directions only
-        (solreffriction on the contact pair); None uses ``timeconst``.
-      solimp: MuJoCo impedance (d0, dmax, width / l, midpoint, power);
-        default MuJoCo's (0.9, 0.95, 0.001 m for l = 1 m, 0.5, 2).
-      solver_tolerance: MuJoCo's solver tolerance (default 1e-10, as in
-        rod.xml).  The Newton solver stops on it, so the contact force and the
-        acceleration agree to ~5e-7 relative at 1e-10; 0 runs to
-        ``iterations`` and gives ~1e-11 (used by the instantaneous check).
-      model_file: path of an alternative MJCF file with the same element
-        names (default: the packaged ``rod.xml``).
-    """
-
-    timestep: float = 3e-4
-    radius: float = 0.01
-    timeconst: float = 0.06
-    dampratio: float = 1.0
-    friction_timeconst: float | None = None
-    solimp: tuple[float, float, float, float, float] = (0.9, 0.95, 0.001, 0.5, 2.0)
-    solver_tolerance: float = 1e-10
-    model_file: str | None = None
-
-    def __post_init__(self) -> None:
-        for name in ("timestep", "timeconst", "dampratio"):
-            object.__setattr__(self, name, float(check(name, getattr(self, name), POSITIVE)))
-        # A slender rod's radius is a small fraction of l; at r >= l/2 the capsule's end cap reaches
-        # the centre of mass and the contact point C is no longer "below the tip".
-        object.__setattr__(self, "radius", float(check("radius", self.radius, RADIUS)))
-        if self.friction_timeconst is not None:
-            object.__setattr__(self, "friction_timeconst", float(check("friction_timeconst", self.friction_timeconst, POSITIVE)))
-        for name in ("timeconst", "friction_timeconst"):
-            tc = getattr(self, name)
-            if tc is not None and tc < 2 * self.timestep:
-                raise ValueError(f"{name} must be >= 2 timestep = {2 * self.timestep:g} (MuJoCo's refsafe); got {tc!r}")
-        solimp = check("solimp", self.solimp, FINITE)
-        if solimp.shape != (5,):
-            raise ValueError(f"solimp must have 5 numbers (d0, dmax, width, midpoint, power); got {self.solimp!r}")
-        # MuJoCo's impedance d(r) (Computation chapter): d0, dmax in (0, 1), width > 0, the sigmoid's
-        # midpoint in (0, 1) and power >= 1 (MuJoCo clamps the others silently).
-        if not (0 < solimp[0] < 1 and 0 < solimp[1] < 1 and solimp[2] > 0 and 0 < solimp[3] < 1 and solimp[4] >= 1):
-            raise ValueError(f"solimp must have d0, dmax in (0, 1), width > 0, midpoint in (0, 1) and power >= 1; got {tuple(solimp)!r}")
-        object.__setattr__(self, "solimp", tuple(float(x) for x in solimp))
-        object.__setattr__(self, "solver_tolerance", float(check("solver_tolerance", self.solver_tolerance, NONNEGATIVE)))
-        if self.model_file is not None:
-            object.__setattr__(self, "model_file", os.fspath(self.model_file))
-
-    @classmethod
-    def from_kwargs(cls, options: dict[str, Any]) -> "Options":
-        """``Options(**options)`` with an error naming any unknown option."""
-        return options_from_kwargs(cls, options, "MuJoCo")
-
-    @property
-    def contact_time(self) -> float:
-        """Time over which the soft normal force builds up: the solref time constant."""
-        return self.timeconst
-
-    @property
-    def friction_time(self) -> float:
-        """Time constant of the friction directions (a stuck contact creeps at ~0.4 of it)."""
-        return self.friction_timeconst if self.friction_timeconst is not None else self.timeconst
-
-    def as_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
-
 
 
 @dataclass(frozen=True, eq=False)
@@ -236,7 +157,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     (_, record), = batch.records(rod, progress=False)
     one = record.run(0)
     c = classify(one, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, thresholds=th)
-    return Run.from_classification(ENGINE.name, c, one, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
+    return Run.from_classification(NAME, c, one, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
                                    horizon=horizon, nstep=batch.nstep)
 
 
@@ -294,7 +215,7 @@ def sweep(
             series[k][sl] = ser[k]
     wall = time.perf_counter() - t0
     return SweepResult(
-        engine=ENGINE.name,
+        engine=NAME,
         outcome=outcome,
         event_time=event_time,
         exit_time=exit_time,
@@ -313,5 +234,3 @@ def sweep(
         warnings=mujoco_warnings.since(warned_before),
     )
 
-
-ENGINE = ModuleEngine("mujoco", Options, simulate, sweep)

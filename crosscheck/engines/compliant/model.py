@@ -26,7 +26,7 @@ on g of order eps^2 (the penetration's own scale) without asking the same
 of Z and theta, whose difference it would otherwise be.
 
 Contact modes (``FREE``, ``SLIP``, ``STICK``): the normal force is the law's
-``push`` (``crosscheck.compliant.laws``), unclipped inside a contact mode
+``push`` (``crosscheck.engines.compliant.laws``), unclipped inside a contact mode
 (events end the mode where it crosses zero, so the right-hand side stays
 smooth within a mode); friction is exact Coulomb: -mu F_n s/|s| opposite the
 slip s = J_t q' of C while slipping, and while stuck the two tangential
@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from crosscheck.compliant.laws import NormalLaw
+from crosscheck.engines.compliant.laws import NormalLaw
 
 __all__ = ["FREE", "SLIP", "STICK", "MODES", "Dynamics", "q_from_y", "y_from_qv", "restart_direction"]
 
@@ -302,7 +302,7 @@ class Dynamics:
 
         Non-increasing for xi >= 0 and mu >= 0: the dashpot dissipates xi/eps delta'^2,
         friction mu F_n |s|, and where the clipped force is zero at delta > 0 the
-        spring energy only drains (module docstring of ``crosscheck.compliant``).
+        spring energy only drains (module docstring of ``crosscheck.engines.compliant``).
         """
         q, v = q_from_y(y, self.radius)
         c = math.cos(q[4])

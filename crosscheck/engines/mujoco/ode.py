@@ -2,7 +2,7 @@
 
 MuJoCo's model with the time discretisation removed: the generalised
 accelerations are qacc = M^-1 (qfrc_smooth + J^T f) with f MuJoCo's
-instantaneous contact force (``crosscheck.engines.mujoco_law``), and
+instantaneous contact force (``crosscheck.engines.mujoco.law``), and
 y = (q, v) is integrated by scipy's DOP853 (rtol 1e-10 by default).  The
 right-hand side is smooth inside each phase; the phases end at events,
 located by the integrator and followed by a restart:
@@ -47,15 +47,19 @@ from scipy.integrate import solve_ivp
 
 from crosscheck.checks import MU, POSITIVE, Interval, check
 from crosscheck.coordinates import to_generalized
-from crosscheck.engines.base import ModuleEngine, Run, SweepResult, n_steps_within_memory, sweep_by_simulate
+from crosscheck.engines import get
+from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds, classify
-from crosscheck.engines.mujoco import Options
-from crosscheck.engines.mujoco_law import Parameters, accelerations
+from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.law import Parameters, accelerations
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["ENGINE", "Trajectory", "integrate", "record", "simulate", "sweep", "RTOL", "ROW_BYTES"]
+__all__ = ["NAME", "Trajectory", "integrate", "record", "simulate", "sweep", "RTOL", "ROW_BYTES"]
+
+#: The engine's registry name.
+NAME = "mujoco_law"
 
 #: DOP853's relative tolerance; atol is RTOL times the state's scale (l, l omega, 1 rad, omega).
 RTOL = 1e-10
@@ -331,14 +335,12 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     traj = integrate(rod, q0, v0, mu, opts, times=times, rtol=rtol)
     rec = record(rod, traj, opts)
     c = classify(rec, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, thresholds=th)
-    return Run.from_classification(ENGINE.name, c, rec, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
+    return Run.from_classification(NAME, c, rec, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
                                    horizon=horizon, nstep=nstep)
 
 
 def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
           **options) -> SweepResult:
     """Every state through ``simulate`` (``sweep_by_simulate``)."""
-    return sweep_by_simulate(ENGINE, rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
+    return sweep_by_simulate(get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
 
-
-ENGINE = ModuleEngine("mujoco_law", Options, simulate, sweep)

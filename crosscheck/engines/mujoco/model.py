@@ -5,7 +5,7 @@ a capsule on five joints (slide X, Y, Z; hinge psi about world z; hinge theta
 about body x) so that q = (X, Y, Z, psi, theta) is exactly the generalised
 coordinate vector of ``crosscheck.coordinates``.  Run parameters are applied
 with ``mujoco.MjSpec``; see ``build_model``.  The engine that runs it is
-``crosscheck.engines.mujoco``.
+``crosscheck.engines.mujoco.engine``.
 
 Geometry.  The capsule's end cap is centred on the tip A = (0, -l, 0) (body
 frame), so the capsule touches the plane at C = A - r K, a radius below A.
@@ -78,7 +78,7 @@ def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
     Args:
       rod: mass m, tip-to-centre length l, inertia I0 (alpha = m l^2 / I0) and g.
       mu: Coulomb friction coefficient, >= 0.
-      options: scaled MuJoCo parameters (``crosscheck.engines.mujoco.Options``).
+      options: scaled MuJoCo parameters (``crosscheck.engines.mujoco.engine.Options``).
 
     Raises:
       ModelFileError: the model file is missing, malformed, or lacks one of the

@@ -66,8 +66,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 from crosscheck.checks import FINITE, MU, POSITIVE, check
-from crosscheck.engines.mujoco import Options
-from crosscheck.engines.mujoco_model import AXIAL_INERTIA
+from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.model import AXIAL_INERTIA
 from crosscheck.rod import Rod
 
 __all__ = ["Parameters", "ContactProblem", "impedance", "inverse_weight", "mass_matrix", "smooth_force", "contact_problem",
@@ -100,9 +100,9 @@ class Parameters:
 
     @classmethod
     def of(cls, rod: Rod, options: Options, *, impratio: float = 1.0) -> "Parameters":
-        """Convert scaled ``Options`` as ``crosscheck.engines.mujoco_model.build_model`` does (rod.xml: impratio 1)."""
+        """Convert scaled ``Options`` as ``crosscheck.engines.mujoco.model.build_model`` does (rod.xml: impratio 1)."""
         if not isinstance(options, Options):
-            raise ValueError(f"options must be crosscheck.engines.mujoco.Options; got {type(options).__name__}")
+            raise ValueError(f"options must be crosscheck.engines.mujoco.engine.Options; got {type(options).__name__}")
         impratio = float(check("impratio", impratio, POSITIVE))
         w, l = rod.omega, rod.length
         dt = options.timestep / w
@@ -305,7 +305,7 @@ def contact_force(rod: Rod, q, v, mu: float, options: Options, *, impratio: floa
 
     Zero while the capsule does not penetrate (dist >= 0: MuJoCo keeps a
     contact only while dist < margin = 0).  mu is clamped to MINMU as MuJoCo
-    does.  On the sliding mode at dist = 0 (``crosscheck.engines.mujoco_ode``)
+    does.  On the sliding mode at dist = 0 (``crosscheck.engines.mujoco.ode``)
     the motion applies a fraction lambda of this force, not all of it.  ``options``: the MuJoCo engine's
     scaled ``Options``; impratio as rod.xml's (1) unless given.
     """
@@ -344,7 +344,7 @@ def skew_angle(slip, accel, damping) -> np.ndarray:
 
 
 def simulate(rod: Rod, state, mu: float, *, horizon: float, **options):
-    """The rod under MuJoCo's contact law with no time discretisation: see ``crosscheck.engines.mujoco_ode.simulate``."""
-    from crosscheck.engines.mujoco_ode import simulate as _simulate
+    """The rod under MuJoCo's contact law with no time discretisation: see ``crosscheck.engines.mujoco.ode.simulate``."""
+    from crosscheck.engines.mujoco.ode import simulate as _simulate
 
     return _simulate(rod, state, mu, horizon=horizon, **options)

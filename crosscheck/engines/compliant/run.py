@@ -1,6 +1,6 @@
 """The compliant rod as a contact engine: its ``Options`` and one run's ``Record`` at a fixed timestep, classified.
 
-``simulate`` integrates the event-driven model (``crosscheck.compliant.integrate``)
+``simulate`` integrates the event-driven model (``crosscheck.engines.compliant.integrate``)
 and samples it by the solver's dense output at t_k = k timestep, filling the
 ``Record`` every engine fills (scaled units, world frame): the tip A's
 position, velocity and acceleration (gravity included), the contact force at
@@ -37,23 +37,25 @@ Classifier settings (``crosscheck.engines.classifier.classify``):
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, fields
 
 import numpy as np
 
 from crosscheck.checks import HORIZON, POSITIVE, check
-from crosscheck.compliant import laws as _laws
-from crosscheck.compliant.trajectory import ATOL, METHODS, RADIUS, RTOL, integrate
-from crosscheck.compliant.model import FREE, SLIP, STICK, q_from_y
+from crosscheck.engines.compliant import laws as _laws
+from crosscheck.engines.compliant.trajectory import ATOL, METHODS, RADIUS, RTOL, integrate
+from crosscheck.engines.compliant.model import FREE, SLIP, STICK, q_from_y
 from crosscheck.coordinates import tip_position, tip_velocity
-from crosscheck.engines.base import Run, n_steps_within_memory, options_from_kwargs
+from crosscheck.engines import get
+from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, options_from_kwargs, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 from crosscheck.tolerances import COMPLIANT_INTEGRATION
 
-__all__ = ["Options", "SolverStats", "simulate", "record_of", "NAME"]
+__all__ = ["Options", "SolverStats", "simulate", "sweep", "record_of", "NAME"]
 
 #: The engine's registry name.
 NAME = "compliant"
@@ -71,7 +73,7 @@ class Options:
         xi/eps; the resting penetration is eps^2 F_z), > 0 (default 1e-2).
       xi: damping, >= 0 (default 1: near critical, xi_c = 2/sqrt(G_nn) in [1, 2] for alpha = 3).
       radius: capsule radius r / l in [0, 0.5) (default 0: contact at the tip A).
-      law: the normal law's name (``crosscheck.compliant.laws``).
+      law: the normal law's name (``crosscheck.engines.compliant.laws``).
       timestep: scaled time between record rows (default 1e-3); the
         integration itself is adaptive (dense output).
       method: "Radau" (default) or "BDF".
@@ -222,3 +224,9 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: floa
     return Run.from_classification(NAME, c, record, state=state, mu=float(mu), alpha=rod.alpha, options=opts, thresholds=th,
                                    horizon=horizon, nstep=n, solver=SolverStats.of(traj))
 
+
+def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
+          workers: int = 1, **options) -> SweepResult:
+    """Every state through ``simulate`` (``sweep_by_simulate``; ``workers`` forked processes)."""
+    return sweep_by_simulate(get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers,
+                             **options)

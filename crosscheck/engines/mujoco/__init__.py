@@ -1,0 +1,59 @@
+"""MuJoCo: the capsule rod of ``models/rod.xml`` stepped by MuJoCo, and MuJoCo's contact law in continuous time.
+
+Two engines live here:
+
+* ``mujoco``: MuJoCo itself (``engine``: the rollout; ``model``: the MJCF
+  model, its start and sensors; ``warning_counts``: MuJoCo's warnings counted);
+* ``mujoco_law``: MuJoCo's instantaneous contact law (``law``: reference
+  acceleration from solref, impedance from solimp, the regulariser R, the
+  elliptic cone) integrated with no time discretisation (``ode``).  It is the
+  friction-law rung of MuJoCo's ladder.
+
+MuJoCo-only studies and report sections live in ``crosscheck.studies.mujoco``
+and ``crosscheck.report.sections``; they are declared here.
+"""
+
+from crosscheck import tolerances as tol
+from crosscheck.engines.spec import EngineSpec, ReportPlan
+
+__all__ = ["ENGINES"]
+
+
+def _checks(rod, n_states, rng):
+    """MuJoCo's contact force at one instant against the rigid tip acceleration (``validate``'s first check)."""
+    from crosscheck.compare import error_stat
+    from crosscheck.studies.mujoco.contact import contact_acceleration
+
+    ca = contact_acceleration(rod, min(n_states, 100), rng)
+    where = {k: ca[k] for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi", "mu")}
+    return [error_stat("tip acceleration with contact", ca["got"] / ca["scale"][:, None], ca["want"] / ca["scale"][:, None],
+                       tol.MUJOCO_CONTACT_ACCELERATION, where)]
+
+
+def _sections():
+    from crosscheck.report.sections import friction_skew, ladder, mujoco_liftoff, mujoco_trajectories, mujoco_validate
+
+    # the ladder last: it reads the saved results of MuJoCo's map section
+    return (mujoco_liftoff.SECTION, mujoco_trajectories.SECTION, mujoco_validate.SECTION, friction_skew.SECTION, ladder.SECTION)
+
+
+ENGINES = (
+    EngineSpec(
+        name="mujoco", module="crosscheck.engines.mujoco.engine", label="MuJoCo", libraries=("mujoco",),
+        one_core={"nthread": 1}, tags={"compliant", "relaxed", "time_stepping", "batched"},
+        tolerances={"liftoff_onset": tol.MUJOCO_LIFTOFF_ONSET, "event_disagreement": tol.MUJOCO_EVENT_DISAGREEMENT,
+                    "event_time": tol.MUJOCO_EVENT_TIME, "no_jam_below_mu_P": tol.MUJOCO_NO_JAM_BELOW_MU_P,
+                    "corollary_stop": tol.MUJOCO_COROLLARY_STOP},
+        checks=_checks,
+        # the models between the theory and MuJoCo (crosscheck.studies.ladder): its capsule's contact point, the
+        # compliant rod with MuJoCo's matched Kelvin-Voigt law, MuJoCo's own law in continuous time, MuJoCo itself
+        ladder={"geometry": "capsule", "compliance": "compliant", "friction law": "mujoco_law", "discretisation": "mujoco"},
+        report=ReportPlan(maps={"quick": {"timestep": 3e-4, "timeconst": 0.06}, "full": {"timestep": 3e-4, "timeconst": 0.06}},
+                          convergence={"quick": [{"timestep": dt, "timeconst": tc} for dt, tc in ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02))],
+                                       "full": [{"timestep": dt, "timeconst": tc} for dt, tc in
+                                                ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02), (1e-4, 0.02), (1e-4, 0.006))]},
+                          sections=_sections, order=10),
+    ),
+    EngineSpec(name="mujoco_law", module="crosscheck.engines.mujoco.ode", label="MuJoCo's law (continuous time)", libraries=("mujoco",),
+               tags={"compliant", "relaxed", "continuous"}),
+)

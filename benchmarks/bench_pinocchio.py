@@ -24,7 +24,7 @@ import pinocchio as pin
 from timing import best_of  # benchmarks/timing.py (the script's directory is on sys.path)
 
 from crosscheck.engines.pinocchio import model as pinrod
-from crosscheck.studies import dynamics_terms
+from crosscheck.engines.pinocchio.studies import dynamics_terms
 from crosscheck.coordinates import paper_to_qv
 from crosscheck.rod import Rod
 

@@ -75,7 +75,7 @@ FINITE_DIFFERENCE = Tolerance(atol=1e-7, rtol=1e-6, why="central differences, h 
 # --------------------------------------------------------------- pinocchio ---
 # Pinocchio (crosscheck.engines.pinocchio.model) against the analytic reference, compared in the paper's scaled
 # units.  Each allowance is atol * scale, where scale is the size of the terms the quantity is summed
-# from (its term scale; crosscheck.studies.dynamics_terms): A = (1 + alpha)|F|_1 + V for tip accelerations,
+# from (its term scale; crosscheck.engines.pinocchio.studies.dynamics_terms): A = (1 + alpha)|F|_1 + V for tip accelerations,
 # V = (1 + |v_s|_1)^2 for velocity terms (v_s the five scaled velocities), 1 for M and g, 1 + |v_s|_1
 # for C, (1 + alpha)(1 + mu) for p.  Rounding of a sum is bounded by a small multiple of eps times its
 # term scale; atol = 1e-14 is ~45 eps.  Measured maxima over 1e5 random states (validate, seeds 1, 2)
@@ -169,7 +169,7 @@ MUJOCO_DJV_KAPPA = Tolerance(atol=0.01, rtol=0.0, why="bisection on Psi + O(dt) 
 # timestep 3e-4, timeconst 0.06, radius 0.01, horizon 2, random slipping states with mu in [0.3, 6].
 # These are not rounding bounds: MuJoCo's soft elliptic contact is a different model (its force builds
 # up over tau; off the planar section its friction is rotated from -slip by up to ~30 deg, see
-# crosscheck.studies.mujoco_contact.friction_skew), so the allowances are measured values with a margin.
+# crosscheck.engines.mujoco.studies.contact.friction_skew), so the allowances are measured values with a margin.
 
 #: Fraction of random slipping states whose MuJoCo first event (crosscheck.engines.classifier, compared up to the
 #: analytic event + 2 tau) differs from slip_until_event's, an analytic JAM met by a MuJoCo STICK
@@ -206,7 +206,7 @@ MUJOCO_COROLLARY_STOP = Tolerance(atol=0.55, rtol=0.0, why="regression guard: me
 #: step enforces a_A = J a + dJ v = 0 along the normal, so the two are equal up to the solver's
 #: stopping rule: complementarity and feasibility below 1e-13 m g x dt (Options.tolerance), i.e.
 #: 1e-13 relative to an O(1) m g force.  Measured <= 1.4e-11 over 1600 seeded states with F_z >= 1e-2 m g
-#: whose step has the slip as its only solution (crosscheck.studies.rigid.sticking_admissible: above mu_P,
+#: whose step has the slip as its only solution (crosscheck.engines.pinocchio.studies.rigid.sticking_admissible: above mu_P,
 #: near p = 0, the step also admits the stuck tip, and PGS may return that one instead).
 RIGID_STEP_FORCE = Tolerance(atol=0.0, rtol=1e-9, why="required; NCP solved to 1e-13 m g x dt (measured <= 1.4e-11)")
 
@@ -422,7 +422,7 @@ CAPSULE_JAM_FORCE_LAW = Tolerance(atol=0.0, rtol=0.5, why="F_z sqrt(t_jam - t) -
 
 
 # ------------------------------------------------------------------ ladder ---
-# The ladder (crosscheck.studies.ladder): a named cause for each MuJoCo-theory disagreement.
+# The ladder (crosscheck.engines.mujoco.studies.ladder): a named cause for each MuJoCo-theory disagreement.
 
 #: The IC2 lift-off time of the paper's rod (Fig. 20, alpha = 3, mu = 1.4) is quoted as 0.01654: half a
 #: unit of its last digit.  Rung 1 computes it to ~1e-9 (EVENT_TIME), so this is the quote's rounding.
@@ -434,7 +434,7 @@ LADDER_QUOTED_TIME = Tolerance(atol=5e-6, rtol=0.0, why="half a unit of the last
 LADDER_ATTRIBUTED = Tolerance(atol=0.1, rtol=0.0, why="goal, not a derived bound: at least 90% of the disagreements get a named cause", guard=True)
 
 # ------------------------------------------- compliant rod: the eps -> 0 limit ---
-#: The eps-free fast problem (crosscheck.studies.compliant_limit.fast_limit,
+#: The eps-free fast problem (crosscheck.engines.compliant.studies.limit.fast_limit,
 #: DOP853 at rtol 1e-11) against independent computations of the same
 #: numbers: the planar closed form of e (a 2x2 linear oscillator's release
 #: time by brentq at 1e-14) and the rigid impulse's P_c and w
@@ -475,7 +475,7 @@ COMPLIANT_LIMIT_POST_ORDER = Tolerance(atol=0.15, rtol=0.0, why="error ~ t_end =
 #: Observed order of the slip-stop lag t_stop - t_jam at a Corollary 4.2
 #: jam, against 4/5: near the jam p ~ -k (P - P_jam), and delta'' = -b - p F_n
 #: balances at t - t_jam ~ eps^(4/5), P - P_jam ~ eps^(2/5) (module docstring
-#: of crosscheck.studies.compliant_limit), with corrections of relative order
+#: of crosscheck.engines.compliant.studies.limit), with corrections of relative order
 #: eps^(1/5) (the impulse P_stop - P_jam = O(1) beyond the inner region),
 #: which shift a fitted slope over eps in [1e-5, 1e-3] by (1/5) c eps^(1/5)
 #: <= 0.05 c, c = O(1): 0.1.  Measured 0.76-0.80.

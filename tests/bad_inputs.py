@@ -236,7 +236,7 @@ def api_cases() -> list:
     for k, v in [("horizon", 0.0), ("horizon", 1e5), ("radius", 0.0), ("radius", 0.7), ("timeconst", 0.0), ("solimp", (0.9, 0.95)),
                  ("bogus_option", 1.0), ("mu", -1.0)]:
         add(f"mujoco_ode.simulate({k}={v!r})", lambda k=k, v=v: _simulate(mujoco_ode, rod, s, k, v), k)
-    from crosscheck.studies import ladder
+    from crosscheck.engines.mujoco.studies import ladder
 
     for k, v in [("mu", -1.0), ("alpha", 0.0), ("horizon", 0.0), ("horizon", 1e5), ("timestep", 1e-300), ("radius", 0.7), ("timeconst", 0.0),
                  ("solimp", (0.9, 0.95)), ("rungs", ("bogus",)), ("reference", 9), ("bogus_option", 1.0)]:

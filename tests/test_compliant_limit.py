@@ -1,4 +1,4 @@
-"""The compliant rod's eps -> 0 limit against the rigid impact without collision (crosscheck.studies.compliant_limit).
+"""The compliant rod's eps -> 0 limit against the rigid impact without collision (crosscheck.engines.compliant.studies.limit).
 
 Closed forms: the growth rate's quadratic, the planar restitution of the
 Kelvin-Voigt law and its large-xi asymptote.  Engine against theory: the
@@ -19,8 +19,8 @@ from crosscheck import analytic
 from crosscheck.corollary import corollary_states
 from crosscheck.iwc import delassus, impact
 from crosscheck.state import SlipState
-from crosscheck.studies import compliant_limit as cl
-from crosscheck.studies.rigid import planar_impasse
+from crosscheck.engines.compliant.studies import limit as cl
+from crosscheck.engines.pinocchio.studies.rigid import planar_impasse
 from crosscheck.tolerances import (
     CLOSED_FORM,
     COMPLIANT_LIMIT_FAST,

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from crosscheck import analytic
-from crosscheck.studies import dynamics_terms
+from crosscheck.engines.pinocchio.studies import dynamics_terms
 from crosscheck.cli import main
 from crosscheck.rod import Rod
 

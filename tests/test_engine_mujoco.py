@@ -18,16 +18,11 @@ from crosscheck.engines.mujoco.engine import Batch, Options
 from crosscheck.engines.mujoco.model import ModelFileError, SensorLayout, build_model, initial_state, model_path, record_from_sensordata
 from crosscheck.tolerances import MUJOCO_FREE_ACCELERATION
 
+from conftest import random_slip_states
+
 ROD = Rod(mass=1.0, length=1.0, inertia=1.0 / 3.0, gravity=9.81)
 simulate = get("mujoco").simulate
 RODS = {"uniform_1m": ROD, "scaled_alpha5": Rod.scaled(5.0), "heavy_short": Rod(mass=2.5, length=0.3, inertia=0.05, gravity=9.81)}
-
-
-def random_states(rng: np.random.Generator, n: int) -> list[SlipState]:
-    return [
-        SlipState(theta=rng.uniform(0.05, 1.5), varphi=-rng.uniform(0.0, 3.1), Theta=rng.normal(), Psi=2 * rng.normal(), eta=rng.uniform(0, 2), psi=rng.uniform(-math.pi, math.pi))
-        for _ in range(n)
-    ]
 
 
 def test_packaged_file_loads_and_steps_as_it_is():
@@ -64,7 +59,7 @@ def test_free_tip_acceleration_is_linode2_and_b(name):
     model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
     data = mujoco.MjData(model)
     layout = SensorLayout.from_model(model)
-    states = random_states(np.random.default_rng(11), 100)
+    states = random_slip_states(np.random.default_rng(11), 100)
     got = []
     for s in states:
         mujoco.mj_setState(model, data, initial_state(model, rod, s, 0.01), mujoco.mjtState.mjSTATE_FULLPHYSICS)
@@ -101,7 +96,7 @@ def test_contact_at_t0_is_decided_by_rounding_and_then_already_pushes():
     has no contact and no force.  Both happen over random states.
     """
     rng = np.random.default_rng(0)
-    states = random_states(rng, 200)
+    states = random_slip_states(rng, 200)
     batch = Batch.build(ROD, states, 1.0, horizon=Options().timestep, options=Options(), nthread=1)
     (_, sd), = batch.chunks(progress=False)
     L = batch.layout

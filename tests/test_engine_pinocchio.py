@@ -15,7 +15,7 @@ from crosscheck.critical import Psi_L
 from crosscheck.engines import get
 from crosscheck.engines.pinocchio.stepper import Options, Stepper
 from crosscheck.studies.onset import liftoff_onset
-from crosscheck.studies.rigid import slip_order, slipping_states
+from crosscheck.engines.pinocchio.studies.rigid import slip_order, slipping_states
 from crosscheck.tolerances import RIGID_LIFTOFF_ONSET, RIGID_SLIP_ORDER, RIGID_STEP_FORCE
 
 ALPHA = 3.0
@@ -77,7 +77,7 @@ def test_liftoff_onset_is_Psi_L_at_every_timestep(mu, dt):
 
 
 def test_slipping_converges_to_the_analytic_flow_at_first_order():
-    """crosscheck.studies.rigid.slip_order: theta, eta, Theta, Psi at t = 0.3 against slip_until_event over dt = 4e-3 ... 5e-4."""
+    """crosscheck.engines.pinocchio.studies.rigid.slip_order: theta, eta, Theta, Psi at t = 0.3 against slip_until_event over dt = 4e-3 ... 5e-4."""
     rate, errs = slip_order(ROD)
     assert RIGID_SLIP_ORDER.ok(rate, 1.0), rate
     assert errs[-1] < 1e-4
@@ -129,7 +129,7 @@ def test_a_run_too_long_to_record_is_refused_before_allocating():
 def test_above_mu_P_near_p_0_the_step_may_stick_the_tip_instead_of_slipping():
     """The step's NCP has two solutions where the sticking impulse lies in the cone (sticking_admissible); PGS returned the
     sticking one here (p = 0.085, mu = 1.79): an impulse, not eq. FZ.  Such states are outside the one-step check."""
-    from crosscheck.studies.rigid import one_step, sticking_admissible
+    from crosscheck.engines.pinocchio.studies.rigid import one_step, sticking_admissible
 
     s = SlipState(theta=1.0209058092047891, varphi=-2.3322266822458038, Theta=0.05795417383545341, Psi=-0.5873795214394222,
                   eta=0.9898204260155745, psi=-2.0166827712132678)

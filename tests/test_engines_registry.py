@@ -1,9 +1,11 @@
-"""The engine registry, and the proof that a new engine is one module: a toy engine registered in this file.
+"""The engine registry, and the proof that a new engine is one record: a toy engine declared and registered in this file.
 
 The toy engine is the analytic slipping flow (``slip_until_event``) written
 into the shared ``Record`` on a uniform time grid and judged by the one
-classifier.  Registering it is all it takes for the event-agreement study to
-run on it; nothing else in the package knows it.
+classifier.  Its ``EngineSpec`` (``TOY``: tags, a tolerance profile, a map
+section) is all it takes for the event-agreement study, the engine contract
+(``tests/test_engine_contract.py``) and a report's map section to run on it;
+nothing else in the package knows it.
 """
 
 from __future__ import annotations
@@ -15,7 +17,9 @@ import numpy as np
 import pytest
 
 from crosscheck import Outcome, Rod, SlipState, engines
-from crosscheck.engines import Record, Run, Thresholds, classify, n_steps, sweep_by_simulate
+from crosscheck.engines import EngineSpec, Record, ReportPlan, Run, Thresholds, classify, n_steps, sweep_by_simulate
+from crosscheck.engines.base import options_from_kwargs
+from crosscheck.tolerances import EVENT_TOLERANCE_KEYS, Tolerance
 from crosscheck.slipping import X_STATE, slip_until_event
 from crosscheck.studies.agreement import agreement_study
 from crosscheck.studies.grids import EventGrid
@@ -36,47 +40,49 @@ class ToyOptions:
         return 0.0
 
 
-class AnalyticFlowEngine:
+def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
     """The rigid slipping rod of the paper as an engine: slip with F_z = -b/p, then what the first event says."""
+    opts = options_from_kwargs(ToyOptions, options, "toy")
+    th = thresholds or Thresholds()
+    alpha = rod.alpha
+    a = slip_until_event(state, mu, alpha, t_max=horizon)
+    n = n_steps(horizon, opts.timestep)
+    t = opts.timestep * np.arange(n)
+    before = t < a.time  # the event row is the first one after the event
+    x = {k: np.interp(np.minimum(t, a.time), a.t, a.x[:, i]) for i, k in enumerate(X_STATE)}
+    eta, varphi, psi, Psi, theta, Theta = (x[k] for k in X_STATE)
+    s, c = np.sin(theta), np.cos(theta)
+    b = (Psi**2 * c**2 + Theta**2) * s - 1.0
+    p = 1 + alpha + alpha * s * (mu * c * np.sin(varphi) - s)
+    Fz = np.where(before, -b / p, 0.0)
+    eta = np.where(before, eta, 0.0) if a.outcome == Outcome.STICK else eta
+    u = np.stack([eta * np.cos(psi + varphi), eta * np.sin(psi + varphi), np.zeros(n)], axis=-1)
+    F = np.stack([-mu * Fz * np.cos(psi + varphi), -mu * Fz * np.sin(psi + varphi), Fz], axis=-1)
+    acc = np.zeros((n, 3))
+    if a.outcome == Outcome.LIFTOFF:  # free flight: b has crossed 0 upwards
+        acc[~before, 2] = 1e-3
+    if a.outcome == Outcome.STICK:  # stuck: the plane carries the weight
+        F[~before] = (0.0, 0.0, 1.0)
+    record = Record(t=t, tip_pos=np.zeros((n, 3)), tip_vel=u.copy(), tip_acc=acc, force=F, normal_force=F[:, 2].copy(),
+                    active=F[:, 2] > 0, gap=np.zeros(n), slip_vel=u, psi=psi, theta=theta, Psi=Psi, Theta=Theta)
+    cl = classify(record, mu=mu, alpha=alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=True, thresholds=th)
+    return Run.from_classification("toy", cl, record, state=state, mu=mu, alpha=alpha, options=opts, thresholds=th,
+                                   horizon=horizon, nstep=n)
 
-    name = "toy"
-    Options = ToyOptions
+def sweep(rod, states, mu, *, horizon, thresholds=None, progress=True, **options):
+    return sweep_by_simulate(engines.get("toy"), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
 
-    def simulate(self, rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
-        opts = ToyOptions(**options)
-        th = thresholds or Thresholds()
-        alpha = rod.alpha
-        a = slip_until_event(state, mu, alpha, t_max=horizon)
-        n = n_steps(horizon, opts.timestep)
-        t = opts.timestep * np.arange(n)
-        before = t < a.time  # the event row is the first one after the event
-        x = {k: np.interp(np.minimum(t, a.time), a.t, a.x[:, i]) for i, k in enumerate(X_STATE)}
-        eta, varphi, psi, Psi, theta, Theta = (x[k] for k in X_STATE)
-        s, c = np.sin(theta), np.cos(theta)
-        b = (Psi**2 * c**2 + Theta**2) * s - 1.0
-        p = 1 + alpha + alpha * s * (mu * c * np.sin(varphi) - s)
-        Fz = np.where(before, -b / p, 0.0)
-        eta = np.where(before, eta, 0.0) if a.outcome == Outcome.STICK else eta
-        u = np.stack([eta * np.cos(psi + varphi), eta * np.sin(psi + varphi), np.zeros(n)], axis=-1)
-        F = np.stack([-mu * Fz * np.cos(psi + varphi), -mu * Fz * np.sin(psi + varphi), Fz], axis=-1)
-        acc = np.zeros((n, 3))
-        if a.outcome == Outcome.LIFTOFF:  # free flight: b has crossed 0 upwards
-            acc[~before, 2] = 1e-3
-        if a.outcome == Outcome.STICK:  # stuck: the plane carries the weight
-            F[~before] = (0.0, 0.0, 1.0)
-        record = Record(t=t, tip_pos=np.zeros((n, 3)), tip_vel=u.copy(), tip_acc=acc, force=F, normal_force=F[:, 2].copy(),
-                        active=F[:, 2] > 0, gap=np.zeros(n), slip_vel=u, psi=psi, theta=theta, Psi=Psi, Theta=Theta)
-        cl = classify(record, mu=mu, alpha=alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=True, thresholds=th)
-        return Run.from_classification(self.name, cl, record, state=state, mu=mu, alpha=alpha, options=opts, thresholds=th,
-                                       horizon=horizon, nstep=n)
 
-    def sweep(self, rod, states, mu, *, horizon, thresholds=None, progress=True, **options):
-        return sweep_by_simulate(self, rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
+#: The toy engine's whole declaration: what it is, its tolerance profile (it is the theory: no event may differ
+#: beyond its first-row rounding) and a map section at a coarse timestep.
+TOY = EngineSpec(name="toy", Options=ToyOptions, simulate=simulate, sweep=sweep, label="analytic flow (toy)", tags={"rigid", "continuous"},
+                 tolerances={k: Tolerance(atol=1e-12, rtol=0.0, why="the toy engine is the theory itself") for k in EVENT_TOLERANCE_KEYS},
+                 report=ReportPlan(maps={"quick": {"timestep": 1e-2}, "full": {"timestep": 1e-3}}))
 
 
 @pytest.fixture
 def toy():
-    engine = engines.register(AnalyticFlowEngine())
+    engine = engines.register(TOY)
     try:
         yield engine
     finally:
@@ -86,18 +92,25 @@ def toy():
 def test_registry_lists_and_refuses():
     assert "mujoco" in engines.names()
     assert engines.get("mujoco").name == "mujoco"
-    with pytest.raises(ValueError, match="engine must be one of compliant, mujoco, mujoco_law, pinocchio; got 'nope'"):
+    with pytest.raises(ValueError, match=f"engine must be one of {', '.join(engines.names())}; got 'nope'"):
         engines.get("nope")
     with pytest.raises(ValueError, match="an engine named 'mujoco' is already registered"):
         engines.register(engines.get("mujoco"))
-    with pytest.raises(ValueError, match="engine must have name, Options, simulate and sweep; got int"):
+    with pytest.raises(ValueError, match="engine must be a crosscheck.engines.EngineSpec; got int"):
         engines.register(3)
+    with pytest.raises(ValueError, match="engine 'x' tags must be among .*; got 'soft'"):
+        EngineSpec(name="x", Options=ToyOptions, simulate=simulate, sweep=sweep, tags={"soft"})
+    with pytest.raises(ValueError, match="engine 'x' tolerance profile lacks 'event_time'"):
+        EngineSpec(name="x", Options=ToyOptions, simulate=simulate, sweep=sweep, tolerances={"liftoff_onset": None, "event_disagreement": None})
+    with pytest.raises(ValueError, match="engine 'x' needs a module or all of Options, simulate and sweep"):
+        EngineSpec(name="x", Options=ToyOptions)
     with pytest.raises(ValueError, match="no registered engine named 'mujoco'"):
         engines.unregister("mujoco")
 
 
 def test_a_registered_engine_is_available_by_name(toy):
-    assert engines.names() == ["compliant", "mujoco", "mujoco_law", "pinocchio", "toy"] and engines.get("toy") is toy
+    builtin = {e.name for package in engines.BUILTIN for e in __import__(package, fromlist=["ENGINES"]).ENGINES}
+    assert engines.names() == sorted(builtin | {"toy"}) and engines.get("toy") is toy and engines.specs()[-1] is toy
     run = toy.simulate(Rod.scaled(3.0), SlipState(theta=0.6154797087, varphi=-math.pi / 2, Theta=0.0, Psi=1.7, eta=1.0), 0.5, horizon=0.2)
     assert run.engine == "toy" and run.outcome == Outcome.LIFTOFF and run.event_time == 0.0
 
@@ -119,3 +132,27 @@ def test_the_agreement_study_runs_on_a_toy_engine_and_finds_it_agrees(toy):
     assert run.n_rated >= 50
     assert run.agreement >= 0.98, run.confusion
     assert run.median_abs_time_difference <= ToyOptions().timestep  # events land on the first row after them
+
+
+def test_a_registered_engine_gets_its_own_map_section_in_a_report(toy, tmp_path):
+    """Registered from its record alone, the toy engine's map section is in the report (``--only toy_maps``), runs, and the
+    theory-as-engine agrees with the theory on its maps but in two known ways: a slip that slows below the rigid
+    STICK threshold (10 rows of its 1e-2 timestep) reads as STICK (the artefact explained in the agreement test
+    above), and a theory JAM reads as SLIP (the toy writes no impulse at p = 0: it has no impact to record)."""
+    import json
+
+    from crosscheck.cli import main
+
+    assert "toy_maps" in [s.slug for s in __import__("crosscheck.report", fromlist=["SECTIONS"]).SECTIONS]
+    assert main(["report", "--quick", "--only", "toy_maps", "--out", str(tmp_path / "r")]) == 0
+    maps = json.loads((tmp_path / "r" / "data" / "toy_maps" / "maps.json").read_text())
+    assert len(maps) == 3
+    for mp in maps:
+        run = mp["runs"][0]
+        assert run["engine"] == "toy" and run["n_rated"] > 0
+        conf, labels = np.array(run["confusion"]), run["labels"]
+        off = conf - np.diag(np.diag(conf))
+        slip, lift, stick, jam = (labels.index(o) for o in ("SLIP", "LIFTOFF", "STICK", "JAM"))
+        slowed = off[slip, stick] + off[lift, stick]
+        assert off.sum() == slowed + off[jam, slip] and slowed <= 0.1 * conf.sum(), (labels, conf)
+    assert "analytic flow (toy) vs analytic" in (tmp_path / "r" / "report.md").read_text()

@@ -32,7 +32,7 @@ def with_eta(x, eta):
     return x
 
 
-def random_states(rng, n):
+def random_gb_points(rng, n):
     return np.column_stack([rng.uniform(0.2, 3, n), rng.uniform(-3, 0, n), rng.uniform(-1, 1, n),
                             rng.uniform(-2, 2, n), rng.uniform(0.2, 1.4, n), rng.uniform(-2, 2, n)])
 
@@ -43,7 +43,7 @@ def random_states(rng, n):
 def test_f_is_the_real_time_field_times_eta_p():
     # eq. f: f = eta p * (d/dt of eq. polareqs_varphi with F_z = -b/p), away from p = 0
     rng = np.random.default_rng(0)
-    x = random_states(rng, 20)
+    x = random_gb_points(rng, 20)
     eta, varphi, psi, Psi, theta, Theta = x.T
     b, p = analytic.b(Psi, Theta, theta), analytic.p(theta, varphi, 1.4, ALPHA)
     keep = np.abs(p) > 0.1
@@ -58,7 +58,7 @@ def test_f_is_the_real_time_field_times_eta_p():
 @pytest.mark.parametrize("mu", [0.5, 1.4, 6.0])
 def test_jacobian_matches_finite_differences(mu):
     rng = np.random.default_rng(int(mu * 10))
-    x = random_states(rng, 25)
+    x = random_gb_points(rng, 25)
     J = gb.jacobian(x, mu, ALPHA)
     h = 1e-6
     for j in range(6):

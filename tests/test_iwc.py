@@ -14,7 +14,7 @@ from crosscheck.engines import get
 from crosscheck.engines.pinocchio.stepper import Options, Stepper
 from crosscheck.iwc import delassus, impact
 from crosscheck.slipping import slip_until_event
-from crosscheck.studies.rigid import planar_impasse
+from crosscheck.engines.pinocchio.studies.rigid import planar_impasse
 
 ALPHA = 3.0
 

@@ -1,4 +1,4 @@
-"""The ladder (crosscheck.studies.ladder): MuJoCo-equivalent (eps, xi), causes, the study's relabelling, IC2, and ``crosscheck explain``."""
+"""The ladder (crosscheck.engines.mujoco.studies.ladder): MuJoCo-equivalent (eps, xi), causes, the study's relabelling, IC2, and ``crosscheck explain``."""
 
 import json
 import math
@@ -10,14 +10,14 @@ import pytest
 from crosscheck import engines
 from crosscheck.cli import main
 from crosscheck.engines.classifier import Thresholds
-from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import build_model, initial_state
 from crosscheck.outcome import Outcome
 from crosscheck.paper import FIG20_INITIAL_CONDITIONS
 from crosscheck.rod import Rod
 from crosscheck.slipping import slip_until_event
 from crosscheck.state import SlipState
-from crosscheck.studies import ladder as L
+from crosscheck.engines.mujoco.studies import ladder as L
 from crosscheck.studies.agreement import comparison_labels
 from crosscheck.tolerances import CLOSED_FORM, EVENT_TIME, LADDER_QUOTED_TIME
 
@@ -183,7 +183,7 @@ def test_a_rerun_that_differs_from_the_study_is_the_same_start_but_for_its_last_
     t = 0.0027, the ladder's rerun a LIFTOFF at 0.0186; one ulp of theta away MuJoCo jams, and no ulp change makes it
     slip, so the probe tells a rounding-decided start from a rerun that is really different."""
     from crosscheck.outcome import Outcome
-    from crosscheck.studies.ladder import decided_by_rounding, run_ladder
+    from crosscheck.engines.mujoco.studies.ladder import decided_by_rounding, run_ladder
 
     s = SlipState(theta=0.9515625, varphi=-1.9, Theta=0.890625, Psi=0.0, eta=1.0)
     ld = run_ladder(s, 1.4, reference=Outcome.JAM, rungs=("mujoco",))

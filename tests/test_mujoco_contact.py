@@ -12,9 +12,9 @@ from crosscheck import Outcome, Rod, SlipState
 from crosscheck import analytic as an
 from crosscheck.critical import Psi_L, Psi_on_b0, theta_L
 from crosscheck.engines import Thresholds, get
-from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import SensorLayout, build_model, initial_state, record_from_sensordata
-from crosscheck.studies.mujoco_contact import capsule_tip_acceleration, friction_skew
+from crosscheck.engines.mujoco.studies.contact import capsule_tip_acceleration, friction_skew
 from crosscheck.tolerances import MUJOCO_CONTACT_ACCELERATION, MUJOCO_DJV_KAPPA, MUJOCO_LIFTOFF_ONSET, MUJOCO_LIFTOFF_ONSET_COARSE
 
 ROD = Rod(mass=1.0, length=1.0, inertia=1.0 / 3.0, gravity=9.81)

@@ -10,12 +10,12 @@ import pytest
 from crosscheck import Rod, SlipState
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get
-from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.law import accelerations, contact_force, contact_problem, inverse_weight, skew_angle, solve_cone
 from crosscheck.engines.mujoco.ode import integrate
-from crosscheck.studies import friction_skew as fs
-from crosscheck.studies.mujoco_law_check import convergence_order, random_contact
-from crosscheck.studies.mujoco_contact import friction_skew
+from crosscheck.engines.mujoco.studies import friction_skew as fs
+from crosscheck.engines.mujoco.studies.law_check import convergence_order, random_contact
+from crosscheck.engines.mujoco.studies.contact import friction_skew
 from crosscheck.tolerances import (MUJOCO_LAW_FORCE, MUJOCO_LAW_KKT, MUJOCO_LAW_ORDER, MUJOCO_LAW_PIECES, MUJOCO_LAW_SKEW,
                                    MUJOCO_LAW_SKEW_IDENTITY)
 

@@ -79,8 +79,13 @@ def test_serial_run_has_one_row_per_run_with_the_promised_columns(serial):
     spec, out, summary = serial
     df = sweeps.load(out)
     assert summary.failed == {} and len(summary.computed) == 6 and len(df) == 24
-    for c in ("theta", "varphi", "Theta", "Psi", "eta", "mu", "alpha", "outcome", "event_time", "timestep", "engine", "solver_unconverged_steps"):
+    for c in ("theta", "varphi", "Theta", "Psi", "eta", "mu", "alpha", "outcome", "event_time", "timestep", "engine"):
         assert c in df.columns
+    # solver statistics: exactly the columns the engine declares (MuJoCo's solver reports none per run)
+    from crosscheck.sweeps.chunk import result_columns
+
+    assert [c for c in df.columns if c.startswith("solver_")] == [c for c in result_columns("mujoco") if c.startswith("solver_")]
+    assert result_columns("pinocchio")[-5:-2] == ("solver_contact_steps", "solver_unconverged_steps", "solver_max_iterations")
     assert set(df.outcome) <= {"SLIP", "LIFTOFF", "STICK", "JAM", "DIVERGED"} and list(df.run) == list(range(24))
     # the same runs through the engine directly give the same outcomes (the layer adds nothing to the physics)
     from crosscheck import Rod, SlipState

@@ -10,11 +10,11 @@ import pytest
 from crosscheck import Rod, analytic
 from crosscheck.cli import main
 from crosscheck.critical import Psi_L
-from crosscheck.studies import mujoco_contact
+from crosscheck.engines.mujoco.studies import contact as mujoco_contact
 from crosscheck.studies import validate as validation
 from crosscheck.studies.grids import random_event_points
 from crosscheck.studies.onset import liftoff_onset
-from crosscheck.tolerances import EVENT_TOLERANCES, MUJOCO_CONTACT_ACCELERATION
+from crosscheck.tolerances import MUJOCO_CONTACT_ACCELERATION
 
 RIGID_QUANTITIES = ["one-step normal impulse / dt vs -b/p", "slipping convergence order", "post-jam rates vs IWC order (planar impasse)",
                     "lift-off onset Psi", "event disagreement", "median |event time difference|", "jams below mu_P",
@@ -77,9 +77,10 @@ def test_random_event_points_start_slipping_and_are_seeded():
 def test_bad_state_count_and_engine():
     with pytest.raises(ValueError, match="n_states must be >= 1"):
         validation.validate("mujoco", 0, np.random.default_rng(0))
-    with pytest.raises(ValueError, match="engine must be one of mujoco, pinocchio .*; got 'bullet'"):
-        validation.validate("bullet", 10, np.random.default_rng(0))
-    assert validation.names() == ["mujoco", "pinocchio"] and set(EVENT_TOLERANCES) == {"mujoco", "pinocchio"}
+    with pytest.raises(ValueError, match="engine must be one of .*mujoco, pinocchio.*; got 'no_such_engine'"):
+        validation.validate("no_such_engine", 10, np.random.default_rng(0))
+    # validate judges exactly the engines that declare dynamics terms or an event-tolerance profile
+    assert {"mujoco", "pinocchio"} <= set(validation.names()) and "compliant" not in validation.names()
     assert validation.parts_of("pinocchio") == ("dynamics", "events") and validation.parts_of("mujoco") == ("events",)
     with pytest.raises(ValueError, match="checks must be among dynamics, events; got 'speed'"):
         validation.validate("mujoco", 10, np.random.default_rng(0), checks=("speed",))

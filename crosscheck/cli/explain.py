@@ -18,14 +18,14 @@ def _explain(args) -> int:
     import warnings
 
     from crosscheck.state import SlipState
-    from crosscheck.studies.ladder import RUNG_TITLES, run_ladder
+    from crosscheck.engines.mujoco.studies.ladder import RUNG_TITLES, run_ladder
 
     state = SlipState(theta=_num("theta", args.theta, THETA), varphi=_num("varphi", args.varphi, VARPHI),
                       Theta=_num("Theta", args.Theta, RATE), Psi=_num("Psi", args.Psi, RATE), eta=_num("eta", args.eta, ETA))
     mu, alpha = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA)
     horizon = _num("horizon", args.horizon, HORIZON)
     from crosscheck.checks import Interval
-    from crosscheck.engines.mujoco.engine import RADIUS, Options
+    from crosscheck.engines.mujoco.options import RADIUS, Options
 
     options = {}
     if args.timestep is not None:

@@ -27,7 +27,7 @@ def _run(args) -> int:
     sections = list(report.SECTIONS)
     selected = sections
     if args.only:
-        selected = [report.section_by_slug(s) for s in args.only]  # ValueError names an unknown section
+        selected = [report.section_by_slug(s, sections) for s in args.only]  # ValueError names an unknown section
     if args.out is not None and not args.out.strip():
         raise ValueError(f"out must be a writable directory path; got {args.out!r}")
     out = Path(args.out) if args.out is not None else report.default_out(args.quick)

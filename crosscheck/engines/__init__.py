@@ -27,7 +27,7 @@ from crosscheck.engines.classifier import Classification, Thresholds, classify
 from crosscheck.engines.record import Record
 from crosscheck.engines.spec import TAGS, EngineSpec, ReportPlan
 
-__all__ = ["names", "get", "specs", "register", "unregister", "labels", "Engine", "EngineSpec", "ReportPlan", "TAGS", "Run", "SweepResult",
+__all__ = ["names", "get", "specs", "libraries", "register", "unregister", "labels", "Engine", "EngineSpec", "ReportPlan", "TAGS", "Run", "SweepResult",
            "Record", "Thresholds", "Classification", "classify", "n_steps", "sweep_by_simulate", "SERIES", "SUMMARY"]
 
 #: The engine subpackages shipped with crosscheck, each with ``ENGINES``.
@@ -74,6 +74,11 @@ def get(name: str) -> EngineSpec:
 def labels() -> dict[str, str]:
     """Engine name -> its label for tables and messages ("mujoco" -> "MuJoCo")."""
     return {s.name: s.label for s in specs()}
+
+
+def libraries() -> tuple[str, ...]:
+    """The PyPI distributions of every engine's library, in engine order without repeats (for provenance and result keys)."""
+    return tuple(dict.fromkeys(lib for s in specs() for lib in s.libraries))
 
 
 def register(engine: EngineSpec) -> EngineSpec:

@@ -89,7 +89,7 @@ class EngineSpec:
         judge its events.
       tags: a subset of ``TAGS``.
       ladder: the models in between it and the theory, cause -> rung (see
-        ``crosscheck.studies.ladder``); None: no ladder.
+        ``crosscheck.engines.mujoco.studies.ladder``); None: no ladder.
       checks: ``f(rod, n_states, rng) -> list[ErrorStat]``, checks only this engine has,
         run first by ``validate``; None: none.
       dynamics: module with ``DEFAULT_STATES`` and ``validate(n, rng, *, progress)``

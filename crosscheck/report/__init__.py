@@ -8,8 +8,9 @@ Two stages (``crosscheck report`` runs both; ``--from-results`` only the second)
    (PNG + SVG under ``<out>/figures/``), ``<out>/index.html`` and its Markdown
    twin ``<out>/report.md``.
 
-``SECTIONS`` is the registry of sections, in report order
-(``crosscheck.report.sections``).
+``SECTIONS`` is every section in report order, the theory's and each
+registered engine's (``crosscheck.report.sections.all_sections``, read when
+the attribute is).
 """
 
 from __future__ import annotations
@@ -19,7 +20,8 @@ from pathlib import Path
 from crosscheck.report.pipeline import lock, run
 from crosscheck.report.render import RenderSummary, render
 from crosscheck.report.section import Section
-from crosscheck.report.sections import SECTIONS, section_by_slug
+from crosscheck.report import sections as _sections
+from crosscheck.report.sections import section_by_slug
 
 __all__ = ["SECTIONS", "Section", "RenderSummary", "run", "render", "lock", "default_out", "section_by_slug"]
 
@@ -28,3 +30,9 @@ def default_out(quick: bool) -> Path:
     """``reports/latest`` (git-ignored), for the quick and the full report alike: never over the committed
     reference ``reports/quick``, which is written only when asked for (``--out reports/quick``)."""
     return Path("reports") / "latest"
+
+
+def __getattr__(name: str):
+    if name == "SECTIONS":
+        return _sections.all_sections()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

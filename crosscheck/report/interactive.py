@@ -3,7 +3,7 @@
 No script and no network: each cell is an SVG ``<rect>`` with a ``<title>``
 (the browser's own tooltip), so the page opens from disk, offline, in any
 browser, and stays readable as text.  Used by the outcome-map sections
-(``crosscheck.report.sections.mujoco_maps``) beside their PNG maps.
+(``crosscheck.report.sections.engine_maps``) beside their PNG maps.
 """
 
 from __future__ import annotations

@@ -91,14 +91,16 @@ def lock(out: Path):
 
 def code_digest() -> str:
     """sha256 of what computed a section: crosscheck's source (every .py and model file of the package, by
-    relative path) and the versions of the libraries that compute (numpy, scipy, mujoco, pin)."""
+    relative path) and the versions of the libraries that compute (numpy, scipy and every engine's libraries)."""
     import hashlib
 
     import crosscheck
 
     root = Path(crosscheck.__file__).parent
     h = hashlib.sha256()
-    h.update(json.dumps(provenance.package_versions(("numpy", "scipy", "mujoco", "pin")), sort_keys=True).encode())
+    from crosscheck import engines
+
+    h.update(json.dumps(provenance.package_versions(("numpy", "scipy", *engines.libraries())), sort_keys=True).encode())
     for p in sorted(root.rglob("*")):
         if p.suffix in (".py", ".xml") and "__pycache__" not in p.parts:
             h.update(str(p.relative_to(root)).encode())

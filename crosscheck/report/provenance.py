@@ -18,12 +18,17 @@ from pathlib import Path
 
 __all__ = ["PACKAGES", "collect", "git_revision", "package_versions", "machine"]
 
-#: Distributions whose versions every report records (PyPI names).
-PACKAGES = ("crosscheck", "mujoco", "pin", "numpy", "scipy", "matplotlib", "tqdm")
+#: Distributions whose versions every report records besides the engines' libraries (PyPI names).
+PACKAGES = ("crosscheck", "numpy", "scipy", "matplotlib", "tqdm")
 
 
-def package_versions(packages=PACKAGES) -> dict[str, str | None]:
-    """Installed version of each distribution, None when it is not installed."""
+def package_versions(packages=None) -> dict[str, str | None]:
+    """Installed version of each distribution, None when it is not installed (default: ``PACKAGES`` and every
+    registered engine's libraries)."""
+    if packages is None:
+        from crosscheck import engines
+
+        packages = PACKAGES[:1] + engines.libraries() + PACKAGES[1:]
     out: dict[str, str | None] = {}
     for name in packages:
         try:

@@ -178,6 +178,8 @@ class Section:
       run: ``run(ctx: RunContext) -> None``; saves results through ``ctx.store``.
       render: ``render(ctx: RenderContext) -> list[Block]``; reads saved results only.
       requires: modules of the project the run imports (listed when the run fails on them).
+      finding: ``finding(data_dir) -> list[Finding]``, the section's lines in the report's findings, read
+        from its saved results (``crosscheck.report.findings``); None: the generic lines only.
     """
 
     slug: str
@@ -187,3 +189,4 @@ class Section:
     run: Callable[[RunContext], None]
     render: Callable[[RenderContext], list]
     requires: tuple[str, ...] = ()
+    finding: Callable[[Path], list] | None = None

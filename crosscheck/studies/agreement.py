@@ -39,7 +39,7 @@ the distance to the analytic event boundary that the study bins disagreement
 by.  Disagreement is also binned by the analytic comparison time in units of
 the contact time constant (a soft contact needs ~tau to build up the rigid
 force) and by |varphi0 + pi/2| (off the planar section MuJoCo's friction is
-not anti-parallel to the slip: ``crosscheck.studies.mujoco_contact``).
+not anti-parallel to the slip: ``crosscheck.engines.mujoco.studies.contact``).
 
 All times, rates and forces are in the paper's scaled units (section 2.1).
 """
@@ -463,9 +463,7 @@ def _sweep_through_store(E, rod: Rod, states_cols: dict, mu: np.ndarray, horizon
         raise RuntimeError(f"{len(summary.failed)} chunks of the {E.name} sweep failed; first: {next(iter(summary.failed.values()))}")
     df = sweeps.load(summary.out)
     outcome = np.array([Outcome[o] for o in df["outcome"]], np.int8)
-    solver = None
-    if (df["solver_contact_steps"] >= 0).all():
-        solver = {k: df[f"solver_{k}"].to_numpy() for k in ("contact_steps", "unconverged_steps", "max_iterations")}
+    solver = {c: df[f"solver_{c}"].to_numpy() for c in E.solver_columns} or None
     wall = float(df["wall_time"].sum())
     warned = sweeps.Store(summary.out).warnings()
     return (outcome, df["event_time"].to_numpy(), df["jam_p_eff"].to_numpy(), wall, len(df) * n_steps(horizon, opts.timestep) / wall, solver,

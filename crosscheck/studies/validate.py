@@ -3,11 +3,11 @@
 An engine is validated by up to two sets of checks, each a list of
 ``ErrorStat`` with a tolerance from ``crosscheck.tolerances``:
 
-* dynamics terms (``DYNAMICS``): a multibody model's M, C, g, Jacobians and
-  Delassus operator against the paper's equations, state by state
-  (``crosscheck.studies.dynamics_terms`` for Pinocchio);
-* contact events, for every engine with event tolerances in
-  ``crosscheck.tolerances.EVENT_TOLERANCES``:
+* dynamics terms (the engine's ``EngineSpec.dynamics``): a multibody model's
+  M, C, g, Jacobians and Delassus operator against the paper's equations,
+  state by state (``crosscheck.engines.pinocchio.studies.dynamics_terms`` for Pinocchio);
+* contact events, for every engine that declares an event-tolerance profile
+  (``EngineSpec.tolerances``):
 
   - lift-off onset: at theta_L, Theta = 0, varphi = -pi/2 and mu in
     ``MUS_ONSET`` the smallest Psi at which the engine lifts off at t = 0
@@ -36,10 +36,10 @@ An engine is validated by up to two sets of checks, each a list of
   the last steps of the square-root approach to p = 0 (a STICK at the jam
   row) instead of ending with a one-row impulse.
 
-  plus the engine's own checks (``OWN_CHECKS``): for MuJoCo, its tip
+  plus the engine's own checks (``EngineSpec.checks``): for MuJoCo, its tip
   acceleration with an active contact against eq. linode2 at the capsule's
-  contact point (``crosscheck.studies.mujoco_contact``); for the rigid
-  engine (``crosscheck.studies.rigid``), one step's normal impulse against
+  contact point (``crosscheck.engines.mujoco.studies.contact``); for the rigid
+  engine (``crosscheck.engines.pinocchio.studies.rigid``), one step's normal impulse against
   eq. FZ, the order of convergence of a slipping trajectory, and the order
   of convergence of its state after a jam to the impact without collision
   (``crosscheck.iwc``), with the Corollary 4.2 states' aftermath in ``extra``.
@@ -57,7 +57,6 @@ import importlib
 import numpy as np
 
 from crosscheck import engines
-from crosscheck import tolerances as tol
 from crosscheck.compare import ErrorStat, ValidationResult, error_stat
 from crosscheck.critical import Psi_L, p_min
 from crosscheck.engines.classifier import Thresholds
@@ -68,11 +67,8 @@ from crosscheck.studies.grids import random_event_points
 from crosscheck.studies.jams import jam_check
 from crosscheck.studies.onset import liftoff_onset
 
-__all__ = ["names", "default_states", "validate", "contact_events", "DYNAMICS", "OWN_CHECKS", "DEFAULT_STATES", "ALPHA", "MUS_ONSET",
+__all__ = ["names", "default_states", "validate", "contact_events", "DEFAULT_STATES", "ALPHA", "MUS_ONSET",
            "MUS_BELOW", "RIGID_JAM_WINDOW", "PARTS", "parts_of"]
-
-#: Engines with a dynamics-terms check: name -> module with ``DEFAULT_STATES`` and ``validate(n, rng, *, progress)``.
-DYNAMICS = {"pinocchio": "crosscheck.studies.dynamics_terms"}
 
 #: Random states of the event agreement without ``--states`` (~1 min on 2 cores for MuJoCo's whole validation).
 DEFAULT_STATES = 300
@@ -93,46 +89,16 @@ MUS_BELOW = (0.5, 1.0, 1.15, 1.3)
 RIGID_JAM_WINDOW = 0.05
 
 
-def _mujoco_contact(rod: Rod, n_states: int, rng: np.random.Generator) -> list[ErrorStat]:
-    from crosscheck.studies.mujoco_contact import contact_acceleration
-
-    ca = contact_acceleration(rod, min(n_states, 100), rng)
-    where = {k: ca[k] for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi", "mu")}
-    return [error_stat("tip acceleration with contact", ca["got"] / ca["scale"][:, None], ca["want"] / ca["scale"][:, None],
-                       tol.MUJOCO_CONTACT_ACCELERATION, where)]
-
-
-def _rigid(rod: Rod, n_states: int, rng: np.random.Generator) -> list[ErrorStat]:
-    from crosscheck.studies import rigid
-
-    stats = []
-    steps = [(s, m, rigid.one_step(rod, s, m)) for s, m in rigid.slipping_states(min(n_states, 40), rng, rod.alpha)]
-    where = {k: np.array([getattr(s, k) for s, _, _ in steps]) for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi")}
-    where["mu"] = np.array([m for _, m, _ in steps])
-    stats.append(error_stat("one-step normal impulse / dt vs -b/p", [c.normal_force for _, _, c in steps],
-                            [c.slipping_force for _, _, c in steps], tol.RIGID_STEP_FORCE, where))
-    rate, errs = rigid.slip_order(rod)
-    stats.append(error_stat("slipping convergence order", [rate], [1.0], tol.RIGID_SLIP_ORDER, {"error_at_smallest_dt": errs[-1:]}))
-    impasses = [rigid.planar_impasse(m, T, rod.alpha) for m, T in ((1.4, 0.5), (1.4, -0.3), (2.0, 0.5))]
-    after = [rigid.jam_aftermath(rod, [s], m) for s, m in zip(impasses, (1.4, 1.4, 2.0))]
-    stats.append(error_stat("post-jam rates vs IWC order (planar impasse)", [a.orders()[0] for a in after], [1.0] * len(after),
-                            tol.RIGID_IWC_ORDER, {"mu": np.array([1.4, 1.4, 2.0]), "Theta": np.array([0.5, -0.3, 0.5])}))
-    return stats
-
-
-#: Checks only one engine has: name -> function(rod, n_states, rng) -> list of ErrorStat, run first.
-OWN_CHECKS = {"mujoco": _mujoco_contact, "pinocchio": _rigid}
-
-
 def names() -> list[str]:
     """Names ``validate`` accepts: engines with dynamics terms or event tolerances."""
-    return sorted(set(DYNAMICS) | set(tol.EVENT_TOLERANCES))
+    return sorted(e.name for e in engines.specs() if e.dynamics is not None or e.tolerances is not None)
 
 
 def default_states(name: str) -> int:
     """Random states of ``validate`` without ``--states``: the dynamics check's if it has one, else ``DEFAULT_STATES``."""
     _known(name)
-    return importlib.import_module(DYNAMICS[name]).DEFAULT_STATES if name in DYNAMICS else DEFAULT_STATES
+    dynamics = engines.get(name).dynamics
+    return importlib.import_module(dynamics).DEFAULT_STATES if dynamics else DEFAULT_STATES
 
 
 def _known(name: str) -> None:
@@ -154,16 +120,17 @@ def contact_events(engine: str, n_states: int, rng: np.random.Generator, *, prog
     """
     if n_states < 1:
         raise ValueError(f"n_states must be >= 1; got {n_states}")
-    if engine not in tol.EVENT_TOLERANCES:
-        raise ValueError(f"engine must be one of {', '.join(sorted(tol.EVENT_TOLERANCES))} (engines with event tolerances); got {engine!r}")
-    engines.get(engine)  # unknown engine -> ValueError before any work
-    T = tol.EVENT_TOLERANCES[engine]
+    judged = sorted(e.name for e in engines.specs() if e.tolerances is not None)
+    if engine not in judged:
+        raise ValueError(f"engine must be one of {', '.join(judged)} (engines with event tolerances); got {engine!r}")
+    E = engines.get(engine)
+    T = E.tolerances
     rod = Rod.scaled(ALPHA)
     stats: list[ErrorStat] = []
     extra: dict = {"units": "scaled (m = l = g = 1, time 1/omega)", "alpha": ALPHA}
 
-    if engine in OWN_CHECKS:
-        stats.extend(OWN_CHECKS[engine](rod, n_states, rng))
+    if E.checks is not None:
+        stats.extend(E.checks(rod, n_states, rng))
 
     onsets = [liftoff_onset(rod, m, engine=engine) for m in MUS_ONSET]
     stats.append(error_stat("lift-off onset Psi", [o for o, _ in onsets], [float(Psi_L)] * len(onsets), T["liftoff_onset"],
@@ -184,7 +151,7 @@ def contact_events(engine: str, n_states: int, rng: np.random.Generator, *, prog
         "convergence_row": convergence_table(study),
     }
 
-    rigid = engines.get(engine).Options().contact_time == 0.0
+    rigid = E.options().contact_time == 0.0
     n_below, n_above = jam_states or (max(20, n_states // 5), max(30, n_states // 10))
     jc = jam_check(engine=engine, mus_below=MUS_BELOW, n_below=n_below, n_above=n_above, rng=rng,
                    near_window=RIGID_JAM_WINDOW if rigid else 0.15, progress=progress)
@@ -214,7 +181,8 @@ PARTS = ("dynamics", "events")
 
 def parts_of(name: str) -> tuple[str, ...]:
     """The parts of ``PARTS`` engine ``name`` has."""
-    return tuple(p for p in PARTS if (p == "dynamics" and name in DYNAMICS) or (p == "events" and name in tol.EVENT_TOLERANCES))
+    E = engines.get(name)
+    return tuple(p for p in PARTS if (p == "dynamics" and E.dynamics) or (p == "events" and E.tolerances is not None))
 
 
 def validate(name: str, n_states: int, rng: np.random.Generator, *, progress: bool = False, checks=PARTS) -> ValidationResult:
@@ -225,10 +193,11 @@ def validate(name: str, n_states: int, rng: np.random.Generator, *, progress: bo
         if c not in PARTS:
             raise ValueError(f"checks must be among {', '.join(PARTS)}; got {c!r}")
     parts = []
-    if name in DYNAMICS and "dynamics" in checks:
-        parts.append(importlib.import_module(DYNAMICS[name]).validate(n_states, rng, progress=progress))
-    if name in tol.EVENT_TOLERANCES and "events" in checks:
-        parts.append(contact_events(name, min(n_states, DEFAULT_STATES) if name in DYNAMICS else n_states, rng, progress=progress))
+    E = engines.get(name)
+    if E.dynamics and "dynamics" in checks:
+        parts.append(importlib.import_module(E.dynamics).validate(n_states, rng, progress=progress))
+    if E.tolerances is not None and "events" in checks:
+        parts.append(contact_events(name, min(n_states, DEFAULT_STATES) if E.dynamics else n_states, rng, progress=progress))
     if not parts:
         raise ValueError(f"checks must include a part {name} has ({', '.join(parts_of(name))}); got {', '.join(checks) or 'none'}")
     if len(parts) == 1:

@@ -3,7 +3,7 @@
 A chunk is the unit of work (one task on a worker) and of storage (one
 Parquet file).  It depends only on the spec and its id: nothing in it is
 random (random states are drawn when the spec is read), and an engine runs
-on one core inside a chunk (``ONE_CORE``: the parallelism is over chunks), so
+on one core inside a chunk (its ``EngineSpec.one_core``: the parallelism is over chunks), so
 a chunk's table is the same whichever worker computes it and in whatever
 order chunks finish.
 """
@@ -17,16 +17,20 @@ import numpy as np
 
 from crosscheck.sweeps.spec import ANALYTIC, AXES, Spec
 
-__all__ = ["compute_chunk", "RESULT_COLUMNS", "ONE_CORE"]
+__all__ = ["compute_chunk", "RESULT_COLUMNS", "result_columns"]
 
-#: Per-run result columns (besides the inputs): the outcome's name, times (scaled; NaN where none), the
-#: JAM's own p and impulse, the solver's health where the engine has a solver (-1 otherwise), and the
-#: wall time per run (the chunk's engine time over its runs; the one column that differs between runs).
-RESULT_COLUMNS = ("engine", "outcome", "event_time", "exit_time", "diverged_time", "jam_p_eff", "jam_impulse", "solver_contact_steps",
-                  "solver_unconverged_steps", "solver_max_iterations", "chunk", "wall_time")
+#: Per-run result columns (besides the inputs) of every engine: the outcome's name, times (scaled; NaN
+#: where none), the JAM's own p and impulse, and the wall time per run (the chunk's engine time over its
+#: runs; the one column that differs between runs).
+RESULT_COLUMNS = ("engine", "outcome", "event_time", "exit_time", "diverged_time", "jam_p_eff", "jam_impulse", "chunk", "wall_time")
 
-#: Keyword arguments that keep an engine's sweep on one core (chunks are the parallel unit).
-ONE_CORE = {"mujoco": {"nthread": 1}, "pinocchio": {"workers": 1}}
+
+def result_columns(engine: str) -> tuple[str, ...]:
+    """``RESULT_COLUMNS`` and, for an engine with solver statistics, ``solver_<field>`` per declared field (integers)."""
+    from crosscheck import engines
+
+    solver = engines.get(engine).solver_columns if engine != ANALYTIC else ()
+    return RESULT_COLUMNS[:-2] + tuple(f"solver_{c}" for c in solver) + RESULT_COLUMNS[-2:]
 
 
 def _state(cols: dict, i: int):
@@ -65,7 +69,7 @@ def _analytic(cols: dict, horizon: float) -> dict:
     return out
 
 
-def _engine(spec: Spec, cols: dict) -> dict:
+def _engine(spec: Spec, cols: dict, warnings: dict) -> dict:
     from crosscheck import engines
     from crosscheck.outcome import Outcome
     from crosscheck.rod import Rod
@@ -74,8 +78,8 @@ def _engine(spec: Spec, cols: dict) -> dict:
     n = len(cols["run"])
     out = {k: np.full(n, np.nan) for k in ("event_time", "exit_time", "diverged_time", "jam_p_eff", "jam_impulse")}
     out["outcome"] = np.empty(n, object)
-    for k in ("solver_contact_steps", "solver_unconverged_steps", "solver_max_iterations"):
-        out[k] = np.full(n, -1, np.int64)
+    for c in E.solver_columns:
+        out[f"solver_{c}"] = np.full(n, -1, np.int64)
     # one engine sweep per (alpha, option combination) in the chunk; mu may differ run by run
     keys = ["alpha", *spec.options]
     groups: dict[tuple, list[int]] = {}
@@ -86,35 +90,36 @@ def _engine(spec: Spec, cols: dict) -> dict:
         opts = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in opts.items()}
         states = [_state(cols, i) for i in idx]
         r = E.sweep(Rod.scaled(alpha), states, np.asarray(cols["mu"], float)[idx], horizon=spec.horizon, progress=False,
-                    **opts, **ONE_CORE.get(spec.engine, {}))
+                    **opts, **E.one_core)
         out["outcome"][idx] = [Outcome(int(o)).name for o in r.outcome]
+        for kind, count in r.warnings.items():
+            warnings[kind] = warnings.get(kind, 0) + int(count)
         for k in ("event_time", "exit_time", "diverged_time"):
             out[k][idx] = getattr(r, k)
         out["jam_p_eff"][idx] = r.summary["jam_p_eff"]
         out["jam_impulse"][idx] = r.summary["jam_impulse"]
-        if r.solver is not None:
-            out["solver_contact_steps"][idx] = r.solver["contact_steps"]
-            out["solver_unconverged_steps"][idx] = r.solver["unconverged_steps"]
-            out["solver_max_iterations"][idx] = r.solver["max_iterations"]
+        for c in E.solver_columns:
+            out[f"solver_{c}"][idx] = r.solver[c]
     return out
 
 
-def compute_chunk(spec: Spec, chunk_id: int) -> dict[str, np.ndarray]:
-    """The table of chunk ``chunk_id``: its input columns (``Spec.runs``) and ``RESULT_COLUMNS``, one row per run."""
+def compute_chunk(spec: Spec, chunk_id: int, *, warnings: dict | None = None) -> dict[str, np.ndarray]:
+    """The table of chunk ``chunk_id``: its input columns (``Spec.runs``) and ``result_columns``, one row per run.
+
+    ``warnings``: a dict that receives the engine's own warnings during the chunk, by kind (``SweepResult.warnings``).
+    """
     if not (0 <= chunk_id < spec.n_chunks):
         raise ValueError(f"chunk_id must be in [0, {spec.n_chunks - 1}]; got {chunk_id}")
     cols = spec.runs(chunk_id)
     n = len(cols["run"])
     t0 = time.perf_counter()
-    res = _analytic(cols, spec.horizon) if spec.engine == ANALYTIC else _engine(spec, cols)
+    res = _analytic(cols, spec.horizon) if spec.engine == ANALYTIC else _engine(spec, cols, {} if warnings is None else warnings)
     wall = (time.perf_counter() - t0) / max(n, 1)
     out = dict(cols)
     out["engine"] = np.full(n, spec.engine, object)
-    for k in RESULT_COLUMNS[1:]:
+    for k in result_columns(spec.engine)[1:]:
         if k in res:
             out[k] = res[k]
-        elif k.startswith("solver_"):
-            out[k] = np.full(n, -1, np.int64)
         elif k not in ("chunk", "wall_time"):
             out[k] = np.full(n, math.nan)
     out["chunk"] = np.full(n, chunk_id, np.int64)

@@ -51,11 +51,14 @@ def _write_atomic(path: Path, data: bytes) -> None:
     os.replace(tmp, path)
 
 
-def versions() -> dict:
-    """Versions of what computes a sweep (recorded in the manifest)."""
+def versions(engine: str | None = None) -> dict:
+    """Versions of what computes a sweep of ``engine`` (recorded in the manifest): crosscheck, numpy, scipy, the
+    engine's own libraries (none for the analytic reference or an unknown name) and the store's."""
+    from crosscheck import engines
     from crosscheck.report.provenance import package_versions
 
-    return package_versions(("crosscheck", "numpy", "scipy", "mujoco", "pin", "pyarrow", "dask", "distributed"))
+    libs = engines.get(engine).libraries if engine in engines.names() else ()
+    return package_versions(("crosscheck", "numpy", "scipy", *libs, "pyarrow", "dask", "distributed"))
 
 
 def _now() -> str:
@@ -132,9 +135,9 @@ class Store:
             if fresh and self.manifest_path.exists():
                 self.manifest_path.unlink()
             m = {"format": FORMAT, "spec": spec.source, "spec_sha256": spec.digest, "engine": spec.engine, "n_runs": spec.n_runs,
-                 "n_chunks": spec.n_chunks, "chunk": spec.chunk, "versions": versions(), "created": _now(), "chunks": {}, "failed": {}}
+                 "n_chunks": spec.n_chunks, "chunk": spec.chunk, "versions": versions(spec.engine), "created": _now(), "chunks": {}, "failed": {}}
         self.chunks.mkdir(parents=True, exist_ok=True)
-        m["versions_resumed"] = versions() if m.get("chunks") else None
+        m["versions_resumed"] = versions(spec.engine) if m.get("chunks") else None
         self._write_manifest(m)
         return m
 

@@ -32,12 +32,12 @@ __all__ = ["ENGINES", "integrate", "simulate", "sweep", "slow_manifold", "rigid_
 
 
 def _sections():
-    from crosscheck.report.sections import compliant_limit
+    from crosscheck.engines.compliant.sections import limit
 
-    return (compliant_limit.SECTION,)
+    return (limit.SECTION,)
 
 
 ENGINES = (
-    EngineSpec(name="compliant", module="crosscheck.engines.compliant.run", label="compliant rod", one_core={"workers": 1},
+    EngineSpec(name="compliant", module="crosscheck.engines.compliant.run", one_core={"workers": 1},
                tags={"compliant", "continuous"}, report=ReportPlan(sections=_sections, order=30)),
 )

@@ -22,7 +22,7 @@ __all__ = ["ENGINES"]
 def _checks(rod, n_states, rng):
     """MuJoCo's contact force at one instant against the rigid tip acceleration (``validate``'s first check)."""
     from crosscheck.compare import error_stat
-    from crosscheck.studies.mujoco.contact import contact_acceleration
+    from crosscheck.engines.mujoco.studies.contact import contact_acceleration
 
     ca = contact_acceleration(rod, min(n_states, 100), rng)
     where = {k: ca[k] for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi", "mu")}
@@ -31,10 +31,10 @@ def _checks(rod, n_states, rng):
 
 
 def _sections():
-    from crosscheck.report.sections import friction_skew, ladder, mujoco_liftoff, mujoco_trajectories, mujoco_validate
+    from crosscheck.engines.mujoco.sections import friction_skew, ladder, liftoff, trajectories, validate
 
     # the ladder last: it reads the saved results of MuJoCo's map section
-    return (mujoco_liftoff.SECTION, mujoco_trajectories.SECTION, mujoco_validate.SECTION, friction_skew.SECTION, ladder.SECTION)
+    return (liftoff.SECTION, trajectories.SECTION, validate.SECTION, friction_skew.SECTION, ladder.SECTION)
 
 
 ENGINES = (
@@ -45,7 +45,7 @@ ENGINES = (
                     "event_time": tol.MUJOCO_EVENT_TIME, "no_jam_below_mu_P": tol.MUJOCO_NO_JAM_BELOW_MU_P,
                     "corollary_stop": tol.MUJOCO_COROLLARY_STOP},
         checks=_checks,
-        # the models between the theory and MuJoCo (crosscheck.studies.ladder): its capsule's contact point, the
+        # the models between the theory and MuJoCo (crosscheck.engines.mujoco.studies.ladder): its capsule's contact point, the
         # compliant rod with MuJoCo's matched Kelvin-Voigt law, MuJoCo's own law in continuous time, MuJoCo itself
         ladder={"geometry": "capsule", "compliance": "compliant", "friction law": "mujoco_law", "discretisation": "mujoco"},
         report=ReportPlan(maps={"quick": {"timestep": 3e-4, "timeconst": 0.06}, "full": {"timestep": 3e-4, "timeconst": 0.06}},
@@ -54,6 +54,6 @@ ENGINES = (
                                                 ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02), (1e-4, 0.02), (1e-4, 0.006))]},
                           sections=_sections, order=10),
     ),
-    EngineSpec(name="mujoco_law", module="crosscheck.engines.mujoco.ode", label="MuJoCo's law (continuous time)", libraries=("mujoco",),
+    EngineSpec(name="mujoco_law", module="crosscheck.engines.mujoco.ode", label="MuJoCo's law in continuous time", libraries=("mujoco",),
                tags={"compliant", "relaxed", "continuous"}),
 )

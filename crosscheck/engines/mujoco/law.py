@@ -48,7 +48,7 @@ along its horizontal projection (1 + alpha (sin theta + r/l)^2)/m, smaller
 (1.28 against 4 at theta = 0.3, alpha = 3), and a push along the rod also
 moves the point vertically (A_nt != 0); hence the skew; R_t = R_n / impratio is isotropic, so a
 small impratio (R_t >> A_tt) dilutes it, at the price of a softer friction.
-``crosscheck.studies.friction_skew`` measures all of this in MuJoCo.
+``crosscheck.engines.mujoco.studies.friction_skew`` measures all of this in MuJoCo.
 
 Units.  ``contact_problem`` and the solver work in the rod's physical units
 (MuJoCo's SI); ``contact_force`` returns the world force in m g.  q, v are
@@ -66,7 +66,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from crosscheck.checks import FINITE, MU, POSITIVE, check
-from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import AXIAL_INERTIA
 from crosscheck.rod import Rod
 
@@ -335,7 +335,7 @@ def skew_angle(slip, accel, damping) -> np.ndarray:
     slip: (..., 2) tangential contact-point velocity u; accel: (..., 2) its
     tangential acceleration a = J_t qacc; damping: B of the friction rows
     (1/time in the same units).  Counter-clockwise positive, as
-    ``crosscheck.studies.mujoco_contact.friction_skew`` measures it.
+    ``crosscheck.engines.mujoco.studies.contact.friction_skew`` measures it.
     """
     u = np.asarray(slip, dtype=float)
     w = u + np.asarray(accel, dtype=float) / np.asarray(damping, dtype=float)[..., None]

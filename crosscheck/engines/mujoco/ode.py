@@ -48,9 +48,9 @@ from scipy.integrate import solve_ivp
 from crosscheck.checks import MU, POSITIVE, Interval, check
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get
-from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
+from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, options_from_kwargs, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds, classify
-from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.law import Parameters, accelerations
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
@@ -323,7 +323,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
     state.check_start()
     horizon = float(check("horizon", horizon, POSITIVE))
-    opts = Options.from_kwargs(options)
+    opts = options_from_kwargs(Options, options, NAME)  # the options are MuJoCo's; the message names this engine
     if opts.model_file is not None:
         raise ValueError(f"model_file must be None for the mujoco_law engine (its law is rod.xml's); got {opts.model_file!r}")
     mu = float(check("mu", mu, MU))

@@ -1,7 +1,7 @@
 """The rigid engine: the rod as a Pinocchio multibody model, stepped by a Moreau / Stewart-Trinkle scheme on Pinocchio's NCP solvers.
 
 ``model``: the rod's chain (PX, PY, PZ, RZ, RX), its M, C, g, Jacobians and
-Delassus operator (equal to the analytic terms to 1e-14, ``crosscheck.studies.dynamics_terms``);
+Delassus operator (equal to the analytic terms to 1e-14, ``crosscheck.engines.pinocchio.studies.dynamics_terms``);
 ``options``: the run parameters; ``stepper``: the exact-cone time-stepper.
 """
 
@@ -14,7 +14,7 @@ __all__ = ["ENGINES"]
 def _checks(rod, n_states, rng):
     """One step's impulse against -b/p, the slipping convergence order and the post-jam rates against the impact without collision."""
     from crosscheck.compare import error_stat
-    from crosscheck.studies import rigid
+    from crosscheck.engines.pinocchio.studies import rigid
     import numpy as np
 
     stats = []
@@ -33,9 +33,10 @@ def _checks(rod, n_states, rng):
 
 
 def _sections():
-    from crosscheck.report.sections import pinocchio, rigid_engine
+    from crosscheck.engines.pinocchio.sections import dynamics_terms
+    from crosscheck.engines.pinocchio.sections import rigid_engine
 
-    return (pinocchio.SECTION, rigid_engine.SECTION)
+    return (dynamics_terms.SECTION, rigid_engine.SECTION)
 
 
 ENGINES = (
@@ -46,7 +47,7 @@ ENGINES = (
         tolerances={"liftoff_onset": tol.RIGID_LIFTOFF_ONSET, "event_disagreement": tol.RIGID_EVENT_DISAGREEMENT,
                     "event_time": tol.RIGID_EVENT_TIME, "no_jam_below_mu_P": tol.RIGID_NO_JAM_BELOW_MU_P,
                     "corollary_stop": tol.RIGID_COROLLARY_STOP},
-        checks=_checks, dynamics="crosscheck.studies.dynamics_terms",
+        checks=_checks, dynamics="crosscheck.engines.pinocchio.studies.dynamics_terms",
         # the quick report at a coarser timestep (its cost is the NCP's), drawn beside MuJoCo's maps
         report=ReportPlan(maps={"quick": {"timestep": 3e-3}, "full": {"timestep": 1e-3}}, beside="mujoco_maps",
                           convergence={"quick": [{"timestep": dt} for dt in (1e-2, 3e-3, 1e-3)],

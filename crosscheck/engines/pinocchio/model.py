@@ -1,7 +1,7 @@
 """The slender rod as a Pinocchio model (M, C, g, J, Delassus), answering the questions of ``crosscheck.analytic``.
 
 This is the model of the Pinocchio engine: its dynamics terms are checked
-against the paper's equations (``crosscheck.studies.dynamics_terms``), and a
+against the paper's equations (``crosscheck.engines.pinocchio.studies.dynamics_terms``), and a
 time-stepping engine on Pinocchio's constraint solvers shares it.
 
 The model: a chain of single-axis joints PX, PY, PZ, RZ (psi), RX

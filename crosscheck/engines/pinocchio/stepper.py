@@ -24,7 +24,7 @@ with G = J M^-1 J^T the Delassus operator (Pinocchio's
   instead of the tip acceleration a_A = J a + dJ v = 0, and misses the
   centripetal term of eq. b: the normal impulse / dt would not be -b/p and
   the lift-off decision would not be b > 0 (MuJoCo's active contact misses
-  this term, as ``crosscheck.studies.mujoco_contact`` measures).  With it the
+  this term, as ``crosscheck.engines.mujoco.studies.contact`` measures).  With it the
   impulse of a slipping step is exactly eq. FZ with the friction direction
   of the end-of-step slip, and lift-off happens iff b > 0.
 * ``gap_k / dt``: the next gap gap_k + dt u+_n stays non-negative (to first

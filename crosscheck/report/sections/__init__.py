@@ -1,16 +1,24 @@
-"""The report's sections, in report order: the analytic figures of the paper, the printed numbers,
-the GB manifold (sections 3.5 to 5), then the Pinocchio and MuJoCo cross-validations and the rigid engine."""
+"""The report's sections, in report order: the analytic figures of the paper, the printed numbers and the GB
+manifold (sections 3.5 to 5), then every registered engine's sections, generated from its ``EngineSpec``.
+
+An engine's sections are its outcome maps (``engine_maps``) and its convergence (``engine_convergence``) where
+its ``ReportPlan`` gives their settings, then the sections it declares as its own (MuJoCo's friction skew,
+the compliant limit, ...).  ``all_sections()`` reads the registry when called, so an engine registered at run
+time (``crosscheck.engines.register``) has its sections in the next report; ``SECTIONS`` is ``all_sections()``
+read at attribute access.
+"""
 
 from __future__ import annotations
 
 from crosscheck.report.section import Section
-from crosscheck.report.sections import compliant_limit
-from crosscheck.report.sections import ladder
-from crosscheck.report.sections import bifurcations, critical_angles, friction_skew, gb_det_zeros, gb_eigenvectors, gb_local, gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, kinematic_surfaces, mechanisms, mode_maps, mujoco_convergence, mujoco_liftoff, mujoco_maps, mujoco_trajectories, mujoco_validate, p_region, pinocchio, printed_numbers, rigid_engine
+from crosscheck.report.sections import (bifurcations, critical_angles, engine_convergence, engine_maps, gb_det_zeros, gb_eigenvectors, gb_local,
+                                        gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, kinematic_surfaces, mechanisms, mode_maps,
+                                        p_region, printed_numbers)
 
-__all__ = ["SECTIONS", "section_by_slug"]
+__all__ = ["SECTIONS", "THEORY_SECTIONS", "all_sections", "engine_sections", "section_by_slug"]
 
-SECTIONS: tuple[Section, ...] = (
+#: The sections of the theory alone (no engine), in report order.
+THEORY_SECTIONS: tuple[Section, ...] = (
     p_region.SECTION,
     mode_maps.SECTION,
     kinematic_surfaces.SECTION,
@@ -25,31 +33,41 @@ SECTIONS: tuple[Section, ...] = (
     gb_quartic.SECTION,
     gb_det_zeros.SECTION,
     gb_separatrix.SECTION,
-    pinocchio.SECTION,
-    mujoco_liftoff.SECTION,
-    mujoco_maps.SECTION,
-    mujoco_convergence.SECTION,
-    mujoco_trajectories.SECTION,
-    mujoco_validate.SECTION,
-    # MuJoCo's contact law written out: its friction-direction skew predicted and measured
-    friction_skew.SECTION,
-    # the rigid engine on the same starts as MuJoCo's maps; the quick report at a coarser timestep (its cost is the NCP's)
-    mujoco_maps.section("rigid_maps", "Rigid engine (Pinocchio) vs analytic: outcome maps beside MuJoCo's", "pinocchio",
-                        {"quick": {"timestep": 3e-3}, "full": {"timestep": 1e-3}}, beside="mujoco_maps"),
-    mujoco_convergence.section("rigid_convergence", "Rigid engine (Pinocchio) vs analytic: convergence in timestep", "pinocchio",
-                               {"quick": [{"timestep": dt} for dt in (1e-2, 3e-3, 1e-3)],
-                                "full": [{"timestep": dt} for dt in (3e-3, 1e-3, 3e-4)]}, n={"quick": 5, "full": 14}),
-    rigid_engine.SECTION,
-    # the compliant rod as eps -> 0 against the impact without collision (after the rigid engine's jams)
-    compliant_limit.SECTION,
-    # a named cause for each MuJoCo-theory disagreement of mujoco_maps (reads that section's saved results in the full report)
-    ladder.SECTION,
 )
 
 
-def section_by_slug(slug: str) -> Section:
-    """The section named ``slug``; ValueError listing the valid names otherwise."""
-    for s in SECTIONS:
+def engine_sections(spec) -> tuple[Section, ...]:
+    """The sections of one engine (``crosscheck.engines.EngineSpec``): maps, convergence, then its own."""
+    plan = spec.report
+    if plan is None:
+        return ()
+    out = []
+    if plan.maps is not None:
+        out.append(engine_maps.section(spec, plan.maps, beside=plan.beside))
+    if plan.convergence is not None:
+        out.append(engine_convergence.section(spec, plan.convergence, plan.convergence_n))
+    if plan.sections is not None:
+        out.extend(plan.sections())
+    return tuple(out)
+
+
+def all_sections() -> tuple[Section, ...]:
+    """Every section in report order: the theory's, then each registered engine's (``crosscheck.engines.specs()`` order)."""
+    from crosscheck import engines
+
+    return THEORY_SECTIONS + tuple(s for spec in engines.specs() for s in engine_sections(spec))
+
+
+def __getattr__(name: str):
+    if name == "SECTIONS":
+        return all_sections()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def section_by_slug(slug: str, sections=None) -> Section:
+    """The section named ``slug`` among ``sections`` (all by default); ValueError listing the valid names otherwise."""
+    sections = all_sections() if sections is None else sections
+    for s in sections:
         if s.slug == slug:
             return s
-    raise ValueError(f"--only must be one of: {', '.join(s.slug for s in SECTIONS)}; got {slug!r}")
+    raise ValueError(f"--only must be one of: {', '.join(s.slug for s in sections)}; got {slug!r}")

@@ -20,7 +20,7 @@ import mujoco
 import numpy as np
 
 from crosscheck.engines import get
-from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.law import contact_problem
 from crosscheck.engines.mujoco.model import build_model, initial_state
 from crosscheck.rod import Rod

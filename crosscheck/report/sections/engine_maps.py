@@ -2,9 +2,9 @@
 
 Each map is a ``crosscheck.studies.grids.EventGrid`` with two axes varied
 and the others fixed, run through ``crosscheck.studies.agreement.agreement_study``
-with the engine and options named in the parameters (``section(engine,
-...)`` builds one such section per engine: MuJoCo's here, the rigid
-engine's in ``rigid_maps``, drawn beside MuJoCo's): the analytic first event of
+with the engine and options named in the parameters (``section(spec, ...)``
+builds one such section per registered engine whose ``ReportPlan`` has maps,
+``<slug>_maps``, drawn beside another engine's maps where it says so): the analytic first event of
 every start (``slip_until_event``), and for every start that slips at t = 0
 (b < 0 < p) the engine's outcome by the one classifier
 (``crosscheck.engines.classifier``, whose JAM rule measures the force against
@@ -16,7 +16,7 @@ that do not slip at t = 0 are not compared (grey).
 Where they disagree: a cell on an analytic boundary (a 4-neighbour with
 another analytic outcome) against the interior; in the full report also the
 study's probed distance to the analytic boundary (``boundary_distance``).
-Event-time errors: t_MuJoCo - t_analytic where both report the same event.
+Event-time errors: t_engine - t_analytic where both report the same event.
 """
 
 from __future__ import annotations
@@ -27,16 +27,15 @@ from crosscheck.report.grids import cell_centres
 from crosscheck.report.outcomes import OUTCOME_NAMES, boundary_cells
 from crosscheck.report.section import RenderContext, RunContext, Section, Table, Text
 
-SLUG = "mujoco_maps"
-
 #: Map code of a start that does not slip at t = 0 (not compared).
 NOT_SLIPPING = -2
 
 
-def params(quick: bool, engine: str = "mujoco", options: dict | None = None, beside: str | None = None) -> dict:
+def params(quick: bool, engine: str, options: dict, beside: str | None = None) -> dict:
+    """The section's parameters: ``engine`` with ``options`` on three maps of n x n starts (10 quick, 32 full)."""
     n = 10 if quick else 32
     return {
-        "engine": engine, "alpha": 3.0, "horizon": 2.0, "options": options or {"timestep": 3e-4, "timeconst": 0.06}, "beside": beside,
+        "engine": engine, "alpha": 3.0, "horizon": 2.0, "options": dict(options), "beside": beside,
         "boundary_directions": 0 if quick else 3,
         "maps": [
             {"name": "Psi_mu", "x": "Psi", "y": "mu", "x_range": [0.0, 3.0], "y_range": [0.0, 3.0], "n": n,
@@ -279,15 +278,10 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
-def section(slug: str, title: str, engine: str, options: dict | None = None, beside: str | None = None) -> Section:
-    """The maps of ``engine`` as a report section, drawn beside the maps of the section ``beside`` if given.
-
-    ``options``: {"quick": {...}, "full": {...}}, the engine's options in each report (MuJoCo's defaults if None).
-    """
-    return Section(slug=slug, title=title, paper="sections 3.1, 4 (Corollary 4.2)",
-                   params=lambda quick: params(quick, engine, None if options is None else options["quick" if quick else "full"], beside),
-                   run=run, render=render,
-                   requires=("crosscheck.studies.agreement", f"crosscheck.engines.{engine}", "crosscheck.gb"))
-
-
-SECTION = section(SLUG, "MuJoCo vs analytic: outcome maps, confusion matrices, event times", "mujoco")
+def section(spec, options: dict, beside: str | None = None) -> Section:
+    """The maps of the engine ``spec`` (an ``EngineSpec``) as the section ``<slug>_maps``, drawn beside the maps of the
+    section ``beside`` if given.  ``options``: {"quick": {...}, "full": {...}}, the engine's options in each report."""
+    title = f"{spec.label} vs analytic: outcome maps, confusion matrices, event times" + (f" (beside {beside})" if beside else "")
+    return Section(slug=f"{spec.slug}_maps", title=title, paper="sections 3.1, 4 (Corollary 4.2)",
+                   params=lambda quick: params(quick, spec.name, options["quick" if quick else "full"], beside),
+                   run=run, render=render, requires=("crosscheck.studies.agreement", spec.module or "crosscheck.engines", "crosscheck.gb"))

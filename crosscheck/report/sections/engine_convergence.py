@@ -18,13 +18,9 @@ import numpy as np
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 
-SLUG = "mujoco_convergence"
-
-
-def params(quick: bool, engine: str = "mujoco", settings: list | None = None, n: int | None = None) -> dict:
-    if settings is None:  # MuJoCo: (timestep, timeconst), timeconst >= 2 timestep
-        pairs = [(3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02)] + ([] if quick else [(1e-4, 0.02), (1e-4, 0.006)])
-        settings = [{"timestep": dt, "timeconst": tc} for dt, tc in pairs]
+def params(quick: bool, engine: str, settings: list, n: int | None = None) -> dict:
+    """The section's parameters: ``engine`` at each of ``settings`` on an n x n grid in (theta, Theta) (7 quick, 20 full by default)."""
+    settings = [dict(s) for s in settings]
     n = n or (7 if quick else 20)
     return {"engine": engine, "alpha": 3.0, "horizon": 2.0, "settings": settings,
             "grid": {"theta": [0.2, 1.5, n], "varphi": [-1.9, -1.5707963267948966], "Theta": [-1.5, 1.5, n], "Psi": [0.0], "mu": [1.4], "eta": [1.0]}}
@@ -87,13 +83,11 @@ def render(ctx: RenderContext) -> list:
             Table(caption=caption, header=header, rows=rows, data=ctx.data("convergence.csv", "study.json"))]
 
 
-def section(slug: str, title: str, engine: str, settings: dict | None = None, n: dict | None = None) -> Section:
-    """The convergence of ``engine`` over ``settings`` ({"quick": [...], "full": [...]} of option dicts; MuJoCo's by default),
-    on an n x n grid in (theta, Theta) (``n``: {"quick": ..., "full": ...}; 7 and 20 by default)."""
-    return Section(slug=slug, title=title, paper="sections 3.1, 4",
-                   params=lambda quick: params(quick, engine, None if settings is None else settings["quick" if quick else "full"],
-                                               None if n is None else n["quick" if quick else "full"]),
-                   run=run, render=render, requires=("crosscheck.studies.agreement", f"crosscheck.engines.{engine}"))
-
-
-SECTION = section(SLUG, "MuJoCo vs analytic: convergence in timestep and contact time constant", "mujoco")
+def section(spec, settings: dict, n: dict | None = None) -> Section:
+    """The convergence of the engine ``spec`` (an ``EngineSpec``) over ``settings`` ({"quick": [...], "full": [...]} of
+    option dicts) as the section ``<slug>_convergence``, on an n x n grid in (theta, Theta) (``n``: {"quick": ..., "full": ...})."""
+    varied = sorted({k for s in settings["full"] for k in s})
+    return Section(slug=f"{spec.slug}_convergence", title=f"{spec.label} vs analytic: convergence in {' and '.join(varied)}",
+                   paper="sections 3.1, 4",
+                   params=lambda quick: params(quick, spec.name, settings["quick" if quick else "full"], None if n is None else n["quick" if quick else "full"]),
+                   run=run, render=render, requires=("crosscheck.studies.agreement", spec.module or "crosscheck.engines"))

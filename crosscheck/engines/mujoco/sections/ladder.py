@@ -6,7 +6,7 @@ and two (theta, Theta) slices), compared by
 section's saved results when they were made with the same maps and options
 (else recomputes them), the quick report recomputes coarser maps and ladders
 a few of their disagreements.  Every start where MuJoCo's label differs from
-the analytic first event goes through ``crosscheck.studies.ladder``: the
+the analytic first event goes through ``crosscheck.engines.mujoco.studies.ladder``: the
 rigid rod at the tip A, the rigid rod at the capsule point C, the
 Kelvin-Voigt rod at C with MuJoCo-equivalent (eps, xi), MuJoCo's contact law
 in continuous time, and MuJoCo at its timestep; the cause is the first rung
@@ -16,6 +16,8 @@ through all five rungs on one figure.
 """
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import math
 
@@ -45,15 +47,17 @@ CAUSE_COLORS = {
 
 def params(quick: bool) -> dict:
     from crosscheck.paper import FIG20_INITIAL_CONDITIONS
-    from crosscheck.report.sections import mujoco_maps
+    from crosscheck import engines
+    from crosscheck.report.sections import engine_maps
 
-    base = mujoco_maps.params(quick)
+    spec = engines.get("mujoco")
+    base = engine_maps.params(quick, spec.name, spec.report.maps["quick" if quick else "full"])
     maps = [dict(m) for m in base["maps"]]
     if quick:  # coarser maps and a few of their disagreements: the ladder's cost is its rungs 3 and 4, ~1 s a start
         for m in maps:
             m["n"] = 8
     return {"alpha": base["alpha"], "horizon": base["horizon"], "options": base["options"], "maps": maps,
-            "reuse": None if quick else mujoco_maps.SLUG, "max_states": 8 if quick else None,
+            "reuse": None if quick else f"{spec.slug}_maps", "max_states": 8 if quick else None,
             "ic2": dict(FIG20_INITIAL_CONDITIONS[1]), "ic2_mu": 1.4}
 
 
@@ -115,8 +119,8 @@ def _events(ctx: RunContext) -> tuple[dict, str]:
 def run(ctx: RunContext) -> None:
     from crosscheck import tolerances as tol
     from crosscheck.state import SlipState
-    from crosscheck.studies.ladder import CAUSE_CODES, CAUSES, RUNGS, ladder_study, run_ladder, trajectories
-    from crosscheck.studies.ladder import disagreements as find_disagreements
+    from crosscheck.engines.mujoco.studies.ladder import CAUSE_CODES, CAUSES, RUNGS, ladder_study, run_ladder, trajectories
+    from crosscheck.engines.mujoco.studies.ladder import disagreements as find_disagreements
 
     P = ctx.params
     events, source = _events(ctx)
@@ -187,7 +191,7 @@ def render(ctx: RenderContext) -> list:
     from matplotlib.patches import Patch
 
     from crosscheck.report.plotting import LINE_COLORS, categorical_image, plt
-    from crosscheck.studies.ladder import CAUSE_CODES, CAUSES, RUNG_TITLES, RUNGS
+    from crosscheck.engines.mujoco.studies.ladder import CAUSE_CODES, CAUSES, RUNG_TITLES, RUNGS
 
     P = ctx.params
     summary = ctx.store.read_json("summary")
@@ -302,7 +306,28 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
+
+def finding(data: Path) -> list:
+    """The findings line of the ladder: the share of MuJoCo's disagreements attributed to each cause."""
+    from crosscheck.report.findings import Finding, read_json
+
+    out = []
+    ladder = read_json(data / "summary.json")
+    if ladder and ladder.get("n_disagree"):
+        counts, n = ladder["counts"], ladder["n_disagree"]
+        causes = ", ".join(f"{k} {counts[k]}" for k in ("geometry", "compliance", "friction law", "discretisation", "unexplained", "undetermined")
+                           if counts.get(k))
+        ic2 = read_json(data / "ic2.json") or {}
+        text = (f"{n} MuJoCo-theory disagreements laddered (of {ladder.get('n_disagreements_on_maps', n)} on the maps), "
+                f"{100 * ladder['attributed']:.0f} % attributed to a named cause: {causes}")
+        if ic2.get("cause"):
+            text += f"; the paper's IC2 (theory lifts off, MuJoCo jams): {ic2['cause']}"
+        verdict = "explained" if ladder["attributed"] >= 0.9 else "partly explained"
+        out.append(Finding("MuJoCo: causes of disagreement", text, verdict, SLUG))
+    return out
+
+
 SECTION = Section(slug=SLUG, title="The ladder: a named cause for each MuJoCo-theory disagreement", paper="Fig. 20 (IC2); sections 2, 4",
                   params=params, run=run, render=render,
-                  requires=("crosscheck.studies.ladder", "crosscheck.capsule", "crosscheck.engines.compliant", "crosscheck.engines.mujoco.law",
-                            "crosscheck.engines.mujoco.engine"))
+                  requires=("crosscheck.engines.mujoco.studies.ladder", "crosscheck.capsule", "crosscheck.engines.compliant", "crosscheck.engines.mujoco.law",
+                            "crosscheck.engines.mujoco.engine"), finding=finding)

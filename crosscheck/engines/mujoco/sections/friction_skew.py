@@ -1,10 +1,10 @@
 """MuJoCo's friction-direction skew: its contact law written out, predicted against measured, its cause and what removes it.
 
 * The law (``crosscheck.engines.mujoco.law``) against MuJoCo's own solver
-  arrays at random contacts (``crosscheck.studies.mujoco_law_check``).
+  arrays at random contacts (``crosscheck.engines.mujoco.studies.law_check``).
 * MuJoCo's approach to the law integrated in continuous time (engine
   "mujoco_law") as its timestep shrinks: the order.
-* The skew (``crosscheck.studies.friction_skew``): predicted by the law's
+* The skew (``crosscheck.engines.mujoco.studies.friction_skew``): predicted by the law's
   run and by the closed form angle(u, u + a_t / B), measured in MuJoCo on the
   same random states, per |varphi + pi/2| band and per mu bin; the MuJoCo
   options that might remove it (impratio, a pyramidal cone, noslip
@@ -13,6 +13,8 @@
 """
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import math
 
@@ -33,8 +35,8 @@ def params(quick: bool) -> dict:
 def run(ctx: RunContext) -> None:
     from crosscheck.rod import Rod
     from crosscheck.state import SlipState
-    from crosscheck.studies import friction_skew as fs
-    from crosscheck.studies.mujoco_law_check import convergence_order, efc_agreement
+    from crosscheck.engines.mujoco.studies import friction_skew as fs
+    from crosscheck.engines.mujoco.studies.law_check import convergence_order, efc_agreement
     from crosscheck.tolerances import MUJOCO_LAW_FORCE, MUJOCO_LAW_ORDER, MUJOCO_LAW_SKEW
 
     P = ctx.params
@@ -104,7 +106,7 @@ def render(ctx: RenderContext) -> list:
                                 "removed. Decoupled: A's normal-tangential block A_tn = 0; isotropic: also A_tt = its mean eigenvalue x I; no "
                                 "free acceleration: a0_t = 0; neither: isotropic, decoupled and a0_t = 0.",
                         header=["problem", "median |skew| [deg]"], rows=[[k, _f(v, ".2f")] for k, v in ab.items()], data=ctx.data("skew.json")))
-    from crosscheck.studies.friction_skew import REDUCES, REMOVES, option_effects
+    from crosscheck.engines.mujoco.studies.friction_skew import REDUCES, REMOVES, option_effects
 
     sat = s["saturation_median"]
     effect = option_effects(s["band_median_deg"])
@@ -133,7 +135,7 @@ def render(ctx: RenderContext) -> list:
         f"{', '.join(effect['leaves']) or 'none'}. R_t = R_n / impratio is isotropic, so only a regulariser larger than A's tangential "
         "block (impratio << 1) makes the metric isotropic, at the price of a softer friction that stops reaching mu F_n once R_t dominates "
         f"(median saturation |F_t| / (mu F_n) of the default: {_f(sat.get('default', math.nan), '.2f')}). Consequence: MuJoCo's slipping "
-        "normal force is -b/p_eff with its own friction direction, not -b/p (`crosscheck.studies.mujoco_contact.friction_skew`), which "
+        "normal force is -b/p_eff with its own friction direction, not -b/p (`crosscheck.engines.mujoco.studies.contact.friction_skew`), which "
         "moves its events off the rigid theory's away from the planar section."))
     fig, ax = plt.subplots(1, 2, figsize=(10, 3.8))
     keep = st["exits"] == 0  # the rod lying flat within the window: MuJoCo's other end touches, outside the law
@@ -156,7 +158,34 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
+
+def finding(data: Path) -> list:
+    """The findings line of MuJoCo's friction direction: measured and predicted skew, its cause, the options."""
+    from crosscheck.report.findings import Finding, read_json
+
+    out = []
+    skew = read_json(data / "skew.json")
+    if skew:
+        bands = skew["band_median_deg"]
+        pred, meas = bands["predicted (law run)"], bands["MuJoCo default"]
+        ab = skew.get("ablation_median_deg", {})
+        from crosscheck.engines.mujoco.studies.friction_skew import option_effects
+
+        effect = option_effects(bands)
+        options = "; ".join(f"{kind} it: " + ", ".join(k + (f" ({'/'.join(f'{v:.1f}' for v in x)})" if kind != "leaves" else "") for k, x in ks.items())
+                            for kind, ks in effect.items() if ks)
+        checks = read_json(data / "checks.json") or []
+        ok = any("predicted skew" in c["name"] for c in checks) and all(c["passed"] for c in checks if "predicted skew" in c["name"])
+        out.append(Finding("MuJoCo: friction direction", f"skewed from -slip by {'/'.join(f'{x:.1f}' for x in meas)} degrees (median per "
+                           f"|varphi + pi/2| band); MuJoCo's contact law predicts {'/'.join(f'{x:.1f}' for x in pred)} on the same states (worst "
+                           f"state {skew['max_abs_difference_deg']:.2f} degrees off). Cause: the friction minimises a quadratic in the metric A + R, "
+                           f"anisotropic and coupled to the normal row at the rod's contact point (made isotropic and decoupled: "
+                           f"{ab.get('isotropic', float('nan')):.2f} instead of {ab.get('law', float('nan')):.1f} degrees). MuJoCo options: {options}. "
+                           f"Consequence: MuJoCo slips with -b/p_eff, not -b/p", "explained" if ok else "not explained", SLUG))
+    return out
+
+
 SECTION = Section(slug=SLUG, title="MuJoCo's contact law: friction-direction skew predicted and measured", paper="eqs. friction, p, FZ",
                   params=params, run=run, render=render,
-                  requires=("crosscheck.engines.mujoco.law", "crosscheck.engines.mujoco.ode", "crosscheck.studies.friction_skew",
-                            "crosscheck.studies.mujoco_law_check"))
+                  requires=("crosscheck.engines.mujoco.law", "crosscheck.engines.mujoco.ode", "crosscheck.engines.mujoco.studies.friction_skew",
+                            "crosscheck.engines.mujoco.studies.law_check"), finding=finding)

@@ -493,7 +493,7 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
     Returns:
       ``Ladder``.
     """
-    from crosscheck.engines.mujoco.engine import Options
+    from crosscheck.engines.mujoco.options import Options
 
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")

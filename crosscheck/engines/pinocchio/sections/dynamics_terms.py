@@ -2,7 +2,7 @@
 
 Two parts:
 
-* ``crosscheck.studies.dynamics_terms.validate`` on random states (the command
+* ``crosscheck.engines.pinocchio.studies.dynamics_terms.validate`` on random states (the command
   ``crosscheck validate pinocchio``): the largest error of each quantity, in
   multiples of its tolerance, and the state where it occurs; its JSON is saved
   and shown as it is.
@@ -18,6 +18,8 @@ Two parts:
 """
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import json
 
@@ -37,7 +39,7 @@ def params(quick: bool) -> dict:
 
 def run(ctx: RunContext) -> None:
     from crosscheck.engines.pinocchio import model as pinrod
-    from crosscheck.studies import dynamics_terms
+    from crosscheck.engines.pinocchio.studies import dynamics_terms
 
     P = ctx.params
     result = dynamics_terms.validate(P["n_states"], ctx.rng, progress=ctx.show_progress)
@@ -91,7 +93,7 @@ def render(ctx: RenderContext) -> list:
         rows.append([t["quantity"][i], f"{t['n'][i]:.0f}", f"{t['max_abs'][i]:.2e}", f"{t['max_rel'][i]:.2e}", f"{t['max_over_tolerance'][i]:.3f}",
                      "ok" if ok else "FAIL", worst])
         cls.append("ok" if ok else "fail")
-    blocks = [Text(f"`crosscheck.studies.dynamics_terms.validate` on {int(t['n'][0])} random rods and states ({doc['extra'].get('rods', '?')} rods): "
+    blocks = [Text(f"`crosscheck.engines.pinocchio.studies.dynamics_terms.validate` on {int(t['n'][0])} random rods and states ({doc['extra'].get('rods', '?')} rods): "
                    f"{'every quantity within its tolerance' if doc['passed'] else 'SOME QUANTITIES EXCEED THEIR TOLERANCE'}. "
                    f"Units: {doc['extra'].get('units', '')}."),
               Table(caption="Error per quantity: largest absolute and relative error, largest ratio to the allowance (<= 1 passes) and the state where it occurs.",
@@ -140,5 +142,19 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
+
+def finding(data: Path) -> list:
+    """The findings line of the dynamics terms: the worst error against the analytic terms as a fraction of its tolerance."""
+    from crosscheck.report.findings import Finding, read_json
+
+    out = []
+    v = read_json(data / "validate.json")
+    if v:
+        worst = max(v["stats"], key=lambda s: s["max_ratio"])
+        out.append(Finding("Pinocchio dynamics terms", f"{len(v['stats'])} quantities; worst: {worst['quantity']} at {worst['max_ratio']:.2g} of its "
+                           f"tolerance (relative error {worst['max_rel']:.2g})", "agrees" if v["passed"] else "disagrees", SLUG))
+    return out
+
+
 SECTION = Section(slug=SLUG, title="Pinocchio vs analytic", paper="eqs. rotode, linode, linode2, b, p, mup2D",
-                  params=params, run=run, render=render, requires=("crosscheck.studies.dynamics_terms", "crosscheck.engines.pinocchio.model"))
+                  params=params, run=run, render=render, requires=("crosscheck.engines.pinocchio.studies.dynamics_terms", "crosscheck.engines.pinocchio.model"), finding=finding)

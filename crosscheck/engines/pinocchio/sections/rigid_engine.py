@@ -5,7 +5,7 @@
   step, so the onset should be Psi_L at every timestep.
 * Jams: Corollary 4.2 states (``crosscheck.corollary.corollary_states``)
   and planar impasses (p < 0, b < 0 at t = 0) through
-  ``crosscheck.studies.rigid.jam_aftermath``: does the engine jam, when,
+  ``crosscheck.engines.pinocchio.studies.rigid.jam_aftermath``: does the engine jam, when,
   with which impulse, and does its state one row after the jam tend to the
   impact without collision (``crosscheck.iwc.impact``) as dt -> 0?
 * A trajectory through a jam: the analytic slip (``slip_until_event``) and
@@ -37,7 +37,7 @@ def run(ctx: RunContext) -> None:
     from crosscheck.corollary import corollary_states
     from crosscheck.critical import Psi_L
     from crosscheck.rod import Rod
-    from crosscheck.studies import rigid
+    from crosscheck.engines.pinocchio.studies import rigid
     from crosscheck.studies.onset import liftoff_onset
 
     P = ctx.params
@@ -188,4 +188,4 @@ def render(ctx: RenderContext) -> list:
 
 SECTION = Section(slug=SLUG, title="Rigid engine: lift-off onset, jams and the impact without collision", paper="eq. psil, Corollary 4.2, section 6",
                   params=params, run=run, render=render,
-                  requires=("crosscheck.studies.rigid", "crosscheck.engines.pinocchio.stepper", "crosscheck.iwc", "crosscheck.hybrid"))
+                  requires=("crosscheck.engines.pinocchio.studies.rigid", "crosscheck.engines.pinocchio.stepper", "crosscheck.iwc", "crosscheck.hybrid"))

@@ -1,7 +1,7 @@
 """MuJoCo's friction-direction skew: predicted by its contact law, measured in its runs, and what removes it.
 
 MuJoCo's friction is not anti-parallel to the slip off the planar section
-(``crosscheck.studies.mujoco_contact.friction_skew`` measures it).  Its
+(``crosscheck.engines.mujoco.studies.contact.friction_skew`` measures it).  Its
 contact law (``crosscheck.engines.mujoco.law``) says why: on the cone's
 surface the force is anti-parallel to
 
@@ -41,7 +41,7 @@ from mujoco import rollout
 from crosscheck.checks import ALPHA, MU, POSITIVE, check
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines.base import n_steps
-from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.law import accelerations, contact_problem, skew_angle, solve_cone
 from crosscheck.engines.mujoco.model import SensorLayout, build_model, initial_state, record_from_sensordata
 from crosscheck.engines.mujoco.ode import integrate, record

@@ -25,7 +25,7 @@ from mujoco import rollout
 from crosscheck.analytic import tip_acceleration
 from crosscheck.checks import ALPHA, MU, POSITIVE, check
 from crosscheck.engines.base import n_steps
-from crosscheck.engines.mujoco.engine import Options
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import SensorLayout, build_model, initial_state, record_from_sensordata
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState

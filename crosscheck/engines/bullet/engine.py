@@ -1,0 +1,171 @@
+"""The Bullet engine: the capsule rod of ``models/rod.xml`` stepped by pybullet (Bullet's Featherstone multibody and its PGS contact solver).
+
+``simulate`` runs one slipping state; ``sweep`` runs one ``simulate`` per
+state (``crosscheck.engines.base.sweep_by_simulate``, on ``workers``
+processes), so a state gives the same numbers either way.  The model, its
+settings and the rollout are in ``crosscheck.engines.bullet.model``.
+
+Bullet's contact step.  Each step Bullet runs collision detection at the
+state q_k (the capsule against the plane: one contact point at C = A - r K
+while the capsule is within ``Options.contact_margin`` of the plane), then
+v_free = v_k + dt a_free(q_k, v_k), then solves for the contact impulse with
+projected Gauss-Seidel (btMultiBodyConstraintSolver) on rows built at q_k:
+
+* the normal row: a unilateral velocity constraint J_n v_k+1 >= -d_k / dt for
+  a point at distance d_k > 0 (a speculative contact: the gap may close
+  within the step, not more), and J_n v_k+1 >= contact_erp |d_k| / dt for a
+  penetration d_k < 0;
+* two friction rows along world -y and x (``btPlaneSpace1`` of the normal +z),
+  whose impulses are clipped together to the disk of radius mu times the
+  normal impulse (``enableConeFriction``; no position error: no anchors);
+
+then v_k+1 = v_free + M^-1 J^T lambda and q_k+1 = q_k + dt v_k+1.  That is an
+impulse-based rigid time-stepper (Moreau / Stewart-Trinkle at velocity level,
+like the rigid engine's), hence the tags "rigid" and "time_stepping", and
+``Options.contact_time`` = ``friction_time`` = 0 (the classifier's rigid
+rules).  What differs from the rigid engine, all measured in
+tests/test_engine_bullet.py:
+
+* no dt dJ v term: the row holds J v = 0 at q_k, so the first step from a
+  touching start decides lift-off on b - Theta^2 sin theta (eq. b minus the
+  centripetal part of the tip's vertical acceleration) and its force is
+  -(b - Theta^2 sin theta) / p.  Afterwards the position step leaves the gap at
+  ~ sin theta (dt Theta)^2 / 2 and the speculative row closes it, which puts
+  the missing term back: from the third step on, lift-off is b >= 0 and
+  the force -b/p, up to O(dt);
+* the friction direction: PGS updates the two friction rows each by its own
+  diagonal of the Delassus operator D and then projects the pair radially
+  onto the disk, so at its fixed point the friction is opposite
+  diag(D)^-1 u_t, u_t the end-of-step slip, not opposite u_t: Coulomb's
+  magnitude |F_t| = mu F_n exactly, but a direction skewed from -u_t wherever
+  D_xx != D_yy in the world axes (up to ~10 degrees on random slipping
+  states at alpha = 3).  The normal force is then -b/p_eff with the engine's
+  own friction (the classifier's p_eff), not -b/p.
+
+Row k of the record is the state after k steps (t_k = k timestep) with the
+contact force of step k -> k+1 (its impulse / dt, as Bullet reports it in
+``getContactPoints``) and the tip acceleration (v_A,k+1 - v_A,k) / dt.
+
+Units.  Everything this module takes and returns is in the paper's scaled
+units (section 2.1): time in 1/omega, lengths in l, velocities in l omega,
+accelerations in g, forces in m g; so are the options.  Bullet itself runs in
+SI from the ``Rod``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from crosscheck.checks import MU, POSITIVE, Interval, check
+from crosscheck.coordinates import tip_position, tip_velocity, to_generalized
+from crosscheck.engines import get
+from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
+from crosscheck.engines.bullet.model import Raw, world
+from crosscheck.engines.bullet.options import MU_MAX, Options
+from crosscheck.engines.classifier import Thresholds, classify
+from crosscheck.engines.record import Record
+from crosscheck.rod import Rod
+from crosscheck.state import SlipState
+
+__all__ = ["NAME", "Options", "BulletHealth", "simulate", "sweep", "record_from_raw"]
+
+#: The engine's registry name.
+NAME = "bullet"
+
+#: mu for Bullet: [0, 10] (``options.MU_MAX``: Bullet clamps the combined friction there).
+BULLET_MU = Interval(0.0, MU_MAX, lo_open=False, hi_open=False)
+
+#: Bytes per record row: the raw states (2 x 5 floats of n + 1 rows), force, points, distance, the Record's
+#: columns (~30 floats) and the classifier's temporaries (~40 floats): ~1 kB; 1.5 x that as a margin.
+ROW_BYTES = 1536
+
+
+@dataclass(frozen=True)
+class BulletHealth:
+    """Per-run statistics of Bullet's contact before theta leaves (0, pi/2): steps with a contact point, the most
+    points in one step, and the deepest penetration Bullet reported at a step's collision detection [l] (0 if none)."""
+
+    contact_steps: int
+    max_points: int
+    max_penetration: float
+
+
+def record_from_raw(raw: Raw, rod: Rod, options: Options) -> Record:
+    """The scaled, world-frame ``Record`` of a rollout (row k: state k and step k -> k+1)."""
+    n = len(raw.force)
+    L, w, g = rod.length, rod.omega, rod.gravity
+    dt = options.timestep / w
+    q, v = raw.q, raw.v
+    pos = tip_position(rod, q)  # (n + 1, 3) [m]
+    vel = tip_velocity(rod, q, v)  # [m/s]
+    acc = (vel[1:] - vel[:-1]) / (dt * g)  # [g], gravity included: (v_A,k+1 - v_A,k) / dt
+    psi, theta = np.ascontiguousarray(q[:n, 3]), np.ascontiguousarray(q[:n, 4])
+    Psi, Theta = v[:n, 3] / w, v[:n, 4] / w
+    tip_pos, tip_vel = pos[:n] / L, vel[:n] / (L * w)
+    force = raw.force / rod.force_scale
+    # the material point of the capsule at C = A - r K: v_A + Omega x (-r K), Omega = theta' i + psi' K
+    r = options.radius
+    slip = np.zeros((n, 3))
+    slip[:, 0] = tip_vel[:, 0] - r * Theta * np.sin(psi)
+    slip[:, 1] = tip_vel[:, 1] + r * Theta * np.cos(psi)
+    return Record(t=options.timestep * np.arange(n), tip_pos=tip_pos, tip_vel=tip_vel, tip_acc=acc, force=force,
+                  normal_force=force[:, 2].copy(), active=raw.points > 0, gap=tip_pos[:, 2] - r, slip_vel=slip,
+                  psi=psi, theta=theta, Psi=Psi, Theta=Theta)
+
+
+def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
+    """Run one slipping state in Bullet and classify its first event.
+
+    The capsule starts touching the plane (z_A = r, C on the plane) with the
+    velocities of ``state`` (``crosscheck.coordinates.to_generalized``);
+    ``ceil(horizon / timestep)`` steps.  ``Run.solver`` holds ``BulletHealth``.
+
+    Args:
+      rod: physical rod (``Rod.scaled(alpha)`` for the paper's units).
+      state: the paper's scaled slipping state.
+      mu: friction coefficient in [0, 10] (Bullet clamps larger ones).
+      horizon: scaled time to simulate, > 0, at least one timestep.
+      thresholds: outcome criteria (``Thresholds()`` by default).
+      **options: the fields of ``Options`` (unknown -> ValueError naming it).
+    """
+    if not isinstance(state, SlipState):
+        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    state.check_start()
+    horizon = float(check("horizon", horizon, POSITIVE))
+    opts = Options.from_kwargs(options)
+    if opts.timestep > horizon:
+        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
+    mu = float(check("mu", mu, MU))
+    if mu > MU_MAX:
+        raise ValueError(f"mu must be in {BULLET_MU} for Bullet (it clamps the combined friction to {MU_MAX:g}); got {mu!r}")
+    th = thresholds or Thresholds()
+    n = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES)  # the record holds every row: refuse before allocating
+    q0, v0 = to_generalized(rod, state, tip=(0.0, 0.0, opts.radius))
+    raw = world(rod, mu, opts).rollout(q0, v0, n)
+    record = record_from_raw(raw, rod, opts)
+    c = classify(record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=True, thresholds=th)
+    run = Run.from_classification(NAME, c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
+                                  horizon=horizon, nstep=n)
+    # over the rows before theta leaves (0, pi/2): a rod that falls flat lands on both caps and sinks into the plane
+    inside = (record.theta > 0.0) & (record.theta < np.pi / 2)
+    m = int(np.argmin(inside)) if not inside.all() else n
+    points, distance = raw.points[:m], raw.distance[:m]
+    deepest = float(np.min(distance[points > 0], initial=0.0))
+    health = BulletHealth(contact_steps=int((points > 0).sum()), max_points=int(points.max(initial=0)),
+                          max_penetration=max(0.0, -deepest) / rod.length)
+    return dataclasses.replace(run, solver=health)
+
+
+def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
+          workers: int = 1, **options) -> SweepResult:
+    """Every state through ``simulate`` (one classifier, the same records), on ``workers`` processes.
+
+    One process by default: a Bullet step costs ~25 us, so a sweep is
+    dominated by the per-step Python calls and scales with processes;
+    ``workers=2`` uses both cores of this machine.
+    """
+    return sweep_by_simulate(get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options)

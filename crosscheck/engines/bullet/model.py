@@ -1,0 +1,218 @@
+"""The rod of ``models/rod.xml`` in pybullet: one DIRECT client per process, its world built per (rod, mu, options), one rollout.
+
+The rod is a ``createMultiBody`` with a fixed, massless base at the origin
+and a chain of five links, each on one joint, all frames at the centre of
+mass S (no offsets):
+
+    link 0  prismatic along world x   X
+    link 1  prismatic along world y   Y
+    link 2  prismatic along world z   Z
+    link 3  revolute about world z    psi
+    link 4  revolute about body x     theta  (mass m, inertia diag(I0, 0, I0), the capsule)
+
+so that Bullet's joint positions and velocities are exactly q = (X, Y, Z, psi,
+theta) and v of ``crosscheck.coordinates`` (body rotation Rz(psi) Rx(theta)).
+Links 0-3 have no mass.  A free base would be wrong: its third rotation
+(about the rod's axis) has the capsule's tiny axial inertia, and the friction
+torque at radius r spins it up to hundreds of rad/s; the chain has no such
+degree of freedom, like ``models/rod.xml``.  The axial inertia is 0 (eq.
+inertia); Bullet accepts it, since no joint turns about the rod's axis.
+
+The capsule lies along body y with its end caps centred on A = (0, -l, 0) and
+B = (0, l, 0) (``GEOM_CAPSULE``, height 2 l between the cap centres, radius
+r l), so it touches the plane z = 0 (``GEOM_PLANE`` on a static body) at
+C = A - r K.  Free dynamics: one Bullet step is v' = v + dt a(q, v),
+q' = q + dt v' with a the rod's exact acceleration (eqs. rotode, linode2;
+measured to 1.6e-13 relative over random states, tests/test_engine_bullet.py).
+
+Settings, each because Bullet's default is wrong for this problem:
+
+* friction: Bullet's contact friction is the product of the two bodies'
+  (clamped to 10): the plane has 1 and the rod mu;
+* damping: btMultiBody has linear and angular damping 0.04 by default: 0;
+  joint damping 0 (``createMultiBody`` already has it);
+* joint motors: every joint gets a velocity motor; ``VELOCITY_CONTROL``
+  with force 0 turns them off;
+* velocity clamp: btMultiBody clamps every joint velocity to 100 (m/s or
+  rad/s) after each constraint impulse: ``maxJointVelocity`` 1e30;
+* sleeping: off (a slow rod would otherwise freeze);
+* restitution 0 (both bodies; their product is Bullet's), no rolling or
+  spinning friction (the paper's point contact);
+* ``contactSlop`` 0: pybullet's 1e-5 m makes the normal row aim at a
+  penetration of 1e-5 m instead of touching;
+* ``solverResidualThreshold``: ``Options.solver_tolerance`` (pybullet's
+  1e-7 (m/s)^2 stops PGS early);
+* ``enableConeFriction`` from ``Options.cone``; ``numSolverIterations``,
+  ``contactERP``, ``contactBreakingThreshold`` from the options; the
+  solver is Bullet's default for multibodies (btMultiBodyConstraintSolver,
+  sequential impulses = PGS).  ``useSplitImpulse`` is not set: the multibody
+  solver ignores it (its split branch in
+  ``btMultiBodyConstraintSolver::setupMultiBodyContactConstraint`` is
+  commented out), so a penetration is removed through the velocity by ERP.
+
+Reset.  A run starts from a world with no contact point: the rod is moved
+far above the plane and Bullet's collision detection run once, which drops
+the old points (their distance exceeds the margin); then the start state is
+set.  The multibody solver does not warm-start (pybullet sets
+SOLVER_USE_ARTICULATED_WARMSTARTING only on request), so nothing else of a
+previous run carries over: a state gives the same record bit for bit after
+any other run (tests/test_engine_bullet.py).
+
+Everything here is physical (SI, from the ``Rod``); ``rollout`` returns raw
+physical arrays and ``crosscheck.engines.bullet.engine`` scales them.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+import pybullet as pb
+
+from crosscheck.rod import Rod
+
+__all__ = ["World", "world", "JOINTS"]
+
+#: The five joints in the order of ``crosscheck.coordinates.GENERALIZED``.
+JOINTS = (0, 1, 2, 3, 4)
+
+#: The rod's link (the capsule, the mass and the inertia).
+ROD_LINK = 4
+
+#: Bullet's joint velocity clamp, lifted out of reach (see the module docstring).
+NO_CLAMP = 1e30
+
+
+@dataclass(frozen=True)
+class Raw:
+    """One rollout in physical units: states 0..n and what each step's contact did.
+
+    q, v: (n + 1, 5) joint positions and velocities after k steps.
+    force: (n, 3) contact force on the rod of step k -> k+1 [N], world frame (the impulse / dt).
+    points: (n,) number of Bullet contact points in that step.
+    distance: (n,) the smallest distance Bullet gave its points at the step's collision detection [m]
+      (negative: penetration; NaN without a point).
+    """
+
+    q: np.ndarray
+    v: np.ndarray
+    force: np.ndarray
+    points: np.ndarray
+    distance: np.ndarray
+
+
+class World:
+    """A pybullet world holding the plane and the rod of one (rod, mu, options), and its rollouts."""
+
+    def __init__(self, client: int, rod: Rod, mu: float, options) -> None:
+        self.client, self.rod, self.mu, self.options = client, rod, float(mu), options
+        self.key = (rod, self.mu, options)
+        self.dt = options.timestep / rod.omega
+        c = client
+        l = rod.length
+        pb.resetSimulation(physicsClientId=c)
+        pb.setGravity(0.0, 0.0, -rod.gravity, physicsClientId=c)
+        pb.setPhysicsEngineParameter(
+            fixedTimeStep=self.dt, numSubSteps=0, numSolverIterations=options.solver_iterations,
+            solverResidualThreshold=(options.solver_tolerance * l * rod.omega) ** 2,
+            enableConeFriction=int(options.cone), contactERP=options.contact_erp, contactSlop=0.0,
+            contactBreakingThreshold=options.contact_margin * l, restitutionVelocityThreshold=0.0, globalCFM=0.0,
+            physicsClientId=c)
+        self.ground = pb.createMultiBody(0.0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=c), physicsClientId=c)
+        capsule = pb.createCollisionShape(pb.GEOM_CAPSULE, radius=options.radius * l, height=2.0 * l,
+                                          collisionFrameOrientation=pb.getQuaternionFromEuler([math.pi / 2, 0.0, 0.0]),
+                                          physicsClientId=c)
+        zero, ident = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]
+        self.body = pb.createMultiBody(
+            baseMass=0.0, baseCollisionShapeIndex=-1, baseVisualShapeIndex=-1, basePosition=zero, baseOrientation=ident,
+            linkMasses=[0.0, 0.0, 0.0, 0.0, rod.mass], linkCollisionShapeIndices=[-1, -1, -1, -1, capsule],
+            linkVisualShapeIndices=[-1] * 5, linkPositions=[zero] * 5, linkOrientations=[ident] * 5,
+            linkInertialFramePositions=[zero] * 5, linkInertialFrameOrientations=[ident] * 5,
+            linkParentIndices=[0, 1, 2, 3, 4],  # createMultiBody numbers the base 0 and link i as i + 1
+            linkJointTypes=[pb.JOINT_PRISMATIC] * 3 + [pb.JOINT_REVOLUTE] * 2,
+            linkJointAxis=[[1, 0, 0], [0, 1, 0], [0, 0, 1], [0, 0, 1], [1, 0, 0]], physicsClientId=c)
+        if self.body < 0 or self.ground < 0:
+            raise RuntimeError("pybullet could not create the rod or the plane")
+        pb.changeDynamics(self.ground, -1, lateralFriction=1.0, restitution=0.0, rollingFriction=0.0, spinningFriction=0.0,
+                          physicsClientId=c)
+        pb.changeDynamics(self.body, -1, linearDamping=0.0, angularDamping=0.0, maxJointVelocity=NO_CLAMP,
+                          activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING, physicsClientId=c)
+        for j in JOINTS:
+            pb.changeDynamics(self.body, j, jointDamping=0.0, physicsClientId=c)
+        pb.changeDynamics(self.body, ROD_LINK, localInertiaDiagonal=[rod.inertia, 0.0, rod.inertia], lateralFriction=self.mu,
+                          restitution=0.0, rollingFriction=0.0, spinningFriction=0.0, physicsClientId=c)
+        pb.setJointMotorControlArray(self.body, list(JOINTS), pb.VELOCITY_CONTROL, forces=[0.0] * 5, physicsClientId=c)
+
+    def set_state(self, q: np.ndarray, v: np.ndarray) -> None:
+        """Put the rod at (q, v) [physical] with no contact point left from before (module docstring)."""
+        c, body = self.client, self.body
+        far = 1e3 * self.rod.length + 10.0 * self.options.contact_margin * self.rod.length
+        for j in JOINTS:
+            pb.resetJointState(body, j, far if j == 2 else 0.0, 0.0, physicsClientId=c)
+        pb.performCollisionDetection(physicsClientId=c)
+        if pb.getContactPoints(body, self.ground, physicsClientId=c):
+            raise RuntimeError("Bullet kept a contact point of the previous run after the rod was lifted off the plane")
+        for j in JOINTS:
+            pb.resetJointState(body, j, float(q[j]), float(v[j]), physicsClientId=c)
+
+    def rollout(self, q0: np.ndarray, v0: np.ndarray, nstep: int) -> Raw:
+        """``nstep`` Bullet steps from (q0, v0) [physical]: the states and each step's contact."""
+        self.set_state(q0, v0)
+        c, body, ground = self.client, self.body, self.ground
+        joints = list(JOINTS)
+        q = np.empty((nstep + 1, 5))
+        v = np.empty((nstep + 1, 5))
+        force = np.zeros((nstep, 3))
+        points = np.zeros(nstep, np.int64)
+        distance = np.full(nstep, np.nan)
+        step, states, contacts = pb.stepSimulation, pb.getJointStates, pb.getContactPoints
+        s = states(body, joints, physicsClientId=c)
+        q[0] = [x[0] for x in s]
+        v[0] = [x[1] for x in s]
+        for k in range(nstep):
+            step(physicsClientId=c)
+            s = states(body, joints, physicsClientId=c)
+            q[k + 1] = [x[0] for x in s]
+            v[k + 1] = [x[1] for x in s]
+            cps = contacts(body, ground, physicsClientId=c)
+            if cps:
+                # on the rod (body A): normal force along the plane's normal (from B to A), the two friction forces
+                # along their directions; each is the step's impulse / dt (pybullet's getContactPoints)
+                fx = fy = fz = 0.0
+                dmin = math.inf
+                for cp in cps:
+                    n, fn, f1, d1, f2, d2 = cp[7], cp[9], cp[10], cp[11], cp[12], cp[13]
+                    fx += fn * n[0] + f1 * d1[0] + f2 * d2[0]
+                    fy += fn * n[1] + f1 * d1[1] + f2 * d2[1]
+                    fz += fn * n[2] + f1 * d1[2] + f2 * d2[2]
+                    dmin = min(dmin, cp[8])
+                force[k] = fx, fy, fz
+                points[k] = len(cps)
+                distance[k] = dmin
+        return Raw(q=q, v=v, force=force, points=points, distance=distance)
+
+
+_world: World | None = None
+_client: tuple[int, int] | None = None  # (pid, client id)
+
+
+def world(rod: Rod, mu: float, options) -> World:
+    """The process's world for (rod, mu, options): the cached one, or rebuilt in the process's one DIRECT client.
+
+    The client is per process (``sweep``'s forked workers connect their own: a client is not shared
+    across a fork).
+    """
+    global _world, _client
+    pid = os.getpid()
+    if _client is None or _client[0] != pid:
+        _client = (pid, pb.connect(pb.DIRECT))
+        if _client[1] < 0:
+            raise RuntimeError("pybullet could not connect a DIRECT physics client")
+        _world = None
+    key = (rod, float(mu), options)
+    if _world is None or _world.key != key:
+        _world = None
+        _world = World(_client[1], rod, mu, options)
+    return _world

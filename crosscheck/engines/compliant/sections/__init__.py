@@ -1,0 +1,1 @@
+"""compliant's own sections."""

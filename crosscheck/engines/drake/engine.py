@@ -1,0 +1,245 @@
+"""The Drake engines: the rod of ``crosscheck.engines.drake.model`` run by a discrete contact approximation or a continuous plant.
+
+One module serves every registered name (``drake_continuous``, ``drake_sap``,
+``drake_similar``, ``drake_lagged``, ``drake_tamsi``): ``Options.approximation``
+selects the plant, and the run's ``engine`` is the name of its approximation.
+
+Start.  The capsule touches the plane (z_A = r, so C = A - r K is on it up to
+rounding) with the velocities of the ``SlipState`` at A
+(``crosscheck.coordinates.to_generalized``), as MuJoCo's start.
+
+Rows.  Row k is the state at t_k = k timestep and what Drake's contact
+computed there (a fresh context per run, so a run's numbers do not depend on
+what ran before it in the same process):
+
+* discrete approximations: the plant's own fixed step dt = timestep / omega.
+  The state x_k is set in the plant's context, the contact results of that
+  context are read (with unsampled output ports they are those of the step
+  from x_k, and the step is computed once for both), and
+  ``EvalUniquePeriodicDiscreteUpdate`` gives x_k+1.  So row k holds the force
+  of the step k -> k+1 (the contact impulse / dt), as MuJoCo's row does.  The
+  generalised acceleration of row k is that step's (v_k+1 - v_k) / dt, which
+  for Drake's semi-implicit scheme is M(q_k)^-1 (tau(q_k, v_k) + J^T F_k):
+  in a force-free step exactly the free acceleration.
+* continuous: a ``Simulator`` with the error-controlled ``Options.integrator``
+  at ``Options.accuracy`` (steps at most dt long) is advanced to each row time;
+  the row holds the state there, the contact force at that state and the
+  plant's generalised acceleration at that state (its output port).
+
+tip_acc = J v' + J' v of the tip A from those generalised accelerations
+(``model.tip_kinematics``), gravity included (a free rod has tip_acc_z = b).
+The force is Drake's point-pair force on the rod (``PointPairContactInfo``:
+the force on body B, negated when the rod is body A), world frame.  A run that
+Drake aborts (a solver or integrator failure) keeps its rows up to there and
+NaN after, which the classifier calls DIVERGED; ``Run.solver.failed`` is 1.
+
+Units.  Everything this module takes and returns is in the paper's scaled
+units (section 2.1); the plant is SI.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+from pydrake.systems.analysis import ResetIntegratorFromFlags, Simulator
+
+from crosscheck.checks import MU, POSITIVE, check
+from crosscheck.coordinates import to_generalized
+from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
+from crosscheck.engines.classifier import Thresholds, classify
+from crosscheck.engines.drake.model import Model, model, new_context, tip_kinematics
+from crosscheck.engines.drake.options import APPROXIMATIONS, Options, engine_name
+from crosscheck.engines.record import Record
+from crosscheck.rod import Rod
+from crosscheck.state import SlipState
+
+__all__ = ["Options", "Health", "APPROXIMATIONS", "simulate", "sweep", "raw_run", "ROW_BYTES", "RUNAWAY_SPEED"]
+
+#: Bytes per record row: the raw row (state, force, acceleration: 21 doubles), the Record's 25 columns and
+#: the classifier's temporaries; as the rigid engine's (measured there at 980, 1.5 x margin), whose rows are alike.
+ROW_BYTES = 1536
+
+#: A run whose generalised velocities exceed this (scaled, l omega or omega) is stopped and its remaining rows
+#: are NaN: the classifier already calls a tip speed of 1e3 DIVERGED, and nothing after it is read.
+RUNAWAY_SPEED = 1e6
+
+
+@dataclass(frozen=True)
+class Health:
+    """Drake's statistics of one run (integers, kept per run by sweeps as ``solver_<field>``).
+
+    contact_rows: rows with a rod-plane contact pair; steps: plant steps (discrete) or integrator steps
+    (continuous); derivative_evaluations, error_shrinkages: the continuous integrator's (0 for discrete);
+    failed: 1 when Drake raised and the run was cut short (its message is not kept), or the run ran away
+    (``RUNAWAY_SPEED``).
+    """
+
+    contact_rows: int
+    steps: int
+    derivative_evaluations: int
+    error_shrinkages: int
+    failed: int
+
+
+@dataclass
+class Raw:
+    """A run's rows in SI: x (n + 1, 10) states [q, v] (the last one is the state after the last row's step,
+    NaN for continuous), vdot (n, 5), force (n, 3) on the rod [N], active (n,)."""
+
+    x: np.ndarray
+    vdot: np.ndarray
+    force: np.ndarray
+    active: np.ndarray
+    health: Health
+
+
+def _contact(results, rod_body) -> tuple[bool, np.ndarray]:
+    """(a pair exists, the total point-pair force on the rod [N, world]); Drake's force is the one on body B."""
+    n = results.num_point_pair_contacts()
+    if n == 0:
+        return False, _ZERO
+    f = np.zeros(3)
+    for i in range(n):  # one pair for a capsule on a half-space
+        info = results.point_pair_contact_info(i)
+        fi = info.contact_force()
+        if info.bodyB_index() == rod_body:
+            f += fi
+        else:
+            f -= fi
+    return True, f
+
+
+_ZERO = np.zeros(3)
+
+
+def raw_run(m: Model, x0: np.ndarray, n: int, dt: float) -> Raw:
+    """Run ``n`` rows of ``dt`` seconds from the state x0 = [q, v] (SI) in a fresh context of ``m``."""
+    plant, opts = m.plant, m.options
+    x = np.full((n + 1, 10), np.nan)
+    vdot = np.full((n, 5), np.nan)
+    force = np.full((n, 3), np.nan)
+    active = np.zeros(n, bool)
+    runaway = RUNAWAY_SPEED * max(1.0, 1.0 / dt)  # generous in SI: any O(1) scaled rate is far below it
+    ctx = new_context(m)
+    pc = plant.GetMyMutableContextFromRoot(ctx)
+    plant.SetPositionsAndVelocities(pc, x0)
+    results_port = plant.get_contact_results_output_port()
+    failed = 0
+    steps = evaluations = shrinkages = 0
+    if opts.discrete:
+        x[0] = x0
+        k = 0
+        try:
+            for k in range(n):
+                active[k], force[k] = _contact(results_port.Eval(pc), m.rod_body)
+                nxt = np.array(plant.EvalUniquePeriodicDiscreteUpdate(pc).value(0))
+                pc.SetDiscreteState(0, nxt)
+                x[k + 1] = nxt
+                if not np.all(np.abs(nxt[5:]) < runaway):
+                    failed = 1
+                    break
+        except RuntimeError:
+            failed = 1
+        if failed:
+            force[k:], x[k + 1:], active[k:] = np.nan, np.nan, False
+        steps = n if not failed else k
+        vdot[:] = (x[1:, 5:] - x[:-1, 5:]) / dt
+    else:
+        accel_port = plant.get_generalized_acceleration_output_port()
+        sim = Simulator(m.diagram, ctx)
+        integrator = ResetIntegratorFromFlags(sim, opts.integrator, dt)
+        integrator.set_target_accuracy(opts.accuracy)
+        k = 0
+        try:
+            sim.Initialize()
+            for k in range(n):
+                if k:
+                    sim.AdvanceTo(k * dt)
+                x[k] = plant.GetPositionsAndVelocities(pc)
+                active[k], force[k] = _contact(results_port.Eval(pc), m.rod_body)
+                vdot[k] = accel_port.Eval(pc)
+                if not np.all(np.abs(x[k, 5:]) < runaway):
+                    failed = 1
+                    break
+        except RuntimeError:
+            failed = 1
+        if failed:
+            x[k:], vdot[k:], force[k:], active[k:] = np.nan, np.nan, np.nan, False
+        steps, evaluations = integrator.get_num_steps_taken(), integrator.get_num_derivative_evaluations()
+        shrinkages = integrator.get_num_step_shrinkages_from_error_control()
+    health = Health(contact_rows=int(active.sum()), steps=int(steps), derivative_evaluations=int(evaluations),
+                    error_shrinkages=int(shrinkages), failed=failed)
+    return Raw(x=x, vdot=vdot, force=force, active=active, health=health)
+
+
+def record(rod: Rod, raw: Raw, opts: Options) -> Record:
+    """The scaled, world-frame ``Record`` of a run (the fields of ``crosscheck.engines.record``)."""
+    n = len(raw.active)
+    q, v = raw.x[:n, :5], raw.x[:n, 5:]
+    l, w, g = rod.length, rod.omega, rod.gravity
+    pos, vel, acc = tip_kinematics(rod, q, v, raw.vdot)
+    r = opts.radius
+    tip_pos, tip_vel = pos / l, vel / (l * w)
+    psi, theta = q[:, 3].copy(), q[:, 4].copy()
+    Theta = v[:, 4] / w
+    # velocity of the rod's material point at C = A - r K: v_A + (theta' i + psi' K) x (-r K) = v_A + r theta' j
+    slip = np.zeros((n, 3))
+    slip[:, 0] = tip_vel[:, 0] - r * Theta * np.sin(psi)
+    slip[:, 1] = tip_vel[:, 1] + r * Theta * np.cos(psi)
+    force = raw.force / rod.force_scale
+    return Record(t=opts.timestep * np.arange(n), tip_pos=tip_pos, tip_vel=tip_vel, tip_acc=acc / g, force=force,
+                  normal_force=force[:, 2].copy(), active=raw.active.copy(), gap=tip_pos[:, 2] - r, slip_vel=slip, psi=psi,
+                  theta=theta, Psi=v[:, 3] / w, Theta=Theta)
+
+
+def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
+    """Run one slipping state in Drake and classify its first event.
+
+    Args:
+      rod: physical rod (``Rod.scaled(alpha)`` for the paper's units).
+      state: the paper's scaled slipping state (the capsule starts touching the plane, z_A = r).
+      mu: friction coefficient >= 0.
+      horizon: scaled time, > 0; ceil(horizon / timestep) rows.
+      thresholds: outcome criteria (``Thresholds()`` by default).
+      **options: the fields of ``crosscheck.engines.drake.options.Options`` (approximation, timestep,
+        radius, stiffness, dissipation, relaxation_time, stiction_tolerance, integrator, accuracy,
+        near_rigid_threshold); an unknown or bad one raises ``ValueError`` naming it.
+
+    Returns:
+      ``crosscheck.engines.Run``, engine ``drake_<approximation>``, with ``Health`` in ``solver``.
+    """
+    if not isinstance(state, SlipState):
+        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    state.check_start()
+    horizon = float(check("horizon", horizon, POSITIVE))
+    opts = Options.from_kwargs(options)
+    if opts.timestep > horizon:
+        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
+    mu = float(check("mu", mu, MU))
+    th = thresholds or Thresholds()
+    n = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES)  # the record holds every row: refuse before allocating
+    m = model(rod, mu, opts)
+    q0, v0 = to_generalized(rod, state, tip=(0.0, 0.0, opts.radius))
+    raw = raw_run(m, np.concatenate((q0, v0)), n, opts.timestep / rod.omega)
+    rec = record(rod, raw, opts)
+    c = classify(rec, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, thresholds=th)
+    run = Run.from_classification(opts.name, c, rec, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
+                                  horizon=horizon, nstep=n)
+    return replace(run, solver=raw.health)
+
+
+def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
+          workers: int = 1, **options) -> SweepResult:
+    """Every state through ``simulate`` (``sweep_by_simulate`` with the registered engine of the options' approximation).
+
+    The diagram of each (rod, mu, options) is built once and reused (``model.model``); ``workers`` > 1 runs
+    chunks of states in forked processes, each with its own diagrams.
+    """
+    from crosscheck.engines import get
+
+    name = engine_name(Options.from_kwargs(options).approximation)
+    return sweep_by_simulate(get(name), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers,
+                             **options)

@@ -1,0 +1,1 @@
+"""mujoco's own sections."""

@@ -1,0 +1,1 @@
+"""pinocchio's own sections."""

@@ -1,4 +1,4 @@
-"""Time crosscheck.analytic.b, p and mode on a 10^6-point grid.
+"""Time crosscheck.theory.analytic.b, p and mode on a 10^6-point grid.
 
 Baseline, measured in the same run: the bare numpy expressions of eqs. b and
 p on the same arrays (no input checks, no broadcasting helpers).  Target:
@@ -14,9 +14,7 @@ import timeit
 
 import numpy as np
 
-from crosscheck import analytic
-
-
+from crosscheck.theory import analytic
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=1_000_000)

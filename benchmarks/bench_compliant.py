@@ -1,7 +1,7 @@
 """Cost of the compliant rod (crosscheck.engines.compliant.integrate) per state against the rigid flow, and its solver choices.
 
 Three measurements on the same random slipping states (b < 0 < p, seeded),
-each run to the rigid flow's first event (``crosscheck.slipping.slip_until_event``,
+each run to the rigid flow's first event (``crosscheck.theory.slipping.slip_until_event``,
 t_max = 2), in the same run so that the machine's load cancels in the ratios
 (CPU time of this process; the rigid runs the best of 3, as benchmarks/timing.py's
 best_of, the compliant runs once each: they take 0.1-0.5 s):
@@ -25,11 +25,11 @@ import time
 import numpy as np
 import scipy.integrate
 
-from crosscheck import analytic
+from crosscheck.theory import analytic
 from crosscheck.engines.compliant import integrate
 from crosscheck.engines.compliant import trajectory as _trajectory
 from crosscheck.rod import Rod
-from crosscheck.slipping import slip_until_event
+from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
 
 KEYS = ("eta", "varphi", "Psi", "theta", "Theta")

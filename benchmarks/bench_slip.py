@@ -1,4 +1,4 @@
-"""Time crosscheck.gb.slip_until_event on random slipping states.
+"""Time crosscheck.theory.gb.slip_until_event on random slipping states.
 
 Baseline, measured in the same run: a real-time ``solve_ivp`` (DOP853, same
 tolerances) of eq. polareqs_varphi through ``analytic.scaled_rhs`` with
@@ -18,8 +18,10 @@ from collections import Counter
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from crosscheck import SlipState, analytic
-from crosscheck.gb import slip_until_event
+from crosscheck import SlipState
+
+from crosscheck.theory import analytic
+from crosscheck.theory.gb import slip_until_event
 from crosscheck.tolerances import SLIP_INTEGRATION
 
 

@@ -3,8 +3,8 @@
 Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painleve paradox*.
 """
 
-from crosscheck import analytic
-from crosscheck.analytic import Mode, critical_values, mode
+from crosscheck.theory import analytic
+from crosscheck.theory.analytic import Mode, critical_values, mode
 from crosscheck.coordinates import from_generalized, to_generalized
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
@@ -12,12 +12,13 @@ from crosscheck.state import SlipState
 
 __version__ = "0.1.0"
 
-# Layout: the theory at the top of the package (analytic, critical, gb, slipping,
-# corollary, coordinates, paper), the contact engines in crosscheck.engines (looked
-# up by name: crosscheck.engines.get("mujoco")), the studies that compare any engine
-# with the theory in crosscheck.studies, the report in crosscheck.report and the
-# command line in crosscheck.cli.  Engines and studies are imported by name:
-# importing crosscheck alone does not load Pinocchio or MuJoCo.
+# Layout: the core every layer uses at the top of the package (rod, state, outcome,
+# coordinates, checks, files, tolerances); the paper's theory in crosscheck.theory;
+# the contact engines in crosscheck.engines, one subpackage each, found through its
+# registry; the studies that compare any engine with the theory in crosscheck.studies;
+# resumable sweeps in crosscheck.sweeps; the report in crosscheck.report and the command
+# line in crosscheck.cli.  Engines are imported when they run: importing crosscheck
+# alone loads no engine library.
 __all__ = [
     "Rod",
     "SlipState",

@@ -19,6 +19,12 @@ class Outcome(IntEnum):
     DIVERGED: the run produced NaN/inf or the engine reported instability.
     GB: (analytic only) b and p reach 0 together, a point of the GB manifold
       such as P+ of the planar problem.
+    LAUNCH: (engines only) a contact step throws the tip off the plane while
+      the theory's free acceleration b is negative, so that the rigid rod
+      would have stayed on it: the "gliding" of a convex or regularised
+      contact step (Castro et al. 2023), or a soft contact's hop long and
+      fast enough to be a flight.  Never an outcome of the theory; always a
+      disagreement with it.
     """
 
     SLIP = 0
@@ -27,3 +33,4 @@ class Outcome(IntEnum):
     JAM = 3
     DIVERGED = 4
     GB = 5
+    LAUNCH = 6

@@ -143,15 +143,18 @@ def _simulate(engine, rod, state, key: str, value):
 
 def api_cases() -> list:
     """Every (id, call, param) of the Python API."""
-    from crosscheck import analytic, critical, hybrid, iwc
+    from crosscheck.theory import analytic
+    from crosscheck.theory import critical
+    from crosscheck.theory.impact import continuation as hybrid
+    from crosscheck.theory.impact import darboux_keller as iwc
     from crosscheck.coordinates import paper_to_qv
-    from crosscheck.corollary import corollary_states
+    from crosscheck.theory.corollary import corollary_states
     from crosscheck.engines import classifier
     from crosscheck.engines.mujoco import engine as mujoco
     from crosscheck.engines.pinocchio import stepper as pinocchio
-    from crosscheck.gb import det_K_zeros, gb_manifold
+    from crosscheck.theory.gb import det_K_zeros, gb_manifold
     from crosscheck.rod import Rod
-    from crosscheck.slipping import slip_until_event
+    from crosscheck.theory.slipping import slip_until_event
     from crosscheck.state import SlipState
 
     ok_state = dict(theta=1.1031, varphi=-1.9233, Theta=0.9, Psi=0.0, eta=2.0)
@@ -222,7 +225,7 @@ def api_cases() -> list:
     add("corollary_states(rng=0)", lambda: corollary_states(1.7, 2, 0), "rng")
     for k, v in [("theta", 2.0), ("eta", -1.0), ("Theta", math.nan), ("w", math.inf)]:
         add(f"paper_to_qv({k}={v!r})", lambda k=k, v=v: paper_to_qv(rod, **{**ok_state, k: v}), k)
-    from crosscheck import capsule
+    from crosscheck.theory import capsule
     from crosscheck.engines import compliant
     from crosscheck.engines.mujoco import ode as mujoco_ode
 
@@ -236,7 +239,7 @@ def api_cases() -> list:
     for k, v in [("horizon", 0.0), ("horizon", 1e5), ("radius", 0.0), ("radius", 0.7), ("timeconst", 0.0), ("solimp", (0.9, 0.95)),
                  ("bogus_option", 1.0), ("mu", -1.0)]:
         add(f"mujoco_ode.simulate({k}={v!r})", lambda k=k, v=v: _simulate(mujoco_ode, rod, s, k, v), k)
-    from crosscheck.engines.mujoco.studies import ladder
+    from crosscheck.engines.mujoco.studies import kelvin_voigt, ladder
 
     for k, v in [("mu", -1.0), ("alpha", 0.0), ("horizon", 0.0), ("horizon", 1e5), ("timestep", 1e-300), ("radius", 0.7), ("timeconst", 0.0),
                  ("solimp", (0.9, 0.95)), ("rungs", ("bogus",)), ("reference", 9), ("bogus_option", 1.0)]:
@@ -245,6 +248,6 @@ def api_cases() -> list:
             return ladder.run_ladder(s, kw.pop("mu"), **kw)
         add(f"ladder.run_ladder({k}={v!r})", call, k)
     for k, v in [("alpha", 0.0), ("timeconst", -1.0), ("dampratio", math.nan)]:
-        add(f"ladder.mujoco_equivalent({k}={v!r})", lambda k=k, v=v: ladder.mujoco_equivalent(s, **{"alpha": 3.0, "timeconst": 0.06, "dampratio": 1.0,
+        add(f"kelvin_voigt.mujoco_equivalent({k}={v!r})", lambda k=k, v=v: kelvin_voigt.mujoco_equivalent(s, **{"alpha": 3.0, "timeconst": 0.06, "dampratio": 1.0,
                                                                                                 "solimp": (0.9, 0.95, 0.001, 0.5, 2.0), k: v}), k)
     return cases

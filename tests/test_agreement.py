@@ -9,14 +9,12 @@ import numpy as np
 import pytest
 
 from crosscheck import Outcome, Rod, SlipState
-from crosscheck.critical import Psi_on_b0
-from crosscheck.slipping import slip_until_event
-from crosscheck.studies import agreement
+from crosscheck.theory.critical import Psi_on_b0
+from crosscheck.theory.slipping import slip_until_event
 from crosscheck.studies.agreement import agreement_study, boundary_distance, comparison_labels, convergence_table
 from crosscheck.studies.grids import AXES, EventGrid
 from crosscheck.studies.jams import jam_check
-from crosscheck.tolerances import MUJOCO_EVENT_DISAGREEMENT
-
+from crosscheck.engines.mujoco.tolerances import MUJOCO_EVENT_DISAGREEMENT
 ALPHA = 3.0
 ROD = Rod.scaled(ALPHA)
 COARSE = {"timestep": 1e-3, "timeconst": 0.1}  # ~0.3 ms and 32 ms for a 1 m rod: fast, still resolved
@@ -101,8 +99,10 @@ def test_event_agreement_detects_a_wrong_analytic_reference(monkeypatch):
     g = EventGrid(theta=(0.3, 0.9), varphi=(-math.pi / 2, -math.pi / 4), Theta=(0.0,), Psi=(-1.0, 0.0, 1.0), mu=(0.3, 0.6, 1.0))
     run = dict(settings=(COARSE,), boundary_directions=0)
     assert agreement_study(g, **run).runs[0].agreement_jam_as_stop == 1.0
-    right = agreement.slip_until_event
-    monkeypatch.setattr(agreement, "slip_until_event", lambda s, mu, alpha, **kw: right(s, 3 * mu, alpha, **kw))
+    from crosscheck.studies import analytic_events
+
+    right = analytic_events.slip_until_event
+    monkeypatch.setattr(analytic_events, "slip_until_event", lambda s, mu, alpha, **kw: right(s, 3 * mu, alpha, **kw))
     assert 1 - agreement_study(g, **run).runs[0].agreement_jam_as_stop > 2 * MUJOCO_EVENT_DISAGREEMENT.atol
 
 

@@ -115,8 +115,10 @@ def _finite_numbers(obj) -> bool:
 
 
 def _api_functions():
-    from crosscheck import analytic, critical, hybrid
-    from crosscheck.slipping import slip_until_event
+    from crosscheck.theory import analytic
+    from crosscheck.theory import critical
+    from crosscheck.theory.impact import continuation as hybrid
+    from crosscheck.theory.slipping import slip_until_event
     from crosscheck.state import SlipState
 
     ok = dict(theta=1.1031, varphi=-1.9233, Theta=0.9, Psi=0.0, eta=2.0, mu=1.4, alpha=3.0)

@@ -1,4 +1,4 @@
-"""The rigid rod with its contact at the capsule point C: closed forms against Pinocchio, r = 0 against crosscheck.slipping."""
+"""The rigid rod with its contact at the capsule point C: closed forms against Pinocchio, r = 0 against crosscheck.theory.slipping."""
 
 from __future__ import annotations
 
@@ -9,7 +9,11 @@ import pinocchio as pin
 import pytest
 from scipy.optimize import brentq
 
-from crosscheck import analytic, capsule, slipping
+from crosscheck.theory import analytic
+
+from crosscheck.theory import capsule
+
+from crosscheck.theory import slipping
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck.outcome import Outcome

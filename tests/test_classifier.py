@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from crosscheck import Outcome, Rod, SlipState
-from crosscheck import analytic as an
+from crosscheck.theory import analytic as an
 from crosscheck.engines import Record, Thresholds, classify, get
-from crosscheck.slipping import slip_until_event
+from crosscheck.theory.slipping import slip_until_event
 
 ALPHA = 3.0
 SCALED = Rod.scaled(ALPHA)
@@ -236,3 +236,35 @@ def test_a_divergence_after_the_domain_exit_is_still_the_outcome():
     s = SlipState(theta=0.4915311379637795, varphi=-1.3440367621732925, Theta=-0.9155531610879961, Psi=0.24270625937538748, eta=1.9393780355886552)
     r = get("pinocchio").simulate(Rod.scaled(3.0), s, 1.3, horizon=2.0)
     assert r.outcome == Outcome.DIVERGED and 0.4 < r.exit_time < 0.5 and r.diverged_time == r.event_time > 1.0
+
+
+def _launched(speed: float, *, at: int = 100, theta: float = 0.6, dt: float = 1e-3) -> Record:
+    """A slip (b = sin 0.6 - 1 < 0 at rest rates) whose contact step at row ``at`` throws the tip up at ``speed`` into a free flight."""
+    R = slipping_record(dt=dt, theta=theta)
+    n = len(R)
+    vel = R.tip_vel.copy()
+    vel[at + 1:, 2] = speed  # the flight's rise (its fall under b does not matter within the window)
+    free = np.arange(n) > at
+    F = np.where(free[:, None], 0.0, R.force)
+    return replace(R, tip_vel=vel, force=F, normal_force=F[:, 2].copy(), active=~free)
+
+
+def test_launch_is_a_contact_step_that_throws_the_tip_up_while_b_is_negative():
+    """SAP's gliding in the probe: 0.45 l omega up at eta = 1 after a contact step, then a flight; the theory slips (b < 0)."""
+    th = Thresholds()
+    c = classify(_launched(0.45), mu=0.5, alpha=ALPHA, timestep=1e-3, rigid=True, thresholds=th)
+    assert Outcome(int(c.outcome)) == Outcome.LAUNCH and c.event_time == pytest.approx(0.1)
+    # the same flight started at a speed below launch_ratio eta is no launch (a soft contact's small hop) ...
+    slow = classify(_launched(0.5 * th.launch_ratio), mu=0.5, alpha=ALPHA, timestep=1e-3, rigid=True, thresholds=th)
+    assert Outcome(int(slow.outcome)) != Outcome.LAUNCH
+    # ... nor is a rise after which the tip lands and the contact pushes again within the window (a hop, not a flight)
+    R = _launched(0.45)
+    F, vel = R.force.copy(), R.tip_vel.copy()
+    F[130:] = slipping_record().force[130:]
+    vel[131:, 2] = 0.0
+    hop = classify(replace(R, force=F, normal_force=F[:, 2].copy(), tip_vel=vel), mu=0.5, alpha=ALPHA, timestep=1e-3, rigid=True, thresholds=th)
+    assert Outcome(int(hop.outcome)) != Outcome.LAUNCH
+    # and with b > 0 (theta such that the free acceleration points up) leaving the plane is the paper's lift-off, not a launch
+    up = _launched(0.45)
+    up = replace(up, Psi=np.full(len(up), 3.0))  # b = Psi^2 cos^2 theta sin theta - 1 > 0 at theta = 0.6
+    assert Outcome(int(classify(up, mu=0.5, alpha=ALPHA, timestep=1e-3, rigid=True, thresholds=th).outcome)) != Outcome.LAUNCH

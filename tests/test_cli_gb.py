@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from crosscheck import SlipState
-from crosscheck import gb
+from crosscheck.theory import gb
 from crosscheck.cli import main
 
 SLIP_ARGS = ["slip", "--theta", "1.1031", "--varphi", "-1.9233", "--Theta", "0.9", "--Psi", "0", "--eta", "2", "--mu", "1.4"]
@@ -65,8 +65,7 @@ def test_gb_samples_are_on_the_manifold(capsys):
     assert main(["gb", "--mu", "6", "--Psi", "1.8997", "--eta", "10", "--json"]) == 0
     got = json.loads(capsys.readouterr().out)
     assert len(got["curves"]) == 2 and all(c["crosses_Theta_0"] for c in got["curves"])
-    from crosscheck import analytic
-
+    from crosscheck.theory import analytic
     for c in got["curves"]:
         th = np.array([s["theta"] for s in c["samples"]])
         vp = np.array([s["varphi"] for s in c["samples"]])
@@ -91,8 +90,7 @@ def test_a_start_on_p_0_at_mu_P_is_on_the_boundary_and_does_not_jam(capsys):
 
     classify names the boundary and the modes either side of it; the run does not jam at t = 0: F_z = -b/p is
     unbounded there, so the slip stops at once (STICK at t = 0, as MuJoCo's rod sticks)."""
-    from crosscheck import critical
-
+    from crosscheck.theory import critical
     th, mu = critical.theta_P(3.0), critical.mu_P(3.0)
     state = ["--theta", repr(float(th)), "--varphi", repr(-np.pi / 2), "--Theta", "0", "--Psi", "0", "--mu", repr(float(mu))]
     assert main(["classify", *state, "--json"]) == 0
@@ -110,7 +108,7 @@ def test_a_start_on_p_0_at_mu_P_is_on_the_boundary_and_does_not_jam(capsys):
 
 def test_a_start_slower_than_the_stick_speed_is_stuck():
     """eta = 1e-300 once gave a JAM at t = 1.7e-304: a start below the run's own stick speed is STICK at t = 0."""
-    from crosscheck.slipping import slip_until_event
+    from crosscheck.theory.slipping import slip_until_event
     from crosscheck.state import SlipState
     from crosscheck.tolerances import STICK_SPEED
 

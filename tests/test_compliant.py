@@ -11,18 +11,21 @@ import math
 import numpy as np
 import pytest
 
-from crosscheck import analytic, engines
+from crosscheck import engines
+
+from crosscheck.theory import analytic
 from crosscheck.engines.compliant import integrate, simulate, slow_manifold
 from crosscheck.engines.compliant.model import SLIP, STICK, y_from_qv
 from crosscheck.engines.compliant.trajectory import make_dynamics
 from crosscheck.coordinates import tip_position, tip_velocity, to_generalized
-from crosscheck.iwc import delassus
+from crosscheck.theory.impact.darboux_keller import delassus
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.slipping import slip_until_event
+from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
-from crosscheck.tolerances import (CLOSED_FORM, COMPLIANT_ENERGY, COMPLIANT_INTEGRATION, COMPLIANT_KINEMATICS, COMPLIANT_ORDER,
-                                   COMPLIANT_RESTART)
+from crosscheck.tolerances import CLOSED_FORM
+from crosscheck.engines.compliant.tolerances import (COMPLIANT_ENERGY, COMPLIANT_INTEGRATION, COMPLIANT_KINEMATICS, COMPLIANT_ORDER,
+                                                    COMPLIANT_RESTART)
 
 ALPHA = 3.0
 ROD = Rod.scaled(ALPHA)
@@ -226,8 +229,8 @@ def test_the_contact_points_gap_and_slip_velocity_agree_with_the_material_point_
 
 
 def test_the_dynamics_match_eq_linode2_and_the_delassus_matrix_of_the_impact_model():
-    """At r = 0 the model's tip acceleration under a force at A is eq. linode2 (crosscheck.analytic.tip_acceleration),
-    its rotational accelerations eq. rotode, and its Delassus matrix crosscheck.iwc's (CLOSED_FORM: ~20 flops each)."""
+    """At r = 0 the model's tip acceleration under a force at A is eq. linode2 (crosscheck.theory.analytic.tip_acceleration),
+    its rotational accelerations eq. rotode, and its Delassus matrix crosscheck.theory.impact.darboux_keller's (CLOSED_FORM: ~20 flops each)."""
     rng = np.random.default_rng(11)
     dyn = make_dynamics(ALPHA, 0.5, eps=1e-2, xi=1.0, radius=0.0, law="kelvin-voigt")
     for _ in range(5):

@@ -15,20 +15,15 @@ import math
 import numpy as np
 import pytest
 
-from crosscheck import analytic
-from crosscheck.corollary import corollary_states
-from crosscheck.iwc import delassus, impact
+from crosscheck.theory import analytic
+from crosscheck.theory.corollary import corollary_states
+from crosscheck.theory.impact.darboux_keller import delassus, impact
 from crosscheck.state import SlipState
 from crosscheck.engines.compliant.studies import limit as cl
+from crosscheck.theory import compliant_limit as asymptotics
 from crosscheck.engines.pinocchio.studies.rigid import planar_impasse
-from crosscheck.tolerances import (
-    CLOSED_FORM,
-    COMPLIANT_LIMIT_FAST,
-    COMPLIANT_LIMIT_JAM_LAG_ORDER,
-    COMPLIANT_LIMIT_LARGE_XI,
-    COMPLIANT_LIMIT_POST_ORDER,
-    COMPLIANT_LIMIT_SLIP_TIME,
-)
+from crosscheck.tolerances import CLOSED_FORM
+from crosscheck.engines.compliant.tolerances import COMPLIANT_LIMIT_FAST, COMPLIANT_LIMIT_JAM_LAG_ORDER, COMPLIANT_LIMIT_LARGE_XI, COMPLIANT_LIMIT_POST_ORDER, COMPLIANT_LIMIT_SLIP_TIME
 
 ALPHA = 3.0
 EPS = (1e-2, 1e-3, 1e-4, 1e-5)
@@ -47,20 +42,20 @@ def _schur(state):
 def test_growth_rates_solve_the_quadratic():
     p = np.array([-0.01, -0.3, -2.0, -10.0])
     for xi in (0.0, 0.5, 4.0):
-        lam, lam2 = cl.growth_rates(p, xi)
+        lam, lam2 = asymptotics.growth_rates(p, xi)
         for r in (lam, lam2):
             assert CLOSED_FORM.ok(r * r - (-p) * xi * r, -p)
         assert np.all(lam > 0) and np.all(lam2 < 0)
     with pytest.raises(ValueError, match=r"p must be in \(-inf, 0\)"):
-        cl.growth_rates(0.1, 1.0)
+        asymptotics.growth_rates(0.1, 1.0)
 
 
 @pytest.mark.parametrize("xi", [0.0, 0.5, 2.0])
 def test_fast_limit_against_planar_closed_form_and_iwc(xi):
     state, mu = INCONSISTENT["planar"]
-    f = cl.fast_limit(state, mu, ALPHA, xi=xi)
+    f = asymptotics.fast_limit(state, mu, ALPHA, xi=xi)
     assert [ph[0] for ph in f.phases] == ["slip", "stick"]
-    assert COMPLIANT_LIMIT_FAST.ok(f.restitution, cl.planar_restitution(f.p, _schur(state), xi))
+    assert COMPLIANT_LIMIT_FAST.ok(f.restitution, asymptotics.planar_restitution(f.p, _schur(state), xi))
     # same impulse ODE in P: the compression impulse and the post-impulse normal velocity of the rigid IWC at e = e(xi)
     assert COMPLIANT_LIMIT_FAST.ok(f.P_c, f.impact.compression_impulse)
     assert COMPLIANT_LIMIT_FAST.ok(f.w, f.impact.w)
@@ -68,10 +63,10 @@ def test_fast_limit_against_planar_closed_form_and_iwc(xi):
 
 def test_restitution_falls_to_zero_as_xi_grows():
     for state, mu in INCONSISTENT.values():
-        es = [cl.fast_limit(state, mu, ALPHA, xi=xi).restitution for xi in (0.0, 1.0, 5.0, 30.0)]
+        es = [asymptotics.fast_limit(state, mu, ALPHA, xi=xi).restitution for xi in (0.0, 1.0, 5.0, 30.0)]
         assert all(a > b for a, b in zip(es, es[1:])), es
     state, mu = INCONSISTENT["planar"]
-    f = cl.fast_limit(state, mu, ALPHA, xi=30.0)
+    f = asymptotics.fast_limit(state, mu, ALPHA, xi=30.0)
     assert COMPLIANT_LIMIT_LARGE_XI.ok(f.restitution * _schur(state) * 30.0**2, 1.0)
 
 
@@ -109,14 +104,14 @@ def test_post_event_state_depends_on_xi_as_the_restitution_predicts():
     """At eps = 1e-4 the compliant state after the impulse sits on the impact with its own e(xi), not on the other xi's."""
     state, mu = INCONSISTENT["3d"]
     eps = 1e-4
-    fl = {xi: cl.fast_limit(state, mu, ALPHA, xi=xi) for xi in (0.3, 3.0)}
+    fl = {xi: asymptotics.fast_limit(state, mu, ALPHA, xi=xi) for xi in (0.3, 3.0)}
     apart = np.linalg.norm(cl.impact_tip_velocity(fl[0.3].impact) - cl.impact_tip_velocity(fl[3.0].impact))
     for xi, f in fl.items():
         r = cl.limit_run(state, mu, ALPHA, eps=eps, xi=xi, horizon=0.05)
         own = cl.post_errors(r, f.impact)["max"]
         assert own < 0.05 * apart, (xi, own, apart)
     # large xi: the plastic impact (e = 0)
-    f = cl.fast_limit(state, mu, ALPHA, xi=30.0)
+    f = asymptotics.fast_limit(state, mu, ALPHA, xi=30.0)
     plastic = impact(state, mu, ALPHA, restitution=0.0)
     assert f.restitution < 1e-3
     # after the stick phase w = S (P_f - P_c) = S e P_c: e < 1e-3 leaves w within 1% of the xi = 0.3 rebound
@@ -132,7 +127,7 @@ def test_indeterminate_boundary_separates_liftoff_from_impact():
     d = cl.indeterminate_study(state, mu, ALPHA, xi=1.0, eps=1e-4, D0=2.0, offsets=(-0.05, -0.02, 0.02, 0.05), horizon=0.05)
     assert [r["outcome"] for r in d["rows"]] == [r["predicted"] for r in d["rows"]] == ["impact", "impact", "liftoff", "liftoff"]
     with pytest.raises(ValueError, match="state must be indeterminate"):
-        cl.indeterminate_boundary(INCONSISTENT["3d"][0], mu, ALPHA, xi=1.0, eps=1e-3, D0=1.0)
+        asymptotics.indeterminate_boundary(INCONSISTENT["3d"][0], mu, ALPHA, xi=1.0, eps=1e-3, D0=1.0)
 
 
 def test_corollary_jam_lag_scales_as_eps_four_fifths():

@@ -7,10 +7,10 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from crosscheck import analytic as an
+from crosscheck.theory import analytic as an
 from crosscheck.checks import MU_MAX
-from crosscheck import critical as cr
-from crosscheck.analytic import Mode
+from crosscheck.theory import critical as cr
+from crosscheck.theory.analytic import Mode
 from crosscheck.tolerances import CLOSED_FORM, FINITE_DIFFERENCE, ROOT_RESIDUAL
 
 ALPHAS = [0.5, 1.0, 3.0, 7.0, 30.0]

@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from crosscheck import analytic
+from crosscheck.theory import analytic
 from crosscheck.engines.pinocchio.studies import dynamics_terms
 from crosscheck.cli import main
 from crosscheck.rod import Rod

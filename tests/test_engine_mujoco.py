@@ -10,14 +10,13 @@ import pytest
 from mujoco import rollout
 
 from crosscheck import Outcome, Rod, SlipState
-from crosscheck import analytic as an
+from crosscheck.theory import analytic as an
 from crosscheck.coordinates import GENERALIZED, tip_position, to_generalized
-from crosscheck.critical import Psi_L, theta_L
+from crosscheck.theory.critical import Psi_L, theta_L
 from crosscheck.engines import get
 from crosscheck.engines.mujoco.engine import Batch, Options
 from crosscheck.engines.mujoco.model import ModelFileError, SensorLayout, build_model, initial_state, model_path, record_from_sensordata
-from crosscheck.tolerances import MUJOCO_FREE_ACCELERATION
-
+from crosscheck.engines.mujoco.tolerances import MUJOCO_FREE_ACCELERATION
 from conftest import random_slip_states
 
 ROD = Rod(mass=1.0, length=1.0, inertia=1.0 / 3.0, gravity=9.81)

@@ -20,7 +20,7 @@ from crosscheck import Outcome, Rod, SlipState, engines
 from crosscheck.engines import EngineSpec, Record, ReportPlan, Run, Thresholds, classify, n_steps, sweep_by_simulate
 from crosscheck.engines.base import options_from_kwargs
 from crosscheck.tolerances import EVENT_TOLERANCE_KEYS, Tolerance
-from crosscheck.slipping import X_STATE, slip_until_event
+from crosscheck.theory.slipping import X_STATE, slip_until_event
 from crosscheck.studies.agreement import agreement_study
 from crosscheck.studies.grids import EventGrid
 

@@ -13,7 +13,7 @@ import pytest
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-from crosscheck import analytic as an
+from crosscheck.theory import analytic as an
 from crosscheck.rod import Rod
 from crosscheck.tolerances import DERIVATION
 

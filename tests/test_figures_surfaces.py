@@ -7,7 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from crosscheck import analytic, critical, gb
+from crosscheck.theory import analytic
+
+from crosscheck.theory import critical
+
+from crosscheck.theory import gb
 from crosscheck.report.section import RunContext, section_rng
 from crosscheck.report.sections import bifurcations, kinematic_surfaces as ks
 from crosscheck.report.store import SectionStore

@@ -1,14 +1,16 @@
-"""crosscheck.gb: eq. f and its Jacobian, K, the GB manifold and the claims of sections 4-5."""
+"""crosscheck.theory.gb: eq. f and its Jacobian, K, the GB manifold and the claims of sections 4-5."""
 
 import math
 
 import numpy as np
 import pytest
 
-from crosscheck import Outcome, SlipState, analytic
-from crosscheck import gb
-from crosscheck.critical import Psi_L, critical_values, mu_C, mu_P, theta_12, theta_pm
-from crosscheck.gb import GBType, Quadrant
+from crosscheck import Outcome, SlipState
+
+from crosscheck.theory import analytic
+from crosscheck.theory import gb
+from crosscheck.theory.critical import Psi_L, critical_values, mu_C, mu_P, theta_12, theta_pm
+from crosscheck.theory.gb import GBType, Quadrant
 from crosscheck.tolerances import CLOSED_FORM, FINITE_DIFFERENCE, GB_IDENTITY
 
 ALPHA = 3.0

@@ -1,4 +1,4 @@
-"""The hybrid rigid model (crosscheck.hybrid): slipping, an impact without collision at a jam, and what follows."""
+"""The hybrid rigid model (crosscheck.theory.impact.continuation): slipping, an impact without collision at a jam, and what follows."""
 
 from __future__ import annotations
 
@@ -9,10 +9,10 @@ import pytest
 
 from crosscheck import Outcome, SlipState
 from crosscheck.cli import main
-from crosscheck.corollary import corollary_states
-from crosscheck.hybrid import run
-from crosscheck.iwc import impact
-from crosscheck.slipping import slip_until_event
+from crosscheck.theory.corollary import corollary_states
+from crosscheck.theory.impact.continuation import run
+from crosscheck.theory.impact.darboux_keller import impact
+from crosscheck.theory.slipping import slip_until_event
 
 ALPHA = 3.0
 

@@ -6,7 +6,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from crosscheck import Rod, SlipState, analytic, critical_values
+from crosscheck import Rod, SlipState, critical_values
+
+from crosscheck.theory import analytic
 from crosscheck.coordinates import from_generalized, paper_to_qv, qv_to_paper, to_generalized
 
 

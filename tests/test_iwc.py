@@ -1,4 +1,4 @@
-"""Impact without collision in 3D (crosscheck.iwc): the planar closed form, energy, Pinocchio's Delassus, and the rigid engine's limit."""
+"""Impact without collision in 3D (crosscheck.theory.impact.darboux_keller): the planar closed form, energy, Pinocchio's Delassus, and the rigid engine's limit."""
 
 from __future__ import annotations
 
@@ -7,13 +7,15 @@ import math
 import numpy as np
 import pytest
 
-from crosscheck import Rod, SlipState, analytic
+from crosscheck import Rod, SlipState
+
+from crosscheck.theory import analytic
 from crosscheck.coordinates import to_generalized
-from crosscheck.corollary import corollary_states
+from crosscheck.theory.corollary import corollary_states
 from crosscheck.engines import get
 from crosscheck.engines.pinocchio.stepper import Options, Stepper
-from crosscheck.iwc import delassus, impact
-from crosscheck.slipping import slip_until_event
+from crosscheck.theory.impact.darboux_keller import delassus, impact
+from crosscheck.theory.slipping import slip_until_event
 from crosscheck.engines.pinocchio.studies.rigid import planar_impasse
 
 ALPHA = 3.0

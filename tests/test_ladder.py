@@ -13,14 +13,17 @@ from crosscheck.engines.classifier import Thresholds
 from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import build_model, initial_state
 from crosscheck.outcome import Outcome
-from crosscheck.paper import FIG20_INITIAL_CONDITIONS
+from crosscheck.theory.paper import FIG20_INITIAL_CONDITIONS
 from crosscheck.rod import Rod
-from crosscheck.slipping import slip_until_event
+from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
+from crosscheck.engines.mujoco.law import impedance
+from crosscheck.engines.mujoco.studies import kelvin_voigt as KV
 from crosscheck.engines.mujoco.studies import ladder as L
+from crosscheck.engines.mujoco.studies import ladder_study as LS
 from crosscheck.studies.agreement import comparison_labels
-from crosscheck.tolerances import CLOSED_FORM, EVENT_TIME, LADDER_QUOTED_TIME
-
+from crosscheck.tolerances import CLOSED_FORM, EVENT_TIME
+from crosscheck.engines.mujoco.tolerances import LADDER_QUOTED_TIME
 IC2 = SlipState(**FIG20_INITIAL_CONDITIONS[1])
 #: A start of the quick report's (theta, Theta) map at which the rigid rod jams at A and at C, MuJoCo sticks.
 STICKS = SlipState(theta=1.175, varphi=-1.9, Theta=0.25, Psi=0.0, eta=1.0)
@@ -34,7 +37,7 @@ def ic2():
 def test_mujoco_equivalent_matches_mujocos_own_normal_row():
     """(eps, xi) give the Kelvin-Voigt gap MuJoCo's stiffness and damping: checked against MuJoCo's efc_KBIP, efc_aref and J M^-1 J^T."""
     alpha, opts = 3.0, Options()
-    m = L.mujoco_equivalent(IC2, alpha, timeconst=opts.timeconst, dampratio=opts.dampratio, solimp=opts.solimp)
+    m = KV.mujoco_equivalent(IC2, alpha, timeconst=opts.timeconst, dampratio=opts.dampratio, solimp=opts.solimp)
     rod = Rod.scaled(alpha)
     model = build_model(rod, 0.0, opts)
     data = mujoco.MjData(model)
@@ -64,7 +67,7 @@ def test_mujoco_equivalent_matches_mujocos_own_normal_row():
 
 def test_impedance_is_mujocos_sigmoid_at_its_ends_and_midpoint():
     solimp = (0.9, 0.95, 0.001, 0.5, 2.0)
-    d = L.impedance([0.0, 0.0005, -0.0005, 0.001, 0.01], solimp)
+    d = impedance(solimp, [0.0, 0.0005, -0.0005, 0.001, 0.01])
     assert np.allclose(d, [0.9, 0.925, 0.925, 0.95, 0.95], rtol=0, atol=1e-15)
 
 
@@ -74,8 +77,7 @@ def test_ic2_rungs(ic2):
     assert one.outcome == Outcome.LIFTOFF and LADDER_QUOTED_TIME.ok(one.time, 0.01654) and abs(one.p - 0.0125) <= 5e-5
     assert EVENT_TIME.ok(one.time, slip_until_event(IC2, 1.4, 3.0, t_max=2.0).time)
     # geometry by construction: the same rigid rod at r = 0 lifts off like rung 1, at MuJoCo's r = 0.01 it jams
-    from crosscheck import capsule
-
+    from crosscheck.theory import capsule
     assert capsule.slip_until_event(IC2, 1.4, 3.0, radius=0.0, t_max=2.0).outcome == Outcome.LIFTOFF
     assert two.outcome == Outcome.JAM and two.time < one.time
     # rung 5 is MuJoCo's own label as the agreement study compares it: rerun over the study's whole horizon (2 + two windows)
@@ -85,7 +87,7 @@ def test_ic2_rungs(ic2):
     assert five.label == Outcome(int(study_label)) == Outcome.JAM and five.time == full.event_time == 0.0
     assert ic2.disagree and ic2.cause == "geometry" and ic2.first_change == 2 and not ic2.missing
     # the series behind the report's figure: every rung starts at the same slip speed of C (A's for rung 1)
-    series = L.trajectories(ic2)
+    series = LS.trajectories(ic2)
     assert set(series) == set(L.RUNGS)
     assert abs(series["tip"]["eta"][0] - IC2.eta) < 1e-12
     eta_C = series["mujoco"]["eta"][0]
@@ -150,7 +152,7 @@ def test_a_missing_rung_is_reported_and_blocks_later_causes(monkeypatch):
 def test_disagreements_are_the_rated_starts_where_mujoco_differs():
     a = np.array([Outcome.SLIP, Outcome.JAM, Outcome.GB, Outcome.LIFTOFF, Outcome.STICK], int)
     m = np.array([Outcome.SLIP, Outcome.STICK, Outcome.JAM, -2, Outcome.DIVERGED], int)
-    assert L.disagreements({"theta": np.zeros(5)}, a, m).tolist() == [1, 4]
+    assert LS.disagreements({"theta": np.zeros(5)}, a, m).tolist() == [1, 4]
 
 
 def test_explain_prints_each_rung_and_the_cause(ic2, capsys):
@@ -183,7 +185,8 @@ def test_a_rerun_that_differs_from_the_study_is_the_same_start_but_for_its_last_
     t = 0.0027, the ladder's rerun a LIFTOFF at 0.0186; one ulp of theta away MuJoCo jams, and no ulp change makes it
     slip, so the probe tells a rounding-decided start from a rerun that is really different."""
     from crosscheck.outcome import Outcome
-    from crosscheck.engines.mujoco.studies.ladder import decided_by_rounding, run_ladder
+    from crosscheck.engines.mujoco.studies.ladder import run_ladder
+    from crosscheck.engines.mujoco.studies.ladder_study import decided_by_rounding
 
     s = SlipState(theta=0.9515625, varphi=-1.9, Theta=0.890625, Psi=0.0, eta=1.0)
     ld = run_ladder(s, 1.4, reference=Outcome.JAM, rungs=("mujoco",))

@@ -16,8 +16,8 @@ from crosscheck.engines.mujoco.ode import integrate
 from crosscheck.engines.mujoco.studies import friction_skew as fs
 from crosscheck.engines.mujoco.studies.law_check import convergence_order, random_contact
 from crosscheck.engines.mujoco.studies.contact import friction_skew
-from crosscheck.tolerances import (MUJOCO_LAW_FORCE, MUJOCO_LAW_KKT, MUJOCO_LAW_ORDER, MUJOCO_LAW_PIECES, MUJOCO_LAW_SKEW,
-                                   MUJOCO_LAW_SKEW_IDENTITY)
+from crosscheck.engines.mujoco.tolerances import (MUJOCO_LAW_FORCE, MUJOCO_LAW_KKT, MUJOCO_LAW_ORDER, MUJOCO_LAW_PIECES, MUJOCO_LAW_SKEW,
+                                               MUJOCO_LAW_SKEW_IDENTITY)
 
 
 def test_force_R_aref_equal_mujoco_solver_arrays():

@@ -1,11 +1,11 @@
-"""Every number the paper prints (crosscheck.paper.PRINTED), to its printed digits."""
+"""Every number the paper prints (crosscheck.theory.paper.PRINTED), to its printed digits."""
 
 import math
 
 import pytest
 
-from crosscheck import critical as cr
-from crosscheck.paper import PRINTED
+from crosscheck.theory import critical as cr
+from crosscheck.theory.paper import PRINTED
 from crosscheck.tolerances import CLOSED_FORM
 
 AGREE = [pv for pv in PRINTED if not pv.known_discrepancy]

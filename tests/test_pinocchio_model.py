@@ -14,11 +14,12 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from crosscheck import analytic
+from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
+from crosscheck.theory import analytic
 from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck import tolerances as tol
 from crosscheck.coordinates import GENERALIZED, paper_to_qv, tip_position
-from crosscheck.critical import mu_P
+from crosscheck.theory.critical import mu_P
 from crosscheck.rod import Rod
 from crosscheck.engines.pinocchio.studies.dynamics_terms import scaled_matrices
 
@@ -96,7 +97,7 @@ def test_tip_frame_is_at_A_of_eq_tipfromcentre():
     rod = RODS["heavy-short"]
     q = np.column_stack((rng.uniform(-2, 2, (200, 3)), rng.uniform(-math.pi, math.pi, 200), rng.uniform(0, math.pi / 2, 200)))
     got = pinrod.engine(rod).tip_position(q)
-    assert_within(got, tip_position(rod, q), tol.PIN_MATRICES, rod.length + np.abs(q[:, :3]).sum(1), "tip position")
+    assert_within(got, tip_position(rod, q), pinocchio_tol.PIN_MATRICES, rod.length + np.abs(q[:, :3]).sum(1), "tip position")
 
 
 def test_body_rotation_is_Rz_psi_Rx_theta_eq_rotmatrix():
@@ -133,7 +134,7 @@ def test_tip_acceleration_by_aba_equals_eq_linode2(name):
     s, args, want, A = _tip_case(rod, np.random.default_rng(10))
     got = pinrod.tip_acceleration(rod, *args, route="aba") / rod.gravity
     cos = np.cos(s["theta"])
-    assert_within(got, want, tol.PIN_TIP_ACCELERATION, A / cos, "aba route")
+    assert_within(got, want, pinocchio_tol.PIN_TIP_ACCELERATION, A / cos, "aba route")
     # The required bound itself: 1e-12 of the term scale, met everywhere here (cos theta >= 3e-3).
     assert_within(got, want, tol.Tolerance(1e-12, 0.0, "required 1e-12 of the term scale"), A, "aba route, 1e-12")
 
@@ -144,7 +145,7 @@ def test_tip_acceleration_by_delassus_equals_eq_linode2(name):
     s, args, want, A = _tip_case(rod, np.random.default_rng(11))
     got = pinrod.tip_acceleration(rod, *args, route="delassus") / rod.gravity
     cos = np.cos(s["theta"])
-    assert_within(got, want, tol.PIN_THROUGH_MINV, A / cos**2, "G F + free")
+    assert_within(got, want, pinocchio_tol.PIN_THROUGH_MINV, A / cos**2, "G F + free")
     # 1e-12 of the term scale holds where the condition number 1/cos^2 theta of M allows it.
     ok = cos >= 0.02
     assert ok.sum() > 300
@@ -237,9 +238,9 @@ def test_M_C_g_equal_eqs_rotode_linode_entry_by_entry(name):
     got_M, got_C, got_g = scaled_matrices(rod, terms.M, terms.C, terms.g)
     want_M, want_C, want_g = scaled_matrices(rod, *(np.array(x) for x in zip(*want)))
     rates = 1 + np.abs(v * np.array([1, 1, 1, rod.length, rod.length]) / (rod.length * rod.omega)).sum(1)
-    assert_within(got_M, want_M, tol.PIN_MATRICES, 1.0, "M")
-    assert_within(got_C, want_C, tol.PIN_MATRICES, rates, "C")
-    assert_within(got_g, want_g, tol.PIN_MATRICES, 1.0, "g")
+    assert_within(got_M, want_M, pinocchio_tol.PIN_MATRICES, 1.0, "M")
+    assert_within(got_C, want_C, pinocchio_tol.PIN_MATRICES, rates, "C")
+    assert_within(got_g, want_g, pinocchio_tol.PIN_MATRICES, 1.0, "g")
     # The equations themselves: M a + C v + g = J^T F reproduces eq. rotode.
     F = s["F"] * rod.force_scale
     generalized_force = np.einsum("nij,ni->nj", terms.J, F) - np.array([w[1] @ vi + w[2] for w, vi in zip(want, v)])
@@ -273,7 +274,7 @@ def test_coriolis_identities(name):
     Cv_g = scaled_matrices(rod, terms.M, terms.C, np.einsum("nij,nj->ni", terms.C, v) + terms.g)[2]
     nle = scaled_matrices(rod, terms.M, terms.C, terms.nle)[2]
     rates = 1 + np.abs(v * np.array([1, 1, 1, rod.length, rod.length]) / (rod.length * rod.omega)).sum(1)
-    assert_within(Cv_g, nle, tol.PIN_MATRICES, rates**2, "C v + g vs nle")
+    assert_within(Cv_g, nle, pinocchio_tol.PIN_MATRICES, rates**2, "C v + g vs nle")
     # M' - 2C is skew-symmetric, with M' = dM/dt along v by central differences.
     h = _fd_step()
     Mdot = (e.mass_matrix(q + h * v) - e.mass_matrix(q - h * v)) / (2 * h)
@@ -281,15 +282,15 @@ def test_coriolis_identities(name):
     # Bound: rounding of M entries eps (m + I0) / h, truncation h^2/6 |d^3 M/dt^3| <= h^2/6 * 4 I0 |theta'|^3
     # (only M_psipsi = I0 cos^2 theta varies); C's own rounding eps (m + I0)|v| is far below.
     fd_bound = EPS * (rod.mass + rod.inertia) / h + h**2 / 6 * 4 * rod.inertia * np.abs(v[:, 4]) ** 3
-    assert_within(N + np.swapaxes(N, 1, 2), 0.0 * N, tol.PIN_FINITE_DIFFERENCE, 2 * fd_bound, "M' - 2C skew")
-    assert_within(Mdot, terms.C + np.swapaxes(terms.C, 1, 2), tol.PIN_FINITE_DIFFERENCE, fd_bound, "M' = C + C^T")
+    assert_within(N + np.swapaxes(N, 1, 2), 0.0 * N, pinocchio_tol.PIN_FINITE_DIFFERENCE, 2 * fd_bound, "M' - 2C skew")
+    assert_within(Mdot, terms.C + np.swapaxes(terms.C, 1, 2), pinocchio_tol.PIN_FINITE_DIFFERENCE, fd_bound, "M' = C + C^T")
     # The check has teeth: a C with the same C v but the psi row lumped into C[psi, psi] is not skew.
     wrong = terms.C.copy()
     wrong[:, 3, 3] = 2 * terms.C[:, 3, 3]
     wrong[:, 3, 4] = 0.0
     Nw = Mdot - 2 * wrong
     np.testing.assert_allclose(np.einsum("nij,nj->ni", wrong, v), np.einsum("nij,nj->ni", terms.C, v), rtol=0, atol=1e-12 * rod.inertia * (np.abs(v[:, 3:]).sum(1) ** 2).max())
-    assert np.abs(Nw + np.swapaxes(Nw, 1, 2)).max() > 1e3 * tol.PIN_FINITE_DIFFERENCE.atol * fd_bound.max()
+    assert np.abs(Nw + np.swapaxes(Nw, 1, 2)).max() > 1e3 * pinocchio_tol.PIN_FINITE_DIFFERENCE.atol * fd_bound.max()
 
 
 @pytest.mark.parametrize("name", RODS, ids=str)
@@ -309,13 +310,13 @@ def test_tip_jacobian_and_its_time_variation_against_finite_differences(name):
         dq[j] = h
         fd_J[:, :, j] = (e.tip_position(q + dq) - e.tip_position(q - dq)) / (2 * h)
     bound_J = 2 * EPS * (np.abs(q[:, :3]).sum(1) + l) / h + h**2 / 6 * l
-    assert_within(fd_J, terms.J, tol.PIN_FINITE_DIFFERENCE, bound_J, "J vs finite differences")
+    assert_within(fd_J, terms.J, pinocchio_tol.PIN_FINITE_DIFFERENCE, bound_J, "J vs finite differences")
     # dJ: J along q + t v, so dJ = d/dt J(q + t v).  J entries are l times products of sines and
     # cosines of psi, theta: rounding eps l, third time derivative <= l (|psi'| + |theta'|)^3.
     fd_dJ = (e.jacobian(q + h * v) - e.jacobian(q - h * v)) / (2 * h)
     w = np.abs(v[:, 3]) + np.abs(v[:, 4])
     bound_dJ = 2 * EPS * l / h + h**2 / 6 * l * w**3
-    assert_within(fd_dJ, terms.dJ, tol.PIN_FINITE_DIFFERENCE, bound_dJ, "dJ vs finite differences")
+    assert_within(fd_dJ, terms.dJ, pinocchio_tol.PIN_FINITE_DIFFERENCE, bound_dJ, "dJ vs finite differences")
     # The tip velocity J v is the derivative of eq. tipfromcentre: slip heading beta = psi + varphi, speed eta.
     tip_v = np.einsum("nij,nj->ni", terms.J, v) / (l * rod.omega)
     np.testing.assert_allclose(tip_v[:, 0], s["eta"] * np.cos(s["psi"] + s["varphi"]), rtol=0, atol=1e-12 * (1 + np.abs(v).sum(1).max()))
@@ -346,7 +347,7 @@ def test_b_equals_eq_b():
     s = random_states(rng, 900)
     got = pinrod.b(s["Psi"], s["Theta"], s["theta"])
     V = (3 + 3 * (np.abs(s["Psi"]) + np.abs(s["Theta"]))) ** 2  # (1 + |v_s|_1)^2 at eta = 1: |v_s|_1 <= 2 + 3(|Psi| + |Theta|)
-    assert_within(got, analytic.b(s["Psi"], s["Theta"], s["theta"]), tol.PIN_SLIP, V, "b")
+    assert_within(got, analytic.b(s["Psi"], s["Theta"], s["theta"]), pinocchio_tol.PIN_SLIP, V, "b")
 
 
 def test_p_equals_eq_p():
@@ -354,7 +355,7 @@ def test_p_equals_eq_p():
     s = random_states(rng, 900)
     alpha = rng.choice([0.5, 1.0, 3.0, 7.0, 20.0], 900)
     got = pinrod.p(s["theta"], s["varphi"], s["mu"], alpha)
-    assert_within(got, analytic.p(s["theta"], s["varphi"], s["mu"], alpha), tol.PIN_SLIP, (1 + alpha) * (1 + s["mu"]), "p")
+    assert_within(got, analytic.p(s["theta"], s["varphi"], s["mu"], alpha), pinocchio_tol.PIN_SLIP, (1 + alpha) * (1 + s["mu"]), "p")
     assert got.shape == (900,) and np.ndim(pinrod.p(0.5, -1.0, 1.0, 3.0)) == 0
 
 
@@ -367,8 +368,8 @@ def test_b_and_p_of_physical_rods_do_not_depend_on_m_l_I0_g_or_psi(name):
     q, v = paper_to_qv(rod, s["theta"], s["varphi"], s["Theta"], s["Psi"], s["eta"], s["psi"])
     bb, pp = pinrod.slip_coefficients(rod, pinrod.engine(rod).terms(q, v), s["psi"] + s["varphi"], s["mu"])
     V = (1 + 2 * s["eta"] + 3 * (np.abs(s["Psi"]) + np.abs(s["Theta"]))) ** 2
-    assert_within(bb, analytic.b(s["Psi"], s["Theta"], s["theta"]), tol.PIN_SLIP, V, "b")
-    assert_within(pp, analytic.p(s["theta"], s["varphi"], s["mu"], rod.alpha), tol.PIN_SLIP, (1 + rod.alpha) * (1 + s["mu"]), "p")
+    assert_within(bb, analytic.b(s["Psi"], s["Theta"], s["theta"]), pinocchio_tol.PIN_SLIP, V, "b")
+    assert_within(pp, analytic.p(s["theta"], s["varphi"], s["mu"], rod.alpha), pinocchio_tol.PIN_SLIP, (1 + rod.alpha) * (1 + s["mu"]), "p")
 
 
 def test_normal_force_equals_eq_FZ():
@@ -380,7 +381,7 @@ def test_normal_force_equals_eq_FZ():
     pp = np.abs(analytic.p(s["theta"], s["varphi"], s["mu"], 3.0))
     bb = np.abs(analytic.b(s["Psi"], s["Theta"], s["theta"]))
     V = (3 + 3 * (np.abs(s["Psi"]) + np.abs(s["Theta"]))) ** 2
-    allowed = tol.PIN_SLIP.atol * (V / pp + bb * 4 * (1 + s["mu"]) / pp**2)
+    allowed = pinocchio_tol.PIN_SLIP.atol * (V / pp + bb * 4 * (1 + s["mu"]) / pp**2)
     assert np.all(np.abs(got - want) <= allowed)
 
 
@@ -397,7 +398,7 @@ def test_mode_agrees_on_10000_random_states():
     want = analytic.mode(want_b, want_p)
     # No state of this seed lies on a mode boundary (within the allowance of b or p), so every mode must match.
     V = (3 + 3 * (np.abs(Psi) + np.abs(Theta))) ** 2
-    assert not np.any((np.abs(want_b) <= tol.PIN_SLIP.atol * V) | (np.abs(want_p) <= tol.PIN_SLIP.atol * (1 + alpha) * (1 + mu)))
+    assert not np.any((np.abs(want_b) <= pinocchio_tol.PIN_SLIP.atol * V) | (np.abs(want_p) <= pinocchio_tol.PIN_SLIP.atol * (1 + alpha) * (1 + mu)))
     np.testing.assert_array_equal(got, want)
     assert set(np.unique(want)) == {int(m) for m in analytic.Mode}  # all four modes are exercised
 
@@ -406,5 +407,5 @@ def test_mode_agrees_on_10000_random_states():
 def test_mu_P_from_pinocchio_p_alone_equals_eq_mup2D(alpha):
     got = pinrod.mu_P(alpha)
     want = 2 * math.sqrt(1 + alpha) / alpha
-    assert abs(got - want) <= tol.PIN_MU_P.atol
-    assert got == pytest.approx(float(mu_P(alpha)), abs=tol.PIN_MU_P.atol)
+    assert abs(got - want) <= pinocchio_tol.PIN_MU_P.atol
+    assert got == pytest.approx(float(mu_P(alpha)), abs=pinocchio_tol.PIN_MU_P.atol)

@@ -18,7 +18,7 @@ import pytest
 
 from crosscheck import report
 from crosscheck.cli import main
-from crosscheck.paper import PRINTED
+from crosscheck.theory.paper import PRINTED
 from crosscheck.report.section import Figure, Section, Table
 from crosscheck.tolerances import all_tolerances
 

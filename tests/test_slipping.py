@@ -6,9 +6,11 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from crosscheck import Outcome, SlipState, analytic
-from crosscheck.critical import mu_C, mu_P, theta_12
-from crosscheck.slipping import X_STATE, slip_outcomes, slip_until_event
+from crosscheck import Outcome, SlipState
+
+from crosscheck.theory import analytic
+from crosscheck.theory.critical import mu_C, mu_P, theta_12
+from crosscheck.theory.slipping import X_STATE, slip_outcomes, slip_until_event
 from crosscheck.tolerances import EVENT_TIME, GB_REACHED
 
 ALPHA = 3.0

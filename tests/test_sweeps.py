@@ -308,7 +308,7 @@ def test_analytic_hybrid_option_goes_through_the_impact(tmp_path):
     """Corollary 4.2 states at mu = 1.7: the first event is JAM; with hybrid = true the run goes on through the IWC."""
     import tomllib
 
-    from crosscheck.corollary import corollary_states
+    from crosscheck.theory.corollary import corollary_states
 
     states, _, _ = corollary_states(1.7, 3, np.random.default_rng(0))
     lists = {k: [getattr(s, k) for s in states] for k in ("theta", "varphi", "Theta", "Psi", "eta")}

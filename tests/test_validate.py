@@ -7,15 +7,16 @@ import json
 import numpy as np
 import pytest
 
-from crosscheck import Rod, analytic
+from crosscheck import Rod
+
+from crosscheck.theory import analytic
 from crosscheck.cli import main
-from crosscheck.critical import Psi_L
+from crosscheck.theory.critical import Psi_L
 from crosscheck.engines.mujoco.studies import contact as mujoco_contact
 from crosscheck.studies import validate as validation
 from crosscheck.studies.grids import random_event_points
 from crosscheck.studies.onset import liftoff_onset
-from crosscheck.tolerances import MUJOCO_CONTACT_ACCELERATION
-
+from crosscheck.engines.mujoco.tolerances import MUJOCO_CONTACT_ACCELERATION
 RIGID_QUANTITIES = ["one-step normal impulse / dt vs -b/p", "slipping convergence order", "post-jam rates vs IWC order (planar impasse)",
                     "lift-off onset Psi", "event disagreement", "median |event time difference|", "jams below mu_P",
                     "Corollary 4.2 slip not ended"]

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import math
 
-from crosscheck import analytic
+from crosscheck.theory import analytic
 from crosscheck.checks import ALPHA, MU, RATE, THETA, VARPHI, number as _num
 from crosscheck.cli.options import add_alpha, add_state
 

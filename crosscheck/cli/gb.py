@@ -25,8 +25,8 @@ def _complex(z) -> dict:
 
 
 def _gb(args) -> int:
-    from crosscheck import gb
-    from crosscheck.critical import critical_values, kinematic_case
+    from crosscheck.theory import gb
+    from crosscheck.theory.critical import critical_values, kinematic_case
 
     mu = _num("mu", args.mu, MU)
     alpha = _num("alpha", args.alpha, ALPHA)
@@ -72,7 +72,7 @@ def _gb(args) -> int:
 
 
 def _slip(args) -> int:
-    from crosscheck.gb import slip_until_event
+    from crosscheck.theory.gb import slip_until_event
     from crosscheck.state import SlipState
 
     state = SlipState(theta=_num("theta", args.theta, THETA), varphi=_num("varphi", args.varphi, VARPHI),
@@ -93,8 +93,7 @@ def _slip(args) -> int:
 
 
 def _hybrid(state, mu, alpha, t_max, restitution, as_json) -> int:
-    from crosscheck import hybrid
-
+    from crosscheck.theory.impact import continuation as hybrid
     h = hybrid.run(state, mu, alpha, horizon=t_max, restitution=restitution)
     if as_json:
         print(json.dumps(h.as_dict(), indent=2))

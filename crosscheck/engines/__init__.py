@@ -35,6 +35,8 @@ BUILTIN = (
     "crosscheck.engines.mujoco",
     "crosscheck.engines.pinocchio",
     "crosscheck.engines.compliant",
+    "crosscheck.engines.drake",
+    "crosscheck.engines.bullet",
 )
 
 _builtin: dict[str, EngineSpec] = {}

@@ -18,7 +18,7 @@ import numpy as np  # noqa: E402
 from matplotlib.colors import BoundaryNorm, ListedColormap  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
-from crosscheck.analytic import Mode  # noqa: E402
+from crosscheck.theory.analytic import Mode  # noqa: E402
 
 __all__ = [
     "MODE_COLORS",
@@ -94,7 +94,7 @@ GB_TYPE_COLORS = {0: LINE_COLORS[0], 1: LINE_COLORS[1], 2: LINE_COLORS[2], 3: (0
 #: yellow as slipping, LIFTOFF orange, JAM lime as the inconsistent region it enters), STICK blue,
 #: GB (b = p = 0 reached) purple, DIVERGED black.
 OUTCOME_COLORS = {0: MODE_COLORS[Mode.SLIP], 1: MODE_COLORS[Mode.LIFTOFF], 2: (0.55, 0.75, 0.95), 3: MODE_COLORS[Mode.INCONSISTENT],
-                  4: (0.0, 0.0, 0.0), 5: MODE_COLORS[Mode.INDETERMINATE]}
+                  4: (0.0, 0.0, 0.0), 5: MODE_COLORS[Mode.INDETERMINATE], 6: (0.85, 0.45, 0.0)}
 
 
 def outcome_legend(ax, codes=None, **kw):

@@ -136,8 +136,8 @@ _NUMBERING = ("Figure numbers are the printed paper's (the order of its figure e
 
 
 def _figures_table(views: list[SectionView]) -> Table:
-    """The paper's figures: where the report recomputes each, or why it does not (``crosscheck.paper.FIGURES``)."""
-    from crosscheck.paper import FIGURES
+    """The paper's figures: where the report recomputes each, or why it does not (``crosscheck.theory.paper.FIGURES``)."""
+    from crosscheck.theory.paper import FIGURES
 
     titles = {v.section.slug: v.section.title for v in views}
     rows, cls = [], []

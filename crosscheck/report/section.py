@@ -10,7 +10,7 @@ a ``render`` that turns the saved results into blocks: figures, tables, text.
 Checks.  A section may record checks (``RunContext.check``): a named
 comparison with its measured value, the allowance, and whether it passed.
 The report lists every failed check at the top; a known discrepancy (a
-misprint of the paper, documented in ``crosscheck.paper``) is shown as such
+misprint of the paper, documented in ``crosscheck.theory.paper``) is shown as such
 and does not fail the report.
 """
 

@@ -1,12 +1,14 @@
 """Event agreement: any engine's first event against the analytic slipping rod's, state by state.
 
-The analytic side is ``crosscheck.slipping.slip_until_event``: the rigid rod
+The analytic side is ``crosscheck.theory.slipping.slip_until_event``: the rigid rod
 slips with F_z = -b/p (eq. FZ) until its first event (LIFTOFF: b -> 0 with
 p > 0; JAM: p -> 0 with b < 0; STICK: eta -> 0; GB: b = p = 0).  The engine
 side is the engine's ``sweep`` of the same starts, classified by the one
 classifier ``crosscheck.engines.classifier``.  This module lines the two up
 state by state and summarises where they agree; the engine is named
-(``engine="mujoco"``) and looked up in ``crosscheck.engines``.
+(``engine=NAME``) and looked up in ``crosscheck.engines``.  The comparison
+rule is ``crosscheck.studies.comparison``; the analytic side
+``crosscheck.studies.analytic_events``.
 
 Censoring and lag.  The analytic run also stops, with outcome SLIP, when the
 state leaves the paper's domain: varphi reaches 0 or -pi (about half of the
@@ -53,7 +55,6 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
-from tqdm.auto import tqdm
 
 from crosscheck import engines
 from crosscheck.checks import ALPHA, POSITIVE, check
@@ -62,9 +63,9 @@ from crosscheck.engines.base import n_steps, options_from_kwargs
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.slipping import slip_until_event
-from crosscheck.state import SlipState
-from crosscheck.studies.grids import AXES, EventGrid, floats, initial_b_p, states_at
+from crosscheck.studies.analytic_events import BOUNDARY_RADII, AnalyticEvents, analytic_events, boundary_distance
+from crosscheck.studies.comparison import EVENTS, LAG_STEPS, LAG_TAU, RATED, comparison_labels, window_margin
+from crosscheck.studies.grids import AXES, EventGrid, states_at
 
 __all__ = [
     "DEFAULT_HORIZON",
@@ -87,127 +88,12 @@ __all__ = [
 #: Scaled horizon of the study (see the module docstring).
 DEFAULT_HORIZON = 2.0
 
-#: Perturbation sizes of ``boundary_distance`` (scaled units, Euclidean in
-#: (theta, varphi, Theta, Psi, eta)).
-BOUNDARY_RADII = (0.01, 0.03, 0.1, 0.3)
-
-#: Outcomes an analytic run is compared on (GB and DIVERGED rows are counted, not rated).
-RATED = (Outcome.SLIP, Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM)
-EVENTS = (Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM)
 _NAMES = [o.name for o in Outcome]
-
-
-# --------------------------------------------------------------------------
-# Analytic side
-# --------------------------------------------------------------------------
-
-
-@dataclass(frozen=True, eq=False)
-class AnalyticEvents:
-    """First events of the analytic slipping rod at N points (each field (N,)).
-
-    outcome: int8 ``Outcome``; time: event (or stop) time; reason: the rule of
-    ``slip_until_event`` that ended the run ("b=0", "p=0", "eta=0", "gb",
-    "t_max", "varphi=0", "varphi=-pi", "theta=0", "theta=pi/2", "start", ...);
-    b0, p0: eqs. b and p at the start; slipping: b0 < 0 < p0 (the studied
-    states); until: comparison time T_i (module docstring).
-    """
-
-    outcome: np.ndarray
-    time: np.ndarray
-    reason: np.ndarray
-    b0: np.ndarray
-    p0: np.ndarray
-    slipping: np.ndarray
-    until: np.ndarray
-
-
-def analytic_events(points: dict, *, alpha: float, horizon: float, progress: bool = False) -> AnalyticEvents:
-    """``slip_until_event`` (t_max = horizon) at every point of ``points`` (dict of (N,) arrays, keys ``AXES``)."""
-    alpha = float(check("alpha", alpha, ALPHA))
-    horizon = float(check("horizon", horizon, POSITIVE))
-    n = len(points["theta"])
-    b0, p0 = initial_b_p(points, alpha)
-    outcome = np.empty(n, np.int8)
-    t = np.empty(n)
-    reason = np.empty(n, dtype=object)
-    for i in tqdm(range(n), desc="analytic", unit="state", disable=not progress):
-        s = states_at(points, [i])[0]
-        r = slip_until_event(s, points["mu"][i], alpha, t_max=horizon)
-        outcome[i], t[i], reason[i] = int(r.outcome), r.time, r.reason
-    until = np.where(outcome == Outcome.SLIP, np.minimum(t, horizon), np.where(np.isin(outcome, EVENTS), t, horizon))
-    return AnalyticEvents(outcome, t, reason.astype(str), b0, p0, (b0 < 0) & (p0 > 0), until)
-
-
-def _perturbed(points: dict, i: int, delta: np.ndarray) -> SlipState:
-    """Point i moved by delta in (theta, varphi, Theta, Psi, eta), clipped into the paper's ranges."""
-    lo = 1e-3
-    return SlipState(
-        theta=float(np.clip(points["theta"][i] + delta[0], lo, math.pi / 2 - lo)),
-        varphi=float(np.clip(points["varphi"][i] + delta[1], -math.pi + lo, 0.0)),
-        Theta=points["Theta"][i] + delta[2],
-        Psi=points["Psi"][i] + delta[3],
-        eta=float(max(points["eta"][i] + delta[4], lo)),
-    )
-
-
-def boundary_distance(points: dict, outcome: np.ndarray, *, alpha: float, horizon: float, rng: np.random.Generator,
-                      radii: Sequence[float] = BOUNDARY_RADII, directions: int = 6, mask: np.ndarray | None = None,
-                      progress: bool = False) -> np.ndarray:
-    """Distance of each point to the analytic event boundary, probed by perturbation.
-
-    For r in ``radii`` (increasing), ``directions`` random unit vectors u in
-    the 5-D space (theta, varphi, Theta, Psi, eta) are drawn and the analytic
-    first event of the state moved by r u is computed (mu unchanged); the
-    distance is the first r at which some probe's outcome differs from
-    ``outcome`` (the unperturbed one), +inf if none does up to the largest r.
-    Outcomes compared are the ``Outcome`` labels (a SLIP that leaves the
-    domain equals one that reaches the horizon).
-
-    Args:
-      points: dict of (N,) arrays, keys ``AXES``.
-      outcome: (N,) analytic outcomes of the points.
-      alpha, horizon: as ``analytic_events``.
-      rng: seeded generator of the probe directions.
-      radii, directions: probe sizes and count per size.
-      mask: (N,) points to probe (others get NaN); default all.
-
-    Returns:
-      (N,) distances (scaled units): one of ``radii``, inf or NaN.
-    """
-    radii = floats("radii", radii, POSITIVE)
-    n = len(points["theta"])
-    mask = np.ones(n, bool) if mask is None else np.asarray(mask, bool)
-    out = np.full(n, np.nan)
-    for i in tqdm(np.flatnonzero(mask), desc="boundary distance", unit="state", disable=not progress):
-        out[i] = math.inf
-        for r in sorted(radii):
-            u = rng.normal(size=(directions, 5))
-            u /= np.linalg.norm(u, axis=1, keepdims=True)
-            if any(slip_until_event(_perturbed(points, i, r * d), points["mu"][i], alpha, t_max=horizon).outcome != outcome[i] for d in u):
-                out[i] = r
-                break
-    return out
 
 
 # --------------------------------------------------------------------------
 # Engine side, rated against the analytic side
 # --------------------------------------------------------------------------
-
-
-def window_margin(thresholds: Thresholds, timestep: float) -> float:
-    """How far past the horizon an engine runs: two classifier windows, so an event near the end is judged whole."""
-    return 2.0 * thresholds.window_rows(timestep) * timestep
-
-
-def comparison_labels(outcome: np.ndarray, event_time: np.ndarray, until: np.ndarray) -> np.ndarray:
-    """An engine's outcome as compared: an event after the comparison time ``until`` counts as SLIP.
-
-    DIVERGED is kept whatever its time (a diverged run is never relabelled).
-    """
-    outcome = np.asarray(outcome)
-    keep = (outcome == Outcome.DIVERGED) | (np.asarray(event_time) <= np.asarray(until))
-    return np.where(keep, outcome, np.int8(Outcome.SLIP)).astype(np.int8)
 
 
 def _confusion(a: np.ndarray, m: np.ndarray) -> np.ndarray:
@@ -223,14 +109,6 @@ def _binned(values: np.ndarray, agree: np.ndarray, edges: Sequence[float], name:
         rows.append({name: [float(lo), float(hi)], "n": int(sel.sum()), "agreement": float(agree[sel].mean()) if sel.any() else math.nan})
     return rows
 
-
-#: An engine may meet an analytic event up to LAG_TAU contact time constants late (see ``_rate``).
-LAG_TAU = 2.0
-
-#: ... and at least LAG_STEPS timesteps late: the first row after the event, plus the O(dt) shift of a
-#: first-order integrator (measured up to 1.3 dt at the rigid engine's lift-offs).  For MuJoCo
-#: LAG_TAU tau is larger (tau >= 2 dt, MuJoCo's refsafe), so this only matters for rigid contacts.
-LAG_STEPS = 3.0
 
 #: Bin edges of the disagreement tables.
 DISTANCE_EDGES = (0.0, 0.02, 0.05, 0.2, 1.0, math.inf)

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from crosscheck.checks import ETA, MU, RATE, THETA, VARPHI, check
-from crosscheck.critical import theta_L
+from crosscheck.theory.critical import theta_L
 from crosscheck.state import SlipState
 
 __all__ = ["AXES", "EventGrid", "DEFAULT_GRID", "SMALL_GRID", "floats", "initial_b_p", "states_at", "random_event_points",

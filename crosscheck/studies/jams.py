@@ -2,7 +2,7 @@
 
 Below mu_P, p > 0 for every slip direction (eq. mup), so the rigid theory has
 no jam and an engine's JAM would be wrong.  Above mu_P the states of
-``crosscheck.corollary.corollary_states`` slip into p = 0 with b < 0 at a
+``crosscheck.theory.corollary.corollary_states`` slip into p = 0 with b < 0 at a
 known time; an engine's slip should end there (a JAM, or, for a soft contact,
 a STICK or LIFTOFF right after an impulse).  Scaled units (section 2.1).
 """
@@ -18,13 +18,13 @@ import numpy as np
 from crosscheck import engines
 from crosscheck.checks import ALPHA, check
 from crosscheck.compare import as_json
-from crosscheck.corollary import corollary_states
-from crosscheck.critical import mu_P
+from crosscheck.theory.corollary import corollary_states
+from crosscheck.theory.critical import mu_P
 from crosscheck.engines.base import options_from_kwargs
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.slipping import slip_until_event
+from crosscheck.theory.slipping import slip_until_event
 from crosscheck.studies.agreement import DEFAULT_HORIZON, EVENTS, quantiles
 from crosscheck.studies.grids import random_slipping_states
 

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from crosscheck import engines
-from crosscheck.critical import Psi_L, theta_L
+from crosscheck.theory.critical import Psi_L, theta_L
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState

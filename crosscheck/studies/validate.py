@@ -42,7 +42,7 @@ An engine is validated by up to two sets of checks, each a list of
   engine (``crosscheck.engines.pinocchio.studies.rigid``), one step's normal impulse against
   eq. FZ, the order of convergence of a slipping trajectory, and the order
   of convergence of its state after a jam to the impact without collision
-  (``crosscheck.iwc``), with the Corollary 4.2 states' aftermath in ``extra``.
+  (``crosscheck.theory.impact.darboux_keller``), with the Corollary 4.2 states' aftermath in ``extra``.
 
 An engine with a dynamics-terms check takes ``n_states`` for that check and
 min(n_states, ``DEFAULT_STATES``) for its event agreement.
@@ -58,7 +58,7 @@ import numpy as np
 
 from crosscheck import engines
 from crosscheck.compare import ErrorStat, ValidationResult, error_stat
-from crosscheck.critical import Psi_L, p_min
+from crosscheck.theory.critical import Psi_L, p_min
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod

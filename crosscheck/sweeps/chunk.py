@@ -42,10 +42,10 @@ def _state(cols: dict, i: int):
 
 def _analytic(cols: dict, horizon: float) -> dict:
     """The paper's first event (``slip_until_event``); with the option hybrid, the hybrid flow's last outcome
-    (``crosscheck.hybrid.run``: through impacts without collision) and the first impact's normal impulse."""
-    from crosscheck import hybrid
+    (``crosscheck.theory.impact.continuation.run``: through impacts without collision) and the first impact's normal impulse."""
+    from crosscheck.theory.impact import continuation as hybrid
     from crosscheck.outcome import Outcome
-    from crosscheck.slipping import slip_until_event
+    from crosscheck.theory.slipping import slip_until_event
 
     n = len(cols["run"])
     out = {"outcome": np.empty(n, object), "event_time": np.full(n, np.nan), "exit_time": np.full(n, np.nan), "jam_impulse": np.full(n, np.nan)}

@@ -29,18 +29,31 @@ tests/test_engine_bullet.py:
 * no dt dJ v term: the row holds J v = 0 at q_k, so the first step from a
   touching start decides lift-off on b - Theta^2 sin theta (eq. b minus the
   centripetal part of the tip's vertical acceleration) and its force is
-  -(b - Theta^2 sin theta) / p.  Afterwards the position step leaves the gap at
-  ~ sin theta (dt Theta)^2 / 2 and the speculative row closes it, which puts
-  the missing term back: from the third step on, lift-off is b >= 0 and
-  the force -b/p, up to O(dt);
+  -(b - Theta^2 sin theta) / p_eff (p_eff below).  Afterwards the position step
+  leaves the gap at ~ sin theta (dt Theta)^2 / 2 and the speculative row closes
+  it, which puts the missing term back: from the third step on, lift-off is
+  b >= 0 and the force -b/p_eff, up to O(dt);
 * the friction direction: PGS updates the two friction rows each by its own
   diagonal of the Delassus operator D and then projects the pair radially
   onto the disk, so at its fixed point the friction is opposite
   diag(D)^-1 u_t, u_t the end-of-step slip, not opposite u_t: Coulomb's
   magnitude |F_t| = mu F_n exactly, but a direction skewed from -u_t wherever
-  D_xx != D_yy in the world axes (up to ~10 degrees on random slipping
-  states at alpha = 3).  The normal force is then -b/p_eff with the engine's
-  own friction (the classifier's p_eff), not -b/p.
+  D_xx != D_yy in the world axes (1-26 degrees on 8 random slipping states
+  at alpha = 3, 3.7 degrees on the state theta = 1, varphi = -1.9,
+  Theta = Psi = 0, mu = 0.5).  The normal force is then -b/p_eff with the engine's
+  own friction (the classifier's p_eff), not -b/p;
+* the solve itself: PGS sweeps the normal row, then the friction pair, until
+  no row's velocity changes by ``Options.solver_tolerance``.  Below mu = 1 it
+  gets there in ~36 sweeps; at mu >= 1 it misses the tolerance within 50
+  sweeps in 15-27 % of the contact steps of random slipping states (measured
+  on 150 states of ``random_event_points``, seed 11, horizon 1: 0.8 % of
+  the contact steps at mu < 1, 15 % at [1, 4/3), 23 % at [4/3, 2), 27 % above),
+  mostly while slipping with p_C > 0.2.  Part of it is slow convergence
+  (a step that needs 52 sweeps), part a cycle: on one state (mu = 2.44) the
+  iterates alternate between a normal impulse of 0.02 m g and one of 11 m g
+  at even and odd sweeps, for ever, so the parity of ``solver_iterations``
+  picks the impulse and the capsule may sink (2.2e-4 l at 50 sweeps).
+  ``Run.solver`` counts such steps (``unconverged_steps``, ``max_residual``).
 
 Row k of the record is the state after k steps (t_k = k timestep) with the
 contact force of step k -> k+1 (its impulse / dt, as Bullet reports it in
@@ -71,7 +84,7 @@ from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["NAME", "Options", "BulletHealth", "simulate", "sweep", "record_from_raw"]
+__all__ = ["NAME", "Options", "BulletHealth", "simulate", "sweep", "record_from_raw", "health"]
 
 #: The engine's registry name.
 NAME = "bullet"
@@ -79,17 +92,32 @@ NAME = "bullet"
 #: mu for Bullet: [0, 10] (``options.MU_MAX``: Bullet clamps the combined friction there).
 BULLET_MU = Interval(0.0, MU_MAX, lo_open=False, hi_open=False)
 
-#: Bytes per record row: the raw states (2 x 5 floats of n + 1 rows), force, points, distance, the Record's
-#: columns (~30 floats) and the classifier's temporaries (~40 floats): ~1 kB; 1.5 x that as a margin.
+#: Bytes per record row (the raw rollout, the Record's columns and the classifier's temporaries): the peak of
+#: Python's allocations (tracemalloc) in a 2e5-step run was 491 bytes per row; ~3 x that as a margin.
 ROW_BYTES = 1536
 
 
 @dataclass(frozen=True)
 class BulletHealth:
-    """Per-run statistics of Bullet's contact before theta leaves (0, pi/2): steps with a contact point, the most
-    points in one step, and the deepest penetration Bullet reported at a step's collision detection [l] (0 if none)."""
+    """Per-run statistics of Bullet's contact and solver, over the rows before theta leaves (0, pi/2) (a rod that
+    falls flat lands on both caps: two points, a penetration, PGS cycling between them; no event is read there).
+
+    contact_steps: steps with a contact point (a row in Bullet's solve).
+    max_iterations, mean_iterations: PGS sweeps per step (Bullet's solver analytics), the most and the mean over
+      contact steps.
+    unconverged_steps: steps that ended at ``Options.solver_iterations`` with their last sweep still changing a
+      row's velocity by more than ``Options.solver_tolerance`` (the fixed point not reached).
+    max_residual: the largest velocity change of a row in a step's last sweep [l omega] (at most
+      ``Options.solver_tolerance`` when every step reached it).
+    max_points: the most contact points in one step (1: the capsule's end cap).
+    max_penetration: the deepest penetration Bullet reported at a step's collision detection [l] (0 if none).
+    """
 
     contact_steps: int
+    max_iterations: int
+    mean_iterations: float
+    unconverged_steps: int
+    max_residual: float
     max_points: int
     max_penetration: float
 
@@ -150,22 +178,30 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     c = classify(record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=True, thresholds=th)
     run = Run.from_classification(NAME, c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
                                   horizon=horizon, nstep=n)
-    # over the rows before theta leaves (0, pi/2): a rod that falls flat lands on both caps and sinks into the plane
+    return dataclasses.replace(run, solver=health(raw, record, rod, opts))
+
+
+def health(raw: Raw, record: Record, rod: Rod, opts: Options) -> BulletHealth:
+    """``BulletHealth`` of a rollout, over the rows before theta leaves (0, pi/2)."""
     inside = (record.theta > 0.0) & (record.theta < np.pi / 2)
-    m = int(np.argmin(inside)) if not inside.all() else n
-    points, distance = raw.points[:m], raw.distance[:m]
-    deepest = float(np.min(distance[points > 0], initial=0.0))
-    health = BulletHealth(contact_steps=int((points > 0).sum()), max_points=int(points.max(initial=0)),
-                          max_penetration=max(0.0, -deepest) / rod.length)
-    return dataclasses.replace(run, solver=health)
+    m = len(record) if inside.all() else int(np.argmin(inside))
+    points, distance, iterations, residual = raw.points[:m], raw.distance[:m], raw.iterations[:m], raw.residual[:m]
+    contact = points > 0
+    scale = rod.length * rod.omega
+    unconverged = (iterations >= opts.solver_iterations) & (residual > (opts.solver_tolerance * scale) ** 2)
+    deepest = float(np.min(distance[contact], initial=0.0))
+    return BulletHealth(contact_steps=int(contact.sum()), max_iterations=int(iterations.max(initial=0)),
+                        mean_iterations=float(iterations[contact].mean()) if contact.any() else 0.0,
+                        unconverged_steps=int(unconverged.sum()), max_residual=float(np.sqrt(residual.max(initial=0.0))) / scale,
+                        max_points=int(points.max(initial=0)), max_penetration=max(0.0, -deepest) / rod.length)
 
 
 def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
           workers: int = 1, **options) -> SweepResult:
     """Every state through ``simulate`` (one classifier, the same records), on ``workers`` processes.
 
-    One process by default: a Bullet step costs ~25 us, so a sweep is
-    dominated by the per-step Python calls and scales with processes;
-    ``workers=2`` uses both cores of this machine.
+    One process by default (``EngineSpec.one_core``); a step costs ~20-30 us
+    (``benchmarks/bench_bullet.py``), a run to horizon 2 at the default
+    timestep ~0.04-0.06 s; ``workers=2`` uses both cores of this machine.
     """
     return sweep_by_simulate(get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options)

@@ -53,10 +53,17 @@ Settings, each because Bullet's default is wrong for this problem:
 Reset.  A run starts from a world with no contact point: the rod is moved
 far above the plane and Bullet's collision detection run once, which drops
 the old points (their distance exceeds the margin); then the start state is
-set.  The multibody solver does not warm-start (pybullet sets
-SOLVER_USE_ARTICULATED_WARMSTARTING only on request), so nothing else of a
-previous run carries over: a state gives the same record bit for bit after
-any other run (tests/test_engine_bullet.py).
+set.  (Defensive: in the cases tried, a stale point was in any case replaced
+by the new start's point or dropped by Bullet's own drift rule.)  The
+multibody solver warm-starts only with SOLVER_USE_ARTICULATED_WARMSTARTING,
+which the server sets only when asked and pybullet's
+``setPhysicsEngineParameter`` has no keyword for, so every step's PGS starts
+from zero and nothing else of a previous run carries over: a state gives the
+same record bit for bit after any other run (tests/test_engine_bullet.py).
+
+Solver analytics (``reportSolverAnalytics``) are on: ``stepSimulation``
+then returns the sweeps PGS took and its last residual, which
+``crosscheck.engines.bullet.engine.BulletHealth`` reports.
 
 Everything here is physical (SI, from the ``Rod``); ``rollout`` returns raw
 physical arrays and ``crosscheck.engines.bullet.engine`` scales them.
@@ -94,6 +101,9 @@ class Raw:
     points: (n,) number of Bullet contact points in that step.
     distance: (n,) the smallest distance Bullet gave its points at the step's collision detection [m]
       (negative: penetration; NaN without a point).
+    iterations: (n,) PGS sweeps the step's solve took (Bullet's solver analytics; at most ``solver_iterations``).
+    residual: (n,) the solve's last residual, the largest squared velocity change of a row in its last sweep [(m/s)^2]
+      (0: a sweep changed nothing, the fixed point).
     """
 
     q: np.ndarray
@@ -101,6 +111,8 @@ class Raw:
     force: np.ndarray
     points: np.ndarray
     distance: np.ndarray
+    iterations: np.ndarray
+    residual: np.ndarray
 
 
 class World:
@@ -119,7 +131,7 @@ class World:
             solverResidualThreshold=(options.solver_tolerance * l * rod.omega) ** 2,
             enableConeFriction=int(options.cone), contactERP=options.contact_erp, contactSlop=0.0,
             contactBreakingThreshold=options.contact_margin * l, restitutionVelocityThreshold=0.0, globalCFM=0.0,
-            physicsClientId=c)
+            reportSolverAnalytics=1, physicsClientId=c)
         self.ground = pb.createMultiBody(0.0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=c), physicsClientId=c)
         capsule = pb.createCollisionShape(pb.GEOM_CAPSULE, radius=options.radius * l, height=2.0 * l,
                                           collisionFrameOrientation=pb.getQuaternionFromEuler([math.pi / 2, 0.0, 0.0]),
@@ -167,12 +179,16 @@ class World:
         force = np.zeros((nstep, 3))
         points = np.zeros(nstep, np.int64)
         distance = np.full(nstep, np.nan)
+        iterations = np.zeros(nstep, np.int64)
+        residual = np.zeros(nstep)
         step, states, contacts = pb.stepSimulation, pb.getJointStates, pb.getContactPoints
         s = states(body, joints, physicsClientId=c)
         q[0] = [x[0] for x in s]
         v[0] = [x[1] for x in s]
         for k in range(nstep):
-            step(physicsClientId=c)
+            for island in step(physicsClientId=c) or ():  # the solver's analytics (reportSolverAnalytics): one island
+                iterations[k] = max(iterations[k], island["numIterationsUsed"])
+                residual[k] = max(residual[k], island["remainingResidual"])
             s = states(body, joints, physicsClientId=c)
             q[k + 1] = [x[0] for x in s]
             v[k + 1] = [x[1] for x in s]
@@ -191,7 +207,7 @@ class World:
                 force[k] = fx, fy, fz
                 points[k] = len(cps)
                 distance[k] = dmin
-        return Raw(q=q, v=v, force=force, points=points, distance=distance)
+        return Raw(q=q, v=v, force=force, points=points, distance=distance, iterations=iterations, residual=residual)
 
 
 _world: World | None = None

@@ -32,19 +32,22 @@ class Options:
     Attributes:
       timestep: omega dt (default 1e-3, ~3.2e-4 s for a 1 m rod).  Why 1e-3: it is the rigid engine's
         (Pinocchio's) default, so the two time-steppers of the same rigid contact differ by their
-        contact models rather than their discretisation; a run to horizon 2 costs ~0.06 s at it
-        (``benchmarks/bench_bullet.py``), so the quick report's three 10 x 10 maps take ~15 s.  An
+        contact models rather than their discretisation; a run to horizon 2 costs 0.04-0.06 s at it
+        (``benchmarks/bench_bullet.py``) and the quick report's three 10 x 10 maps took 7.2 s.  An
         event comes O(dt) late or early (first-order semi-implicit Euler, like the rigid engine).
       radius: capsule radius r / l (default 0.01, as ``models/rod.xml``).
       solver_iterations: Bullet's ``numSolverIterations``, the cap on the PGS sweeps per step
-        (default 50, pybullet's).  On one contact PGS reaches a fixed point of its sweep in a few
-        iterations (measured: the records at 50 and at 1000 are identical bit for bit on slipping
-        runs); the cap matters only where it cycles.
+        (default 50, pybullet's).  On one slipping contact PGS reaches ``solver_tolerance`` in ~36
+        sweeps (the records at 50 and at 1000 are identical bit for bit); a step that reaches the cap
+        first is counted in ``Run.solver.unconverged_steps``.  More sweeps do not cure the steps that
+        miss it at mu >= 1: PGS may cycle there (``crosscheck.engines.bullet.engine``'s docstring).
       solver_tolerance: PGS stops when no row's velocity changes by more than this in a sweep
         (scaled velocity l omega; Bullet's ``solverResidualThreshold`` is its square in (m/s)^2).
-        Default 0: sweep until a sweep changes nothing or ``solver_iterations`` is reached.
-        pybullet's own default, 1e-7 (m/s)^2, stops at ~3e-4 m/s (1e-4 l omega for a 1 m rod),
-        which leaves the contact's normal velocity that far from zero.
+        Default 1e-13: at the fixed point of its sweep PGS still moves the O(1-10) velocities by
+        rounding, ~1e-15 (measured: 4.8e-20 left after 50 sweeps on a slip, where 0 never came);
+        1e-13 stops there, ~36 sweeps on a slipping contact, and leaves the force 1e-13 / dt = 1e-10
+        m g from the fixed point at dt = 1e-3.  pybullet's own default, 1e-7 (m/s)^2, stops at
+        ~3e-4 m/s (1e-4 l omega for a 1 m rod), a force error of 0.1 m g at dt = 1e-3.
       contact_erp: Bullet's ``contactERP``, the fraction of a penetration removed per step by the
         normal row's position error (default 0.08, pybullet's).  It acts only on penetration, which
         the speculative contact (see ``contact_margin``) prevents except when a landing tip crosses
@@ -61,7 +64,7 @@ class Options:
     timestep: float = 1e-3
     radius: float = 0.01
     solver_iterations: int = 50
-    solver_tolerance: float = 0.0
+    solver_tolerance: float = 1e-13
     contact_erp: float = 0.08
     contact_margin: float = 0.02
     cone: bool = True
@@ -81,7 +84,7 @@ class Options:
         object.__setattr__(self, "cone", bool(self.cone))
 
     @classmethod
-    def from_kwargs(cls, options: dict[str, Any]) -> "Options":
+    def from_kwargs(cls, options: dict[str, Any]) -> Options:
         """``Options(**options)`` with an error naming any unknown option."""
         return options_from_kwargs(cls, options, "bullet")
 

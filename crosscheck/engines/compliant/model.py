@@ -113,7 +113,7 @@ class Dynamics:
       ``NormalLaw``.  slip_floor: below this slip speed of C the friction
       direction is the restart direction (``restart_direction``) instead of
       s/|s|, which is undefined at s = 0.  It must lie strictly below the
-      slip-stop event's speed (``crosscheck.tolerances.SLIP_FLOOR``): the
+      slip-stop event's speed (``crosscheck.engines.compliant.tolerances.SLIP_FLOOR``): the
       force is discontinuous at the floor, and the event must be met where
       it is smooth.
     """

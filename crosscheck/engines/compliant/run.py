@@ -53,8 +53,7 @@ from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
-from crosscheck.tolerances import COMPLIANT_INTEGRATION
-
+from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION
 __all__ = ["Options", "SolverStats", "simulate", "sweep", "record_of", "NAME"]
 
 #: The engine's registry name.

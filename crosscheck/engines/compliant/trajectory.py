@@ -57,7 +57,7 @@ at first order after every event) loses its accuracy at the many mode
 switches.
 
 Cost: 90-115 ms CPU per state at eps = 1e-1 to 1e-3 (median, 0.5 time units),
-about 40x ``crosscheck.slipping.slip_until_event`` on the same states; the
+about 40x ``crosscheck.theory.slipping.slip_until_event`` on the same states; the
 cost hardly depends on eps (the implicit method steps over the fast contact
 time scale once its transient has decayed).
 """
@@ -76,8 +76,8 @@ from crosscheck.engines.compliant.model import FREE, MODES, SLIP, STICK, Dynamic
 from crosscheck.coordinates import paper_to_qv, qv_to_paper
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
-from crosscheck.tolerances import COMPLIANT_INTEGRATION, SLIP_FLOOR, SLIP_STOP, THETA_MARGIN
-
+from crosscheck.tolerances import THETA_MARGIN
+from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION, SLIP_FLOOR, SLIP_STOP
 __all__ = ["Event", "Segment", "Trajectory", "integrate", "start_state", "make_dynamics", "RADIUS", "GAP", "EVENT_KINDS", "METHODS"]
 
 #: Capsule radius r / l: 0 is the tip A itself; at r >= l/2 the end cap reaches the centre of mass.

@@ -33,13 +33,34 @@ the force on body B, negated when the rod is body A), world frame.  A run that
 Drake aborts (a solver or integrator failure) keeps its rows up to there and
 NaN after, which the classifier calls DIVERGED; ``Run.solver.failed`` is 1.
 
+Gliding (measured; tests/test_engine_drake.py).  SAP and Similar are convex
+relaxations: in a sliding step they treat the slip speed |v_t| as a
+separation speed mu |v_t| (the cone complementarity of Anitescu, which
+``crosscheck.engines.pinocchio.stepper`` shows launching a rigid tip at
+w = mu |u_t|), and the compliant law turns it into an extra normal force:
+mu |v_t| k (dt + tau_d) for SAP's Kelvin-Voigt law, mu |v_t| k dt (1 + d mu |v_t|)
+for Similar's Hunt & Crossley law (at first contact, scaled units; measured
+to ~2 % when R_n >> the Delassus entry).  While that is below the rigid force
+-b/p_C the tip glides on the plane and the window-mean force is the rigid
+one; above it the tip is pushed off and hops.  So for a slipping rod,
+G = mu eta k (dt + tau_d) / (-b/p_C) < 1 is SAP's condition to stay in
+contact, and a stiffer SAP or Similar contact does not tend to the rigid
+theory: the excess grows with k.  At the defaults (k = 1e4, tau_d = 2/sqrt(k),
+d = 2 sqrt(k), dt = 1e-3) G is ~100 for eta ~ 1: both hop, in contact in ~1 %
+of the rows.  Lagged and TAMSI do not glide; the continuous plant has no
+relaxation.  Lagged's reported ``ContactResults`` force misses its own step
+(J v' + J' v against eq. linode2 with that force) by 2e-5 .. 1e-3 of the term
+scale in every contact row, where the other approximations agree to their
+solver tolerance (continuous exactly): its friction is capped by the normal
+force lagged from the step's start, and what it reports is not exactly what
+it applied.
+
 Units.  Everything this module takes and returns is in the paper's scaled
 units (section 2.1); the plant is SI.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
@@ -48,7 +69,12 @@ from pydrake.systems.analysis import ResetIntegratorFromFlags, Simulator
 
 from crosscheck.checks import MU, POSITIVE, check
 from crosscheck.coordinates import to_generalized
-from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
+from crosscheck.engines.base import (
+    Run,
+    SweepResult,
+    n_steps_within_memory,
+    sweep_by_simulate,
+)
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.drake.model import Model, model, new_context, tip_kinematics
 from crosscheck.engines.drake.options import APPROXIMATIONS, Options, engine_name
@@ -56,7 +82,7 @@ from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["Options", "Health", "APPROXIMATIONS", "simulate", "sweep", "raw_run", "ROW_BYTES", "RUNAWAY_SPEED"]
+__all__ = ["APPROXIMATIONS", "ROW_BYTES", "RUNAWAY_SPEED", "Health", "Options", "raw_run", "simulate", "sweep"]
 
 #: Bytes per record row: the raw row (state, force, acceleration: 21 doubles), the Record's 25 columns and
 #: the classifier's temporaries; as the rigid engine's (measured there at 980, 1.5 x margin), whose rows are alike.
@@ -73,8 +99,8 @@ class Health:
 
     contact_rows: rows with a rod-plane contact pair; steps: plant steps (discrete) or integrator steps
     (continuous); derivative_evaluations, error_shrinkages: the continuous integrator's (0 for discrete);
-    failed: 1 when Drake raised and the run was cut short (its message is not kept), or the run ran away
-    (``RUNAWAY_SPEED``).
+    failed: 1 when Drake raised and the run was cut short, or the run ran away (``RUNAWAY_SPEED``);
+    message: the first line of Drake's error ("" otherwise; not a sweep column).
     """
 
     contact_rows: int
@@ -82,6 +108,7 @@ class Health:
     derivative_evaluations: int
     error_shrinkages: int
     failed: int
+    message: str = ""
 
 
 @dataclass
@@ -115,19 +142,20 @@ def _contact(results, rod_body) -> tuple[bool, np.ndarray]:
 _ZERO = np.zeros(3)
 
 
-def raw_run(m: Model, x0: np.ndarray, n: int, dt: float) -> Raw:
-    """Run ``n`` rows of ``dt`` seconds from the state x0 = [q, v] (SI) in a fresh context of ``m``."""
+def raw_run(m: Model, x0: np.ndarray, n: int, dt: float, speed_scale: np.ndarray) -> Raw:
+    """Run ``n`` rows of ``dt`` seconds from the state x0 = [q, v] (SI) in a fresh context of ``m``; ``speed_scale``:
+    the SI value of a scaled generalised velocity of 1 (l omega for X', Y', Z', omega for psi', theta')."""
     plant, opts = m.plant, m.options
     x = np.full((n + 1, 10), np.nan)
     vdot = np.full((n, 5), np.nan)
     force = np.full((n, 3), np.nan)
     active = np.zeros(n, bool)
-    runaway = RUNAWAY_SPEED * max(1.0, 1.0 / dt)  # generous in SI: any O(1) scaled rate is far below it
+    runaway = RUNAWAY_SPEED * np.asarray(speed_scale, float)
     ctx = new_context(m)
     pc = plant.GetMyMutableContextFromRoot(ctx)
     plant.SetPositionsAndVelocities(pc, x0)
     results_port = plant.get_contact_results_output_port()
-    failed = 0
+    failed, message = 0, ""
     steps = evaluations = shrinkages = 0
     if opts.discrete:
         x[0] = x0
@@ -139,10 +167,10 @@ def raw_run(m: Model, x0: np.ndarray, n: int, dt: float) -> Raw:
                 pc.SetDiscreteState(0, nxt)
                 x[k + 1] = nxt
                 if not np.all(np.abs(nxt[5:]) < runaway):
-                    failed = 1
+                    failed, message = 1, "runaway speed"
                     break
-        except RuntimeError:
-            failed = 1
+        except RuntimeError as e:
+            failed, message = 1, (str(e).splitlines() or [""])[0]
         if failed:
             force[k:], x[k + 1:], active[k:] = np.nan, np.nan, False
         steps = n if not failed else k
@@ -162,16 +190,16 @@ def raw_run(m: Model, x0: np.ndarray, n: int, dt: float) -> Raw:
                 active[k], force[k] = _contact(results_port.Eval(pc), m.rod_body)
                 vdot[k] = accel_port.Eval(pc)
                 if not np.all(np.abs(x[k, 5:]) < runaway):
-                    failed = 1
+                    failed, message = 1, "runaway speed"
                     break
-        except RuntimeError:
-            failed = 1
+        except RuntimeError as e:
+            failed, message = 1, (str(e).splitlines() or [""])[0]
         if failed:
             x[k:], vdot[k:], force[k:], active[k:] = np.nan, np.nan, np.nan, False
         steps, evaluations = integrator.get_num_steps_taken(), integrator.get_num_derivative_evaluations()
         shrinkages = integrator.get_num_step_shrinkages_from_error_control()
     health = Health(contact_rows=int(active.sum()), steps=int(steps), derivative_evaluations=int(evaluations),
-                    error_shrinkages=int(shrinkages), failed=failed)
+                    error_shrinkages=int(shrinkages), failed=failed, message=message)
     return Raw(x=x, vdot=vdot, force=force, active=active, health=health)
 
 
@@ -223,7 +251,8 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     n = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES)  # the record holds every row: refuse before allocating
     m = model(rod, mu, opts)
     q0, v0 = to_generalized(rod, state, tip=(0.0, 0.0, opts.radius))
-    raw = raw_run(m, np.concatenate((q0, v0)), n, opts.timestep / rod.omega)
+    l, w = rod.length, rod.omega
+    raw = raw_run(m, np.concatenate((q0, v0)), n, opts.timestep / w, np.array([l * w, l * w, l * w, w, w]))
     rec = record(rod, raw, opts)
     c = classify(rec, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, thresholds=th)
     run = Run.from_classification(opts.name, c, rec, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,

@@ -43,15 +43,25 @@ from dataclasses import dataclass
 import numpy as np
 from pydrake.geometry import AddContactMaterial, Capsule, HalfSpace, ProximityProperties
 from pydrake.math import RigidTransform, RotationMatrix
-from pydrake.multibody.plant import AddMultibodyPlant, CoulombFriction, DiscreteContactApproximation, MultibodyPlantConfig
-from pydrake.multibody.tree import PrismaticJoint, RevoluteJoint, SpatialInertia, UnitInertia
+from pydrake.multibody.plant import (
+    AddMultibodyPlant,
+    CoulombFriction,
+    DiscreteContactApproximation,
+    MultibodyPlantConfig,
+)
+from pydrake.multibody.tree import (
+    PrismaticJoint,
+    RevoluteJoint,
+    SpatialInertia,
+    UnitInertia,
+)
 from pydrake.systems.framework import DiagramBuilder
 
 from crosscheck.checks import MU, check
 from crosscheck.engines.drake.options import Options
 from crosscheck.rod import Rod
 
-__all__ = ["AXIAL_INERTIA", "JOINTS", "Model", "build_model", "model", "new_context", "tip_kinematics", "CACHE_SIZE"]
+__all__ = ["AXIAL_INERTIA", "CACHE_SIZE", "JOINTS", "Model", "build_model", "model", "new_context", "tip_kinematics"]
 
 #: Axial inertia of the slender rod relative to I0 (eq. inertia has 0): as MuJoCo's model, 1e-12.  Drake
 #: accepts 0 too (the triangle inequality holds with equality), but then the psi inertia I0 cos^2 theta has

@@ -23,8 +23,22 @@ from typing import Any
 from crosscheck.checks import POSITIVE, Interval, check
 from crosscheck.engines.base import options_from_kwargs
 
-__all__ = ["Options", "APPROXIMATIONS", "DISCRETE", "INTEGRATORS", "RADIUS", "STIFFNESS", "DISSIPATION", "RELAXATION_TIME",
-           "STICTION_TOLERANCE", "ACCURACY", "NEAR_RIGID_THRESHOLD", "SAP_SIGMA", "CREEP_MARGIN", "engine_name"]
+__all__ = [
+    "ACCURACY",
+    "APPROXIMATIONS",
+    "CREEP_MARGIN",
+    "DISCRETE",
+    "DISSIPATION",
+    "INTEGRATORS",
+    "NEAR_RIGID_THRESHOLD",
+    "RADIUS",
+    "RELAXATION_TIME",
+    "SAP_SIGMA",
+    "STICTION_TOLERANCE",
+    "STIFFNESS",
+    "Options",
+    "engine_name",
+]
 
 #: The contact approximations, each a registered engine ``drake_<approximation>``: "continuous" is a
 #: continuous-time plant (time_step 0) with Hunt & Crossley point contact and Stribeck friction integrated
@@ -133,7 +147,7 @@ class Options:
             raise ValueError(f"approximation must be one of {', '.join(APPROXIMATIONS)}; got {self.approximation!r}")
         if self.integrator not in INTEGRATORS:
             raise ValueError(f"integrator must be one of {', '.join(INTEGRATORS)}; got {self.integrator!r}")
-        set_ = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731
+        set_ = lambda name, value: object.__setattr__(self, name, value)
         set_("timestep", _check_number("timestep", self.timestep, POSITIVE))
         set_("radius", _check_number("radius", self.radius, RADIUS))
         set_("stiffness", _check_number("stiffness", self.stiffness, STIFFNESS))
@@ -146,9 +160,9 @@ class Options:
         set_("near_rigid_threshold", _check_number("near_rigid_threshold", self.near_rigid_threshold, NEAR_RIGID_THRESHOLD))
 
     @classmethod
-    def from_kwargs(cls, options: dict[str, Any]) -> "Options":
-        """``Options(**options)`` with an error naming any unknown option."""
-        return options_from_kwargs(cls, options, "Drake")
+    def from_kwargs(cls, options: dict[str, Any]) -> Options:
+        """``Options(**options)`` with an error naming any unknown option and the engine of the options' approximation."""
+        return options_from_kwargs(cls, options, engine_name(options.get("approximation", cls.approximation)))
 
     @property
     def name(self) -> str:

@@ -13,7 +13,7 @@ MuJoCo-only studies and report sections live in ``crosscheck.studies.mujoco``
 and ``crosscheck.report.sections``; they are declared here.
 """
 
-from crosscheck import tolerances as tol
+from crosscheck.engines.mujoco import tolerances as mujoco_tol
 from crosscheck.engines.spec import EngineSpec, ReportPlan
 
 __all__ = ["ENGINES"]
@@ -27,7 +27,7 @@ def _checks(rod, n_states, rng):
     ca = contact_acceleration(rod, min(n_states, 100), rng)
     where = {k: ca[k] for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi", "mu")}
     return [error_stat("tip acceleration with contact", ca["got"] / ca["scale"][:, None], ca["want"] / ca["scale"][:, None],
-                       tol.MUJOCO_CONTACT_ACCELERATION, where)]
+                       mujoco_tol.MUJOCO_CONTACT_ACCELERATION, where)]
 
 
 def _sections():
@@ -41,9 +41,9 @@ ENGINES = (
     EngineSpec(
         name="mujoco", module="crosscheck.engines.mujoco.engine", label="MuJoCo", libraries=("mujoco",),
         one_core={"nthread": 1}, tags={"compliant", "relaxed", "time_stepping", "batched"},
-        tolerances={"liftoff_onset": tol.MUJOCO_LIFTOFF_ONSET, "event_disagreement": tol.MUJOCO_EVENT_DISAGREEMENT,
-                    "event_time": tol.MUJOCO_EVENT_TIME, "no_jam_below_mu_P": tol.MUJOCO_NO_JAM_BELOW_MU_P,
-                    "corollary_stop": tol.MUJOCO_COROLLARY_STOP},
+        tolerances={"liftoff_onset": mujoco_tol.MUJOCO_LIFTOFF_ONSET, "event_disagreement": mujoco_tol.MUJOCO_EVENT_DISAGREEMENT,
+                    "event_time": mujoco_tol.MUJOCO_EVENT_TIME, "no_jam_below_mu_P": mujoco_tol.MUJOCO_NO_JAM_BELOW_MU_P,
+                    "corollary_stop": mujoco_tol.MUJOCO_COROLLARY_STOP},
         checks=_checks,
         # the models between the theory and MuJoCo (crosscheck.engines.mujoco.studies.ladder): its capsule's contact point, the
         # compliant rod with MuJoCo's matched Kelvin-Voigt law, MuJoCo's own law in continuous time, MuJoCo itself

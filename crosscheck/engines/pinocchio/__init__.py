@@ -5,7 +5,7 @@ Delassus operator (equal to the analytic terms to 1e-14, ``crosscheck.engines.pi
 ``options``: the run parameters; ``stepper``: the exact-cone time-stepper.
 """
 
-from crosscheck import tolerances as tol
+from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
 from crosscheck.engines.spec import EngineSpec, ReportPlan
 
 __all__ = ["ENGINES"]
@@ -22,13 +22,13 @@ def _checks(rod, n_states, rng):
     where = {k: np.array([getattr(s, k) for s, _, _ in steps]) for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi")}
     where["mu"] = np.array([m for _, m, _ in steps])
     stats.append(error_stat("one-step normal impulse / dt vs -b/p", [c.normal_force for _, _, c in steps],
-                            [c.slipping_force for _, _, c in steps], tol.RIGID_STEP_FORCE, where))
+                            [c.slipping_force for _, _, c in steps], pinocchio_tol.RIGID_STEP_FORCE, where))
     rate, errs = rigid.slip_order(rod)
-    stats.append(error_stat("slipping convergence order", [rate], [1.0], tol.RIGID_SLIP_ORDER, {"error_at_smallest_dt": errs[-1:]}))
+    stats.append(error_stat("slipping convergence order", [rate], [1.0], pinocchio_tol.RIGID_SLIP_ORDER, {"error_at_smallest_dt": errs[-1:]}))
     impasses = [rigid.planar_impasse(m, T, rod.alpha) for m, T in ((1.4, 0.5), (1.4, -0.3), (2.0, 0.5))]
     after = [rigid.jam_aftermath(rod, [s], m) for s, m in zip(impasses, (1.4, 1.4, 2.0))]
     stats.append(error_stat("post-jam rates vs IWC order (planar impasse)", [a.orders()[0] for a in after], [1.0] * len(after),
-                            tol.RIGID_IWC_ORDER, {"mu": np.array([1.4, 1.4, 2.0]), "Theta": np.array([0.5, -0.3, 0.5])}))
+                            pinocchio_tol.RIGID_IWC_ORDER, {"mu": np.array([1.4, 1.4, 2.0]), "Theta": np.array([0.5, -0.3, 0.5])}))
     return stats
 
 
@@ -44,9 +44,9 @@ ENGINES = (
         name="pinocchio", module="crosscheck.engines.pinocchio.stepper", label="Pinocchio", slug="rigid", libraries=("pin",),
         one_core={"workers": 1}, solver_columns=("contact_steps", "unconverged_steps", "max_iterations"),
         tags={"rigid", "time_stepping"},
-        tolerances={"liftoff_onset": tol.RIGID_LIFTOFF_ONSET, "event_disagreement": tol.RIGID_EVENT_DISAGREEMENT,
-                    "event_time": tol.RIGID_EVENT_TIME, "no_jam_below_mu_P": tol.RIGID_NO_JAM_BELOW_MU_P,
-                    "corollary_stop": tol.RIGID_COROLLARY_STOP},
+        tolerances={"liftoff_onset": pinocchio_tol.RIGID_LIFTOFF_ONSET, "event_disagreement": pinocchio_tol.RIGID_EVENT_DISAGREEMENT,
+                    "event_time": pinocchio_tol.RIGID_EVENT_TIME, "no_jam_below_mu_P": pinocchio_tol.RIGID_NO_JAM_BELOW_MU_P,
+                    "corollary_stop": pinocchio_tol.RIGID_COROLLARY_STOP},
         checks=_checks, dynamics="crosscheck.engines.pinocchio.studies.dynamics_terms",
         # the quick report at a coarser timestep (its cost is the NCP's), drawn beside MuJoCo's maps
         report=ReportPlan(maps={"quick": {"timestep": 3e-3}, "full": {"timestep": 1e-3}}, beside="mujoco_maps",

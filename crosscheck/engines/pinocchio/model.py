@@ -1,4 +1,4 @@
-"""The slender rod as a Pinocchio model (M, C, g, J, Delassus), answering the questions of ``crosscheck.analytic``.
+"""The slender rod as a Pinocchio model (M, C, g, J, Delassus), answering the questions of ``crosscheck.theory.analytic``.
 
 This is the model of the Pinocchio engine: its dynamics terms are checked
 against the paper's equations (``crosscheck.engines.pinocchio.studies.dynamics_terms``), and a
@@ -39,7 +39,7 @@ height does not depend on psi.  Measured numbers and the tolerances are in
 the Pinocchio section of ``crosscheck.tolerances``.
 
 The module-level functions have the names, signatures and meaning of their
-counterparts in ``crosscheck.analytic``; every conversion between the paper's
+counterparts in ``crosscheck.theory.analytic``; every conversion between the paper's
 variables and (q, v) goes through ``crosscheck.coordinates``.
 """
 
@@ -53,8 +53,8 @@ import numpy as np
 import pinocchio as pin
 from scipy.optimize import brentq, minimize_scalar
 
-from crosscheck import analytic
-from crosscheck.analytic import _force_components  # same check and message as the reference
+from crosscheck.theory import analytic
+from crosscheck.theory.analytic import _force_components  # same check and message as the reference
 from crosscheck.checks import ALPHA, MU, check
 from crosscheck.coordinates import GENERALIZED, paper_to_qv
 from crosscheck.rod import Rod
@@ -251,7 +251,7 @@ def engine(rod: Rod) -> PinocchioRod:
 
 
 # --------------------------------------------------------------------------
-# The questions of crosscheck.analytic
+# The questions of crosscheck.theory.analytic
 # --------------------------------------------------------------------------
 
 
@@ -296,7 +296,7 @@ def tip_acceleration(rod: Rod, psi, theta, psi_dot, theta_dot, force, *, route: 
 
     Returns:
       (..., 3) array of tip accelerations [m/s^2], world frame, gravity included.
-      Arguments broadcast as in ``crosscheck.analytic.tip_acceleration``.
+      Arguments broadcast as in ``crosscheck.theory.analytic.tip_acceleration``.
     """
     if route not in ROUTES:
         raise ValueError(f"route must be one of {', '.join(ROUTES)}; got {route!r}")

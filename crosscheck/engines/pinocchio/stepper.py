@@ -52,7 +52,7 @@ the cone, and the steps that still miss it are counted in ``Run.solver``.
 Why the sticking guess: at a jam (p < 0 for the current slip, b < 0) the
 step's NCP has no slipping solution and its one solution is the stuck tip
 with a tangential impulse (the impact without collision of
-``crosscheck.iwc``); from a cold start PGS cycles there at large mu (at
+``crosscheck.theory.impact.darboux_keller``); from a cold start PGS cycles there at large mu (at
 mu = 6 it missed the tolerance after 11002 iterations with a
 complementarity of O(1) m g dt, i.e. a wrong impulse) while from the
 sticking guess it confirms the solution in a few iterations.  Why only

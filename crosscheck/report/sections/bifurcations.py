@@ -24,7 +24,7 @@ stratum as Figs. 3-7 are (``kinematic_surfaces.surface_meshes``): b = 0, p = 0
 and the GB manifold in (theta, varphi, Theta).
 
 Checks: every sampled point of each curve is a zero of its function (closed
-form); just across each curve ``crosscheck.critical.kinematic_case`` gives
+form); just across each curve ``crosscheck.theory.critical.kinematic_case`` gives
 the two cases the paper puts on either side; each codimension-2 point is a
 zero of the functions of every curve through it (CLOSED_FORM); the case at a
 point of each generic cell of the paper's grid is the one it circles.
@@ -34,7 +34,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck import analytic, critical
+from crosscheck.theory import analytic
+
+from crosscheck.theory import critical
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 from crosscheck.report.sections.kinematic_surfaces import draw_surfaces, surface_meshes

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck import critical
+from crosscheck.theory import critical
 from crosscheck.report.section import RenderContext, RunContext, Section
 from crosscheck.tolerances import CLOSED_FORM
 

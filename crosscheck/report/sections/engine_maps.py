@@ -65,7 +65,7 @@ def _sweeps(ctx: RunContext, name: str) -> dict:
 def run(ctx: RunContext) -> None:
     from crosscheck.studies.agreement import agreement_study
 
-    from crosscheck import critical
+    from crosscheck.theory import critical
     from crosscheck.engines.base import engine_label
     from crosscheck.outcome import Outcome
 
@@ -227,7 +227,7 @@ def render(ctx: RenderContext) -> list:
     write_page(ctx.out / page_rel, outcome_maps_page(f"Analytic vs {name}: outcome maps (hover a cell)", pages, colors=colors, names=names_,
                                                      intro=f"Each cell is one start (alpha = {P['alpha']:g}, scaled units); its tooltip gives the state, b and p "
                                                            f"(eqs. b, p), the analytic first event and time, and each engine's outcome and time ({name}: {opts})."))
-    used = [i for i in range(len(OUTCOME_NAMES)) if conf[i].sum() or conf[:, i].sum()]
+    used = [i for i in range(len(conf)) if conf[i].sum() or conf[:, i].sum()]  # results saved before an outcome was added have fewer
     sub = conf[np.ix_(used, used)]
     names = [OUTCOME_NAMES[i].lower() for i in used]
     fig, ax = plt.subplots(figsize=(4.6, 3.8))
@@ -284,4 +284,4 @@ def section(spec, options: dict, beside: str | None = None) -> Section:
     title = f"{spec.label} vs analytic: outcome maps, confusion matrices, event times" + (f" (beside {beside})" if beside else "")
     return Section(slug=f"{spec.slug}_maps", title=title, paper="sections 3.1, 4 (Corollary 4.2)",
                    params=lambda quick: params(quick, spec.name, options["quick" if quick else "full"], beside),
-                   run=run, render=render, requires=("crosscheck.studies.agreement", spec.module or "crosscheck.engines", "crosscheck.gb"))
+                   run=run, render=render, requires=("crosscheck.studies.agreement", spec.module or "crosscheck.engines", "crosscheck.theory.gb"))

@@ -3,10 +3,10 @@
 Computed as the paper does: for varphi across (varphi_1, varphi_2) the two
 points of p = 0, theta_+(varphi) and theta_-(varphi) (eq. thetastar), and at
 each the real roots Psi of the quartic eq. Psiquartic with their Theta (eqs.
-detK0, B; ``crosscheck.gb.psi_quartic_roots``), keeping Theta > 0.
+detK0, B; ``crosscheck.theory.gb.psi_quartic_roots``), keeping Theta > 0.
 
 Checks: the zeros found independently along the GB manifold at fixed Psi
-(``crosscheck.gb.det_K_zeros``, bisection of det K) lie on the quartic's
+(``crosscheck.theory.gb.det_K_zeros``, bisection of det K) lie on the quartic's
 curve; at Psi = 0 they satisfy eq. ghastly; and the section Psi = 1.0620 of
 fig:pandora has four critical points on its Theta > 0 part.
 """
@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from crosscheck import critical
+from crosscheck.theory import critical
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 
 SLUG = "gb_det_zeros"
@@ -29,8 +29,7 @@ def params(quick: bool) -> dict:
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck import gb
-
+    from crosscheck.theory import gb
     P = ctx.params
     alpha, mu, eta = P["alpha"], P["mu"], P["eta"]
     cv = critical.critical_values(mu, alpha)
@@ -85,8 +84,7 @@ def _pandora(ctx: RunContext) -> None:
     The paper does not print its panels' points; here a panel sits at every zero of det K (bisected) and at the
     sample halfway (in curve order) between consecutive zeros, so that each change of type is shown from both sides.
     """
-    from crosscheck import gb
-
+    from crosscheck.theory import gb
     P = ctx.params
     alpha, mu, eta, Psi = P["alpha"], P["mu"], P["eta"], P["Psi_pandora"]
     curve = next(c for c in gb.gb_manifold(mu, Psi, alpha, n=P["n_curve"]) if c.sign > 0)
@@ -184,4 +182,4 @@ def _render_pandora(ctx: RenderContext) -> list:
 
 
 SECTION = Section(slug=SLUG, title="Zeros of det K on the GB manifold", paper="Figs. 18 (fig:determinant_bif) and 19 (fig:pandora); eqs. detK, detK0, B, Psiquartic, ghastly",
-                  params=params, run=run, render=render, requires=("crosscheck.gb",))
+                  params=params, run=run, render=render, requires=("crosscheck.theory.gb",))

@@ -1,6 +1,6 @@
 """Figs. 12 and 13: the eigenvectors of K in the (p, b) plane at the paper's points around the GB manifold.
 
-At each point (theta_GB, varphi_GB) of ``crosscheck.paper.GB_POINTS`` (eta =
+At each point (theta_GB, varphi_GB) of ``crosscheck.theory.paper.GB_POINTS`` (eta =
 1, Psi = 0, Theta_GB = sqrt(csc theta_GB), alpha = 3, mu = 1.4 and 1.7) the
 point is put exactly on p = 0 (the printed varphi has four digits: the root
 varphi_-+(theta) nearest to it; the printed P+, Q+ are theta_1, theta_2 at
@@ -14,7 +14,7 @@ Checks (section 4): P+ is a stable node and Q+ a saddle; for mu = 1.4 < mu_C
 the strong eigenvector of P+ is on the b axis and the weak one in the first
 and third quadrants, for mu = 1.7 > mu_C the other way round; (b) is a
 stable node and (d) a saddle; the zero of det K along the manifold between
-them (``crosscheck.gb.det_K_zeros``) is the printed point (c) to its printed
+them (``crosscheck.theory.gb.det_K_zeros``) is the printed point (c) to its printed
 digits.
 """
 
@@ -24,8 +24,8 @@ import math
 
 import numpy as np
 
-from crosscheck import critical
-from crosscheck.paper import GB_POINTS
+from crosscheck.theory import critical
+from crosscheck.theory.paper import GB_POINTS
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 
 SLUG = "gb_eigenvectors"
@@ -38,7 +38,7 @@ def params(quick: bool) -> dict:
 def _snap(mu, alpha, theta_s, varphi_s):
     """The point of the GB manifold the printed digits stand for: (theta, varphi) exactly on p = 0."""
     th, vp = float(theta_s), float(varphi_s)
-    if vp > 0:  # Fig. 13(d)'s sign typo, documented in crosscheck.paper
+    if vp > 0:  # Fig. 13(d)'s sign typo, documented in crosscheck.theory.paper
         vp = -vp
     if varphi_s == "-1.5708":  # P+ / Q+: theta_1 or theta_2 at varphi = -pi/2
         th1, th2 = critical.theta_12(mu, alpha)
@@ -48,8 +48,7 @@ def _snap(mu, alpha, theta_s, varphi_s):
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck import gb
-
+    from crosscheck.theory import gb
     P = ctx.params
     alpha, eta, Psi = P["alpha"], P["eta"], P["Psi"]
     points = []
@@ -150,4 +149,4 @@ def render(ctx: RenderContext) -> list:
 
 
 SECTION = Section(slug=SLUG, title="Eigenvectors of K at the paper's GB points", paper="Figs. 12 (fig:planesmu1p4_w_traj) and 13 (fig:planesmu1p7_w_traj); eqs. K, evalK2D, evecK2D",
-                  params=params, run=run, render=render, requires=("crosscheck.gb",))
+                  params=params, run=run, render=render, requires=("crosscheck.theory.gb",))

@@ -28,8 +28,7 @@ def params(quick: bool) -> dict:
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck import gb
-
+    from crosscheck.theory import gb
     P = ctx.params
     alpha = P["alpha"]
     found: dict[tuple[int, str], dict] = {}
@@ -111,4 +110,4 @@ def render(ctx: RenderContext) -> list:
 
 
 SECTION = Section(slug=SLUG, title="Local dynamics near the GB manifold", paper="Figs. 14 (fig:ppsThetapos) and 15 (fig:ppsThetaneg); eq. K, Theorem 4.1",
-                  params=params, run=run, render=render, requires=("crosscheck.gb",))
+                  params=params, run=run, render=render, requires=("crosscheck.theory.gb",))

@@ -1,7 +1,7 @@
 """Figs. 11 and 17: the GB manifold b = p = 0 at fixed Psi for mu = 1.4 and mu = 6, with the type of each point.
 
 For each mu (alpha = 3) the manifold is drawn at Psi = 0, (Psi_L + Psi_1)/2 and
-(Psi_1 + Psi_2)/2 (``crosscheck.gb.gb_manifold``), coloured by Psi (Fig. 11)
+(Psi_1 + Psi_2)/2 (``crosscheck.theory.gb.gb_manifold``), coloured by Psi (Fig. 11)
 and by the type of the point as an equilibrium of eq. f, from the eigenvalues
 of K (eq. K) at eta (Fig. 17).
 
@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck import critical
+from crosscheck.theory import critical
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 
 SLUG = "gb_manifold"
@@ -43,8 +43,7 @@ def params(quick: bool) -> dict:
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck import gb
-
+    from crosscheck.theory import gb
     P = ctx.params
     alpha, eta = P["alpha"], P["eta"]
     summary = []
@@ -89,7 +88,7 @@ def run(ctx: RunContext) -> None:
 def render(ctx: RenderContext) -> list:
     from matplotlib.lines import Line2D
 
-    from crosscheck import gb  # GBType names only
+    from crosscheck.theory import gb
     from crosscheck.report.plotting import GB_TYPE_COLORS, LINE_COLORS, plt
 
     P = ctx.params
@@ -123,7 +122,7 @@ def render(ctx: RenderContext) -> list:
         vals = "; ".join(f"mu = {s['mu']:g}: Psi = {s['Psi_label']} = {s['Psi']:.4f} (case {s['case']}, {s['curves']} curve(s))" for s in topo)
         if kind == "psi":
             cap = (f"Fig. 11 recomputed: the GB manifold b = p = 0 projected to (theta, varphi, Theta) at three values of Psi, alpha = {P['alpha']:g} "
-                   f"(crosscheck.gb.gb_manifold). {vals}.")
+                   f"(crosscheck.theory.gb.gb_manifold). {vals}.")
             name = "fig11_gb_manifolds"
         else:
             cap = (f"Fig. 17 recomputed: the same manifolds coloured by the type of each point as an equilibrium of eq. f (eigenvalues of K, eq. K, at eta = {P['eta']:g}): "
@@ -143,4 +142,4 @@ def render(ctx: RenderContext) -> list:
 
 
 SECTION = Section(slug=SLUG, title="GB manifolds and their stability", paper="Figs. 11 (fig:GBs_bif3) and 17 (fig:stabilty_on_GB); eq. K, Theorem 4.1",
-                  params=params, run=run, render=render, requires=("crosscheck.gb",))
+                  params=params, run=run, render=render, requires=("crosscheck.theory.gb",))

@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-from crosscheck import critical
+from crosscheck.theory import critical
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 
 SLUG = "gb_quartic"
@@ -41,8 +41,7 @@ def _one(ctx: RunContext, e2: float) -> dict:
     """Both curves and the Psi = 0 zeros for one eps^2 mu_hat, saved with the suffix ``_<e2>``."""
     from scipy.optimize import brentq
 
-    from crosscheck import gb
-
+    from crosscheck.theory import gb
     P = ctx.params
     alpha, eta = P["alpha"], P["eta"]
     tag = f"{e2:g}"
@@ -147,4 +146,4 @@ def render(ctx: RenderContext) -> list:
 
 
 SECTION = Section(slug=SLUG, title="The quartic in Psi and its asymptotic form near mu_P", paper="Fig. 16 (fig:expan); eqs. Psiquartic, Psiquarticeps, C0",
-                  params=params, run=run, render=render, requires=("crosscheck.gb",))
+                  params=params, run=run, render=render, requires=("crosscheck.theory.gb",))

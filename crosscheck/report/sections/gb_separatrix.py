@@ -1,10 +1,10 @@
 """Fig. 20 (fig:my_ugly_simulations): two slipping trajectories near the separatrix, and the leading eigenvector along the GB manifold.
 
-The two initial conditions of the figure (``crosscheck.paper.FIG20_INITIAL_CONDITIONS``,
+The two initial conditions of the figure (``crosscheck.theory.paper.FIG20_INITIAL_CONDITIONS``,
 alpha = 3, mu = 1.4) are run to their first event by
-``crosscheck.gb.slip_until_event`` (the desingularised flow eq. f, time s with
+``crosscheck.theory.gb.slip_until_event`` (the desingularised flow eq. f, time s with
 eta p ds = dt, real time recovered); the orbit is then sampled densely by
-integrating the same field ``crosscheck.gb.slip_rhs`` over the run's s
+integrating the same field ``crosscheck.theory.gb.slip_rhs`` over the run's s
 interval.  Along the GB manifold at Psi = 0 (Theta > 0) the eigenvector of the
 leading eigenvalue lambda_+ of K (eq. K), lifted to state space as A e_+
 (eqs. matA, jacobian: J A e = A K e), gives the surface the paper draws in
@@ -20,8 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck import analytic
-from crosscheck.paper import FIG20_INITIAL_CONDITIONS
+from crosscheck.theory import analytic
+from crosscheck.theory.paper import FIG20_INITIAL_CONDITIONS
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 
 SLUG = "gb_separatrix"
@@ -35,7 +35,7 @@ def params(quick: bool) -> dict:
 def run(ctx: RunContext) -> None:
     from scipy.integrate import solve_ivp
 
-    from crosscheck import gb
+    from crosscheck.theory import gb
     from crosscheck.state import SlipState
 
     P = ctx.params
@@ -115,7 +115,7 @@ def render(ctx: RenderContext) -> list:
     ax3.set_title("(b) orbits, GB manifold and leading eigenvector (green)")
     eta = ctx.store.read_json("eigen_eta")["eta"]
     cap = (f"Fig. 20 recomputed (fig:my_ugly_simulations): the two initial conditions of the paper (alpha = {P['alpha']:g}, mu = {P['mu']:g}) integrated with the "
-           "desingularised flow (eq. f) to their first event (crosscheck.gb.slip_until_event). (a) the orbits in the (p, b) plane near the GB manifold "
+           "desingularised flow (eq. f) to their first event (crosscheck.theory.gb.slip_until_event). (a) the orbits in the (p, b) plane near the GB manifold "
            "(shading as Fig. 3a); (b) the orbits in (theta, varphi, Theta) with the GB manifold at Psi = 0 and, in green, the direction A e_+ of the leading "
            f"eigenvalue of K (eq. K, eta = {eta:.3g}) at its points: the separatrix between orbits that reach p = 0 and orbits that lift off is tangent to it.")
     blocks = [ctx.figure("fig20_separatrix", fig, cap, ["orbits.csv", "manifold_eigen.csv", "runs.json"])]
@@ -130,4 +130,4 @@ def render(ctx: RenderContext) -> list:
 
 
 SECTION = Section(slug=SLUG, title="Separatrix trajectories near the GB manifold", paper="Fig. 20 (fig:my_ugly_simulations); eqs. f, matA, K",
-                  params=params, run=run, render=render, requires=("crosscheck.gb", "crosscheck.slipping"))
+                  params=params, run=run, render=render, requires=("crosscheck.theory.gb", "crosscheck.theory.slipping"))

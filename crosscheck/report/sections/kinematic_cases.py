@@ -1,6 +1,6 @@
 """Fig. 9a: the kinematic cases 1-7 of section 3.4 in the (mu, Psi) plane, with Psi_L, Psi_1, Psi_2 and Psi_P.
 
-The map is ``crosscheck.critical.kinematic_case`` on a grid; the curves are
+The map is ``crosscheck.theory.critical.kinematic_case`` on a grid; the curves are
 eqs. psil, psi1, psi2 and the point (mu_P, Psi_P) of eq. psip.  Checks: the
 curves meet where the paper says they do (Psi_1 = Psi_2 = Psi_P at mu_P,
 Psi_1 = Psi_L at mu_L) and Psi_1 >= Psi_L for every mu >= mu_P.
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck import critical
+from crosscheck.theory import critical
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 from crosscheck.tolerances import CLOSED_FORM
@@ -78,7 +78,7 @@ def render(ctx: RenderContext) -> list:
     ax.set_xlabel("$\\mu$")
     ax.set_ylabel("$\\Psi$")
     ax.set_title(f"kinematic cases, $\\alpha$ = {c['alpha']:g}")
-    caption = (f"Fig. 9a recomputed: the kinematic cases 1-7 of section 3.4 (crosscheck.critical.kinematic_case) for alpha = {c['alpha']:g}, Psi >= 0. "
+    caption = (f"Fig. 9a recomputed: the kinematic cases 1-7 of section 3.4 (crosscheck.theory.critical.kinematic_case) for alpha = {c['alpha']:g}, Psi >= 0. "
                f"Dashed: Psi_L = {c['Psi_L']:.4f} (eq. psil); solid: Psi_1(mu) below, Psi_2(mu) above (eqs. psi1, psi2), meeting at "
                f"(mu_P, Psi_P) = ({c['mu_P']:.4f}, {c['Psi_P']:.4f}) (eq. psip); dotted: mu_P and mu_L = {c['mu_L']:.4f} (eq. mul).")
     fig_block = ctx.figure("fig9a_cases", fig, caption, ["cases.json", "Psi_curves.csv", "constants.json"])

@@ -5,13 +5,13 @@ symmetric about Theta = 0).  In the space (theta, varphi, Theta) at fixed Psi:
 
 * b = 0 (eq. b) does not depend on varphi: it is the graph
   Theta = sqrt(1/sin theta - Psi^2 cos^2 theta) over every varphi, where the
-  root is real; where it is not (the theta gap of ``crosscheck.gb.gb_theta_gap``,
+  root is real; where it is not (the theta gap of ``crosscheck.theory.gb.gb_theta_gap``,
   |Psi| > Psi_L) b > 0 already at Theta = 0 and the surface has left the
   plane Theta = 0;
 * p = 0 (eq. p) does not depend on Theta or Psi: it is the cylinder over the
   closed curve varphi = varphi_-+(theta), theta in [theta_1, theta_2] (eqs.
   varphistar, theta12); p < 0 inside it;
-* they meet in the GB manifold (``crosscheck.gb.gb_manifold``), drawn black.
+* they meet in the GB manifold (``crosscheck.theory.gb.gb_manifold``), drawn black.
 
 Panels: Fig. 3 (a) the section at varphi = -pi/2 and (b) the 3D picture at
 Psi = 0; Fig. 4 (a-d) the 3D picture at Psi = 1.56, 1.7, 2.2, 5; Figs. 5, 6,
@@ -34,7 +34,9 @@ import math
 
 import numpy as np
 
-from crosscheck import analytic, critical
+from crosscheck.theory import analytic
+
+from crosscheck.theory import critical
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 from crosscheck.tolerances import CLOSED_FORM, GB_IDENTITY
@@ -126,13 +128,12 @@ def surface_meshes(mu: float, Psi: float, alpha: float, Theta_max: float, *, n_s
       "p0": part, i, j, theta, varphi, Theta: the cylinder p = 0 in two parts, below b = 0 (part 0, inconsistent inside)
         and above it (part 1, indeterminate inside), so that a view from above draws b = 0 between them; empty for
         mu < mu_P, a segment at mu = mu_P;
-      "gb": curve, theta, varphi, Theta: the GB manifold in Theta >= 0 (``crosscheck.gb.gb_manifold``); where that is
+      "gb": curve, theta, varphi, Theta: the GB manifold in Theta >= 0 (``crosscheck.theory.gb.gb_manifold``); where that is
         empty but b = 0 touches the cylinder at theta_1 or theta_2 with Theta = 0 (|Psi| = Psi_1, Psi_2), that point;
       "pieces": the theta intervals of b = 0 (``b0_pieces``); "gb_curves": the ``GBCurve`` list; "tangency": whether
         "gb" is such a touching point.
     """
-    from crosscheck import gb
-
+    from crosscheck.theory import gb
     vp = np.linspace(-np.pi, 0.0, n_varphi)
     pieces = b0_pieces(Psi, Theta_max, n=n_fine)
     b0 = {k: [] for k in ("piece", "i", "j", "theta", "varphi", "Theta")}
@@ -410,7 +411,7 @@ def render(ctx: RenderContext) -> list:
 
 def _caption(number: int, panels, slices: dict, cv: dict) -> str:
     common = (f"b = 0 (red, eq. b: independent of varphi) and p = 0 (blue, eq. p: the cylinder over varphi_-+(theta), independent of Theta and Psi) for "
-              f"Theta >= 0, alpha = {cv['alpha']:g}, mu = {cv['mu']:g}; black: the GB manifold b = p = 0 (crosscheck.gb.gb_manifold). Inside the cylinder "
+              f"Theta >= 0, alpha = {cv['alpha']:g}, mu = {cv['mu']:g}; black: the GB manifold b = p = 0 (crosscheck.theory.gb.gb_manifold). Inside the cylinder "
               "p < 0: indeterminate above b = 0, inconsistent below; outside: lift-off above, slipping below.")
     if number == 3:
         return (f"Fig. 3 recomputed ({_LABELS[3]}): (a) the section varphi = -pi/2, shaded by mode (slipping yellow, lift-off orange, inconsistent lime, "
@@ -428,4 +429,4 @@ def _caption(number: int, panels, slices: dict, cv: dict) -> str:
 
 
 SECTION = Section(slug=SLUG, title="The surfaces b = 0 and p = 0 in 3D: Figs. 3-7", paper="Figs. 3-7 (fig:p3s, fig:p3ss, fig:psi1.6119, fig:psi1.9483, fig:psi3.0097); eqs. b, p, psil, psi1, psi2",
-                  params=params, run=run, render=render, requires=("crosscheck.gb",))
+                  params=params, run=run, render=render, requires=("crosscheck.theory.gb",))

@@ -1,6 +1,6 @@
 """Fig. 9b: the mechanisms I, II, III of section 3.4 in the (alpha, mu) plane, bounded by mu_P(alpha) and mu_L(alpha).
 
-The map is ``crosscheck.critical.mechanism`` on a grid; the curves are eqs.
+The map is ``crosscheck.theory.critical.mechanism`` on a grid; the curves are eqs.
 mup2D and mul.  Check: mu_L > mu_P for every alpha (mechanism II always
 exists, as the figure shows), on the sampled alphas.
 """
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck import critical
+from crosscheck.theory import critical
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section
 
@@ -54,7 +54,7 @@ def render(ctx: RenderContext) -> list:
     ax.set_ylabel("$\\mu$")
     ax.legend(loc="upper right", fontsize=8)
     caption = ("Fig. 9b recomputed: mechanisms I (mu <= mu_P, no paradox), II (mu_P < mu <= mu_L) and III (mu > mu_L) of section 3.4 "
-               "(crosscheck.critical.mechanism) in (alpha, mu). Dotted: the uniform rod, alpha = 3.")
+               "(crosscheck.theory.critical.mechanism) in (alpha, mu). Dotted: the uniform rod, alpha = 3.")
     return [ctx.figure("fig9b_mechanisms", fig, caption, ["mechanisms.json", "mu_curves.csv"])]
 
 

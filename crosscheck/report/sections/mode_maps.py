@@ -16,7 +16,7 @@ Psi enters b only through Psi^2: every map holds for +Psi and -Psi.
 Checks: the paper's statements about each Psi of section 3.3 (Psi = 1.56: no
 lift-off at Theta = 0; 1.7: lift-off at Theta = 0; 2.2: indeterminacy at
 Theta = 0; 5: no inconsistent region), read off the computed maps, and the
-kinematic case of ``crosscheck.critical.kinematic_case`` against the modes
+kinematic case of ``crosscheck.theory.critical.kinematic_case`` against the modes
 the maps show.
 """
 
@@ -24,8 +24,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck import analytic, critical
-from crosscheck.analytic import Mode
+from crosscheck.theory import analytic
+
+from crosscheck.theory import critical
+from crosscheck.theory.analytic import Mode
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 
@@ -205,7 +207,7 @@ def render(ctx: RenderContext) -> list:
                              "and covers it past Psi_2 (no inconsistent state left).",
                              [f"theta_varphi_{s['index']}.json" for s in slices] + ["p_zero.csv", "slices.json"]))
     rows_t = [[s["label"], f"{s['Psi']:.4f}", str(s["kinematic_case"]), ", ".join(m.lower() for m in s["modes_at_Theta0"]), "yes" if s["inconsistent"] else "no"] for s in slices]
-    blocks.append(Table(caption="Modes present at Theta = 0 (any theta, varphi) for each Psi, and the kinematic case of section 3.4 (crosscheck.critical.kinematic_case).",
+    blocks.append(Table(caption="Modes present at Theta = 0 (any theta, varphi) for each Psi, and the kinematic case of section 3.4 (crosscheck.theory.critical.kinematic_case).",
                         header=["Psi", "value", "case", "modes at Theta = 0", "inconsistent exists"], rows=rows_t, data=ctx.data("slices.json")))
     return blocks
 

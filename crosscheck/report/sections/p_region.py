@@ -10,7 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck import analytic, critical
+from crosscheck.theory import analytic
+
+from crosscheck.theory import critical
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 from crosscheck.tolerances import ROOT_RESIDUAL

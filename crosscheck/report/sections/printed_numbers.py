@@ -1,4 +1,4 @@
-"""Every number the paper prints beside the value the project computes (``crosscheck.paper``).
+"""Every number the paper prints beside the value the project computes (``crosscheck.theory.paper``).
 
 Two tables:
 
@@ -22,8 +22,10 @@ import math
 
 import numpy as np
 
-from crosscheck import analytic, critical
-from crosscheck.paper import GB_POINTS, PRINTED
+from crosscheck.theory import analytic
+
+from crosscheck.theory import critical
+from crosscheck.theory.paper import GB_POINTS, PRINTED
 from crosscheck.report.section import RenderContext, RunContext, Section, Table, Text
 from crosscheck.tolerances import ROOT_RESIDUAL
 
@@ -110,8 +112,8 @@ def render(ctx: RenderContext) -> list:
                      f"{t['computed'][i]:.6f}", f"{t['difference'][i]:+.1e}", f"{t['half_ulp'][i]:.0e}", verdict])
         cls.append(c)
     blocks = [Text("A printed value agrees when |computed - printed| <= half a unit of its last printed digit. Disagreements are flagged, "
-                   "never hidden; a misprint documented in `crosscheck.paper` is marked KNOWN MISPRINT with the reason."),
-              Table(caption="Numbers printed in the paper (crosscheck.paper.PRINTED) against the model (alpha = 3).",
+                   "never hidden; a misprint documented in `crosscheck.theory.paper` is marked KNOWN MISPRINT with the reason."),
+              Table(caption="Numbers printed in the paper (crosscheck.theory.paper.PRINTED) against the model (alpha = 3).",
                     header=["quantity", "where", "printed", "computed", "difference", "half unit", "result"], rows=rows, data=ctx.data("printed_values.csv"), row_class=cls)]
     g = ctx.store.read_table("gb_points", text=("theta_printed", "varphi_printed", "agrees", "known_discrepancy"))
     rows, cls = [], []
@@ -122,7 +124,7 @@ def render(ctx: RenderContext) -> list:
         rows.append([g["where"][i], f"{g['mu'][i]:g}", g["theta_printed"][i], g["varphi_printed"][i], f"{g['abs_p'][i]:.1e}", f"{g['bound'][i]:.1e}",
                      f"{g['varphi_on_p0'][i]:.5f}", f"{g['varphi_difference'][i]:+.1e}", verdict])
         cls.append(c)
-    blocks.append(Table(caption="Points (theta_GB, varphi_GB) of Figs. 12 and 13 (crosscheck.paper.GB_POINTS, alpha = 3): they must lie on p = 0. |p| at the printed digits "
+    blocks.append(Table(caption="Points (theta_GB, varphi_GB) of Figs. 12 and 13 (crosscheck.theory.paper.GB_POINTS, alpha = 3): they must lie on p = 0. |p| at the printed digits "
                                 "against the bound from the printed precision; varphi on p = 0 at the printed theta (eq. varphistar, the root nearest the printed varphi). "
                                 "At varphi = -pi/2 that root is ill-conditioned (p = 0 is tangent to theta = theta_1, theta_2 there), so |p| is the test.",
                         header=["point", "mu", "theta", "varphi", "|p|", "bound", "varphi on p = 0", "difference", "result"], rows=rows, data=ctx.data("gb_points.csv"), row_class=cls))

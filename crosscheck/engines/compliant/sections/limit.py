@@ -59,12 +59,12 @@ def _state(spec, mu, alpha):
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck.corollary import corollary_states
-    from crosscheck.iwc import delassus
+    from crosscheck.theory.corollary import corollary_states
+    from crosscheck.theory.impact.darboux_keller import delassus
     from crosscheck.state import SlipState
     from crosscheck.engines.compliant.studies import limit as cl
-    from crosscheck.tolerances import COMPLIANT_LIMIT_JAM_LAG_ORDER, COMPLIANT_LIMIT_POST_ORDER, COMPLIANT_LIMIT_SLIP_TIME
-
+    from crosscheck.theory import compliant_limit as asymptotics
+    from crosscheck.engines.compliant.tolerances import COMPLIANT_LIMIT_JAM_LAG_ORDER, COMPLIANT_LIMIT_POST_ORDER, COMPLIANT_LIMIT_SLIP_TIME
     P = ctx.params
     alpha, xi = P["alpha"], P["xi"]
 
@@ -81,7 +81,7 @@ def run(ctx: RunContext) -> None:
     ok_time = all(COMPLIANT_LIMIT_SLIP_TIME.ok(r["T"] - r["predicted"], r["correction"]) for d in studies for r in d["rows"])
     worst = max(float(COMPLIANT_LIMIT_SLIP_TIME.ratio(r["T"] - r["predicted"], r["correction"])) for d in studies for r in d["rows"])
     ctx.check("inconsistent starts: t_stop/eps = ln(1/eps)/lambda + C + derived corrections", ok_time, value=worst, allowance=1.0,
-              detail="ratio to the allowance; crosscheck.tolerances.COMPLIANT_LIMIT_SLIP_TIME")
+              detail="ratio to the allowance; crosscheck.engines.compliant.tolerances.COMPLIANT_LIMIT_SLIP_TIME")
     slopes = [[d["slope"], d["fast"]["coefficient"], cl.slope_bound(P["eps"], [r["correction"] for r in d["rows"]], COMPLIANT_LIMIT_SLIP_TIME)]
               for d in studies]
     ctx.check("inconsistent starts: fitted slope of t_stop/eps against ln(1/eps) = 1/lambda", all(abs(a - b) <= c for a, b, c in slopes),
@@ -90,14 +90,14 @@ def run(ctx: RunContext) -> None:
     orders = [[d["post_order"], d["t_end_order"]] for d in studies]
     ctx.check("inconsistent starts: post-event state -> limit impact at the order of the impulse's end time t_end = O(eps ln(1/eps))",
               all(COMPLIANT_LIMIT_POST_ORDER.ok(a, b) for a, b in orders), value=orders, allowance=f"+- {COMPLIANT_LIMIT_POST_ORDER.atol}",
-              detail="[post-event error order, t_end order]; crosscheck.tolerances.COMPLIANT_LIMIT_POST_ORDER")
+              detail="[post-event error order, t_end order]; crosscheck.engines.compliant.tolerances.COMPLIANT_LIMIT_POST_ORDER")
 
     # the post-event state follows the restitution of its own xi (the 3-D inconsistent start, at the smallest eps of the quick list)
     X = P["xi_post"]
     s3, mu3 = _state(X["case"][1:], X["case"][0], alpha), X["case"][0]
     xrows = []
     for x in X["xi"]:
-        f = cl.fast_limit(s3, mu3, alpha, xi=x)
+        f = asymptotics.fast_limit(s3, mu3, alpha, xi=x)
         r = cl.limit_run(s3, mu3, alpha, eps=X["eps"], xi=x, horizon=0.05)
         xrows.append({"xi": x, "restitution": f.restitution, "iwc_w": f.impact.w, "iwc_Theta": f.impact.Theta, "iwc_Psi": f.impact.Psi,
                       "w": None if r.post is None else r.post["w"], "Theta": None if r.post is None else r.post["Theta"],
@@ -113,7 +113,7 @@ def run(ctx: RunContext) -> None:
     for k, d in enumerate(studies):
         mu = d["mu"]
         s = SlipState(**d["state"])
-        rest[f"e_{k}"] = [cl.fast_limit(s, mu, alpha, xi=x).restitution for x in P["xi_grid"]]
+        rest[f"e_{k}"] = [asymptotics.fast_limit(s, mu, alpha, xi=x).restitution for x in P["xi_grid"]]
         G = delassus(s, alpha)
         S = float(G[2, 2] - G[2, :2] @ np.linalg.solve(G[:2, :2], G[:2, 2]))
         rest[f"tail_{k}"] = [1.0 / (S * x * x) if x > 0 else math.nan for x in P["xi_grid"]]
@@ -131,7 +131,7 @@ def run(ctx: RunContext) -> None:
     # the planar GB point
     g = P["gb"]
     theta0 = math.radians(g["theta0_deg"])
-    Theta0, outcome = cl.gb_reaching_rates(g["mu"], alpha, theta0, Theta_range=(g["scan"][0], g["scan"][1]), n=g["scan"][2])
+    Theta0, outcome = asymptotics.gb_reaching_rates(g["mu"], alpha, theta0, Theta_range=(g["scan"][0], g["scan"][1]), n=g["scan"][2])
     ctx.store.write_table("gb_scan", {"Theta0": Theta0, "outcome": outcome})
     gb = cl.jam_study(SlipState(theta=theta0, varphi=-math.pi / 2, Theta=g["Theta0"], Psi=0.0, eta=1.0), g["mu"], alpha, xi=xi, eps_values=g["eps"])
     ctx.store.write_json("gb", gb)
@@ -161,7 +161,7 @@ def run(ctx: RunContext) -> None:
     ctx.store.write_table("corollary", table)
     lag_orders = [d["lag_order"] for d in cor]
     ctx.check("Corollary 4.2 jams: slip-stop lag t_stop - t_jam ~ eps^(4/5)", all(COMPLIANT_LIMIT_JAM_LAG_ORDER.ok(o, 0.8) for o in lag_orders),
-              value=lag_orders, allowance=f"0.8 +- {COMPLIANT_LIMIT_JAM_LAG_ORDER.atol}", detail="crosscheck.tolerances.COMPLIANT_LIMIT_JAM_LAG_ORDER")
+              value=lag_orders, allowance=f"0.8 +- {COMPLIANT_LIMIT_JAM_LAG_ORDER.atol}", detail="crosscheck.engines.compliant.tolerances.COMPLIANT_LIMIT_JAM_LAG_ORDER")
     conv = [all(a > b for a, b in zip(e, e[1:])) for e in (_finite([r["errors"]["max"] for r in d["rows"]]) for d in cor)]
     ctx.check("Corollary 4.2 jams: post-event state -> the limit impact (the law's restitution) as eps decreases", all(conv),
               value=[d["post_order"] for d in cor], allowance="monotone decrease (orders shown are measured)")
@@ -277,7 +277,7 @@ def render(ctx: RenderContext) -> list:
         a.legend(fontsize=5)
     blocks.append(ctx.figure("jam_convergence", fig, "Slips into p = 0: the compliant rod's slip-stop lag behind the rigid jam (left) and its state at the "
                              "contact end against the limit impact (right), per state, as eps -> 0. Corollary 4.2 jams (3-D, b < 0): the limit impact "
-                             "is crosscheck.iwc with the restitution the law implies (the fast problem from its self-similar start), the lag is "
+                             "is crosscheck.theory.impact.darboux_keller with the restitution the law implies (the fast problem from its self-similar start), the lag is "
                              "derived ~ eps^(4/5). Planar GB point P+ (alpha = 3, mu = 5/3, theta0 = 31 degrees): against the plastic impact at P+; "
                              "its rates are measured, not derived.", ["gb.json", "gb_scan.csv", "corollary.json", "corollary.csv"]))
     rows = []
@@ -332,4 +332,4 @@ def finding(data: Path) -> list:
 
 SECTION = Section(slug=SLUG, title="Compliant rod: the eps -> 0 limit against the impact without collision", paper="eqs. b, p, FZ, Corollary 4.2, section 6",
                   params=params, run=run, render=render,
-                  requires=("crosscheck.engines.compliant", "crosscheck.engines.compliant.studies.limit", "crosscheck.iwc", "crosscheck.corollary"), finding=finding)
+                  requires=("crosscheck.engines.compliant", "crosscheck.engines.compliant.studies.limit", "crosscheck.theory.impact.darboux_keller", "crosscheck.theory.corollary"), finding=finding)

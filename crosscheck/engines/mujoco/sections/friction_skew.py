@@ -37,19 +37,18 @@ def run(ctx: RunContext) -> None:
     from crosscheck.state import SlipState
     from crosscheck.engines.mujoco.studies import friction_skew as fs
     from crosscheck.engines.mujoco.studies.law_check import convergence_order, efc_agreement
-    from crosscheck.tolerances import MUJOCO_LAW_FORCE, MUJOCO_LAW_ORDER, MUJOCO_LAW_SKEW
-
+    from crosscheck.engines.mujoco.tolerances import MUJOCO_LAW_FORCE, MUJOCO_LAW_ORDER, MUJOCO_LAW_SKEW
     P = ctx.params
     agree = efc_agreement(P["n_contacts"], ctx.rng)
     ctx.store.write_json("law_check", agree)
     ctx.check("MuJoCo's contact law = mj_forward's efc_force", agree["force"] <= MUJOCO_LAW_FORCE.rtol, value=agree["force"],
-              allowance=MUJOCO_LAW_FORCE.rtol, detail="crosscheck.tolerances.MUJOCO_LAW_FORCE")
+              allowance=MUJOCO_LAW_FORCE.rtol, detail="crosscheck.engines.mujoco.tolerances.MUJOCO_LAW_FORCE")
 
     O = P["order"]
     order = convergence_order(Rod.scaled(P["alpha"]), SlipState(**O["state"]), O["mu"], timesteps=O["timesteps"], horizon=O["horizon"])
     ctx.store.write_json("order", {**order, **O})
     ctx.check("MuJoCo -> continuous-time law at first order", MUJOCO_LAW_ORDER.ok(order["order"], 1.0), value=order["order"],
-              allowance=f"1 +- {MUJOCO_LAW_ORDER.atol:g}", detail="crosscheck.tolerances.MUJOCO_LAW_ORDER", guard=True)
+              allowance=f"1 +- {MUJOCO_LAW_ORDER.atol:g}", detail="crosscheck.engines.mujoco.tolerances.MUJOCO_LAW_ORDER", guard=True)
 
     variants = dict(fs.VARIANTS)
     for r in P["small_impratios"]:
@@ -64,7 +63,7 @@ def run(ctx: RunContext) -> None:
     ctx.store.write_table("states", cols)
     d = math.radians(s["max_abs_difference_deg"])
     ctx.check("predicted skew (law run) = MuJoCo's measured, per state", d <= MUJOCO_LAW_SKEW.atol, value=s["max_abs_difference_deg"],
-              allowance=math.degrees(MUJOCO_LAW_SKEW.atol), detail="degrees; crosscheck.tolerances.MUJOCO_LAW_SKEW", guard=True)
+              allowance=math.degrees(MUJOCO_LAW_SKEW.atol), detail="degrees; crosscheck.engines.mujoco.tolerances.MUJOCO_LAW_SKEW", guard=True)
 
 
 def _f(x, spec=".1f") -> str:

@@ -23,6 +23,7 @@ import math
 
 import numpy as np
 
+from crosscheck.engines.mujoco import tolerances as mujoco_tol
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table, Text
 
@@ -46,7 +47,7 @@ CAUSE_COLORS = {
 
 
 def params(quick: bool) -> dict:
-    from crosscheck.paper import FIG20_INITIAL_CONDITIONS
+    from crosscheck.theory.paper import FIG20_INITIAL_CONDITIONS
     from crosscheck import engines
     from crosscheck.report.sections import engine_maps
 
@@ -117,10 +118,10 @@ def _events(ctx: RunContext) -> tuple[dict, str]:
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck import tolerances as tol
     from crosscheck.state import SlipState
-    from crosscheck.engines.mujoco.studies.ladder import CAUSE_CODES, CAUSES, RUNGS, ladder_study, run_ladder, trajectories
-    from crosscheck.engines.mujoco.studies.ladder import disagreements as find_disagreements
+    from crosscheck.engines.mujoco.studies.ladder import CAUSE_CODES, CAUSES, RUNGS, run_ladder
+    from crosscheck.engines.mujoco.studies.ladder_study import ladder_study, trajectories
+    from crosscheck.engines.mujoco.studies.ladder_study import disagreements as find_disagreements
 
     P = ctx.params
     events, source = _events(ctx)
@@ -178,10 +179,10 @@ def run(ctx: RunContext) -> None:
                      f"{study.reference_mismatch} reruns differ, {study.rounding_decided} of them decided by the start's last bits")
     one = ld.rungs[0]
     ctx.check("IC2: rung 1 (the paper's rod) lifts off at t = 0.01654", one.outcome is not None and one.outcome.name == "LIFTOFF"
-              and tol.LADDER_QUOTED_TIME.ok(one.time, 0.01654), value=one.time, allowance=tol.LADDER_QUOTED_TIME.atol,
+              and mujoco_tol.LADDER_QUOTED_TIME.ok(one.time, 0.01654), value=one.time, allowance=mujoco_tol.LADDER_QUOTED_TIME.atol,
               detail=f"{one.outcome.name if one.outcome is not None else one.status} at p = {one.p:.4g}")
     att = study.attributed
-    goal = 1.0 - tol.LADDER_ATTRIBUTED.atol
+    goal = 1.0 - mujoco_tol.LADDER_ATTRIBUTED.atol
     ctx.check(f"at least {100 * goal:.0f}% of the disagreements attributed to a named cause", bool(math.isfinite(att) and att >= goal),
               value=att, allowance=goal, guard=True,
               detail=", ".join(f"{c} {study.counts[c]}" for c in CAUSES[:6] if study.counts[c]) + f" of {study.n_disagree}")
@@ -329,5 +330,5 @@ def finding(data: Path) -> list:
 
 SECTION = Section(slug=SLUG, title="The ladder: a named cause for each MuJoCo-theory disagreement", paper="Fig. 20 (IC2); sections 2, 4",
                   params=params, run=run, render=render,
-                  requires=("crosscheck.engines.mujoco.studies.ladder", "crosscheck.capsule", "crosscheck.engines.compliant", "crosscheck.engines.mujoco.law",
+                  requires=("crosscheck.engines.mujoco.studies.ladder", "crosscheck.theory.capsule", "crosscheck.engines.compliant", "crosscheck.engines.mujoco.law",
                             "crosscheck.engines.mujoco.engine"), finding=finding)

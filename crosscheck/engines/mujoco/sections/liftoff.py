@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck import critical
+from crosscheck.theory import critical
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 
 SLUG = "mujoco_liftoff"
@@ -37,7 +37,7 @@ def params(quick: bool) -> dict:
 
 def run(ctx: RunContext) -> None:
     from crosscheck.rod import Rod
-    from crosscheck.tolerances import MUJOCO_LIFTOFF_ONSET, MUJOCO_LIFTOFF_ONSET_COARSE
+    from crosscheck.engines.mujoco.tolerances import MUJOCO_LIFTOFF_ONSET, MUJOCO_LIFTOFF_ONSET_COARSE
     from crosscheck.studies.onset import liftoff_onset
 
     P = ctx.params

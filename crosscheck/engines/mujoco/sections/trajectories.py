@@ -1,8 +1,8 @@
 """Trajectories, analytic vs MuJoCo, through a lift-off and through a jam: theta, eta, varphi, normal force, tip height.
 
 The starts are picked, not hand-tuned: a grid of slipping candidates is run
-analytically (``crosscheck.gb.slip_until_event``), joined for the jam by
-seeded Corollary 4.2 states (``crosscheck.corollary.corollary_states``: the
+analytically (``crosscheck.theory.gb.slip_until_event``), joined for the jam by
+seeded Corollary 4.2 states (``crosscheck.theory.corollary.corollary_states``: the
 theory's jams off the planar section, where MuJoCo's own p can reach 0), and,
 for each event kind, the candidates whose analytic event time is nearest a
 target time are run in MuJoCo (``crosscheck.engines.get("mujoco").simulate``)
@@ -23,7 +23,7 @@ import itertools
 
 import numpy as np
 
-from crosscheck import analytic
+from crosscheck.theory import analytic
 from crosscheck.outcome import Outcome
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 from crosscheck.state import SlipState
@@ -52,8 +52,9 @@ def _window_mean(x: np.ndarray, w: int) -> np.ndarray:
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck import engines, gb
-    from crosscheck.corollary import corollary_states
+    from crosscheck import engines
+    from crosscheck.theory import gb
+    from crosscheck.theory.corollary import corollary_states
     from crosscheck.rod import Rod
 
     P = ctx.params
@@ -156,4 +157,4 @@ def render(ctx: RenderContext) -> list:
 
 
 SECTION = Section(slug=SLUG, title="MuJoCo vs analytic: trajectories through a lift-off and a jam", paper="eqs. polareqs_varphi, FZ, f",
-                  params=params, run=run, render=render, requires=("crosscheck.engines.mujoco.engine", "crosscheck.gb"))
+                  params=params, run=run, render=render, requires=("crosscheck.engines.mujoco.engine", "crosscheck.theory.gb"))

@@ -22,7 +22,7 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from crosscheck.analytic import tip_acceleration
+from crosscheck.theory.analytic import tip_acceleration
 from crosscheck.checks import ALPHA, MU, POSITIVE, check
 from crosscheck.engines.base import n_steps
 from crosscheck.engines.mujoco.options import Options
@@ -46,7 +46,7 @@ def capsule_tip_acceleration(rod: Rod, psi, theta, psi_dot, theta_dot, force, of
     moves A by d(A - S)/d theta = l (-sin theta sin psi, sin theta cos psi,
     -cos theta).
 
-    Args: as ``crosscheck.analytic.tip_acceleration`` (physical units, force
+    Args: as ``crosscheck.theory.analytic.tip_acceleration`` (physical units, force
       (..., 3) world frame [N]), plus offset [m], broadcasting.
 
     Returns:

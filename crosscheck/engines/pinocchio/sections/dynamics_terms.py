@@ -25,7 +25,7 @@ import json
 
 import numpy as np
 
-from crosscheck import analytic
+from crosscheck.theory import analytic
 from crosscheck.report.section import Preformatted, RenderContext, RunContext, Section, Table, Text
 from crosscheck.rod import Rod
 

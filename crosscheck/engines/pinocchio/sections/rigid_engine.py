@@ -3,13 +3,13 @@
 * Lift-off onset at theta_L, Theta = 0, varphi = -pi/2
   (``crosscheck.studies.onset``): a rigid contact decides lift-off in one
   step, so the onset should be Psi_L at every timestep.
-* Jams: Corollary 4.2 states (``crosscheck.corollary.corollary_states``)
+* Jams: Corollary 4.2 states (``crosscheck.theory.corollary.corollary_states``)
   and planar impasses (p < 0, b < 0 at t = 0) through
   ``crosscheck.engines.pinocchio.studies.rigid.jam_aftermath``: does the engine jam, when,
   with which impulse, and does its state one row after the jam tend to the
-  impact without collision (``crosscheck.iwc.impact``) as dt -> 0?
+  impact without collision (``crosscheck.theory.impact.darboux_keller.impact``) as dt -> 0?
 * A trajectory through a jam: the analytic slip (``slip_until_event``) and
-  its IWC (``crosscheck.hybrid``), the rigid engine and MuJoCo from the same
+  its IWC (``crosscheck.theory.impact.continuation``), the rigid engine and MuJoCo from the same
   Corollary 4.2 state, on one plot.
 """
 
@@ -33,9 +33,10 @@ def params(quick: bool) -> dict:
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck import engines, hybrid
-    from crosscheck.corollary import corollary_states
-    from crosscheck.critical import Psi_L
+    from crosscheck import engines
+    from crosscheck.theory.impact import continuation as hybrid
+    from crosscheck.theory.corollary import corollary_states
+    from crosscheck.theory.critical import Psi_L
     from crosscheck.rod import Rod
     from crosscheck.engines.pinocchio.studies import rigid
     from crosscheck.studies.onset import liftoff_onset
@@ -51,7 +52,7 @@ def run(ctx: RunContext) -> None:
     ctx.store.write_table("onset", rows)
     ok = all(abs(d) <= 1e-9 + r for d, r in zip(rows["onset_minus_Psi_L"], rows["resolution"]))
     ctx.check("rigid lift-off onset = Psi_L at every timestep", ok, value=max(abs(d) for d in rows["onset_minus_Psi_L"]), allowance=1e-9,
-              detail="crosscheck.tolerances.RIGID_LIFTOFF_ONSET")
+              detail="crosscheck.engines.pinocchio.tolerances.RIGID_LIFTOFF_ONSET")
 
     jams = {}
     for mu in ctx.progress(P["jam_mu"], desc="rigid jams"):
@@ -66,7 +67,7 @@ def run(ctx: RunContext) -> None:
     ctx.store.write_json("impasses", impasses)
     orders = [x["orders"][0] for x in impasses]
     ctx.check("planar impasse: post-jam rates -> IWC at first order", all(abs(o - 1.0) <= 0.05 for o in orders), value=orders, allowance="1 +- 0.05",
-              detail="crosscheck.tolerances.RIGID_IWC_ORDER")
+              detail="crosscheck.engines.pinocchio.tolerances.RIGID_IWC_ORDER")
 
     # one trajectory through a jam: the first Corollary 4.2 state at the trajectory's mu
     T = P["trajectory"]
@@ -75,7 +76,7 @@ def run(ctx: RunContext) -> None:
     h = hybrid.run(s, T["mu"], P["alpha"], horizon=horizon)
     seg = h.segments[0]
     x = seg.slip.x
-    from crosscheck.slipping import X_STATE
+    from crosscheck.theory.slipping import X_STATE
 
     col = {k: x[:, i] for i, k in enumerate(X_STATE)}
     ctx.store.write_table("trajectory_analytic", {"t": seg.slip.t, "theta": col["theta"], "eta": col["eta"], "Theta": col["Theta"], "Psi": col["Psi"],
@@ -138,7 +139,7 @@ def render(ctx: RenderContext) -> list:
     ax[0].set_ylabel("median |t_jam engine - t_jam analytic|")
     ax[1].set_ylabel("median post-jam |rates - IWC| ($\\Theta$, $\\Psi$, $\\eta$)")
     blocks.append(ctx.figure("jams", fig, "Jams of the rigid engine against the theory: jam-time error (left) and the state one row after the jam against the "
-                             "impact without collision (crosscheck.iwc) at the analytic jam (right), as the timestep shrinks. Planar impasses start in "
+                             "impact without collision (crosscheck.theory.impact.darboux_keller) at the analytic jam (right), as the timestep shrinks. Planar impasses start in "
                              "p < 0, b < 0 (the step is the impulse problem plus O(dt) terms: first order); Corollary 4.2 states meet p = 0 along "
                              "p ~ (t_jam - t)^(1/2), which a first-order step meets early by up to O(sqrt(dt)).", ["jams.json", "impasses.json"]))
     blocks.append(Table(caption="Corollary 4.2 states in the rigid engine: how many jam (the classifier's one-row impulse JAM), their jam-time errors, the "
@@ -188,4 +189,4 @@ def render(ctx: RenderContext) -> list:
 
 SECTION = Section(slug=SLUG, title="Rigid engine: lift-off onset, jams and the impact without collision", paper="eq. psil, Corollary 4.2, section 6",
                   params=params, run=run, render=render,
-                  requires=("crosscheck.engines.pinocchio.studies.rigid", "crosscheck.engines.pinocchio.stepper", "crosscheck.iwc", "crosscheck.hybrid"))
+                  requires=("crosscheck.engines.pinocchio.studies.rigid", "crosscheck.engines.pinocchio.stepper", "crosscheck.theory.impact.darboux_keller", "crosscheck.theory.impact.continuation"))

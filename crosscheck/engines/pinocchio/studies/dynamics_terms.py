@@ -29,12 +29,13 @@ import math
 
 import numpy as np
 
-from crosscheck import analytic
+from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
+from crosscheck.theory import analytic
 from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck import tolerances as tol
 from crosscheck.compare import ErrorStat, ValidationResult, error_stat
 from crosscheck.coordinates import paper_to_qv
-from crosscheck.critical import mu_P as mu_P_closed_form
+from crosscheck.theory.critical import mu_P as mu_P_closed_form
 from crosscheck.rod import Rod
 
 __all__ = ["DEFAULT_STATES", "ALPHAS_MU_P", "random_states", "reference_terms", "scaled_matrices", "validate"]
@@ -169,7 +170,7 @@ def _mu_P_stat() -> ErrorStat:
     alphas = np.array(ALPHAS_MU_P)
     got = np.array([pinrod.mu_P(a) for a in alphas])
     want = mu_P_closed_form(alphas)
-    return error_stat("mu_P from p", got, want, tol.PIN_MU_P, {"alpha": alphas})
+    return error_stat("mu_P from p", got, want, pinocchio_tol.PIN_MU_P, {"alpha": alphas})
 
 
 def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False) -> ValidationResult:
@@ -244,25 +245,25 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
     kappa = 1.0 / cos**2  # condition number of M in its natural units diag(m, m, m, I0, I0)
     where = {k: s[k] for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi", "alpha", "mu", "m", "l", "I0", "g")}
     stats = [
-        _stat("tip acc, aba", pin_acc["aba"], ref_acc, tol.PIN_TIP_ACCELERATION, where, scale=A / cos),
-        _stat("tip acc, G F + free", pin_acc["delassus"], ref_acc, tol.PIN_THROUGH_MINV, where, scale=kappa * A),
-        _stat("Delassus G", pin_G, ref_G, tol.PIN_THROUGH_MINV, where, scale=kappa * (1 + alpha)),
-        _stat("free tip acc", pin_acc["free"], ref_free, tol.PIN_THROUGH_MINV, where, scale=kappa * V),
-        _stat("M (crba)", pin_M, ref_M, tol.PIN_MATRICES, where),
-        _stat("C (Coriolis matrix)", pin_C, ref_C, tol.PIN_MATRICES, where, scale=rates),
-        _stat("g (gravity)", pin_g, ref_g, tol.PIN_MATRICES, where),
-        _stat("C v + g = nle", pin_Cv, pin_nle, tol.PIN_MATRICES, where, scale=V),
-        _stat("b", pin_b, ref_b, tol.PIN_SLIP, where, scale=V),
-        _stat("p", pin_p, ref_p, tol.PIN_SLIP, where, scale=(1 + alpha) * (1 + mu)),
+        _stat("tip acc, aba", pin_acc["aba"], ref_acc, pinocchio_tol.PIN_TIP_ACCELERATION, where, scale=A / cos),
+        _stat("tip acc, G F + free", pin_acc["delassus"], ref_acc, pinocchio_tol.PIN_THROUGH_MINV, where, scale=kappa * A),
+        _stat("Delassus G", pin_G, ref_G, pinocchio_tol.PIN_THROUGH_MINV, where, scale=kappa * (1 + alpha)),
+        _stat("free tip acc", pin_acc["free"], ref_free, pinocchio_tol.PIN_THROUGH_MINV, where, scale=kappa * V),
+        _stat("M (crba)", pin_M, ref_M, pinocchio_tol.PIN_MATRICES, where),
+        _stat("C (Coriolis matrix)", pin_C, ref_C, pinocchio_tol.PIN_MATRICES, where, scale=rates),
+        _stat("g (gravity)", pin_g, ref_g, pinocchio_tol.PIN_MATRICES, where),
+        _stat("C v + g = nle", pin_Cv, pin_nle, pinocchio_tol.PIN_MATRICES, where, scale=V),
+        _stat("b", pin_b, ref_b, pinocchio_tol.PIN_SLIP, where, scale=V),
+        _stat("p", pin_p, ref_p, pinocchio_tol.PIN_SLIP, where, scale=(1 + alpha) * (1 + mu)),
     ]
     # Modes: a state whose b or p is within its allowance of 0 is on a mode boundary, where the sign
     # is rounding; it is counted, not compared.
     pin_mode = np.asarray(pinrod.mode(pin_b, pin_p))
     ref_mode = np.asarray(analytic.mode(ref_b, ref_p))
-    near_b = np.abs(ref_b) <= tol.PIN_SLIP.atol * V
-    near_p = np.abs(ref_p) <= tol.PIN_SLIP.atol * (1 + alpha) * (1 + mu)
+    near_b = np.abs(ref_b) <= pinocchio_tol.PIN_SLIP.atol * V
+    near_p = np.abs(ref_p) <= pinocchio_tol.PIN_SLIP.atol * (1 + alpha) * (1 + mu)
     boundary = near_b | near_p
-    stats.append(error_stat("mode", np.where(boundary, ref_mode, pin_mode), ref_mode, tol.PIN_MODE, where))
+    stats.append(error_stat("mode", np.where(boundary, ref_mode, pin_mode), ref_mode, pinocchio_tol.PIN_MODE, where))
     stats.append(_mu_P_stat())
     confusion = np.zeros((4, 4), dtype=int)
     np.add.at(confusion, (ref_mode, pin_mode), 1)

@@ -11,7 +11,7 @@ so three things can be checked that a soft contact cannot give:
   at first order in dt (semi-implicit Euler);
 * ``jam_aftermath``: where the theory reaches p = 0 with b < 0 (Corollary
   4.2), or starts in the impasse p < 0, b < 0, the engine's state right
-  after its jam row converges to ``crosscheck.iwc.impact`` (the impact
+  after its jam row converges to ``crosscheck.theory.impact.darboux_keller.impact`` (the impact
   without collision) as dt -> 0, and its jam time to the analytic one.
 
 Scaled units throughout (section 2.1: m = l = g = 1, time 1/omega).
@@ -26,16 +26,16 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from crosscheck import analytic
+from crosscheck.theory import analytic
 from crosscheck.coordinates import to_generalized
-from crosscheck.corollary import corollary_states
-from crosscheck.critical import theta_12
+from crosscheck.theory.corollary import corollary_states
+from crosscheck.theory.critical import theta_12
 from crosscheck.engines import get
 from crosscheck.engines.pinocchio.stepper import Options, Stepper
-from crosscheck.iwc import delassus, impact
+from crosscheck.theory.impact.darboux_keller import delassus, impact
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.slipping import slip_until_event
+from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
 
 __all__ = ["StepCheck", "one_step", "sticking_admissible", "slipping_states", "slip_order", "planar_impasse", "Aftermath", "jam_aftermath", "corollary_aftermath", "order"]
@@ -85,7 +85,7 @@ def one_step(rod: Rod, state: SlipState, mu: float, options: Options | None = No
 
 
 def sticking_admissible(state: SlipState, mu: float, alpha: float) -> bool:
-    """Whether the sticking impulse -G^-1 (u_t, 0) of a slipping tip lies in the Coulomb cone (G: eq.-based Delassus, ``crosscheck.iwc``).
+    """Whether the sticking impulse -G^-1 (u_t, 0) of a slipping tip lies in the Coulomb cone (G: eq.-based Delassus, ``crosscheck.theory.impact.darboux_keller``).
 
     If it does, a time step's NCP has a second solution beside the slip: the
     tip stopped by one impulse (an impact without collision inside the step),
@@ -190,7 +190,7 @@ def jam_aftermath(rod: Rod, states: Sequence[SlipState], mu: float, *, timesteps
 
     Each state is run analytically to its jam (``slip_until_event``, which must
     end in JAM by ``t_max``; a state already in the impasse p < 0, b < 0 jams
-    at t = 0), the IWC computed there (``crosscheck.iwc.impact``), and the
+    at t = 0), the IWC computed there (``crosscheck.theory.impact.darboux_keller.impact``), and the
     engine run to ``after`` past the analytic jam at each timestep.
     """
     timesteps = np.asarray(timesteps, float)
@@ -220,6 +220,6 @@ def jam_aftermath(rod: Rod, states: Sequence[SlipState], mu: float, *, timesteps
 
 
 def corollary_aftermath(rod: Rod, mu: float, n: int, rng: np.random.Generator, **kw) -> Aftermath:
-    """``jam_aftermath`` of ``n`` Corollary 4.2 states at ``mu`` (``crosscheck.corollary.corollary_states``)."""
+    """``jam_aftermath`` of ``n`` Corollary 4.2 states at ``mu`` (``crosscheck.theory.corollary.corollary_states``)."""
     states, _, _ = corollary_states(mu, n, rng, alpha=rod.alpha)
     return jam_aftermath(rod, states, mu, **kw)

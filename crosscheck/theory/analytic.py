@@ -20,7 +20,7 @@ from enum import IntEnum
 import numpy as np
 
 from crosscheck.checks import ALPHA, BOUNDED, FINITE, MU, THETA, check
-from crosscheck.critical import (
+from crosscheck.theory.critical import (
     CriticalValues,
     Mechanism,
     critical_values,

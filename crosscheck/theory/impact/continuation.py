@@ -1,8 +1,8 @@
 """The hybrid rigid model: slip until the first event, through an impact without collision at a jam, and on, up to a horizon.
 
-The paper's slipping flow (``crosscheck.slipping.slip_until_event``) stops
+The paper's slipping flow (``crosscheck.theory.slipping.slip_until_event``) stops
 at its first event.  At a JAM (p reaches 0 with b < 0, Corollary 4.2) the
-rigid model continues with the impulse of ``crosscheck.iwc.impact``; the
+rigid model continues with the impulse of ``crosscheck.theory.impact.darboux_keller.impact``; the
 post-impulse state then decides what follows:
 
 * the tip leaves the plane (normal velocity w > 0, after a restitution
@@ -23,11 +23,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from crosscheck import analytic
+from crosscheck.theory import analytic
 from crosscheck.checks import ALPHA, HORIZON, MU, UNIT, check, integer
-from crosscheck.iwc import Impact, impact
+from crosscheck.theory.impact.darboux_keller import Impact, impact
 from crosscheck.outcome import Outcome
-from crosscheck.slipping import SlipResult, continue_slip
+from crosscheck.theory.slipping import SlipResult, continue_slip
 from crosscheck.state import SlipState
 
 __all__ = ["Segment", "HybridResult", "run"]

@@ -2,7 +2,7 @@
 
 Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painleve
 paradox*, section 4 (eqs. f, matA, matB, K).  Scaled units throughout;
-x = (eta, varphi, psi, Psi, theta, Theta) (eq. x, ``crosscheck.slipping.X_STATE``).
+x = (eta, varphi, psi, Psi, theta, Theta) (eq. x, ``crosscheck.theory.slipping.X_STATE``).
 
 * ``f``, ``jacobian``: the desingularised vector field of eq. f (time s with
   eta p ds = dt) and its analytic Jacobian, vectorised over (..., 6) states.
@@ -19,7 +19,7 @@ from enum import IntEnum
 import numpy as np
 
 from crosscheck.checks import ALPHA, ETA, MU, THETA, check
-from crosscheck.slipping import X_STATE
+from crosscheck.theory.slipping import X_STATE
 
 __all__ = ["f", "jacobian", "matrix_A", "matrix_B", "K", "K_from_AB", "GBType", "classify", "eigen", "linear_orbits", "Quadrant", "quadrant"]
 

@@ -159,7 +159,7 @@ def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.
 
     Raises:
       ValueError: an argument out of range, eta <= 0, or p > ``P_TOLERANCE``
-        (no impulse: the rod can slip; use ``crosscheck.slipping``).
+        (no impulse: the rod can slip; use ``crosscheck.theory.slipping``).
     """
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")

@@ -2,20 +2,20 @@
 
 One name space for the GB analysis, made of two modules:
 
-* ``crosscheck.gb.linearisation``: the desingularised vector field of eq. f
+* ``crosscheck.theory.gb.linearisation``: the desingularised vector field of eq. f
   and its Jacobian, J = A B and K = B A on the manifold (eqs. matA, matB, K),
   the type of a GB point (node / saddle / focus) and its eigenvectors in the
   (p, b) plane (Theorem 4.1).
-* ``crosscheck.gb.manifold``: the manifold at fixed Psi as closed curves, the
+* ``crosscheck.theory.gb.manifold``: the manifold at fixed Psi as closed curves, the
   zeros of det K along them and the formulas of sections 4.2-4.4 (eqs. detK,
   detK0, B, Psiquartic, Psiquarticeps, ghastly, pdotarg).
 
-``slip_until_event`` and the rest of ``crosscheck.slipping`` are re-exported
+``slip_until_event`` and the rest of ``crosscheck.theory.slipping`` are re-exported
 here, as the paper treats the slipping flow and its GB points together.
 """
 
-from crosscheck.gb.linearisation import GBType, K, K_from_AB, Quadrant, classify, eigen, f, jacobian, linear_orbits, matrix_A, matrix_B, quadrant
-from crosscheck.gb.manifold import (
+from crosscheck.theory.gb.linearisation import GBType, K, K_from_AB, Quadrant, classify, eigen, f, jacobian, linear_orbits, matrix_A, matrix_B, quadrant
+from crosscheck.theory.gb.manifold import (
     GBCurve,
     b0_coefficients,
     det_K,
@@ -31,7 +31,7 @@ from crosscheck.gb.manifold import (
     psi_quartic_eps,
     psi_quartic_roots,
 )
-from crosscheck.slipping import X_STATE, SlipResult, slip_outcomes, slip_rhs, slip_until_event
+from crosscheck.theory.slipping import X_STATE, SlipResult, slip_outcomes, slip_rhs, slip_until_event
 
 __all__ = [
     "X_STATE", "SlipResult", "slip_outcomes", "slip_rhs", "slip_until_event",

@@ -42,7 +42,7 @@ Theta' = alpha ((sin theta + r) F_j - cos theta F_z) - sin theta cos theta Psi^2
 the coefficients of Appendix A, term by term.
 
 Time.  ``slip_until_event`` integrates these equations in the desingularised
-time of eq. f, eta_C p_C ds = dt, exactly as ``crosscheck.slipping`` does at A
+time of eq. f, eta_C p_C ds = dt, exactly as ``crosscheck.theory.slipping`` does at A
 (and the same vector field at r = 0).  What it buys: near a JAM, p_C ~
 (t_jam - t)^(1/2) and F_z = -b/p_C ~ (t_jam - t)^(-1/2), so in real time the
 right-hand side is unbounded, an adaptive integrator must shrink its steps
@@ -56,7 +56,7 @@ and 1313 (rtol 1e-8) evaluations to land 1e-9 and 5e-11 short of the event,
 and at rtol 1e-10 stop with a step-size underflow before reaching it.  So the
 desingularised time is needed here, as at A.  Near eta_C = 0
 (STICK) the 1/eta_C of varphi_C' is likewise removed.  Event rules, domain
-exits and start rules are those of ``crosscheck.slipping`` (its module
+exits and start rules are those of ``crosscheck.theory.slipping`` (its module
 docstring), judged at C: LIFTOFF b = 0 with p_C > 0, JAM p_C below
 -``P_RESOLVED`` with b < 0 (reported at the last crossing of p_C = 0), GB,
 STICK when eta_C falls below ``STICK_SPEED``, SLIP at t_max or when
@@ -88,12 +88,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from crosscheck import analytic
+from crosscheck.theory import analytic
 from crosscheck.checks import ALPHA, BOUNDED, HORIZON, MU, THETA, Interval, check
 from crosscheck.coordinates import tip_velocity, to_generalized
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.slipping import SlipResult, _start_outcome, _state_from, event_table, first_event
+from crosscheck.theory.slipping import SlipResult, _start_outcome, _state_from, event_table, first_event
 from crosscheck.state import SlipState
 from crosscheck.tolerances import SLIP_INTEGRATION
 
@@ -218,7 +218,7 @@ class CapsuleSlipResult(SlipResult):
     """``SlipResult`` of a run with the contact at C.
 
     ``state`` is the state at the event with eta, varphi those of C's slip
-    (clamped to the paper's domain on a domain exit, as in ``crosscheck.slipping``);
+    (clamped to the paper's domain on a domain exit, as in ``crosscheck.theory.slipping``);
     ``p`` is p_C; the columns eta, varphi of ``x`` are eta_C, varphi_C.
     ``tip_eta``, ``tip_varphi``: the tip A's slip at the event (``tip_slip``);
     ``mu``, ``alpha``: the run's; ``normal_force``: -b / p_C along the trajectory.
@@ -239,7 +239,7 @@ class CapsuleSlipResult(SlipResult):
 
 
 def _events(mu: float, alpha: float, r: float, t_max: float):
-    """Terminal event functions g(s, y) and their (outcome, reason): ``crosscheck.slipping``'s, with b and p_C."""
+    """Terminal event functions g(s, y) and their (outcome, reason): ``crosscheck.theory.slipping``'s, with b and p_C."""
 
     def bp(y):
         bb, pp, *_ = _coefficients(y[1], y[3], y[4], y[5], mu, alpha, r)
@@ -256,14 +256,14 @@ def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0
     i.e. ``state``'s eta and varphi are the tip A's; C's slip is v_A + r Theta j.
     F_z = -b / p_C and friction opposite C's slip; integrated in s, eta_C p_C ds = dt,
     with ``solve_ivp`` (DOP853).  Events, domain exits and start rules: the module
-    docstring (those of ``crosscheck.slipping`` judged at C).
+    docstring (those of ``crosscheck.theory.slipping`` judged at C).
 
     Args:
       state: the initial ``SlipState`` (scaled; eta, varphi of the tip A).
       mu: friction coefficient, >= 0; alpha: m l^2 / I0.
       radius: capsule radius r [units of l], in [0, 0.5).
       t_max: horizon in real scaled time; s_max: horizon in s.
-      rtol, atol: integrator tolerances (default ``SLIP_INTEGRATION``, as ``crosscheck.slipping``).
+      rtol, atol: integrator tolerances (default ``SLIP_INTEGRATION``, as ``crosscheck.theory.slipping``).
 
     Returns:
       A ``CapsuleSlipResult`` (a ``SlipResult``): outcome, real time, state at C, trajectory.

@@ -28,8 +28,8 @@ from crosscheck.checks import ALPHA, ETA, MU, RATE, THETA, check, integer
 
 #: The most samples per theta interval of ``gb_manifold`` (each curve then has up to 4e5 points).
 MAX_SAMPLES = 100_000
-from crosscheck.critical import Psi_L, theta_12, varphi_pm
-from crosscheck.gb.linearisation import K, classify
+from crosscheck.theory.critical import Psi_L, theta_12, varphi_pm
+from crosscheck.theory.gb.linearisation import K, classify
 
 __all__ = ["det_K", "det_K_as_printed", "detK0_coefficients", "detK0_residual", "b0_coefficients", "psi_quartic", "psi_quartic_roots",
            "psi_quartic_eps", "ghastly", "p_dot_on_p0", "GBCurve", "gb_manifold", "gb_theta_gap", "det_K_zeros"]

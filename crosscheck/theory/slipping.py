@@ -110,7 +110,7 @@ def slip_rhs(x, mu, alpha) -> np.ndarray:
 
     Returns:
       (6,) derivative with respect to s, where eta p ds = dt.  For an array
-      version with the Jacobian see ``crosscheck.gb.f``.
+      version with the Jacobian see ``crosscheck.theory.gb.f``.
     """
     x = np.asarray(x, dtype=float)
     return np.array(_rhs7(x, float(mu), float(alpha))[:6])

@@ -14,8 +14,7 @@ import math
 from dataclasses import dataclass
 from typing import Callable
 
-from crosscheck import critical as cr
-
+from crosscheck.theory import critical as cr
 __all__ = ["PrintedValue", "PRINTED", "FIG20_INITIAL_CONDITIONS", "GB_POINTS", "PaperFigure", "FIGURES"]
 
 

@@ -1,0 +1,117 @@
+"""The theory's side of an event comparison: the analytic first event of every start, and its distance to an event boundary.
+
+``analytic_events`` runs ``crosscheck.theory.slipping.slip_until_event`` on
+every start of a grid; ``boundary_distance`` probes the analytic outcome with
+random perturbations of the start (theta, varphi, Theta, Psi, eta; scaled
+units) of growing size and returns the smallest size that changes it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from tqdm.auto import tqdm
+
+from crosscheck.checks import ALPHA, POSITIVE, check
+from crosscheck.outcome import Outcome
+from crosscheck.state import SlipState
+from crosscheck.studies.comparison import EVENTS
+from crosscheck.studies.grids import floats, initial_b_p, states_at
+from crosscheck.theory.slipping import slip_until_event
+
+__all__ = ["BOUNDARY_RADII", "AnalyticEvents", "analytic_events", "boundary_distance"]
+
+#: Perturbation sizes of ``boundary_distance`` (scaled units, Euclidean in
+#: (theta, varphi, Theta, Psi, eta)).
+BOUNDARY_RADII = (0.01, 0.03, 0.1, 0.3)
+
+
+@dataclass(frozen=True, eq=False)
+class AnalyticEvents:
+    """First events of the analytic slipping rod at N points (each field (N,)).
+
+    outcome: int8 ``Outcome``; time: event (or stop) time; reason: the rule of
+    ``slip_until_event`` that ended the run ("b=0", "p=0", "eta=0", "gb",
+    "t_max", "varphi=0", "varphi=-pi", "theta=0", "theta=pi/2", "start", ...);
+    b0, p0: eqs. b and p at the start; slipping: b0 < 0 < p0 (the studied
+    states); until: comparison time T_i (module docstring).
+    """
+
+    outcome: np.ndarray
+    time: np.ndarray
+    reason: np.ndarray
+    b0: np.ndarray
+    p0: np.ndarray
+    slipping: np.ndarray
+    until: np.ndarray
+
+
+def analytic_events(points: dict, *, alpha: float, horizon: float, progress: bool = False) -> AnalyticEvents:
+    """``slip_until_event`` (t_max = horizon) at every point of ``points`` (dict of (N,) arrays, keys ``AXES``)."""
+    alpha = float(check("alpha", alpha, ALPHA))
+    horizon = float(check("horizon", horizon, POSITIVE))
+    n = len(points["theta"])
+    b0, p0 = initial_b_p(points, alpha)
+    outcome = np.empty(n, np.int8)
+    t = np.empty(n)
+    reason = np.empty(n, dtype=object)
+    for i in tqdm(range(n), desc="analytic", unit="state", disable=not progress):
+        s = states_at(points, [i])[0]
+        r = slip_until_event(s, points["mu"][i], alpha, t_max=horizon)
+        outcome[i], t[i], reason[i] = int(r.outcome), r.time, r.reason
+    until = np.where(outcome == Outcome.SLIP, np.minimum(t, horizon), np.where(np.isin(outcome, EVENTS), t, horizon))
+    return AnalyticEvents(outcome, t, reason.astype(str), b0, p0, (b0 < 0) & (p0 > 0), until)
+
+
+def _perturbed(points: dict, i: int, delta: np.ndarray) -> SlipState:
+    """Point i moved by delta in (theta, varphi, Theta, Psi, eta), clipped into the paper's ranges."""
+    lo = 1e-3
+    return SlipState(
+        theta=float(np.clip(points["theta"][i] + delta[0], lo, math.pi / 2 - lo)),
+        varphi=float(np.clip(points["varphi"][i] + delta[1], -math.pi + lo, 0.0)),
+        Theta=points["Theta"][i] + delta[2],
+        Psi=points["Psi"][i] + delta[3],
+        eta=float(max(points["eta"][i] + delta[4], lo)),
+    )
+
+
+def boundary_distance(points: dict, outcome: np.ndarray, *, alpha: float, horizon: float, rng: np.random.Generator,
+                      radii: Sequence[float] = BOUNDARY_RADII, directions: int = 6, mask: np.ndarray | None = None,
+                      progress: bool = False) -> np.ndarray:
+    """Distance of each point to the analytic event boundary, probed by perturbation.
+
+    For r in ``radii`` (increasing), ``directions`` random unit vectors u in
+    the 5-D space (theta, varphi, Theta, Psi, eta) are drawn and the analytic
+    first event of the state moved by r u is computed (mu unchanged); the
+    distance is the first r at which some probe's outcome differs from
+    ``outcome`` (the unperturbed one), +inf if none does up to the largest r.
+    Outcomes compared are the ``Outcome`` labels (a SLIP that leaves the
+    domain equals one that reaches the horizon).
+
+    Args:
+      points: dict of (N,) arrays, keys ``AXES``.
+      outcome: (N,) analytic outcomes of the points.
+      alpha, horizon: as ``analytic_events``.
+      rng: seeded generator of the probe directions.
+      radii, directions: probe sizes and count per size.
+      mask: (N,) points to probe (others get NaN); default all.
+
+    Returns:
+      (N,) distances (scaled units): one of ``radii``, inf or NaN.
+    """
+    radii = floats("radii", radii, POSITIVE)
+    n = len(points["theta"])
+    mask = np.ones(n, bool) if mask is None else np.asarray(mask, bool)
+    out = np.full(n, np.nan)
+    for i in tqdm(np.flatnonzero(mask), desc="boundary distance", unit="state", disable=not progress):
+        out[i] = math.inf
+        for r in sorted(radii):
+            u = rng.normal(size=(directions, 5))
+            u /= np.linalg.norm(u, axis=1, keepdims=True)
+            if any(slip_until_event(_perturbed(points, i, r * d), points["mu"][i], alpha, t_max=horizon).outcome != outcome[i] for d in u):
+                out[i] = r
+                break
+    return out

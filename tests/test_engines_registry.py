@@ -18,6 +18,7 @@ import pytest
 
 from crosscheck import Outcome, Rod, SlipState, engines
 from crosscheck.engines import EngineSpec, Record, ReportPlan, Run, Thresholds, classify, n_steps, sweep_by_simulate
+from crosscheck.checks import POSITIVE, check
 from crosscheck.engines.base import options_from_kwargs
 from crosscheck.tolerances import EVENT_TOLERANCE_KEYS, Tolerance
 from crosscheck.theory.slipping import X_STATE, slip_until_event
@@ -43,6 +44,7 @@ class ToyOptions:
 def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
     """The rigid slipping rod of the paper as an engine: slip with F_z = -b/p, then what the first event says."""
     opts = options_from_kwargs(ToyOptions, options, "toy")
+    horizon = float(check("horizon", horizon, POSITIVE))
     th = thresholds or Thresholds()
     alpha = rod.alpha
     a = slip_until_event(state, mu, alpha, t_max=horizon)
@@ -156,3 +158,15 @@ def test_a_registered_engine_gets_its_own_map_section_in_a_report(toy, tmp_path)
         slowed = off[slip, stick] + off[lift, stick]
         assert off.sum() == slowed + off[jam, slip] and slowed <= 0.1 * conf.sum(), (labels, conf)
     assert "analytic flow (toy) vs analytic" in (tmp_path / "r" / "report.md").read_text()
+
+
+@pytest.mark.parametrize("promise", ["test_record_has_the_promised_shapes_units_and_finite_values",
+                                     "test_simulate_equals_the_matching_row_of_sweep_and_repeats_exactly",
+                                     "test_a_bad_option_gets_one_line_naming_it",
+                                     "test_declaration_is_complete_and_its_libraries_are_in_provenance"])
+def test_the_toy_engine_keeps_the_engine_contract(toy, rod, promise):
+    """The contract every built-in engine keeps (tests/test_engine_contract.py), kept by the toy from its record alone."""
+    import test_engine_contract as contract
+
+    fn = getattr(contract, promise)
+    fn("toy", rod) if "rod" in fn.__code__.co_varnames[:fn.__code__.co_argcount] else fn("toy")

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from crosscheck import report
+from crosscheck import engines, report
 from crosscheck.cli import main
 from crosscheck.theory.paper import PRINTED
 from crosscheck.report.section import Figure, Section, Table
@@ -40,17 +40,24 @@ EXPECTED_FIGURES = {
     "gb_separatrix": ["fig20_separatrix"],
     "pinocchio": ["error_vs_theta"],
     "mujoco_liftoff": ["liftoff_onset"],
-    "mujoco_maps": ["map_Psi_mu", "map_theta_Theta_0", "map_theta_Theta_1", "confusion", "event_time_errors"],
-    "mujoco_convergence": ["convergence"],
     "mujoco_trajectories": ["trajectories"],
     "mujoco_validate": [],
-    "rigid_maps": ["map_Psi_mu", "map_theta_Theta_0", "map_theta_Theta_1", "confusion", "event_time_errors"],
-    "rigid_convergence": ["convergence"],
     "rigid_engine": ["jams", "trajectory_jam"],
     "friction_skew": ["skew"],
     "compliant_limit": ["slip_stop_time", "restitution", "jam_convergence"],
     "ladder": ["causes_Psi_mu", "causes_theta_Theta_0", "causes_theta_Theta_1", "ic2_rungs"],
 }
+# the sections generated for every registered engine from its report plan, with the figures each draws
+for _spec in engines.specs():
+    _plan = _spec.report
+    if _plan is not None and _plan.maps is not None:
+        EXPECTED_FIGURES[f"{_spec.slug}_maps"] = ["map_Psi_mu", "map_theta_Theta_0", "map_theta_Theta_1", "confusion", "event_time_errors"]
+        EXPECTED_FIGURES[f"{_spec.slug}_contact"] = ["contact_quality"]
+        EXPECTED_FIGURES[f"{_spec.slug}_ic"] = ["ic"]
+        if _plan.onset:
+            EXPECTED_FIGURES[f"{_spec.slug}_liftoff"] = []
+    if _plan is not None and _plan.convergence is not None:
+        EXPECTED_FIGURES[f"{_spec.slug}_convergence"] = ["convergence"]
 
 #: Sections the quick report skips (shown as skipped, with the reason): full report only.
 FULL_ONLY = {"mujoco_validate"}
@@ -264,9 +271,12 @@ def test_unknown_section_is_a_one_line_error(tmp_path, capsys):
 def test_sweep_heavy_sections_keep_their_engine_runs_in_finished_stores(quick):
     """The agreement maps and convergence tables ran their engines through crosscheck.sweeps: complete stores, one per setting."""
     out, _ = quick
-    for slug, n_settings in (("mujoco_maps", 3), ("mujoco_convergence", 4), ("rigid_maps", 3), ("rigid_convergence", 3)):
-        from crosscheck.sweeps import Store
+    from crosscheck.sweeps import Store
 
+    heavy = [(f"{e.slug}_maps", 3) for e in engines.specs() if e.report and e.report.maps]
+    heavy += [(f"{e.slug}_convergence", len(e.report.convergence["quick"])) for e in engines.specs() if e.report and e.report.convergence]
+    assert ("mujoco_convergence", 4) in heavy and ("rigid_convergence", 3) in heavy
+    for slug, n_settings in heavy:
         manifests = sorted((out / "sweeps" / slug).rglob("manifest.json"))
         assert len(manifests) == n_settings, slug
         for m in (Store(p.parent).read_manifest() for p in manifests):
@@ -304,13 +314,37 @@ def test_findings_come_first_with_a_line_per_engine(quick):
     out, _ = quick
     found = findings(out / "data")
     first = {f.slug: f for f in found if f.leg.endswith("first event")}
-    assert set(first) == {"mujoco_maps", "rigid_maps"} and first["rigid_maps"].leg.startswith("Pinocchio (rigid engine)")
+    assert set(first) == {f"{e.slug}_maps" for e in engines.specs() if e.report and e.report.maps}
+    assert first["rigid_maps"].leg.startswith("Pinocchio (rigid engine)")
     for slug, f in first.items():
         conf = sum(np.asarray(mp["runs"][0]["confusion"]) for mp in json.loads((out / "data" / slug / "maps.json").read_text()))
         k, n = int(np.trace(conf[:4, :4])), int(conf[:4].sum())
         assert f"{k} of {n} rated" in f.text and f.verdict in ("agrees", "disagrees", "inconclusive")
     md = (out / "report.md").read_text()
     assert md.index("## Findings") < md.index("## Summary") and all(f.text in md for f in found)
+
+
+def test_the_engine_table_heads_the_findings_with_a_row_per_engine_and_setting(quick):
+    """The engine table: first under Findings, a maps row and one row per convergence setting for every engine with maps, its
+    agreement the findings line's k of n, its LAUNCH share the LAUNCH column of the saved confusion matrices."""
+    from crosscheck.report.engine_table import HEADER
+    from crosscheck.report.findings import findings
+
+    out, _ = quick
+    records = json.loads((out / "data" / "engine_table.json").read_text())
+    plans = [e for e in engines.specs() if e.report and e.report.maps]
+    assert len(records) == sum(1 + len(e.report.convergence["quick"] if e.report.convergence else []) for e in plans)
+    first = {f.slug: f for f in findings(out / "data") if f.leg.endswith("first event")}
+    for e in plans:
+        row = next(r for r in records if r["setting"].endswith("(maps)") and r["engine"].startswith(e.label))
+        k, n = (int(x) for x in re.search(r"in (\d+) of (\d+) rated", first[f"{e.slug}_maps"].text).groups())
+        assert row["agreement (95 % CI)"].startswith(f"{100 * k / n:.0f} %")
+        conf = sum(np.asarray(mp["runs"][0]["confusion"]) for mp in json.loads((out / "data" / f"{e.slug}_maps" / "maps.json").read_text()))
+        launch = int(conf[:4, 6].sum())
+        assert row["LAUNCH"] == (f"{100 * launch / n:.0f} % ({launch}/{n})" if n else "-")
+    md = (out / "report.md").read_text()
+    findings_at = md.index("## Findings")
+    assert findings_at < md.index("| " + " | ".join(HEADER[:3])) < md.index("- **", findings_at)
 
 
 def test_the_committed_quick_report_is_current(quick):

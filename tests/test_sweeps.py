@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from crosscheck import sweeps
+from crosscheck import engines, sweeps
 from crosscheck.cli import main
 from crosscheck.sweeps.compare import compare_frames, wilson_interval
 from crosscheck.sweeps.spec import SpecError, parse_spec
@@ -210,7 +210,8 @@ BAD = {
     "unknown key": ("[sweep]\nengine = 'mujoco'\nhorizon = 1\nspeed = 2\n[states]\n", r"unknown key 'speed' in \[sweep\]; keys are chunk, engine, horizon, seed"),
     "horizon type": ("[sweep]\nengine = 'mujoco'\nhorizon = 'long'\n[states]\ntheta=1\n[parameters]\nmu=1\n", "sweep.horizon must be a number; got 'long'"),
     "horizon nan": ("[sweep]\nengine = 'mujoco'\nhorizon = nan\n[states]\ntheta=1\n[parameters]\nmu=1\n", r"sweep.horizon must be in \(0, 10000\]; got nan"),
-    "engine": ("[sweep]\nengine = 'bullet'\nhorizon = 1\n[states]\ntheta=1\n[parameters]\nmu=1\n", "sweep.engine must be one of analytic, compliant, mujoco, mujoco_law, pinocchio; got 'bullet'"),
+    "engine": ("[sweep]\nengine = 'no_such_engine'\nhorizon = 1\n[states]\ntheta=1\n[parameters]\nmu=1\n",
+               f"sweep.engine must be one of {', '.join(sorted(['analytic', *engines.names()]))}; got 'no_such_engine'"),
 }
 
 

@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from crosscheck import Rod
+from crosscheck import Outcome, Rod
 
 from crosscheck.theory import analytic
 from crosscheck.cli import main
@@ -34,7 +34,7 @@ def test_cli_passes_and_writes_standard_json(capsys):
     runs = out["extra"]["event_agreement"]["runs"]
     assert [r["engine"] for r in runs] == ["mujoco"]
     conf = np.array(runs[0]["confusion"])
-    assert conf.shape == (6, 6) and conf.sum() == 30 and runs[0]["labels"][3] == "JAM"
+    assert conf.shape == (len(Outcome), len(Outcome)) and conf.sum() == 30 and runs[0]["labels"][3] == "JAM"
     assert {row["mu"] for row in out["extra"]["jams"]["below"]} == {0.5, 1.0, 1.15, 1.3}
     # only mu whose smallest p exceeds the JAM rule's p_eff bound are asserted
     assert out["extra"]["jams"]["asserted_below"] == [0.5, 1.0, 1.15]

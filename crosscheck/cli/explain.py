@@ -14,8 +14,18 @@ def _fmt_time(t: float) -> str:
     return "" if not math.isfinite(t) else f" at t = {t:.6g}"
 
 
+def _laddered() -> list[str]:
+    """The engines that declare a ladder (the models between them and the theory)."""
+    from crosscheck import engines
+
+    return [s.name for s in engines.specs() if s.ladder is not None]
+
+
 def _explain(args) -> int:
     import warnings
+
+    if args.engine not in _laddered():
+        raise ValueError(f"engine must be one of {', '.join(_laddered())} (engines that declare a ladder); got {args.engine!r}")
 
     from crosscheck.state import SlipState
     from crosscheck.engines.mujoco.studies.ladder import RUNG_TITLES, run_ladder
@@ -69,6 +79,7 @@ def register(sub) -> None:
                                        "cause of a MuJoCo-theory disagreement")
     add_state(s)
     add_alpha(s)
+    s.add_argument("--engine", default="mujoco", help="the engine whose ladder to climb (engines that declare one; default mujoco)")
     s.add_argument("--timestep", type=str, default=None, metavar="DT", help="MuJoCo's scaled timestep, in (0, 0.03] (at most half its time constant 0.06; default 3e-4)")
     s.add_argument("--radius", type=str, default=None, metavar="R", help="capsule radius r / l, in (0, 0.5) (default 0.01)")
     s.add_argument("--horizon", type=str, default="2", help="scaled comparison horizon, in (0, 10000] (default 2, the agreement study's)")

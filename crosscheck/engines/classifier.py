@@ -113,10 +113,10 @@ class Thresholds:
       launch_ratio: LAUNCH when a row with a contact force and b < 0 (the
         theory's free acceleration pulls the tip down: a rigid contact keeps
         it on the plane) is followed by an upward normal speed of the contact
-        point of at least launch_ratio times the row's slip speed eta, and at
-        least |b| W / 2 (so that a ballistic flight under b outlasts the
-        window), then by a whole window with no contact force while b stays
-        negative.  The scale is the slip speed because a convex relaxation of
+        point of at least launch_ratio times the row's slip speed eta, at
+        least launch_speed, and at least |b| W / 2 (so that a ballistic flight
+        under b outlasts the window), then by a whole window with no contact
+        force while b stays negative.  The scale is the slip speed because a convex relaxation of
         Coulomb's law separates a sliding contact at v_n = mu |v_t|
         (Anitescu's relaxation; Drake's SAP "gliding", Castro et al. 2023):
         0.45 l omega at eta = 1, mu = 1.4 in a probe of SAP at Psi just below
@@ -127,6 +127,13 @@ class Thresholds:
         (3e-4, 0.02) and (1e-4, 0.006), with speeds 0.01-0.26 l omega; with
         launch_ratio 0.2, 3, 1, 0, 4, 7.  A regression-guard choice from
         these measurements, not a derived bound.
+      launch_speed: the floor of a LAUNCH's upward speed [l omega].  As a
+        slip slows to a stop, eta -> 0 and a soft contact's last hop passes
+        launch_ratio eta at speeds of 0.01 l omega (MuJoCo and its law in
+        continuous time, rising 2e-4 l, at the ladder test's STICKS start);
+        MuJoCo's hops at its default (timestep 3e-4, timeconst 0.06) were at
+        most 0.045 on the 40 starts above.  0.05 lies just above them and
+        well below the 0.45 of SAP's gliding: a regression-guard choice.
       diverged_speed: DIVERGED when the scaled tip speed exceeds this (energy
         is bounded: a slipping rod of the paper's ranges never exceeds O(10)),
         when any value is not finite, or when the engine's clock stops
@@ -147,12 +154,13 @@ class Thresholds:
     stick_creep: float = 1.0
     rigid_stick_steps: float = 10.0
     launch_ratio: float = 0.1
+    launch_speed: float = 0.05
     diverged_speed: float = 1e3
 
     def __post_init__(self) -> None:
         for name in ("window", "jam_ratio", "diverged_speed"):
             object.__setattr__(self, name, float(check(name, getattr(self, name), POSITIVE)))
-        for name in ("jam_force", "jam_slip_loss", "jam_p_eff", "stick_speed", "stick_creep", "rigid_stick_steps", "launch_ratio"):
+        for name in ("jam_force", "jam_slip_loss", "jam_p_eff", "stick_speed", "stick_creep", "rigid_stick_steps", "launch_ratio", "launch_speed"):
             object.__setattr__(self, name, float(check(name, getattr(self, name), NONNEGATIVE)))
         for name in ("window_steps", "lift_steps"):
             v = getattr(self, name)
@@ -324,7 +332,7 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
         rising = np.full(vz.shape, -np.inf)
         rising[..., :-1] = vz[..., 1:]
         pushed = (Fn > 0.0) & (b < 0.0)
-        fast = (rising >= th.launch_ratio * eta) & (rising >= 0.5 * np.abs(b) * w * timestep) & (rising > 0.0)
+        fast = (rising >= th.launch_ratio * eta) & (rising >= th.launch_speed) & (rising >= 0.5 * np.abs(b) * w * timestep)
         ahead_free = np.full(Fn.shape, False)
         ahead_down = np.full(Fn.shape, False)
         if w + 1 <= n:

@@ -46,18 +46,24 @@ class ReportPlan:
       maps: {"quick": options, "full": options} of its outcome-map section (None: no map section).
       convergence: {"quick": [options, ...], "full": [...]} of its convergence section (None: none).
       convergence_n: {"quick": n, "full": n}, the (theta, Theta) grid size of that section (None: the section's default).
+      maps_n: {"quick": n, "full": n}, the size of each n x n outcome map (None: the section's default, 10 and 32);
+        smaller for an engine whose runs cost more (the report says so in the section's parameters).
       beside: slug of another map section drawn beside this engine's (None: drawn alone).
       sections: a callable returning the engine's own sections (``crosscheck.report.section.Section``),
         placed after its generic ones; called when the report is built, so the engine's report code is
         imported only then.
+      onset: whether the generic lift-off onset section (``<slug>_liftoff``) is generated (False for an engine
+        that declares its own, as MuJoCo's over its timestep).
       order: where the engine's sections stand among the engines' (lower first).
     """
 
     maps: Mapping[str, Mapping] | None = None
     convergence: Mapping[str, Any] | None = None
     convergence_n: Mapping[str, int] | None = None
+    maps_n: Mapping[str, int] | None = None
     beside: str | None = None
     sections: Callable[[], tuple] | None = None
+    onset: bool = True
     order: int = 100
 
 

@@ -27,7 +27,7 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["Finding", "findings", "read_json", "CONVERGED", "NOT_CONVERGED"]
+__all__ = ["Finding", "findings", "convergence_verdict", "read_json", "CONVERGED", "NOT_CONVERGED"]
 
 #: Agreement at the finest timestep above which (and not below the coarsest) a convergence table "converges".
 CONVERGED = 0.95
@@ -65,6 +65,15 @@ def _engine_name(status: dict | None) -> str:
     return f"{engine_label(name)} (rigid engine)" if rigid else engine_label(name)
 
 
+def convergence_verdict(rows: list[dict]) -> tuple[str, str]:
+    """(verdict, trend) of a convergence table's rows (coarsest setting first): *converges* when the finest agrees on
+    >= ``CONVERGED`` and at least as much as the coarsest, *does not converge* when it is below ``NOT_CONVERGED`` or below
+    the coarsest, *inconclusive* otherwise."""
+    first, last = float(rows[0]["agreement"]), float(rows[-1]["agreement"])
+    verdict = "converges" if last >= CONVERGED and last >= first else "does not converge" if last < NOT_CONVERGED or last < first else "inconclusive"
+    return verdict, " -> ".join(f"{100 * float(r['agreement']):.0f} %" for r in rows)
+
+
 def findings(data: Path) -> list[Finding]:
     """The findings of the report whose saved results are in ``data`` (``<out>/data``)."""
     from crosscheck.sweeps.compare import wilson_interval
@@ -96,9 +105,7 @@ def findings(data: Path) -> list[Finding]:
             continue
         name = _engine_name(read_json(conv.parent / "status.json"))
         rows.sort(key=lambda r: -float(r["timestep"]))
-        first, last = float(rows[0]["agreement"]), float(rows[-1]["agreement"])
-        verdict = "converges" if last >= CONVERGED and last >= first else "does not converge" if last < NOT_CONVERGED or last < first else "inconclusive"
-        trend = " -> ".join(f"{100 * float(r['agreement']):.0f} %" for r in rows)
+        verdict, trend = convergence_verdict(rows)
         pl = rows[-1].get("agreement_planar") or "nan"
         off = rows[-1].get("agreement_off_plane") or "nan"
         out.append(Finding(f"{name}: convergence in timestep", f"agreement {trend} as the timestep goes {float(rows[0]['timestep']):g} -> "

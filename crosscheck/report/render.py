@@ -279,6 +279,32 @@ def _provenance_rows(prov: dict) -> list[list[str]]:
     return rows
 
 
+#: What the engine table measures and the rules behind its cells (shown as its caption).
+ENGINE_TABLE_CAPTION = (
+    "Every engine at every setting the report ran, against the rigid theory (``crosscheck.report.engine_table``). "
+    "Agreement: the share of rated slipping starts whose first event is the theory's, compared up to the theory's comparison time "
+    "(Wilson 95 % interval), first on the engine's outcome maps, then on its convergence grid per setting; "
+    "theory slips / lifts off / jams: the same share among the starts with that analytic event; "
+    "LAUNCH: the share the engine throws off the plane while b < 0; onset: the worst lift-off onset error against Psi_L; "
+    "convergence: converges when the finest setting agrees on >= 95 % and not less than the coarsest, does not converge below 90 % "
+    "or below the coarsest, inconclusive otherwise; friction: median angle between the friction force and -slip, and the worst "
+    "cone violation max(0, |F_t| - mu F_n) / (m g), while slipping; causes: the ladder's split of the disagreements; "
+    "cost: engine microseconds per step (per record row for a continuous engine) and runs per second on this machine (one core). "
+    "Grids were chosen by each engine's cost; '-' where a section did not run."
+)
+
+
+def _engine_table(out: Path) -> Table | None:
+    """The engine table from the saved results, with its JSON written beside the report's data (derived, not computed)."""
+    from crosscheck.report.engine_table import engine_table
+
+    header, rows, records = engine_table(out / "data")
+    if not rows:
+        return None
+    (out / "data" / "engine_table.json").write_text(json.dumps(records, indent=1) + "\n")
+    return Table(caption=ENGINE_TABLE_CAPTION, header=header, rows=rows, data=["data/engine_table.json"])
+
+
 def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list) -> Path:
     h = ['<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crosscheck report</title>',
          f"<style>{_CSS}</style></head><body>",
@@ -289,6 +315,7 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
          'Markdown twin: <a href="report.md">report.md</a>.</p>',
          _toc(views),
          _h2("findings", "Findings"),
+         *([_html_block(t)] if (t := _engine_table(out)) is not None else []),
          "<ul>" + "".join(f'<li><b>{html.escape(f.leg)}</b>: {html.escape(f.text)}. <span class="v-{f.verdict.replace(" ", "")}">{html.escape(f.verdict)}</span> '
                           f'(<a href="#{f.slug}">{html.escape(f.slug)}</a>)</li>' for f in found) + "</ul>",
          _h2("summary", "Summary")]
@@ -357,7 +384,8 @@ def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, fai
     m = ["# crosscheck report: the 3D Painlevé rod, analytic theory vs Pinocchio vs MuJoCo", "",
          "Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painlevé paradox*. Every figure is recomputed "
          f"from the project's model; beside each figure and table is the data behind it. {_NUMBERING} HTML version: [index.html](index.html).", "",
-         "## Findings", "", *(f"- **{f.leg}**: {f.text}. *{f.verdict}* ({f.slug})" for f in found), "",
+         "## Findings", "", *([_md_block(t)] if (t := _engine_table(out)) is not None else []),
+         *(f"- **{f.leg}**: {f.text}. *{f.verdict}* ({f.slug})" for f in found), "",
          "## Summary", ""]
     m.append(_md_block(Table(caption="Sections, in report order.", header=["section", "paper", "status", "run time", "checks"], rows=[r[0] for r in summary_rows], data=[])))
     m.append("**Failures** (the command exits non-zero):\n\n" + "\n".join(f"- {f}" for f in failures) + "\n" if failures else "No failures.\n")

@@ -212,13 +212,19 @@ class AgreementRun:
         }
 
 
-def solver_health(solver: dict | None) -> dict | None:
-    """Totals of a sweep's per-state solver statistics (``SweepResult.solver``); None for an engine without a solver."""
-    if solver is None:
+def solver_health(solver: dict | None, columns: Sequence[str]) -> dict | None:
+    """Totals of a sweep's per-state solver statistics (``SweepResult.solver``) over the engine's declared ``columns``: the
+    number of states, each column's sum (its maximum for a ``max_`` column) and, for ``unconverged_steps``, the states with
+    any; None for an engine without solver statistics."""
+    if solver is None or not columns:
         return None
-    un = np.asarray(solver["unconverged_steps"])
-    return {"states": int(un.size), "contact_steps": int(np.sum(solver["contact_steps"])), "unconverged_steps": int(un.sum()),
-            "unconverged_states": int((un > 0).sum()), "max_iterations": int(np.max(solver["max_iterations"]))}
+    out = {"states": int(np.asarray(solver[columns[0]]).size)}
+    for c in columns:
+        x = np.asarray(solver[c])
+        out[c] = int(np.max(x)) if c.startswith("max_") else int(np.sum(x))
+        if c == "unconverged_steps":
+            out["unconverged_states"] = int((x > 0).sum())
+    return out
 
 
 def quantiles(x: np.ndarray) -> dict:
@@ -318,7 +324,7 @@ def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a:
         thresholds={**th.as_dict(), "stick_threshold": th.stick_threshold(opts.friction_time)},
         wall_time=wall_time,
         steps_per_second=steps_per_second,
-        solver_health=solver_health(solver),
+        solver_health=solver_health(solver, engines.get(engine).solver_columns),
         engine_warnings=dict(warnings or {}),
     )
 
@@ -473,7 +479,7 @@ def convergence_table(result: AgreementResult) -> list[dict]:
             s = rated & sel
             row[f"n_{name}"] = int(s.sum())
             row[f"agreement_{name}"] = float(agree[s].mean()) if s.any() else math.nan
-        if r.solver_health is not None:
+        if r.solver_health is not None and "unconverged_steps" in r.solver_health:  # an iterative solver's health
             row["unconverged_steps"] = r.solver_health["unconverged_steps"]
             row["unconverged_states"] = r.solver_health["unconverged_states"]
         rows.append(row)

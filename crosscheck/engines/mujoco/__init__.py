@@ -52,7 +52,7 @@ ENGINES = (
                           convergence={"quick": [{"timestep": dt, "timeconst": tc} for dt, tc in ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02))],
                                        "full": [{"timestep": dt, "timeconst": tc} for dt, tc in
                                                 ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02), (1e-4, 0.02), (1e-4, 0.006))]},
-                          sections=_sections, order=10),
+                          sections=_sections, onset=False, order=10),
     ),
     EngineSpec(name="mujoco_law", module="crosscheck.engines.mujoco.ode", label="MuJoCo's law in continuous time", libraries=("mujoco",),
                tags={"compliant", "relaxed", "continuous"}),

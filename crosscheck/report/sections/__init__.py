@@ -1,8 +1,8 @@
 """The report's sections, in report order: the analytic figures of the paper, the printed numbers and the GB
 manifold (sections 3.5 to 5), then every registered engine's sections, generated from its ``EngineSpec``.
 
-An engine's sections are its outcome maps (``engine_maps``) and its convergence (``engine_convergence``) where
-its ``ReportPlan`` gives their settings, then the sections it declares as its own (MuJoCo's friction skew,
+An engine's sections are its outcome maps (``engine_maps``), at the maps' options its contact-force quality
+(``engine_contact``), lift-off onset (``engine_onset``) and the paper's IC1 and IC2 (``engine_ic``), and its convergence (``engine_convergence``) where its ``ReportPlan`` gives their settings, then the sections it declares as its own (MuJoCo's friction skew,
 the compliant limit, ...).  ``all_sections()`` reads the registry when called, so an engine registered at run
 time (``crosscheck.engines.register``) has its sections in the next report; ``SECTIONS`` is ``all_sections()``
 read at attribute access.
@@ -11,7 +11,7 @@ read at attribute access.
 from __future__ import annotations
 
 from crosscheck.report.section import Section
-from crosscheck.report.sections import (bifurcations, critical_angles, engine_convergence, engine_maps, gb_det_zeros, gb_eigenvectors, gb_local,
+from crosscheck.report.sections import (bifurcations, critical_angles, engine_contact, engine_convergence, engine_ic, engine_maps, engine_onset, gb_det_zeros, gb_eigenvectors, gb_local,
                                         gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, kinematic_surfaces, mechanisms, mode_maps,
                                         p_region, printed_numbers)
 
@@ -43,7 +43,11 @@ def engine_sections(spec) -> tuple[Section, ...]:
         return ()
     out = []
     if plan.maps is not None:
-        out.append(engine_maps.section(spec, plan.maps, beside=plan.beside))
+        out.append(engine_maps.section(spec, plan.maps, beside=plan.beside, n=plan.maps_n))
+        out.append(engine_contact.section(spec, plan.maps))
+        if plan.onset:
+            out.append(engine_onset.section(spec, plan.maps))
+        out.append(engine_ic.section(spec, plan.maps))
     if plan.convergence is not None:
         out.append(engine_convergence.section(spec, plan.convergence, plan.convergence_n))
     if plan.sections is not None:

@@ -31,9 +31,9 @@ from crosscheck.report.section import RenderContext, RunContext, Section, Table,
 NOT_SLIPPING = -2
 
 
-def params(quick: bool, engine: str, options: dict, beside: str | None = None) -> dict:
-    """The section's parameters: ``engine`` with ``options`` on three maps of n x n starts (10 quick, 32 full)."""
-    n = 10 if quick else 32
+def params(quick: bool, engine: str, options: dict, beside: str | None = None, n: int | None = None) -> dict:
+    """The section's parameters: ``engine`` with ``options`` on three maps of n x n starts (10 quick, 32 full by default)."""
+    n = n or (10 if quick else 32)
     return {
         "engine": engine, "alpha": 3.0, "horizon": 2.0, "options": dict(options), "beside": beside,
         "boundary_directions": 0 if quick else 3,
@@ -278,10 +278,10 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
-def section(spec, options: dict, beside: str | None = None) -> Section:
+def section(spec, options: dict, beside: str | None = None, n: dict | None = None) -> Section:
     """The maps of the engine ``spec`` (an ``EngineSpec``) as the section ``<slug>_maps``, drawn beside the maps of the
     section ``beside`` if given.  ``options``: {"quick": {...}, "full": {...}}, the engine's options in each report."""
     title = f"{spec.label} vs analytic: outcome maps, confusion matrices, event times" + (f" (beside {beside})" if beside else "")
     return Section(slug=f"{spec.slug}_maps", title=title, paper="sections 3.1, 4 (Corollary 4.2)",
-                   params=lambda quick: params(quick, spec.name, options["quick" if quick else "full"], beside),
+                   params=lambda quick: params(quick, spec.name, options["quick" if quick else "full"], beside, None if n is None else n["quick" if quick else "full"]),
                    run=run, render=render, requires=("crosscheck.studies.agreement", spec.module or "crosscheck.engines", "crosscheck.theory.gb"))

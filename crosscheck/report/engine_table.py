@@ -1,0 +1,156 @@
+"""The engine table that heads the findings: every registered engine at every setting the report ran, against the theory.
+
+One row per engine and setting, read from the saved results of the engine's
+generated sections alone (``<slug>_maps``, ``<slug>_convergence``,
+``<slug>_liftoff``, ``<slug>_contact`` and a ladder whose parameters name the
+engine), so ``--from-results`` rebuilds it:
+
+* agreement: the share of rated slipping starts whose first event is the
+  theory's (``crosscheck.studies.comparison``), with its Wilson 95 % interval;
+  then the same share among the starts where the theory slips, lifts off and
+  jams (the rows of the confusion matrix);
+* LAUNCH: the share of rated starts the engine throws off the plane while
+  the theory's b < 0 (``crosscheck.outcome.Outcome.LAUNCH``);
+* onset: the worst |onset - Psi_L| of its lift-off onset section;
+* convergence: the verdict of its convergence section (``findings.convergence_verdict``);
+* friction: the median angle between its friction force and -slip, and the
+  worst cone violation, from its contact-quality section;
+* causes: the split of its disagreements by the ladder;
+* cost: microseconds per engine step (or per record row of a continuous
+  engine) and runs per second on this machine, from the maps' wall time.
+
+A cell whose section did not run reads "-".
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+__all__ = ["engine_table", "HEADER"]
+
+HEADER = ["engine", "setting", "agreement (95 % CI)", "theory slips", "theory lifts off", "theory jams", "LAUNCH", "onset |Psi - Psi_L|",
+          "convergence", "friction skew, cone violation", "causes (ladder)", "us/step", "runs/s"]
+
+_NONE = "-"
+
+
+def _read(path: Path):
+    return json.loads(path.read_text()) if path.is_file() else None
+
+
+def _share(k: int, n: int) -> str:
+    return f"{100 * k / n:.0f} % ({k}/{n})" if n else _NONE
+
+
+def _setting(options: dict, defaults: dict) -> str:
+    """The timestep and the options that differ from the engine's defaults, compactly (lists and tuples compare equal)."""
+    def same(a, b):
+        return list(a) == list(b) if isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)) else a == b
+
+    shown = {k: v for k, v in options.items() if k == "timestep" or (k != "approximation" and not same(defaults.get(k), v))}
+    return ", ".join(f"{k} {v:g}" if isinstance(v, float) else f"{k} {v}" for k, v in sorted(shown.items()))
+
+
+def _confusion_cells(runs: list[dict]) -> list[str]:
+    """Agreement with CI, per theory row, LAUNCH share, from the summed confusion of ``runs`` (one map each)."""
+    from crosscheck.outcome import Outcome
+    from crosscheck.sweeps.compare import wilson_interval
+
+    conf, labels = None, runs[0]["labels"]
+    for r in runs:
+        c = r["confusion"]
+        conf = c if conf is None else [[a + b for a, b in zip(r1, r2)] for r1, r2 in zip(conf, c)]
+    rated = [labels.index(o.name) for o in (Outcome.SLIP, Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM)]
+    n = sum(conf[i][j] for i in rated for j in range(len(labels)))
+    k = sum(conf[i][i] for i in rated)
+    lo, hi = wilson_interval(k, n)
+    cells = [f"{100 * k / n:.0f} % [{100 * lo:.0f}-{100 * hi:.0f}]" if n else _NONE]
+    for o in (Outcome.SLIP, Outcome.LIFTOFF, Outcome.JAM):
+        i = labels.index(o.name)
+        cells.append(_share(conf[i][i], sum(conf[i])))
+    launch = sum(conf[i][labels.index("LAUNCH")] for i in rated) if "LAUNCH" in labels else 0
+    cells.append(_share(launch, n))
+    return cells
+
+
+def _cost(runs: list[dict]) -> tuple[str, str]:
+    wall = sum(r.get("wall_time") or 0.0 for r in runs)
+    steps = sum((r.get("steps_per_second") or 0.0) * (r.get("wall_time") or 0.0) for r in runs)
+    n = sum(sum(map(sum, r["confusion"])) for r in runs)
+    if not wall or not steps:
+        return _NONE, _NONE
+    return f"{1e6 * wall / steps:.3g}", f"{n / wall:.3g}"
+
+
+def _onset(data: Path, slug: str) -> str:
+    path = data / f"{slug}_liftoff" / "onset.csv"
+    if not path.is_file():
+        return _NONE
+    rows = list(csv.DictReader(path.open()))
+    errs = [abs(float(r["onset_minus_Psi_L"])) for r in rows if r.get("onset_minus_Psi_L") not in (None, "", "nan")]
+    return f"{max(errs):.2g}" if errs else _NONE
+
+
+def _convergence(data: Path, slug: str) -> str:
+    from crosscheck.report.findings import convergence_verdict
+
+    path = data / f"{slug}_convergence" / "convergence.csv"
+    if not path.is_file():
+        return _NONE
+    rows = list(csv.DictReader(path.open()))
+    rows.sort(key=lambda r: -float(r["timestep"]))  # coarsest first, as the findings read it
+    return convergence_verdict(rows)[0] if rows else _NONE
+
+
+def _friction(data: Path, slug: str) -> str:
+    q = _read(data / f"{slug}_contact" / "quality.json")
+    if not q:
+        return _NONE
+    skew, cone = q.get("median_skew_deg"), q.get("max_cone_violation")
+    if skew is None or cone is None or (isinstance(skew, float) and math.isnan(skew)):  # no sliding contact row (JSON null)
+        return _NONE
+    return f"{skew:.2g} deg, {cone:.2g}"
+
+
+def _causes(data: Path, name: str) -> str:
+    for status_path in sorted(data.glob("*/status.json")):
+        status = _read(status_path) or {}
+        if status.get("params", {}).get("ladder_engine") != name:
+            continue
+        summary = _read(status_path.parent / "summary.json")
+        if summary and summary.get("n_disagree"):
+            counts = summary["counts"]
+            return ", ".join(f"{k} {counts[k]}" for k in ("geometry", "compliance", "friction law", "discretisation", "unexplained", "undetermined")
+                             if counts.get(k))
+    return _NONE
+
+
+def engine_table(data: Path) -> tuple[list[str], list[list[str]], list[dict]]:
+    """(header, rows, records) of the engine table from the saved results in ``data`` (``<out>/data``).
+
+    ``records`` are the rows as dicts keyed by ``HEADER`` (for the table's JSON file).  Engines whose map section
+    has not run are left out.
+    """
+    from crosscheck import engines
+
+    data = Path(data)
+    rows = []
+    for spec in engines.specs():
+        maps = _read(data / f"{spec.slug}_maps" / "maps.json")
+        if not maps:
+            continue
+        try:
+            defaults = {k: getattr(spec.options(), k) for k in spec.Options.__dataclass_fields__}
+        except ValueError:
+            defaults = {}
+        runs = [mp["runs"][0] for mp in maps]
+        label = f"{spec.label} (rigid)" if "rigid" in spec.tags else spec.label
+        onset, conv, friction, causes = _onset(data, spec.slug), _convergence(data, spec.slug), _friction(data, spec.slug), _causes(data, spec.name)
+        rows.append([label, _setting(runs[0]["options"], defaults) + " (maps)", *_confusion_cells(runs), onset, conv, friction, causes, *_cost(runs)])
+        study = _read(data / f"{spec.slug}_convergence" / "study.json")
+        for r in (study or {}).get("runs", []):
+            rows.append([label, _setting(r["options"], defaults), *_confusion_cells([r]), "", "", "", "", *_cost([r])])
+    return HEADER, rows, [dict(zip(HEADER, r)) for r in rows]

@@ -30,7 +30,7 @@ from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["Engine", "Run", "SweepResult", "SERIES", "SUMMARY", "STATE_KEYS", "MAX_RECORD_BYTES", "n_steps", "n_steps_within_memory", "options_from_kwargs", "check_states",
+__all__ = ["Engine", "Run", "SweepResult", "SERIES", "SUMMARY", "STATE_KEYS", "MAX_RECORD_BYTES", "n_steps", "n_steps_within_memory", "options_from_kwargs", "run_inputs", "check_states",
            "summaries", "sweep_by_simulate"]
 
 #: Decimated time series kept per state by ``sweep`` (each (B, n_series)), scaled units:
@@ -117,6 +117,20 @@ def n_steps_within_memory(horizon: float, timestep: float, row_bytes: int, *, co
         raise ValueError(f"horizon / timestep must be at most {MAX_RECORD_BYTES // (copies * row_bytes)} steps{context} "
                          f"({what} of {MAX_RECORD_BYTES / 2**30:g} GiB); got {horizon:g} / {timestep:g} = {n} steps ({need / 2**30:.3g} GiB)")
     return n
+
+
+def run_inputs(state, mu, horizon, options: dict, Options: type) -> tuple[float, float, Any]:
+    """(mu, horizon, opts) of one run, checked as every time-stepping engine's ``simulate`` checks them: a ``SlipState``
+    start, horizon > 0, ``Options.from_kwargs(options)`` (unknown or bad option -> ValueError naming it), a timestep not
+    above the horizon, and mu in the friction range; one ValueError line naming the first that is not."""
+    if not isinstance(state, SlipState):
+        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    state.check_start()
+    horizon = float(check("horizon", horizon, POSITIVE))
+    opts = Options.from_kwargs(options)
+    if opts.timestep > horizon:
+        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
+    return float(check("mu", mu, MU)), horizon, opts
 
 
 def check_states(states: Sequence[SlipState]) -> list[SlipState]:

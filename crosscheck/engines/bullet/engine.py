@@ -73,10 +73,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from crosscheck.checks import MU, POSITIVE, Interval, check
+from crosscheck.checks import Interval
 from crosscheck.coordinates import tip_position, tip_velocity, to_generalized
 from crosscheck.engines import get
-from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
+from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, run_inputs, sweep_by_simulate
 from crosscheck.engines.bullet.model import Raw, world
 from crosscheck.engines.bullet.options import MU_MAX, Options
 from crosscheck.engines.classifier import Thresholds, classify
@@ -160,14 +160,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
       thresholds: outcome criteria (``Thresholds()`` by default).
       **options: the fields of ``Options`` (unknown -> ValueError naming it).
     """
-    if not isinstance(state, SlipState):
-        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
-    state.check_start()
-    horizon = float(check("horizon", horizon, POSITIVE))
-    opts = Options.from_kwargs(options)
-    if opts.timestep > horizon:
-        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
-    mu = float(check("mu", mu, MU))
+    mu, horizon, opts = run_inputs(state, mu, horizon, options, Options)
     if mu > MU_MAX:
         raise ValueError(f"mu must be in {BULLET_MU} for Bullet (it clamps the combined friction to {MU_MAX:g}); got {mu!r}")
     th = thresholds or Thresholds()

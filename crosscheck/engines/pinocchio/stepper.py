@@ -77,10 +77,9 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from crosscheck.checks import MU, POSITIVE, check
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get
-from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
+from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, run_inputs, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.pinocchio.model import TIP_FRAME, build_model
 from crosscheck.engines.pinocchio.options import SOLVERS, Options
@@ -215,14 +214,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     step that starts there (force = impulse / dt).  ``Run.solver`` holds the
     solver health (``SolverHealth``).
     """
-    if not isinstance(state, SlipState):
-        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
-    state.check_start()
-    horizon = float(check("horizon", horizon, POSITIVE))
-    opts = Options.from_kwargs(options)
-    if opts.timestep > horizon:
-        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
-    mu = float(check("mu", mu, MU))
+    mu, horizon, opts = run_inputs(state, mu, horizon, options, Options)
     th = thresholds or Thresholds()
     n = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES)  # the record holds every row: refuse before allocating
     stepper = Stepper(rod, mu, opts)

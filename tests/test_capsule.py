@@ -13,7 +13,7 @@ from crosscheck.theory import analytic
 
 from crosscheck.theory import capsule
 
-from crosscheck.theory import slipping
+from crosscheck.theory import gb, slipping
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck.outcome import Outcome
@@ -73,7 +73,8 @@ def test_p_reduces_to_eq_p_at_r_zero():
     mu, alpha = rng.uniform(0, 5, 500), rng.uniform(0.5, 20, 500)
     assert CLOSED_FORM.ok(capsule.p(theta, varphi, mu, alpha, 0.0), analytic.p(theta, varphi, mu, alpha))
     x = np.array([1.3, -1.1, 0.4, 0.7, 0.8, -0.6])
-    assert CLOSED_FORM.ok(capsule.slip_rhs(x, 1.5, 3.0, radius=0.0), slipping.slip_rhs(x, 1.5, 3.0))
+    # the one slipping field at r = 0 is eq. f with the Appendix A coefficients (crosscheck.theory.gb.f, written independently)
+    assert CLOSED_FORM.ok(slipping.slip_rhs(x, 1.5, 3.0, radius=0.0), gb.f(x, 1.5, 3.0))
 
 
 @pytest.mark.parametrize("r", RADII, ids=lambda r: f"r={r}")
@@ -96,7 +97,7 @@ def test_closed_forms_against_pinocchio_at_C(r):
         assert CAPSULE_PIN_SLIP.ok(capsule.b(state.Psi, state.Theta, state.theta) / pin_C["v1"] ** 2, pin_C["b"] / pin_C["v1"] ** 2)
         # the slipping field at C in real time: f / (eta_C p_C)
         x = [eta_C, varphi_C, state.psi, state.Psi, state.theta, state.Theta]
-        f = capsule.slip_rhs(x, mu, alpha, radius=r)
+        f = slipping.slip_rhs(x, mu, alpha, radius=r)
         p_C = capsule.p(state.theta, varphi_C, mu, alpha, r)
         got = np.array([f[0], f[1], f[3], f[5]]) / (eta_C * p_C)
         # F_z = -b/p_C carries p_C's rounding ~ eps (1 + alpha)(1 + mu) relative to |p_C|: its term scale grows as 1/|p_C|
@@ -215,7 +216,7 @@ def test_normal_force_along_a_run_is_eq_FZ_at_C():
     # F_z ~ (t_jam - t)^(-1/2): p_C dp_C/dt = (dp_C/ds) / eta_C = -k at the jam, so F_z sqrt(t_jam - t) -> -b / sqrt(2 k)
     eta_C, varphi_C, theta = got.state.eta, got.state.varphi, got.state.theta
     dp_dvarphi = 3.0 * 1.6 * math.cos(theta) * (math.sin(theta) + 0.01) * math.cos(varphi_C)  # d p_C / d varphi_C
-    k = -dp_dvarphi * capsule.slip_rhs(x[-1], 1.6, 3.0, radius=0.01)[1] / eta_C  # d theta/ds = eta_C p_C Theta = 0 there
+    k = -dp_dvarphi * slipping.slip_rhs(x[-1], 1.6, 3.0, radius=0.01)[1] / eta_C  # d theta/ds = eta_C p_C Theta = 0 there
     limit = -got.b / math.sqrt(2 * k)
     lag = got.time - got.t[:-1]
     near = lag < 5e-3

@@ -41,6 +41,11 @@ Theta' = alpha ((sin theta + r) F_j - cos theta F_z) - sin theta cos theta Psi^2
 (eq. rotode with the force at C).  At r = 0 these are eq. polareqs_varphi with
 the coefficients of Appendix A, term by term.
 
+One flow.  These equations are ``crosscheck.theory.slipping``'s with the
+radius as a parameter (``slipping.slip_rhs(x, mu, alpha, radius=r)``; r = 0
+is the paper's rod): this module adds the capsule's start (C's slip from the
+tip's state), its domain rule and its result.
+
 Time.  ``slip_until_event`` integrates these equations in the desingularised
 time of eq. f, eta_C p_C ds = dt, exactly as ``crosscheck.theory.slipping`` does at A
 (and the same vector field at r = 0).  What it buys: near a JAM, p_C ~
@@ -86,21 +91,19 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from crosscheck.theory import analytic
 from crosscheck.checks import ALPHA, BOUNDED, HORIZON, MU, THETA, Interval, check
 from crosscheck.coordinates import tip_velocity, to_generalized
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.theory.slipping import SlipResult, _start_outcome, _state_from, event_table, first_event
+from crosscheck.theory import slipping
+from crosscheck.theory.slipping import RADIUS, SlipResult, _start_outcome, _state_from
 from crosscheck.state import SlipState
 from crosscheck.tolerances import SLIP_INTEGRATION
 
-__all__ = ["RADIUS", "CapsuleSlipResult", "b", "p", "contact_slip", "tip_slip", "slip_rhs", "slip_until_event"]
+__all__ = ["RADIUS", "CapsuleSlipResult", "b", "p", "contact_slip", "tip_slip", "slip_until_event"]
 
-#: Capsule radius r in units of l (the tip-to-centre distance): a thicker capsule is no longer the paper's slender rod.
-RADIUS = Interval(0.0, 0.5, lo_open=False, hi_open=True)
 
 _HALF_PI = 0.5 * math.pi
 
@@ -165,54 +168,6 @@ def tip_slip(eta_C, varphi_C, Theta, *, radius) -> tuple[np.ndarray, np.ndarray]
     return np.hypot(ui, uj), np.arctan2(uj, ui)
 
 
-def _coefficients(varphi, Psi, theta, Theta, mu, alpha, r):
-    """b, p_C and the per-unit-F_z (…1) and force-free (…0) parts of a_i, a_j, Psi', Theta' (scalars: hot loop)."""
-    st, ct = math.sin(theta), math.cos(theta)
-    sp, cp = math.sin(varphi), math.cos(varphi)
-    sr = st + r
-    W = Psi * Psi * ct * ct + Theta * Theta
-    bb = W * st - 1.0
-    pp = 1.0 + alpha * ct * ct + alpha * mu * ct * sr * sp
-    ai1 = -(1.0 + alpha) * mu * cp
-    ai0 = -r * Theta * Psi
-    aj1 = -mu * sp * (1.0 + alpha * sr * sr) - alpha * ct * sr
-    aj0 = ct * W - r * st * ct * Psi * Psi
-    Psi1 = -alpha * mu * cp / ct
-    Psi0 = 2.0 * Psi * Theta * st / ct
-    Theta1 = -alpha * mu * sr * sp - alpha * ct
-    Theta0 = -st * ct * Psi * Psi
-    return bb, pp, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0
-
-
-def _rhs7(y, mu, alpha, r):
-    """The slipping field at C in s (eta_C p_C ds = dt), plus dt/ds, for y = (eta_C, varphi_C, psi, Psi, theta, Theta, t)."""
-    eta, varphi, Psi, theta, Theta = y[0], y[1], y[3], y[4], y[5]
-    bb, pp, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0 = _coefficients(varphi, Psi, theta, Theta, mu, alpha, r)
-    # p_C times each acceleration: F_z p_C = -b removes the 1/p_C of eq. FZ
-    Ai = -bb * ai1 + pp * ai0
-    Aj = -bb * aj1 + pp * aj0
-    sp, cp = math.sin(varphi), math.cos(varphi)
-    ep = eta * pp
-    return [
-        eta * (cp * Ai + sp * Aj),
-        (cp * Aj - sp * Ai) - eta * Psi * pp,
-        ep * Psi,
-        eta * (-bb * Psi1 + pp * Psi0),
-        ep * Theta,
-        eta * (-bb * Theta1 + pp * Theta0),
-        ep,
-    ]
-
-
-def slip_rhs(x, mu, alpha, *, radius) -> np.ndarray:
-    """The desingularised slipping field at C (eq. f at r = 0) for x = (eta_C, varphi_C, psi, Psi, theta, Theta).
-
-    Returns the (6,) derivative with respect to s, eta_C p_C ds = dt.
-    """
-    x = np.asarray(x, dtype=float)
-    return np.array(_rhs7(x, float(mu), float(alpha), float(check("radius", radius, RADIUS)))[:6])
-
-
 @dataclass(frozen=True, eq=False)
 class CapsuleSlipResult(SlipResult):
     """``SlipResult`` of a run with the contact at C.
@@ -236,16 +191,6 @@ class CapsuleSlipResult(SlipResult):
         x = self.x
         with np.errstate(divide="ignore", invalid="ignore"):
             return -b(x[:, 3], x[:, 5], x[:, 4]) / p(x[:, 4], x[:, 1], self.mu, self.alpha, self.radius)
-
-
-def _events(mu: float, alpha: float, r: float, t_max: float):
-    """Terminal event functions g(s, y) and their (outcome, reason): ``crosscheck.theory.slipping``'s, with b and p_C."""
-
-    def bp(y):
-        bb, pp, *_ = _coefficients(y[1], y[3], y[4], y[5], mu, alpha, r)
-        return bb, pp
-
-    return event_table(bp, t_max)
 
 
 def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0, s_max: float = 1e4,
@@ -283,12 +228,12 @@ def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0
     y0 = np.array([eta_C, varphi_C, state.psi, state.Psi, state.theta, state.Theta, 0.0])
 
     def result(outcome, t, y, reason, s_arr, Y, *, eta_out=None):
-        bb, pp, *_ = _coefficients(y[1], y[3], y[4], y[5], mu, alpha, r)
+        bb, pp, *_ = slipping._coefficients(y[1], y[3], y[4], y[5], mu, alpha, r)
         eta_A, varphi_A = tip_slip(y[0] if eta_out is None else eta_out, y[1], y[5], radius=r)
         return CapsuleSlipResult(outcome, t, _state_from(y, eta=eta_out), reason, bb, pp, s_arr, Y[:, 6].copy(), Y[:, :6].copy(),
                                  radius=r, tip_eta=float(eta_A), tip_varphi=float(varphi_A), mu=mu, alpha=alpha)
 
-    b0, p0, *_ = _coefficients(varphi_C, state.Psi, state.theta, state.Theta, mu, alpha, r)
+    b0, p0, *_ = slipping._coefficients(varphi_C, state.Psi, state.theta, state.Theta, mu, alpha, r)
     early = _start_outcome(eta_C, b0, p0)
     if early is None and not -math.pi < varphi_C <= 0.0:
         # C slips across the rod's vertical plane: outside the paper's domain, where a run would stop
@@ -298,25 +243,5 @@ def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0
     if early is not None:
         return result(early, 0.0, y0, reason, np.zeros(1), y0[None, :].copy())
 
-    events, meaning = _events(mu, alpha, r, t_max)
-    sol = solve_ivp(lambda s, y: _rhs7(y, mu, alpha, r), (0.0, s_max), y0, method="DOP853", rtol=rtol, atol=atol, events=events)
-    s_arr, Y = sol.t, sol.y.T
-    if sol.status == -1 or not np.all(np.isfinite(Y)):
-        good = np.all(np.isfinite(Y), axis=1)
-        Y, s_arr = Y[good], s_arr[good]
-        return result(Outcome.DIVERGED, float(Y[-1, 6]), Y[-1], "solver", s_arr, Y)
-
-    outcome, reason, s_arr, Y = first_event(sol, meaning, y0)  # a JAM at the last crossing of p_C = 0
-    y = Y[-1].copy()
-    t_end = max(float(y[6]), 0.0)  # dt/ds = eta_C p_C < 0 only within P_RESOLVED of p_C = 0: rounding
-    eta_out = None
-    if outcome is Outcome.STICK:
-        # eta_C = 0 is reached as s -> inf at a finite real time: add eta_C / |d eta_C/dt|
-        f7 = _rhs7(y, mu, alpha, r)
-        deta_dt = f7[0] / f7[6]
-        if deta_dt < 0:
-            t_end += -y[0] / deta_dt
-        eta_out = 0.0
-    if outcome is Outcome.SLIP and reason == "t_max":
-        t_end = t_max
+    outcome, t_end, y, reason, s_arr, Y, eta_out = slipping.integrate(y0, mu, alpha, r, t_max=t_max, s_max=s_max, rtol=rtol, atol=atol)
     return result(outcome, t_end, y, reason, s_arr, Y, eta_out=eta_out)

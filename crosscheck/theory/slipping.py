@@ -57,7 +57,10 @@ from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
 from crosscheck.tolerances import GB_REACHED, P_RESOLVED, SLIP_INTEGRATION, STICK_SPEED, THETA_MARGIN
 
-__all__ = ["X_STATE", "SlipResult", "slip_rhs", "slip_until_event", "slip_outcomes"]
+__all__ = ["X_STATE", "RADIUS", "SlipResult", "slip_rhs", "slip_until_event", "slip_outcomes", "integrate"]
+
+#: The contact point's distance r below the tip A, in units of l: a thicker capsule is no longer the paper's slender rod.
+RADIUS = Interval(0.0, 0.5, lo_open=False, hi_open=True)
 
 #: Order of the desingularised state, eq. x.
 X_STATE = ("eta", "varphi", "psi", "Psi", "theta", "Theta")
@@ -66,54 +69,65 @@ _HALF_PI = 0.5 * math.pi
 _VARPHI_LOW = math.nextafter(-math.pi, 0.0)  # the closest float to -pi inside (-pi, 0]
 
 
-def _coefficients(eta, varphi, Psi, theta, Theta, mu, alpha):
-    """b, p and the Appendix A coefficients at one state (scalars, math module: hot loop)."""
+def _coefficients(varphi, Psi, theta, Theta, mu, alpha, r):
+    """b, p and the per-unit-F_z (...1) and force-free (...0) parts of the contact point's horizontal acceleration
+    (a_i, a_j in the rod's (i, j) frame) and of Psi', Theta', with the contact at C = A - r K (scalars: hot loop).
+
+    At r = 0 these are the paper's (C = A): p is eq. p, and a_i, a_j, Psi', Theta' give eq. polareqs_varphi with
+    the coefficients of Appendix A (``crosscheck.theory.capsule`` derives the r terms).
+    """
     st, ct = math.sin(theta), math.cos(theta)
     sp, cp = math.sin(varphi), math.cos(varphi)
+    sr = st + r
     W = Psi * Psi * ct * ct + Theta * Theta
     b = W * st - 1.0
-    g = mu * ct * sp - st
-    p = 1.0 + alpha + alpha * st * g
-    Q1 = alpha * ct * sp * g - (1.0 + alpha) * mu
-    Q2 = alpha * ct * cp * g
-    A1 = W * ct * sp
-    A2 = W * ct * cp
-    d1 = -alpha * mu * cp / ct
-    d2 = -alpha * mu * st * sp - alpha * ct
-    c1 = 2.0 * Psi * Theta * st / ct
-    c2 = -Psi * Psi * st * ct
-    return b, p, Q1, Q2, A1, A2, d1, d2, c1, c2
+    p = 1.0 + alpha * ct * ct + alpha * mu * ct * sr * sp
+    ai1 = -(1.0 + alpha) * mu * cp
+    ai0 = -r * Theta * Psi
+    aj1 = -mu * sp * (1.0 + alpha * sr * sr) - alpha * ct * sr
+    aj0 = ct * W - r * st * ct * Psi * Psi
+    Psi1 = -alpha * mu * cp / ct
+    Psi0 = 2.0 * Psi * Theta * st / ct
+    Theta1 = -alpha * mu * sr * sp - alpha * ct
+    Theta0 = -st * ct * Psi * Psi
+    return b, p, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0
 
 
-def _rhs7(y, mu, alpha):
-    """f(x) of eq. f plus dt/ds = eta p, for y = (eta, varphi, psi, Psi, theta, Theta, t)."""
-    eta, varphi, _, Psi, theta, Theta = y[0], y[1], y[2], y[3], y[4], y[5]
-    b, p, Q1, Q2, A1, A2, d1, d2, c1, c2 = _coefficients(eta, varphi, Psi, theta, Theta, mu, alpha)
+def _rhs7(y, mu, alpha, r):
+    """f(x) of eq. f at the contact point C plus dt/ds = eta p, for y = (eta, varphi, psi, Psi, theta, Theta, t)."""
+    eta, varphi, Psi, theta, Theta = y[0], y[1], y[3], y[4], y[5]
+    b, p, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0 = _coefficients(varphi, Psi, theta, Theta, mu, alpha, r)
+    # p times each acceleration: F_z p = -b removes the 1/p of eq. FZ
+    Ai = -b * ai1 + p * ai0
+    Aj = -b * aj1 + p * aj0
+    sp, cp = math.sin(varphi), math.cos(varphi)
     ep = eta * p
     return [
-        eta * (-Q1 * b + A1 * p),
-        -Q2 * b + (A2 - eta * Psi) * p,
+        eta * (cp * Ai + sp * Aj),
+        (cp * Aj - sp * Ai) - eta * Psi * p,
         ep * Psi,
-        eta * (-d1 * b + c1 * p),
+        eta * (-b * Psi1 + p * Psi0),
         ep * Theta,
-        eta * (-d2 * b + c2 * p),
+        eta * (-b * Theta1 + p * Theta0),
         ep,
     ]
 
 
-def slip_rhs(x, mu, alpha) -> np.ndarray:
-    """The desingularised slipping vector field f(x), eq. f (scalar state).
+def slip_rhs(x, mu, alpha, *, radius: float = 0.0) -> np.ndarray:
+    """The desingularised slipping vector field f(x), eq. f (scalar state), with the contact at C = A - r K.
 
     Args:
-      x: (6,) state ordered as ``X_STATE`` = (eta, varphi, psi, Psi, theta, Theta), scaled units.
+      x: (6,) state ordered as ``X_STATE`` = (eta, varphi, psi, Psi, theta, Theta), scaled units; eta and varphi
+        are the contact point's slip (the tip's at r = 0).
       mu, alpha: friction coefficient and m l^2 / I0.
+      radius: r, the contact point's distance below the tip A [l] (0: the paper's rod; a capsule's radius).
 
     Returns:
       (6,) derivative with respect to s, where eta p ds = dt.  For an array
-      version with the Jacobian see ``crosscheck.theory.gb.f``.
+      version with the Jacobian at r = 0 see ``crosscheck.theory.gb.f``.
     """
     x = np.asarray(x, dtype=float)
-    return np.array(_rhs7(x, float(mu), float(alpha))[:6])
+    return np.array(_rhs7(x, float(mu), float(alpha), float(check("radius", radius, RADIUS)))[:6])
 
 
 @dataclass(frozen=True, eq=False)
@@ -169,11 +183,11 @@ def _start_outcome(eta: float, b: float, p: float) -> Outcome | None:
     return None
 
 
-def _events(mu: float, alpha: float, t_max: float):
+def _events(mu: float, alpha: float, r: float, t_max: float):
     """Terminal event functions g(s, y) of the run and the (outcome, reason) each one means."""
 
     def bp(y):
-        b, p, *_ = _coefficients(y[0], y[1], y[3], y[4], y[5], mu, alpha)
+        b, p, *_ = _coefficients(y[1], y[3], y[4], y[5], mu, alpha, r)
         return b, p
 
     return event_table(bp, t_max)
@@ -270,23 +284,33 @@ def continue_slip(state: SlipState, mu, alpha, *, t_max: float = 10.0, s_max: fl
     alpha = float(check("alpha", alpha, ALPHA))
     t_max = float(check("t_max", t_max, HORIZON))
     s_max = float(check("s_max", s_max, Interval(0.0, 1e8, lo_open=True, hi_open=False)))
-
     y0 = np.array([state.eta, state.varphi, state.psi, state.Psi, state.theta, state.Theta, 0.0])
-    b0, p0, *_ = _coefficients(state.eta, state.varphi, state.Psi, state.theta, state.Theta, mu, alpha)
+    b0, p0, *_ = _coefficients(state.varphi, state.Psi, state.theta, state.Theta, mu, alpha, 0.0)
     early = _start_outcome(state.eta, b0, p0)
     if early is not None:
         return SlipResult(early, 0.0, state, "start", b0, p0, np.zeros(1), np.zeros(1), y0[None, :6].copy())
+    outcome, t_end, y, reason, s_arr, Y, eta_out = integrate(y0, mu, alpha, 0.0, t_max=t_max, s_max=s_max)
+    b, p, *_ = _coefficients(y[1], y[3], y[4], y[5], mu, alpha, 0.0)
+    return SlipResult(outcome, t_end, _state_from(y, eta=eta_out), reason, b, p, s_arr, Y[:, 6].copy(), Y[:, :6].copy())
 
-    events, meaning = _events(mu, alpha, t_max)
-    sol = solve_ivp(lambda s, y: _rhs7(y, mu, alpha), (0.0, s_max), y0, method="DOP853",
-                    rtol=SLIP_INTEGRATION.rtol, atol=SLIP_INTEGRATION.atol, events=events)
+
+def integrate(y0: np.ndarray, mu: float, alpha: float, r: float, *, t_max: float, s_max: float, rtol: float | None = None,
+              atol: float | None = None) -> tuple:
+    """The slipping flow with its contact at C = A - r K from the slipping start ``y0`` = (eta, varphi, psi, Psi, theta,
+    Theta, 0) to its first event (checked arguments; the start rules are the caller's).
+
+    Returns (outcome, t_end, y, reason, s, Y, eta_out): the event, its real time, the 7-state there, which rule fired,
+    the trajectory cut at the event (s and the (n, 7) states), and 0 for a STICK's returned slip speed (None otherwise).
+    """
+    rtol = SLIP_INTEGRATION.rtol if rtol is None else rtol
+    atol = SLIP_INTEGRATION.atol if atol is None else atol
+    events, meaning = _events(mu, alpha, r, t_max)
+    sol = solve_ivp(lambda s, y: _rhs7(y, mu, alpha, r), (0.0, s_max), y0, method="DOP853", rtol=rtol, atol=atol, events=events)
     s_arr, Y = sol.t, sol.y.T
     if sol.status == -1 or not np.all(np.isfinite(Y)):
         good = np.all(np.isfinite(Y), axis=1)
         Y, s_arr = Y[good], s_arr[good]
-        y = Y[-1]
-        b, p, *_ = _coefficients(y[0], y[1], y[3], y[4], y[5], mu, alpha)
-        return SlipResult(Outcome.DIVERGED, float(y[6]), _state_from(y), "solver", b, p, s_arr, Y[:, 6].copy(), Y[:, :6].copy())
+        return Outcome.DIVERGED, float(Y[-1, 6]), Y[-1], "solver", s_arr, Y, None
 
     outcome, reason, s_arr, Y = first_event(sol, meaning, y0)
     y = Y[-1].copy()
@@ -295,15 +319,14 @@ def continue_slip(state: SlipState, mu, alpha, *, t_max: float = 10.0, s_max: fl
     if outcome is Outcome.STICK:
         # eta = 0 is reached as s -> inf but at finite real time: add the time
         # still needed at the current real-time deceleration d eta/dt = f_eta / (eta p).
-        f7 = _rhs7(y, mu, alpha)
+        f7 = _rhs7(y, mu, alpha, r)
         deta_dt = f7[0] / f7[6]
         if deta_dt < 0:
             t_end += -y[0] / deta_dt
         eta_out = 0.0
     if outcome is Outcome.SLIP and reason == "t_max":
         t_end = t_max
-    b, p, *_ = _coefficients(y[0], y[1], y[3], y[4], y[5], mu, alpha)
-    return SlipResult(outcome, t_end, _state_from(y, eta=eta_out), reason, b, p, s_arr, Y[:, 6].copy(), Y[:, :6].copy())
+    return outcome, t_end, y, reason, s_arr, Y, eta_out
 
 
 def slip_outcomes(states, mu, alpha, *, t_max: float = 10.0) -> tuple[np.ndarray, np.ndarray]:

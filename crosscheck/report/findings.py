@@ -108,9 +108,12 @@ def findings(data: Path) -> list[Finding]:
         verdict, trend = convergence_verdict(rows)
         pl = rows[-1].get("agreement_planar") or "nan"
         off = rows[-1].get("agreement_off_plane") or "nan"
-        out.append(Finding(f"{name}: convergence in timestep", f"agreement {trend} as the timestep goes {float(rows[0]['timestep']):g} -> "
-                           f"{float(rows[-1]['timestep']):g}; at the finest {100 * float(pl):.0f} % on the planar section, {100 * float(off):.0f} % off it",
-                           verdict, slug))
+        # name what the settings vary: the timestep, the contact's time constant (its stiffness), or both
+        varied = [k for k, word in (("timestep", "timestep"), ("timeconst", "contact time constant")) if len({r.get(k) for r in rows}) > 1]
+        words = " and ".join({"timestep": "timestep", "timeconst": "contact time constant"}[k] for k in varied) or "setting"
+        seq = " -> ".join(", ".join(f"{k} {float(r[k]):g}" for k in varied) for r in rows) if varied else f"timestep {float(rows[0]['timestep']):g}"
+        out.append(Finding(f"{name}: convergence in {words}", f"agreement {trend} over the settings {seq}; at the last "
+                           f"{100 * float(pl):.0f} % on the planar section, {100 * float(off):.0f} % off it", verdict, slug))
     onset = [(p.parent.name, c) for p in sorted(data.glob("*/checks.json")) for c in json.loads(p.read_text()) if "onset" in c["name"]]
     for slug in sorted({s for s, _ in onset}):
         cs = [c for s, c in onset if s == slug]

@@ -281,7 +281,7 @@ def _provenance_rows(prov: dict) -> list[list[str]]:
 
 #: What the engine table measures and the rules behind its cells (shown as its caption).
 ENGINE_TABLE_CAPTION = (
-    "Every engine at every setting the report ran, against the rigid theory (``crosscheck.report.engine_table``). "
+    "Every engine at every setting the report ran, against the rigid theory (`crosscheck.report.engine_table`). "
     "Agreement: the share of rated slipping starts whose first event is the theory's, compared up to the theory's comparison time "
     "(Wilson 95 % interval), first on the engine's outcome maps, then on its convergence grid per setting; "
     "theory slips / lifts off / jams: the same share among the starts with that analytic event; "
@@ -308,7 +308,7 @@ def _engine_table(out: Path) -> Table | None:
 def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list) -> Path:
     h = ['<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crosscheck report</title>',
          f"<style>{_CSS}</style></head><body>",
-         "<h1>crosscheck report: the 3D Painlevé rod, analytic theory vs Pinocchio vs MuJoCo</h1>",
+         "<h1>crosscheck report: contact engines against the rigid theory of the 3D Painlevé rod</h1>",
          "<p>Reference: Cheesman, Hogan &amp; Kristiansen, <i>The geometry of the Painlevé paradox</i>. "
          "Every figure is recomputed from the project's model; beside each figure and table is the data behind it. "
          f"{html.escape(_NUMBERING)} "
@@ -381,7 +381,7 @@ def _md_block(b) -> str:
 
 
 def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list) -> Path:
-    m = ["# crosscheck report: the 3D Painlevé rod, analytic theory vs Pinocchio vs MuJoCo", "",
+    m = ["# crosscheck report: contact engines against the rigid theory of the 3D Painlevé rod", "",
          "Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painlevé paradox*. Every figure is recomputed "
          f"from the project's model; beside each figure and table is the data behind it. {_NUMBERING} HTML version: [index.html](index.html).", "",
          "## Findings", "", *([_md_block(t)] if (t := _engine_table(out)) is not None else []),

@@ -86,7 +86,8 @@ def render(ctx: RenderContext) -> list:
 def section(spec, settings: dict, n: dict | None = None) -> Section:
     """The convergence of the engine ``spec`` (an ``EngineSpec``) over ``settings`` ({"quick": [...], "full": [...]} of
     option dicts) as the section ``<slug>_convergence``, on an n x n grid in (theta, Theta) (``n``: {"quick": ..., "full": ...})."""
-    varied = sorted({k for s in settings["full"] for k in s})
+    full = settings["full"]
+    varied = sorted(k for k in {k for s in full for k in s} if len({repr(s.get(k)) for s in full}) > 1)
     return Section(slug=f"{spec.slug}_convergence", title=f"{spec.label} vs analytic: convergence in {' and '.join(varied)}",
                    paper="sections 3.1, 4",
                    params=lambda quick: params(quick, spec.name, settings["quick" if quick else "full"], None if n is None else n["quick" if quick else "full"]),

@@ -57,7 +57,8 @@ def params(quick: bool) -> dict:
     if quick:  # coarser maps and a few of their disagreements: the ladder's cost is its rungs 3 and 4, ~1 s a start
         for m in maps:
             m["n"] = 8
-    return {"alpha": base["alpha"], "horizon": base["horizon"], "options": base["options"], "maps": maps,
+    # ladder_engine: whose disagreements these are (the engine table reads the causes of each engine from it)
+    return {"ladder_engine": spec.name, "alpha": base["alpha"], "horizon": base["horizon"], "options": base["options"], "maps": maps,
             "reuse": None if quick else f"{spec.slug}_maps", "max_states": 8 if quick else None,
             "ic2": dict(FIG20_INITIAL_CONDITIONS[1]), "ic2_mu": 1.4}
 

@@ -58,6 +58,8 @@ for _spec in engines.specs():
             EXPECTED_FIGURES[f"{_spec.slug}_liftoff"] = []
     if _plan is not None and _plan.convergence is not None:
         EXPECTED_FIGURES[f"{_spec.slug}_convergence"] = ["convergence"]
+    if _plan is not None and _plan.ladder and _plan.maps is not None:
+        EXPECTED_FIGURES[f"{_spec.slug}_ladder"] = []
 
 #: Sections the quick report skips (shown as skipped, with the reason): full report only.
 FULL_ONLY = {"mujoco_validate"}

@@ -26,6 +26,11 @@ def _explain(args) -> int:
 
     if args.engine not in _laddered():
         raise ValueError(f"engine must be one of {', '.join(_laddered())} (engines that declare a ladder); got {args.engine!r}")
+    from crosscheck import engines
+
+    plan = engines.get(args.engine).report
+    if plan is not None and plan.ladder:  # the ladder the engine declares, run by crosscheck.studies.ladder
+        return _explain_declared(args)
 
     from crosscheck.state import SlipState
     from crosscheck.engines.mujoco.studies.ladder import RUNG_TITLES, run_ladder
@@ -71,6 +76,42 @@ def _explain(args) -> int:
         print(f"cause: none (the theory's outcome {ladder.rungs[0].label.name} is not rated)")
     else:
         print(f"cause: {ladder.cause} (MuJoCo {ladder.reference.name}, theory {ladder.rungs[0].label.name})")
+    return 0
+
+
+def _explain_declared(args) -> int:
+    """One start through an engine's declared ladder (``crosscheck.studies.ladder``), at its default options and ``--timestep``."""
+    from crosscheck.engines.base import engine_label
+    from crosscheck.state import SlipState
+    from crosscheck.studies.ladder import run_ladder
+
+    state = SlipState(theta=_num("theta", args.theta, THETA), varphi=_num("varphi", args.varphi, VARPHI),
+                      Theta=_num("Theta", args.Theta, RATE), Psi=_num("Psi", args.Psi, RATE), eta=_num("eta", args.eta, ETA))
+    mu, alpha = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA)
+    horizon = _num("horizon", args.horizon, HORIZON)
+    options = {}
+    if args.timestep is not None:
+        options["timestep"] = _num("timestep", args.timestep, HORIZON)
+    if args.radius is not None:
+        from crosscheck.theory.slipping import RADIUS
+
+        options["radius"] = _num("radius", args.radius, RADIUS)
+    ld = run_ladder(args.engine, state, mu, alpha=alpha, horizon=horizon, **options)
+    if args.json:
+        print(json.dumps(ld.as_dict(), indent=2, allow_nan=False))
+        return 0
+    name = engine_label(args.engine)
+    print(f"start: theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; mu {mu:g}, alpha {alpha:g}")
+    print(f"compared up to t = {ld.until + ld.lag:.6g} (comparison time {ld.until:.6g} + lag {ld.lag:.6g})")
+    for r in ld.rungs:
+        what = "the theory" if r.cause is None else r.cause
+        if r.ok:
+            relabel = "" if r.label == r.outcome else f" -> {r.label.name} as compared"
+            print(f"{r.rung} {r.name:<11} {what:<15} {r.outcome.name}{_fmt_time(r.time)}{relabel}")
+        else:
+            print(f"{r.rung} {r.name:<11} {what:<15} {r.status.upper()}: {r.detail}")
+    ref = ld.reference.name if ld.reference is not None else "-"
+    print(f"cause: {ld.cause} ({name} {ref}, theory {ld.rungs[0].label.name})")
     return 0
 
 

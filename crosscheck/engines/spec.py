@@ -52,6 +52,8 @@ class ReportPlan:
       sections: a callable returning the engine's own sections (``crosscheck.report.section.Section``),
         placed after its generic ones; called when the report is built, so the engine's report code is
         imported only then.
+      ladder: whether the generic ladder section (``<slug>_ladder``: the disagreements of its maps through
+        ``crosscheck.studies.ladder``) is generated (False for an engine without a ladder or with its own, as MuJoCo's).
       onset: whether the generic lift-off onset section (``<slug>_liftoff``) is generated (False for an engine
         that declares its own, as MuJoCo's over its timestep).
       order: where the engine's sections stand among the engines' (lower first).
@@ -64,6 +66,7 @@ class ReportPlan:
     beside: str | None = None
     sections: Callable[[], tuple] | None = None
     onset: bool = True
+    ladder: bool = False
     order: int = 100
 
 

@@ -22,6 +22,9 @@ ENGINES = (
         # engine: at mu >= 1 Bullet's PGS misses its tolerance in 15-27 % of the contact steps (cycling between two
         # impulses in part of them), which a profile would freeze as "measured" (engine.py's docstring).
         tolerances=None,
+        # its models in between (crosscheck.studies.ladder): the capsule's contact point, then Bullet itself (its PGS step,
+        # whose friction opposes diag(D)^-1 u rather than the slip: a rigid step has no compliant or continuous-time model here)
+        ladder={"geometry": "capsule", "discretisation": "engine"},
         # ~28 us per step with the record (benchmarks/bench_bullet.py).  The quick report's three 10 x 10 maps took 7.2 s
         # at the default timestep 1e-3 (the agreement study stops each run after its analytic event), so both reports
         # use it.  Drawn beside the rigid engine's maps: the same rigid Coulomb contact in another time-stepper.
@@ -30,6 +33,6 @@ ENGINES = (
                           convergence={"quick": [{"timestep": dt} for dt in (1e-2, 3e-3, 1e-3)],
                                        "full": [{"timestep": dt} for dt in (3e-3, 1e-3, 3e-4)]},
                           convergence_n={"quick": 5, "full": 14},
-                          order=50),
+                          ladder=True, order=50),
     ),
 )

@@ -77,6 +77,13 @@ _CONVERGENCE = {
 _MAPS_N = {"quick": 6, "full": 16}
 _CONVERGENCE_N = {"quick": 4, "full": 8}
 
+#: The models between the theory and each approximation (``crosscheck.studies.ladder``; ``ladder`` here): the capsule's
+#: contact point, the compliant rod with Drake's normal law, Drake's law in continuous time, the approximation itself.
+_LADDER = {"geometry": "capsule", "compliance": "crosscheck.engines.drake.ladder:compliant",
+           "friction law": "crosscheck.engines.drake.ladder:continuous", "discretisation": "engine"}
+#: The continuous plant's own ladder: its regularised friction is its last difference (no discretisation).
+_LADDER_CONTINUOUS = {"geometry": "capsule", "compliance": "crosscheck.engines.drake.ladder:compliant", "friction law": "engine"}
+
 ENGINES = tuple(
     EngineSpec(
         name=f"drake_{a}", module="crosscheck.engines.drake.engine", label=_LABELS[a], slug=f"drake_{a}", libraries=("drake",),
@@ -85,7 +92,8 @@ ENGINES = tuple(
         tags=_TAGS[a],
         # no event-tolerance profile: not measured yet (validate does not judge these engines' events)
         tolerances=None,
-        report=ReportPlan(maps=_MAPS[a], convergence=_CONVERGENCE[a], maps_n=_MAPS_N, convergence_n=_CONVERGENCE_N, order=40 + i),
+        ladder=_LADDER_CONTINUOUS if a == "continuous" else _LADDER,
+        report=ReportPlan(maps=_MAPS[a], convergence=_CONVERGENCE[a], maps_n=_MAPS_N, convergence_n=_CONVERGENCE_N, ladder=True, order=40 + i),
     )
     for i, a in enumerate(("sap", "continuous", "similar", "lagged", "tamsi"))
 )

@@ -2,8 +2,9 @@
 manifold (sections 3.5 to 5), then every registered engine's sections, generated from its ``EngineSpec``.
 
 An engine's sections are its outcome maps (``engine_maps``), at the maps' options its contact-force quality
-(``engine_contact``), lift-off onset (``engine_onset``) and the paper's IC1 and IC2 (``engine_ic``), and its convergence (``engine_convergence``) where its ``ReportPlan`` gives their settings, then the sections it declares as its own (MuJoCo's friction skew,
-the compliant limit, ...).  ``all_sections()`` reads the registry when called, so an engine registered at run
+(``engine_contact``), lift-off onset (``engine_onset``) and the paper's IC1 and IC2 (``engine_ic``), its
+convergence (``engine_convergence``) and its ladder (``engine_ladder``) where its ``ReportPlan`` asks for them,
+then the sections it declares as its own (MuJoCo's friction skew, the compliant limit, ...).  ``all_sections()`` reads the registry when called, so an engine registered at run
 time (``crosscheck.engines.register``) has its sections in the next report; ``SECTIONS`` is ``all_sections()``
 read at attribute access.
 """
@@ -11,7 +12,7 @@ read at attribute access.
 from __future__ import annotations
 
 from crosscheck.report.section import Section
-from crosscheck.report.sections import (bifurcations, critical_angles, engine_contact, engine_convergence, engine_ic, engine_maps, engine_onset, gb_det_zeros, gb_eigenvectors, gb_local,
+from crosscheck.report.sections import (bifurcations, critical_angles, engine_contact, engine_convergence, engine_ic, engine_ladder, engine_maps, engine_onset, gb_det_zeros, gb_eigenvectors, gb_local,
                                         gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, kinematic_surfaces, mechanisms, mode_maps,
                                         p_region, printed_numbers)
 
@@ -50,6 +51,8 @@ def engine_sections(spec) -> tuple[Section, ...]:
         out.append(engine_ic.section(spec, plan.maps))
     if plan.convergence is not None:
         out.append(engine_convergence.section(spec, plan.convergence, plan.convergence_n))
+    if plan.ladder and plan.maps is not None:  # after its maps: it ladders their disagreements
+        out.append(engine_ladder.section(spec, plan.maps, f"{spec.slug}_maps"))
     if plan.sections is not None:
         out.extend(plan.sections())
     return tuple(out)

@@ -1,0 +1,178 @@
+"""The ladder of any engine: the models between the theory and the engine, each adding one of its differences, and the cause of a disagreement.
+
+An engine declares its ladder in its ``EngineSpec.ladder``: cause -> rung, in
+the order of ``LADDER_CAUSES`` (geometry, compliance, friction law,
+discretisation).  A rung is
+
+* ``"capsule"``: the rigid rod with its contact at the capsule point C = A - r K
+  (``crosscheck.theory.capsule``, r the engine's ``Options.radius``): geometry;
+* ``"engine"``: the engine itself at the run's options (discretisation for a
+  time-stepping engine; for a continuous one its own regularised law);
+* ``"module:function"``: a model in between, ``function(rod, state, mu, *,
+  horizon, thresholds, options) -> Run`` (``options`` the engine's ``Options``),
+  for example the compliant rod with the engine's normal law, or the engine's
+  law in continuous time.
+
+From one start, rung 1 is the paper's rod (``slip_until_event``); each rung
+after it runs to rung 1's comparison time plus the agreement study's lag
+(``crosscheck.studies.comparison``), and every outcome is relabelled as the
+agreement study does, so the last rung's label is the study's label of the
+engine.  The cause of a disagreement is the first rung whose label equals the
+engine's; "unexplained" if none does, "undetermined" after a rung that could
+not run.  MuJoCo's own ladder (``crosscheck.engines.mujoco.studies.ladder``)
+is this ladder with its rungs written out, the Kelvin-Voigt match of its
+impedance among them.
+
+Scaled units (section 2.1).
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from crosscheck import engines
+from crosscheck.checks import ALPHA, HORIZON, MU, check
+from crosscheck.engines.classifier import Thresholds
+from crosscheck.engines.spec import LADDER_CAUSES
+from crosscheck.outcome import Outcome
+from crosscheck.rod import Rod
+from crosscheck.state import SlipState
+from crosscheck.studies.agreement import DEFAULT_HORIZON
+from crosscheck.studies.comparison import EVENTS, LAG_STEPS, LAG_TAU, RATED, comparison_labels, window_margin
+from crosscheck.theory.slipping import slip_until_event
+
+__all__ = ["Rung", "EngineLadder", "rungs_of", "run_ladder", "CAUSES"]
+
+#: Every cause a start can get (as MuJoCo's ladder): the four rungs' causes, "unexplained", "undetermined",
+#: "agree" (rung 1 already equals the engine) and "not rated" (rung 1 is GB or DIVERGED).
+CAUSES = (*LADDER_CAUSES, "unexplained", "undetermined", "agree", "not rated")
+
+
+@dataclass(frozen=True)
+class Rung:
+    """One rung's outcome from one start: its name, the cause it stands for, status, outcome, event time, label as compared."""
+
+    rung: int
+    name: str
+    cause: str | None
+    status: str
+    outcome: Outcome | None = None
+    time: float = math.nan
+    label: Outcome | None = None
+    detail: str = ""
+    wall_time: float = 0.0
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+    def as_dict(self) -> dict:
+        return {"rung": self.rung, "name": self.name, "cause": self.cause, "status": self.status,
+                "outcome": None if self.outcome is None else self.outcome.name, "time": self.time,
+                "label": None if self.label is None else self.label.name, "detail": self.detail, "wall_time": self.wall_time}
+
+
+@dataclass(frozen=True)
+class EngineLadder:
+    """One start through an engine's ladder: the rungs, the reference (the engine's label) and the cause."""
+
+    engine: str
+    state: SlipState
+    mu: float
+    until: float
+    lag: float
+    rungs: tuple
+    reference: Outcome | None
+    cause: str
+
+    def as_dict(self) -> dict:
+        return {"engine": self.engine, "state": self.state.as_dict(), "mu": self.mu, "comparison_time": self.until, "lag": self.lag,
+                "rungs": [r.as_dict() for r in self.rungs], "reference": None if self.reference is None else self.reference.name,
+                "cause": self.cause}
+
+
+def rungs_of(engine: str) -> list[tuple[str, str]]:
+    """(cause, rung) of ``engine``'s declared ladder in rung order; ValueError for an engine without one."""
+    spec = engines.get(engine)
+    if spec.ladder is None:
+        have = [s.name for s in engines.specs() if s.ladder is not None]
+        raise ValueError(f"engine must be one of {', '.join(have)} (engines that declare a ladder); got {engine!r}")
+    return [(c, spec.ladder[c]) for c in LADDER_CAUSES if c in spec.ladder]
+
+
+def _run(rung: str, *, spec, rod: Rod, state: SlipState, mu: float, alpha: float, opts, th: Thresholds, t_analytic: float, t_engine: float):
+    """(outcome, time) of one rung (raises what the rung raises)."""
+    if rung == "capsule":
+        from crosscheck.theory import capsule
+
+        r = capsule.slip_until_event(state, mu, alpha, radius=opts.radius, t_max=t_analytic)
+        return Outcome(int(r.outcome)), float(r.time)
+    if rung == "engine":
+        given = {k: getattr(opts, k) for k in opts.__dataclass_fields__}
+        run = spec.simulate(rod, state, mu, horizon=t_engine, thresholds=th, **given)
+    else:
+        module, _, attr = rung.partition(":")
+        run = getattr(importlib.import_module(module), attr)(rod, state, mu, horizon=t_engine, thresholds=th, options=opts)
+    return Outcome(int(run.outcome)), float(run.event_time)
+
+
+def run_ladder(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, horizon: float = DEFAULT_HORIZON,
+               thresholds: Thresholds | None = None, reference: Outcome | int | None = None, **options) -> EngineLadder:
+    """``state`` through the ladder ``engine`` declares, at the engine's ``options``; the cause of its disagreement (module docstring).
+
+    ``reference``: the engine's label to judge against (the agreement study's); None uses the last rung's (the engine's own).
+    A rung that raises is reported "failed" and the causes after it are "undetermined".
+    """
+    spec = engines.get(engine)
+    ladder = rungs_of(engine)
+    if not isinstance(state, SlipState):
+        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    state.check_start()
+    mu, alpha = float(check("mu", mu, MU)), float(check("alpha", alpha, ALPHA))
+    horizon = float(check("horizon", horizon, HORIZON))
+    opts = spec.options(**options)
+    th = thresholds or Thresholds()
+    rod = Rod.scaled(alpha)
+    first = slip_until_event(state, mu, alpha, t_max=horizon)
+    o1 = Outcome(int(first.outcome))
+    # the agreement study's comparison time and lag (crosscheck.studies.agreement)
+    until = min(first.time, horizon) if o1 == Outcome.SLIP else (first.time if o1 in EVENTS else horizon)
+    lag = max(LAG_TAU * opts.contact_time, LAG_STEPS * opts.timestep) if o1 in EVENTS else 0.0
+    run_until = max(min(until + lag, horizon), opts.timestep)
+
+    def label(o: Outcome, t: float) -> Outcome:
+        return Outcome(int(comparison_labels(np.array([int(o)], np.int8), np.array([t if math.isfinite(t) else math.inf]), np.array([until + lag]))[0]))
+
+    rungs = [Rung(1, "tip", None, "ok", o1, float(first.time), label(o1, float(first.time)))]
+    for k, (cause, rung) in enumerate(ladder, start=2):
+        t0 = time.perf_counter()
+        try:
+            o, t = _run(rung, spec=spec, rod=rod, state=state, mu=mu, alpha=alpha, opts=opts, th=th, t_analytic=run_until,
+                        t_engine=run_until + window_margin(th, opts.timestep))
+            rungs.append(Rung(k, rung.rpartition(":")[2], cause, "ok", o, t, label(o, t), wall_time=time.perf_counter() - t0))
+        except Exception as e:  # noqa: BLE001 - a failing rung is reported, the ladder goes on
+            rungs.append(Rung(k, rung.rpartition(":")[2], cause, "failed", detail=f"{type(e).__name__}: {e}", wall_time=time.perf_counter() - t0))
+    if reference is not None:
+        ref = Outcome(int(reference))
+    else:
+        ref = rungs[-1].label if rungs[-1].ok else None
+    return EngineLadder(engine, state, mu, until, lag, tuple(rungs), ref, _cause(rungs, ref))
+
+
+def _cause(rungs, reference: Outcome | None) -> str:
+    first = rungs[0]
+    if first.label not in RATED or reference is None:
+        return "not rated"
+    if first.label == reference:
+        return "agree"
+    for r in rungs[1:]:
+        if not r.ok:
+            return "undetermined"  # the missing rung might have matched: a later match cannot be attributed
+        if r.label == reference:
+            return r.cause
+    return "unexplained"

@@ -1,0 +1,57 @@
+"""The ladder any engine declares (crosscheck.studies.ladder): IC2 through Drake's and Bullet's, a failing rung, explain --engine."""
+
+from __future__ import annotations
+
+import pytest
+
+from crosscheck import engines
+from crosscheck.cli import main
+from crosscheck.engines import EngineSpec
+from crosscheck.outcome import Outcome
+from crosscheck.state import SlipState
+from crosscheck.studies.ladder import run_ladder
+from crosscheck.theory import capsule
+from crosscheck.theory.paper import FIG20_INITIAL_CONDITIONS
+
+IC2 = SlipState(**FIG20_INITIAL_CONDITIONS[1])
+
+
+@pytest.mark.parametrize("engine", ["drake_tamsi", "drake_sap", "bullet"])
+def test_ic2_jams_at_the_capsule_point_in_every_engine_geometry_is_its_cause(engine):
+    """The paper's rod lifts off from IC2 at t = 0.01654 (Fig. 20) with p = 0.0125; a radius of 0.01 below the tip the rigid
+    rod jams at once (p_C < 0), and so does each engine: the ladder names geometry, its first rung to match."""
+    ld = run_ladder(engine, IC2, 1.4)
+    tip, cap = ld.rungs[0], ld.rungs[1]
+    assert tip.outcome == Outcome.LIFTOFF and tip.time == pytest.approx(0.01654, abs=5e-6)
+    assert cap.name == "capsule" and cap.outcome == Outcome.JAM
+    radius = engines.get(engine).options().radius
+    assert cap.time == capsule.slip_until_event(IC2, 1.4, 3.0, radius=radius, t_max=ld.until + ld.lag).time
+    assert ld.reference == Outcome.JAM and ld.cause == "geometry"
+    assert [r.cause for r in ld.rungs[1:]] == [c for c in ("geometry", "compliance", "friction law", "discretisation") if c in engines.get(engine).ladder]
+
+
+def boom(rod, state, mu, *, horizon, thresholds, options):
+    """A rung that cannot run."""
+    raise RuntimeError("this model is not built")
+
+
+def test_a_failing_rung_is_reported_and_leaves_the_cause_undetermined():
+    spec = engines.get("bullet")
+    broken = EngineSpec(name="bullet_broken", module=spec.module, label="Bullet (broken ladder)", defaults=spec.defaults, tags=spec.tags,
+                        ladder={"compliance": "test_engine_ladder:boom", "discretisation": "engine"})
+    engines.register(broken)
+    try:
+        ld = run_ladder("bullet_broken", IC2, 1.4)
+    finally:
+        engines.unregister("bullet_broken")
+    assert ld.rungs[1].status == "failed" and "this model is not built" in ld.rungs[1].detail
+    assert ld.rungs[2].ok and ld.cause == "undetermined"
+
+
+def test_explain_runs_a_declared_ladder_and_refuses_an_engine_without_one(capsys):
+    args = ["explain", "--theta", "1.1031", "--varphi", "-1.9233", "--Theta", "0.9", "--Psi", "0", "--eta", "2", "--mu", "1.4"]
+    assert main([*args, "--engine", "drake_tamsi"]) == 0
+    out = capsys.readouterr().out
+    assert "2 capsule     geometry        JAM" in out and out.rstrip().endswith("cause: geometry (Drake TAMSI JAM, theory LIFTOFF)")
+    assert main([*args, "--engine", "pinocchio"]) == 2
+    assert "engine must be one of" in capsys.readouterr().err

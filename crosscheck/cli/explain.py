@@ -21,6 +21,15 @@ def _laddered() -> list[str]:
     return [s.name for s in engines.specs() if s.ladder is not None]
 
 
+def _start(args):
+    """(state, mu, alpha, horizon) of the command line, each checked (one line naming a bad one)."""
+    from crosscheck.state import SlipState
+
+    state = SlipState(theta=_num("theta", args.theta, THETA), varphi=_num("varphi", args.varphi, VARPHI),
+                      Theta=_num("Theta", args.Theta, RATE), Psi=_num("Psi", args.Psi, RATE), eta=_num("eta", args.eta, ETA))
+    return state, _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA), _num("horizon", args.horizon, HORIZON)
+
+
 def _explain(args) -> int:
     import warnings
 
@@ -32,13 +41,9 @@ def _explain(args) -> int:
     if plan is not None and plan.ladder:  # the ladder the engine declares, run by crosscheck.studies.ladder
         return _explain_declared(args)
 
-    from crosscheck.state import SlipState
     from crosscheck.engines.mujoco.studies.ladder import RUNG_TITLES, run_ladder
 
-    state = SlipState(theta=_num("theta", args.theta, THETA), varphi=_num("varphi", args.varphi, VARPHI),
-                      Theta=_num("Theta", args.Theta, RATE), Psi=_num("Psi", args.Psi, RATE), eta=_num("eta", args.eta, ETA))
-    mu, alpha = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA)
-    horizon = _num("horizon", args.horizon, HORIZON)
+    state, mu, alpha, horizon = _start(args)
     from crosscheck.checks import Interval
     from crosscheck.engines.mujoco.options import RADIUS, Options
 
@@ -82,13 +87,9 @@ def _explain(args) -> int:
 def _explain_declared(args) -> int:
     """One start through an engine's declared ladder (``crosscheck.studies.ladder``), at its default options and ``--timestep``."""
     from crosscheck.engines.base import engine_label
-    from crosscheck.state import SlipState
     from crosscheck.studies.ladder import run_ladder
 
-    state = SlipState(theta=_num("theta", args.theta, THETA), varphi=_num("varphi", args.varphi, VARPHI),
-                      Theta=_num("Theta", args.Theta, RATE), Psi=_num("Psi", args.Psi, RATE), eta=_num("eta", args.eta, ETA))
-    mu, alpha = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA)
-    horizon = _num("horizon", args.horizon, HORIZON)
+    state, mu, alpha, horizon = _start(args)
     options = {}
     if args.timestep is not None:
         options["timestep"] = _num("timestep", args.timestep, HORIZON)

@@ -57,25 +57,24 @@ def _discrete_convergence(quick: list, full: list) -> dict:
     return {"quick": [{"timestep": dt, "stiffness": k} for dt, k in quick], "full": [{"timestep": dt, "stiffness": k} for dt, k in full]}
 
 
+_QUICK_STEPS = [(4e-3, 1e4), (2e-3, 1e4), (1e-3, 1e4), (1e-3, 1e5)]
 _CONVERGENCE = {
     "continuous": {"quick": [{**_CONTINUOUS_QUICK, "stiffness": k} for k in (1e3, 1e4, 1e5)],
                    "full": [{"timestep": 1e-3, "accuracy": 1e-4, "stiction_tolerance": 1e-3, "stiffness": k} for k in (1e3, 1e4, 1e5)]},
-    "sap": _discrete_convergence([(4e-3, 1e4), (2e-3, 1e4), (1e-3, 1e4), (1e-3, 1e5)],
-                                 [(4e-3, 1e4), (2e-3, 1e4), (1e-3, 1e4), (3e-4, 1e4), (3e-4, 1e5)]),
-    "similar": _discrete_convergence([(4e-3, 1e4), (2e-3, 1e4), (1e-3, 1e4), (1e-3, 1e5)],
-                                     [(4e-3, 1e4), (2e-3, 1e4), (1e-3, 1e4), (3e-4, 1e4), (3e-4, 1e5)]),
-    "lagged": _discrete_convergence([(6e-3, 1e4), (3e-3, 1e4), (3e-3, 1e5)],
-                                    [(6e-3, 1e4), (3e-3, 1e4), (1e-3, 1e4), (1e-3, 1e5)]),
-    "tamsi": _discrete_convergence([(4e-3, 1e4), (2e-3, 1e4), (1e-3, 1e4), (1e-3, 1e5)],
-                                   [(4e-3, 1e4), (2e-3, 1e4), (1e-3, 1e4), (3e-4, 1e4), (3e-4, 1e5)]),
+    "sap": _discrete_convergence(_QUICK_STEPS, _QUICK_STEPS),
+    "similar": _discrete_convergence(_QUICK_STEPS, _QUICK_STEPS),
+    "lagged": _discrete_convergence([(6e-3, 1e4), (3e-3, 1e4), (3e-3, 1e5)], [(6e-3, 1e4), (3e-3, 1e4), (1e-3, 1e4), (1e-3, 1e5)]),
+    "tamsi": _discrete_convergence(_QUICK_STEPS, _QUICK_STEPS),
 }
 
 #: Grid sizes by cost: a Drake run costs 2-4 x a MuJoCo run at the quick maps' options (table above) and 5 approximations
-#: share the report's time, so each map is 6 x 6 (quick) and 16 x 16 (full) instead of 10 x 10 and 32 x 32, and each
-#: convergence grid 4 x 4 and 8 x 8 in (theta, Theta) (MuJoCo's: 7 x 7 and 20 x 20); the finest full settings stop at
-#: timestep 3e-4 (1e-4 costs 20000 steps of 30-170 us a run).
-_MAPS_N = {"quick": 6, "full": 16}
-_CONVERGENCE_N = {"quick": 4, "full": 8}
+#: share the report's time, so each map is 6 x 6 (quick) and 12 x 12 (full) instead of 10 x 10 and 32 x 32, and each
+#: convergence grid 4 x 4 and 6 x 6 in (theta, Theta) (MuJoCo's: 7 x 7 and 20 x 20), the full one over the quick one's
+#: settings (timestep down to 1e-3, then a stiffer contact).  Measured in a full report (2 cores, shared): SAP's maps took
+#: 47 s at 16 x 16 and its convergence 99 s at 8 x 8 over timesteps down to 3e-4, which would have put the five
+#: approximations alone past 12 minutes.
+_MAPS_N = {"quick": 6, "full": 12}
+_CONVERGENCE_N = {"quick": 4, "full": 6}
 
 #: The models between the theory and each approximation (``crosscheck.studies.ladder``; ``ladder`` here): the capsule's
 #: contact point, the compliant rod with Drake's normal law, Drake's law in continuous time, the approximation itself.

@@ -9,6 +9,8 @@ tolerance profile and tags, and its libraries in the report's provenance.
 
 from __future__ import annotations
 
+import importlib
+
 import numpy as np
 import pytest
 
@@ -104,6 +106,11 @@ def test_declaration_is_complete_and_its_libraries_are_in_provenance(name):
     versions = package_versions()
     for lib in spec.libraries:
         assert versions.get(lib), f"{lib} is not in the report's provenance or not installed"
+    # every rung of its ladder is a model crosscheck.studies.ladder can run
+    for cause, rung in (spec.ladder or {}).items():
+        if rung not in ("capsule", "engine"):
+            module, _, attr = rung.partition(":")
+            assert callable(getattr(importlib.import_module(module), attr)), (cause, rung)
     # the options it runs with are valid as declared (its defaults, its report settings)
     spec.options()
     plan = spec.report

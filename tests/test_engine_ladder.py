@@ -7,6 +7,7 @@ import pytest
 from crosscheck import engines
 from crosscheck.cli import main
 from crosscheck.engines import EngineSpec
+from crosscheck.engines.spec import LADDER_CAUSES
 from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
 from crosscheck.studies.ladder import run_ladder
@@ -27,7 +28,7 @@ def test_ic2_jams_at_the_capsule_point_in_every_engine_geometry_is_its_cause(eng
     radius = engines.get(engine).options().radius
     assert cap.time == capsule.slip_until_event(IC2, 1.4, 3.0, radius=radius, t_max=ld.until + ld.lag).time
     assert ld.reference == Outcome.JAM and ld.cause == "geometry"
-    assert [r.cause for r in ld.rungs[1:]] == [c for c in ("geometry", "compliance", "friction law", "discretisation") if c in engines.get(engine).ladder]
+    assert [r.cause for r in ld.rungs[1:]] == [c for c in LADDER_CAUSES if c in engines.get(engine).ladder]
 
 
 def boom(rod, state, mu, *, horizon, thresholds, options):
@@ -55,3 +56,25 @@ def test_explain_runs_a_declared_ladder_and_refuses_an_engine_without_one(capsys
     assert "2 capsule     geometry        JAM" in out and out.rstrip().endswith("cause: geometry (Drake TAMSI JAM, theory LIFTOFF)")
     assert main([*args, "--engine", "pinocchio"]) == 2
     assert "engine must be one of" in capsys.readouterr().err
+
+
+def test_a_convex_relaxations_launch_is_its_relaxation():
+    """A slipping start (b < 0 < p) that SAP throws off the plane at its default stiffness: Drake's continuous plant and TAMSI's
+    non-convex step at the same timestep and contact keep it on the plane, so the ladder names the relaxation itself."""
+    s = SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=0.0, eta=1.0)
+    ld = run_ladder("drake_sap", s, 0.5)
+    by_cause = {r.cause: r for r in ld.rungs[1:]}
+    assert ld.rungs[0].outcome == Outcome.SLIP and ld.reference == Outcome.LAUNCH
+    assert by_cause["friction law"].label != Outcome.LAUNCH and by_cause["discretisation"].label != Outcome.LAUNCH
+    assert by_cause["relaxation"].name == "engine" and ld.cause == "relaxation"
+
+
+def test_mujocos_declared_ladder_is_its_own_study_at_ic2():
+    """MuJoCo's ladder run as declared (crosscheck.studies.ladder) and as its own study (rung by rung the same models)
+    give IC2 the same rungs' outcomes and the same cause."""
+    from crosscheck.engines.mujoco.studies import ladder as own
+
+    declared, written = run_ladder("mujoco", IC2, 1.4), own.run_ladder(IC2, 1.4)
+    assert [r.label for r in declared.rungs] == [r.label for r in written.rungs]
+    assert [r.time for r in declared.rungs] == pytest.approx([r.time for r in written.rungs], nan_ok=True)
+    assert declared.cause == written.cause == "geometry"

@@ -34,8 +34,11 @@ __all__ = ["EngineSpec", "ReportPlan", "TAGS", "LADDER_CAUSES"]
 #:   batched: ``sweep`` runs a batch in one call of the library (faster than one ``simulate`` per state).
 TAGS = frozenset({"rigid", "compliant", "relaxed", "time_stepping", "continuous", "batched"})
 
-#: The causes a ladder can name, in the order of its rungs (each rung one model closer to the engine).
-LADDER_CAUSES = ("geometry", "compliance", "friction law", "discretisation")
+#: The causes a ladder can name, in the order of its rungs (each rung one model closer to the engine): the contact
+#: point's place, the contact's compliance, the engine's friction law (its own law in continuous time), the time
+#: step, and the convex relaxation of the step's contact problem (a relaxed engine against a non-relaxed step of the
+#: same law and timestep: the mechanism behind SAP's "gliding", its launch of a slipping tip).
+LADDER_CAUSES = ("geometry", "compliance", "friction law", "discretisation", "relaxation")
 
 
 @dataclass(frozen=True)

@@ -123,7 +123,7 @@ def _causes(data: Path, name: str) -> str:
         summary = _read(status_path.parent / "summary.json")
         if summary and summary.get("n_disagree"):
             counts = summary["counts"]
-            return ", ".join(f"{k} {counts[k]}" for k in ("geometry", "compliance", "friction law", "discretisation", "unexplained", "undetermined")
+            return ", ".join(f"{k} {counts[k]}" for k in ("geometry", "compliance", "friction law", "discretisation", "relaxation", "unexplained", "undetermined")
                              if counts.get(k))
     return _NONE
 

@@ -2,7 +2,7 @@
 
 An engine declares its ladder in its ``EngineSpec.ladder``: cause -> rung, in
 the order of ``LADDER_CAUSES`` (geometry, compliance, friction law,
-discretisation).  A rung is
+discretisation, relaxation).  A rung is
 
 * ``"capsule"``: the rigid rod with its contact at the capsule point C = A - r K
   (``crosscheck.theory.capsule``, r the engine's ``Options.radius``): geometry;

@@ -80,6 +80,9 @@ _CONVERGENCE_N = {"quick": 4, "full": 6}
 #: contact point, the compliant rod with Drake's normal law, Drake's law in continuous time, the approximation itself.
 _LADDER = {"geometry": "capsule", "compliance": "crosscheck.engines.drake.ladder:compliant",
            "friction law": "crosscheck.engines.drake.ladder:continuous", "discretisation": "engine"}
+#: The convex approximations' ladder: TAMSI's non-convex step at the same timestep first (discretisation), then the
+#: approximation itself (its relaxation).
+_LADDER_RELAXED = {**_LADDER, "discretisation": "crosscheck.engines.drake.ladder:tamsi", "relaxation": "engine"}
 #: The continuous plant's own ladder: its regularised friction is its last difference (no discretisation).
 _LADDER_CONTINUOUS = {"geometry": "capsule", "compliance": "crosscheck.engines.drake.ladder:compliant", "friction law": "engine"}
 
@@ -91,7 +94,7 @@ ENGINES = tuple(
         tags=_TAGS[a],
         # no event-tolerance profile: not measured yet (validate does not judge these engines' events)
         tolerances=None,
-        ladder=_LADDER_CONTINUOUS if a == "continuous" else _LADDER,
+        ladder=_LADDER_CONTINUOUS if a == "continuous" else _LADDER_RELAXED if "relaxed" in _TAGS[a] else _LADDER,
         report=ReportPlan(maps=_MAPS[a], convergence=_CONVERGENCE[a], maps_n=_MAPS_N, convergence_n=_CONVERGENCE_N, ladder=True, order=40 + i),
     )
     for i, a in enumerate(("sap", "continuous", "similar", "lagged", "tamsi"))

@@ -12,6 +12,9 @@ regularised (a stiction tolerance, or SAP's and Similar's convex relaxation), so
 after it, friction law, is Drake's own law in continuous time: its continuous plant with the
 same stiffness, Hunt & Crossley dissipation and capsule (for SAP, whose dissipation is a
 relaxation time, the continuous plant's default dissipation 2 sqrt(S), the same damping ratio).
+The convex approximations (SAP, Similar, Lagged) have one more rung before themselves: TAMSI, Drake's
+non-convex step, at the same timestep and contact, so that what the time step does and what the convex
+relaxation of the step's contact problem does are two causes ("discretisation", "relaxation").
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ import math
 
 from crosscheck import engines
 
-__all__ = ["compliant", "continuous"]
+__all__ = ["compliant", "continuous", "tamsi"]
 
 
 def compliant(rod, state, mu, *, horizon, thresholds, options):
@@ -39,3 +42,10 @@ def continuous(rod, state, mu, *, horizon, thresholds, options):
     dissipation = None if options.approximation == "sap" else options.hunt_crossley
     return engines.get("drake_continuous").simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, timestep=options.timestep,
                                                     stiffness=options.stiffness, dissipation=dissipation, radius=options.radius)
+
+
+def tamsi(rod, state, mu, *, horizon, thresholds, options):
+    """Drake's non-convex TAMSI step at the run's timestep, stiffness, dissipation and capsule: the step without the relaxation."""
+    dissipation = None if options.approximation == "sap" else options.hunt_crossley
+    return engines.get("drake_tamsi").simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, timestep=options.timestep,
+                                               stiffness=options.stiffness, dissipation=dissipation, radius=options.radius)

@@ -45,9 +45,11 @@ ENGINES = (
                     "event_time": mujoco_tol.MUJOCO_EVENT_TIME, "no_jam_below_mu_P": mujoco_tol.MUJOCO_NO_JAM_BELOW_MU_P,
                     "corollary_stop": mujoco_tol.MUJOCO_COROLLARY_STOP},
         checks=_checks,
-        # the models between the theory and MuJoCo (crosscheck.engines.mujoco.studies.ladder): its capsule's contact point, the
-        # compliant rod with MuJoCo's matched Kelvin-Voigt law, MuJoCo's own law in continuous time, MuJoCo itself
-        ladder={"geometry": "capsule", "compliance": "compliant", "friction law": "mujoco_law", "discretisation": "mujoco"},
+        # the models between the theory and MuJoCo: its capsule's contact point, the compliant rod with MuJoCo's matched
+        # Kelvin-Voigt law, MuJoCo's own law in continuous time, MuJoCo itself (crosscheck.studies.ladder runs them; MuJoCo's
+        # own study, crosscheck.engines.mujoco.studies.ladder, is the same ladder written out, for its section and explain)
+        ladder={"geometry": "capsule", "compliance": "crosscheck.engines.mujoco.studies.ladder:compliant_rung",
+                "friction law": "crosscheck.engines.mujoco.studies.ladder:law_rung", "discretisation": "engine"},
         report=ReportPlan(maps={"quick": {"timestep": 3e-4, "timeconst": 0.06}, "full": {"timestep": 3e-4, "timeconst": 0.06}},
                           convergence={"quick": [{"timestep": dt, "timeconst": tc} for dt, tc in ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02))],
                                        "full": [{"timestep": dt, "timeconst": tc} for dt, tc in

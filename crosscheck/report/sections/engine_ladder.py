@@ -49,6 +49,7 @@ def run(ctx: RunContext) -> None:
     from crosscheck.outcome import Outcome
     from crosscheck.state import SlipState
     from crosscheck.studies.comparison import RATED
+    from crosscheck.engines.spec import LADDER_CAUSES
     from crosscheck.studies.ladder import CAUSES, run_ladder
 
     P = ctx.params
@@ -67,7 +68,7 @@ def run(ctx: RunContext) -> None:
         ld = run_ladder(engine, s, float(t["mu"][i]), alpha=P["alpha"], horizon=P["horizon"], reference=Outcome(int(t[engine][i])), **P["options"])
         ladders.append({"map": name, "row": i, **ld.as_dict()})
     counts = {c: sum(1 for ld in ladders if ld["cause"] == c) for c in CAUSES}
-    named = sum(counts[c] for c in CAUSES[:4])
+    named = sum(counts[c] for c in LADDER_CAUSES)
     ctx.store.write_json("ladders", ladders)
     ctx.store.write_json("summary", {"engine": engine, "n_disagreements_on_maps": n_all, "n_disagree": len(ladders), "counts": counts,
                                      "attributed": named / len(ladders) if ladders else None})

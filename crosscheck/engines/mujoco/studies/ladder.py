@@ -86,6 +86,8 @@ __all__ = [
     "RungResult",
     "Ladder",
     "run_ladder",
+    "compliant_rung",
+    "law_rung",
 ]
 
 #: The rungs, in order (rung k is RUNGS[k - 1]).
@@ -376,3 +378,19 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
             warnings.warn(f"ladder rung {r.rung} ({r.name}) {r.status}: {r.detail}", RuntimeWarning, stacklevel=2)
     return Ladder(state=state, mu=mu, alpha=alpha, options=opts.as_dict(), match=match, horizon=horizon, until=until, lag=lag, run_until=run_until,
                   rungs=labelled, reference=ref, reference_source=source, disagree=disagree, cause=cause, first_change=change)
+
+
+def compliant_rung(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds, options):
+    """Rung 3 as a declared rung (``crosscheck.studies.ladder``): the Kelvin-Voigt rod at C with MuJoCo-equivalent (eps, xi)."""
+    from crosscheck import engines
+
+    match = mujoco_equivalent(state, rod.alpha, timeconst=options.timeconst, dampratio=options.dampratio, solimp=options.solimp)
+    return engines.get("compliant").simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, eps=match.eps, xi=match.xi,
+                                             radius=options.radius, timestep=options.timestep)
+
+
+def law_rung(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds, options):
+    """Rung 4 as a declared rung: MuJoCo's contact law at C in continuous time, at the run's options."""
+    from crosscheck import engines
+
+    return engines.get("mujoco_law").simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, **options.as_dict())

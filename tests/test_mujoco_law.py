@@ -119,7 +119,7 @@ def test_bad_inputs():
         contact_force(rod, np.zeros(4), np.zeros(5), 1.0, Options())
     with pytest.raises(ValueError, match="mu"):
         contact_force(rod, np.zeros(5), np.zeros(5), -1.0, Options())
-    with pytest.raises(ValueError, match="options must be crosscheck.engines.mujoco.engine.Options"):
+    with pytest.raises(ValueError, match="options must be crosscheck.engines.mujoco.options.Options"):
         contact_problem(rod, np.zeros(5), np.zeros(5), 1.0, {"timestep": 1e-3})
     with pytest.raises(ValueError, match="impratio"):
         contact_force(rod, np.zeros(5), np.zeros(5), 1.0, Options(), impratio=0.0)

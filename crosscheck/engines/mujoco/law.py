@@ -102,7 +102,7 @@ class Parameters:
     def of(cls, rod: Rod, options: Options, *, impratio: float = 1.0) -> "Parameters":
         """Convert scaled ``Options`` as ``crosscheck.engines.mujoco.model.build_model`` does (rod.xml: impratio 1)."""
         if not isinstance(options, Options):
-            raise ValueError(f"options must be crosscheck.engines.mujoco.engine.Options; got {type(options).__name__}")
+            raise ValueError(f"options must be crosscheck.engines.mujoco.options.Options; got {type(options).__name__}")
         impratio = float(check("impratio", impratio, POSITIVE))
         w, l = rod.omega, rod.length
         dt = options.timestep / w

@@ -78,7 +78,7 @@ def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
     Args:
       rod: mass m, tip-to-centre length l, inertia I0 (alpha = m l^2 / I0) and g.
       mu: Coulomb friction coefficient, >= 0.
-      options: scaled MuJoCo parameters (``crosscheck.engines.mujoco.engine.Options``).
+      options: scaled MuJoCo parameters (``crosscheck.engines.mujoco.options.Options``).
 
     Raises:
       ModelFileError: the model file is missing, malformed, or lacks one of the

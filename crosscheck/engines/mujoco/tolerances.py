@@ -11,7 +11,7 @@ from crosscheck.tolerances import Tolerance
 # ------------------------------------------------------------------ mujoco ---
 #: MuJoCo's free tip acceleration (contacts off) vs eq. linode2 with F = 0 and
 #: eq. b, in units of g.  The only modelling difference is the axial inertia
-#: eps = 1e-12 I0 (``engines.mujoco_model.AXIAL_INERTIA``; MuJoCo needs > 0), which
+#: eps = 1e-12 I0 (``crosscheck.engines.mujoco.model.AXIAL_INERTIA``; MuJoCo needs > 0), which
 #: changes the psi inertia by a relative 1e-12 tan^2 theta (<= 1e-9 for theta
 #: <= 1.54); measured max 9e-10 over 300 random states (1e-9 at eps = 1e-9 I0
 #: was 9e-7: the error is proportional to eps).
@@ -19,7 +19,7 @@ MUJOCO_FREE_ACCELERATION = Tolerance(atol=1e-8, rtol=1e-8, why="axial inertia 1e
 
 #: MuJoCo's tip acceleration with contact vs eq. linode2 with MuJoCo's own
 #: contact force moved to the capsule's contact point
-#: (``studies.mujoco_contact.capsule_tip_acceleration``), as a fraction of the term scale
+#: (``crosscheck.engines.mujoco.studies.contact.capsule_tip_acceleration``), as a fraction of the term scale
 #: g (1 + alpha |F|_1 / (m g)).  Exact up to the solver's stopping rule: with
 #: solver_tolerance 1e-10 (the default) force and acceleration agree to ~6e-7;
 #: run to its iteration limit (solver_tolerance 0) the measured max is 1.4e-11

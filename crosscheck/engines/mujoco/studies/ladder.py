@@ -176,7 +176,7 @@ class Ladder:
 
     Attributes:
       state, mu, alpha: the start.
-      options: MuJoCo's options (a dict of ``crosscheck.engines.mujoco.engine.Options``' fields).
+      options: MuJoCo's options (a dict of ``crosscheck.engines.mujoco.options.Options``' fields).
       match: the Kelvin-Voigt (eps, xi) of rung 3 (``mujoco_equivalent``).
       horizon: the study's horizon; until: rung 1's comparison time; lag: the
         extension of an analytic event's comparison; run_until: how far rungs 2-5 ran.
@@ -319,7 +319,7 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
       rungs: the rungs to run besides rung 1 (the others are reported
         "not available: not requested"); all by default.
       keep: keep each rung's own result object (``RungResult.result``).
-      **options: MuJoCo's options (fields of ``crosscheck.engines.mujoco.engine.Options``:
+      **options: MuJoCo's options (fields of ``crosscheck.engines.mujoco.options.Options``:
         timestep, radius, timeconst, dampratio, solimp, ...); rungs 2-4 use
         the same radius, solref and solimp.
 

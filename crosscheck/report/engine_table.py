@@ -122,9 +122,10 @@ def _causes(data: Path, name: str) -> str:
             continue
         summary = _read(status_path.parent / "summary.json")
         if summary and summary.get("n_disagree"):
+            from crosscheck.studies.ladder import CAUSES
+
             counts = summary["counts"]
-            return ", ".join(f"{k} {counts[k]}" for k in ("geometry", "compliance", "friction law", "discretisation", "relaxation", "unexplained", "undetermined")
-                             if counts.get(k))
+            return ", ".join(f"{k} {counts[k]}" for k in CAUSES if k not in ("agree", "not rated") and counts.get(k))
     return _NONE
 
 

@@ -11,12 +11,14 @@ Scaled units (section 2.1).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 
-__all__ = ["RATED", "EVENTS", "LAG_TAU", "LAG_STEPS", "window_margin", "comparison_labels"]
+__all__ = ["RATED", "EVENTS", "LAG_TAU", "LAG_STEPS", "window_margin", "comparison_labels", "comparison_window", "compared_label"]
 
 #: Outcomes an analytic run is compared on (GB and DIVERGED rows are counted, not rated).
 RATED = (Outcome.SLIP, Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM)
@@ -44,3 +46,18 @@ def comparison_labels(outcome: np.ndarray, event_time: np.ndarray, until: np.nda
     outcome = np.asarray(outcome)
     keep = (outcome == Outcome.DIVERGED) | (np.asarray(event_time) <= np.asarray(until))
     return np.where(keep, outcome, np.int8(Outcome.SLIP)).astype(np.int8)
+
+
+def comparison_window(outcome: Outcome, time: float, horizon: float, *, contact_time: float, timestep: float) -> tuple[float, float, float]:
+    """(until, lag, run_until) of one start whose analytic first event is ``outcome`` at ``time``: its comparison time (the event
+    time for an event, the domain-exit time of a censored SLIP, the horizon otherwise), the lag an engine is allowed at an event
+    (max(LAG_TAU contact_time, LAG_STEPS timestep)), and how far an engine must run for its label: until + lag within the horizon."""
+    until = min(time, horizon) if outcome == Outcome.SLIP else (time if outcome in EVENTS else horizon)
+    lag = max(LAG_TAU * contact_time, LAG_STEPS * timestep) if outcome in EVENTS else 0.0
+    return until, lag, max(min(until + lag, horizon), timestep)
+
+
+def compared_label(outcome: Outcome, time: float, until: float) -> Outcome:
+    """``comparison_labels`` of one run (a NaN time, no event, counts as never)."""
+    t = time if math.isfinite(time) else math.inf
+    return Outcome(int(comparison_labels(np.array([int(outcome)], np.int8), np.array([t]), np.array([until]))[0]))

@@ -33,7 +33,6 @@ import math
 import time
 from dataclasses import dataclass
 
-import numpy as np
 
 from crosscheck import engines
 from crosscheck.checks import ALPHA, HORIZON, MU, check
@@ -43,7 +42,7 @@ from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 from crosscheck.studies.agreement import DEFAULT_HORIZON
-from crosscheck.studies.comparison import EVENTS, LAG_STEPS, LAG_TAU, RATED, comparison_labels, window_margin
+from crosscheck.studies.comparison import RATED, compared_label, comparison_window, window_margin
 from crosscheck.theory.slipping import slip_until_event
 
 __all__ = ["Rung", "EngineLadder", "rungs_of", "run_ladder", "CAUSES"]
@@ -140,13 +139,10 @@ def run_ladder(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, 
     rod = Rod.scaled(alpha)
     first = slip_until_event(state, mu, alpha, t_max=horizon)
     o1 = Outcome(int(first.outcome))
-    # the agreement study's comparison time and lag (crosscheck.studies.agreement)
-    until = min(first.time, horizon) if o1 == Outcome.SLIP else (first.time if o1 in EVENTS else horizon)
-    lag = max(LAG_TAU * opts.contact_time, LAG_STEPS * opts.timestep) if o1 in EVENTS else 0.0
-    run_until = max(min(until + lag, horizon), opts.timestep)
+    until, lag, run_until = comparison_window(o1, float(first.time), horizon, contact_time=opts.contact_time, timestep=opts.timestep)
 
     def label(o: Outcome, t: float) -> Outcome:
-        return Outcome(int(comparison_labels(np.array([int(o)], np.int8), np.array([t if math.isfinite(t) else math.inf]), np.array([until + lag]))[0]))
+        return compared_label(o, t, until + lag)
 
     rungs = [Rung(1, "tip", None, "ok", o1, float(first.time), label(o1, float(first.time)))]
     for k, (cause, rung) in enumerate(ladder, start=2):

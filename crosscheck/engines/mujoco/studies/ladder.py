@@ -65,7 +65,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field, fields
 from typing import Any
 
-import numpy as np
 
 from crosscheck.checks import ALPHA, HORIZON, MU, check
 from crosscheck.compare import as_json
@@ -76,7 +75,8 @@ from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
-from crosscheck.studies.agreement import DEFAULT_HORIZON, EVENTS, LAG_STEPS, LAG_TAU, RATED, comparison_labels, window_margin
+from crosscheck.studies.agreement import DEFAULT_HORIZON
+from crosscheck.studies.comparison import RATED, compared_label, comparison_window, window_margin
 
 __all__ = [
     "RUNGS",
@@ -223,10 +223,6 @@ class Ladder:
         return json.dumps(self.as_dict(), indent=2, allow_nan=False)
 
 
-def _label(outcome: Outcome, t: float, until: float) -> Outcome:
-    return Outcome(int(comparison_labels(np.array([int(outcome)], np.int8), np.array([t if math.isfinite(t) else math.inf]), np.array([until]))[0]))
-
-
 def _rung_callable(name: str):
     """The function of rung ``name`` (2-4), or the reason it is not available."""
     module, attr = _RUNG_CALLABLE[name]
@@ -354,10 +350,8 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
     r1 = slip_until_event(state, mu, alpha, t_max=horizon)
     first = _analytic_rung(1, "tip", r1, t0, keep)
     outcome1 = first.outcome
-    # the agreement study's comparison time and lag (crosscheck.studies.agreement.analytic_events and _rate)
-    until = min(first.time, horizon) if outcome1 == Outcome.SLIP else (first.time if outcome1 in EVENTS else horizon)
-    lag = max(LAG_TAU * opts.contact_time, LAG_STEPS * opts.timestep) if outcome1 in EVENTS else 0.0
-    run_until = max(min(until + lag, horizon), opts.timestep)
+    # the agreement study's comparison time and lag (crosscheck.studies.comparison)
+    until, lag, run_until = comparison_window(outcome1, first.time, horizon, contact_time=opts.contact_time, timestep=opts.timestep)
     results = [first]
     for k, name in enumerate(RUNGS[1:], start=2):
         if name not in rungs:
@@ -365,7 +359,7 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
             continue
         results.append(_run_rung(k, name, state=state, mu=mu, alpha=alpha, rod=rod, opts=opts, th=th, match=match, t_analytic=run_until,
                                  t_engine=run_until + margin, keep=keep))
-    labelled = tuple(r if not r.ok else RungResult(**{**{f.name: getattr(r, f.name) for f in fields(r)}, "label": _label(r.outcome, r.time, until + lag)})
+    labelled = tuple(r if not r.ok else RungResult(**{**{f.name: getattr(r, f.name) for f in fields(r)}, "label": compared_label(r.outcome, r.time, until + lag)})
                      for r in results)
     if reference is not None:
         ref, source = Outcome(int(reference)), "given"

@@ -12,12 +12,12 @@ from tqdm.auto import tqdm
 
 from crosscheck.compare import as_json
 from crosscheck.engines.classifier import Thresholds
-from crosscheck.engines.mujoco.studies.ladder import CAUSES, RUNGS, Ladder, _label, run_ladder
+from crosscheck.engines.mujoco.studies.ladder import CAUSES, RUNGS, Ladder, run_ladder
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 from crosscheck.studies.agreement import DEFAULT_HORIZON
-from crosscheck.studies.comparison import RATED, window_margin
+from crosscheck.studies.comparison import RATED, compared_label, window_margin
 
 __all__ = ["LadderStudy", "ladder_study", "disagreements", "decided_by_rounding", "trajectories"]
 
@@ -100,7 +100,7 @@ def decided_by_rounding(ladder: "Ladder", label: Outcome, *, thresholds: Thresho
             theta = float(np.nextafter(theta, math.inf if k > 0 else -math.inf))
         state = SlipState(**{**ladder.state.as_dict(), "theta": theta})
         run = engines.get("mujoco").simulate(Rod.scaled(ladder.alpha), state, ladder.mu, horizon=ladder.run_until + margin, thresholds=th, **opts)
-        if _label(run.outcome, run.event_time, ladder.until + ladder.lag) == label:
+        if compared_label(run.outcome, run.event_time, ladder.until + ladder.lag) == label:
             return True
     return False
 

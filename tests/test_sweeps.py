@@ -186,9 +186,14 @@ def test_a_damaged_manifest_or_chunk_record_is_named_or_recomputed(tmp_path, cap
     assert s.computed == [1]
     pd.testing.assert_frame_equal(results(sweeps.load(out)), ref)
     (out / "manifest.json").write_text("42\n")
-    assert main(["sweep", str(spec), "--out", str(out), "--no-progress"]) == 2
-    err = capsys.readouterr().err
-    assert err == f"crosscheck: error: manifest {str(out / 'manifest.json')!r} is damaged (no format, spec, spec_sha256, n_chunks); use --fresh to start the sweep again\n"
+    with pytest.raises(StoreError) as e:
+        sweeps.load(out)
+    assert str(e.value) == (f"manifest {str(out / 'manifest.json')!r} is damaged (no format, spec, spec_sha256, n_chunks); "
+                            "re-run the same crosscheck sweep command to rebuild it (its intact chunks are kept)")
+    with pytest.warns(UserWarning, match="is damaged .*; rebuilt from the spec, keeping the 6 chunks recorded for it"):
+        assert main(["sweep", str(spec), "--out", str(out), "--no-progress"]) == 0
+    assert "6 reused, 0 computed" in capsys.readouterr().out
+    pd.testing.assert_frame_equal(results(sweeps.load(out)), ref)
 
 
 def test_a_failing_chunk_is_recorded_and_the_sweep_goes_on(tmp_path, capsys):

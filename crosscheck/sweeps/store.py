@@ -12,20 +12,34 @@ Nothing half-written is ever read: a chunk is written to a temporary file in
 the same directory, flushed, and renamed into place (atomic on POSIX); its
 record, written the same way after that, is what makes it count as finished
 (one small file per chunk, so a million-run sweep never rewrites a growing
-manifest).  A chunk whose file is missing or whose checksum does not match
-its record (a truncated or edited file) is not trusted: ``verified`` drops
-it with a warning and the sweep recomputes it.
+manifest).  A full disk is one ``StoreError`` naming the directory and the
+bytes it needed, and leaves no temporary file.
+
+Nothing edited is trusted either.  The manifest carries the sha256 of its own
+content and must agree with itself (``n_chunks`` is ``n_runs`` over
+``chunk``).  A chunk record names its id's own file, this sweep's spec
+sha256 and its row count, so a copied, edited or foreign record is damaged.
+A chunk whose record is damaged, or whose file is missing or does not match
+its record's checksum (a truncated or edited file), is named in a warning and
+recomputed by the next sweep (``verified``); ``load`` also checks that each
+table holds exactly its chunk's runs.  A damaged or missing manifest is
+rebuilt by re-running the same sweep, which keeps every chunk whose record
+proves it belongs to that spec.  Files in ``chunks`` that are not the store's
+(``chunk-1.json``) are named and left alone.
 """
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import json
+import math
 import os
 import platform
+import re
 import shutil
 import warnings
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -33,22 +47,84 @@ import numpy as np
 
 from crosscheck.files import exclusive, sha256_file
 
-__all__ = ["Store", "StoreError", "versions"]
+__all__ = ["Store", "StoreError", "versions", "FORMATS"]
 
-FORMAT = 1
+#: The manifest's format: 2 seals the manifest with its own sha256 and records the spec's sha256 in each chunk
+#: record; 1 (neither) is still read.
+FORMAT = 2
+FORMATS = (1, 2)
+
+#: The names of the store's own files in ``chunks``: a chunk's table, its record, its failure, their temporary files.
+_RECORD = re.compile(r"^chunk-(\d{6})\.json$")
+_FAILED = re.compile(r"^chunk-(\d{6})\.failed\.json$")
+_OWN = re.compile(r"^(chunk-\d{6}\.(parquet|json|failed\.json)|\.chunk-\d{6}\.(parquet|json|failed\.json)\.tmp-\d+)$")
+_SHA256 = re.compile(r"^[0-9a-f]{64}$")
+
+_REBUILD = "re-run the same crosscheck sweep command to rebuild it (its intact chunks are kept)"
+
+#: The errors of a file system that has no room left (EFBIG: a file-size limit).
+NO_SPACE = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
 
 
 class StoreError(ValueError):
     """A store that cannot be used as asked (another writer, another spec, a damaged manifest)."""
 
 
+def no_space(directory: Path, needed: int, e: OSError) -> str:
+    """The one line of a write that found no room: the directory, the bytes needed and those free."""
+    try:
+        st = os.statvfs(directory)
+        free = f"{st.f_bavail * st.f_frsize} bytes free"
+    except OSError:
+        free = "free space unknown"
+    return f"out {str(directory)!r} has no room left ({e.strerror or e}): writing {needed} bytes needs at least that much free space ({free})"
+
+
 def _write_atomic(path: Path, data: bytes) -> None:
     tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    with open(tmp, "wb") as f:
-        f.write(data)
-        f.flush()
-        os.fsync(f.fileno())
-    os.replace(tmp, path)
+    try:
+        with open(tmp, "wb") as f:
+            f.write(data)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except OSError as e:
+        tmp.unlink(missing_ok=True)  # nothing half-written stays behind
+        raise StoreError(_os_error(path.parent, e, len(data))) from None
+
+
+def _os_error(directory: Path, e: OSError, needed: int) -> str:
+    """The one line of a failed write into ``directory`` (``needed``: the bytes it was writing)."""
+    if e.errno in NO_SPACE:
+        return no_space(directory, needed, e)
+    return f"out {str(directory)!r} cannot be written: {e.strerror or e}"
+
+
+def _seal(body: dict) -> str:
+    """sha256 of a manifest's content (its own seal and its time of writing aside)."""
+    rest = {k: v for k, v in body.items() if k not in ("sha256", "updated")}
+    return hashlib.sha256(json.dumps(rest, sort_keys=True, default=str).encode()).hexdigest()
+
+
+def _manifest_problem(m) -> str | None:
+    """Why ``m`` is not a manifest this store wrote (None if it is one)."""
+    missing = [k for k in ("format", "spec", "spec_sha256", "n_chunks") if not isinstance(m, dict) or k not in m]
+    if missing:
+        return f"no {', '.join(missing)}"
+    if m["format"] not in FORMATS or isinstance(m["format"], bool):
+        return f"format {m['format']!r}, expected one of {', '.join(map(str, FORMATS))}"
+    if "sha256" in m or m["format"] >= 2:
+        if m.get("sha256") != _seal(m):
+            return "its content differs from its sha256: edited after it was written"
+    if not isinstance(m["spec"], dict) or not (isinstance(m["spec_sha256"], str) and _SHA256.match(m["spec_sha256"])):
+        return "no spec or spec sha256"
+    counts = [m.get(k) for k in ("n_chunks", "n_runs", "chunk")]
+    if not all(isinstance(v, int) and not isinstance(v, bool) and v >= 1 for v in counts):
+        return f"n_chunks, n_runs and chunk must be integers >= 1; got {', '.join(repr(v) for v in counts)}"
+    n_chunks, n_runs, chunk = counts
+    if n_chunks != math.ceil(n_runs / chunk):
+        return f"n_chunks {n_chunks} is not n_runs {n_runs} in chunks of {chunk}"
+    return None
 
 
 def versions(engine: str | None = None) -> dict:
@@ -77,69 +153,156 @@ class Store:
     @contextmanager
     def writer(self):
         """Hold the store's lock while writing; ``StoreError`` at once if another process holds it."""
-        self.root.mkdir(parents=True, exist_ok=True)
-
         def refuse(holder: str) -> StoreError:
             return StoreError(f"out {str(self.root)!r} is being written by {holder or 'another process'}; wait for it or use another directory")
 
-        with exclusive(self.root / ".lock", f"pid {os.getpid()} on {platform.node()}", refuse):
+        stack = ExitStack()
+        try:
+            self.root.mkdir(parents=True, exist_ok=True)
+            stack.enter_context(exclusive(self.root / ".lock", f"pid {os.getpid()} on {platform.node()}", refuse))
+        except OSError as e:
+            raise StoreError(_os_error(self.root, e, 4096)) from None
+        with stack:
             yield self
 
+    def _chunks_dir_problem(self) -> str | None:
+        if self.chunks.exists() and not self.chunks.is_dir():
+            return f"{str(self.chunks)!r} is not a directory"
+        return None
+
     def read_manifest(self) -> dict | None:
-        """The manifest with the chunk records as they are now (``chunks``: id -> record, ``failed``: id -> error); None if absent."""
-        if not self.manifest_path.exists():
-            return None
+        """The manifest with the chunk records as they are now; None if absent.
+
+        ``chunks``: id -> record, ``failed``: id -> error, ``damaged``: record file name -> why it is not
+        trusted (its chunk counts as not finished), ``stray``: names in ``chunks`` that are not the store's.
+        Raises ``StoreError`` naming a damaged manifest.
+        """
         try:
-            m = json.loads(self.manifest_path.read_text())
+            if not self.manifest_path.exists():
+                return None
+            text = self.manifest_path.read_bytes().decode()
+            m = json.loads(text)
         except (json.JSONDecodeError, UnicodeDecodeError) as e:
-            raise StoreError(f"manifest {str(self.manifest_path)!r} is damaged ({e}); use --fresh to start the sweep again") from None
-        missing = [k for k in ("format", "spec", "spec_sha256", "n_chunks") if not isinstance(m, dict) or k not in m]
-        if missing:
-            raise StoreError(f"manifest {str(self.manifest_path)!r} is damaged (no {', '.join(missing)}); use --fresh to start the sweep again")
-        m["chunks"], m["failed"] = {}, {}
+            raise StoreError(self._damaged_manifest(str(e))) from None
+        except OSError as e:
+            raise StoreError(f"manifest {str(self.manifest_path)!r} cannot be read ({e.strerror or e})") from None
+        problem = _manifest_problem(m)
+        if problem:
+            raise StoreError(self._damaged_manifest(problem))
+        problem = self._chunks_dir_problem()
+        if problem:
+            raise StoreError(f"out {str(self.root)!r} is damaged: {problem}; use --fresh to start the sweep again")
+        m["chunks"], m["failed"], m["damaged"], m["stray"] = {}, {}, {}, []
         if self.chunks.is_dir():
-            for p in self.chunks.glob("chunk-*.json"):
-                cid = str(int(p.name[6:12]))
-                try:
-                    rec = json.loads(p.read_text())
-                except (json.JSONDecodeError, UnicodeDecodeError):
-                    continue  # a damaged record: the chunk counts as not finished
-                if not isinstance(rec, dict) or not (isinstance(rec.get("file"), str) and isinstance(rec.get("sha256"), str) or "error" in rec):
-                    continue  # not a record this store wrote: the chunk counts as not finished
-                if p.name.endswith(".failed.json"):
-                    m["failed"][cid] = rec["error"]
+            for p in sorted(self.chunks.iterdir()):
+                rec, failed = _RECORD.match(p.name), _FAILED.match(p.name)
+                if not _OWN.match(p.name):
+                    m["stray"].append(p.name)
+                if not (rec or failed):
+                    continue
+                cid = int((rec or failed).group(1))
+                why = self._record_problem(m, p, cid, failed is not None)
+                if isinstance(why, str):
+                    m["damaged"][p.name] = why
+                elif failed:
+                    m["failed"][str(cid)] = why["error"]
                 else:
-                    m["chunks"][cid] = rec
+                    m["chunks"][str(cid)] = why
         return m
 
+    def _damaged_manifest(self, why: str) -> str:
+        return f"manifest {str(self.manifest_path)!r} is damaged ({why}); {_REBUILD}"
+
+    def _record_problem(self, m: dict, path: Path, cid: int, failed: bool) -> dict | str:
+        """The record at ``path`` of chunk ``cid`` if this store wrote it for this sweep, or why not."""
+        if cid >= m["n_chunks"]:
+            return f"chunk {cid} is past the sweep's last chunk {m['n_chunks'] - 1}"
+        try:
+            rec = json.loads(path.read_bytes().decode())
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+            return f"not readable JSON ({e})"
+        if failed:
+            return rec if isinstance(rec, dict) and isinstance(rec.get("error"), str) else "not a failure record"
+        if not isinstance(rec, dict):
+            return f"a JSON {type(rec).__name__}, expected an object"
+        want = f"chunk-{cid:06d}.parquet"
+        if rec.get("file") != want:
+            return f"names the file {rec.get('file')!r}, not {want!r} (copied or edited)"
+        if not (isinstance(rec.get("sha256"), str) and _SHA256.match(rec["sha256"])):
+            return "no sha256 of its file"
+        rows = min(m["chunk"], m["n_runs"] - cid * m["chunk"])
+        if rec.get("rows") != rows or isinstance(rec.get("rows"), bool):
+            return f"{rec.get('rows')!r} rows, chunk {cid} has {rows}"
+        if "spec_sha256" in rec and rec["spec_sha256"] != m["spec_sha256"]:
+            return "written for another sweep (its spec sha256 differs)"
+        return rec
+
     def _write_manifest(self, m: dict) -> None:
-        body = {k: v for k, v in m.items() if k not in ("chunks", "failed")}  # those live in the chunk records
+        body = {k: v for k, v in m.items() if k not in ("chunks", "failed", "damaged", "stray")}  # those live in the chunk records
+        body["format"] = FORMAT
         body["updated"] = _now()
+        body = json.loads(json.dumps(body, default=str))  # sealed as it will be read back
+        body["sha256"] = _seal(body)
         _write_atomic(self.manifest_path, (json.dumps(body, indent=1, sort_keys=True, default=str) + "\n").encode())
 
     def open(self, spec, *, fresh: bool = False) -> dict:
         """The manifest for ``spec``: a new one, or the existing one if it is for the same spec.
 
         Raises StoreError when the directory holds another sweep (unless ``fresh``,
-        which deletes its chunks first) or something that is not a store.
+        which deletes its chunks first) or something that is not a store.  A damaged
+        or missing manifest of a store (its ``chunks`` directory present) is rebuilt
+        from ``spec`` with a warning; the chunks whose records carry ``spec``'s sha256
+        are kept (``verified`` checks their files).
         """
-        m = self.read_manifest() if not fresh else None
+        m, rebuilt = None, None
+        if not fresh:
+            try:
+                m = self.read_manifest()
+            except StoreError as e:
+                if not self._is_store():
+                    raise
+                rebuilt = str(e).split(f"; {_REBUILD}")[0]
+            if m is None and rebuilt is None and self._is_store() and self.chunks.is_dir():
+                rebuilt = f"manifest {str(self.manifest_path)!r} is missing"
         if m is not None and m.get("spec_sha256") != spec.digest:
             raise StoreError(f"out {str(self.root)!r} holds a different sweep (spec sha256 {m.get('spec_sha256', '?')[:12]}, this one "
                              f"{spec.digest[:12]}); use --fresh to replace it or choose another directory")
         if m is None:
-            if not fresh and self.root.exists() and any(p.name not in (".lock",) for p in self.root.iterdir()):
+            if not fresh and rebuilt is None and self.root.exists() and any(p.name not in (".lock",) for p in self.root.iterdir()):
                 raise StoreError(f"out {str(self.root)!r} is not empty and has no sweep manifest; use --fresh to replace its sweep or choose another directory")
-            if self.chunks.exists():
-                shutil.rmtree(self.chunks)
-            if fresh and self.manifest_path.exists():
-                self.manifest_path.unlink()
+            if rebuilt is None:
+                if self.chunks.is_dir():
+                    shutil.rmtree(self.chunks)
+                elif self.chunks.exists():
+                    self.chunks.unlink()
+                if fresh and self.manifest_path.exists():
+                    self.manifest_path.unlink()
             m = {"format": FORMAT, "spec": spec.source, "spec_sha256": spec.digest, "engine": spec.engine, "n_runs": spec.n_runs,
                  "n_chunks": spec.n_chunks, "chunk": spec.chunk, "versions": versions(spec.engine), "created": _now(), "chunks": {}, "failed": {}}
-        self.chunks.mkdir(parents=True, exist_ok=True)
+            if rebuilt is not None:
+                self.manifest_path.unlink(missing_ok=True)
+                self._write_manifest(m)
+                m = self.read_manifest()
+                for cid, rec in list(m["chunks"].items()):
+                    if rec.get("spec_sha256") != spec.digest:  # only a record naming this spec proves the chunk is of it
+                        m["damaged"][f"chunk-{int(cid):06d}.json"] = "written before its spec was recorded in it"
+                        del m["chunks"][cid]
+                kept = len(m["chunks"])
+                warnings.warn(f"{rebuilt}; rebuilt from the spec, keeping the {kept} chunks recorded for it", stacklevel=2)
+        try:
+            self.chunks.mkdir(parents=True, exist_ok=True)
+        except OSError as e:
+            raise StoreError(_os_error(self.root, e, 4096)) from None
         m["versions_resumed"] = versions(spec.engine) if m.get("chunks") else None
         self._write_manifest(m)
         return m
+
+    def _is_store(self) -> bool:
+        """Whether ``root`` holds only what a store writes (a damaged or missing manifest may then be rebuilt)."""
+        if not self.root.is_dir() or self._chunks_dir_problem():
+            return False
+        names = {p.name for p in self.root.iterdir()}
+        return "chunks" in names and all(n in ("chunks", "manifest.json", ".lock") or n.startswith(".manifest.json.tmp-") for n in names)
 
     def warnings(self) -> dict[str, int]:
         """The engine's warnings over the store's finished chunks, by kind (recorded by the process that computed each)."""
@@ -150,7 +313,16 @@ class Store:
         return total
 
     def verified(self, m: dict) -> set[int]:
-        """Ids of the manifest's chunks whose file is present with its recorded sha256; the others are dropped with a warning."""
+        """Ids of the manifest's chunks whose file is present with its recorded sha256; the others, and every damaged
+        record, are named in a warning and dropped (their chunks are recomputed); stray files are named and left alone."""
+        for name in m.get("stray", ()):
+            warnings.warn(f"{str(self.chunks / name)!r} is not a file of the sweep store; it is ignored", stacklevel=2)
+        for name, why in list(m.get("damaged", {}).items()):
+            cid = int(name[6:12])
+            warnings.warn(f"chunk {cid} of {str(self.root)!r} has a damaged record {name} ({why}); it will be recomputed", stacklevel=2)
+            (self.chunks / name).unlink(missing_ok=True)
+            if str(cid) not in m["chunks"]:
+                (self.chunks / f"chunk-{cid:06d}.parquet").unlink(missing_ok=True)
         ok = set()
         for cid, rec in list(m["chunks"].items()):
             path = self.chunks / rec["file"]
@@ -175,7 +347,8 @@ class Store:
         pq.write_table(table, buf)
         data = buf.getvalue().to_pybytes()  # hashed as written: no second read of the file
         _write_atomic(self.chunks / name, data)
-        rec = {"file": name, "rows": table.num_rows, "sha256": hashlib.sha256(data).hexdigest(), "seconds": seconds, "warnings": dict(warnings or {})}
+        rec = {"file": name, "rows": table.num_rows, "sha256": hashlib.sha256(data).hexdigest(), "spec_sha256": m["spec_sha256"], "seconds": seconds,
+               "warnings": dict(warnings or {})}
         _write_atomic(self.chunks / f"chunk-{chunk_id:06d}.json", json.dumps(rec).encode())
         (self.chunks / f"chunk-{chunk_id:06d}.failed.json").unlink(missing_ok=True)
         m["chunks"][str(chunk_id)] = rec
@@ -198,6 +371,10 @@ class Store:
         m = self.read_manifest()
         if m is None:
             raise StoreError(f"out {str(self.root)!r} has no sweep manifest (manifest.json); run crosscheck sweep into it first")
+        if m["damaged"] and not partial:
+            name, why = next(iter(m["damaged"].items()))
+            raise StoreError(f"chunk {int(name[6:12])} of {str(self.root)!r} has a damaged record {name} ({why}); "
+                             "re-run the same crosscheck sweep command to recompute it")
         missing = m["n_chunks"] - len(m["chunks"])
         if missing and not partial:
             raise StoreError(f"the sweep in {str(self.root)!r} is unfinished: {missing} of {m['n_chunks']} chunks missing; "
@@ -208,7 +385,12 @@ class Store:
             path = self.chunks / rec["file"]
             if not path.is_file() or sha256_file(path) != rec["sha256"]:
                 raise StoreError(f"chunk {cid} of {str(self.root)!r} is missing or damaged (sha256 mismatch); re-run the sweep to recompute it")
-            frames.append(pq.read_table(path).to_pandas())
+            df = pq.read_table(path).to_pandas()
+            lo = int(cid) * m["chunk"]
+            if not ("run" in df and "chunk" in df and df["run"].tolist() == list(range(lo, lo + rec["rows"])) and (df["chunk"] == int(cid)).all()):
+                raise StoreError(f"chunk {cid} of {str(self.root)!r} is damaged (its table does not hold runs {lo} to {lo + rec['rows'] - 1}); "
+                                 "re-run the sweep to recompute it")
+            frames.append(df)
         if not frames:
             return pd.DataFrame()
         return pd.concat(frames, ignore_index=True).sort_values("run", kind="stable").reset_index(drop=True)

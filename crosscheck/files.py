@@ -6,11 +6,10 @@ Shared by the sweep store (``crosscheck.sweeps.store``) and the report
 
 from __future__ import annotations
 
-import fcntl
 import hashlib
-from contextlib import contextmanager
 from pathlib import Path
-from typing import Callable, Iterator
+
+from crosscheck.locking import exclusive  # one writer per directory
 
 __all__ = ["sha256_file", "exclusive"]
 
@@ -24,24 +23,3 @@ def sha256_file(path: Path | str) -> str:
     return h.hexdigest()
 
 
-@contextmanager
-def exclusive(path: Path | str, holder: str, refuse: Callable[[str], Exception]) -> Iterator[Path]:
-    """Hold an exclusive ``flock`` on ``path`` (created if missing) for the ``with`` block, writing ``holder`` into it.
-
-    When another process holds it, raises ``refuse(text)`` at once, ``text`` being what that process wrote.
-    The kernel drops the lock when its holder dies, also by SIGKILL, so a killed writer never leaves it held.
-    """
-    f = open(path, "a+")
-    try:
-        try:
-            fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            f.seek(0)
-            raise refuse(f.read().strip()) from None
-        f.seek(0)
-        f.truncate()
-        f.write(holder)
-        f.flush()
-        yield Path(path)
-    finally:
-        f.close()

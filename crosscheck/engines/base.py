@@ -306,12 +306,11 @@ def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu,
         runs = [engine.simulate(rod, s, float(m), horizon=horizon, thresholds=th, **options)
                 for s, m in tqdm(list(zip(states, mu)), desc=f"{engine.name} sweep", unit="state", disable=not progress)]
     else:
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
+        from crosscheck.workers import pool as worker_pool
 
         size = max(1, math.ceil(B / (4 * workers)))  # a few chunks per worker keeps both busy to the end
         chunks = [(states[a:a + size], [float(m) for m in mu[a:a + size]]) for a in range(0, B, size)]
-        with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
+        with worker_pool(workers) as pool:
             futures = [pool.submit(_simulate_chunk, engine, rod, c_states, c_mu, horizon, th, options) for c_states, c_mu in chunks]
             runs = [r for f in tqdm(futures, desc=f"{engine.name} sweep", unit="chunk", disable=not progress) for r in f.result()]
     lengths = {len(r.record) for r in runs}

@@ -72,21 +72,19 @@ LOCK_FILE = ".lock"
 
 
 def lock(out: Path):
-    """Hold ``<out>/.lock`` (an exclusive ``flock``, ``crosscheck.files.exclusive``) while a report is written into ``out``.
+    """Hold ``<out>/.lock`` (``crosscheck.locking.exclusive``) while a report is written into ``out``.
 
     A second ``crosscheck report`` into the same directory is refused with one
     line instead of interleaving its files with the first one's; a killed run
-    never leaves the directory locked.
+    never leaves the directory locked (``crosscheck.locking``).
     """
-    import os
-
-    from crosscheck.files import exclusive
+    from crosscheck.locking import exclusive, owner_text
 
     def refuse(holder: str) -> ValueError:
-        return ValueError(f"out must be a report directory no other process is writing; {str(out)!r} is being written by pid {holder or 'unknown'} "
+        return ValueError(f"out must be a report directory no other process is writing; {str(out)!r} is being written by {holder or 'another process'} "
                           "(wait for it, or choose another --out)")
 
-    return exclusive(Path(out) / LOCK_FILE, str(os.getpid()), refuse)
+    return exclusive(Path(out) / LOCK_FILE, owner_text(), refuse)
 
 
 def code_digest() -> str:

@@ -26,6 +26,7 @@ from pathlib import Path
 from crosscheck.sweeps.chunk import compute_chunk
 from crosscheck.sweeps.spec import Spec, load_spec
 from crosscheck.sweeps.store import Store
+from crosscheck.workers import default_workers
 
 __all__ = ["run", "SweepSummary", "LOG_EVERY"]
 
@@ -68,10 +69,6 @@ def _timed_chunk(spec: Spec, chunk_id: int):
     t0 = time.perf_counter()
     table = compute_chunk(spec, chunk_id, warnings=warned)
     return table, time.perf_counter() - t0, warned
-
-
-def _default_workers() -> int:
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
 
 class _Progress:
@@ -152,10 +149,11 @@ def _results(spec: Spec, todo: list[int], workers: int, scheduler: str | None):
             except Exception as e:  # noqa: BLE001
                 yield c, e
         return
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor, as_completed as done
+    from concurrent.futures import as_completed as done
 
-    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
+    from crosscheck.workers import pool as worker_pool
+
+    with worker_pool(workers) as pool:
         futures = {pool.submit(_timed_chunk, spec, c): c for c in todo}
         for fut in done(futures):
             c = futures[fut]
@@ -180,7 +178,7 @@ def run(spec: Spec | str | Path, out: str | Path, *, workers: int | None = None,
     if not isinstance(spec, Spec):
         spec = load_spec(spec)
     if workers is None:
-        workers = _default_workers()
+        workers = default_workers()
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ValueError(f"workers must be an integer >= 1; got {workers!r}")
     check_scheduler(scheduler)

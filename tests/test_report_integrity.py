@@ -73,6 +73,12 @@ DAMAGE = [
     ("provenance.json", _truncate, "not readable JSON"),
     ("provenance.json", lambda p: p.write_text('{"date": 1}'), "not the provenance"),
     ("provenance.json", lambda p: p.write_text("[]"), "a JSON list"),
+    # one bit flipped, the shape kept: only the seal beside the file can tell
+    ("provenance.json", lambda p: p.write_bytes(p.read_bytes().replace(b'"date": "2', b'"date": "3', 1)), "sha256 differs"),
+    ("provenance.json", lambda p: p.with_name(p.name + ".sha256").unlink(), "has no seal provenance.json.sha256"),
+    ("provenance.json", lambda p: p.write_bytes(p.read_bytes() + b" "), "bytes, the run wrote"),
+    ("toy/status.json", lambda p: p.write_bytes(p.read_bytes().replace(b'"seed": 0', b'"seed": 1', 1)), "sha256 differs"),
+    ("toy/status.json", lambda p: p.with_name(p.name + ".sha256").write_text("{}"), "is not one (no bytes and sha256)"),
 ]
 
 
@@ -149,3 +155,34 @@ def test_a_section_killed_by_sigkill_is_shown_unfinished_and_the_next_run_comple
     assert done.returncode == 0, done.stderr
     status = json.loads((out / "data" / "toy_slow" / "status.json").read_text())
     assert status["status"] == "ok" and set(status["files"]) == {"half.csv", "rest.csv"}
+
+
+def test_a_full_disk_is_one_line_naming_the_directory_and_leaves_the_section_unfinished(tmp_path, monkeypatch, capsys):
+    """A real 1 MiB tmpfs, full but for a few pages: the section's table does not fit."""
+    import shutil
+
+    mnt = tmp_path / "disk"
+    mnt.mkdir()
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(mnt)], capture_output=True).returncode != 0:
+        pytest.skip("cannot mount a tmpfs here")
+    try:
+        st = os.statvfs(mnt)
+        (mnt / "filler").write_bytes(b"\0" * (st.f_bavail * st.f_frsize - 40000))
+
+        def big(ctx):
+            ctx.store.write_table("values", {"x": np.arange(4000.0)})
+
+        monkeypatch.setattr(report, "SECTIONS", (Section("toy", "Toy", "", lambda quick: {"n": 3}, big, lambda ctx: []),))
+        assert main(["report", "--out", str(mnt / "r"), "--no-progress"]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith(f"crosscheck: error: out {str(mnt / 'r' / 'data')!r} has no room left (No space left on device): writing ")
+        assert "bytes needs at least that much free space" in err
+        assert not list((mnt / "r").rglob(".*.tmp-*"))  # nothing half-written left ...
+        status = mnt / "r" / "data" / "toy" / "status.json"
+        if status.exists():  # ... and the section is not taken as finished
+            assert json.loads(status.read_text())["status"] in ("running", "error")
+        (mnt / "filler").unlink()
+        assert main(["report", "--out", str(mnt / "r"), "--no-progress"]) == 0
+        shutil.rmtree(mnt / "r")
+    finally:
+        subprocess.run(["umount", str(mnt)], check=True)

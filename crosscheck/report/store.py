@@ -15,11 +15,20 @@ reader can open them without this package:
 * grid: JSON ``{"x": {"name", "values"}, "y": {...}, "z": {"name", "values"}}``
   with ``z.values[j][i]`` the value at ``(x[i], y[j])`` (rows are y, as
   ``matplotlib.imshow`` and ``numpy.meshgrid`` expect).
+
+Every file is written to a temporary file and renamed into place, so a reader
+never sees half of one.  The documents that describe the others (a section's
+``status.json``, the report's ``provenance.json``: ``SEALED``) get a
+``<name>.json.sha256`` beside them, ``{"bytes", "sha256"}`` of what was
+written, against which ``crosscheck.report.integrity`` checks them; the other
+files are checked against the manifest in their section's status.  A full
+disk is one ``ValueError`` naming the directory and the bytes it needed.
 """
 
 from __future__ import annotations
 
 import csv
+import io
 import json
 import math
 import shutil
@@ -28,10 +37,42 @@ from typing import Any, Iterable, Mapping
 
 import numpy as np
 
-__all__ = ["SectionStore", "to_jsonable", "FLOAT_DIGITS"]
+__all__ = ["SectionStore", "to_jsonable", "FLOAT_DIGITS", "SEALED", "SEAL_SUFFIX"]
 
 #: Significant digits of floats in saved tables and grids.
 FLOAT_DIGITS = 12
+
+#: The JSON documents written with a seal beside them (the section status and the report's provenance: the
+#: manifest of a section's files is in its status, so the status and the provenance need one of their own).
+SEALED = ("status", "provenance")
+SEAL_SUFFIX = ".sha256"
+
+
+def seal_of(data: bytes) -> dict:
+    """The seal of a file's bytes: its size and sha256."""
+    import hashlib
+
+    return {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
+
+
+def write_atomic(path: Path, data: bytes) -> None:
+    """Write ``data`` to ``path`` through a temporary file renamed into place; a full disk or an unwritable
+    directory is a ``ValueError`` naming the directory (and the bytes needed), leaving no temporary file."""
+    import os
+
+    from crosscheck.sweeps.store import NO_SPACE, no_space
+
+    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with open(tmp, "wb") as f:
+            f.write(data)
+        os.replace(tmp, path)
+    except OSError as e:
+        tmp.unlink(missing_ok=True)
+        if e.errno in NO_SPACE:
+            raise ValueError(no_space(path.parent, len(data), e)) from None
+        raise ValueError(f"out {str(path.parent)!r} cannot be written ({e.strerror or e}): {path.name}") from None
 
 
 def _fmt(v: Any, digits: int) -> Any:
@@ -105,25 +146,25 @@ class SectionStore:
             raise ValueError(f"table {name}: columns differ in length: { {k: len(v) for k, v in cols.items()} }")
         n = lengths.pop() if lengths else 0
         path = self.root / f"{name}.csv"
-        self.root.mkdir(parents=True, exist_ok=True)
-        with open(path, "w", newline="") as f:
-            w = csv.writer(f)
-            w.writerow(cols.keys())
-            for i in range(n):
-                row = []
-                for v in cols.values():
-                    x = _fmt(v[i], FLOAT_DIGITS)
-                    row.append("nan" if x is None else x)
-                w.writerow(row)
+        buf = io.StringIO(newline="")
+        w = csv.writer(buf)
+        w.writerow(cols.keys())
+        for i in range(n):
+            row = []
+            for v in cols.values():
+                x = _fmt(v[i], FLOAT_DIGITS)
+                row.append("nan" if x is None else x)
+            w.writerow(row)
+        write_atomic(path, buf.getvalue().encode())
         return path
 
     def write_json(self, name: str, obj: Any) -> Path:
-        """Write ``obj`` as ``<name>.json`` (see ``to_jsonable``); returns the path."""
+        """Write ``obj`` as ``<name>.json`` (see ``to_jsonable``), sealed if ``name`` is in ``SEALED``; returns the path."""
         path = self.root / f"{name}.json"
-        self.root.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(".json.tmp")
-        tmp.write_text(json.dumps(to_jsonable(obj), indent=1) + "\n")
-        tmp.replace(path)  # a reader never sees half a file
+        data = (json.dumps(to_jsonable(obj), indent=1) + "\n").encode()
+        if name in SEALED:
+            write_atomic(path.with_name(path.name + SEAL_SUFFIX), (json.dumps(seal_of(data)) + "\n").encode())
+        write_atomic(path, data)  # a reader never sees half a file
         return path
 
     def write_grid(self, name: str, x: tuple[str, np.ndarray], y: tuple[str, np.ndarray], z: tuple[str, np.ndarray], *, digits: int = 6) -> Path:
@@ -138,8 +179,7 @@ class SectionStore:
             "z": {"name": zn, "values": [[_fmt(v, digits) for v in row] for row in zv.tolist()]},
         }
         path = self.root / f"{name}.json"
-        self.root.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(doc, separators=(",", ":")) + "\n")
+        write_atomic(path, (json.dumps(doc, separators=(",", ":")) + "\n").encode())
         return path
 
     # ------------------------------------------------------------ reading ---
@@ -150,7 +190,8 @@ class SectionStore:
         """Names of the saved files (status excluded), sorted."""
         if not self.root.exists():
             return []
-        return sorted(p.name for p in self.root.iterdir() if p.is_file() and p.name != "status.json" and not p.name.endswith(".tmp"))
+        return sorted(p.name for p in self.root.iterdir() if p.is_file() and p.name not in ("status.json", "status.json" + SEAL_SUFFIX)
+                      and not p.name.endswith(".tmp") and ".tmp-" not in p.name)
 
     def manifest(self) -> dict[str, dict]:
         """Size and sha256 of every saved file (``crosscheck.report.integrity``), recorded in the status when the section ends."""

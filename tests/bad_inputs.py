@@ -131,6 +131,34 @@ def cli_cases(tmp: Path) -> list:
     cases.append(("sweep --out=a file", ["sweep", spec("ok"), "--out", str(a_file)], "out"))
     cases.append(("compare missing stores", ["compare", str(tmp / "no_a"), str(tmp / "no_b")], "a"))
     cases.append(("compare non-store", ["compare", str(tmp), str(tmp)], "a"))
+    # spec and states files: every value a chunk will use is checked before any chunk runs
+    (tmp / "not_utf8.toml").write_bytes(b'[sweep]\nengine = "analytic" # \xe9\n')
+    cases.append(("sweep spec not UTF-8", ["sweep", str(tmp / "not_utf8.toml"), "--out", sweep_out], "spec"))
+    fifo = tmp / "fifo.toml"
+    if not fifo.exists():
+        os.mkfifo(fifo)
+    cases.append(("sweep spec is a FIFO", ["sweep", str(fifo), "--out", sweep_out], "spec"))
+    cases.append(("sweep spec options.timestep=[[1e-3]]", ["sweep", spec("nested_option", sweep='engine = "mujoco"\nhorizon = 0.05\nchunk = 4',
+                                                                           options="timestep = [[1e-3]]"), "--out", sweep_out], "timestep"))
+    header = "theta,varphi,Theta,Psi,eta\n"
+    state_files = {
+        "header only": header.encode(),
+        "empty": b"",
+        "ragged": (header + "1.0,-1.5,0,0\n").encode(),
+        "semicolons": b"theta;varphi;Theta;Psi;eta\n1.0;-1.5;0;0;1\n",
+        "latin-1": (header + "1.0,-1.5,0,0,1\xe9\n").encode("latin-1"),
+        "binary": (header + "1.0,-1.5,0,0,1\0\n").encode(),
+        "duplicated theta": b"theta,varphi,Theta,Psi,eta,theta\n1.0,-1.5,0,0,1,7\n",
+        "unknown column": b"theta,varphi,Theta,Psi,eta,mu\n1.0,-1.5,0,0,1,0.5\n",
+        "not a number": (header + "1.0,-1.5,0,0,one\n").encode(),
+    }
+    for i, (what, data) in enumerate(state_files.items()):
+        (tmp / f"states_{i}.csv").write_bytes(data)
+        cases.append((f"sweep states.file {what}", ["sweep", spec(f"states_{i}", states=f'file = "states_{i}.csv"'), "--out", sweep_out], "file"))
+    for what, value in [("/etc/passwd", '"/etc/passwd"'), ("a number", "5"), ("a list", '["a.csv"]'), ("a directory", '"."'),
+                        ("a FIFO", f'"{fifo.name}"')]:
+        cases.append((f"sweep states.file = {what}", ["sweep", spec(f"states_{what.replace('/', '_')}", states=f"file = {value}"),
+                                                      "--out", sweep_out], "file"))
     return cases
 
 

@@ -191,16 +191,10 @@ def _states(table: dict, seed: int, base: Path | None) -> dict[str, np.ndarray]:
         extra = sorted(set(table) - {"file"})
         if extra:
             raise SpecError(f"[states] with file takes no other keys; got {', '.join(extra)}")
+        if not isinstance(table["file"], str) or not table["file"].strip():
+            raise SpecError(f"states.file must be the path of a CSV file (a string); got {table['file']!r}")
         path = Path(table["file"]) if base is None else base / table["file"]
-        if not path.is_file():
-            raise SpecError(f"states.file must be a readable CSV file; got {str(path)!r}")
-        data = np.genfromtxt(path, delimiter=",", names=True, dtype=float)
-        names = data.dtype.names or ()
-        missing = [a for a in AXES if a not in names]
-        if missing:
-            raise SpecError(f"states.file must have the columns {', '.join(AXES)}; {str(path)!r} lacks {', '.join(missing)}")
-        cols = {a: np.atleast_1d(data[a]).astype(float) for a in AXES}
-        cols["psi"] = np.atleast_1d(data["psi"]).astype(float) if "psi" in names else np.zeros_like(cols["theta"])
+        cols = _read_states_file(path)
         for a, v in cols.items():
             for i, x in enumerate(v):
                 _number(f"states.file row {i + 1} {a}", float(x), **_LIMITS[a])
@@ -250,6 +244,69 @@ def _states(table: dict, seed: int, base: Path | None) -> dict[str, np.ndarray]:
     return {a: grid[:, i].copy() for i, a in enumerate((*AXES, "psi"))}
 
 
+#: The most bytes of a states file (a row of six 17-digit numbers is ~110 bytes).
+MAX_STATES_FILE_BYTES = 128 * MAX_STATES
+
+
+def _read_states_file(path: Path) -> dict[str, np.ndarray]:
+    """The columns of a states CSV: UTF-8, comma-separated, a header naming each axis once, one number per cell."""
+    import csv
+    import io
+
+    try:
+        if not path.is_file():  # also refuses a FIFO or a device, which would block or never end
+            raise SpecError(f"states.file must be a readable CSV file; got {str(path)!r}")
+        if path.stat().st_size > MAX_STATES_FILE_BYTES:
+            raise SpecError(f"states.file must be at most {MAX_STATES_FILE_BYTES} bytes; {str(path)!r} has {path.stat().st_size}")
+        raw = path.read_bytes()
+    except OSError as e:
+        raise SpecError(f"states.file must be a readable CSV file; got {str(path)!r} ({e.strerror or e})") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise SpecError(f"states.file must be a readable UTF-8 CSV file; {str(path)!r} has the byte 0x{raw[e.start]:02x} at byte {e.start + 1}") from None
+    if "\0" in text:
+        raise SpecError(f"states.file must be a readable CSV text file; {str(path)!r} has the byte 0x00 at byte {text.index(chr(0)) + 1}")
+    rows = [r for r in csv.reader(io.StringIO(text, newline="")) if r and any(c.strip() for c in r)]
+    if not rows:
+        raise SpecError(f"states.file must be a CSV file with a header row ({', '.join(AXES)}[, psi]) and one row per state; {str(path)!r} is empty")
+    header = [c.strip() for c in rows[0]]
+    allowed = (*AXES, "psi")
+    for c in header:
+        if c not in allowed:
+            raise SpecError(f"states.file must have only the columns ({', '.join(allowed)}) separated by commas; {str(path)!r} has {c[:40]!r}")
+        if header.count(c) > 1:
+            raise SpecError(f"states.file must have each column ({', '.join(allowed)}) once; {str(path)!r} has {c!r} {header.count(c)} times")
+    missing = [a for a in AXES if a not in header]
+    if missing:
+        raise SpecError(f"states.file must have the columns {', '.join(AXES)}; {str(path)!r} lacks {', '.join(missing)}")
+    body = rows[1:]
+    if not body:
+        raise SpecError(f"states.file must be a CSV file with a header row ({', '.join(AXES)}[, psi]) and one row per state; {str(path)!r} has no states")
+    if len(body) > MAX_STATES:
+        raise SpecError(f"states.file must have at most {MAX_STATES} states; {str(path)!r} has {len(body)}")
+    cols = {c: np.empty(len(body)) for c in header}
+    for i, r in enumerate(body):
+        if len(r) != len(header):
+            raise SpecError(f"states.file must have one value per column in every row ({len(header)}: {', '.join(header)}); {str(path)!r} row {i + 1} has {len(r)}")
+        for c, cell in zip(header, r):
+            cols[c][i] = _cell(f"states.file row {i + 1} {c}", cell)
+    out = {a: cols[a] for a in AXES}
+    out["psi"] = cols["psi"] if "psi" in cols else np.zeros(len(body))
+    return out
+
+
+#: A number as a states file may write it: ASCII digits, an optional sign, point and exponent (and nan / inf, refused by range).
+_NUMBER = __import__("re").compile(r"^[+-]?((\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|nan|inf|infinity)$", __import__("re").IGNORECASE)
+
+
+def _cell(key: str, text: str) -> float:
+    t = text.strip()
+    if len(t) > 64 or not _NUMBER.match(t):
+        raise SpecError(f"{key} must be a number; got {text[:64]!r}")
+    return float(t)
+
+
 def _options(engine: str, table: dict) -> dict[str, tuple]:
     if engine == ANALYTIC:
         out = {}
@@ -283,6 +340,8 @@ def _options(engine: str, table: dict) -> dict[str, tuple]:
                 E.Options(**{k: x})
             except ValueError as e:
                 raise SpecError(f"options.{k}: {e}") from None
+            except TypeError:
+                raise SpecError(f"options.{k} must be a value of {engine}'s option {k} (or a list of them); got {x!r}") from None
         out[k] = tuple(vals)
     return out
 
@@ -309,13 +368,25 @@ def parse_spec(doc: dict, *, base: Path | None = None) -> Spec:
     return Spec(engine=engine, horizon=horizon, seed=seed, chunk=chunk, states=states, mu=mu, alpha=alpha, options=options, source=doc)
 
 
+#: The largest spec file read (a spec lists its states in a CSV file, not inline).
+MAX_SPEC_BYTES = 64 * 1024 * 1024
+
+
 def load_spec(path: str | Path) -> Spec:
     """Read and check a spec file (``SpecError`` for an unreadable file, bad TOML or a bad value)."""
     path = Path(path)
     try:
-        text = path.read_text()
+        if path.exists() and not path.is_file():  # a directory, a FIFO (which would block), a device
+            raise SpecError(f"spec must be a readable TOML file; got {str(path)!r} (not a regular file)")
+        if path.stat().st_size > MAX_SPEC_BYTES:
+            raise SpecError(f"spec must be a TOML file of at most {MAX_SPEC_BYTES} bytes; got {str(path)!r} ({path.stat().st_size} bytes)")
+        raw = path.read_bytes()
     except OSError as e:
-        raise SpecError(f"spec must be a readable TOML file; got {str(path)!r} ({e.strerror})") from None
+        raise SpecError(f"spec must be a readable TOML file; got {str(path)!r} ({e.strerror or e})") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise SpecError(f"spec must be a readable UTF-8 TOML file; {str(path)!r} has the byte 0x{raw[e.start]:02x} at byte {e.start + 1}") from None
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:

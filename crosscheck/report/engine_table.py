@@ -12,7 +12,8 @@ engine), so ``--from-results`` rebuilds it:
 * LAUNCH: the share of rated starts the engine throws off the plane while
   the theory's b < 0 (``crosscheck.outcome.Outcome.LAUNCH``);
 * onset: the worst |onset - Psi_L| of its lift-off onset section;
-* convergence: the verdict of its convergence section (``findings.convergence_verdict``);
+* convergence: the verdict of its convergence section per parameter, the others held fixed
+  (``findings.convergence_trends``);
 * friction: the median angle between its friction force and -slip, and the
   worst cone violation, from its contact-quality section;
 * causes: the split of its disagreements by the ladder;
@@ -35,6 +36,7 @@ HEADER = ["engine", "setting", "agreement (95 % CI)", "theory slips", "theory li
           "convergence", "friction skew, cone violation", "causes (ladder)", "us/step", "runs/s"]
 
 _NONE = "-"
+_WORDS = {"timestep": "timestep", "timeconst": "time constant"}
 
 
 def _read(path: Path):
@@ -95,14 +97,18 @@ def _onset(data: Path, slug: str) -> str:
 
 
 def _convergence(data: Path, slug: str) -> str:
-    from crosscheck.report.findings import convergence_verdict
+    from crosscheck.report.findings import convergence_trends
 
     path = data / f"{slug}_convergence" / "convergence.csv"
     if not path.is_file():
         return _NONE
     rows = list(csv.DictReader(path.open()))
-    rows.sort(key=lambda r: -float(r["timestep"]))  # coarsest first, as the findings read it
-    return convergence_verdict(rows)[0] if rows else _NONE
+    if not rows:
+        return _NONE
+    trends = convergence_trends(rows)  # one verdict per parameter, the others held fixed, as the findings read it
+    if len(trends) == 1:
+        return f"{_WORDS[trends[0].parameter]}: {trends[0].verdict}"
+    return "; ".join(f"{_WORDS[t.parameter]}: {t.verdict}" for t in trends)
 
 
 def _friction(data: Path, slug: str) -> str:

@@ -6,11 +6,15 @@ Lines (each only when its section's results are there):
   an engine added later gets its line): the share of rated slipping starts
   whose first event is the analytic one, with its Wilson 95 % interval, and
   what the engine does where the theory jams;
-* per engine with a convergence table (``convergence.csv``): the agreement
-  from the coarsest to the finest timestep, on and off the planar section;
-  verdict *converges* when the finest agrees on >= 95 % and at least as much
-  as the coarsest, *does not converge* when the finest is below 90 % or
-  below the coarsest, *inconclusive* otherwise;
+* per engine with a convergence table (``convergence.csv``): one line per
+  parameter its settings vary (the timestep, the contact time constant), the
+  agreement from its coarsest to its finest value with the other held fixed
+  (``convergence_trends``), on and off the planar section; verdict
+  *converges* when the finest agrees on >= 95 % and at least as much as the
+  coarsest, *does not converge* when the finest is below 90 % or below the
+  coarsest, *inconclusive* otherwise.  For a compliant engine the timestep's
+  line says what its limit is: dt -> 0 at a fixed contact time constant
+  tends to the compliant model, not to the rigid theory;
 * lift-off onset checks (every section whose checks name the onset): how
   many hold;
 * the lines of the sections an engine owns (``Section.finding``, read from the
@@ -27,7 +31,7 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["Finding", "findings", "convergence_verdict", "read_json", "CONVERGED", "NOT_CONVERGED"]
+__all__ = ["Finding", "Trend", "findings", "convergence_verdict", "convergence_trends", "read_json", "RULES", "CONVERGED", "NOT_CONVERGED"]
 
 #: Agreement at the finest timestep above which (and not below the coarsest) a convergence table "converges".
 CONVERGED = 0.95
@@ -45,6 +49,41 @@ class Finding:
     text: str
     verdict: str
     slug: str
+    why: str = ""  # the rule applied to this line's numbers (shown beside the verdict)
+
+
+#: The rules behind the verdicts, shown where the verdicts are (the report's findings).
+RULES = (
+    ("first event", f"agrees when the lower end of the Wilson 95 % interval of the agreement is >= {100 * CONVERGED:.0f} %; disagrees when its "
+                    f"upper end is < {100 * NOT_CONVERGED:.0f} %; inconclusive otherwise (the interval reaches below {100 * CONVERGED:.0f} % and above "
+                    f"{100 * NOT_CONVERGED:.0f} %: these starts neither show agreement nor rule it out)"),
+    ("convergence", f"per parameter, the others held fixed: converges when the finest value agrees on >= {100 * CONVERGED:.0f} % and not less than "
+                    f"the coarsest; does not converge when the finest is below {100 * NOT_CONVERGED:.0f} % or below the coarsest; inconclusive "
+                    "otherwise. The rigid theory is the limit of a compliant engine only as its contact time constant goes to 0 (with "
+                    "the timestep below it); at a fixed time constant, timestep -> 0 tends to the compliant model"),
+    ("lift-off onset", "agrees when every onset check against Psi_L holds within its allowance, disagrees otherwise"),
+    ("causes of disagreement", "explained when the ladder attributes >= 90 % of the laddered disagreements to a named cause, "
+                               "partly explained otherwise"),
+    ("friction direction", "explained when MuJoCo's contact law, run on the same states, predicts the measured skew within its "
+                           "check's allowance; not explained otherwise"),
+    ("a section's own line", "agrees when every physics check of the section holds (regression guards do not count), disagrees otherwise"),
+    ("the paper", "known: a discrepancy between what the paper prints and its own model, shown, not counted as a failure"),
+)
+
+
+@dataclass(frozen=True)
+class Trend:
+    """One parameter of a convergence table varied with the others held fixed: ``rows`` coarsest first."""
+
+    parameter: str  # the column varied: "timestep" or "timeconst"
+    fixed: dict  # the other varied columns and the value they are held at
+    rows: list
+    verdict: str
+    why: str
+
+
+#: A convergence table's columns that a setting varies, and their words.
+_PARAMETERS = {"timestep": "timestep", "timeconst": "contact time constant"}
 
 
 def read_json(path: Path):
@@ -65,13 +104,74 @@ def _engine_name(status: dict | None) -> str:
     return f"{engine_label(name)} (rigid engine)" if rigid else engine_label(name)
 
 
+def _compliant(status: dict | None) -> bool:
+    """Whether the engine named in a section's parameters has a compliant contact (``EngineSpec.tags``)."""
+    from crosscheck import engines
+
+    try:
+        return engines.get((status or {}).get("params", {}).get("engine", "?")).has("compliant")
+    except ValueError:
+        return False
+
+
 def convergence_verdict(rows: list[dict]) -> tuple[str, str]:
     """(verdict, trend) of a convergence table's rows (coarsest setting first): *converges* when the finest agrees on
     >= ``CONVERGED`` and at least as much as the coarsest, *does not converge* when it is below ``NOT_CONVERGED`` or below
     the coarsest, *inconclusive* otherwise."""
     first, last = float(rows[0]["agreement"]), float(rows[-1]["agreement"])
     verdict = "converges" if last >= CONVERGED and last >= first else "does not converge" if last < NOT_CONVERGED or last < first else "inconclusive"
-    return verdict, " -> ".join(f"{100 * float(r['agreement']):.0f} %" for r in rows)
+    return verdict, " -> ".join(f"{100 * float(r['agreement']):.1f} %" for r in rows)
+
+
+def _why_convergence(rows: list[dict]) -> str:
+    first, last = 100 * float(rows[0]["agreement"]), 100 * float(rows[-1]["agreement"])
+    return (f"finest {last:.1f} % {'>=' if last >= 100 * CONVERGED else '<'} {100 * CONVERGED:.0f} % and {'>=' if last >= first else '<'} "
+            f"the coarsest {first:.1f} %" + (f"; < {100 * NOT_CONVERGED:.0f} %" if last < 100 * NOT_CONVERGED else ""))
+
+
+def convergence_trends(rows: list[dict]) -> list[Trend]:
+    """One ``Trend`` per parameter (timestep, contact time constant) that the rows of a convergence table vary.
+
+    Each parameter is read with the other varied parameters held at the value that has the most settings of it (ties:
+    the finest), so a timestep trend is never mixed with a change of stiffness.  A parameter with no two settings at
+    one value of the others has no trend.  A table whose settings vary nothing gives one trend in the timestep.
+    """
+    varied = [k for k in _PARAMETERS if len({float(r[k]) for r in rows if r.get(k) not in (None, "")}) > 1]
+    out = []
+    for k in varied or ["timestep"]:
+        others = [o for o in varied if o != k]
+        groups: dict[tuple, list[dict]] = {}
+        for r in rows:
+            groups.setdefault(tuple(float(r[o]) for o in others), []).append(r)
+        key = min(groups, key=lambda g: (-len({float(r[k]) for r in groups[g]}), g))
+        group = sorted(groups[key], key=lambda r: -float(r[k]))
+        if len(group) < 2 and varied:
+            continue
+        verdict, _ = convergence_verdict(group)
+        out.append(Trend(k, dict(zip(others, key)), group, verdict, _why_convergence(group)))
+    return out
+
+
+def _convergence_findings(rows: list[dict], name: str, slug: str, *, compliant: bool) -> list[Finding]:
+    out = []
+    for t in convergence_trends(rows):
+        word = _PARAMETERS[t.parameter]
+        at = ", ".join(f"{_PARAMETERS[o]} {v:g}" for o, v in t.fixed.items())
+        seq = " -> ".join(f"{float(r[t.parameter]):g}" for r in t.rows)
+        trend = " -> ".join(f"{100 * float(r['agreement']):.1f} %" for r in t.rows)
+        pl = t.rows[-1].get("agreement_planar") or "nan"
+        off = t.rows[-1].get("agreement_off_plane") or "nan"
+        a = [float(r["agreement"]) for r in t.rows]
+        shape = "rises" if all(y >= x for x, y in zip(a, a[1:])) else "falls" if all(y <= x for x, y in zip(a, a[1:])) else "moves"
+        text = (f"agreement {shape} {trend} as the {word} goes {seq}" + (f" at {at}" if at else "")
+                + f"; at the finest {100 * float(pl):.0f} % on the planar section, {100 * float(off):.0f} % off it")
+        if compliant and t.parameter == "timestep":
+            text += (". At a fixed contact stiffness the timestep's limit is the compliant model, not the rigid theory: the theory is "
+                     "approached only as the contact time constant goes to 0 too")
+        elif compliant and t.parameter == "timeconst":
+            text += ". The rigid theory is the limit of a contact time constant going to 0 (with the timestep below it)"
+        out.append(Finding(f"{name}: convergence in {word}" + (f" ({at})" if at else ""), text, t.verdict, slug, t.why))
+    return out
 
 
 def findings(data: Path) -> list[Finding]:
@@ -96,24 +196,17 @@ def findings(data: Path) -> list[Finding]:
         jam = conf[labels.index("JAM")]
         at_jams = ", ".join(f"{jam[j]} {labels[j].lower()}" for j in range(len(labels)) if jam[j])
         verdict = "agrees" if lo >= CONVERGED else "disagrees" if hi < NOT_CONVERGED else "inconclusive"
+        why = (f"lower end {100 * lo:.1f} % {'>=' if lo >= CONVERGED else '<'} {100 * CONVERGED:.0f} %, "
+               f"upper end {100 * hi:.1f} % {'<' if hi < NOT_CONVERGED else '>='} {100 * NOT_CONVERGED:.0f} %")
         out.append(Finding(f"{name}: first event", f"same as the analytic one in {k} of {n} rated slipping starts ({100 * k / n:.0f} %, 95 % interval "
-                           f"{100 * lo:.0f}-{100 * hi:.0f} %); at the theory's jams: {at_jams or 'none'}", verdict, slug))
+                           f"{100 * lo:.0f}-{100 * hi:.0f} %); at the theory's jams: {at_jams or 'none'}", verdict, slug, why))
     for conv in sorted(data.glob("*/convergence.csv")):
         slug = conv.parent.name
         rows = list(csv.DictReader(conv.open()))
         if not rows:
             continue
-        name = _engine_name(read_json(conv.parent / "status.json"))
-        rows.sort(key=lambda r: -float(r["timestep"]))
-        verdict, trend = convergence_verdict(rows)
-        pl = rows[-1].get("agreement_planar") or "nan"
-        off = rows[-1].get("agreement_off_plane") or "nan"
-        # name what the settings vary: the timestep, the contact's time constant (its stiffness), or both
-        varied = [k for k, word in (("timestep", "timestep"), ("timeconst", "contact time constant")) if len({r.get(k) for r in rows}) > 1]
-        words = " and ".join({"timestep": "timestep", "timeconst": "contact time constant"}[k] for k in varied) or "setting"
-        seq = " -> ".join(", ".join(f"{k} {float(r[k]):g}" for k in varied) for r in rows) if varied else f"timestep {float(rows[0]['timestep']):g}"
-        out.append(Finding(f"{name}: convergence in {words}", f"agreement {trend} over the settings {seq}; at the last "
-                           f"{100 * float(pl):.0f} % on the planar section, {100 * float(off):.0f} % off it", verdict, slug))
+        status = read_json(conv.parent / "status.json")
+        out.extend(_convergence_findings(rows, _engine_name(status), slug, compliant=_compliant(status)))
     onset = [(p.parent.name, c) for p in sorted(data.glob("*/checks.json")) for c in json.loads(p.read_text()) if "onset" in c["name"]]
     for slug in sorted({s for s, _ in onset}):
         cs = [c for s, c in onset if s == slug]

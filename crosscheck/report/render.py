@@ -24,11 +24,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Sequence
 
+from crosscheck.report.findings import RULES
 from crosscheck.report.pipeline import PROVENANCE_FILE, read_provenance, read_status, verified_status
 from crosscheck.report.section import Figure, Preformatted, RenderContext, Section, Table, Text
 from crosscheck.report.store import SectionStore
 
-__all__ = ["render", "RenderSummary", "SectionView"]
+__all__ = ["render", "RenderSummary", "SectionView", "paper_reference", "unlabel"]
 
 
 @dataclass
@@ -80,6 +81,19 @@ class RenderSummary:
         return out
 
 
+def _unlabelled(b):
+    """A block with the paper source's figure labels replaced by figure numbers (``unlabel``)."""
+    from dataclasses import replace
+
+    if isinstance(b, Text):
+        return replace(b, text=unlabel(b.text))
+    if isinstance(b, Figure):
+        return replace(b, caption=unlabel(b.caption))
+    if isinstance(b, Table):
+        return replace(b, caption=unlabel(b.caption), rows=[[unlabel(str(c)) for c in r] for r in b.rows])
+    return b
+
+
 def _view(section: Section, out: Path) -> SectionView:
     store = SectionStore(out / "data" / section.slug)
     status = read_status(out, section.slug)
@@ -102,7 +116,7 @@ def _view(section: Section, out: Path) -> SectionView:
     if stale.exists():  # figures of an earlier render must not outlive it
         shutil.rmtree(stale)
     try:
-        view.blocks = list(section.render(ctx))
+        view.blocks = [_unlabelled(b) for b in section.render(ctx)]
     except Exception as e:  # noqa: BLE001  (one section's figure must not stop the report)
         if not view.error:  # a failed run explains a failed render: show the run's error only
             view.error = f"render failed: {type(e).__name__}: {e}"
@@ -119,6 +133,22 @@ def _html_text(s: str) -> str:
     return _CODE.sub(lambda m: f"<code>{m.group(1)}</code>", html.escape(s))
 
 
+#: A number with an exponent, or a number with its unit or percentage: kept on one line in a table cell.
+_NUMBER_TOKEN = re.compile(r"[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?(?: ?%)?")
+_NUMERIC_CELL = re.compile(r"[-+]?(?:\d[\d.]*(?:e[-+]?\d+)?|nan|inf)(?: ?%| deg)?(?: ?[\[(][-+\d.e/ %,]*[\])])?(?:, [-+]?\d[\d.]*(?:e[-+]?\d+)?)?")
+
+
+def _html_cell(c) -> str:
+    """A table cell: a numeric cell never wraps; inside text, a number (``1e-12``, ``83 %``) does not break at its sign."""
+    text = str(c)
+    if _NUMERIC_CELL.fullmatch(text.strip()):
+        return f'<td class="num">{_html_text(text)}</td>'
+    if "<" in text or "`" in text:
+        return f"<td>{_html_text(text)}</td>"
+    return "<td>" + _NUMBER_TOKEN.sub(lambda m: f'<span class="num">{m.group(0)}</span>' if "e" in m.group(0) or "%" in m.group(0) else m.group(0),
+                                      html.escape(text)) + "</td>"
+
+
 def _md_cell(s: str) -> str:
     return str(s).replace("|", "\\|").replace("\n", " ")
 
@@ -129,6 +159,53 @@ def _fmt_seconds(s) -> str:
 
 def _badge(state: str) -> str:
     return {"ok": "ok", "skipped": "skipped", "failed": "FAILED", "unfinished": "UNFINISHED", "not run": "NOT RUN"}[state]
+
+
+_FIG_LABELS = re.compile(r"\s*\((?:fig:[^()]*)\)")
+_EQS = re.compile(r"^eqs?\. ")
+_PLAIN = re.compile(r"^(?:(?:section|sections|Theorem|Corollary|Appendix|Lemma|Proposition)\b|Figs?\.)")
+
+
+def paper_reference(paper: str, *, labels: bool = False) -> str:
+    """A section's place in the paper as a reader finds it: figure numbers, sections, theorems, without the source's LaTeX labels.
+
+    ``paper`` is a section's ``paper`` string (e.g. "Figs. 11 (fig:GBs_bif3) and 17 (fig:stabilty_on_GB); eq. K, Theorem 4.1").
+    Figure labels are dropped (the number is there); equation labels are counted ("3 equations"), or listed after
+    "equations, by their labels in the paper's source:" when ``labels``.  The full string stays in the report's data files.
+    """
+    parts, eqs = [], []
+    for part in (p.strip() for p in _FIG_LABELS.sub("", paper).split(";")):
+        if not _EQS.match(part):
+            parts.append(part)
+            continue
+        for item in (i.strip() for i in re.split(r",(?![^(]*\))", _EQS.sub("", part))):
+            inner = re.fullmatch(r"(\S+) \((.+)\)", item)  # "psil (section 3.3)": the label, then its place
+            if inner:
+                eqs.append(inner.group(1))
+                parts.append(inner.group(2))
+            elif _PLAIN.match(item):
+                parts.append(item)
+            elif item:
+                eqs.append(item)
+    if eqs:
+        parts.append(("equations, by their labels in the paper's source: " + ", ".join(eqs)) if labels else
+                     f"{len(eqs)} equation{'s' if len(eqs) > 1 else ''}")
+    return "; ".join(p for p in parts if p)
+
+
+_FIG_LABEL = re.compile(r"fig:[\w.+-]*\w")
+
+
+def unlabel(text: str) -> str:
+    """``text`` without the paper source's figure labels: "(fig:p3s)" after a figure's number is dropped, any other
+    "fig:pandora" becomes the figure's number ("Fig. 19"); the labels stay in ``data/paper_references.json``."""
+    if "fig:" not in text:
+        return text
+    from crosscheck.theory.paper import FIGURES
+
+    number = {label: f.number for f in FIGURES for label in f.labels}
+    text = _FIG_LABELS.sub("", text)
+    return _FIG_LABEL.sub(lambda m: f"Fig. {number[m.group(0)]}" if m.group(0) in number else m.group(0), text)
 
 
 _NUMBERING = ("Figure numbers are the printed paper's (the order of its figure environments), with panel letters; "
@@ -143,11 +220,27 @@ def _figures_table(views: list[SectionView]) -> Table:
     rows, cls = [], []
     for f in FIGURES:
         where = ", ".join(titles.get(s, s) for s in f.sections)
-        rows.append([f"Fig. {f.number}", f.shows, where or "not recomputed", f.why_not, ", ".join(f.labels)])
+        rows.append([f"Fig. {f.number}", f.shows, where or "not recomputed", f.why_not])
         cls.append("ok" if f.sections and not f.why_not else ("known" if f.sections else "skip"))
     return Table(caption="The paper's figures, numbered as printed: where this report recomputes each, and what it leaves out and why "
-                 "(white: recomputed; yellow: recomputed in part or in another form; grey: not recomputed).",
-                 header=["figure", "shows", "recomputed in", "not drawn / why", "LaTeX labels"], rows=rows, data=[], row_class=cls)
+                 "(white: recomputed; yellow: recomputed in part or in another form; grey: not recomputed). The figures' LaTeX labels "
+                 "and each section's references to the paper are in the data file.",
+                 header=["figure", "shows", "recomputed in", "not drawn / why"], rows=rows, data=[f"data/{_REFERENCES}"], row_class=cls)
+
+
+#: The paper's figures with their LaTeX labels and every section's reference to the paper, written beside the report's data.
+_REFERENCES = "paper_references.json"
+
+
+def _write_references(out: Path, views: list[SectionView]) -> None:
+    """The labels the tables leave out (figure and equation labels of the paper's source), derived, not computed."""
+    from dataclasses import asdict
+
+    from crosscheck.theory.paper import FIGURES
+
+    refs = {"figures": [asdict(f) for f in FIGURES], "sections": {v.section.slug: v.section.paper for v in views}}
+    (out / "data").mkdir(parents=True, exist_ok=True)
+    (out / "data" / _REFERENCES).write_text(json.dumps(refs, indent=1, default=list) + "\n")
 
 
 # ------------------------------------------------------------------- html ---
@@ -169,7 +262,8 @@ nav.toc .st{font-size:.8em;margin-left:.3em}
 @media (min-width:1500px){nav.toc{position:fixed;top:1em;left:1em;width:230px;max-height:95vh;overflow-y:auto;border-right:1px solid #ddd;padding-right:.6em}}
 @media (min-width:1500px){body{margin-left:280px}}
 @media (max-width:1499px){nav.toc{border:1px solid #ddd;padding:.5em 1em;columns:2}}
-.v-agrees,.v-converges{color:#176317;font-weight:bold}.v-disagrees,.v-doesnotconverge{color:#a11;font-weight:bold}.v-inconclusive,.v-known{color:#8a5a00;font-weight:bold}
+.v-agrees,.v-converges,.v-explained{color:#176317;font-weight:bold}.v-disagrees,.v-doesnotconverge,.v-notexplained{color:#a11;font-weight:bold}.v-inconclusive,.v-known,.v-partlyexplained{color:#8a5a00;font-weight:bold}.why{color:#555;font-size:.9em}
+td.num,span.num{white-space:nowrap}.tw{overflow-x:auto}dl.rules dt{font-weight:bold}dl.rules dd{margin:0 0 .3em 1.5em}
 a.top{font-size:.6em;font-weight:normal;margin-left:.6em;color:#888;text-decoration:none}
 """
 
@@ -193,7 +287,7 @@ def _html_block(b) -> str:
     if isinstance(b, Text):
         return f"<p>{_html_text(b.text)}</p>"
     if isinstance(b, Preformatted):
-        if b.text.count("\n") > 15:  # long raw output (JSON, a command's table) folded: the figures and tables come first
+        if _long(b):  # long raw output (JSON, a command's table) folded: the figures and tables come first
             return f"<details><summary>{html.escape(b.title or 'raw output')}</summary><pre>{html.escape(b.text)}</pre></details>"
         title = f"<p><b>{html.escape(b.title)}</b></p>" if b.title else ""
         return f"{title}<pre>{html.escape(b.text)}</pre>"
@@ -208,9 +302,9 @@ def _html_block(b) -> str:
         rows = []
         for i, r in enumerate(b.rows):
             cls = b.row_class[i] if i < len(b.row_class) else ""
-            rows.append(f'<tr class="{cls}">' + "".join(f"<td>{_html_text(str(c))}</td>" for c in r) + "</tr>")
+            rows.append(f'<tr class="{cls}">' + "".join(_html_cell(c) for c in r) + "</tr>")
         links = "".join(f'<a href="{d}">data: {html.escape(Path(d).name)}</a>' for d in b.data)
-        return f"<p>{_html_text(b.caption)}</p><table><tr>{head}</tr>{''.join(rows)}</table><div class=data>{links}</div>"
+        return f"<p>{_html_text(b.caption)}</p><div class=tw><table><tr>{head}</tr>{''.join(rows)}</table></div><div class=data>{links}</div>"
     raise TypeError(f"unknown block {type(b).__name__}")
 
 
@@ -238,7 +332,7 @@ def _checks_table(checks: list[dict]):
             verdict, k = "KNOWN DISCREPANCY: " + c["known_discrepancy"], "known"
         else:
             verdict, k = "FAILED", "fail"
-        rows.append([c["name"], kind, _short(c.get("value")), _short(c.get("allowance")), verdict, c.get("detail", "")])
+        rows.append([unlabel(c["name"]), kind, _short(c.get("value")), _short(c.get("allowance")), verdict, unlabel(c.get("detail", ""))])
         cls.append(k)
     return Table(caption="Checks recorded by this section. A physics check's allowance comes from the paper, the integrator or the timestep; "
                  "a regression guard's from a measured spread: it flags a change, it does not prove the physics.",
@@ -286,8 +380,7 @@ ENGINE_TABLE_CAPTION = (
     "(Wilson 95 % interval), first on the engine's outcome maps, then on its convergence grid per setting; "
     "theory slips / lifts off / jams: the same share among the starts with that analytic event; "
     "LAUNCH: the share the engine throws off the plane while b < 0; onset: the worst lift-off onset error against Psi_L; "
-    "convergence: converges when the finest setting agrees on >= 95 % and not less than the coarsest, does not converge below 90 % "
-    "or below the coarsest, inconclusive otherwise; friction: median angle between the friction force and -slip, and the worst "
+    "convergence: per parameter with the others held fixed, by the rule under the findings; friction: median angle between the friction force and -slip, and the worst "
     "cone violation max(0, |F_t| - mu F_n) / (m g), while slipping; causes: the ladder's split of the disagreements; "
     "cost: engine microseconds per step (per record row for a continuous engine) and runs per second on this machine (one core). "
     "Grids were chosen by each engine's cost; '-' where a section did not run."
@@ -305,6 +398,33 @@ def _engine_table(out: Path) -> Table | None:
     return Table(caption=ENGINE_TABLE_CAPTION, header=header, rows=rows, data=["data/engine_table.json"])
 
 
+_RULES_TITLE = "How the verdicts are given (crosscheck.report.findings.RULES)"
+
+_SUMMARY_CAPTION = ("Sections, in report order. Ran: whether the section's computation finished (ok), not whether an engine agrees "
+                    "with the theory. Checks: physics checks (allowance from the paper, the integrator or the timestep) apart from "
+                    "regression guards (allowance from a measured spread: holding means nothing changed, not that the physics is right). "
+                    "Finding: the verdict of the section's line(s) under Findings, by the rules given there.")
+
+
+def _summary_table(summary_rows) -> Table:
+    return Table(caption=_SUMMARY_CAPTION, header=["section", "paper", "ran", "run time", "checks", "finding"],
+                 rows=[r[0] for r in summary_rows], data=[f"data/{_REFERENCES}"], row_class=[r[1] for r in summary_rows])
+
+
+def _checks_cell(checks: list[dict]) -> str:
+    """Physics checks and regression guards counted apart: 'physics 3/3 passed; regression guards 1/1 held'."""
+    out = []
+    for kind, word, held in (("physics", "physics", "passed"), ("regression guard", "regression guards", "held")):
+        cs = [c for c in checks if c.get("kind", "physics") == kind]
+        if not cs:
+            continue
+        ok = sum(bool(c["passed"]) for c in cs)
+        nf = sum(not c["passed"] and not c.get("known_discrepancy") for c in cs)
+        nk = sum(not c["passed"] and bool(c.get("known_discrepancy")) for c in cs)
+        out.append(f"{word} {ok}/{len(cs)} {held}" + (f", {nf} FAILED" if nf else "") + (f", {nk} known discrepanc{'y' if nk == 1 else 'ies'}" if nk else ""))
+    return "; ".join(out)
+
+
 def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list) -> Path:
     h = ['<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crosscheck report</title>',
          f"<style>{_CSS}</style></head><body>",
@@ -316,10 +436,13 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
          _toc(views),
          _h2("findings", "Findings"),
          *([_html_block(t)] if (t := _engine_table(out)) is not None else []),
-         "<ul>" + "".join(f'<li><b>{html.escape(f.leg)}</b>: {html.escape(f.text)}. <span class="v-{f.verdict.replace(" ", "")}">{html.escape(f.verdict)}</span> '
-                          f'(<a href="#{f.slug}">{html.escape(f.slug)}</a>)</li>' for f in found) + "</ul>",
+         "<ul>" + "".join(f'<li><b>{html.escape(f.leg)}</b>: {html.escape(f.text)}. <span class="v-{f.verdict.replace(" ", "")}">{html.escape(f.verdict)}</span>'
+                          + (f' <span class="why">({html.escape(f.why)})</span>' if f.why else "")
+                          + f' (<a href="#{f.slug}">{html.escape(f.slug)}</a>)</li>' for f in found) + "</ul>",
+         f"<p><b>{_RULES_TITLE}</b></p>",
+         '<dl class="rules">' + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(r)}</dd>" for k, r in RULES) + "</dl>",
          _h2("summary", "Summary")]
-    table = _html_block(Table(caption="Sections, in report order.", header=["section", "paper", "status", "run time", "checks"], rows=[r[0] for r in summary_rows], data=[], row_class=[r[1] for r in summary_rows]))
+    table = _html_block(_summary_table(summary_rows))
     for v in views:  # section names link to their sections
         cell = f"<td>{_html_text(v.section.title)}</td>"
         table = table.replace(cell, f'<td><a href="#{v.section.slug}">{_html_text(v.section.title)}</a></td>', 1)
@@ -330,7 +453,7 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
         h.append("<p>No failures.</p>")
     known = [(v.section.slug, c) for v in views for c in v.known_checks]
     if known:
-        h.append('<div class="known"><p><b>Known discrepancies of the paper</b> (shown, not hidden):</p><ul>' + "".join(f"<li>{html.escape(s)}: {html.escape(c['name'])}: {html.escape(c['known_discrepancy'])}</li>" for s, c in known) + "</ul></div>")
+        h.append('<div class="known"><p><b>Known discrepancies of the paper</b> (shown, not hidden):</p><ul>' + "".join(f"<li>{html.escape(s)}: {html.escape(unlabel(c['name']))}: {html.escape(c['known_discrepancy'])}</li>" for s, c in known) + "</ul></div>")
     h.append(_h2("figures", "The paper's figures"))
     table = _html_block(_figures_table(views))
     for v in views:  # section names link to their sections
@@ -342,7 +465,7 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
         s = v.section
         h.append(_h2(s.slug, f'{html.escape(s.title)} <span class="badge b-{_badge(v.state).replace(" ", "")}">{_badge(v.state)}</span>'))
         if s.paper:
-            h.append(f"<p><i>Paper: {html.escape(s.paper)}</i></p>")
+            h.append(f"<p><i>Paper: {html.escape(paper_reference(s.paper, labels=True))}</i></p>")
         h.append(_html_error(v))
         h += [_html_block(b) for b in v.blocks]
         if v.checks:
@@ -373,11 +496,71 @@ def _md_block(b) -> str:
         return f"![{_md_cell(b.caption[:80])}]({b.stem}.png)\n\n*{b.caption}*\n\n{links}\n"
     if isinstance(b, Table):
         lines = [b.caption, "", "| " + " | ".join(_md_cell(x) for x in b.header) + " |", "|" + "---|" * len(b.header)]
-        lines += ["| " + " | ".join(_md_cell(x) for x in r) + " |" for r in b.rows]
+        notes = []
+        for r in b.rows:
+            cells = [_md_cell(x) for x in r]
+            while len(" | ".join(cells)) > MD_ROW_WIDTH:  # the longest cell moves to a note under the table
+                i = max(range(len(cells)), key=lambda j: len(cells[j]))
+                notes.append(cells[i])
+                cells[i] = f"note {len(notes)}"
+            lines.append("| " + " | ".join(cells) + " |")
+        if notes:
+            lines += [""] + [f"- note {k}: {t}" for k, t in enumerate(notes, 1)]
         if b.data:
             lines += ["", " · ".join(f"[data: {Path(d).name}]({d})" for d in b.data)]
         return "\n".join(lines) + "\n"
     raise TypeError(f"unknown block {type(b).__name__}")
+
+
+#: A Markdown table row longer than this moves its longest cells to notes under the table.
+MD_ROW_WIDTH = 380
+#: Prose lines of the Markdown are wrapped at this width (soft line breaks: the rendered text is the same).
+MD_WIDTH = 120
+
+
+_BLOCK_START = re.compile(r"(?:[>#|*+=]|-(?:\s|$)|\d+[.)](?:\s|$))")
+
+
+def _wrap_md(text: str) -> str:
+    """Wrap the Markdown's prose (paragraphs, captions, list items) at ``MD_WIDTH``; tables, headings and code stay as they are."""
+    import textwrap
+
+    out, code = [], False
+    for line in text.split("\n"):
+        if line.startswith("```"):
+            code = not code
+        if code or len(line) <= MD_WIDTH or line.startswith(("|", "#", "    ")):
+            out.append(line)
+            continue
+        indent = "  " if line.startswith("- ") else ""
+        wrapped = textwrap.wrap(line, MD_WIDTH, subsequent_indent=indent, break_long_words=False, break_on_hyphens=False)
+        for w in wrapped[1:]:  # a line that Markdown would read as a quote, a list item, a heading or a table row joins the one before
+            if _BLOCK_START.match(w.strip()):
+                wrapped[wrapped.index(w) - 1] += " " + w.strip()
+                wrapped.remove(w)
+        out.extend(wrapped)
+    return "\n".join(out)
+
+
+#: Preformatted output longer than this many lines is folded in the HTML and linked, not inlined, in the Markdown.
+_LONG_LINES = 15
+
+
+def _long(b) -> bool:
+    return isinstance(b, Preformatted) and b.text.count("\n") > _LONG_LINES
+
+
+def _md_raw_link(out: Path, slug: str, b: Preformatted, k: int) -> str:
+    """A long raw output (a command's JSON) written beside the section's figures and linked from the Markdown."""
+    try:
+        json.loads(b.text)
+        ext = "json"
+    except ValueError:
+        ext = "txt"
+    path = Path("figures") / slug / f"raw_{k}.{ext}"
+    (out / path).parent.mkdir(parents=True, exist_ok=True)
+    (out / path).write_text(b.text.rstrip() + "\n")
+    return f"{b.title or 'raw output'}: [{path.name}]({path}) ({b.text.count(chr(10)) + 1} lines)\n"
 
 
 def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list) -> Path:
@@ -385,20 +568,21 @@ def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, fai
          "Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painlevé paradox*. Every figure is recomputed "
          f"from the project's model; beside each figure and table is the data behind it. {_NUMBERING} HTML version: [index.html](index.html).", "",
          "## Findings", "", *([_md_block(t)] if (t := _engine_table(out)) is not None else []),
-         *(f"- **{f.leg}**: {f.text}. *{f.verdict}* ({f.slug})" for f in found), "",
+         *(f"- **{f.leg}**: {f.text}. *{f.verdict}*" + (f" ({f.why})" if f.why else "") + f" ({f.slug})" for f in found), "",
+         f"**{_RULES_TITLE}**", "", *(f"- *{k}*: {r}" for k, r in RULES), "",
          "## Summary", ""]
-    m.append(_md_block(Table(caption="Sections, in report order.", header=["section", "paper", "status", "run time", "checks"], rows=[r[0] for r in summary_rows], data=[])))
+    m.append(_md_block(_summary_table(summary_rows)))
     m.append("**Failures** (the command exits non-zero):\n\n" + "\n".join(f"- {f}" for f in failures) + "\n" if failures else "No failures.\n")
     known = [(v.section.slug, c) for v in views for c in v.known_checks]
     if known:
-        m.append("**Known discrepancies of the paper** (shown, not hidden):\n\n" + "\n".join(f"- {s}: {c['name']}: {c['known_discrepancy']}" for s, c in known) + "\n")
+        m.append("**Known discrepancies of the paper** (shown, not hidden):\n\n" + "\n".join(f"- {s}: {unlabel(c['name'])}: {c['known_discrepancy']}" for s, c in known) + "\n")
     m += ["## The paper's figures", "", _md_block(_figures_table(views))]
     m += ["## Provenance", "", _md_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=_provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"]))]
     for v in views:
         s = v.section
         m += [f"## {s.title} [{_badge(v.state)}]", ""]
         if s.paper:
-            m += [f"*Paper: {s.paper}*", ""]
+            m += [f"*Paper: {paper_reference(s.paper, labels=True)}*", ""]
         if v.error:
             m += [f"> **{_badge(v.state)}**: {v.error}", ""]
             if s.requires:
@@ -407,14 +591,15 @@ def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, fai
                 m += ["```text", v.traceback.rstrip(), "```", ""]
             if v.files:
                 m += ["Saved before the failure: " + ", ".join(f"[{Path(f).name}]({f})" for f in v.files), ""]
-        m += [_md_block(b) for b in v.blocks]
+        m += [_md_raw_link(out, s.slug, b, k) if _long(b) else _md_block(b) for k, b in enumerate(v.blocks)]
         if v.checks:
             m.append(_md_block(_checks_table(v.checks)))
-    m += ["## Parameters and tolerances", "", "Every parameter of every section and every tolerance of `crosscheck.tolerances`.", "",
-          "```json", json.dumps(prov.get("parameters", {}), indent=1), "```", "",
+    m += ["## Parameters and tolerances", "", "Every parameter of every section is in "
+          f"[data/{PROVENANCE_FILE}.json](data/{PROVENANCE_FILE}.json) (key `parameters`) and in each section's "
+          "`data/<section>/status.json`; every tolerance of `crosscheck.tolerances` is below.", "",
           _md_block(Table(caption="Tolerances.", header=["name", "atol", "rtol", "why"], rows=[[k, str(t["atol"]), str(t["rtol"]), t["why"]] for k, t in prov.get("tolerances", {}).items()], data=[]))]
     path = out / "report.md"
-    path.write_text("\n".join(m))
+    path.write_text(_wrap_md("\n".join(m)))
     return path
 
 
@@ -444,8 +629,10 @@ def _views(sections: list[Section], out: Path, *, jobs: int, progress: bool) -> 
     if jobs <= 1 or len(sections) < 2 or "fork" not in multiprocessing.get_all_start_methods():
         return [_view(s, out) for s in bar(sections, len(sections))]
     _JOB = (sections, out)
+    from crosscheck.workers import process_pool
+
     try:
-        with multiprocessing.get_context("fork").Pool(jobs) as pool:
+        with process_pool(jobs) as pool:
             views = list(bar(pool.imap(_view_by_index, range(len(sections)), chunksize=1), len(sections)))
     finally:
         _JOB = None
@@ -473,18 +660,23 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
     if jobs is None:
         jobs = min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1), 4)
     views = _views(list(sections), out, jobs=jobs, progress=progress)
-    summary_rows = []
-    for v in views:
-        n, nf, nk = len(v.checks), len(v.failed_checks), len(v.known_checks)
-        checks = f"{n - nf - nk}/{n} passed" + (f", {nf} FAILED" if nf else "") + (f", {nk} known discrepanc{'y' if nk == 1 else 'ies'}" if nk else "") if n else ""
-        state = _badge(v.state)
-        row = [v.section.title, v.section.paper, state, _fmt_seconds((v.status or {}).get("seconds")), checks]
-        summary_rows.append((row, "ok" if v.state in ("ok", "skipped") and not nf else "fail"))
-    summary = RenderSummary(html=out / "index.html", markdown=out / "report.md", views=views)
-    failures = summary.failures
     from crosscheck.report.findings import findings
 
     found = findings(out / "data")  # from the saved results alone, like every block
+    verdicts: dict[str, list[str]] = {}
+    for f in found:
+        verdicts.setdefault(f.slug, [])
+        if f.verdict not in verdicts[f.slug]:
+            verdicts[f.slug].append(f.verdict)
+    summary_rows = []
+    for v in views:
+        nf = len(v.failed_checks)
+        row = [v.section.title, paper_reference(v.section.paper), _badge(v.state), _fmt_seconds((v.status or {}).get("seconds")),
+               _checks_cell(v.checks), ", ".join(verdicts.get(v.section.slug, [])) or "-"]
+        summary_rows.append((row, "ok" if v.state in ("ok", "skipped") and not nf else "fail"))
+    summary = RenderSummary(html=out / "index.html", markdown=out / "report.md", views=views)
+    failures = summary.failures
+    _write_references(out, views)
     _write_html(out, views, prov, summary_rows, failures, found)
     _write_md(out, views, prov, summary_rows, failures, found)
     return summary

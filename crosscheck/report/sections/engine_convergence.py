@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from crosscheck.report.grids import cell_centres
-from crosscheck.report.section import RenderContext, RunContext, Section, Table
+from crosscheck.report.section import RenderContext, RunContext, Section, Table, Text
 
 def params(quick: bool, engine: str, settings: list, n: int | None = None) -> dict:
     """The section's parameters: ``engine`` at each of ``settings`` on an n x n grid in (theta, Theta) (7 quick, 20 full by default)."""
@@ -53,18 +53,32 @@ def render(ctx: RenderContext) -> list:
         s = c["timeconst"] == tc
         a1.plot(c["timestep"][s], 100 * c["agreement"][s], "o-", color=LINE_COLORS[k % 7], label=f"timeconst {tc:g}")
         a2.plot(c["timestep"][s], c["median_abs_time_difference"][s], "o-", color=LINE_COLORS[k % 7], label=f"timeconst {tc:g}")
+    from matplotlib.ticker import LogLocator, NullFormatter
+
+    from crosscheck.report.findings import CONVERGED, NOT_CONVERGED
+
+    # the whole 0-100 % range, with the verdict rule's two thresholds: a few points of change are not drawn as a cliff
+    a1.set_ylim(0, 100)
+    for y, txt in ((100 * CONVERGED, "converges above"), (100 * NOT_CONVERGED, "does not converge below")):
+        a1.axhline(y, color="0.6", lw=0.8, ls="--")
+        a1.text(0.02, y, f" {txt} {y:.0f} %", transform=a1.get_yaxis_transform(), fontsize=6, color="0.4", va="bottom" if y > 92 else "top")
     for ax in (a1, a2):
         ax.set_xscale("log")
+        ax.xaxis.set_minor_formatter(NullFormatter())
         ax.set_xlabel(f"{name} timestep (scaled)")
         ax.invert_xaxis()
-        ax.legend(fontsize=6)
+        ax.legend(fontsize=6, loc="lower right" if ax is a1 else "best")
     a1.set_ylabel("same first event [%]")
     a2.set_ylabel(f"median |t_{name} - t_analytic|")
     if np.nanmin(c["median_abs_time_difference"]) > 0:
         a2.set_yscale("log")
+        a2.yaxis.set_major_locator(LogLocator(base=10, numticks=6))
+        a2.yaxis.set_minor_formatter(NullFormatter())  # one label per decade: minor labels crowded the major ones
     g = P["grid"]
+    varphi = " and ".join(_angle(v) for v in g["varphi"])
     cap = (f"{name}'s agreement with the analytic first event (crosscheck.studies.agreement.convergence_table) on {g['theta'][2]} x {g['Theta'][2]} starts in (theta, Theta) "
-           f"at varphi in {g['varphi']}, Psi = {g['Psi'][0]:g}, mu = {g['mu'][0]:g}, eta = {g['eta'][0]:g}, as the timestep (right: smaller) and the contact time constant shrink.")
+           f"at varphi = {varphi}, Psi = {g['Psi'][0]:g}, mu = {g['mu'][0]:g}, eta = {g['eta'][0]:g}, as the timestep (right: smaller) and the contact time constant shrink: "
+           "one line per contact time constant. Left: the full 0-100 % range, dashed at the verdict rule's 95 % and 90 %.")
     rows = [[f"{c['timestep'][i]:g}", f"{c['timeconst'][i]:g}", f"{int(c['n_rated'][i])}", f"{100 * c['agreement'][i]:.1f}%",
              f"{100 * c['agreement_jam_as_stop'][i]:.1f}%", f"{100 * c['agreement_planar'][i]:.1f}% of {int(c['n_planar'][i])}",
              f"{100 * c['agreement_off_plane'][i]:.1f}% of {int(c['n_off_plane'][i])}", f"{c['median_abs_time_difference'][i]:.3g}"] for i in range(len(c["timestep"]))]
@@ -79,8 +93,39 @@ def render(ctx: RenderContext) -> list:
         for i, r in enumerate(rows):
             r.append(f"{int(c['unconverged_steps'][i])} ({int(c['unconverged_states'][i])})")
         caption += " Solver health: steps whose NCP missed the tolerance after every retry, and in how many states."
-    return [ctx.figure("convergence", fig, cap, ["convergence.csv", "study.json"]),
+    return [ctx.figure("convergence", fig, cap, ["convergence.csv", "study.json"]), _trends(c, P["engine"]),
             Table(caption=caption, header=header, rows=rows, data=ctx.data("convergence.csv", "study.json"))]
+
+
+def _angle(v: float) -> str:
+    """An angle as the paper writes it: -pi/2 rather than -1.5707963267948966, else rounded."""
+    for k, word in ((-0.5, "-pi/2"), (0.5, "pi/2"), (1.0, "pi"), (-1.0, "-pi"), (0.0, "0")):
+        if abs(v - k * np.pi) < 1e-12:
+            return word
+    return f"{v:.4g}"
+
+
+def _trends(c: dict, engine: str) -> Text:
+    """The table read one parameter at a time (``findings.convergence_trends``), with the verdict and the rule that gave it."""
+    from crosscheck import engines
+    from crosscheck.report.findings import convergence_trends
+
+    rows = [{k: c[k][i] for k in ("timestep", "timeconst", "agreement")} for i in range(len(c["timestep"]))]
+    words = {"timestep": "timestep", "timeconst": "contact time constant"}
+    parts = []
+    for t in convergence_trends(rows):
+        at = ", ".join(f"{words[o]} {v:g}" for o, v in t.fixed.items())
+        parts.append(f"In the {words[t.parameter]}" + (f" at {at}" if at else "") + ": "
+                     + " -> ".join(f"{100 * float(r['agreement']):.1f} %" for r in t.rows)
+                     + f" ({words[t.parameter]} " + " -> ".join(f"{float(r[t.parameter]):g}" for r in t.rows) + f"): {t.verdict} ({t.why}).")
+    try:
+        compliant = engines.get(engine).has("compliant")
+    except ValueError:
+        compliant = False
+    if compliant:
+        parts.append("The rigid theory is this engine's limit only as the contact time constant goes to 0 (with the timestep below it); "
+                     "the timestep going to 0 at a fixed time constant tends to the compliant model, whose first events can differ from the theory's.")
+    return Text(" ".join(parts))
 
 
 def section(spec, settings: dict, n: dict | None = None) -> Section:

@@ -1,0 +1,160 @@
+"""What a reader of the report, the command line and the API sees: verdicts with their rules, no LaTeX labels, short
+Markdown lines, a traceable revision, labelled outcomes, quiet library calls, a plot of any run.
+
+Fast: synthetic saved results, or a few sections of the committed ``reports/quick`` re-rendered without recomputing.
+"""
+
+from __future__ import annotations
+
+import csv
+import html
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+
+QUICK = Path(__file__).resolve().parents[1] / "reports" / "quick"
+
+# --------------------------------------------------------------- findings ---
+
+
+def _convergence_dir(root: Path, engine: str, rows: list[tuple[float, float, float]]) -> Path:
+    """A saved convergence section of ``engine``: rows (timestep, timeconst, agreement) as ``convergence_table`` writes them."""
+    d = root / f"{engine}_convergence"
+    d.mkdir(parents=True)
+    (d / "status.json").write_text(json.dumps({"status": "ok", "params": {"engine": engine}}))
+    with (d / "convergence.csv").open("w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["engine", "timestep", "timeconst", "agreement", "agreement_planar", "agreement_off_plane"])
+        for ts, tc, a in rows:
+            w.writerow([engine, ts, tc, a, a, a])
+    return d
+
+
+# The full report's MuJoCo settings: three timesteps at time constant 0.06, then the time constant shrinks at the finest timestep.
+MUJOCO_FULL = [(0.003, 0.06, 0.827), (0.001, 0.06, 0.849), (0.0003, 0.06, 0.864), (0.0003, 0.02, 0.84), (0.0001, 0.02, 0.87),
+               (0.0001, 0.006, 0.83)]
+
+
+def test_convergence_is_read_one_parameter_at_a_time(tmp_path):
+    """The timestep's trend is read at one time constant (82.7 -> 84.9 -> 86.4 % at 0.06), the time constant's at one
+    timestep, each with its own verdict; the timestep's line says its limit is the compliant model."""
+    from crosscheck.report.findings import convergence_trends, findings
+
+    _convergence_dir(tmp_path, "mujoco", MUJOCO_FULL)
+    rows = list(csv.DictReader((tmp_path / "mujoco_convergence" / "convergence.csv").open()))
+    trends = {t.parameter: t for t in convergence_trends(rows)}
+    assert set(trends) == {"timestep", "timeconst"}
+    assert [float(r["timestep"]) for r in trends["timestep"].rows] == [0.003, 0.001, 0.0003]
+    assert trends["timestep"].fixed == {"timeconst": 0.06}
+    assert [float(r["timeconst"]) for r in trends["timeconst"].rows] == [0.02, 0.006]  # at timestep 1e-4 (ties: the finest)
+    assert trends["timeconst"].fixed == {"timestep": 0.0001}
+    conv = [f for f in findings(tmp_path) if "convergence" in f.leg]
+    assert [f.leg for f in conv] == ["MuJoCo: convergence in timestep (contact time constant 0.06)",
+                                     "MuJoCo: convergence in contact time constant (timestep 0.0001)"]
+    ts, tc = conv
+    assert "rises 82.7 % -> 84.9 % -> 86.4 % as the timestep goes 0.003 -> 0.001 -> 0.0003" in ts.text
+    assert "the timestep's limit is the compliant model, not the rigid theory" in ts.text
+    assert ts.verdict == "does not converge" and ts.why.startswith("finest 86.4 % < 95 %")
+    assert "falls 87.0 % -> 83.0 % as the contact time constant goes 0.02 -> 0.006" in tc.text and tc.verdict == "does not converge"
+
+
+def test_a_rigid_engine_has_one_trend_in_the_timestep_and_no_compliant_limit(tmp_path):
+    from crosscheck.report.findings import findings
+
+    _convergence_dir(tmp_path, "pinocchio", [(0.01, 0.0, 0.857), (0.003, 0.0, 0.886), (0.001, 0.0, 0.971)])
+    (conv,) = [f for f in findings(tmp_path) if "convergence" in f.leg]
+    assert conv.leg == "Pinocchio (rigid engine): convergence in timestep" and conv.verdict == "converges"
+    assert "compliant" not in conv.text and conv.why == "finest 97.1 % >= 95 % and >= the coarsest 85.7 %"
+
+
+def test_the_first_event_verdict_gives_the_interval_ends_it_was_judged_by(tmp_path):
+    """94 % of 300 is inconclusive because its interval's lower end is below 95 % and its upper end above 90 %; the line says so."""
+    from crosscheck.report.findings import findings
+
+    d = tmp_path / "toy_maps"
+    d.mkdir()
+    labels = ["SLIP", "LIFTOFF", "STICK", "JAM", "DIVERGED", "GB", "LAUNCH"]
+    conf = [[0] * 7 for _ in labels]
+    conf[0][0], conf[0][1] = 282, 18  # 282 of 300 = 94 %
+    (d / "maps.json").write_text(json.dumps([{"runs": [{"confusion": conf, "labels": labels}]}]))
+    (f,) = findings(tmp_path)
+    assert f.verdict == "inconclusive" and "(94 %, 95 % interval 91-96 %)" in f.text
+    assert f.why == "lower end 90.7 % < 95 %, upper end 96.2 % >= 90 %"
+
+
+# ------------------------------------------------------------------ render ---
+
+#: Sections of the committed quick report re-rendered by the tests: the ones the reader's audit named.
+SECTIONS = ("p_region", "bifurcations", "gb_separatrix", "mujoco_maps", "mujoco_convergence", "pinocchio")
+
+
+@pytest.fixture(scope="module")
+def rendered(tmp_path_factory):
+    """A few sections of the committed quick report rendered from their saved results (nothing recomputed)."""
+    from crosscheck.report import render
+    from crosscheck.report.sections import all_sections
+
+    out = tmp_path_factory.mktemp("quick")
+    (out / "data").mkdir()
+    for name in ("provenance.json", *[p.name for p in (QUICK / "data").glob("provenance.json.*")]):
+        shutil.copy(QUICK / "data" / name, out / "data" / name)
+    for slug in SECTIONS:
+        shutil.copytree(QUICK / "data" / slug, out / "data" / slug)
+    _seal_if_needed(out / "data")
+    sections = [s for s in all_sections() if s.slug in SECTIONS]
+    render(out, sections, jobs=1)
+    return out
+
+
+def _seal_if_needed(data: Path) -> None:
+    """Seal copied status and provenance files when this checkout's store seals them and the committed data predates it."""
+    try:
+        from crosscheck.report.store import SEAL_SUFFIX, seal_of
+    except ImportError:
+        return
+    for p in [data / "provenance.json", *data.glob("*/status.json")]:
+        seal = p.with_name(p.name + SEAL_SUFFIX)
+        if not seal.exists():
+            seal.write_text(json.dumps(seal_of(p.read_bytes())))
+
+
+def test_the_rules_behind_the_verdicts_are_in_the_report(rendered):
+    from crosscheck.report.findings import RULES
+
+    md, page = (rendered / "report.md").read_text(), (rendered / "index.html").read_text()
+    for name, rule in RULES:
+        assert f"- *{name}*: " in md and rule.split(";")[0] in " ".join(md.split())
+        assert f"<dt>{html.escape(name)}</dt>" in page
+    assert "lower end" in md and ".v-explained" in page and ".v-inconclusive" in page
+
+
+def test_no_line_of_the_markdown_is_over_400_characters(rendered):
+    """Long raw JSON is linked, not inlined; prose is wrapped; a long table cell moves to a note."""
+    lines = (rendered / "report.md").read_text().splitlines()
+    assert max(map(len, lines)) <= 400, max(lines, key=len)[:200]
+    assert "validate JSON (crosscheck validate pinocchio --json): [raw_" in "\n".join(lines)
+    linked = list((rendered / "figures" / "pinocchio").glob("raw_*.json"))
+    assert linked and json.loads(linked[0].read_text())
+
+
+def test_the_summary_names_no_latex_label_and_separates_ran_from_agrees(rendered):
+    md = (rendered / "report.md").read_text()
+    summary = md[md.index("## Summary"):md.index("## The paper's figures")]
+    assert "fig:" not in summary and "ghastly" not in summary
+    assert "| section | paper | ran | run time | checks | finding |" in summary
+    row = next(line for line in summary.splitlines() if line.startswith("| MuJoCo vs analytic: outcome maps"))
+    assert row.endswith("| disagrees |") and "| ok |" in row
+    assert "fig:" not in md  # captions and check names give the figure's number instead
+    refs = json.loads((rendered / "data" / "paper_references.json").read_text())
+    assert "fig:my_ugly_simulations" in refs["sections"]["gb_separatrix"]  # the labels are kept in the data
+
+
+def test_paper_references_keep_numbers_and_drop_labels():
+    from crosscheck.report.render import paper_reference, unlabel
+
+    ref = "Figs. 11 (fig:GBs_bif3) and 17 (fig:stabilty_on_GB); eq. K, Theorem 4.1"
+    assert paper_reference(ref) == "Figs. 11 and 17; Theorem 4.1; 1 equation"
+    assert paper_reference("eqs. thetal, psil (section 3.3)", labels=True) == "section 3.3; equations, by their labels in the paper's source: thetal, psil"
+    assert unlabel("four critical points (fig:pandora: (d), (h))") == "four critical points (Fig. 19: (d), (h))"

@@ -53,7 +53,7 @@ def render(ctx: RenderContext) -> list:
         s = c["timeconst"] == tc
         a1.plot(c["timestep"][s], 100 * c["agreement"][s], "o-", color=LINE_COLORS[k % 7], label=f"timeconst {tc:g}")
         a2.plot(c["timestep"][s], c["median_abs_time_difference"][s], "o-", color=LINE_COLORS[k % 7], label=f"timeconst {tc:g}")
-    from matplotlib.ticker import LogLocator, NullFormatter
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLocator
 
     from crosscheck.report.findings import CONVERGED, NOT_CONVERGED
 
@@ -62,9 +62,11 @@ def render(ctx: RenderContext) -> list:
     for y, txt in ((100 * CONVERGED, "converges above"), (100 * NOT_CONVERGED, "does not converge below")):
         a1.axhline(y, color="0.6", lw=0.8, ls="--")
         a1.text(0.02, y, f" {txt} {y:.0f} %", transform=a1.get_yaxis_transform(), fontsize=6, color="0.4", va="bottom" if y > 92 else "top")
+    steps = sorted(set(float(x) for x in c["timestep"]))
     for ax in (a1, a2):
         ax.set_xscale("log")
-        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.set_xticks(steps, [f"{x:g}" for x in steps])  # the timesteps run, labelled as set
+        ax.xaxis.set_minor_locator(NullLocator())
         ax.set_xlabel(f"{name} timestep (scaled)")
         ax.invert_xaxis()
         ax.legend(fontsize=6, loc="lower right" if ax is a1 else "best")
@@ -72,8 +74,9 @@ def render(ctx: RenderContext) -> list:
     a2.set_ylabel(f"median |t_{name} - t_analytic|")
     if np.nanmin(c["median_abs_time_difference"]) > 0:
         a2.set_yscale("log")
-        a2.yaxis.set_major_locator(LogLocator(base=10, numticks=6))
-        a2.yaxis.set_minor_formatter(NullFormatter())  # one label per decade: minor labels crowded the major ones
+        a2.yaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0), numticks=12))  # 1-2-5 ticks: labelled within one decade too
+        a2.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        a2.yaxis.set_minor_formatter(NullFormatter())  # minor labels crowded the major ones
     g = P["grid"]
     varphi = " and ".join(_angle(v) for v in g["varphi"])
     cap = (f"{name}'s agreement with the analytic first event (crosscheck.studies.agreement.convergence_table) on {g['theta'][2]} x {g['Theta'][2]} starts in (theta, Theta) "

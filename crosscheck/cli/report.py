@@ -36,15 +36,16 @@ def _run(args) -> int:
                          f"(run `crosscheck report --out {out}` without --from-results first)")
     seed = integer("seed", args.seed, 0, 2**63 - 1)
     workers = None if args.workers is None else integer("workers", args.workers, 1, 1024)
+    jobs = None if args.jobs is None else integer("jobs", args.jobs, 1, 1024)
     from crosscheck.sweeps.runner import check_scheduler
 
     scheduler = check_scheduler(args.scheduler)
     out = writable_directory("out", out)  # before anything runs: a long run never fails at its first write
     with report.lock(out):
-        return _locked(args, report, out, sections, selected, seed, workers, scheduler)
+        return _locked(args, report, out, sections, selected, seed, workers, scheduler, jobs)
 
 
-def _locked(args, report, out: Path, sections, selected, seed: int, workers, scheduler) -> int:
+def _locked(args, report, out: Path, sections, selected, seed: int, workers, scheduler, jobs=None) -> int:
     progress = not args.no_progress and sys.stderr.isatty()
     t0 = time.perf_counter()
     if not args.from_results:
@@ -53,7 +54,7 @@ def _locked(args, report, out: Path, sections, selected, seed: int, workers, sch
 
             shutil.rmtree(out / "sweeps")
         results = report.run(out, selected, quick=args.quick, seed=seed, progress=progress, argv=["crosscheck", *sys.argv[1:]],
-                             resume=not (args.fresh or args.only), scheduler=scheduler, workers=workers,
+                             resume=not (args.fresh or args.only), scheduler=scheduler, workers=workers, jobs=jobs,
                              log=not args.no_progress and not sys.stderr.isatty())
         kept = [k for k, v in results.items() if v.get("resumed")]
         if kept:
@@ -90,4 +91,6 @@ def register(sub) -> None:
     r.add_argument("--fresh", action="store_true", help="recompute every section (default: keep those finished by the same code)")
     r.add_argument("--scheduler", default=None, help="run the engine sweeps on a Dask cluster: 'local' or a scheduler address tcp://host:8786")
     r.add_argument("--workers", type=str, default=None, help="processes (or local Dask workers) for the engine sweeps; default: the usable cores")
+    r.add_argument("--jobs", type=str, default=None, help="sections computed at the same time, each in its own process; default: the usable cores "
+                   "(the results do not depend on it)")
     r.set_defaults(func=_run)

@@ -1,7 +1,9 @@
-"""The run stage: compute every section's results and save them, one section at a time.
+"""The run stage: compute every section's results and save them, as many sections at a time as there are cores.
 
-Each section runs in its own ``try``: a section that raises is recorded as
-failed (error and traceback in its ``status.json``) and the next one runs.
+Each section runs in its own forked process (``run``'s ``jobs``) and its own
+``try``: a section that raises is recorded as failed (error and traceback in
+its ``status.json``) and the others run; a section whose process dies (a
+crash inside an engine's library) is recorded as failed with its exit code.
 Results a section saved before failing stay on disk.  A section whose process
 was killed keeps ``status: running``, which the report shows as unfinished.
 
@@ -17,6 +19,7 @@ killed half-way keeps its finished chunks too.
 from __future__ import annotations
 
 import json
+import os
 import sys
 import time
 import traceback
@@ -106,8 +109,111 @@ def code_digest() -> str:
     return h.hexdigest()
 
 
+def _compute(s: Section, out: Path, status: dict, ctx: RunContext, log: bool) -> dict:
+    """Run one section (this process) and save its status; returns the status."""
+    if log:
+        sys.stderr.write(f"report: {s.slug}: started\n")
+        sys.stderr.flush()
+    ctx.store.write_json(STATUS_FILE, status)
+    t0 = time.perf_counter()
+    try:
+        s.run(ctx)
+        status["status"] = "ok"
+    except SkipSection as e:
+        status["status"] = "skipped"
+        status["reason"] = str(e)
+    except Exception as e:  # noqa: BLE001  (a failing section must not stop the others)
+        status["status"] = "error"
+        status["error"] = f"{type(e).__name__}: {e}"
+        status["traceback"] = traceback.format_exc()
+    status["seconds"] = time.perf_counter() - t0
+    status["checks_failed"] = [c["name"] for c in ctx.checks if not c["passed"] and not c["known_discrepancy"]]
+    status["files"] = ctx.store.manifest()  # last: a section is finished only once its status lists what it wrote
+    ctx.store.write_json(STATUS_FILE, status)
+    if log:
+        sys.stderr.write(f"report: {s.slug}: {status['status']} in {status['seconds']:.1f} s\n")
+        sys.stderr.flush()
+    return status
+
+
+def _in_child(parent: int, job) -> None:
+    """A forked section process: die with the report, drop its lock, run the section, exit."""
+    from crosscheck.workers import adopt
+
+    adopt(parent)
+    code = 0
+    try:
+        job()
+    except BaseException:  # noqa: BLE001  (the status on disk says what happened; the exit code says it failed)
+        code = 1
+    finally:
+        sys.stderr.flush()
+        os._exit(code)
+
+
+def _order(todo: list[Section], out: Path) -> list[Section]:
+    """Longest first, by the time each took when it last ran in ``out`` (sections never run there keep their
+    declared order, ahead of those known): two slots then finish close together."""
+    def last_seconds(s: Section) -> float:
+        try:
+            return float((read_status(out, s.slug) or {}).get("seconds") or float("inf"))
+        except (integrity.DamagedResults, OSError, ValueError, TypeError):
+            return float("inf")
+
+    known = {s.slug: last_seconds(s) for s in todo}
+    return sorted(todo, key=lambda s: -known[s.slug])  # stable: ties keep the declared order
+
+
+def _run_parallel(jobs_of: dict, order: list[Section], jobs: int, outer, results: dict, out: Path) -> None:
+    """Run the sections' jobs in up to ``jobs`` forked processes, each starting once its ``after`` sections are done."""
+    import multiprocessing
+    from multiprocessing.connection import wait
+
+    ctx = multiprocessing.get_context("fork")
+    pending = list(order)
+    running: dict = {}  # sentinel -> (process, section)
+    waiting_on = {s.slug for s in order}
+    parent = os.getpid()
+    try:
+        while pending or running:
+            ready = [s for s in pending if not (set(s.after) & waiting_on - {s.slug})]
+            while ready and len(running) < jobs:
+                s = ready.pop(0)
+                pending.remove(s)
+                proc = ctx.Process(target=_in_child, args=(parent, jobs_of[s.slug]), name=f"section {s.slug}")
+                proc.start()
+                running[proc.sentinel] = (proc, s)
+            if hasattr(outer, "set_postfix_str"):
+                outer.set_postfix_str(", ".join(sec.slug for _, sec in running.values()))
+            if not running:  # an ``after`` outside this run, or a cycle: run in the declared order
+                waiting_on -= {s.slug for s in pending}
+                continue
+            for sentinel in wait(list(running)):
+                proc, s = running.pop(sentinel)
+                proc.join()
+                waiting_on.discard(s.slug)
+                try:
+                    status = read_status(out, s.slug) or {}
+                except integrity.DamagedResults as e:
+                    status = {"status": "error", "error": str(e)}
+                if status.get("status") in (None, "running"):  # killed, or a crash inside a library
+                    status = {**status, "status": "error", "seconds": status.get("seconds"),
+                              "error": f"the section's process ended with exit code {proc.exitcode} before it finished"}
+                    store = SectionStore(out / "data" / s.slug)
+                    status["files"] = store.manifest()  # what it saved before it died, kept as a failed section's are
+                    store.write_json(STATUS_FILE, status)
+                results[s.slug] = status
+                if hasattr(outer, "update"):
+                    outer.update(1)
+    finally:
+        for proc, _ in running.values():
+            proc.kill()
+            proc.join()
+
+
 def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int = 0, progress: bool = False, argv: list[str] | None = None,
-        resume: bool = False, scheduler: str | None = None, workers: int | None = None, log: bool = False) -> dict[str, dict]:
+        resume: bool = False, scheduler: str | None = None, workers: int | None = None, log: bool = False,
+        jobs: int | None = None) -> dict[str, dict]:
     """Run ``sections`` and save their results under ``<out>/data``.
 
     Args:
@@ -124,15 +230,28 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
       scheduler, workers: where the sweep-heavy sections run their engine
         sweeps (``crosscheck.sweeps.run``: None and the usable cores by
         default; "local" or a Dask scheduler address).
+      jobs: sections computed at the same time, each in its own forked
+        process (default: the usable cores; 1 runs them one after the other in
+        this process).  A section starts once the sections it reads
+        (``Section.after``) have finished; the longest known run first.  Every
+        section draws from its own generator and writes its own directory, so
+        the results do not depend on ``jobs``.  With more than one job the
+        sections' own progress bars are off and the report's bar names the
+        sections running.
 
     Returns:
       ``{slug: status}`` of the sections run; a status has ``status`` in
       {"ok", "skipped", "error"}, ``reason`` when skipped, ``error``/``traceback``
       when it failed, and ``seconds``.
     """
+    from crosscheck.workers import default_workers
+
     out = Path(out)
     data = out / "data"
     data.mkdir(parents=True, exist_ok=True)
+    jobs = default_workers() if jobs is None else jobs
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise ValueError(f"jobs must be an integer >= 1; got {jobs!r}")
     params = {s.slug: s.params(quick) for s in sections}
     root = SectionStore(data)
     # A partial run (``--only``) keeps the parameters recorded for the sections it does not touch.
@@ -146,11 +265,9 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
     bar = _progress_factory(progress)
     results: dict[str, dict] = {}
     t_all = time.perf_counter()
-    outer = bar(sections, desc="report", total=len(sections), leave=True)
     version, code = provenance.package_versions(("crosscheck",))["crosscheck"], code_digest()
-    for s in outer:
-        if hasattr(outer, "set_postfix_str"):
-            outer.set_postfix_str(s.slug)
+    todo: list[Section] = []
+    for s in sections:
         try:
             prev = verified_status(out, s.slug)
         except integrity.DamagedResults:
@@ -159,12 +276,15 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
                 and json.loads(json.dumps(prev.get("params"), default=str)) == json.loads(json.dumps(params[s.slug], default=str))
                 and prev.get("code_sha256") == code):
             results[s.slug] = {**prev, "resumed": True}
-            continue
+        else:
+            todo.append(s)
+    parallel = jobs > 1 and len(todo) > 1
+    inner = bar if not parallel else _progress_factory(False)
+    order = _order(todo, out) if parallel else todo
+    jobs_of = {}
+    for s in order:
         store = SectionStore(data / s.slug)
         store.reset()
-        if log:
-            sys.stderr.write(f"report: {s.slug}: started\n")
-            sys.stderr.flush()
         status = {
             "slug": s.slug,
             "title": s.title,
@@ -178,34 +298,31 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
             "code_sha256": code,
             "date": provenance.now(),
         }
-        store.write_json(STATUS_FILE, status)
+        store.write_json(STATUS_FILE, status)  # a section killed before it started reads as unfinished, never as its old result
         sweeps = {"store": out / "sweeps" / s.slug, "scheduler": scheduler, "workers": workers}
+
         def named(iterable, *, desc: str = "", _slug=s.slug, **kw):  # a section's bars say whose they are
-            return bar(iterable, desc=f"{_slug}: {desc}" if desc else _slug, **kw)
+            return inner(iterable, desc=f"{_slug}: {desc}" if desc else _slug, **kw)
 
         ctx = RunContext(slug=s.slug, params=params[s.slug], quick=quick, rng=section_rng(seed, s.slug), store=store, progress=named,
-                         show_progress=progress, sweeps=sweeps)
-        t0 = time.perf_counter()
-        try:
-            s.run(ctx)
-            status["status"] = "ok"
-        except SkipSection as e:
-            status["status"] = "skipped"
-            status["reason"] = str(e)
-        except Exception as e:  # noqa: BLE001  (a failing section must not stop the others)
-            status["status"] = "error"
-            status["error"] = f"{type(e).__name__}: {e}"
-            status["traceback"] = traceback.format_exc()
-        status["seconds"] = time.perf_counter() - t0
-        status["checks_failed"] = [c["name"] for c in ctx.checks if not c["passed"] and not c["known_discrepancy"]]
-        status["files"] = store.manifest()  # last: a section is finished only once its status lists what it wrote
-        store.write_json(STATUS_FILE, status)
-        if log:
-            sys.stderr.write(f"report: {s.slug}: {status['status']} in {status['seconds']:.1f} s\n")
-            sys.stderr.flush()
-        results[s.slug] = status
+                         show_progress=progress and not parallel, sweeps=sweeps)
+        jobs_of[s.slug] = lambda s=s, status=status, ctx=ctx: _compute(s, out, status, ctx, log)
+    outer = bar(range(len(todo)), desc="report", total=len(todo), leave=True)
+    if parallel:
+        _run_parallel(jobs_of, order, min(jobs, len(todo)), outer, results, out)
+    else:
+        for s in order:
+            if hasattr(outer, "set_postfix_str"):
+                outer.set_postfix_str(s.slug)
+            results[s.slug] = jobs_of[s.slug]()
+            if hasattr(outer, "update"):
+                outer.update(1)
+    if hasattr(outer, "close"):
+        outer.close()
+    results = {s.slug: results[s.slug] for s in sections if s.slug in results}  # the declared order, whatever finished first
     prov["seconds"] = time.perf_counter() - t_all
-    prov["section_seconds"] = {k: v["seconds"] for k, v in results.items()}
+    prov["section_seconds"] = {k: v.get("seconds") for k, v in results.items()}
     prov["sections_resumed"] = [k for k, v in results.items() if v.get("resumed")]
+    prov["jobs"] = jobs
     root.write_json(PROVENANCE_FILE, prov)
     return results

@@ -180,6 +180,8 @@ class Section:
       requires: modules of the project the run imports (listed when the run fails on them).
       finding: ``finding(data_dir) -> list[Finding]``, the section's lines in the report's findings, read
         from its saved results (``crosscheck.report.findings``); None: the generic lines only.
+      after: slugs of the sections whose saved results this one's run reads; it starts once they have
+        finished (the report runs the others at the same time, ``crosscheck.report.pipeline``).
     """
 
     slug: str
@@ -190,3 +192,4 @@ class Section:
     render: Callable[[RenderContext], list]
     requires: tuple[str, ...] = ()
     finding: Callable[[Path], list] | None = None
+    after: tuple[str, ...] = ()

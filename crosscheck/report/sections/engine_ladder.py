@@ -120,4 +120,4 @@ def section(spec, options: dict, maps_slug: str) -> Section:
     """The ladder section ``<slug>_ladder`` of the engine ``spec`` on the disagreements of the map section ``maps_slug``."""
     return Section(slug=f"{spec.slug}_ladder", title=f"{spec.label}: a named cause for each disagreement (its ladder)", paper="sections 2, 4",
                    params=lambda quick: params(quick, spec.name, options["quick" if quick else "full"], maps_slug), run=run, render=render,
-                   requires=("crosscheck.studies.ladder", spec.module or "crosscheck.engines"), finding=finding)
+                   requires=("crosscheck.studies.ladder", spec.module or "crosscheck.engines"), finding=finding, after=(maps_slug,))

@@ -332,4 +332,5 @@ def finding(data: Path) -> list:
 SECTION = Section(slug=SLUG, title="The ladder: a named cause for each MuJoCo-theory disagreement", paper="Fig. 20 (IC2); sections 2, 4",
                   params=params, run=run, render=render,
                   requires=("crosscheck.engines.mujoco.studies.ladder", "crosscheck.theory.capsule", "crosscheck.engines.compliant", "crosscheck.engines.mujoco.law",
-                            "crosscheck.engines.mujoco.engine"), finding=finding)
+                            "crosscheck.engines.mujoco.engine"), finding=finding,
+                  after=("mujoco_maps",))  # the full report ladders that section's saved disagreements

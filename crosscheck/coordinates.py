@@ -15,14 +15,28 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.checks import FINITE, NONNEGATIVE, THETA, check
+from crosscheck.checks import FINITE, NONNEGATIVE, THETA
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState
+from crosscheck.state import SlipState, real, same_shape
 
 __all__ = ["GENERALIZED", "tip_position", "tip_velocity", "paper_to_qv", "qv_to_paper", "to_generalized", "from_generalized"]
 
 #: Names of the generalised coordinates, in order.
 GENERALIZED = ("X", "Y", "Z", "psi", "theta")
+
+
+def _rod(rod) -> Rod:
+    if not isinstance(rod, Rod):
+        raise ValueError(f"rod must be a Rod (crosscheck.Rod); got {type(rod).__name__}")
+    return rod
+
+
+def _qv(q, v) -> tuple[np.ndarray, np.ndarray]:
+    """q and v as real (..., 5) arrays of one shape (ValueError naming them otherwise)."""
+    q, v = real("q", q, FINITE), real("v", v, FINITE)
+    if q.shape[-1:] != (5,) or q.shape != v.shape:
+        raise ValueError(f"q and v must have one shape (..., 5) ({', '.join(GENERALIZED)}); got {q.shape} and {v.shape}")
+    return q, v
 
 
 def tip_position(rod: Rod, q) -> np.ndarray:
@@ -62,12 +76,16 @@ def paper_to_qv(rod: Rod, theta, varphi, Theta, Psi, eta, psi=0.0, *, tip=(0.0, 
     Returns:
       (q, v), each an (..., 5) array ordered as ``GENERALIZED``.
     """
-    theta = check("theta", theta, THETA)
-    eta = check("eta", eta, NONNEGATIVE)
-    varphi, Theta, Psi, psi, w = (check(n, x, FINITE) for n, x in (("varphi", varphi), ("Theta", Theta), ("Psi", Psi), ("psi", psi), ("w", w)))
-    theta, varphi, Theta, Psi, eta, psi, w = np.broadcast_arrays(theta, varphi, Theta, Psi, eta, psi, w)
+    _rod(rod)
+    theta = real("theta", theta, THETA)
+    eta = real("eta", eta, NONNEGATIVE)
+    varphi, Theta, Psi, psi, w = (real(n, x, FINITE) for n, x in (("varphi", varphi), ("Theta", Theta), ("Psi", Psi), ("psi", psi), ("w", w)))
+    theta, varphi, Theta, Psi, eta, psi, w = same_shape(theta=theta, varphi=varphi, Theta=Theta, Psi=Psi, eta=eta, psi=psi, w=w)
     l, om = rod.length, rod.omega
-    tip = np.asarray(tip, dtype=float) * l
+    tip = real("tip", tip, FINITE)
+    if tip.shape[-1:] != (3,):
+        raise ValueError(f"tip must have shape (..., 3) (x, y, z in units of l); got {tip.shape}")
+    tip = tip * l
     s, c, sp, cp = np.sin(theta), np.cos(theta), np.sin(psi), np.cos(psi)
     q = np.stack(
         np.broadcast_arrays(tip[..., 0] - l * c * sp, tip[..., 1] + l * c * cp, tip[..., 2] + l * s, psi, theta), -1
@@ -95,8 +113,8 @@ def qv_to_paper(rod: Rod, q, v) -> dict[str, np.ndarray]:
     scaled position x, y, z and normal velocity w.  varphi is wrapped to
     (-pi, pi]; it lies in the paper's (-pi, 0] only for states of that range.
     """
-    q = np.asarray(q, dtype=float)
-    v = np.asarray(v, dtype=float)
+    _rod(rod)
+    q, v = _qv(q, v)
     l, om = rod.length, rod.omega
     tip = tip_position(rod, q) / l
     tv = tip_velocity(rod, q, v) / (l * om)
@@ -119,10 +137,15 @@ def qv_to_paper(rod: Rod, q, v) -> dict[str, np.ndarray]:
 
 def to_generalized(rod: Rod, state: SlipState, *, tip=(0.0, 0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
     """(q, v) of a ``SlipState`` with the tip at ``tip`` (units of l) on the plane."""
+    if not isinstance(state, SlipState):
+        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
     return paper_to_qv(rod, state.theta, state.varphi, state.Theta, state.Psi, state.eta, state.psi, tip=tip)
 
 
 def from_generalized(rod: Rod, q, v) -> SlipState:
     """The ``SlipState`` of a single (q, v); raises if it is outside the paper's ranges."""
+    q, v = _qv(q, v)
+    if q.shape != (5,) or v.shape != (5,):
+        raise ValueError(f"q and v must each have shape (5,) ({', '.join(GENERALIZED)}); got {q.shape} and {v.shape}")
     d = qv_to_paper(rod, q, v)
     return SlipState(**{k: float(d[k]) for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi")})

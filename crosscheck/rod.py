@@ -5,7 +5,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from crosscheck.checks import ALPHA, Interval, check
+from crosscheck.checks import ALPHA, Interval
+from crosscheck.state import real_scalar
 
 #: Each physical parameter (SI units) in [1e-100, 1e100]: products of two stay finite in double precision.
 PHYSICAL = Interval(1e-100, 1e100, lo_open=False, hi_open=False)
@@ -34,7 +35,7 @@ class Rod:
 
     def __post_init__(self) -> None:
         for name in ("mass", "length", "inertia", "gravity"):
-            object.__setattr__(self, name, float(check(name, getattr(self, name), PHYSICAL)))
+            object.__setattr__(self, name, real_scalar(name, getattr(self, name), PHYSICAL))
         # alpha = m l^2 / I0 in logarithms: the product may overflow or underflow where the ratio does not
         log_alpha = math.log(self.mass) + 2.0 * math.log(self.length) - math.log(self.inertia)
         if not math.log(ALPHA.lo) <= log_alpha <= math.log(ALPHA.hi):
@@ -44,12 +45,13 @@ class Rod:
     @classmethod
     def scaled(cls, alpha: float = 3.0) -> "Rod":
         """The rod in the paper's scaled units: m = l = g = 1, I0 = 1/alpha."""
-        alpha = float(check("alpha", alpha, ALPHA))
+        alpha = real_scalar("alpha", alpha, ALPHA)
         return cls(mass=1.0, length=1.0, inertia=1.0 / alpha, gravity=1.0)
 
     @classmethod
     def uniform(cls, mass: float, length: float, gravity: float = 9.81) -> "Rod":
         """A uniform rod (alpha = 3) with tip-to-centre distance ``length``."""
+        mass, length = real_scalar("mass", mass, PHYSICAL), real_scalar("length", length, PHYSICAL)
         return cls(mass=mass, length=length, inertia=mass * length**2 / 3.0, gravity=gravity)
 
     @property

@@ -4,9 +4,40 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass
 
-from crosscheck.checks import AZIMUTH, ETA, FINITE, NONNEGATIVE, RATE, THETA, VARPHI, check
+import numpy as np
 
-__all__ = ["SlipState"]
+from crosscheck.checks import AZIMUTH, ETA, FINITE, NONNEGATIVE, RATE, THETA, VARPHI, Interval, check
+
+__all__ = ["SlipState", "real", "real_scalar", "same_shape"]
+
+
+def real(name: str, value, interval: Interval = FINITE) -> np.ndarray:
+    """``check`` for values that must be real numbers: a complex number (whose imaginary part ``float`` would drop),
+    a bool, bytes or an object array is refused with one line naming ``name``, as a value out of range is."""
+    if value is None:
+        return check(name, value, interval)
+    x = np.asarray(value) if not isinstance(value, (str, bytes, bytearray)) else None
+    if (isinstance(value, (bool, np.bool_, bytes, bytearray)) or (x is not None and (x.dtype.kind in "cbSUVO" and x.size)
+                                                                   and not (x.dtype.kind == "U" and x.ndim == 0))):
+        raise ValueError(f"{name} must be a real number in {interval}; got {value!r}"[:300])
+    return check(name, value, interval)
+
+
+def real_scalar(name: str, value, interval: Interval = FINITE) -> float:
+    """``real`` for one number (a list or an array of several is refused, naming ``name``)."""
+    x = real(name, value, interval)
+    if x.ndim:
+        raise ValueError(f"{name} must be one number in {interval}; got an array of shape {x.shape}")
+    return float(x)
+
+
+def same_shape(**arrays) -> tuple:
+    """The arrays broadcast together; ValueError naming them and their shapes when they do not broadcast."""
+    try:
+        return np.broadcast_arrays(*arrays.values())
+    except ValueError:
+        shapes = ", ".join(f"{k} {np.shape(v)}" for k, v in arrays.items())
+        raise ValueError(f"{', '.join(arrays)} must have shapes that broadcast (equal, or 1 where they differ); got {shapes}") from None
 
 
 @dataclass(frozen=True)
@@ -36,7 +67,7 @@ class SlipState:
         # pi/2); the start of a run is held to the narrower ranges of ``check_start``.
         limits = {"theta": THETA, "varphi": VARPHI, "Theta": FINITE, "Psi": FINITE, "eta": NONNEGATIVE, "psi": FINITE}
         for name, interval in limits.items():
-            object.__setattr__(self, name, float(check(name, getattr(self, name), interval)))
+            object.__setattr__(self, name, real_scalar(name, getattr(self, name), interval))
 
     def check_start(self) -> "SlipState":
         """This state, if it may start a run: rates and azimuth within ``crosscheck.checks``'s ranges (ValueError otherwise)."""

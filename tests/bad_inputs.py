@@ -278,4 +278,35 @@ def api_cases() -> list:
     for k, v in [("alpha", 0.0), ("timeconst", -1.0), ("dampratio", math.nan)]:
         add(f"kelvin_voigt.mujoco_equivalent({k}={v!r})", lambda k=k, v=v: kelvin_voigt.mujoco_equivalent(s, **{"alpha": 3.0, "timeconst": 0.06, "dampratio": 1.0,
                                                                                                 "solimp": (0.9, 0.95, 0.001, 0.5, 2.0), k: v}), k)
+    # not real numbers, or several where one belongs: a complex value would lose its imaginary part, a bool count as 1
+    from crosscheck.coordinates import from_generalized, to_generalized
+
+    not_real = [np.complex128(1 + 1e-3j), b"1.0", True, np.array([1.0, 1.0]), [1.0]]
+    for k in ok_state:
+        for v in not_real:
+            add(f"SlipState({k}={v!r})", lambda k=k, v=v: SlipState(**{**ok_state, k: v}), k)
+    for k in ("mass", "length", "inertia", "gravity"):
+        for v in (True, [1.0, 2.0], np.complex128(1 + 1j)):
+            add(f"Rod({k}={v!r})", lambda k=k, v=v: Rod(**{k: v}), k)
+    add("Rod.scaled([3, 4])", lambda: Rod.scaled([3, 4]), "alpha")
+    add("Rod.uniform([1, 2], 1)", lambda: Rod.uniform([1, 2], 1), "mass")
+    add("analytic.p(theta complex)", lambda: analytic.p(np.array([1 + 1j]), -1.0, 1.0, 3.0), "theta")
+    add("analytic.p(mu=True)", lambda: analytic.p(1.0, -1.0, True, 3.0), "mu")
+    add("analytic.p(theta (2,), varphi (3,))", lambda: analytic.p([1.0, 1.1], [-1.0, -1.0, -1.0], 1.0, 3.0), "theta")
+    add("analytic.b(Psi (2,), Theta (3,))", lambda: analytic.b([1.0, 1.1], [0.0, 0.0, 0.0], 1.0), "Psi")
+    add("to_generalized(tip=(nan, 0, 0))", lambda: to_generalized(rod, s, tip=(math.nan, 0, 0)), "tip")
+    add("to_generalized(tip=(1, 2))", lambda: to_generalized(rod, s, tip=(1, 2)), "tip")
+    add("to_generalized(state=dict)", lambda: to_generalized(rod, ok_state), "state")
+    add("from_generalized(q of shape (4,))", lambda: from_generalized(rod, np.zeros(4), np.zeros(5)), "q")
+    add("from_generalized(q complex)", lambda: from_generalized(rod, np.zeros(5) + 1j, np.zeros(5)), "q")
+    add("paper_to_qv(theta (2,), Psi (3,))", lambda: paper_to_qv(rod, [1.0, 1.1], -1.0, 0.0, [0.0, 0.0, 0.0], 1.0), "theta")
+    add("paper_to_qv(rod=None)", lambda: paper_to_qv(None, **ok_state), "rod")
+    for k, v in [("horizon", True), ("horizon", np.array([0.05, 0.05])), ("horizon", np.complex128(0.05 + 1j)), ("mu", np.array([1.4, 1.4])),
+                 ("mu", np.complex128(1.4 + 5j)), ("mu", True), ("timestep", True), ("timestep", [1e-3]), ("timestep", np.complex128(1e-3 + 1j))]:
+        add(f"pinocchio.simulate({k}={v!r})", lambda k=k, v=v: _simulate(pinocchio, rod, s, k, v), k)
+    for k, v in [("timestep", True), ("timestep", [1e-3]), ("timestep", np.complex128(1e-3 + 1j)), ("radius", True)]:
+        add(f"mujoco.simulate({k}={v!r})", lambda k=k, v=v: _simulate(mujoco, rod, s, k, v), k)
+    for v in [np.array([1.4 + 5j] * 2), np.array([1.4, 1.4, 1.4]), np.ones((2, 2)), np.array([True, True])]:
+        add(f"pinocchio.sweep(mu={v!r})", lambda v=v: pinocchio.sweep(rod, [s, s], v, horizon=0.05, progress=False, workers=1), "mu")
+    add("pinocchio.sweep(horizon=True)", lambda: pinocchio.sweep(rod, [s, s], 1.4, horizon=True, progress=False, workers=1), "horizon")
     return cases

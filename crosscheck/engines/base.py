@@ -23,12 +23,12 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 from tqdm.auto import tqdm
 
-from crosscheck.checks import MU, POSITIVE, check
+from crosscheck.checks import MU, POSITIVE
 from crosscheck.engines.classifier import Classification, Thresholds, classify
 from crosscheck.engines.record import Record
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState
+from crosscheck.state import SlipState, real, real_scalar
 
 __all__ = ["Engine", "Run", "SweepResult", "SERIES", "SUMMARY", "STATE_KEYS", "MAX_RECORD_BYTES", "n_steps", "n_steps_within_memory", "options_from_kwargs", "run_inputs", "check_states",
            "summaries", "sweep_by_simulate"]
@@ -126,11 +126,11 @@ def run_inputs(state, mu, horizon, options: dict, Options: type) -> tuple[float,
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
     state.check_start()
-    horizon = float(check("horizon", horizon, POSITIVE))
+    horizon = real_scalar("horizon", horizon, POSITIVE)
     opts = Options.from_kwargs(options)
     if opts.timestep > horizon:
         raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
-    return float(check("mu", mu, MU)), horizon, opts
+    return real_scalar("mu", mu, MU), horizon, opts
 
 
 def check_states(states: Sequence[SlipState]) -> list[SlipState]:
@@ -295,11 +295,14 @@ def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu,
     runs and their order are the same as with one).
     """
     states = check_states(states)
-    horizon = float(check("horizon", horizon, POSITIVE))
+    horizon = real_scalar("horizon", horizon, POSITIVE)
     if not (isinstance(workers, int) and workers >= 1):
         raise ValueError(f"workers must be an integer >= 1; got {workers!r}")
     B = len(states)
-    mu = np.broadcast_to(check("mu", mu, MU), (B,)).astype(float)
+    mu = real("mu", mu, MU)
+    if mu.shape not in ((), (B,)):
+        raise ValueError(f"mu must be one number or one per state (shape ({B},)), in {MU}; got shape {mu.shape}")
+    mu = np.broadcast_to(mu, (B,)).astype(float)
     th = thresholds or Thresholds()
     t0 = time.perf_counter()
     if workers == 1 or B == 1:

@@ -31,6 +31,7 @@ from crosscheck.theory.critical import (
     varphi_pm,
 )
 from crosscheck.rod import Rod
+from crosscheck.state import real, same_shape
 
 __all__ = [
     "Mode",
@@ -155,7 +156,7 @@ def b(Psi, Theta, theta):
     b = (Psi^2 cos^2 theta + Theta^2) sin theta - 1; in physical units
     l psi_dot^2 sin theta cos^2 theta + l theta_dot^2 sin theta - g, divided by g.
     """
-    return _b(check("Psi", Psi, BOUNDED), check("Theta", Theta, BOUNDED), check("theta", theta, THETA))
+    return _b(*same_shape(Psi=real("Psi", Psi, BOUNDED), Theta=real("Theta", Theta, BOUNDED), theta=real("theta", theta, THETA)))
 
 
 def p(theta, varphi, mu, alpha):
@@ -164,7 +165,7 @@ def p(theta, varphi, mu, alpha):
     p = 1 + alpha + alpha sin theta (mu cos theta sin varphi - sin theta).
     A paradox needs p < 0.
     """
-    return _p(check("theta", theta, THETA), check("varphi", varphi, BOUNDED), check("mu", mu, MU), check("alpha", alpha, ALPHA))
+    return _p(*same_shape(theta=real("theta", theta, THETA), varphi=real("varphi", varphi, BOUNDED), mu=real("mu", mu, MU), alpha=real("alpha", alpha, ALPHA)))
 
 
 #: Rounding operations in eqs. b and p: each term carries at most ~4 roundings (sin, cos,

@@ -7,7 +7,8 @@ from typing import Any
 
 import numpy as np
 
-from crosscheck.checks import NONNEGATIVE, POSITIVE, UNIT, Interval, check
+from crosscheck.checks import NONNEGATIVE, POSITIVE, UNIT, Interval
+from crosscheck.state import real_scalar
 from crosscheck.engines.base import options_from_kwargs
 
 __all__ = ["Options", "RADIUS", "MU_MAX"]
@@ -70,15 +71,15 @@ class Options:
     cone: bool = True
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "timestep", float(check("timestep", self.timestep, POSITIVE)))
-        object.__setattr__(self, "radius", float(check("radius", self.radius, RADIUS)))
+        object.__setattr__(self, "timestep", real_scalar("timestep", self.timestep, POSITIVE))
+        object.__setattr__(self, "radius", real_scalar("radius", self.radius, RADIUS))
         n = self.solver_iterations
         if not (isinstance(n, (int, np.integer)) and not isinstance(n, bool) and 1 <= n <= MAX_ITERATIONS):
             raise ValueError(f"solver_iterations must be an integer in [1, {MAX_ITERATIONS}]; got {n!r}")
         object.__setattr__(self, "solver_iterations", int(n))
-        object.__setattr__(self, "solver_tolerance", float(check("solver_tolerance", self.solver_tolerance, NONNEGATIVE)))
-        object.__setattr__(self, "contact_erp", float(check("contact_erp", self.contact_erp, UNIT)))
-        object.__setattr__(self, "contact_margin", float(check("contact_margin", self.contact_margin, POSITIVE)))
+        object.__setattr__(self, "solver_tolerance", real_scalar("solver_tolerance", self.solver_tolerance, NONNEGATIVE))
+        object.__setattr__(self, "contact_erp", real_scalar("contact_erp", self.contact_erp, UNIT))
+        object.__setattr__(self, "contact_margin", real_scalar("contact_margin", self.contact_margin, POSITIVE))
         if not isinstance(self.cone, (bool, np.bool_)):
             raise ValueError(f"cone must be True or False; got {self.cone!r}")
         object.__setattr__(self, "cone", bool(self.cone))

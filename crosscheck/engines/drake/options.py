@@ -20,7 +20,8 @@ import math
 from dataclasses import dataclass, fields
 from typing import Any
 
-from crosscheck.checks import POSITIVE, Interval, check
+from crosscheck.checks import POSITIVE, Interval
+from crosscheck.state import real_scalar
 from crosscheck.engines.base import options_from_kwargs
 
 __all__ = [
@@ -93,7 +94,7 @@ def engine_name(approximation: str) -> str:
 
 
 def _check_number(name: str, value, interval: Interval) -> float:
-    return float(check(name, value, interval))
+    return real_scalar(name, value, interval)
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,8 @@ import os
 from dataclasses import dataclass, fields
 from typing import Any
 
-from crosscheck.checks import FINITE, NONNEGATIVE, POSITIVE, Interval, check
+from crosscheck.checks import FINITE, NONNEGATIVE, POSITIVE, Interval
+from crosscheck.state import real, real_scalar
 from crosscheck.engines.base import options_from_kwargs
 
 __all__ = ["Options", "RADIUS"]
@@ -49,17 +50,17 @@ class Options:
 
     def __post_init__(self) -> None:
         for name in ("timestep", "timeconst", "dampratio"):
-            object.__setattr__(self, name, float(check(name, getattr(self, name), POSITIVE)))
+            object.__setattr__(self, name, real_scalar(name, getattr(self, name), POSITIVE))
         # A slender rod's radius is a small fraction of l; at r >= l/2 the capsule's end cap reaches
         # the centre of mass and the contact point C is no longer "below the tip".
-        object.__setattr__(self, "radius", float(check("radius", self.radius, RADIUS)))
+        object.__setattr__(self, "radius", real_scalar("radius", self.radius, RADIUS))
         if self.friction_timeconst is not None:
-            object.__setattr__(self, "friction_timeconst", float(check("friction_timeconst", self.friction_timeconst, POSITIVE)))
+            object.__setattr__(self, "friction_timeconst", real_scalar("friction_timeconst", self.friction_timeconst, POSITIVE))
         for name in ("timeconst", "friction_timeconst"):
             tc = getattr(self, name)
             if tc is not None and tc < 2 * self.timestep:
                 raise ValueError(f"{name} must be >= 2 timestep = {2 * self.timestep:g} (MuJoCo's refsafe); got {tc!r}")
-        solimp = check("solimp", self.solimp, FINITE)
+        solimp = real("solimp", self.solimp, FINITE)
         if solimp.shape != (5,):
             raise ValueError(f"solimp must have 5 numbers (d0, dmax, width, midpoint, power); got {self.solimp!r}")
         # MuJoCo's impedance d(r) (Computation chapter): d0, dmax in (0, 1), width > 0, the sigmoid's
@@ -67,7 +68,7 @@ class Options:
         if not (0 < solimp[0] < 1 and 0 < solimp[1] < 1 and solimp[2] > 0 and 0 < solimp[3] < 1 and solimp[4] >= 1):
             raise ValueError(f"solimp must have d0, dmax in (0, 1), width > 0, midpoint in (0, 1) and power >= 1; got {tuple(solimp)!r}")
         object.__setattr__(self, "solimp", tuple(float(x) for x in solimp))
-        object.__setattr__(self, "solver_tolerance", float(check("solver_tolerance", self.solver_tolerance, NONNEGATIVE)))
+        object.__setattr__(self, "solver_tolerance", real_scalar("solver_tolerance", self.solver_tolerance, NONNEGATIVE))
         if self.model_file is not None:
             object.__setattr__(self, "model_file", os.fspath(self.model_file))
 

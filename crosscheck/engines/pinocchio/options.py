@@ -6,7 +6,8 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from crosscheck.checks import POSITIVE, check
+from crosscheck.checks import POSITIVE
+from crosscheck.state import real_scalar
 from crosscheck.engines.base import options_from_kwargs
 
 __all__ = ["Options", "SOLVERS"]
@@ -46,8 +47,8 @@ class Options:
     ncp: bool = True
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "timestep", float(check("timestep", self.timestep, POSITIVE)))
-        object.__setattr__(self, "tolerance", float(check("tolerance", self.tolerance, POSITIVE)))
+        object.__setattr__(self, "timestep", real_scalar("timestep", self.timestep, POSITIVE))
+        object.__setattr__(self, "tolerance", real_scalar("tolerance", self.tolerance, POSITIVE))
         if self.solver not in SOLVERS:
             raise ValueError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")
         for name in ("max_iterations", "max_iterations_limit"):
@@ -57,7 +58,7 @@ class Options:
         if self.max_iterations_limit < self.max_iterations:
             raise ValueError(f"max_iterations_limit must be >= max_iterations = {self.max_iterations}; got {self.max_iterations_limit}")
         if self.contact_gap is not None:
-            object.__setattr__(self, "contact_gap", float(check("contact_gap", self.contact_gap, POSITIVE)))
+            object.__setattr__(self, "contact_gap", real_scalar("contact_gap", self.contact_gap, POSITIVE))
         if not isinstance(self.ncp, (bool, np.bool_)):
             raise ValueError(f"ncp must be True or False; got {self.ncp!r}")
         if not self.ncp and self.solver != "admm":

@@ -158,3 +158,34 @@ def test_paper_references_keep_numbers_and_drop_labels():
     assert paper_reference(ref) == "Figs. 11 and 17; Theorem 4.1; 1 equation"
     assert paper_reference("eqs. thetal, psil (section 3.3)", labels=True) == "section 3.3; equations, by their labels in the paper's source: thetal, psil"
     assert unlabel("four critical points (fig:pandora: (d), (h))") == "four critical points (Fig. 19: (d), (h))"
+
+
+def test_a_regression_guard_holds_it_does_not_pass_and_a_listed_check_is_not_tabled_twice():
+    """A validate section's own table lists its checks: the generic checks table is replaced by a note that still says which
+    are regression guards, and a guard that holds never reads 'passed'."""
+    from crosscheck.report.render import SectionView, _checks_note, _checks_shown, _checks_table
+    from crosscheck.report.section import Table
+
+    checks = [{"name": "MuJoCo contact acc within tolerance", "passed": True, "kind": "physics"},
+              {"name": "MuJoCo event disagreement within tolerance", "passed": True, "kind": "regression guard"}]
+    own = Table(caption="the checks", header=["check"], rows=[["contact acc"], ["event disagreement"]], data=["x.csv"])
+    view = SectionView(section=None, status={"status": "ok"}, blocks=[own], checks=checks)
+    assert _checks_shown(view)
+    note = _checks_note(checks).text
+    assert "physics 1/1 passed; regression guards 1/1 held" in note and "MuJoCo event disagreement within tolerance: held" in note
+    assert not _checks_shown(SectionView(section=None, status={"status": "ok"}, blocks=[own], checks=checks + [{"name": "other", "passed": True}]))
+    results = {r[0]: r[4] for r in _checks_table(checks).rows}
+    assert results == {"MuJoCo contact acc within tolerance": "passed",
+                       "MuJoCo event disagreement within tolerance": "held (no change; not a physics check)"}
+
+
+def test_interactive_maps_tick_round_values_where_they_fall():
+    import numpy as np
+
+    from crosscheck.report.interactive import _ticks
+
+    centres = 0.2 + (np.arange(7) + 0.5) * (1.3 / 7)  # cells of [0.2, 1.5]: centres 0.293, 0.479, ...
+    ticks = _ticks(centres)
+    assert [t for _, t in ticks] == ["0.5", "1", "1.5"]
+    for pos, label in ticks:  # each label sits where its value is, in cells from the grid's outer edge
+        assert pos == pytest.approx((float(label) - 0.2) / (1.3 / 7))

@@ -47,7 +47,7 @@ def _rgb(c) -> str:
 
 def _svg_panel(m: GridMap, p: Panel, colors: dict[int, tuple], *, cell: float) -> str:
     nx, ny = m.x.size, m.y.size
-    left, bottom, top = 46.0, 34.0, 20.0
+    left, bottom, top = 62.0, 36.0, 20.0  # left: room for the tick labels and, apart from them, the rotated axis name
     w, h = left + nx * cell + 8, top + ny * cell + bottom
     out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0f}" height="{h:.0f}" viewBox="0 0 {w:.0f} {h:.0f}" role="img">',
            f'<text x="{left + nx * cell / 2:.1f}" y="14" text-anchor="middle" class="pt">{html.escape(p.title)}</text>']
@@ -61,15 +61,34 @@ def _svg_panel(m: GridMap, p: Panel, colors: dict[int, tuple], *, cell: float) -
             out.append(f'<rect x="{left + i * cell:.1f}" y="{yy:.1f}" width="{cell:.2f}" height="{cell:.2f}" fill="{fill}">'
                        f"<title>{html.escape(m.tooltips[j][i])}</title></rect>")
     out.append(f'<rect x="{left}" y="{top}" width="{nx * cell:.1f}" height="{ny * cell:.1f}" fill="none" stroke="#444" stroke-width="0.8"/>')
-    for k in np.unique(np.linspace(0, nx - 1, min(nx, 5)).round().astype(int)):
-        out.append(f'<text x="{left + (k + 0.5) * cell:.1f}" y="{top + ny * cell + 13:.1f}" text-anchor="middle" class="tk">{m.x[k]:.3g}</text>')
-    for k in np.unique(np.linspace(0, ny - 1, min(ny, 5)).round().astype(int)):
-        out.append(f'<text x="{left - 4:.1f}" y="{top + (ny - 1 - k + 0.5) * cell + 3:.1f}" text-anchor="end" class="tk">{m.y[k]:.3g}</text>')
+    for pos, label in _ticks(m.x):  # pos: in cells from the left edge
+        out.append(f'<line x1="{left + pos * cell:.1f}" x2="{left + pos * cell:.1f}" y1="{top + ny * cell:.1f}" y2="{top + ny * cell + 3:.1f}" stroke="#444"/>')
+        out.append(f'<text x="{left + pos * cell:.1f}" y="{top + ny * cell + 14:.1f}" text-anchor="middle" class="tk">{label}</text>')
+    for pos, label in _ticks(m.y):  # pos: in cells from the bottom edge
+        out.append(f'<line x1="{left - 3:.1f}" x2="{left:.1f}" y1="{top + (ny - pos) * cell:.1f}" y2="{top + (ny - pos) * cell:.1f}" stroke="#444"/>')
+        out.append(f'<text x="{left - 5:.1f}" y="{top + (ny - pos) * cell + 3:.1f}" text-anchor="end" class="tk">{label}</text>')
     out.append(f'<text x="{left + nx * cell / 2:.1f}" y="{h - 4:.1f}" text-anchor="middle" class="ax">{html.escape(m.x_name)}</text>')
     out.append(f'<text x="12" y="{top + ny * cell / 2:.1f}" text-anchor="middle" class="ax" transform="rotate(-90 12 {top + ny * cell / 2:.1f})">'
                f"{html.escape(m.y_name)}</text>")
     out.append("</svg>")
     return "".join(out)
+
+
+def _ticks(centres: np.ndarray, n: int = 5) -> list[tuple[float, str]]:
+    """Round tick values on an axis of grid cells: (position in cells from the first cell's outer edge, label).
+
+    A uniform grid gets the values ``matplotlib.ticker.MaxNLocator`` picks inside its extent (cell edges), placed where
+    they fall; a single cell or an irregular grid gets labelled cell centres, rounded to 3 digits."""
+    from matplotlib.ticker import MaxNLocator
+
+    c = np.asarray(centres, dtype=float)
+    if c.size > 1 and np.allclose(np.diff(c), c[1] - c[0], rtol=1e-6, atol=0):
+        d = c[1] - c[0]
+        lo, hi = sorted((c[0] - d / 2, c[-1] + d / 2))
+        vals = [v for v in MaxNLocator(n, steps=[1, 2, 2.5, 5, 10]).tick_values(lo, hi) if lo - 1e-12 <= v <= hi + 1e-12]
+        return [((v - (c[0] - d / 2)) / d, f"{v:.6g}" if abs(v) > 1e-12 * abs(hi - lo) else "0") for v in vals]
+    idx = np.unique(np.linspace(0, c.size - 1, min(c.size, n)).round().astype(int))
+    return [(k + 0.5, f"{c[k]:.3g}") for k in idx]
 
 
 _CSS = ("body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:1.5em;color:#222}"

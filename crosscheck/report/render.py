@@ -326,8 +326,8 @@ def _checks_table(checks: list[dict]):
     rows, cls = [], []
     for c in checks:
         kind = c.get("kind", "physics")
-        if c["passed"]:
-            verdict, k = "passed", "guard" if kind == "regression guard" else "ok"
+        if c["passed"]:  # a guard that holds shows no change from its measured spread; it is not a physics pass
+            verdict, k = ("held (no change; not a physics check)", "guard") if kind == "regression guard" else ("passed", "ok")
         elif c.get("known_discrepancy"):
             verdict, k = "KNOWN DISCREPANCY: " + c["known_discrepancy"], "known"
         else:
@@ -337,6 +337,29 @@ def _checks_table(checks: list[dict]):
     return Table(caption="Checks recorded by this section. A physics check's allowance comes from the paper, the integrator or the timestep; "
                  "a regression guard's from a measured spread: it flags a change, it does not prove the physics.",
                  header=["check", "kind", "value", "allowance", "result", "detail"], rows=rows, data=[], row_class=cls)
+
+
+def _checks_shown(v: SectionView) -> bool:
+    """Whether one of the section's own tables already lists every check (a validate section's per-quantity table: each
+    check is named "<engine> <quantity> within tolerance" and its table has a row per quantity)."""
+    names = [c["name"] for c in v.checks]
+    for b in v.blocks:
+        if isinstance(b, Table) and b.rows:
+            first = {str(r[0]) for r in b.rows}
+            if all(any(n.endswith(f" {q} within tolerance") or n == q for q in first) for n in names):
+                return True
+    return False
+
+
+def _checks_note(checks: list[dict]) -> Text:
+    """What the checks table would add to a section whose own table lists its checks: their kinds and results."""
+    guards = [c for c in checks if c.get("kind") == "regression guard"]
+    text = (f"The table above lists this section's {len(checks)} checks ({_checks_cell(checks)}); "
+            "a physics check's allowance comes from the paper, the integrator or the timestep.")
+    if guards:
+        text += (" Regression guards (allowance from a measured spread: holding flags no change, it does not show the physics is right): "
+                 + "; ".join(f"{c['name']}: {'held' if c['passed'] else 'FAILED'}" for c in guards) + ".")
+    return Text(text)
 
 
 def _short(v) -> str:
@@ -468,8 +491,10 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
             h.append(f"<p><i>Paper: {html.escape(paper_reference(s.paper, labels=True))}</i></p>")
         h.append(_html_error(v))
         h += [_html_block(b) for b in v.blocks]
-        if v.checks:
+        if v.checks and not _checks_shown(v):
             h.append(_html_block(_checks_table(v.checks)))
+        elif v.checks:
+            h.append(_html_block(_checks_note(v.checks)))
         if v.status and v.status.get("params"):
             h.append(f"<details><summary>parameters</summary><pre>{html.escape(json.dumps(v.status['params'], indent=1))}</pre></details>")
     h.append(_h2("parameters", "Parameters and tolerances"))
@@ -592,8 +617,10 @@ def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, fai
             if v.files:
                 m += ["Saved before the failure: " + ", ".join(f"[{Path(f).name}]({f})" for f in v.files), ""]
         m += [_md_raw_link(out, s.slug, b, k) if _long(b) else _md_block(b) for k, b in enumerate(v.blocks)]
-        if v.checks:
+        if v.checks and not _checks_shown(v):
             m.append(_md_block(_checks_table(v.checks)))
+        elif v.checks:
+            m.append(_md_block(_checks_note(v.checks)))
     m += ["## Parameters and tolerances", "", "Every parameter of every section is in "
           f"[data/{PROVENANCE_FILE}.json](data/{PROVENANCE_FILE}.json) (key `parameters`) and in each section's "
           "`data/<section>/status.json`; every tolerance of `crosscheck.tolerances` is below.", "",

@@ -292,16 +292,28 @@ def render(ctx: RenderContext) -> list:
     blocks = [ctx.figure("fig21_curves", fig, cap_a, ["curve_samples.csv", "curves.json", "points.json", "cases.json", "constants.json"])]
 
     # the paper's layout: mu strata across, |Psi| strata up, one picture per cell
-    fig = plt.figure(figsize=(9.4, 11.8))
-    gs = fig.add_gridspec(8, 6, width_ratios=[0.42] + [1] * 5, height_ratios=[1] * 7 + [0.16])
+    # read at the report's 1100 px: labels of 9-11 pt (the thumbnails' own 6-7.5 pt were unreadable), and the strata
+    # without a picture marked as such instead of left blank
+    fig = plt.figure(figsize=(10.0, 12.6))
+    gs = fig.add_gridspec(8, 6, width_ratios=[0.36] + [1] * 5, height_ratios=[1] * 7 + [0.16], wspace=0.02, hspace=0.16)
     for j, name in enumerate(MU_STRATA):
         ax = fig.add_subplot(gs[7, j + 1])
         ax.set_axis_off()
-        ax.text(0.5, 0.5, name, ha="center", va="center", fontsize=8.5, transform=ax.transAxes)
+        ax.text(0.5, 0.5, name, ha="center", va="center", fontsize=11, transform=ax.transAxes)
     for i, name in enumerate(PSI_STRATA):
         ax = fig.add_subplot(gs[6 - i, 0])
         ax.set_axis_off()
-        ax.text(0.5, 0.5, name, ha="center", va="center", fontsize=8.5, rotation=90, transform=ax.transAxes)
+        ax.text(0.5, 0.5, name, ha="center", va="center", fontsize=11, rotation=90, transform=ax.transAxes)
+    drawn = {(cl["col"], cl["row"]) for cl in cells}
+    for col in range(len(MU_STRATA)):
+        for row in range(len(PSI_STRATA)):
+            if (col, row) not in drawn:
+                ax = fig.add_subplot(gs[6 - row, col + 1])
+                ax.set_xticks([])
+                ax.set_yticks([])
+                for side in ax.spines.values():
+                    side.set_color("0.92")
+                ax.text(0.5, 0.5, "no picture", ha="center", va="center", fontsize=9, color="0.6", transform=ax.transAxes)
     for cl in cells:
         ax = fig.add_subplot(gs[6 - cl["row"], cl["col"] + 1], projection="3d", computed_zorder=False)
         tables = [ctx.store.read_table(f"cell_{cl['col']}_{cl['row']}_{part}") for part in ("b0", "p0", "gb")]
@@ -313,13 +325,13 @@ def render(ctx: RenderContext) -> list:
             color, text = LINE_COLORS[_FN_COLOR[kind]], f"{_TEX[label]}: {cl['sides'][0]}|{cl['sides'][1]}"
         else:
             color, text = "k", "codim 2: " + _POINT_TEX[cl["what"]]
-        ax.set_title(text, fontsize=7.5, pad=0, color=color, fontweight="bold" if cl["kind"] != "case" else "normal")
-        ax.text2D(0.5, 0.0, f"$\\mu$={cl['mu']:.3g}, $\\Psi$={cl['Psi']:.3g}", transform=ax.transAxes, ha="center", fontsize=6)
+        ax.set_title(text, fontsize=10, pad=0, color=color, fontweight="bold" if cl["kind"] != "case" else "normal")
+        ax.text2D(0.5, -0.02, f"$\\mu$ = {cl['mu']:.3g}, $\\Psi$ = {cl['Psi']:.3g}", transform=ax.transAxes, ha="center", fontsize=9)
     cap_b = ("Fig. 21 in the paper's layout: columns are the mu strata, rows the |Psi| strata, one picture for each of the 19 cells the paper draws (cells "
              "spanning several strata there sit in their middle column or row here). Each is computed at the (mu, Psi) printed under it: b = 0 (red), "
              "p = 0 (blue: absent below mu_P, a segment at mu_P) and the GB manifold (black) in (theta, varphi, Theta), Theta in [0, 2.2], viewed as Figs. 3-7. "
              "Titles: the case of a generic cell, a codimension-1 curve (coloured as in the (mu, Psi) plane) with the cases just either side, or a "
-             "codimension-2 point.")
+             "codimension-2 point. \"no picture\": the paper draws none for that pair of strata, or a cell of a neighbouring stratum spans it.")
     blocks.append(ctx.figure("fig21_strata", fig, cap_b, ["cells.json"] + [f"cell_{cl['col']}_{cl['row']}_{p}.csv" for cl in cells for p in ("b0", "p0", "gb")]))
     rows = [[pt["point"], f"{pt['mu']:.6f}", f"{pt['Psi']:.6f}", ", ".join(pt["curves"]), ", ".join(f"|F_{k}| = {v:.1e}" for k, v in pt["residuals"].items())] for pt in points]
     blocks.append(Table(caption="Codimension-2 points and the residuals there of the functions whose zeros are the curves through them (F_L = b(Psi, 0, theta_L), "

@@ -240,10 +240,10 @@ def render(ctx: RenderContext) -> list:
     ax.set_xlabel(name)
     ax.set_ylabel("analytic first event")
     total, diag = int(sub.sum()), int(np.trace(sub))
-    blocks.append(ctx.figure("confusion", fig, f"Confusion matrix, all maps: {diag} of {total} compared starts on the diagonal "
-                             f"({100 * diag / max(total, 1):.0f}%).", ["maps.json"] + [f"study_{mp['name']}.json" for mp in maps]))
-    blocks.append(Table(caption=f"Confusion matrix (rows: analytic first event; columns: {name} as compared).",
-                        header=[f"analytic \\ {name}"] + names, rows=[[names[i]] + [str(v) for v in sub[i]] for i in range(len(used))], data=ctx.data("maps.json")))
+    # the counts are printed in the cells and saved in maps.json: no second copy as a table
+    blocks.append(ctx.figure("confusion", fig, f"Confusion matrix, all maps (rows: analytic first event; columns: {name} as compared; the count "
+                             f"in each cell): {diag} of {total} compared starts on the diagonal ({100 * diag / max(total, 1):.0f}%).",
+                             ["maps.json"] + [f"study_{mp['name']}.json" for mp in maps]))
     blocks.append(Table(caption=f"Where {name} disagrees: compared starts on an analytic boundary of the map against the interior.",
                         header=["map", "compared", "on a boundary", "disagree", "of which on a boundary", "interior"], rows=boundary_rows, data=ctx.data("maps.json")))
     dist_rows = []

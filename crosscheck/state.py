@@ -8,7 +8,12 @@ import numpy as np
 
 from crosscheck.checks import AZIMUTH, ETA, FINITE, NONNEGATIVE, RATE, THETA, VARPHI, Interval, check
 
-__all__ = ["SlipState", "real", "real_scalar", "same_shape"]
+__all__ = ["SlipState", "real", "real_scalar", "same_shape", "MIN_TIMESTEP", "check_timestep"]
+
+#: The smallest scaled timestep of any engine: the longest horizon (``crosscheck.checks.HORIZON_MAX`` = 1e4)
+#: resolves times only to 1e4 x 2.2e-16 ~ 2e-12, so a smaller step is lost in the rounding of the time it
+#: advances (and a denormal one, 5e-324, overflows the count of steps in a window).
+MIN_TIMESTEP = 1e-12
 
 
 def real(name: str, value, interval: Interval = FINITE) -> np.ndarray:
@@ -29,6 +34,14 @@ def real_scalar(name: str, value, interval: Interval = FINITE) -> float:
     if x.ndim:
         raise ValueError(f"{name} must be one number in {interval}; got an array of shape {x.shape}")
     return float(x)
+
+
+def check_timestep(value) -> float:
+    """A timestep: one real number > 0 and at least ``MIN_TIMESTEP`` (ValueError naming timestep)."""
+    dt = real_scalar("timestep", value, Interval(0.0, np.inf, lo_open=True, hi_open=True, text="(0, inf)"))
+    if dt < MIN_TIMESTEP:
+        raise ValueError(f"timestep must be at least {MIN_TIMESTEP:g} (below it a step is lost in the rounding of the time); got {dt!r}")
+    return dt
 
 
 def same_shape(**arrays) -> tuple:

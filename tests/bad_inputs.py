@@ -65,10 +65,10 @@ def cli_cases(tmp: Path) -> list:
     cases += _number_cases("slip --continue", ["slip", "--continue"], {**STATE, "mu": "1.4", "t-max": "1", "restitution": "0"},
                            {"restitution": ["-0.1", "1.5"]}, only=["restitution"])
     cases += _number_cases("simulate", ["simulate", "--engine", "mujoco"], {**STATE, "mu": "1.4", "alpha": "3", "horizon": "0.05", "timestep": "3e-3"},
-                           {"horizon": ["0", "-1", "1e308", "1e5"], "timestep": ["0", "-1", "1e-300", "10"]})
+                           {"horizon": ["0", "-1", "1e308", "1e5"], "timestep": ["0", "-1", "1e-300", "10", "5e-324"]})
     # explain: every value is refused before any rung of the ladder runs
     cases += _number_cases("explain", ["explain"], {**STATE, "mu": "1.4", "alpha": "3", "timestep": "3e-4", "radius": "0.01", "horizon": "2"},
-                           {"horizon": ["0", "-1", "1e308", "1e5"], "timestep": ["0", "-1", "1e-300", "0.1"], "radius": ["0", "-0.1", "0.5", "1"]})
+                           {"horizon": ["0", "-1", "1e308", "1e5"], "timestep": ["0", "-1", "1e-300", "0.1", "5e-324"], "radius": ["0", "-0.1", "0.5", "1"]})
     cases.append(("simulate --engine=nonexistent", _argv(["simulate", "--engine", "nonexistent"], {**STATE, "mu": "1.4"}, "", ""), "engine"))
     for engine in ("mujoco", "pinocchio"):
         for v in ["0", "-1", "1e3", "2.5", "1e9", "abc", ""]:
@@ -131,6 +131,24 @@ def cli_cases(tmp: Path) -> list:
     cases.append(("sweep --out=a file", ["sweep", spec("ok"), "--out", str(a_file)], "out"))
     cases.append(("compare missing stores", ["compare", str(tmp / "no_a"), str(tmp / "no_b")], "a"))
     cases.append(("compare non-store", ["compare", str(tmp), str(tmp)], "a"))
+    # how a number is written: ASCII only (crosscheck.cli.options), and no longer than a number needs
+    not_ascii = ["\u00b2", "\u0663", "\uff11.\uff14", "1_000", "9" * 5000]
+    for v in not_ascii:
+        cases.append((f"sweep --workers={v[:8]!r}", ["sweep", spec("ok"), "--out", sweep_out, "--workers", v], "workers"))
+        cases.append((f"report --seed={v[:8]!r}", quick + ["--out", str(tmp / "r_seed"), "--seed", v], "seed"))
+        cases.append((f"report --workers={v[:8]!r}", quick + ["--out", str(tmp / "r_workers"), "--workers", v], "workers"))
+        cases.append((f"critical --mu={v[:8]!r}", ["critical", "--mu", v, "--alpha", "3"], "mu"))
+        cases.append((f"simulate --theta={v[:8]!r}", _argv(["simulate"], {**STATE, "mu": "1.4", "horizon": "0.05"}, "theta", v), "theta"))
+        cases.append((f"simulate --horizon={v[:8]!r}", _argv(["simulate"], {**STATE, "mu": "1.4", "horizon": "0.05"}, "horizon", v), "horizon"))
+    # paths the file system refuses, and scheduler addresses crosscheck cannot use
+    too_long = str(tmp / ("n" * 300))
+    cases.append(("sweep --out=<300-character name>", ["sweep", spec("ok"), "--out", too_long], "out"))
+    cases.append(("report --out=<300-character name>", quick + ["--out", too_long], "out"))
+    cases.append(("report --from-results --out=<300-character name>", ["report", "--from-results", "--out", too_long], "out"))
+    for v in ["tls://127.0.0.1:1", "ucx://127.0.0.1:1", "ws://127.0.0.1:1", "tcp://127.0.0.1", "tcp://127.0.0.1:70000", "tcp://[::1]", "tcp://:8786"]:
+        cases.append((f"sweep --scheduler={v!r}", ["sweep", spec("ok"), "--out", sweep_out, "--scheduler", v], "scheduler"))
+        cases.append((f"report --scheduler={v!r}", quick + ["--out", str(tmp / "r_sched"), "--scheduler", v], "scheduler"))
+    cases.append(("report --scheduler=nothing listening", quick + ["--out", str(tmp / "r_sched"), "--scheduler", "tcp://127.0.0.1:1"], "scheduler"))
     # spec and states files: every value a chunk will use is checked before any chunk runs
     (tmp / "not_utf8.toml").write_bytes(b'[sweep]\nengine = "analytic" # \xe9\n')
     cases.append(("sweep spec not UTF-8", ["sweep", str(tmp / "not_utf8.toml"), "--out", sweep_out], "spec"))

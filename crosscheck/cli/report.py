@@ -18,7 +18,8 @@ import sys
 import time
 from pathlib import Path
 
-from crosscheck.checks import integer, writable_directory
+from crosscheck.checks import integer
+from crosscheck.cli.options import ascii_number, directory
 
 
 def _run(args) -> int:
@@ -31,18 +32,27 @@ def _run(args) -> int:
     if args.out is not None and not args.out.strip():
         raise ValueError(f"out must be a writable directory path; got {args.out!r}")
     out = Path(args.out) if args.out is not None else report.default_out(args.quick)
-    if args.from_results and not (out / "data" / "provenance.json").exists():
+    if args.from_results and not _saved(out):
         raise ValueError(f"out must hold saved results with --from-results; {str(out / 'data')!r} has none "
                          f"(run `crosscheck report --out {out}` without --from-results first)")
     seed = integer("seed", args.seed, 0, 2**63 - 1)
     workers = None if args.workers is None else integer("workers", args.workers, 1, 1024)
     jobs = None if args.jobs is None else integer("jobs", args.jobs, 1, 1024)
-    from crosscheck.sweeps.runner import check_scheduler
+    from crosscheck.sweeps.runner import check_reachable, check_scheduler
 
-    scheduler = check_scheduler(args.scheduler)
-    out = writable_directory("out", out)  # before anything runs: a long run never fails at its first write
+    # reached before any section starts: an address with nothing listening would fail each engine section in turn
+    scheduler = check_scheduler(args.scheduler) if args.from_results else check_reachable(args.scheduler)
+    out = directory("out", out)  # before anything runs: a long run never fails at its first write
     with report.lock(out):
         return _locked(args, report, out, sections, selected, seed, workers, scheduler, jobs)
+
+
+def _saved(out: Path) -> bool:
+    """Whether ``out`` holds a report's saved results (a path the file system refuses is one line naming --out)."""
+    try:
+        return (out / "data" / "provenance.json").is_file()
+    except OSError as e:
+        raise ValueError(f"out must be a report directory; cannot use {str(out)[:60]!r}: {e.strerror or e}") from None
 
 
 def _locked(args, report, out: Path, sections, selected, seed: int, workers, scheduler, jobs=None) -> int:
@@ -84,13 +94,13 @@ def register(sub) -> None:
     r.add_argument("--out", default=None, help="report directory (default: reports/latest; the committed reference is written only with --out reports/quick)")
     r.add_argument("--quick", action="store_true", help="small grids and short horizons (about 1.5 minutes on 2 cores)")
     r.add_argument("--from-results", action="store_true", help="rebuild the report from DIR/data without running anything")
-    r.add_argument("--seed", type=str, default="0", help="master seed of numpy.random.default_rng, >= 0 (each section derives its own; default 0)")
+    r.add_argument("--seed", type=ascii_number, default="0", help="master seed of numpy.random.default_rng, >= 0 (each section derives its own; default 0)")
     r.add_argument("--only", action="append", metavar="SECTION",
                    help=f"run only this section (repeatable); the others keep their saved results. SECTION is one of: {', '.join(_section_slugs())}")
     r.add_argument("--no-progress", action="store_true", help="no progress bars (nor, when stderr is not a terminal, the log line per section)")
     r.add_argument("--fresh", action="store_true", help="recompute every section (default: keep those finished by the same code)")
     r.add_argument("--scheduler", default=None, help="run the engine sweeps on a Dask cluster: 'local' or a scheduler address tcp://host:8786")
-    r.add_argument("--workers", type=str, default=None, help="processes (or local Dask workers) for the engine sweeps; default: the usable cores")
-    r.add_argument("--jobs", type=str, default=None, help="sections computed at the same time, each in its own process; default: the usable cores "
+    r.add_argument("--workers", type=ascii_number, default=None, help="processes (or local Dask workers) for the engine sweeps; default: the usable cores")
+    r.add_argument("--jobs", type=ascii_number, default=None, help="sections computed at the same time, each in its own process; default: the usable cores "
                    "(the results do not depend on it)")
     r.set_defaults(func=_run)

@@ -8,7 +8,7 @@ import math
 from crosscheck import engines
 from crosscheck.checks import ALPHA, ETA, MU, POSITIVE, RATE, THETA, VARPHI
 from crosscheck.checks import number as _num
-from crosscheck.cli.options import add_alpha, add_state
+from crosscheck.cli.options import add_alpha, add_state, ascii_number
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
@@ -37,7 +37,7 @@ def register(sub) -> None:
     s.add_argument("--engine", default="mujoco", help=f"contact engine ({', '.join(engines.names())}; default mujoco)")
     add_state(s)
     add_alpha(s)
-    s.add_argument("--horizon", type=str, default="2", help="scaled time to simulate, > 0, at most what a record of 4 GiB holds (default 2)")
-    s.add_argument("--timestep", type=str, default=None, help="scaled timestep, > 0 (default: the engine's)")
+    s.add_argument("--horizon", type=ascii_number, default="2", help="scaled time to simulate, > 0, at most what a record of 4 GiB holds (default 2)")
+    s.add_argument("--timestep", type=ascii_number, default=None, help="scaled timestep, > 0 (default: the engine's)")
     s.add_argument("--json", action="store_true", help="print the result as JSON")
     s.set_defaults(func=_simulate)

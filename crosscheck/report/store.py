@@ -69,10 +69,14 @@ def write_atomic(path: Path, data: bytes) -> None:
             f.write(data)
         os.replace(tmp, path)
     except OSError as e:
-        tmp.unlink(missing_ok=True)
+        try:
+            tmp.unlink(missing_ok=True)  # nothing half-written stays behind
+        except OSError:
+            pass  # never created (its name, say, too long)
         if e.errno in NO_SPACE:
             raise ValueError(no_space(path.parent, len(data), e)) from None
-        raise ValueError(f"out {str(path.parent)!r} cannot be written ({e.strerror or e}): {path.name}") from None
+        name = path.name if len(path.name) <= 60 else f"{path.name[:40]}... ({len(path.name)} characters)"
+        raise ValueError(f"out must be a writable path; cannot write {name} in {str(path.parent)[:200]!r}: {e.strerror or e}") from None
 
 
 def _fmt(v: Any, digits: int) -> Any:

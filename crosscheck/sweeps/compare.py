@@ -108,9 +108,17 @@ def compare_stores(dir_a: str | Path, dir_b: str | Path, *, out: str | Path | No
         if not (d / "manifest.json").is_file():
             raise ValueError(f"{name} must be a sweep store (a directory with the manifest.json of crosscheck sweep); got {str(d)!r}")
     c = compare_frames(load(dir_a), load(dir_b), name_a=str(dir_a), name_b=str(dir_b))
+    if out is not None and (not str(out).strip() or str(out).endswith("/")):
+        raise ValueError(f"out must be a file name prefix (the JSON and CSV are <out>.json and <out>-disagreeing.csv); got {str(out)!r}")
     out = Path(out) if out is not None else dir_b / f"compare-{dir_a.resolve().name}"
-    out.parent.mkdir(parents=True, exist_ok=True)
     js, csv = out.with_name(out.name + ".json"), out.with_name(out.name + "-disagreeing.csv")
-    js.write_text(json.dumps(c.as_dict(), indent=1) + "\n")
-    c.disagreeing.to_csv(csv, index=False)
+    from crosscheck.report.store import write_atomic
+
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise ValueError(f"out must be in a writable directory; cannot create {str(out.parent)[:200]!r}: {e.strerror or e}") from None
+    # through a temporary file each: a full disk or a refused path is one line, and no half-written file stays
+    write_atomic(js, (json.dumps(c.as_dict(), indent=1) + "\n").encode())
+    write_atomic(csv, c.disagreeing.to_csv(index=False).encode())
     return c, [js, csv]

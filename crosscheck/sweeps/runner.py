@@ -99,18 +99,40 @@ class _Progress:
             self.bar.close()
 
 
-#: A Dask scheduler address: protocol://host[:port] or host:port (distributed's own forms).
-_ADDRESS = re.compile(r"^((tcp|tls|ucx|ws|wss)://[^\s/:]+(:\d+)?|[^\s/:]+:\d+)$")
+#: A Dask scheduler address this package can reach: [tcp://]host:port, host a name, an IPv4 address or an [IPv6]
+#: address (tls:// needs a security context and ucx:// the UCX libraries, neither of which crosscheck sets up).
+_ADDRESS = re.compile(r"^(?:tcp://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9](?:[A-Za-z0-9.-]*[A-Za-z0-9])?):(\d{1,5})$")
 
 #: Seconds to wait for a scheduler before calling it unreachable.
 CONNECT_TIMEOUT = 10.0
 
 
 def check_scheduler(scheduler) -> str | None:
-    """``scheduler`` if it is None, "local" or a Dask scheduler address; ValueError naming it otherwise."""
-    if scheduler is None or scheduler == "local" or (isinstance(scheduler, str) and _ADDRESS.match(scheduler)):
+    """``scheduler`` if it is None, "local" or a Dask scheduler address tcp://host:port; ValueError naming it otherwise."""
+    if scheduler is None or scheduler == "local":
         return scheduler
-    raise ValueError(f"scheduler must be 'local' or a Dask scheduler address such as tcp://host:8786; got {scheduler!r}")
+    m = _ADDRESS.match(scheduler) if isinstance(scheduler, str) else None
+    if m is None or not 1 <= int(m.group(2)) <= 65535:
+        shown = repr(scheduler) if not isinstance(scheduler, str) or len(scheduler) <= 80 else f"{scheduler[:60]!r}..."
+        raise ValueError(f"scheduler must be 'local' or a Dask scheduler address tcp://host:port (host a name, an IPv4 or an [IPv6] "
+                         f"address, port in [1, 65535]); got {shown}")
+    return scheduler
+
+
+def check_reachable(scheduler: str | None, timeout: float = CONNECT_TIMEOUT) -> str | None:
+    """``check_scheduler``, and for an address, that something accepts a connection there (ValueError naming it otherwise)."""
+    import socket
+
+    if check_scheduler(scheduler) in (None, "local"):
+        return scheduler
+    host, port = _ADDRESS.match(scheduler).groups()
+    try:
+        with socket.create_connection((host.strip("[]"), int(port)), timeout=timeout):
+            pass
+    except OSError as e:
+        raise ValueError(f"scheduler must be a reachable Dask scheduler; nothing accepts connections at {scheduler!r} "
+                         f"({e.strerror or e or 'no answer'}; waited at most {timeout:g} s)") from None
+    return scheduler
 
 
 def _client(target, scheduler: str):

@@ -89,7 +89,10 @@ def _write_atomic(path: Path, data: bytes) -> None:
             os.fsync(f.fileno())
         os.replace(tmp, path)
     except OSError as e:
-        tmp.unlink(missing_ok=True)  # nothing half-written stays behind
+        try:
+            tmp.unlink(missing_ok=True)  # nothing half-written stays behind
+        except OSError:
+            pass  # never created (its name, say, too long)
         raise StoreError(_os_error(path.parent, e, len(data))) from None
 
 

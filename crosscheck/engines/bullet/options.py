@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from crosscheck.checks import NONNEGATIVE, POSITIVE, UNIT, Interval
-from crosscheck.state import real_scalar
+from crosscheck.state import check_timestep, real_scalar
 from crosscheck.engines.base import options_from_kwargs
 
 __all__ = ["Options", "RADIUS", "MU_MAX"]
@@ -71,7 +71,7 @@ class Options:
     cone: bool = True
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "timestep", real_scalar("timestep", self.timestep, POSITIVE))
+        object.__setattr__(self, "timestep", check_timestep(self.timestep))
         object.__setattr__(self, "radius", real_scalar("radius", self.radius, RADIUS))
         n = self.solver_iterations
         if not (isinstance(n, (int, np.integer)) and not isinstance(n, bool) and 1 <= n <= MAX_ITERATIONS):

@@ -20,8 +20,8 @@ import math
 from dataclasses import dataclass, fields
 from typing import Any
 
-from crosscheck.checks import POSITIVE, Interval
-from crosscheck.state import real_scalar
+from crosscheck.checks import Interval
+from crosscheck.state import check_timestep, real_scalar
 from crosscheck.engines.base import options_from_kwargs
 
 __all__ = [
@@ -149,7 +149,7 @@ class Options:
         if self.integrator not in INTEGRATORS:
             raise ValueError(f"integrator must be one of {', '.join(INTEGRATORS)}; got {self.integrator!r}")
         set_ = lambda name, value: object.__setattr__(self, name, value)
-        set_("timestep", _check_number("timestep", self.timestep, POSITIVE))
+        set_("timestep", check_timestep(self.timestep))
         set_("radius", _check_number("radius", self.radius, RADIUS))
         set_("stiffness", _check_number("stiffness", self.stiffness, STIFFNESS))
         if self.dissipation is not None:

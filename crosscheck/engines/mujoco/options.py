@@ -7,7 +7,7 @@ from dataclasses import dataclass, fields
 from typing import Any
 
 from crosscheck.checks import FINITE, NONNEGATIVE, POSITIVE, Interval
-from crosscheck.state import real, real_scalar
+from crosscheck.state import check_timestep, real, real_scalar
 from crosscheck.engines.base import options_from_kwargs
 
 __all__ = ["Options", "RADIUS"]
@@ -51,6 +51,7 @@ class Options:
     def __post_init__(self) -> None:
         for name in ("timestep", "timeconst", "dampratio"):
             object.__setattr__(self, name, real_scalar(name, getattr(self, name), POSITIVE))
+        check_timestep(self.timestep)
         # A slender rod's radius is a small fraction of l; at r >= l/2 the capsule's end cap reaches
         # the centre of mass and the contact point C is no longer "below the tip".
         object.__setattr__(self, "radius", real_scalar("radius", self.radius, RADIUS))

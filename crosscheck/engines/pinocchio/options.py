@@ -7,7 +7,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from crosscheck.checks import POSITIVE
-from crosscheck.state import real_scalar
+from crosscheck.state import check_timestep, real_scalar
 from crosscheck.engines.base import options_from_kwargs
 
 __all__ = ["Options", "SOLVERS"]
@@ -47,7 +47,7 @@ class Options:
     ncp: bool = True
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "timestep", real_scalar("timestep", self.timestep, POSITIVE))
+        object.__setattr__(self, "timestep", check_timestep(self.timestep))
         object.__setattr__(self, "tolerance", real_scalar("tolerance", self.tolerance, POSITIVE))
         if self.solver not in SOLVERS:
             raise ValueError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")

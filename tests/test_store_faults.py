@@ -212,3 +212,13 @@ def test_a_full_disk_is_one_line_naming_the_directory_and_the_space(built, small
     (small_disk / "filler").unlink()
     assert main(["sweep", str(spec), "--out", str(out), "--no-progress", "--workers", "1"]) == 0
     same(out, ref)
+
+
+def test_option_combinations_are_checked_before_any_chunk_runs(tmp_path, capsys):
+    """Each swept option is valid alone; one combination is not (MuJoCo's timeconst >= 2 timestep): refused before the store is touched."""
+    spec = tmp_path / "combo.toml"
+    spec.write_text(SPEC.replace('engine = "analytic"', 'engine = "mujoco"') + "[options]\ntimestep = [1e-3, 0.02]\ntimeconst = [0.06, 0.03]\n")
+    assert main(["sweep", str(spec), "--out", str(tmp_path / "o"), "--no-progress"]) == 2
+    assert capsys.readouterr().err == ("crosscheck: error: options timestep = 0.02, timeconst = 0.03: timeconst must be >= 2 timestep = 0.04 "
+                                       "(MuJoCo's refsafe); got 0.03\n")
+    assert not (tmp_path / "o").exists()

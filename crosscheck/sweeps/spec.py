@@ -343,7 +343,19 @@ def _options(engine: str, table: dict) -> dict[str, tuple]:
             except TypeError:
                 raise SpecError(f"options.{k} must be a value of {engine}'s option {k} (or a list of them); got {x!r}") from None
         out[k] = tuple(vals)
+    # each combination a chunk will run, checked now (options that bound each other: MuJoCo's timeconst >= 2 timestep)
+    combos = itertools.product(*(out[k] for k in out))
+    for combo in itertools.islice(combos, MAX_OPTION_COMBINATIONS):
+        try:
+            E.Options(**dict(zip(out, combo)))
+        except (TypeError, ValueError) as e:
+            shown = ", ".join(f"{k} = {v!r}" for k, v in zip(out, combo))
+            raise SpecError(f"options {shown}: {e}") from None
     return out
+
+
+#: Option combinations checked when the spec is read (a sweep of more is checked as far as this).
+MAX_OPTION_COMBINATIONS = 100_000
 
 
 def parse_spec(doc: dict, *, base: Path | None = None) -> Spec:

@@ -186,3 +186,23 @@ def test_a_full_disk_is_one_line_naming_the_directory_and_leaves_the_section_unf
         shutil.rmtree(mnt / "r")
     finally:
         subprocess.run(["umount", str(mnt)], check=True)
+
+
+def test_a_disk_that_fills_during_the_render_is_one_line(tmp_path, monkeypatch, capsys):
+    """A real 1 MiB tmpfs that fills while the pages are written (a filler written by the section's render)."""
+    mnt = tmp_path / "disk"
+    mnt.mkdir()
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(mnt)], capture_output=True).returncode != 0:
+        pytest.skip("cannot mount a tmpfs here")
+    try:
+        def fill(ctx):
+            st = os.statvfs(mnt)
+            (mnt / "filler").write_bytes(b"\0" * (st.f_bavail * st.f_frsize))
+            return [Table(caption="t", header=["x"], rows=[["1"]] * 20000, data=ctx.data("values.csv"))]
+
+        monkeypatch.setattr(report, "SECTIONS", (Section("toy", "Toy", "", lambda quick: {"n": 3}, _run, fill),))
+        assert main(["report", "--out", str(mnt / "r"), "--no-progress"]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith(f"crosscheck: error: out {str(mnt / 'r')!r}") and "has no room left (No space left on device)" in err
+    finally:
+        subprocess.run(["umount", str(mnt)], check=True)

@@ -44,7 +44,14 @@ def _run(args) -> int:
     scheduler = check_scheduler(args.scheduler) if args.from_results else check_reachable(args.scheduler)
     out = directory("out", out)  # before anything runs: a long run never fails at its first write
     with report.lock(out):
-        return _locked(args, report, out, sections, selected, seed, workers, scheduler, jobs)
+        try:
+            return _locked(args, report, out, sections, selected, seed, workers, scheduler, jobs)
+        except OSError as e:  # a full disk under a writer that does not say so itself (the render's pages and figures)
+            from crosscheck.sweeps.store import NO_SPACE, no_space
+
+            if e.errno not in NO_SPACE:
+                raise
+            raise ValueError(no_space(Path(e.filename).parent if e.filename else out, None, e)) from None
 
 
 def _saved(out: Path) -> bool:

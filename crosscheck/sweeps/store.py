@@ -70,13 +70,16 @@ class StoreError(ValueError):
     """A store that cannot be used as asked (another writer, another spec, a damaged manifest)."""
 
 
-def no_space(directory: Path, needed: int, e: OSError) -> str:
-    """The one line of a write that found no room: the directory, the bytes needed and those free."""
+def no_space(directory: Path, needed: int | None, e: OSError) -> str:
+    """The one line of a write that found no room: the directory, the bytes needed (None: not known) and those free."""
     try:
         st = os.statvfs(directory)
         free = f"{st.f_bavail * st.f_frsize} bytes free"
     except OSError:
         free = "free space unknown"
+    if needed is None:
+        what = Path(e.filename).name if e.filename else "its files"
+        return f"out {str(directory)!r} has no room left ({e.strerror or e}): writing {what} needs more free space than that ({free})"
     return f"out {str(directory)!r} has no room left ({e.strerror or e}): writing {needed} bytes needs at least that much free space ({free})"
 
 

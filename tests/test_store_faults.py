@@ -222,3 +222,14 @@ def test_option_combinations_are_checked_before_any_chunk_runs(tmp_path, capsys)
     assert capsys.readouterr().err == ("crosscheck: error: options timestep = 0.02, timeconst = 0.03: timeconst must be >= 2 timestep = 0.04 "
                                        "(MuJoCo's refsafe); got 0.03\n")
     assert not (tmp_path / "o").exists()
+
+
+def test_a_store_without_its_manifest_holding_another_sweep_is_not_rebuilt(store, tmp_path):
+    """Chunks recorded for another spec (or before specs were recorded) are not deleted to rebuild a manifest."""
+    spec, out, _ = store
+    (out / "manifest.json").unlink()
+    other = tmp_path / "other.toml"
+    other.write_text(SPEC.replace("mu = 0.5", "mu = 0.6"))
+    with pytest.raises(StoreError, match=r"manifest .* is missing, and chunk record chunk-000000.json was not recorded for this spec; use --fresh"):
+        sweeps.run(other, out, workers=1, progress=False)
+    assert len(list((out / "chunks").glob("*.parquet"))) == 3

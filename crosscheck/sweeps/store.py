@@ -286,13 +286,13 @@ class Store:
             m = {"format": FORMAT, "spec": spec.source, "spec_sha256": spec.digest, "engine": spec.engine, "n_runs": spec.n_runs,
                  "n_chunks": spec.n_chunks, "chunk": spec.chunk, "versions": versions(spec.engine), "created": _now(), "chunks": {}, "failed": {}}
             if rebuilt is not None:
+                other = self._other_sweep(spec.digest)
+                if other:  # only records naming this spec prove their chunks are of it; the others are not ours to delete
+                    raise StoreError(f"{rebuilt}, and {other} was not recorded for this spec; use --fresh to replace that sweep "
+                                     "or choose another directory")
                 self.manifest_path.unlink(missing_ok=True)
                 self._write_manifest(m)
                 m = self.read_manifest()
-                for cid, rec in list(m["chunks"].items()):
-                    if rec.get("spec_sha256") != spec.digest:  # only a record naming this spec proves the chunk is of it
-                        m["damaged"][f"chunk-{int(cid):06d}.json"] = "written before its spec was recorded in it"
-                        del m["chunks"][cid]
                 kept = len(m["chunks"])
                 warnings.warn(f"{rebuilt}; rebuilt from the spec, keeping the {kept} chunks recorded for it", stacklevel=2)
         try:
@@ -302,6 +302,19 @@ class Store:
         m["versions_resumed"] = versions(spec.engine) if m.get("chunks") else None
         self._write_manifest(m)
         return m
+
+    def _other_sweep(self, digest: str) -> str | None:
+        """The first chunk record in ``chunks`` (readable, a table's record) that does not carry the spec sha256 ``digest``."""
+        for p in sorted(self.chunks.glob("chunk-*.json")):
+            if not _RECORD.match(p.name):
+                continue
+            try:
+                rec = json.loads(p.read_bytes().decode())
+            except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+                continue  # damaged: dropped with a warning by ``verified``
+            if isinstance(rec, dict) and rec.get("spec_sha256") != digest:
+                return f"chunk record {p.name}"
+        return None
 
     def _is_store(self) -> bool:
         """Whether ``root`` holds only what a store writes (a damaged or missing manifest may then be rebuilt)."""

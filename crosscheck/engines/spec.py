@@ -23,7 +23,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any, Callable, Mapping
 
-__all__ = ["EngineSpec", "ReportPlan", "TAGS", "LADDER_CAUSES"]
+__all__ = ["EngineSpec", "ReportPlan", "Intervention", "TAGS", "LADDER_CAUSES"]
 
 #: Tags an engine may carry, and what each promises:
 #:   rigid: the contact is the theory's rigid Coulomb contact (no penetration, no compliance);
@@ -39,6 +39,19 @@ TAGS = frozenset({"rigid", "compliant", "relaxed", "time_stepping", "continuous"
 #: step, and the convex relaxation of the step's contact problem (a relaxed engine against a non-relaxed step of the
 #: same law and timestep: the mechanism behind SAP's "gliding", its launch of a slipping tip).
 LADDER_CAUSES = ("geometry", "compliance", "friction law", "discretisation", "relaxation")
+
+
+@dataclass(frozen=True)
+class Intervention:
+    """One change of the engine itself in the way a cause names (``EngineSpec.interventions``).
+
+    Attributes:
+      text: what it does, for tables ("capsule radius 0.01 -> 0.000625").
+      options: the engine's options to set over the run's (scaled units), e.g. ``{"radius": 6.25e-4}``.
+    """
+
+    text: str
+    options: Mapping[str, Any]
 
 
 @dataclass(frozen=True)
@@ -60,6 +73,8 @@ class ReportPlan:
       onset: whether the generic lift-off onset section (``<slug>_liftoff``) is generated (False for an engine
         that declares its own, as MuJoCo's over its timestep).
       order: where the engine's sections stand among the engines' (lower first).
+      ladder_section: slug of the section whose saved ladders the engine's interventions section reads
+        (None: ``<slug>_ladder`` when ``ladder``; MuJoCo's own ladder section is "ladder").
     """
 
     maps: Mapping[str, Mapping] | None = None
@@ -71,6 +86,7 @@ class ReportPlan:
     onset: bool = True
     ladder: bool = False
     order: int = 100
+    ladder_section: str | None = None
 
 
 class EngineSpec:
@@ -102,6 +118,9 @@ class EngineSpec:
       tags: a subset of ``TAGS``.
       ladder: the models in between it and the theory, cause -> rung (see
         ``crosscheck.engines.mujoco.studies.ladder``); None: no ladder.
+      interventions: cause -> "module:function", ``function(options) -> tuple[Intervention, ...]``: changes of
+        the engine itself, weakest first, that remove a disagreement of that cause if the cause is right
+        (``crosscheck.studies.interventions``); causes among those of ``ladder``.  None: none.
       checks: ``f(rod, n_states, rng) -> list[ErrorStat]``, checks only this engine has,
         run first by ``validate``; None: none.
       dynamics: module with ``DEFAULT_STATES`` and ``validate(n, rng, *, progress)``
@@ -114,7 +133,7 @@ class EngineSpec:
                  defaults: Mapping[str, Any] | None = None,
                  one_core: Mapping[str, Any] | None = None, solver_columns: Sequence[str] = (), tolerances: Mapping[str, Any] | None = None,
                  tags: Iterable[str] = (), ladder: Mapping[str, Any] | None = None, checks: Callable | None = None,
-                 dynamics: str | None = None, report: ReportPlan | None = None) -> None:
+                 dynamics: str | None = None, report: ReportPlan | None = None, interventions: Mapping[str, str] | None = None) -> None:
         if not (isinstance(name, str) and name.isidentifier()):
             raise ValueError(f"engine name must be an identifier; got {name!r}")
         given = {k: v for k, v in (("Options", Options), ("simulate", simulate), ("sweep", sweep)) if v is not None}
@@ -127,6 +146,9 @@ class EngineSpec:
         if ladder is not None and set(ladder) - set(LADDER_CAUSES):
             bad = sorted(set(ladder) - set(LADDER_CAUSES))[0]
             raise ValueError(f"engine {name!r} ladder causes must be among {', '.join(LADDER_CAUSES)}; got {bad!r}")
+        if interventions is not None and set(interventions) - set(ladder or ()):
+            bad = sorted(set(interventions) - set(ladder or ()))[0]
+            raise ValueError(f"engine {name!r} intervention causes must be among its ladder's ({', '.join(ladder or ())}); got {bad!r}")
         if tolerances is not None:
             from crosscheck.tolerances import EVENT_TOLERANCE_KEYS
 
@@ -137,7 +159,8 @@ class EngineSpec:
         d.update(name=name, module=module, label=label or name, slug=slug or name, libraries=tuple(libraries),
                  defaults=dict(defaults or {}), one_core=dict(one_core or {}),
                  solver_columns=tuple(solver_columns), tolerances=None if tolerances is None else dict(tolerances), tags=tags,
-                 ladder=None if ladder is None else dict(ladder), checks=checks, dynamics=dynamics, report=report, _given=given)
+                 ladder=None if ladder is None else dict(ladder), checks=checks, dynamics=dynamics, report=report,
+                 interventions=None if interventions is None else dict(interventions), _given=given)
 
     def __setattr__(self, key, value):
         raise AttributeError(f"EngineSpec is read-only; cannot set {key!r}")
@@ -167,6 +190,14 @@ class EngineSpec:
     def sweep(self, rod, states, mu, *, horizon, thresholds=None, **options):
         """The engine's ``sweep`` with its ``defaults`` (see ``crosscheck.engines.base.Engine``)."""
         return self._part("sweep")(rod, states, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options})
+
+    def interventions_for(self, cause: str, options) -> tuple[Intervention, ...]:
+        """The engine's interventions for ``cause`` from the run's ``options`` (weakest first); () if it declares none."""
+        rung = (self.interventions or {}).get(cause)
+        if rung is None:
+            return ()
+        module, _, attr = rung.partition(":")
+        return tuple(getattr(importlib.import_module(module), attr)(options))
 
     def has(self, tag: str) -> bool:
         """Whether the engine carries ``tag`` (one of ``TAGS``)."""

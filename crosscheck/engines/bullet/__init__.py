@@ -25,6 +25,8 @@ ENGINES = (
         # its models in between (crosscheck.studies.ladder): the capsule's contact point, then Bullet itself (its PGS step,
         # whose friction opposes diag(D)^-1 u rather than the slip: a rigid step has no compliant or continuous-time model here)
         ladder={"geometry": "capsule", "discretisation": "engine"},
+        interventions={"geometry": "crosscheck.engines.bullet.interventions:geometry",
+                       "discretisation": "crosscheck.engines.bullet.interventions:discretisation"},
         # ~28 us per step with the record (benchmarks/bench_bullet.py).  The quick report's three 10 x 10 maps took 7.2 s
         # at the default timestep 1e-3 (the agreement study stops each run after its analytic event), so both reports
         # use it.  Drawn beside the rigid engine's maps: the same rigid Coulomb contact in another time-stepper.

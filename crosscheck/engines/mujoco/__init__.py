@@ -50,11 +50,13 @@ ENGINES = (
         # own study, crosscheck.engines.mujoco.studies.ladder, is the same ladder written out, for its section and explain)
         ladder={"geometry": "capsule", "compliance": "crosscheck.engines.mujoco.studies.ladder:compliant_rung",
                 "friction law": "crosscheck.engines.mujoco.studies.ladder:law_rung", "discretisation": "engine"},
+        interventions={c: f"crosscheck.engines.mujoco.interventions:{c.replace(' ', '_')}"
+                       for c in ("geometry", "compliance", "friction law", "discretisation")},
         report=ReportPlan(maps={"quick": {"timestep": 3e-4, "timeconst": 0.06}, "full": {"timestep": 3e-4, "timeconst": 0.06}},
                           convergence={"quick": [{"timestep": dt, "timeconst": tc} for dt, tc in ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02))],
                                        "full": [{"timestep": dt, "timeconst": tc} for dt, tc in
                                                 ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02), (1e-4, 0.02), (1e-4, 0.006))]},
-                          sections=_sections, onset=False, order=10),
+                          sections=_sections, onset=False, order=10, ladder_section="ladder"),
     ),
     EngineSpec(name="mujoco_law", module="crosscheck.engines.mujoco.ode", label="MuJoCo's law in continuous time", libraries=("mujoco",),
                tags={"compliant", "relaxed", "continuous"}),

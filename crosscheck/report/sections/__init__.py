@@ -12,7 +12,7 @@ read at attribute access.
 from __future__ import annotations
 
 from crosscheck.report.section import Section
-from crosscheck.report.sections import (bifurcations, critical_angles, engine_contact, engine_convergence, engine_ic, engine_ladder, engine_maps, engine_onset, gb_det_zeros, gb_eigenvectors, gb_local,
+from crosscheck.report.sections import (bifurcations, critical_angles, engine_contact, engine_convergence, engine_ic, engine_interventions, engine_ladder, engine_maps, engine_onset, gb_det_zeros, gb_eigenvectors, gb_local,
                                         gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, kinematic_surfaces, mechanisms, mode_maps,
                                         p_region, printed_numbers)
 
@@ -55,6 +55,10 @@ def engine_sections(spec) -> tuple[Section, ...]:
         out.append(engine_ladder.section(spec, plan.maps, f"{spec.slug}_maps"))
     if plan.sections is not None:
         out.extend(plan.sections())
+    ladder_slug = plan.ladder_section or (f"{spec.slug}_ladder" if plan.ladder and plan.maps is not None else None)
+    ladder = next((s for s in out if s.slug == ladder_slug), None)
+    if spec.interventions and ladder is not None:  # after its ladder: it reruns the ladder's starts
+        out.append(engine_interventions.section(spec, ladder))
     return tuple(out)
 
 

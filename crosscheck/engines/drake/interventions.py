@@ -1,0 +1,47 @@
+"""Drake changed in the way each cause of its ladder names: the interventions that should remove a disagreement of that cause.
+
+Each function takes the run's ``Options`` and returns ``Intervention`` s,
+weakest first (``crosscheck.studies.interventions`` runs them):
+
+* geometry: a thinner capsule (r / 4, r / 16);
+* compliance: a stiffer point contact (stiffness x 10, x 100), toward the rigid
+  limit the compliant rod reaches as eps = 1 / sqrt(S) -> 0;
+* friction law: a smaller stiction tolerance (/ 10, / 100): Drake's friction
+  is Coulomb's regularised below that slip speed (the continuous plant and
+  TAMSI; SAP, Similar and Lagged regularise by their own relaxation, which
+  this does not touch, so it should not confirm there);
+* discretisation: the timestep divided by 4 and 16 (a time-stepping approximation only);
+* relaxation: the same step solved without the convex relaxation: Drake's
+  TAMSI at the same timestep, stiffness and capsule.
+
+Scaled units (section 2.1).
+"""
+
+from __future__ import annotations
+
+from crosscheck.engines.spec import Intervention
+
+__all__ = ["geometry", "compliance", "friction_law", "discretisation", "relaxation"]
+
+
+def geometry(o):
+    return tuple(Intervention(f"capsule radius {o.radius:g} -> {o.radius / k:g}", {"radius": o.radius / k}) for k in (4, 16))
+
+
+def compliance(o):
+    return tuple(Intervention(f"point stiffness {o.stiffness:g} -> {o.stiffness * k:g}", {"stiffness": o.stiffness * k}) for k in (10, 100))
+
+
+def friction_law(o):
+    return tuple(Intervention(f"stiction tolerance {o.stiction_tolerance:g} -> {o.stiction_tolerance / k:g}",
+                              {"stiction_tolerance": o.stiction_tolerance / k}) for k in (10, 100))
+
+
+def discretisation(o):
+    return tuple(Intervention(f"timestep {o.timestep:g} -> {o.timestep / k:g}", {"timestep": o.timestep / k}) for k in (4, 16))
+
+
+def relaxation(o):
+    # SAP's dissipation is a relaxation time, TAMSI's Hunt & Crossley's: each takes its own default (the same damping ratio)
+    return (Intervention(f"approximation {o.approximation} -> tamsi (no convex relaxation)",
+                         {"approximation": "tamsi", "relaxation_time": None, "dissipation": None if o.approximation == "sap" else o.dissipation}),)

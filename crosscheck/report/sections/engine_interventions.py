@@ -1,0 +1,146 @@
+"""An engine's interventions: each laddered disagreement rerun with the engine changed the way each cause names.
+
+The starts are those of the engine's ladder section (``<slug>_ladder``, or
+MuJoCo's own ``ladder``): every disagreement it laddered, at the options,
+alpha and horizon it used.  Each runs through every intervention the engine
+declares (``crosscheck.studies.interventions``).  One section per engine with
+a ladder section and declared interventions (``<slug>_interventions``), after
+that ladder.  Scaled units (section 2.1).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from crosscheck.report.section import RenderContext, RunContext, Section, SkipSection, Table, Text
+
+#: Share of attributed disagreements their own cause's intervention must remove for the verdict "confirmed".
+CONFIRMED_SHARE = 0.8
+
+
+def params(quick: bool, engine: str, ladder: Section) -> dict:
+    # the ladder's own parameters: a change there reruns this section too
+    return {"engine": engine, "ladder": ladder.slug, "ladder_params": json.loads(json.dumps(ladder.params(quick), default=str))}
+
+
+def _laddered(ctx: RunContext) -> tuple[list[dict], dict]:
+    """(disagreements as {map, state, mu, cause, reference}, the ladder's options/alpha/horizon) from the saved ladder section."""
+    from crosscheck.report.integrity import DamagedResults
+    from crosscheck.report.pipeline import verified_status
+    from crosscheck.report.store import SectionStore
+
+    P = ctx.params
+    out = ctx.store.root.parent.parent
+    try:
+        status = verified_status(out, P["ladder"])
+    except (DamagedResults, OSError, ValueError):
+        status = None
+    if not status or status.get("status") != "ok":
+        raise SkipSection(f"needs the {P['ladder']} section's results: run it first (the report runs it before this one)")
+    lp = status["params"]
+    store = SectionStore(out / "data" / P["ladder"])
+    starts = []
+    if store.path("ladders.json").exists():  # the generic ladder (crosscheck.studies.ladder)
+        for ld in store.read_json("ladders"):
+            if ld["cause"] in ("agree", "not rated"):
+                continue
+            s = {k: ld["state"][k] for k in ("theta", "varphi", "Theta", "Psi", "eta")}
+            starts.append({"map": ld["map"], "state": s, "mu": ld["mu"], "cause": ld["cause"], "reference": ld["reference"]})
+    else:  # MuJoCo's own ladder: one row per start
+        t = store.read_table("ladder", text=("map", "analytic", "mujoco_study", "cause", "tip_status", "tip_outcome", "tip_label",
+                                             "capsule_status", "capsule_outcome", "capsule_label", "compliant_status", "compliant_outcome",
+                                             "compliant_label", "mujoco_law_status", "mujoco_law_outcome", "mujoco_law_label", "mujoco_status",
+                                             "mujoco_outcome", "mujoco_label"))
+        for i in range(len(t["cause"])):
+            if t["cause"][i] in ("agree", "not rated"):
+                continue
+            s = {k: float(t[k][i]) for k in ("theta", "varphi", "Theta", "Psi", "eta")}
+            starts.append({"map": str(t["map"][i]), "state": s, "mu": float(t["mu"][i]), "cause": str(t["cause"][i]),
+                           "reference": str(t["mujoco_study"][i])})
+    return starts, {"options": lp["options"], "alpha": lp["alpha"], "horizon": lp["horizon"]}
+
+
+def run(ctx: RunContext) -> None:
+    from crosscheck.state import SlipState
+    from crosscheck.studies.interventions import causes_with_interventions, intervene, summarise
+
+    P = ctx.params
+    starts, at = _laddered(ctx)
+    results = []
+    for st in ctx.progress(starts, desc=f"{P['engine']} interventions"):
+        iv = intervene(P["engine"], SlipState(**st["state"]), st["mu"], alpha=at["alpha"], horizon=at["horizon"], **at["options"])
+        results.append({**st, "interventions": iv})
+        ctx.store.write_json("interventions", results)  # each start as it finishes
+    ctx.store.write_json("interventions", results)
+    ctx.store.write_json("summary", {"engine": P["engine"], "causes": causes_with_interventions(P["engine"]), "options": at["options"],
+                                     **summarise(results)})
+
+
+def _mark(rows: list[dict]) -> str:
+    """Each intervention's label, weakest first, "removes" after those that bring the theory's outcome."""
+    return " / ".join("failed" if r["status"] != "ok" else r["label"].lower() + (" (removes)" if r["removes"] else "") for r in rows)
+
+
+def render(ctx: RenderContext) -> list:
+    from crosscheck.engines.base import engine_label
+    from crosscheck import engines
+
+    P = ctx.params
+    name = engine_label(P["engine"])
+    summary, results = ctx.store.read_json("summary"), ctx.store.read_json("interventions")
+    spec = engines.get(P["engine"])
+    base = spec.options(**summary["options"])
+    what = "; ".join(f"{c}: " + ", then ".join(iv.text for iv in spec.interventions_for(c, base)) for c in summary["causes"])
+    blocks = [Text(f"{name} changed the way each cause names, from the laddered starts: {what}. A cause is confirmed when one of its "
+                   f"interventions brings {name}'s outcome (compared as the agreement study compares) to the theory's; the table counts "
+                   "those confirmed only at the weaker step (the stronger one brings an artefact of its own, such as a launch in the first "
+                   "step).")]
+    rows = []
+    for cause, r in summary["per_cause"].items():
+        other = ", ".join(f"{c} {n}" for c, n in sorted(r["by_other"].items())) or "-"
+        rows.append([cause, str(r["n"]), (f"{r['confirmed']} ({r['not_at_strongest']} only at the weaker step)" if r["not_at_strongest"] else
+                                          str(r["confirmed"])) if cause in summary["causes"] else "no intervention", other, str(r["none"])])
+    share = summary["confirmed_share"]
+    head = (f"{summary['confirmed']} of {summary['attributed']} attributed disagreements ({100 * share:.0f} %) confirmed by their own cause's "
+            "intervention." if share is not None else "No attributed disagreement to confirm.")
+    blocks.append(Table(caption=f"{name}: {head} Per cause named by the ladder: starts, confirmed by its own intervention, removed by "
+                                "another cause's interventions instead (a misattribution to look into), removed by none.",
+                        header=["cause (ladder)", "starts", "confirmed", "removed by another cause instead", "removed by none"],
+                        rows=rows or [["(no laddered disagreement)", "0", "0", "-", "0"]], data=ctx.data("summary.json")))
+    if results:
+        causes = summary["causes"]
+        detail = []
+        for r in results:
+            s = r["state"]
+            detail.append([r["map"], f"theta {s['theta']:.3g}, varphi {s['varphi']:.3g}, Theta {s['Theta']:.3g}, Psi {s['Psi']:.3g}",
+                           f"{r['mu']:.3g}", r["interventions"]["theory"].lower(), str(r["reference"]).lower(), r["cause"],
+                           *[_mark(r["interventions"]["causes"].get(c, [])) for c in causes]])
+        blocks.append(Table(caption=f"Each start: the theory's outcome, {name}'s, the ladder's cause, and {name}'s outcome under each cause's "
+                                    "interventions, weakest first.",
+                            header=["map", "start", "mu", "theory", name, "cause", *causes], rows=detail, data=ctx.data("interventions.json")))
+    return blocks
+
+
+def finding(data: Path) -> list:
+    """The findings line: the share of the engine's attributed disagreements its own cause's intervention removes."""
+    from crosscheck.engines.base import engine_label
+    from crosscheck.report.findings import Finding, read_json
+
+    summary = read_json(data / "summary.json")
+    if not summary or not summary.get("attributed"):
+        return []
+    name, share = engine_label(summary["engine"]), summary["confirmed_share"]
+    none = sum(r["none"] for r in summary["per_cause"].values())
+    other = sum(sum(r["by_other"].values()) for r in summary["per_cause"].values())
+    return [Finding(f"{name}: causes confirmed on the engine", f"{summary['confirmed']} of {summary['attributed']} attributed disagreements "
+                    f"({100 * share:.0f} %) removed by their own cause's intervention on {name} itself; {other} removed by another cause's "
+                    f"instead, {none} by none", "confirmed" if share >= CONFIRMED_SHARE else "partly confirmed", data.name,
+                    why=f"confirmed when at least {100 * CONFIRMED_SHARE:.0f} % are removed by one of their own cause's interventions")]
+
+
+def section(spec, ladder: Section) -> Section:
+    """The interventions section ``<slug>_interventions`` of the engine ``spec`` on the starts of its ladder section ``ladder``."""
+    return Section(slug=f"{spec.slug}_interventions", title=f"{spec.label}: each cause confirmed by an intervention on the engine itself",
+                   paper="sections 2, 4", params=lambda quick: params(quick, spec.name, ladder), run=run, render=render,
+                   requires=("crosscheck.studies.interventions", spec.module or "crosscheck.engines"), finding=finding, after=(ladder.slug,))

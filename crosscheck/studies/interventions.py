@@ -1,0 +1,136 @@
+"""Interventions: a ladder's cause confirmed on the engine itself, by changing the engine the way the cause names.
+
+A ladder (``crosscheck.studies.ladder``) names a cause when a model in
+between the theory and the engine first agrees with the engine.  That is
+evidence, not proof: the model in between is not the engine.  Here the engine
+itself is changed in the way each cause names (its ``EngineSpec.interventions``:
+a thinner capsule for geometry, a stiffer contact for compliance, a closer
+friction law, a smaller timestep, the step without its relaxation) and rerun
+from the same start.  An intervention removes the disagreement when the
+engine's label equals the theory's (rung 1's: the paper's rod from the same
+start), both relabelled as the agreement study does
+(``crosscheck.studies.comparison``) with the comparison window of the
+intervened engine's own options.
+
+A cause is **confirmed** when one of its interventions removes the
+disagreement.  Not necessarily the strongest: a much stiffer MuJoCo contact,
+or a friction time constant far below the normal one, can throw the tip off
+the plane in the first step (a LAUNCH or LIFTOFF of its own), so the summary
+also counts the starts removed at a weaker step but not at the strongest.
+Every cause's interventions
+run on every start, so the study also finds where another cause's
+intervention removes it instead (a misattribution to look into) and the
+starts where none does.
+
+Scaled units (section 2.1).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import asdict
+
+from crosscheck import engines
+from crosscheck.engines.classifier import Thresholds
+from crosscheck.engines.spec import LADDER_CAUSES
+from crosscheck.outcome import Outcome
+from crosscheck.rod import Rod
+from crosscheck.state import SlipState
+from crosscheck.studies.comparison import RATED, compared_label, comparison_window, window_margin
+from crosscheck.theory.slipping import slip_until_event
+
+__all__ = ["intervene", "summarise", "causes_with_interventions"]
+
+
+def causes_with_interventions(engine: str) -> list[str]:
+    """The causes of ``engine``'s ladder it declares interventions for, in ladder order."""
+    spec = engines.get(engine)
+    return [c for c in LADDER_CAUSES if c in (spec.interventions or {})]
+
+
+def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, horizon: float = 2.0, thresholds: Thresholds | None = None,
+              causes=None, **options) -> dict:
+    """``state`` through every intervention ``engine`` declares (or those of ``causes``), at the run's ``options``.
+
+    Returns a dict: ``theory`` (rung 1's label), ``theory_time``, and ``causes``:
+    cause -> list of {text, options, status, outcome, time, label, removes} per
+    intervention, weakest first; ``removes`` is whether the engine's label equals
+    the theory's.  An intervention that raises is ``status: failed`` with the error.
+    """
+    spec = engines.get(engine)
+    if not isinstance(state, SlipState):
+        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    th = thresholds or Thresholds()
+    base = spec.options(**options)
+    rod = Rod.scaled(alpha)
+    first = slip_until_event(state, mu, alpha, t_max=horizon)
+    o1, t1 = Outcome(int(first.outcome)), float(first.time)
+    out = {"theory": None, "theory_time": t1, "causes": {}}
+    given = {k: getattr(base, k) for k in base.__dataclass_fields__}
+    for cause in (causes if causes is not None else causes_with_interventions(engine)):
+        rows = []
+        for iv in spec.interventions_for(cause, base):
+            opts_kw = {**given, **iv.options}
+            t0 = time.perf_counter()
+            try:
+                opts = spec.options(**opts_kw)
+                until, lag, run_until = comparison_window(o1, t1, horizon, contact_time=opts.contact_time, timestep=opts.timestep)
+                run = spec.simulate(rod, state, mu, horizon=run_until + window_margin(th, opts.timestep), thresholds=th, **opts_kw)
+                o, t = Outcome(int(run.outcome)), float(run.event_time)
+                theory, label = compared_label(o1, t1, until + lag), compared_label(o, t, until + lag)
+                out["theory"] = theory.name
+                rows.append({"text": iv.text, "options": dict(iv.options), "status": "ok", "outcome": o.name, "time": t, "label": label.name,
+                             "removes": label == theory and theory in RATED, "wall_time": time.perf_counter() - t0})
+            except Exception as e:  # noqa: BLE001 - an intervention the engine refuses is reported, the others go on
+                rows.append({"text": iv.text, "options": dict(iv.options), "status": "failed", "detail": f"{type(e).__name__}: {e}",
+                             "removes": False, "wall_time": time.perf_counter() - t0})
+        out["causes"][cause] = rows
+    if out["theory"] is None:
+        out["theory"] = compared_label(o1, t1, t1).name
+    return out
+
+
+def _fixes(result: dict, cause: str) -> bool:
+    """Whether one of ``cause``'s interventions removes the disagreement."""
+    return any(r["removes"] for r in result["causes"].get(cause) or [])
+
+
+def _not_at_strongest(result: dict, cause: str) -> bool:
+    rows = result["causes"].get(cause) or []
+    return _fixes(result, cause) and not rows[-1]["removes"]
+
+
+def summarise(results: list[dict]) -> dict:
+    """Per cause named by the ladder: how many its own interventions confirm (and of those, how many only at a weaker step),
+    how many another cause's remove instead, how many none does.
+
+    ``results``: one dict per laddered disagreement with ``cause`` (the ladder's) and ``interventions``
+    (``intervene``'s result).  Only the causes of ``LADDER_CAUSES`` count as attributed.
+    """
+    per = {}
+    attributed = confirmed = 0
+    for r in results:
+        cause, iv = r["cause"], r["interventions"]
+        fixing = [c for c in iv["causes"] if _fixes(iv, c)]
+        row = per.setdefault(cause, {"n": 0, "confirmed": 0, "not_at_strongest": 0, "by_other": {}, "none": 0, "no_intervention": 0})
+        row["n"] += 1
+        if cause in LADDER_CAUSES:
+            attributed += 1
+            if cause not in iv["causes"]:
+                row["no_intervention"] += 1
+            elif _fixes(iv, cause):
+                row["confirmed"] += 1
+                row["not_at_strongest"] += _not_at_strongest(iv, cause)
+                confirmed += 1
+        if cause not in fixing:
+            for c in fixing:
+                row["by_other"][c] = row["by_other"].get(c, 0) + 1
+            if not fixing:
+                row["none"] += 1
+    return {"per_cause": per, "attributed": attributed, "confirmed": confirmed,
+            "confirmed_share": confirmed / attributed if attributed else None}
+
+
+def as_record(x) -> dict:
+    """A JSON-ready copy of a dataclass or dict."""
+    return asdict(x) if hasattr(x, "__dataclass_fields__") else dict(x)

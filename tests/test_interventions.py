@@ -1,0 +1,111 @@
+"""Interventions on the engine itself: every engine with a ladder declares one per cause, each changes the engine the way
+its cause names, and on a start whose cause is known the right one removes the disagreement and the wrong one does not."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from crosscheck import engines
+from crosscheck.engines.spec import LADDER_CAUSES, EngineSpec, Intervention
+from crosscheck.state import SlipState
+from crosscheck.studies.interventions import intervene, summarise
+
+LADDERED = [s.name for s in engines.specs() if s.ladder is not None and s.report is not None]
+
+
+def _settings(spec):
+    """The options each report runs the engine at: its defaults and its maps' options."""
+    out = [spec.options()]
+    if spec.report and spec.report.maps:
+        out += [spec.options(**spec.report.maps[k]) for k in ("quick", "full")]
+    return out
+
+
+@pytest.mark.parametrize("name", LADDERED, ids=str)
+def test_every_laddered_cause_has_an_intervention_the_engine_accepts(name):
+    spec = engines.get(name)
+    rungs = [c for c in LADDER_CAUSES if c in spec.ladder]
+    assert set(spec.interventions or ()) == set(rungs), f"{name}: interventions for {sorted(spec.interventions or ())}, ladder {rungs}"
+    for base in _settings(spec):
+        given = {k: getattr(base, k) for k in base.__dataclass_fields__}
+        for cause in rungs:
+            ivs = spec.interventions_for(cause, base)
+            assert ivs and all(isinstance(iv, Intervention) and iv.options for iv in ivs)
+            for iv in ivs:
+                spec.options(**{**given, **iv.options})  # valid options of the engine (ValueError otherwise)
+
+
+@pytest.mark.parametrize("name", LADDERED, ids=str)
+def test_each_intervention_moves_the_engine_the_way_its_cause_names(name):
+    """Geometry: a thinner capsule; compliance: a shorter contact time; discretisation: a shorter step; weakest first."""
+    spec = engines.get(name)
+    for base in _settings(spec):
+        for cause, attr, smaller in (("geometry", "radius", True), ("compliance", "contact_time", True), ("discretisation", "timestep", True)):
+            if cause not in (spec.interventions or {}):
+                continue
+            given = {k: getattr(base, k) for k in base.__dataclass_fields__}
+            values = [getattr(spec.options(**{**given, **iv.options}), attr) for iv in spec.interventions_for(cause, base)]
+            now = getattr(base, attr)
+            assert all(v < now for v in values) and values == sorted(values, reverse=True), (cause, now, values)
+
+
+def test_an_intervention_outside_the_ladder_is_refused():
+    with pytest.raises(ValueError, match=r"^engine 'toy' intervention causes must be among its ladder's \(geometry\); got 'compliance'$"):
+        EngineSpec(name="toy", module="crosscheck.engines.bullet.engine", ladder={"geometry": "capsule"},
+                   interventions={"compliance": "x:y"})
+
+
+#: A start where Drake SAP launches the tip off the plane while the theory slips (the quick report's SAP ladder: rung 5,
+#: TAMSI at the same step, slips; SAP itself launches, so the ladder names the relaxation).
+SAP_LAUNCH = (SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=0.25, eta=1.0), 0.25)
+
+
+def test_sap_launch_is_removed_by_dropping_the_relaxation_not_by_a_thinner_capsule():
+    state, mu = SAP_LAUNCH
+    r = intervene("drake_sap", state, mu, causes=("geometry", "relaxation"))
+    assert r["theory"] == "SLIP"
+    assert [x["label"] for x in r["causes"]["geometry"]] == ["LAUNCH", "LAUNCH"]
+    assert [x["removes"] for x in r["causes"]["geometry"]] == [False, False]
+    assert r["causes"]["relaxation"][-1]["label"] == "SLIP" and r["causes"]["relaxation"][-1]["removes"]
+
+
+def test_a_refused_intervention_is_reported_not_raised():
+    state, mu = SAP_LAUNCH
+    spec = engines.get("drake_sap")
+    toy = EngineSpec(name="toy_bad_intervention", module=spec.module, defaults=spec.defaults, ladder={"geometry": "capsule"},
+                     interventions={"geometry": f"{__name__}:_bad"})
+    engines.register(toy)
+    try:
+        r = intervene("toy_bad_intervention", state, mu)
+    finally:
+        engines.unregister("toy_bad_intervention")
+    row = r["causes"]["geometry"][0]
+    assert row["status"] == "failed" and row["detail"].startswith("ValueError: timestep") and not row["removes"]
+
+
+def _bad(options):
+    return (Intervention("timestep -> negative", {"timestep": -1.0}),)
+
+
+def _result(cause, fixes: dict):
+    """fixes: cause -> (removes at the weaker step, removes at the stronger)."""
+    return {"cause": cause, "interventions": {"theory": "SLIP", "causes": {c: [{"removes": w}, {"removes": s}] for c, (w, s) in fixes.items()}}}
+
+
+def test_summary_counts_confirmed_misattributed_and_unremoved():
+    no, yes, weak = (False, False), (False, True), (True, False)
+    results = [_result("geometry", {"geometry": yes, "compliance": no}),
+               _result("geometry", {"geometry": weak, "compliance": no}),
+               _result("geometry", {"geometry": no, "compliance": yes}),
+               _result("compliance", {"geometry": no, "compliance": no}),
+               _result("unexplained", {"geometry": yes, "compliance": no}),
+               _result("friction law", {"geometry": no, "compliance": no})]
+    s = summarise(results)
+    assert s["attributed"] == 5 and s["confirmed"] == 2 and math.isclose(s["confirmed_share"], 0.4)
+    g = s["per_cause"]["geometry"]
+    assert (g["n"], g["confirmed"], g["not_at_strongest"], g["by_other"], g["none"]) == (3, 2, 1, {"compliance": 1}, 0)
+    assert s["per_cause"]["compliance"]["none"] == 1
+    assert s["per_cause"]["unexplained"]["by_other"] == {"geometry": 1}
+    assert s["per_cause"]["friction law"]["no_intervention"] == 1

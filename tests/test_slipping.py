@@ -193,3 +193,13 @@ def test_bad_input_raises(kw, message):
     state = SlipState(theta=0.5, varphi=-1.0, Theta=0.0, Psi=0.0, eta=1.0)
     with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)").replace("[", r"\[")):
         slip_until_event(state, args["mu"], args["alpha"], t_max=args["t_max"])
+
+
+def test_a_start_on_b_0_with_b_decreasing_is_integrated():
+    """b = 0 exactly (computed 0.0) with p > 0 and b decreasing: the start rule lifts off only for b > 0, so the run slips
+    (the tip stays on the plane: b < 0 at once) until theta reaches 0.  A rule b >= 0 would call it LIFTOFF at t = 0."""
+    state = SlipState(theta=0.2, varphi=-1.0, Theta=-2.2435439705234983, Psi=0.0, eta=1.0)
+    assert analytic.b(state.Psi, state.Theta, state.theta) == 0.0 and analytic.p(state.theta, state.varphi, 1.0, 3.0) > 0
+    r = slip_until_event(state, 1.0, 3.0)
+    assert (r.outcome, r.reason) == (Outcome.SLIP, "theta=0") and r.time == pytest.approx(0.0887, abs=1e-4)
+    assert r.t.size > 2 and np.all(r.x[1:, 0] > 0)  # integrated, not decided at the start

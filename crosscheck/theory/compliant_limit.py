@@ -80,7 +80,7 @@ from scipy.integrate import solve_ivp
 from crosscheck.theory import analytic
 from crosscheck.checks import ALPHA, MU, NONNEGATIVE, POSITIVE, THETA, Interval, check
 from crosscheck.coordinates import tip_velocity, to_generalized
-from crosscheck.theory.impact.darboux_keller import Impact, _reversal_direction, delassus, impact
+from crosscheck.theory.impact.darboux_keller import Impact, delassus, impact
 from crosscheck.rod import Rod
 from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
@@ -244,20 +244,17 @@ def fast_limit(state: SlipState, mu: float, alpha: float, *, xi: float) -> FastL
     P_stop = P if len(sol.t_events[0]) else math.nan
     P_c = math.nan if len(sol.t_events[0]) else P
 
-    # Then in tau: z = (u_x, u_y, u_n, d, L_x, L_y, P), mode "slip" / "stick" / "reversal", until the push f = d - xi u_n falls to 0.
+    # Then in tau: z = (u_x, u_y, u_n, d, L_x, L_y, P), mode "slip" / "stick", until the push f = d - xi u_n falls to 0.
     S = float(G[2, 2] + Gtn @ -np.linalg.solve(Gtt, Gtn))
     f_s = -np.linalg.solve(Gtt, Gtn)
     z = np.array([y[0], y[1], y[2], y[3], y[4], y[5], P])
     mode = "slip" if math.isnan(P_stop) else None
     for _ in range(16):
-        if mode is None:  # just stopped: stick inside the cone, or re-slip in the only consistent direction
+        if mode is None:  # just stopped: the tip sticks (|f_s| < mu wherever p <= 0: darboux_keller's docstring)
             z[:2] = 0.0
-            if np.linalg.norm(f_s) <= mu:
-                mode = "stick"
-            else:
-                d = _reversal_direction(G, mu)
-                z[:2] = _STOP * 2.0 * (1.0 + n0) * d / np.linalg.norm(d)
-                mode = "reversal"
+            if not np.linalg.norm(f_s) < mu:
+                raise RuntimeError(f"fast problem: the sticking impulse |f_s| = {np.linalg.norm(f_s)!r} is outside the cone mu = {mu!r}")
+            mode = "stick"
         if mode == "stick":
             def rhs(_t, z):
                 f = z[3] - xi * z[2]
@@ -294,7 +291,7 @@ def fast_limit(state: SlipState, mu: float, alpha: float, *, xi: float) -> FastL
             P_c = float(sol.y_events[1][0][6])
         if len(sol.t_events[0]):
             break
-        mode = None  # a slip stop: decide stick or reversal
+        mode = None  # a slip stop: the tip sticks
     else:
         raise RuntimeError("fast problem: more than 16 phases")
     if math.isnan(P_c):

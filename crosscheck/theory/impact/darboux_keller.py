@@ -18,16 +18,77 @@ friction per unit normal impulse:
   With p < 0 the tip is driven into the plane (u_n < 0: compression) while
   the slip decelerates;
 * stick: when the slip stops, the tangential impulse that keeps u_t = 0 is
-  f_s = -G_tt^-1 G_tn; if |f_s| <= mu the tip sticks and du_n/dP = G_nn +
-  G_nt f_s > 0 (the Schur complement of G, positive since G is);
-* reversal: if |f_s| > mu the tip slips again at once, in the direction
-  u_hat with (mu G_tt + lambda I) u_hat = G_tn, |u_hat| = 1, lambda > 0 (the
-  only direction in which sliding friction is consistent).
+  f_s = -G_tt^-1 G_tn, and du_n/dP = G_nn + G_nt f_s = S > 0 (the Schur
+  complement of G, positive since G is).
 
-Compression ends when u_n comes back to 0 (P = P_c); Poisson's hypothesis
-ends the impulse at P_f = (1 + e) P_c (e the restitution coefficient; e = 0
-leaves the tip on the plane with u_n = 0).  What follows (slip, stick or
+Why a stopped slip always sticks (no re-slip, "reversal", for this rod).  In
+the rod's frame (i, j, n), i horizontal and normal to the rod, j along its
+horizontal projection from the tip to the centre, eq. linode2 gives
+
+    G = [[1 + alpha, 0, 0], [0, 1 + alpha s^2, -alpha s c], [0, -alpha s c, 1 + alpha c^2]]
+
+(s, c = sin, cos theta), so G_tn = (0, -alpha s c) is an eigenvector of G_tt
+with eigenvalue g = 1 + alpha s^2 and |f_s| = |G_tn| / g.  An impulse starts
+only where p = G_nn - mu G_nt . u_hat <= 0 for the slip direction u_hat,
+hence mu |G_tn| >= G_nn, i.e. mu >= G_nn / |G_tn|.  Since the (j, n) block
+of G is positive definite, |G_tn|^2 < g G_nn, i.e. |f_s| = |G_tn| / g <
+G_nn / |G_tn| <= mu (the gap, (1 + alpha) / (g |G_tn|), is the block's
+determinant over g |G_tn|: O(1)).  The sticking impulse is therefore always
+inside the cone when the slip stops, and the slip never restarts within an
+impulse.  (A body whose G_tn is not an eigenvector of G_tt can re-slip, in
+the direction u_hat with (mu G_tt + lambda I) u_hat = G_tn, lambda > 0; the
+slender rod cannot.)
+
+Why the compression never ends while the tip slips.  Along the slip the
+direction turns as d varphi/dP = alpha c cos varphi (mu c sin varphi - s) /
+eta (the component of du_t/dP normal to u_hat, over eta): towards -pi/2 from
+either side, so varphi stays in (-pi, 0).  There s - mu c sin varphi > 0 and
+p changes as dp/dP = -k <= 0 (k below), so p <= p_0 <= 0 for the whole slip
+and u_n = int p dP never rises: an impulse is always a slip phase to the
+slip stop (P_s) and a stick phase after it.  Compression ends in the stick
+phase, where u_n comes back to 0 (P = P_c = P_s + |u_n(P_s)| / S); Poisson's
+hypothesis ends the impulse at P_f = (1 + e) P_c (e the restitution
+coefficient; e = 0 leaves the tip on the plane with u_n = 0, e > 0 gives
+w = S e P_c).  What follows (slip, stick or
 lift-off) is decided from the post-impulse state by the rigid model again.
+
+A start on the boundary p = 0: the limit p -> 0- (the GB point of Genot and
+Brogliato, or a jam state computed to rounding).  There du_n/dP = p = 0 at
+P = 0 and the impulse is defined as the limit of the impulses from states
+inside the inconsistent region, p_0 = -delta, delta -> 0+.  How p moves along
+the impulse: only the slip direction changes, d u_hat/dP = (I - u_hat
+u_hat^T) du_t/dP / |u_t|, and in the rod's frame (u_hat = (cos varphi,
+sin varphi)) this gives
+
+    dp/dP = -mu G_nt . d u_hat/dP = -mu alpha^2 s c^2 cos^2 varphi (s - mu c sin varphi) / eta =: -k,
+
+which on p = 0 (mu c sin varphi = -(1 + alpha c^2)/(alpha s)) is
+k = (1 + alpha) alpha mu c^2 cos^2 varphi / eta, the paper's K_12 / eta
+(eq. K): k >= 0, so p never increases along an impulse started on p = 0.
+Two cases follow:
+
+* k > 0 (varphi != -pi/2): u_n = -k P^2 / 2 + O(P^3) < 0 at once; the impulse
+  from p_0 = -delta differs from this one by O(delta) and the limit is the
+  impulse integrated from the boundary state with its rounding removed
+  (du_n/dP = p(u_hat(P)) - p_0: p starts at exactly 0);
+* k = 0 (varphi = -pi/2, the planar section): d u_hat/dP = 0, the direction
+  and p stay fixed, so from p_0 = -delta, u_n = -delta P while slipping.  The
+  slip stops at P_s = eta / (mu u_hat G_tt u_hat - u_hat . G_tn) with u_n =
+  -delta P_s, then the stuck tip's u_n rises at S: compression ends at P_c =
+  P_s (1 + delta / S) -> P_s.  The limit: the tip slides along p = 0 with
+  u_n = 0 until its slip stops, and compression ends there (P_c = P_s: the
+  tip is stopped, not driven into the plane).
+
+Both cases are one computation, since the slip phase ends only at its stop
+(never at a compression end, see above): the slip is integrated with du_n/dP
+= p(u_hat(P)) - p_0 (the start's rounding removed, so p starts at exactly 0)
+and the compression ends in the stick phase at P_c = P_s + max(0, -u_n(P_s))
+/ S, which is P_s where the turning is zero (u_n(P_s) = 0 to rounding).  A
+state with |p_0| <= ``P_TOLERANCE`` is on the boundary; a caller that knows
+its state is on p = 0 to a coarser resolution (the slipping flow stops a GB
+arrival within ``crosscheck.tolerances.GB_REACHED`` of b = p = 0, where p_0
+is still > 0 to 1e-11) says so with ``boundary=True``.  Off the boundary the
+same integration runs with p_0 kept (p_0 < 0: the tip is driven in at once).
 
 Everything is in the paper's scaled units (m = l = g = 1, I0 = 1/alpha;
 impulses in m g / omega, velocities in l omega).  The mass matrix and the
@@ -42,14 +103,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
 from crosscheck.checks import ALPHA, MU, check
 from crosscheck.coordinates import qv_to_paper, to_generalized
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
+from crosscheck.tolerances import GB_REACHED
 
-__all__ = ["Phase", "Impact", "delassus", "impact", "P_TOLERANCE"]
+__all__ = ["Phase", "Impact", "delassus", "turning_rate", "impact", "P_TOLERANCE"]
 
 #: A state counts as at or past p = 0 when eq. p is at most this (rounding of the O(1 + alpha)
 #: terms of eq. p, times a margin; the slipping flow stops its runs at p = -1e-8).
@@ -61,7 +122,7 @@ _RTOL, _ATOL = 1e-12, 1e-14
 
 @dataclass(frozen=True)
 class Phase:
-    """One phase of the impulse: "slip", "stick" or "reversal" (a re-slip after a stop), between normal impulses [P_start, P_end]."""
+    """One phase of the impulse: "slip" or "stick", between normal impulses [P_start, P_end]."""
 
     name: str
     P_start: float
@@ -130,21 +191,15 @@ def _p_of(G: np.ndarray, u_t: np.ndarray, mu: float) -> float:
     return float(G[2, 2] - mu * G[2, :2] @ u_t / n)
 
 
-def _reversal_direction(G: np.ndarray, mu: float) -> np.ndarray:
-    """The slip direction u_hat with (mu G_tt + lambda I) u_hat = G_tn, |u_hat| = 1, lambda > 0."""
-    Gtt, Gtn = G[:2, :2], G[:2, 2]
-
-    def h(lam):
-        return np.linalg.norm(np.linalg.solve(mu * Gtt + lam * np.eye(2), Gtn)) - 1.0
-
-    hi = 1.0
-    while h(hi) > 0:
-        hi *= 2.0
-    lam = brentq(h, 0.0, hi, xtol=1e-15, rtol=1e-14)
-    return np.linalg.solve(mu * Gtt + lam * np.eye(2), Gtn)
+def turning_rate(G: np.ndarray, u_t: np.ndarray, mu: float) -> float:
+    """k = -dp/dP at the start of a slipping impulse (module docstring): >= 0 in the paper's domain, 0 on varphi = -pi/2."""
+    n = float(np.linalg.norm(u_t))
+    u_hat = u_t / n
+    du_t = G[:2, :2] @ (-mu * u_hat) + G[:2, 2]
+    return float(mu * G[2, :2] @ ((np.eye(2) - np.outer(u_hat, u_hat)) @ du_t) / n)
 
 
-def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.0) -> Impact:
+def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.0, boundary: bool = False) -> Impact:
     """The impulse of an impact without collision from a slipping state at or past p = 0.
 
     Args:
@@ -153,13 +208,20 @@ def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.
       mu: friction coefficient (> 0 for a paradox).
       alpha: m l^2 / I0.
       restitution: Poisson's coefficient e in [0, 1].
+      boundary: the caller knows ``state`` is on p = 0 to within
+        ``crosscheck.tolerances.GB_REACHED`` (a GB arrival of the slipping
+        flow): its impulse is the limit p -> 0- (module docstring).  A state
+        with |p| <= ``P_TOLERANCE`` gets that limit without being told.
 
     Returns:
-      ``Impact``.
+      ``Impact``.  On the boundary, ``w`` is the limit's normal velocity (the
+      start's own p_0 P_f, rounding of its position on p = 0, left out; the
+      generalised ``v_after`` keeps it).
 
     Raises:
-      ValueError: an argument out of range, eta <= 0, or p > ``P_TOLERANCE``
-        (no impulse: the rod can slip; use ``crosscheck.theory.slipping``).
+      ValueError: an argument out of range, eta <= 0, p > ``P_TOLERANCE``
+        (no impulse: the rod can slip; use ``crosscheck.theory.slipping``),
+        or, with ``boundary``, |p| > ``GB_REACHED.atol``.
     """
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
@@ -176,16 +238,27 @@ def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.
     G = J @ Minv_JT
     u0 = J @ v0
     p0 = _p_of(G, u0[:2], mu)
-    if p0 > P_TOLERANCE:
+    if boundary and not abs(p0) <= GB_REACHED.atol:
+        raise ValueError(f"p must be in [-{GB_REACHED.atol:g}, {GB_REACHED.atol:g}] for an impact on the boundary p = 0; got p = {p0!r}")
+    if not boundary and p0 > P_TOLERANCE:
         raise ValueError(f"p must be <= {P_TOLERANCE:g} (at or past the paradox boundary) for an impact without collision; "
                          f"got p = {p0!r} at this state: it can slip")
+    on_boundary = boundary or abs(p0) <= P_TOLERANCE
     scale = 1.0 + float(np.linalg.norm(u0))
     stop = 1e-12 * scale
+    f_s = -np.linalg.solve(G[:2, :2], G[:2, 2])
+    if not np.linalg.norm(f_s) < mu:
+        # unreachable for the slender rod (module docstring): an impulse starts only where mu > |f_s|
+        raise RuntimeError(f"the sticking impulse |f_s| = {np.linalg.norm(f_s)!r} is outside the cone mu = {mu!r} at a state with p <= 0")
+    S = float(G[2, 2] + G[2, :2] @ f_s)
+    # On the boundary the slip's du_n/dP is measured from the start's p_0: the limit p_0 -> 0- (module docstring).
+    shift = p0 if on_boundary else 0.0
 
     def slip_rhs(_P, y):
         ut = y[:2]
         f = -mu * ut / np.linalg.norm(ut)
         du = G @ np.array([f[0], f[1], 1.0])
+        du[2] -= shift
         return np.concatenate([du, f])
 
     def slip_stop(_P, y):
@@ -194,63 +267,21 @@ def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.
     slip_stop.terminal, slip_stop.direction = True, -1
 
     phases: list[Phase] = []
-    P, y = 0.0, np.concatenate([u0, [0.0, 0.0]])  # (u_x, u_y, u_n, L_x, L_y)
-    P_c = math.nan
-    P_f = math.inf
-    name = "slip"
-    for _ in range(16):  # phases: slip, stick or reversal, ... (a few at most)
-        if name in ("slip", "reversal"):
-
-            def compression_end(_P, y):
-                return y[2]
-
-            compression_end.terminal, compression_end.direction = True, +1
-
-            def end(_P, y):
-                return _P - P_f
-
-            end.terminal = True
-            events = [slip_stop, compression_end if math.isnan(P_c) else end]
-            span = (P, P + 1e3 * scale if math.isnan(P_c) else P_f)
-            sol = solve_ivp(slip_rhs, span, y, method="DOP853", rtol=_RTOL, atol=_ATOL * scale, events=events, dense_output=False)
-            if sol.status == -1:
-                raise RuntimeError(f"impulse integration failed: {sol.message}")
-            P1, y1 = float(sol.t[-1]), sol.y[:, -1]
-            phases.append(Phase(name, P, P1))
-            P, y = P1, y1
-            stopped = len(sol.t_events[0]) > 0
-            if not stopped:
-                if math.isnan(P_c):
-                    if len(sol.t_events[1]) == 0:
-                        raise RuntimeError("impulse did not end: no compression end within P = 1e3 scale")
-                    P_c, P_f = P, (1.0 + e) * P
-                    if e == 0.0:
-                        break
-                    continue
-                break  # P reached P_f while slipping
-            y[:2] = 0.0
-            f_s = -np.linalg.solve(G[:2, :2], G[:2, 2])
-            if np.linalg.norm(f_s) <= mu:
-                name = "stick"
-            else:
-                y[:2] = stop * 1.0001 * _reversal_direction(G, mu) / np.linalg.norm(_reversal_direction(G, mu))
-                name = "reversal"
-            continue
-        # stick: u_t = 0, linear in P
-        f_s = -np.linalg.solve(G[:2, :2], G[:2, 2])
-        S = float(G[2, 2] + G[2, :2] @ f_s)
-        if math.isnan(P_c):
-            P_end_c = P + max(0.0, -y[2]) / S
-            P_c, P_f = P_end_c, (1.0 + e) * P_end_c
-        P1 = P_f
-        y = y.copy()
-        y[2] += S * (P1 - P)
-        y[3:] += f_s * (P1 - P)
-        phases.append(Phase("stick", P, P1))
-        P = P1
-        break
-    else:
-        raise RuntimeError("impulse did not end within 16 phases")
+    y = np.concatenate([u0, [0.0, 0.0]])  # (u_x, u_y, u_n, L_x, L_y); u_n measured from the start's 0
+    y[2] = 0.0
+    # 1. slipping compression, to the slip stop (p never increases along the slip: the compression cannot end before it)
+    sol = solve_ivp(slip_rhs, (0.0, 1e3 * scale), y, method="DOP853", rtol=_RTOL, atol=_ATOL * scale, events=[slip_stop])
+    if sol.status != 1:
+        raise RuntimeError(f"impulse integration failed: {sol.message or 'the slip did not stop within P = 1e3 scale'}")
+    P_s, y = float(sol.t[-1]), sol.y[:, -1].copy()
+    phases.append(Phase("slip", 0.0, P_s))
+    # 2. stick (|f_s| < mu): u_n rises linearly at S from its value at the stop; compression ends at P_c, Poisson's impulse at P_f
+    y[:2] = 0.0
+    P_c = P_s + max(0.0, -y[2]) / S
+    P = (1.0 + e) * P_c
+    y[2] += S * (P - P_s)
+    y[3:] += f_s * (P - P_s)
+    phases.append(Phase("stick", P_s, P))
     L = np.array([y[3], y[4], P])
     v1 = v0 + Minv_JT @ L
     d = qv_to_paper(rod, q, v1)
@@ -259,5 +290,6 @@ def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.
     stuck = eta1 <= 10 * stop
     energy = 0.5 * float(v0 @ M @ v0 - v1 @ M @ v1)
     return Impact(state=state, mu=mu, alpha=alpha, restitution=e, Theta=float(d["Theta"]), Psi=float(d["Psi"]), eta=0.0 if stuck else eta1,
-                  varphi=None if stuck else float(d["varphi"]), w=float(u1[2]), normal_impulse=float(P), compression_impulse=float(P_c),
-                  tangential_impulse=L[:2].copy(), phases=tuple(phases), energy_lost=energy, v_before=v0, v_after=v1)
+                  varphi=None if stuck else float(d["varphi"]), w=float(y[2]) if on_boundary else float(u1[2]), normal_impulse=float(P),
+                  compression_impulse=float(P_c), tangential_impulse=L[:2].copy(), phases=tuple(phases), energy_lost=energy, v_before=v0,
+                  v_after=v1)

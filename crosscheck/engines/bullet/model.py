@@ -76,9 +76,27 @@ import os
 from dataclasses import dataclass
 
 import numpy as np
-import pybullet as pb
 
 from crosscheck.rod import Rod
+
+
+def _import_pybullet():
+    """``import pybullet`` without the build-time line its C code writes to stderr (once per process, so once per worker)."""
+    import sys
+
+    sys.stderr.flush()
+    saved, devnull = os.dup(2), os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 2)
+        import pybullet
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(devnull)
+    return pybullet
+
+
+pb = _import_pybullet()
 
 __all__ = ["World", "world", "JOINTS"]
 

@@ -115,3 +115,32 @@ def test_a_start_slower_than_the_stick_speed_is_stuck():
     for eta in (1e-300, 0.5 * STICK_SPEED.atol):
         r = slip_until_event(SlipState(theta=1.1031, varphi=-1.9233, Theta=0.9, Psi=0.0, eta=eta), 1.4, 3.0)
         assert r.outcome.name == "STICK" and r.time == 0.0 and r.reason == "start"
+
+
+GLOCKER_ARGS = ["slip", "--theta", repr(float(np.radians(31.0))), "--varphi", repr(-np.pi / 2), "--Theta", "0", "--Psi", "0", "--eta", repr(30 / 10**0.5),
+                "--mu", repr(5 / 3)]
+
+
+def test_slip_continue_goes_through_the_gb_point(capsys):
+    """Glocker's rod reaches P+ (b = p = 0) at t* = 2.5758: the limit impulse stops its slip, and at rest with b > 0 it lifts off."""
+    assert main(GLOCKER_ARGS + ["--continue"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].startswith("slip from t = 0 to 2.57583219: GB (gb)")
+    assert out[1].startswith("  impact without collision: P = 1.10677, tangential (") and "slip to P = 1.10677, stick to P = 1.10677" in out[1]
+    assert out[2].startswith("  after: Theta = 2.754417  Psi = -0.000000  eta = 0")
+    assert out[-1] == "LIFTOFF at t = 2.57583219 (impact: at rest with b > 0 (sticking would need F_n < 0))"
+
+
+def test_slip_continue_sticks_and_slips_again(capsys):
+    args = ["slip", "--theta", "1.2", "--varphi", repr(-np.pi / 2), "--Theta", "-0.3", "--Psi", "0.5", "--psi", "0.4", "--eta", "0", "--mu", "0.3"]
+    assert main(args + ["--t-max", "1", "--continue"]) == 0
+    assert capsys.readouterr().out.splitlines() == [
+        "slip from t = 0 to 0: STICK (start); b = -0.886, p = 1.09",
+        "stick from t = 0 to 0.174368173: SLIP (cone); F_j = 0.218, F_n = 0.728; slips at varphi = -1.570796",
+        "slip from t = 0.174368173 to 1: SLIP (t_max); b = -0.64, p = 2.34",
+        "SLIP at t = 1 (t_max)",
+    ]
+    assert main(args + ["--t-max", "1", "--continue", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert [s["mode"] for s in doc["segments"]] == ["slip", "stick", "slip"] and doc["segments"][1]["slip_varphi"] == -np.pi / 2
+    assert doc["segments"][1]["start"]["varphi"] is None

@@ -30,10 +30,12 @@ def test_a_corollary_jam_goes_through_the_impact_that_iwc_computes():
     assert seg.slip.outcome == Outcome.JAM and seg.t1 == pytest.approx(t_jam)
     want = impact(seg.slip.state, 1.7, ALPHA)
     assert seg.impact.normal_impulse == want.normal_impulse and seg.impact.Theta == want.Theta
-    # e = 0: the slip stops inside the cone (stick), the tip stays on the plane
-    assert h.outcome == Outcome.STICK and h.time == pytest.approx(t_jam) and seg.impact.eta == 0.0
+    # e = 0: the slip stops inside the cone; at rest the tip would need a pull (b > 0): it leaves the plane at once, as the
+    # rigid engine's tip does (tests/test_theory_sticking.py)
+    assert seg.impact.eta == 0.0 and abs(seg.impact.w) < 1e-12
+    assert (h.outcome, h.reason) == (Outcome.LIFTOFF, "impact: at rest with b > 0 (sticking would need F_n < 0)") and h.time == pytest.approx(t_jam)
     # a restitution > 0 makes the tip rebound: lift-off at the jam
-    assert run(s, 1.7, ALPHA, horizon=2.0, restitution=0.5).outcome == Outcome.LIFTOFF
+    assert run(s, 1.7, ALPHA, horizon=2.0, restitution=0.5).reason == "impact: rebound (w > 0)"
 
 
 def test_cli_continue_prints_the_impact_and_bad_restitution_is_named(capsys):
@@ -41,7 +43,7 @@ def test_cli_continue_prints_the_impact_and_bad_restitution_is_named(capsys):
     assert main(args + ["--continue"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert out[0].startswith("slip from t = 0 to 0.000434") and "impact without collision: P = 0.5712" in out[1]
-    assert out[-1].startswith("STICK at t = 0.000434")
+    assert out[-1] == "LIFTOFF at t = 0.00043400815 (impact: at rest with b > 0 (sticking would need F_n < 0))"
     assert main(args + ["--continue", "--restitution", "2"]) == 2
     assert capsys.readouterr().err.strip() == "crosscheck: error: restitution must be in [0, 1]; got 2.0"
     assert math.isfinite(float(out[1].split("P = ")[1].split(",")[0]))

@@ -99,6 +99,11 @@ def _hybrid(state, mu, alpha, t_max, restitution, as_json) -> int:
         print(json.dumps(h.as_dict(), indent=2))
         return 0
     for seg in h.segments:
+        if isinstance(seg, hybrid.StickSegment):
+            k = seg.stick
+            then = f"; slips at varphi = {k.varphi:.6f}" if k.varphi is not None else ""
+            print(f"stick from t = {seg.t0:.9g} to {seg.t1:.9g}: {k.outcome.name} ({k.reason}); F_j = {k.force[1]:.3g}, F_n = {k.force[2]:.3g}{then}")
+            continue
         r = seg.slip
         print(f"slip from t = {seg.t0:.9g} to {seg.t1:.9g}: {r.outcome.name} ({r.reason}); b = {r.b:.3g}, p = {r.p:.3g}")
         if seg.impact is not None:
@@ -127,7 +132,7 @@ def register(sub) -> None:
     add_alpha(s)
     s.add_argument("--t-max", dest="t_max", type=str, default="10", help="horizon in scaled time, in (0, 1e4] (default 10)")
     s.add_argument("--continue", dest="continue_", action="store_true",
-                   help="go on through an impact without collision at a jam (the hybrid rigid model)")
+                   help="go on through impacts without collision (at a jam or a GB point), sticking and slipping again (the hybrid rigid model)")
     s.add_argument("--restitution", type=str, default="0", help="Poisson restitution of the impact, in [0, 1] (with --continue)")
     s.add_argument("--json", action="store_true", help="print the result as JSON")
     s.set_defaults(func=_slip)

@@ -7,8 +7,10 @@
 * ``capsule``: the same flow with the contact at a capsule's lowest point
   C = A - r K (the geometry of MuJoCo's, Drake's and Bullet's rods);
 * ``corollary``: the slipping states that jam (Corollary 4.2);
-* ``impact``: the impact without collision at a jam (``impact.darboux_keller``)
-  and the continuation of the rigid model through it (``impact.continuation``);
+* ``impact``: the impact without collision at a jam or a GB point
+  (``impact.darboux_keller``) and the continuation of the rigid model through
+  impacts, sticking and slipping again (``impact.continuation``);
+* ``sticking``: the rod pivoting about its stuck tip, and how it lets go;
 * ``gb``: the GB manifold b = p = 0, the matrix K and its linearisation;
 * ``paper``: every number the paper prints, with its misprints.
 

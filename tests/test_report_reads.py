@@ -189,3 +189,44 @@ def test_interactive_maps_tick_round_values_where_they_fall():
     assert [t for _, t in ticks] == ["0.5", "1", "1.5"]
     for pos, label in ticks:  # each label sits where its value is, in cells from the grid's outer edge
         assert pos == pytest.approx((float(label) - 0.2) / (1.3 / 7))
+
+
+# -------------------------------------------------------------- provenance ---
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_the_build_records_the_checkouts_revision(tmp_path):
+    """setup.py's build_py writes the checkout's revision into the built package; outside a checkout nothing is written."""
+    import subprocess
+    import sys
+
+    from crosscheck import _build
+
+    head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True, check=True).stdout.strip()
+    rev = _build.source_revision(ROOT)
+    assert rev["revision"] == head and isinstance(rev["dirty"], bool) and rev["describe"].startswith(head[:12])
+    assert _build.source_revision(tmp_path) is None and _build.write_build_info(tmp_path, tmp_path) is None
+    assert not (tmp_path / _build.BUILD_INFO).exists()
+    subprocess.run([sys.executable, "setup.py", "-q", "build_py", "--build-lib", str(tmp_path / "lib")], cwd=ROOT, check=True, capture_output=True)
+    built = _build.build_info(tmp_path / "lib" / "crosscheck")
+    assert built["revision"] == head and built["dirty"] == rev["dirty"] and built["built"]
+
+
+def test_an_installed_package_names_the_revision_it_was_built_from(tmp_path, monkeypatch):
+    from crosscheck import _build
+    from crosscheck.report import provenance
+    from crosscheck.report.render import _revision
+
+    package = tmp_path / "site-packages" / "crosscheck"
+    package.mkdir(parents=True)
+    read = _build.build_info
+    monkeypatch.setattr(provenance, "_repo_root", lambda: tmp_path / "site-packages")  # no pyproject.toml: not a checkout
+    monkeypatch.setattr(_build, "build_info", lambda package_dir=None: read(package))
+    assert provenance.git_revision() == {"revision": None, "dirty": None, "describe": "not a git checkout"}  # built from an sdist
+    (package / _build.BUILD_INFO).write_text(json.dumps({"revision": "a" * 40, "dirty": False, "describe": "a" * 12,
+                                                         "built": "2026-01-01T00:00:00+00:00"}))
+    git = provenance.git_revision()
+    assert git["revision"] == "a" * 40 and git["dirty"] is False and git["source"] == "build"
+    assert _revision(git, {}) == "a" * 40 + " (clean; installed package, revision recorded when it was built on 2026-01-01T00:00:00+00:00)"
+    assert provenance.git_revision(tmp_path)["revision"] is None  # an explicit directory is asked itself, never the build record

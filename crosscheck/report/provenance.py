@@ -48,11 +48,22 @@ def git_revision(cwd: Path | None = None) -> dict[str, object]:
     """``{"revision": sha or None, "dirty": bool or None, "describe": str}`` of the source tree.
 
     ``dirty`` is True when tracked files differ from the revision (untracked
-    files are ignored: generated reports live in the tree).
+    files are ignored: generated reports live in the tree).  For the package
+    itself (``cwd`` None) installed outside a checkout, the revision recorded
+    when it was built (``crosscheck._build``), marked ``"source": "build"``
+    with the build date as ``"built"``.
     """
+    installed = cwd is None
     cwd = cwd or _repo_root()
     if not ((Path(cwd) / "pyproject.toml").is_file() and (Path(cwd) / "crosscheck").is_dir()):
-        # an installed package (site-packages), even one inside some other work tree: its revision is its version
+        # an installed package (site-packages), even one inside some other work tree: the revision its build recorded
+        # (crosscheck._build, written by setup.py's build_py from the checkout it was built from), else none
+        from crosscheck._build import build_info
+
+        built = build_info() if installed else None
+        if built is not None:
+            return {"revision": built["revision"], "dirty": built.get("dirty"), "describe": built.get("describe", built["revision"][:12]),
+                    "source": "build", "built": built.get("built")}
         return {"revision": None, "dirty": None, "describe": "not a git checkout"}
 
     def git(*args: str) -> str | None:

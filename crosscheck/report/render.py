@@ -232,13 +232,15 @@ def _figures_table(views: list[SectionView]) -> Table:
 _REFERENCES = "paper_references.json"
 
 
-def _write_references(out: Path, views: list[SectionView]) -> None:
-    """The labels the tables leave out (figure and equation labels of the paper's source), derived, not computed."""
+def _write_references(out: Path) -> None:
+    """The labels the tables leave out (figure and equation labels of the paper's source), derived, not computed: the same
+    file whichever sections are rendered (every registered section), so a partial rebuild leaves the saved data as it was."""
     from dataclasses import asdict
 
+    from crosscheck.report.sections import all_sections
     from crosscheck.theory.paper import FIGURES
 
-    refs = {"figures": [asdict(f) for f in FIGURES], "sections": {v.section.slug: v.section.paper for v in views}}
+    refs = {"figures": [asdict(f) for f in FIGURES], "sections": {s.slug: s.paper for s in all_sections()}}
     (out / "data").mkdir(parents=True, exist_ok=True)
     (out / "data" / _REFERENCES).write_text(json.dumps(refs, indent=1, default=list) + "\n")
 
@@ -374,7 +376,10 @@ def _revision(git: dict, prov: dict) -> str:
     """The source revision as a reader can use it: the commit (clean or dirty), or the installed version outside a checkout."""
     if not git.get("revision"):
         return f"installed package, version {prov.get('versions', {}).get('crosscheck', '?')} (not a git checkout)"
-    return f"{git['revision']} ({'dirty' if git.get('dirty') else 'clean'})"
+    state = "dirty" if git.get("dirty") else "clean" if git.get("dirty") is False else "clean or dirty: unknown"
+    if git.get("source") == "build":
+        return f"{git['revision']} ({state}; installed package, revision recorded when it was built on {git.get('built') or '?'})"
+    return f"{git['revision']} ({state})"
 
 
 def _provenance_rows(prov: dict) -> list[list[str]]:
@@ -703,7 +708,7 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
         summary_rows.append((row, "ok" if v.state in ("ok", "skipped") and not nf else "fail"))
     summary = RenderSummary(html=out / "index.html", markdown=out / "report.md", views=views)
     failures = summary.failures
-    _write_references(out, views)
+    _write_references(out)
     _write_html(out, views, prov, summary_rows, failures, found)
     _write_md(out, views, prov, summary_rows, failures, found)
     return summary

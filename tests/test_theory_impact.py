@@ -152,8 +152,8 @@ def test_the_slip_angle_turns_towards_minus_pi_half_and_p_never_rises():
 
 
 def _at_P_plus(theta_shift=0.0):
-    """Glocker's rod placed at P+ itself (theta_1 = pi/4, b = 0), or moved in theta into the inconsistent region."""
-    state, mu = GLOCKER
+    """Glocker's rod placed at P+ itself (theta_1 = pi/4, b = 0, its arrival slip speed), or moved in theta into the inconsistent region."""
+    mu = GLOCKER[1]
     th1 = float(theta_12(mu, ALPHA)[0])
     return SlipState(theta=th1 + theta_shift, varphi=-math.pi / 2, Theta=math.sqrt(1 / math.sin(th1)), Psi=0.0, eta=2.9513890040207), mu
 

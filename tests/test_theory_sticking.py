@@ -188,3 +188,26 @@ def test_the_delassus_matrix_in_the_rod_frame_is_the_closed_form():
         st, ct = math.sin(s.theta), math.cos(s.theta)
         want = np.array([[1 + ALPHA, 0, 0], [0, 1 + ALPHA * st * st, -ALPHA * st * ct], [0, -ALPHA * st * ct, 1 + ALPHA * ct * ct]])
         np.testing.assert_allclose(R.T @ delassus(s, ALPHA) @ R, want, atol=1e-13)
+
+
+def test_at_most_one_slip_direction_from_rest():
+    """p_+ p_- (sigma_- + sigma_+) = -2 mu (1 + alpha) B (B = -b): both directions cannot be consistent; and where sticking fails
+    with b <= 0, exactly one is, at 2000 random rest states over alpha and mu in [0.01, 100]."""
+    from crosscheck.theory.sticking import _onset
+
+    rng = np.random.default_rng(8)
+    slips = 0
+    for _ in range(2000):
+        th, Psi, Theta = rng.uniform(0.02, 1.55), rng.uniform(-3, 3), rng.uniform(-3, 3)
+        mu, alpha = (float(np.exp(rng.uniform(np.log(0.01), np.log(100)))) for _ in range(2))
+        s, c = math.sin(th), math.cos(th)
+        W = Psi**2 * c * c + Theta**2
+        B = 1 - s * W
+        p_plus, p_minus = 1 + alpha * c * c + alpha * mu * s * c, 1 + alpha * c * c - alpha * mu * s * c
+        if B > 0 and p_minus > 0:
+            (_, sig_m), (_, sig_p) = _onset(th, Psi, Theta, mu, alpha, -1.0), _onset(th, Psi, Theta, mu, alpha, 1.0)
+            assert CLOSED_FORM.ok(p_plus * p_minus * (sig_m + sig_p) / B, -2 * mu * (1 + alpha)) and sig_m + sig_p < 0
+        r = at_rest(SlipState(theta=th, varphi=-math.pi / 2, Theta=Theta, Psi=Psi, eta=0.0), mu, alpha)
+        assert r.mode != "inconsistent"
+        slips += r.mode == "slip"
+    assert slips > 200

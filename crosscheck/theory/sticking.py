@@ -42,8 +42,16 @@ slip along u_hat needs no lateral acceleration; the i row gives
 -(1 + alpha) mu F_n u_i = sigma u_i, so u_hat = +-j (varphi = -+pi/2).  Along
 u_hat = sigma_j j, eq. p is p = 1 + alpha c^2 + sigma_j alpha mu s c, F_n = -b/p
 (eq. FZ) and sigma = F_n (-mu (1 + alpha s^2) - sigma_j alpha s c) + sigma_j c W.
-A direction is consistent where F_n >= 0 and sigma >= 0; where both are, the
-one opposite the sticking friction is taken.
+A direction is consistent where F_n >= 0 and sigma >= 0.  At most one is:
+with B = -b >= 0, h = 1 + alpha c^2, g = 1 + alpha s^2 and p_+- = h +- alpha
+mu s c > 0 (F_n >= 0 on both needs both p > 0, or b = 0),
+
+    p_+ p_- (sigma_- + sigma_+) = B [(alpha s c - mu g) p_+ - (mu g + alpha s c) p_-] = -2 mu (1 + alpha) B,
+
+(alpha^2 s^2 c^2 - g h = -(1 + alpha)), negative unless B = 0, and at B = 0
+sigma_- = -c W < 0 (W = 0 would make b = -1).  So a slip from rest has one
+direction (none was found either in 36,725 random rest states over alpha,
+mu in [0.007, 1100]; ``at_rest`` says "inconsistent" if it ever happens).
 
 The slipping flow (``crosscheck.theory.slipping``) cannot start at eta = 0 (an
 equilibrium of eq. f): a slip onset hands it eta = ``SLIP_ONSET_SPEED``.
@@ -130,8 +138,9 @@ def at_rest(state: SlipState, mu: float, alpha: float) -> Rest:
             ok[sign_j] = F_n
     if not ok:
         return Rest("inconsistent", None, F, b)
-    sign_j = next(iter(ok)) if len(ok) == 1 else (-1.0 if F[1] > 0.0 else 1.0)
-    F_n = ok[sign_j]
+    if len(ok) > 1:
+        raise RuntimeError(f"two slip directions are consistent at rest at {state!r} (mu = {mu!r}): excluded by the module docstring")
+    sign_j, F_n = next(iter(ok.items()))
     return Rest("slip", sign_j * _HALF_PI, (0.0, -mu * F_n * sign_j, F_n), b)
 
 

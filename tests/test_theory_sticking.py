@@ -211,3 +211,18 @@ def test_at_most_one_slip_direction_from_rest():
         assert r.mode != "inconsistent"
         slips += r.mode == "slip"
     assert slips > 200
+
+
+def test_the_slip_onset_speed_moves_the_motion_by_its_own_size(monkeypatch):
+    """The slipping flow starts at eta = SLIP_ONSET_SPEED, not 0: the state 0.4 after the onset moves by < SLIP_ONSET_SPEED when it is
+    made ten times smaller (measured 9.0e-8): far below the engines' O(dt) errors."""
+    import crosscheck.theory.impact.continuation as continuation
+
+    state, mu = STICK_THEN_SLIP
+    T = run(state, mu, ALPHA, horizon=1.0).segments[1].t1 + 0.4
+    ends = []
+    for eta0 in (SLIP_ONSET_SPEED, 0.1 * SLIP_ONSET_SPEED):
+        monkeypatch.setattr(continuation, "SLIP_ONSET_SPEED", eta0)
+        ends.append(run(state, mu, ALPHA, horizon=T).segments[-1].slip.state)
+    a, b = ends
+    assert max(abs(a.theta - b.theta), abs(a.Theta - b.Theta), abs(a.Psi - b.Psi), abs(a.eta - b.eta)) < SLIP_ONSET_SPEED

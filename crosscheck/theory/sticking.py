@@ -153,7 +153,8 @@ class StickResult:
       time: real scaled time of the end.
       state: the rod at the end, tip at rest (eta = 0; varphi a placeholder, -pi/2).
       reason: "cone", "t_max", "theta=0" or "theta=pi/2".
-      varphi: the slip direction at a cone exit (-pi/2 or +pi/2), else None.
+      varphi: the slip direction at a cone exit (-pi/2 or +pi/2), else None; the slipping flow takes over from the end
+        state at that varphi and eta = ``SLIP_ONSET_SPEED`` (``crosscheck.theory.impact.continuation``).
       force: (F_i, F_j, F_n) at the end [m g].
       t: (n,) times; y: (n, 4) states (psi, theta, Psi, Theta) along the stick.
     """
@@ -166,13 +167,6 @@ class StickResult:
     force: tuple
     t: np.ndarray = field(repr=False)
     y: np.ndarray = field(repr=False)
-
-    def slip_start(self) -> SlipState:
-        """The slipping flow's start after a cone exit into the paper's domain (varphi = -pi/2, eta = ``SLIP_ONSET_SPEED``)."""
-        if self.varphi is None or not -math.pi < self.varphi <= 0.0:
-            raise ValueError(f"varphi must be in (-pi, 0] to slip in the paper's domain; got {self.varphi!r}")
-        s = self.state
-        return SlipState(theta=s.theta, varphi=self.varphi, Theta=s.Theta, Psi=s.Psi, eta=SLIP_ONSET_SPEED, psi=s.psi)
 
 
 def stick_until_event(state: SlipState, mu: float, alpha: float, *, t_max: float) -> StickResult:

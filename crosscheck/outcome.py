@@ -34,3 +34,11 @@ class Outcome(IntEnum):
     DIVERGED = 4
     GB = 5
     LAUNCH = 6
+
+    def __str__(self) -> str:
+        # the name, as print(run.outcome) should read ("JAM", not IntEnum's "3"); the int values stay (arrays, Parquet)
+        return self.name
+
+    def __format__(self, spec: str) -> str:
+        # f"{outcome}" reads as str(); a numeric spec ("{:d}") formats the value
+        return self.name if not spec else int.__format__(int(self), spec)

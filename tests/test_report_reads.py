@@ -230,3 +230,50 @@ def test_an_installed_package_names_the_revision_it_was_built_from(tmp_path, mon
     assert git["revision"] == "a" * 40 and git["dirty"] is False and git["source"] == "build"
     assert _revision(git, {}) == "a" * 40 + " (clean; installed package, revision recorded when it was built on 2026-01-01T00:00:00+00:00)"
     assert provenance.git_revision(tmp_path)["revision"] is None  # an explicit directory is asked itself, never the build record
+
+
+# --------------------------------------------------------------------- API ---
+
+
+def test_an_outcome_prints_its_name_and_keeps_its_value():
+    from crosscheck.outcome import Outcome
+
+    assert str(Outcome.JAM) == "JAM" and f"{Outcome.LIFTOFF}" == "LIFTOFF" and f"{Outcome.JAM:d}" == "3"
+    assert Outcome.JAM == 3 and int(Outcome.LAUNCH) == 6 and json.dumps([Outcome.STICK]) == "[2]"
+
+
+def _sweep(progress):
+    import crosscheck as cc
+    from crosscheck import engines
+
+    state = cc.SlipState(theta=1.1067, varphi=-1.8913, Theta=0.9, Psi=-0.1027, eta=2.1307)
+    kwargs = {} if progress == "default" else {"progress": progress}
+    return engines.get("mujoco").sweep(cc.Rod.scaled(3), [state] * 3, [0.5, 1.0, 1.4], horizon=0.3, **kwargs)
+
+
+def test_a_library_sweep_draws_no_bar_unless_on_a_terminal_or_asked(capsys):
+    """Under pytest standard error is not a terminal: the default draws nothing, progress=True draws the bar."""
+    import sys
+
+    from crosscheck.progress import enabled
+
+    assert not sys.stderr.isatty() and enabled(None) is False and enabled(True) is True and enabled(False) is False
+
+    class Terminal:
+        def isatty(self):
+            return True
+
+    assert enabled(None, Terminal()) is True
+    _sweep("default")
+    assert capsys.readouterr().err == ""
+    _sweep(True)
+    assert "mujoco sweep" in capsys.readouterr().err
+
+
+def test_a_sweep_is_a_labelled_data_frame():
+    res = _sweep(False)
+    df = res.to_pandas()
+    assert list(df["outcome"].astype(str)) == [o.name for o in map(__import__("crosscheck").Outcome, res.outcome)]
+    assert list(df["mu"]) == [0.5, 1.0, 1.4] and {"theta", "varphi", "Theta", "Psi", "eta", "event_time"} <= set(df.columns)
+    counts = df["outcome"].value_counts()
+    assert counts["LAUNCH"] == 0 and counts.sum() == 3  # every outcome is a category, even one that did not occur

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field, fields
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
-from tqdm.auto import tqdm
+from crosscheck.progress import bar
 
 from crosscheck.checks import MU, POSITIVE
 from crosscheck.engines.classifier import Classification, Thresholds, classify
@@ -65,7 +65,7 @@ class Engine(Protocol):
 
     Methods:
       simulate(rod, state, mu, *, horizon, thresholds=None, **options) -> Run
-      sweep(rod, states, mu, *, horizon, thresholds=None, progress=True, **options) -> SweepResult
+      sweep(rod, states, mu, *, horizon, thresholds=None, progress=None, **options) -> SweepResult
         (mu: a scalar or one per state; the same outcome per state as simulate)
     """
 
@@ -76,7 +76,7 @@ class Engine(Protocol):
                  **options) -> "Run": ...
 
     def sweep(self, rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None,
-              progress: bool = True, **options) -> "SweepResult": ...
+              progress: bool | None = None, **options) -> "SweepResult": ...
 
 
 def options_from_kwargs(cls: type, options: dict[str, Any], engine: str):
@@ -239,6 +239,23 @@ class SweepResult:
     def __len__(self) -> int:
         return len(self.outcome)
 
+    def to_pandas(self):
+        """The sweep as a ``pandas.DataFrame``, one row per state: the start (``STATE_KEYS``), ``mu``, ``outcome`` as a
+        categorical of ``Outcome`` names (every name a category, so counts list the outcomes that did not occur as 0),
+        ``event_time``, ``exit_time``, ``diverged_time`` (scaled time) and the ``SUMMARY`` columns."""
+        import pandas as pd
+
+        names = [o.name for o in Outcome]
+        df = pd.DataFrame({**{k: np.asarray(v) for k, v in self.states.items()}, "mu": np.asarray(self.mu, dtype=float)})
+        df["outcome"] = pd.Categorical.from_codes(np.asarray(self.outcome, dtype=int), categories=names)
+        for k in ("event_time", "exit_time", "diverged_time"):
+            df[k] = np.asarray(getattr(self, k), dtype=float)
+        for k, v in (self.summary or {}).items():
+            if k not in df:
+                df[k] = np.asarray(v)
+        df.attrs.update(engine=self.engine, alpha=self.alpha, horizon=self.horizon)
+        return df
+
 
 def _decimate_mean(x: np.ndarray, m: int) -> np.ndarray:
     """Mean of consecutive blocks of m rows along the last axis (drops the remainder)."""
@@ -286,7 +303,7 @@ def _simulate_chunk(engine: Engine, rod: Rod, states: list, mu: list, horizon: f
 
 
 def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu, *, horizon: float,
-                      thresholds: Thresholds | None = None, n_series: int = 200, progress: bool = True, workers: int = 1,
+                      thresholds: Thresholds | None = None, n_series: int = 200, progress: bool | None = None, workers: int = 1,
                       **options) -> SweepResult:
     """An engine's ``sweep`` as one ``simulate`` per state (for engines without a batched path).
 
@@ -307,7 +324,7 @@ def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu,
     t0 = time.perf_counter()
     if workers == 1 or B == 1:
         runs = [engine.simulate(rod, s, float(m), horizon=horizon, thresholds=th, **options)
-                for s, m in tqdm(list(zip(states, mu)), desc=f"{engine.name} sweep", unit="state", disable=not progress)]
+                for s, m in bar(list(zip(states, mu)), progress=progress, desc=f"{engine.name} sweep", unit="state")]
     else:
         from crosscheck.workers import pool as worker_pool
 
@@ -315,7 +332,7 @@ def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu,
         chunks = [(states[a:a + size], [float(m) for m in mu[a:a + size]]) for a in range(0, B, size)]
         with worker_pool(workers) as pool:
             futures = [pool.submit(_simulate_chunk, engine, rod, c_states, c_mu, horizon, th, options) for c_states, c_mu in chunks]
-            runs = [r for f in tqdm(futures, desc=f"{engine.name} sweep", unit="chunk", disable=not progress) for r in f.result()]
+            runs = [r for f in bar(futures, progress=progress, desc=f"{engine.name} sweep", unit="chunk") for r in f.result()]
     lengths = {len(r.record) for r in runs}
     if len(lengths) != 1:
         raise ValueError(f"{engine.name} records have different lengths {sorted(lengths)}; sweep_by_simulate needs a fixed timestep")

@@ -189,7 +189,7 @@ def health(raw: Raw, record: Record, rod: Rod, opts: Options) -> BulletHealth:
                         max_points=int(points.max(initial=0)), max_penetration=max(0.0, -deepest) / rod.length)
 
 
-def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
+def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool | None = None,
           workers: int = 1, **options) -> SweepResult:
     """Every state through ``simulate`` (one classifier, the same records), on ``workers`` processes.
 

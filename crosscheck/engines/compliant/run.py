@@ -224,7 +224,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: floa
                                    horizon=horizon, nstep=n, solver=SolverStats.of(traj))
 
 
-def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
+def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool | None = None,
           workers: int = 1, **options) -> SweepResult:
     """Every state through ``simulate`` (``sweep_by_simulate``; ``workers`` forked processes)."""
     return sweep_by_simulate(get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers,

@@ -253,7 +253,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     return replace(run, solver=raw.health)
 
 
-def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
+def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool | None = None,
           workers: int = 1, **options) -> SweepResult:
     """Every state through ``simulate`` (``sweep_by_simulate`` with the registered engine of the options' approximation).
 

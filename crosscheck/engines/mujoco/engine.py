@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 from mujoco import rollout
-from tqdm.auto import tqdm
+from crosscheck.progress import bar
 
 from crosscheck.checks import MU, POSITIVE, check
 from crosscheck.engines.base import (SERIES, STATE_KEYS, SUMMARY, Run, SweepResult, check_states, n_steps_within_memory, summaries)
@@ -93,7 +93,7 @@ class Batch:
         x0 = np.stack([initial_state(first, rod, s, options.radius, data=scratch) for s in states])
         return cls(models, SensorLayout.from_model(first), mu, x0, nstep, nthread, options.radius)
 
-    def chunks(self, *, progress: bool, desc: str = "mujoco sweep"):
+    def chunks(self, *, progress: bool | None, desc: str = "mujoco sweep"):
         """Run the batch; yield (slice of states, (n, nstep, nsensordata) sensordata) per chunk.
 
         The sensordata buffer is reused between chunks: use it before the next one.
@@ -104,7 +104,7 @@ class Batch:
         data = [mujoco.MjData(first) for _ in range(self.nthread)]
         buffer = np.empty((chunk, self.nstep, nsensor))
         with rollout.Rollout(nthread=self.nthread if self.nthread > 1 else 0) as pool:
-            for a in tqdm(range(0, B, chunk), desc=desc, unit="chunk", disable=not progress):
+            for a in bar(range(0, B, chunk), progress=progress, desc=desc, unit="chunk"):
                 sl = slice(a, min(a + chunk, B))
                 sd = buffer[: sl.stop - sl.start]
                 pool.rollout(
@@ -118,7 +118,7 @@ class Batch:
                 )
                 yield sl, sd
 
-    def records(self, rod: Rod, *, progress: bool, desc: str = "mujoco sweep"):
+    def records(self, rod: Rod, *, progress: bool | None, desc: str = "mujoco sweep"):
         """Run the batch; yield (slice of states, ``Record`` of that chunk) per chunk."""
         for sl, sd in self.chunks(progress=progress, desc=desc):
             yield sl, record_from_sensordata(sd, self.layout, rod, self.radius)
@@ -170,7 +170,7 @@ def sweep(
     thresholds: Thresholds | None = None,
     nthread: int = 2,
     n_series: int = 200,
-    progress: bool = True,
+    progress: bool | None = None,
     **options,
 ) -> SweepResult:
     """Simulate every state in MuJoCo and classify it, batched through ``mujoco.rollout``.
@@ -184,7 +184,7 @@ def sweep(
       nthread: rollout threads (2 on this machine's 2 cores).
       n_series: keep between n_series and 2 n_series decimated rows per state in
         ``series`` (every nstep // n_series-th row).
-      progress: show a tqdm bar over chunks.
+      progress: a tqdm bar over chunks: None (default) on a terminal only, True always, False never (``crosscheck.progress``).
       **options: scaled MuJoCo parameters, as for ``simulate`` (unknown -> ValueError).
 
     Returns:

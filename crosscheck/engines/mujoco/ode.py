@@ -339,7 +339,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
                                    horizon=horizon, nstep=nstep)
 
 
-def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
+def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool | None = None,
           **options) -> SweepResult:
     """Every state through ``simulate`` (``sweep_by_simulate``)."""
     return sweep_by_simulate(get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)

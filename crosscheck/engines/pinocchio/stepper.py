@@ -246,7 +246,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     return dataclasses.replace(run, solver=health)
 
 
-def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool = True,
+def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool | None = None,
           workers: int = 2, **options) -> SweepResult:
     """Every state through ``simulate`` (one classifier, the same records), on ``workers`` processes (both cores by default)."""
     return sweep_by_simulate(get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options)

@@ -15,7 +15,7 @@ from crosscheck.coordinates import GENERALIZED, tip_position, to_generalized
 from crosscheck.theory.critical import Psi_L, theta_L
 from crosscheck.engines import get
 from crosscheck.engines.mujoco.engine import Batch, Options
-from crosscheck.engines.mujoco.model import ModelFileError, SensorLayout, build_model, initial_state, model_path, record_from_sensordata
+from crosscheck.engines.mujoco.model import ModelFileError, SensorLayout, build_model, initial_state, model_path, record_from_sensordata, START_GAP
 from crosscheck.engines.mujoco.tolerances import MUJOCO_FREE_ACCELERATION
 from conftest import random_slip_states
 
@@ -72,7 +72,7 @@ def test_free_tip_acceleration_is_linode2_and_b(name):
 
 
 def test_start_touches_and_keeps_the_state_velocities():
-    """z_A = r: the capsule's lowest point is on the plane up to rounding, velocities are the state's."""
+    """z_A = r + START_GAP: the capsule's lowest point START_GAP above the plane, velocities the state's."""
     s = SlipState(theta=0.7, varphi=-1.0, Theta=0.3, Psi=0.8, eta=1.2, psi=0.4)
     radius = 0.02
     model = build_model(ROD, 0.5, Options(radius=radius))
@@ -80,31 +80,35 @@ def test_start_touches_and_keeps_the_state_velocities():
     mujoco.mj_setState(model, data, initial_state(model, ROD, s, radius), mujoco.mjtState.mjSTATE_FULLPHYSICS)
     mujoco.mj_forward(model, data)
     capsule_bottom = data.site("tip").xpos[2] - radius * ROD.length
-    assert abs(capsule_bottom) < 1e-15
+    assert abs(capsule_bottom - START_GAP * ROD.length) < 1e-15
     _, v = to_generalized(ROD, s, tip=(0, 0, radius))
     np.testing.assert_array_equal(data.qvel, v)
 
 
-def test_contact_at_t0_is_decided_by_rounding_and_then_already_pushes():
-    """At t = 0 MuJoCo's distance is +-1e-16 l: where it is negative the contact is active in row 0 with a force.
+def test_no_start_has_a_contact_in_its_first_row_and_every_falling_start_has_one_in_its_second():
+    """At t = 0 MuJoCo's distance is START_GAP l (+-1e-16 l of rounding): no contact, no force, for every start.
 
-    The start puts the capsule's lowest point on the plane (z_A = r), so dist is
-    the rounding of r and of the rotated tip offset.  MuJoCo keeps a contact
-    while dist < 0: an active contact in the first row stops the tip's free
-    acceleration at once (a positive normal force in row 0); otherwise row 0
-    has no contact and no force.  Both happen over random states.
+    With the capsule's lowest point exactly on the plane, the sign of MuJoCo's
+    distance was the rounding of r and of the rotated tip offset, and whether
+    row 0 had a contact was a tie (14 % of 400 random states had one).  The
+    start now sits START_GAP above, 3000 times that rounding.  A slipping start
+    whose tip's free acceleration b points into the plane falls |b| dt^2 / 2 >> START_GAP in the first
+    step: its contact is on in row 1.  (With b > 0 the capsule's lowest point C may still sink: its acceleration
+    differs from A's by the capsule's O(r) terms.)
     """
     rng = np.random.default_rng(0)
     states = random_slip_states(rng, 200)
-    batch = Batch.build(ROD, states, 1.0, horizon=Options().timestep, options=Options(), nthread=1)
+    batch = Batch.build(ROD, states, 1.0, horizon=2 * Options().timestep, options=Options(), nthread=1)
     (_, sd), = batch.chunks(progress=False)
     L = batch.layout
     dist, found, force = sd[:, 0, L.dist], sd[:, 0, L.found] > 0, sd[:, 0, L.force.start]
+    assert not np.any(found) and np.all(force == 0.0)
     gap = sd[:, 0, L.tip_pos.start + 2] - Options().radius * ROD.length
-    assert np.all(np.abs(gap) < 1e-15)
-    assert np.all(dist[found] < 0) and np.all(dist[found] > -1e-15)
-    assert 0.02 < found.mean() < 0.5  # both cases occur (14 % of 400 states at seed 0 when written)
-    assert np.all(force[found] > 0) and np.all(force[~found] == 0)
+    assert np.all(np.abs(gap - START_GAP * ROD.length) < 1e-15) and np.all(dist == 0.0)  # no contact: the sensor reads 0
+    b = np.array([an.b(s.Psi, s.Theta, s.theta) for s in states])
+    down = b < 0
+    assert 0 < down.sum() < len(b)  # both kinds of start occur
+    assert np.all(sd[down, 1, L.found] > 0)
 
 
 def test_slip_velocity_formula_matches_mujoco_contact_velocity():

@@ -78,11 +78,12 @@ ROUNDING_ULPS = (-2, -1, 1, 2)
 def decided_by_rounding(ladder: "Ladder", label: Outcome, *, thresholds: Thresholds | None = None) -> bool:
     """Whether MuJoCo gives ``label`` at a start 1 or 2 units in the last place of theta away from ``ladder``'s.
 
-    MuJoCo's capsule starts touching the plane, its lowest point at z = 0 up to
-    rounding (``crosscheck.engines.mujoco.model.initial_state``), so whether its
-    contact is active in the first row is decided by the last bits of the
-    start, and near p = 0 that decides the outcome (a start of the maps
-    jams at t = 0.0027 or lifts off at t = 0.0186 as theta moves by one ulp).
+    When MuJoCo's capsule started exactly on the plane, whether its contact was
+    active in the first row was decided by the last bits of the start, and near
+    p = 0 that decided the outcome (a start of the maps jammed at t = 0.0027 or
+    lifted off at t = 0.0186 as theta moved by one ulp).  The start is now a
+    hair above the plane (``crosscheck.engines.mujoco.model.START_GAP``) and
+    the probe is the check that no such start is left.
     The agreement study builds its starts as arrays, whose sine and cosine
     take numpy's SIMD paths, the ladder one by one: a rerun that differs from
     the study's label at such a start is the same start in all but its last

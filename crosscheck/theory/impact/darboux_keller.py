@@ -137,8 +137,9 @@ class Impact:
       state: the state before the impulse.
       mu, alpha, restitution: the parameters.
       Theta, Psi: rates after the impulse.
-      eta, varphi: slip speed and slip angle of the tip after it (varphi None
-        where eta = 0: a stuck tip has no slip direction).
+      eta, varphi: slip speed and slip angle of the tip after it: 0 and None
+        (the slip always stops within the impulse, module docstring; eta is
+        the computed speed where it exceeds the integration's stop speed).
       w: normal velocity of the tip after it (0 for e = 0; > 0 lifts off).
       normal_impulse: P_f; compression_impulse: P_c.
       tangential_impulse: (2,) world x, y [m g / omega].
@@ -163,11 +164,6 @@ class Impact:
     energy_lost: float
     v_before: np.ndarray = field(repr=False)
     v_after: np.ndarray = field(repr=False)
-
-    def after(self) -> SlipState:
-        """The post-impulse state as a ``SlipState`` (requires eta > 0 and w = 0 to be a slipping state)."""
-        return SlipState(theta=self.state.theta, varphi=self.varphi if self.eta > 0 else -math.pi / 2, Theta=self.Theta, Psi=self.Psi,
-                         eta=self.eta, psi=self.state.psi)
 
 
 def _mass_and_jacobian(theta: float, psi: float, alpha: float) -> tuple[np.ndarray, np.ndarray]:

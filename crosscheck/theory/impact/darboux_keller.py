@@ -238,7 +238,7 @@ def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.
         raise ValueError(f"p must be in [-{GB_REACHED.atol:g}, {GB_REACHED.atol:g}] for an impact on the boundary p = 0; got p = {p0!r}")
     if not boundary and p0 > P_TOLERANCE:
         raise ValueError(f"p must be <= {P_TOLERANCE:g} (at or past the paradox boundary) for an impact without collision; "
-                         f"got p = {p0!r} at this state: it can slip")
+                         f"got p = {p0!r} at this state: it can slip (a state known to be on p = 0, a GB arrival, takes boundary=True)")
     on_boundary = boundary or abs(p0) <= P_TOLERANCE
     scale = 1.0 + float(np.linalg.norm(u0))
     stop = 1e-12 * scale

@@ -277,3 +277,38 @@ def test_a_sweep_is_a_labelled_data_frame():
     assert list(df["mu"]) == [0.5, 1.0, 1.4] and {"theta", "varphi", "Theta", "Psi", "eta", "event_time"} <= set(df.columns)
     counts = df["outcome"].value_counts()
     assert counts["LAUNCH"] == 0 and counts.sum() == 3  # every outcome is a category, even one that did not occur
+
+
+# -------------------------------------------------------------- the CLI ---
+
+from crosscheck import engines as _engines  # noqa: E402
+
+#: The paper's IC2 (Fig. 20): the theory lifts off at t = 0.0165.
+IC2 = ["--theta", "1.1031", "--varphi", "-1.9233", "--Theta", "0.9", "--Psi", "0", "--eta", "2.0", "--mu", "1.4"]
+
+
+@pytest.mark.parametrize("engine", _engines.names(), ids=str)
+def test_simulate_plots_and_tabulates_a_run_of_every_engine(engine, tmp_path, capsys):
+    """--plot writes the figure with the run's and the theory's CSV beside it; the CSV's first row is the start."""
+    from PIL import Image
+
+    from crosscheck.cli import main
+
+    png = tmp_path / "run.png"
+    assert main(["simulate", "--engine", engine, *IC2, "--horizon", "0.05", "--plot", str(png), "--csv", str(tmp_path / "run_record.csv")]) == 0
+    assert f"wrote {png}" in capsys.readouterr().out
+    with Image.open(png) as im:
+        assert im.format == "PNG" and im.size[0] > 1000
+    rows = list(csv.DictReader((tmp_path / "run_record.csv").open()))
+    assert float(rows[0]["theta"]) == pytest.approx(1.1031, abs=1e-9) and float(rows[-1]["t"]) <= 0.05 + 1e-6
+    theory = list(csv.DictReader((tmp_path / "run_theory.csv").open()))
+    assert float(theory[0]["eta"]) == pytest.approx(2.0) and float(theory[-1]["t"]) == pytest.approx(0.0165399, rel=1e-4)  # its lift-off
+
+
+def test_explain_plots_every_rung(tmp_path, capsys):
+    from crosscheck.cli import main
+
+    png = tmp_path / "ladder.png"
+    assert main(["explain", "--engine", "bullet", *IC2, "--plot", str(png)]) == 0
+    doc = json.loads(png.with_suffix(".json").read_text())
+    assert png.stat().st_size > 10_000 and len(doc["rungs"]) >= 2 and doc["cause"] in capsys.readouterr().out

@@ -30,6 +30,25 @@ def _start(args):
     return state, _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA), _num("horizon", args.horizon, HORIZON)
 
 
+def _plot(args, ladder, name: str, state, mu: float, alpha: float) -> None:
+    """--plot FILE: every rung of the ladder on one figure (``crosscheck.report.trajectory_plot.plot_ladder``), with its JSON beside it."""
+    if not getattr(args, "plot", None):
+        return
+    import sys
+    from pathlib import Path
+
+    import matplotlib.pyplot as plt
+
+    from crosscheck.report.trajectory_plot import plot_ladder
+
+    path = Path(args.plot)
+    title = (f"{name}'s ladder from theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; "
+             f"mu {mu:g}, alpha {alpha:g}: cause {ladder.cause}")
+    plt.close(plot_ladder(ladder, path=path, title=title))
+    path.with_suffix(".json").write_text(json.dumps(ladder.as_dict(), indent=1, allow_nan=False) + "\n")
+    print(f"wrote {path} and {path.with_suffix('.json')}", file=sys.stderr if args.json else sys.stdout)
+
+
 def _explain(args) -> int:
     import warnings
 
@@ -56,6 +75,7 @@ def _explain(args) -> int:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # a rung that cannot run is printed below, loudly
         ladder = run_ladder(state, mu, alpha=alpha, horizon=horizon, **options)
+    _plot(args, ladder, "MuJoCo", state, mu, alpha)
     if args.json:
         print(json.dumps(ladder.as_dict(), indent=2, allow_nan=False))
         return 0
@@ -98,6 +118,9 @@ def _explain_declared(args) -> int:
 
         options["radius"] = _num("radius", args.radius, RADIUS)
     ld = run_ladder(args.engine, state, mu, alpha=alpha, horizon=horizon, **options)
+    from crosscheck.engines.base import engine_label as _label
+
+    _plot(args, ld, _label(args.engine), state, mu, alpha)
     if args.json:
         print(json.dumps(ld.as_dict(), indent=2, allow_nan=False))
         return 0
@@ -126,4 +149,6 @@ def register(sub) -> None:
     s.add_argument("--radius", type=str, default=None, metavar="R", help="capsule radius r / l, in (0, 0.5) (default 0.01)")
     s.add_argument("--horizon", type=str, default="2", help="scaled comparison horizon, in (0, 10000] (default 2, the agreement study's)")
     s.add_argument("--json", action="store_true", help="print the ladder as JSON")
+    s.add_argument("--plot", metavar="FILE", default=None, help="draw every rung (its outcome and event time against the comparison "
+                   "window) on one figure in FILE (.png, .svg or .pdf), with FILE's .json beside it")
     s.set_defaults(func=_explain)

@@ -24,12 +24,42 @@ def _simulate(args) -> int:
     out = {"engine": run.engine, **state.as_dict(), "mu": mu, "alpha": alpha, "horizon": run.horizon, "outcome": run.outcome.name,
            "event_time": fin(run.event_time), "exit_time": fin(run.exit_time), "diverged_time": fin(run.diverged_time),
            "jam_p_eff": fin(run.jam_p_eff), "nstep": run.nstep}
+    written = _write_outputs(run, args)
     if args.json:
-        print(json.dumps(out, indent=2))
+        print(json.dumps({**out, **({"files": written} if written else {})}, indent=2))
     else:
         when = "" if math.isnan(run.event_time) else f" at t = {run.event_time:.6g}"
         print(f"{run.engine}: {run.outcome.name}{when}  (horizon {run.horizon:g}, {run.nstep} steps)")
+        for f in written:
+            print(f"wrote {f}")
     return 0
+
+
+def _write_outputs(run, args) -> list[str]:
+    """--csv: the run's record as columns; --plot: the run against the theory (crosscheck.report.trajectory_plot), with the
+    data behind it beside the figure (the run's and the theory's CSV)."""
+    from pathlib import Path
+
+    written = []
+    if getattr(args, "csv", None) or getattr(args, "plot", None):
+        from crosscheck.report import trajectory_plot as tp
+
+        if args.csv:
+            written.append(str(tp.write_csv(args.csv, tp.run_columns(run))))
+        if args.plot:
+            plot = Path(args.plot)
+            fig = tp.plot_run(run, path=plot)
+            th = tp.theory_trajectory(run.state, run.mu, run.alpha, run.horizon)
+            written.append(str(plot))
+            if not args.csv:
+                written.append(str(tp.write_csv(plot.with_suffix(".csv"), tp.run_columns(run))))
+            written.append(str(tp.write_csv(plot.with_name(plot.stem + "_theory.csv"),
+                                            {"t": th.t, "theta": th.theta, "Theta": th.Theta, "Psi": th.Psi, "eta": th.eta, "varphi": th.varphi,
+                                             "b": th.b, "p": th.p, "minus_b_over_p": th.normal_force})))
+            import matplotlib.pyplot as plt
+
+            plt.close(fig)
+    return written
 
 
 def register(sub) -> None:
@@ -40,4 +70,8 @@ def register(sub) -> None:
     s.add_argument("--horizon", type=ascii_number, default="2", help="scaled time to simulate, > 0, at most what a record of 4 GiB holds (default 2)")
     s.add_argument("--timestep", type=ascii_number, default=None, help="scaled timestep, > 0 (default: the engine's)")
     s.add_argument("--json", action="store_true", help="print the result as JSON")
+    s.add_argument("--plot", metavar="FILE", default=None, help="draw the run against the theory (theta, Theta, Psi, slip speed, contact "
+                   "height, normal force and -b/p, event times) to FILE (.png, .svg or .pdf), with FILE's .csv and _theory.csv beside it")
+    s.add_argument("--csv", metavar="FILE", default=None, help="write the run's record (t, theta, Theta, psi, Psi, eta, varphi, gap, "
+                   "normal_force, active, b, p, -b/p; scaled units) to FILE")
     s.set_defaults(func=_simulate)

@@ -137,6 +137,70 @@ def test_the_same_impulse_with_friction_along_the_rod_axis_is_no_jam():
     assert c.outcome != Outcome.JAM
 
 
+def compliant_stop_record(*, slip_friction: float, k: int = 0, slip_rows: int = 10, stuck_rows: int = 20) -> Record:
+    """A compliant impulse ending in a slip stop: from row k the normal force is 40 m g for slip_rows + stuck_rows rows.
+
+    At k = 0 (an inconsistent start jams at once) every window that holds the slip loss also holds the stuck rows.  While it slips (slip_rows rows, eta falling linearly from 1 to 0) the friction is slip_friction F_z opposite the slip
+    along +x; stuck, the friction has no component along e = (-1, 0), so p_eff = 1 + alpha cos^2 theta = 3.05 there, as
+    the compliant rod's static friction lifts it (-0.5 slipping, +1.6 stuck, from the inconsistent start).
+    """
+    R = slipping_record(force=0.5)
+    F, vel = R.force.copy(), R.tip_vel.copy()
+    slip, stuck = slice(k, k + slip_rows), slice(k + slip_rows, k + slip_rows + stuck_rows)
+    F[slip, 2], F[slip, 0] = 40.0, -slip_friction * 40.0
+    F[stuck, 2], F[stuck, 0] = 40.0, 0.0
+    F[k + slip_rows + stuck_rows:, 0] = 0.0
+    vel[slip, 0] = np.linspace(1.0, 0.0, slip_rows + 1)[:-1]
+    vel[k + slip_rows:, 0] = 0.0
+    return replace(R, force=F, normal_force=F[:, 2].copy(), tip_vel=vel, slip_vel=np.column_stack([vel[:, :2], np.zeros(len(R))]))
+
+
+def test_a_fast_slip_stop_at_the_engines_own_p_below_zero_is_a_jam_given_the_contact_time():
+    """The impulse of a compliant jam ends in a slip stop.  The window that holds it also holds the stuck rows after it
+    (p_eff 3.05): the window rule reads STICK.  With the contact time, the stop's look-back (slipping rows at p_eff = -0.45,
+    40 m g) reads JAM at the stop's own row; with friction along the rod axis while it slips (p_eff 3.05) it stays STICK."""
+    dt = 1e-3
+    R = compliant_stop_record(slip_friction=2.5)
+    window_only = classify(R, mu=2.5, alpha=ALPHA, timestep=dt)
+    c = classify(R, mu=2.5, alpha=ALPHA, timestep=dt, contact_time=5e-3)
+    assert Outcome(int(window_only.outcome)) == Outcome.STICK
+    assert Outcome(int(c.outcome)) == Outcome.JAM and c.event_row == window_only.event_row
+    assert c.jam_p_eff == pytest.approx(1 + 3 - 3 * math.sin(0.6) ** 2 - 3 * math.sin(0.6) * math.cos(0.6) * 2.5)
+    assert c.jam_impulse == pytest.approx(10 * 40.0 * dt)  # the look-back, 3 x 5 rows cut at row 0: 10 rows of 40 m g
+    along_axis = classify(compliant_stop_record(slip_friction=0.0), mu=2.5, alpha=ALPHA, timestep=dt, contact_time=5e-3)
+    assert Outcome(int(along_axis.outcome)) == Outcome.STICK
+    # a stop under a force below jam_ratio jam_force (a slow stop at p_eff < 0 is no rigid rod's, but the force test
+    # alone must reject it): 2 m g < 3 m g
+    weak = compliant_stop_record(slip_friction=2.5)
+    F = weak.force * np.where(weak.force[:, 2:3] > 1.0, 2.0 / 40.0, 1.0)
+    weak = replace(weak, force=F, normal_force=F[:, 2].copy())
+    assert Outcome(int(classify(weak, mu=2.5, alpha=ALPHA, timestep=dt, contact_time=5e-3).outcome)) == Outcome.STICK
+
+
+def test_the_compliant_jam_tends_to_the_rigid_rule_as_the_contact_time_vanishes():
+    """As contact_time -> 0 the look-back shrinks to lift_steps rows (the rigid rule's look-ahead), and on a Coulomb
+    record both rules read the impulse as a JAM: the rigid one at the impulse's first row, the compliant one at the stop."""
+    th = Thresholds()
+    assert th.stop_rows(1e-12, 1e-3) == th.lift_steps and th.stop_rows(0.06, 3e-4) == 600
+    R = compliant_stop_record(slip_friction=2.5)
+    rigid = classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3, rigid=True)
+    for contact_time in (1e-2, 1e-3, 1e-6):
+        c = classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3, contact_time=contact_time)
+        assert Outcome(int(c.outcome)) == Outcome(int(rigid.outcome)) == Outcome.JAM, contact_time
+        assert rigid.event_row == 0 and c.event_row == 10
+
+
+def test_a_rigid_engine_or_a_missing_contact_time_keeps_the_window_rule():
+    """rigid=True ignores contact_time (its JAM is one row's impulse); a bad contact time is named."""
+    R = compliant_stop_record(slip_friction=2.5)
+    a = classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3, rigid=True)
+    b = classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3, rigid=True, contact_time=5e-3)
+    assert (a.outcome, a.event_row) == (b.outcome, b.event_row)
+    assert classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3, contact_time=0.0).outcome == classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3).outcome
+    with pytest.raises(ValueError, match=r"contact_time must be in \[0, inf\); got -0.001"):
+        classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3, contact_time=-1e-3)
+
+
 @pytest.mark.parametrize("fault", ["nan", "stalled_clock", "runaway_speed"], ids=str)
 def test_faults_in_a_clean_slip_record_are_diverged_at_the_faulty_row(fault):
     """Injected faults in a clean MuJoCo SLIP record give DIVERGED at the faulty row."""
@@ -164,7 +228,8 @@ def test_faults_in_a_clean_slip_record_are_diverged_at_the_faulty_row(fault):
     ({"window_steps": 0}, "window_steps must be an integer >= 1; got 0"),
     ({"lift_steps": 2.5}, "lift_steps must be an integer >= 1; got 2.5"),
     ({"jam_p_eff": -0.1}, r"jam_p_eff must be in \[0, inf\); got -0.1"),
-], ids=["nan_speed", "negative_window", "zero_window_steps", "fractional_lift_steps", "negative_p_eff"])
+    ({"jam_contact_times": -3.0}, r"jam_contact_times must be in \[0, inf\); got -3.0"),
+], ids=["nan_speed", "negative_window", "zero_window_steps", "fractional_lift_steps", "negative_p_eff", "negative_contact_times"])
 def test_bad_thresholds_are_named(kwargs, message):
     with pytest.raises(ValueError, match=message):
         Thresholds(**kwargs)

@@ -27,6 +27,41 @@ but 1.0-1.6 x -b/p_eff, measured at high mu eta).  Below mu_P no friction
 direction makes p_eff vanish (p_eff >= min over varphi of eq. p > 0), so this
 rule cannot mistake a mere direction change for a jam.
 
+A compliant contact (force built up over a contact time tau_c > 0: the
+compliant rod's eps, Drake's 1/sqrt(stiffness), MuJoCo's solref time
+constant) resolves an impact without collision in a time O(tau_c), not in a
+step, and ends it in a slip stop.  The window rule above misses that stop:
+its window W is fixed while the stop shrinks with tau_c, and the window
+that holds the stop also holds the stuck contact after it, whose static
+friction lifts the window's p_eff above jam_p_eff (the compliant rod from
+the inconsistent start mu = 2, theta = pi/4, Theta = 0, eta = 1: p_eff -0.5
+while slipping, +1.6 stuck; window p_eff ~0.5).  ``classify`` therefore also
+judges the first slip stop itself when it is given ``contact_time``
+(``Thresholds.stop_rows``): the stop is a JAM when, over the last
+jam_contact_times tau_c before it, the contact slipped at the engine's own
+p_eff <= jam_p_eff and the mean normal force exceeded jam_ratio times what
+slipping there needs (and jam_ratio jam_force).  Derivation from
+``crosscheck.theory.compliant_limit`` (tau_c = eps):
+
+* inconsistent start: the slip stops at t_stop = (eps/lambda) ln(1/eps) +
+  C eps, under an impulse P_stop = O(1) that grows as e^(lambda t/eps), so
+  a look-back of 3 eps holds a fraction 1 - e^(-3 lambda) of it (95 % at
+  lambda = 1, the start above with xi = 1) and a mean force
+  ~ P_stop/(3 eps) = O(1/eps), while the slipping rows have p_eff = p < 0;
+* Corollary 4.2 jam: the slip stops O(eps^(4/5)) after p crosses 0, under
+  F_n ~ eps^(-2/5): the last slipping rows have p_eff < 0 and the mean
+  force over 3 eps is ~ eps^(2/5)/(3 eps) = O(eps^(-3/5));
+* a slow stick ends a slip at p = O(1) > jam_p_eff under -b/p: never a JAM.
+
+As tau_c -> 0 the look-back shrinks to lift_steps rows, the force to a
+row's impulse and p_eff to the row's eq. p: the rigid rule.  The stop's
+JAM keeps the stop's row and time, so the rule changes an outcome only
+where the first slip stop was the first event: a STICK (or an event tied
+with it) becomes a JAM at the same instant, the engines' jam being their
+first slip stop as in their trajectories.  The rule's slip-loss test is
+the rigid rule's; at a stop it only asks that the look-back start
+slipping, and the stop's speed is judged through the force it took.
+
 All quantities are in the paper's scaled units (section 2.1).
 """
 
@@ -134,6 +169,21 @@ class Thresholds:
         MuJoCo's hops at its default (timestep 3e-4, timeconst 0.06) were at
         most 0.045 on the 40 starts above.  0.05 lies just above them and
         well below the 0.45 of SAP's gliding: a regression-guard choice.
+      jam_contact_times: the look-back of a compliant slip stop's JAM test
+        (``classify``'s ``contact_time`` tau_c > 0), in contact times: the
+        stop is judged on the rows of the last jam_contact_times tau_c before
+        it (at least lift_steps rows, the rigid rule's look-ahead).  3: the
+        compliant rod's impulse grows as e^(lambda t / tau_c) up to the stop
+        (``crosscheck.theory.compliant_limit``), so 3 tau_c hold a fraction
+        1 - e^(-3 lambda) of it, 95 % at lambda = 1 (|p| = 0.5, xi = 1), and
+        its mean force ~ P_stop / (3 tau_c) is O(1/tau_c) >> -b/p; a longer
+        look-back only dilutes the mean towards the slipping force of the
+        rows before the jam.  Measured: from the inconsistent start mu = 2,
+        theta = pi/4 the compliant rod's slip falls from 80 % to 0 in
+        1.0-1.5 eps (eps = 0.03-0.001), and the look-back holds 93-97 % of
+        the fast problem's P_stop; Drake's continuous Hunt-Crossley contact
+        at stiffness 1e6 (tau_c = 1e-3) from a Corollary 4.2 start falls
+        from 77 % to 0 in 2 tau_c.
       diverged_speed: DIVERGED when the scaled tip speed exceeds this (energy
         is bounded: a slipping rod of the paper's ranges never exceeds O(10)),
         when any value is not finite, or when the engine's clock stops
@@ -155,12 +205,14 @@ class Thresholds:
     rigid_stick_steps: float = 10.0
     launch_ratio: float = 0.1
     launch_speed: float = 0.05
+    jam_contact_times: float = 3.0
     diverged_speed: float = 1e3
 
     def __post_init__(self) -> None:
         for name in ("window", "jam_ratio", "diverged_speed"):
             object.__setattr__(self, name, float(check(name, getattr(self, name), POSITIVE)))
-        for name in ("jam_force", "jam_slip_loss", "jam_p_eff", "stick_speed", "stick_creep", "rigid_stick_steps", "launch_ratio", "launch_speed"):
+        for name in ("jam_force", "jam_slip_loss", "jam_p_eff", "stick_speed", "stick_creep", "rigid_stick_steps", "launch_ratio", "launch_speed",
+                     "jam_contact_times"):
             object.__setattr__(self, name, float(check(name, getattr(self, name), NONNEGATIVE)))
         for name in ("window_steps", "lift_steps"):
             v = getattr(self, name)
@@ -171,6 +223,10 @@ class Thresholds:
     def window_rows(self, timestep: float) -> int:
         """Window length in rows for scaled timestep ``timestep``."""
         return max(int(self.window_steps), int(math.ceil(self.window / timestep - 1e-9)))
+
+    def stop_rows(self, contact_time: float, timestep: float) -> int:
+        """Look-back of a compliant slip stop's JAM test in rows: jam_contact_times contact times, at least lift_steps rows."""
+        return max(int(self.lift_steps), int(math.ceil(self.jam_contact_times * contact_time / timestep - 1e-9)))
 
     def stick_threshold(self, friction_timeconst: float) -> float:
         """Slip speed below which a run with friction time constant ``friction_timeconst`` is stuck."""
@@ -234,7 +290,7 @@ class Classification(NamedTuple):
 
 
 def classify(record: Record, *, mu, alpha: float, timestep: float, friction_timeconst: float = 0.0, rigid: bool = False,
-             thresholds: Thresholds | None = None) -> Classification:
+             contact_time: float | None = None, thresholds: Thresholds | None = None) -> Classification:
     """Outcome and event time of recorded runs, for every engine.
 
     Args:
@@ -251,6 +307,11 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
         force of at least jam_ratio times the slipping force -b/p (and
         jam_force) at a state with eq. p <= jam_p_eff, after which the slip
         speed falls by jam_slip_loss within lift_steps rows.
+      contact_time: scaled time over which the engine's normal force builds
+        up (``Options.contact_time``); with a value > 0 (and not ``rigid``)
+        the first slip stop is also judged as a compliant JAM (module
+        docstring; ``Thresholds.jam_contact_times``).  None or 0: the window
+        rule only.
       thresholds: criteria (``Thresholds()`` by default; see there for why).
 
     Returns:
@@ -346,6 +407,42 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
         touched = (c[..., 1:] - c[..., np.maximum(rows - w + 1, 0)]) > 0.0
         stick_speed = th.rigid_stick_steps * timestep if rigid else th.stick_threshold(friction_timeconst)
         has_stick, k_stick = _first((eta < stick_speed) & touched & (rows < end))
+
+        # Compliant JAM: the first slip stop, judged on the rows of the last jam_contact_times contact times before
+        # it.  The rigid rule's one row becomes that look-back: its loaded slipping rows (eta at or above the STICK
+        # threshold, F_z >= jam_force, so that F_t / F_z is a friction direction and not the noise of a grazing row)
+        # reach the engine's own p_eff <= jam_p_eff, their mean force is jam_ratio times the slipping force -b/p_eff
+        # of the row of least p_eff (0 where p_eff <= 0: no slipping solution) and jam_ratio jam_force, and the slip
+        # speed fell by jam_slip_loss over the look-back.  It keeps the stop's row, so it only relabels the stop.
+        if contact_time is not None and not rigid:
+            check("contact_time", contact_time, NONNEGATIVE)
+        if contact_time and not rigid:
+            m = th.stop_rows(float(contact_time), timestep)
+            Fn_rows = np.where(Fn > 0.0, Fn, 0.0)
+            p_row = np.where(Fz > 0.0, 1.0 + alpha - alpha * st * st - alpha * st * ct * Fe / np.where(Fz > 0.0, Fz, 1.0), np.inf)
+            stop_jam = np.zeros(jam.shape, dtype=bool)
+            for idx in zip(*np.nonzero(np.atleast_1d(has_stick))):
+                idx = idx if has_stick.ndim else ()
+                j = int(k_stick[idx])
+                a = max(0, j - m)
+                if j == a:
+                    continue
+                loaded = (eta[idx][a:j] >= stick_speed) & (Fz[idx][a:j] >= th.jam_force)
+                if not loaded.any():
+                    continue
+                pr = np.where(loaded, p_row[idx][a:j], np.inf)
+                i = int(np.argmin(pr))
+                p_min = float(pr[i])
+                slipping_force = max(0.0, -float(b[idx][a + i])) / p_min if p_min > 0.0 else 0.0
+                Fmean = float(Fn_rows[idx][a:j].mean())
+                e0 = float(eta[idx][a])
+                if (p_min <= th.jam_p_eff and Fmean >= th.jam_ratio * max(th.jam_force, slipping_force)
+                        and e0 - float(eta[idx][j]) >= th.jam_slip_loss * e0):
+                    stop_jam[idx + (j,)] = True
+                    p_eff[idx + (j,)] = p_min
+                    sF[idx + (j,)] = float(Fn_rows[idx][a:j].sum())
+            if stop_jam.any():
+                has_jam, k_jam = _first(jam | stop_jam)
 
     big = np.iinfo(np.int64).max
     order = [  # precedence on ties: earlier in the list wins

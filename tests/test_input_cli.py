@@ -62,6 +62,12 @@ def test_compare_out_is_checked_as_every_out(stores, out, capsys):
     _one_line(capsys)
 
 
+def test_compare_stores_whose_names_are_too_long(stores, capsys):
+    assert main(["compare", str(stores / ("n" * 300)), str(stores / "b")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("crosscheck: error: DIR_A must be a sweep store") and "File name too long" in err
+
+
 def test_compare_out_on_a_read_only_mount(stores, read_only, capsys):
     assert main(["compare", str(stores / "a"), str(stores / "b"), "--out", str(read_only / "c")]) == 2
     err = _one_line(capsys)

@@ -105,7 +105,11 @@ def compare_stores(dir_a: str | Path, dir_b: str | Path, *, out: str | Path | No
 
     dir_a, dir_b = Path(dir_a), Path(dir_b)
     for name, d in (("DIR_A", dir_a), ("DIR_B", dir_b)):
-        if not (d / "manifest.json").is_file():
+        try:
+            store = (d / "manifest.json").is_file()
+        except OSError as e:  # a name the file system refuses (too long)
+            store, d = False, f"{str(d)[:60]}... ({e.strerror})"
+        if not store:
             raise ValueError(f"{name} must be a sweep store (a directory with the manifest.json of crosscheck sweep); got {str(d)!r}")
     c = compare_frames(load(dir_a), load(dir_b), name_a=str(dir_a), name_b=str(dir_b))
     if out is not None and (not str(out).strip() or str(out).endswith("/")):

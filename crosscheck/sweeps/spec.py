@@ -15,7 +15,8 @@
     eta = 1.0
 
     # or random samples:  [states] random = 1000, with each axis {low, high} (uniform) or a scalar
-    # or a file:          [states] file = "states.csv"  (columns theta, varphi, Theta, Psi, eta[, psi])
+    # or a file:          [states] file = "states.csv"  (UTF-8, comma-separated; a header naming the columns theta,
+    #                     varphi, Theta, Psi, eta[, psi] once each; one number per cell, one row per state)
     # or listed states:   [states] zip = true, each axis (and mu, if not in [parameters]) a list of one length
 
     [parameters]             # each a scalar or a list (a list sweeps it)
@@ -24,6 +25,11 @@
 
     [options]                # the engine's options (its ``Options`` fields); a list sweeps that option too
     timestep = 3e-4
+
+Every value a chunk will use is checked when the spec is read, before any
+chunk runs: each state, mu, alpha, each option value and each combination of
+swept options (``SpecError`` names the key, the value and what is allowed).
+The spec itself must be a regular UTF-8 file (a FIFO is refused, never read).
 
 Every run is one (state, mu, alpha, option combination); runs are ordered
 state-major, then mu, alpha and the options in the order written, and cut

@@ -95,12 +95,20 @@ class ValidationResult:
         return json.dumps(as_json(doc), indent=2, allow_nan=False)
 
     def to_table(self) -> str:
-        head = f"{'quantity':<28} {'n':>7} {'max abs':>10} {'max rel':>10} {'/tol':>8}  result  worst state"
+        """The stats as aligned text columns: the quantity column as wide as its longest name, "-" where a number does not
+        apply (no relative error for a count, whose reference is 0)."""
+
+        def num(x: float, fmt: str) -> str:
+            return format(x, fmt) if math.isfinite(x) else "-"
+
+        w = max([len("quantity"), *(len(s.quantity) for s in self.stats)])
+        head = f"{'quantity':<{w}} {'n':>7} {'max abs':>10} {'max rel':>10} {'/tol':>8}  result  worst state"
         lines = [f"validate {self.engine}", head, "-" * len(head)]
         for s in self.stats:
             where = ", ".join(f"{k}={v:.4g}" for k, v in s.worst_state.items() if k != "index")
             lines.append(
-                f"{s.quantity:<28} {s.n:>7} {s.max_abs:>10.2e} {s.max_rel:>10.2e} {s.max_ratio:>8.3f}  {'ok' if s.passed else 'FAIL':<6}  {where}"
+                f"{s.quantity:<{w}} {s.n:>7} {num(s.max_abs, '.2e'):>10} {num(s.max_rel, '.2e'):>10} {num(s.max_ratio, '.3f'):>8}  "
+                f"{'ok' if s.passed else 'FAIL':<6}  {where}"
             )
         lines.append("passed" if self.passed else "FAILED")
         return "\n".join(lines)

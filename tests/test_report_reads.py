@@ -312,3 +312,19 @@ def test_explain_plots_every_rung(tmp_path, capsys):
     assert main(["explain", "--engine", "bullet", *IC2, "--plot", str(png)]) == 0
     doc = json.loads(png.with_suffix(".json").read_text())
     assert png.stat().st_size > 10_000 and len(doc["rungs"]) >= 2 and doc["cause"] in capsys.readouterr().out
+
+
+def test_the_validate_table_stays_aligned_and_prints_no_nan():
+    """A quantity name longer than the old 28-character column and a count check (no relative error) keep every column in place."""
+    from crosscheck.compare import ErrorStat, ValidationResult
+
+    stats = [ErrorStat("median |event time difference|", 300, 0.012, 0.5, 0.4, {"theta": 1.0}, {}, True),
+             ErrorStat("jams below mu_P", 300, 0.0, float("nan"), 0.0, {"theta": 0.5}, {}, True)]
+    lines = ValidationResult("mujoco", stats).to_table().splitlines()
+    head, rows = lines[1], lines[3:5]
+    assert "nan" not in "\n".join(lines)
+    for col in ("max abs", "max rel", "/tol", "result"):
+        at = head.index(col) + len(col)  # right-aligned numbers end where their header ends
+        if col != "result":
+            assert all(r[at - 1] != " " and r[at] == " " for r in rows), (col, rows)
+    assert rows[1].split()[5:7] == ["-", "0.000"]  # after "jams below mu_P 300 0.00e+00": max rel, /tol

@@ -328,3 +328,19 @@ def test_the_validate_table_stays_aligned_and_prints_no_nan():
         if col != "result":
             assert all(r[at - 1] != " " and r[at] == " " for r in rows), (col, rows)
     assert rows[1].split()[5:7] == ["-", "0.000"]  # after "jams below mu_P 300 0.00e+00": max rel, /tol
+
+
+def test_the_readme_counts_the_bad_inputs_the_audit_runs(tmp_path):
+    import re
+    import sys
+
+    sys.path.insert(0, str(ROOT / "tests"))
+    import bad_inputs
+
+    n_cli, n_api = (int(x) for x in re.search(r"\((\d+) command lines and (\d+) API calls\)", " ".join((ROOT / "README.md").read_text().split())).groups())
+    assert (n_cli, n_api) == (len(list(bad_inputs.cli_cases(tmp_path))), len(list(bad_inputs.api_cases())))
+
+
+def test_the_readmes_first_lines_are_the_two_commands():
+    assert (ROOT / "README.md").read_text().splitlines()[:2] == ['python3 -m pip install . && crosscheck report',
+                                                                  'python3 -m pip install ".[test]" && python3 -m pytest -q']

@@ -44,6 +44,7 @@ import hashlib
 import itertools
 import json
 import math
+import re
 import tomllib
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -302,8 +303,9 @@ def _read_states_file(path: Path) -> dict[str, np.ndarray]:
     return out
 
 
-#: A number as a states file may write it: ASCII digits, an optional sign, point and exponent (and nan / inf, refused by range).
-_NUMBER = __import__("re").compile(r"^[+-]?((\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|nan|inf|infinity)$", __import__("re").IGNORECASE)
+#: A number as a states file may write it (the command line's rule, ``crosscheck.cli.options``): ASCII digits, an optional
+#: sign, point and exponent, no underscores (and nan / inf, which the ranges refuse).
+_NUMBER = re.compile(r"^[+-]?((\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|nan|inf|infinity)$", re.IGNORECASE | re.ASCII)
 
 
 def _cell(key: str, text: str) -> float:

@@ -12,7 +12,7 @@ read at attribute access.
 from __future__ import annotations
 
 from crosscheck.report.section import Section
-from crosscheck.report.sections import (bifurcations, critical_angles, engine_contact, engine_convergence, engine_ic, engine_interventions, engine_ladder, engine_maps, engine_onset, gb_det_zeros, gb_eigenvectors, gb_local,
+from crosscheck.report.sections import (bifurcations, critical_angles, engine_contact, engine_convergence, engine_ic, engine_interventions, engine_ladder, engine_maps, engine_onset, engine_rounding, gb_det_zeros, gb_eigenvectors, gb_local,
                                         gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, kinematic_surfaces, mechanisms, mode_maps,
                                         p_region, printed_numbers)
 
@@ -49,6 +49,7 @@ def engine_sections(spec) -> tuple[Section, ...]:
         if plan.onset:
             out.append(engine_onset.section(spec, plan.maps))
         out.append(engine_ic.section(spec, plan.maps))
+        out.append(engine_rounding.section(spec, plan.maps, plan.maps_n))
     if plan.convergence is not None:
         out.append(engine_convergence.section(spec, plan.convergence, plan.convergence_n))
     if plan.ladder and plan.maps is not None:  # after its maps: it ladders their disagreements

@@ -247,7 +247,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     l, w = rod.length, rod.omega
     raw = raw_run(m, np.concatenate((q0, v0)), n, opts.timestep / w, np.array([l * w, l * w, l * w, w, w]))
     rec = record(rod, raw, opts)
-    c = classify(rec, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, thresholds=th)
+    c = classify(rec, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, thresholds=th)
     run = Run.from_classification(opts.name, c, rec, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
                                   horizon=horizon, nstep=n)
     return replace(run, solver=raw.health)

@@ -158,6 +158,7 @@ def test_paper_references_keep_numbers_and_drop_labels():
     assert paper_reference(ref) == "Figs. 11 and 17; Theorem 4.1; 1 equation"
     assert paper_reference("eqs. thetal, psil (section 3.3)", labels=True) == "section 3.3; equations, by their labels in the paper's source: thetal, psil"
     assert unlabel("four critical points (fig:pandora: (d), (h))") == "four critical points (Fig. 19: (d), (h))"
+    assert unlabel("(sec. 3.5, Fig. GBs_bif3 text); Fig. 13(a)") == "(sec. 3.5, Fig. 11 text); Fig. 13(a)"
 
 
 def test_a_regression_guard_holds_it_does_not_pass_and_a_listed_check_is_not_tabled_twice():

@@ -194,18 +194,21 @@ def paper_reference(paper: str, *, labels: bool = False) -> str:
 
 
 _FIG_LABEL = re.compile(r"fig:[\w.+-]*\w")
+_FIG_NAMED = re.compile(r"Fig\. ([A-Za-z_][\w.]*[\w])")
 
 
 def unlabel(text: str) -> str:
     """``text`` without the paper source's figure labels: "(fig:p3s)" after a figure's number is dropped, any other
     "fig:pandora" becomes the figure's number ("Fig. 19"); the labels stay in ``data/paper_references.json``."""
-    if "fig:" not in text:
+    if "fig:" not in text and "Fig. " not in text:
         return text
     from crosscheck.theory.paper import FIGURES
 
     number = {label: f.number for f in FIGURES for label in f.labels}
     text = _FIG_LABELS.sub("", text)
-    return _FIG_LABEL.sub(lambda m: f"Fig. {number[m.group(0)]}" if m.group(0) in number else m.group(0), text)
+    text = _FIG_LABEL.sub(lambda m: f"Fig. {number[m.group(0)]}" if m.group(0) in number else m.group(0), text)
+    # "Fig. GBs_bif3": a label written after "Fig." without its prefix
+    return _FIG_NAMED.sub(lambda m: f"Fig. {number['fig:' + m.group(1)]}" if "fig:" + m.group(1) in number else m.group(0), text)
 
 
 _NUMBERING = ("Figure numbers are the printed paper's (the order of its figure environments), with panel letters; "
@@ -331,7 +334,7 @@ def _checks_table(checks: list[dict]):
         if c["passed"]:  # a guard that holds shows no change from its measured spread; it is not a physics pass
             verdict, k = ("held (no change; not a physics check)", "guard") if kind == "regression guard" else ("passed", "ok")
         elif c.get("known_discrepancy"):
-            verdict, k = "KNOWN DISCREPANCY: " + c["known_discrepancy"], "known"
+            verdict, k = "KNOWN DISCREPANCY: " + unlabel(c["known_discrepancy"]), "known"
         else:
             verdict, k = "FAILED", "fail"
         rows.append([unlabel(c["name"]), kind, _short(c.get("value")), _short(c.get("allowance")), verdict, unlabel(c.get("detail", ""))])
@@ -481,7 +484,7 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
         h.append("<p>No failures.</p>")
     known = [(v.section.slug, c) for v in views for c in v.known_checks]
     if known:
-        h.append('<div class="known"><p><b>Known discrepancies of the paper</b> (shown, not hidden):</p><ul>' + "".join(f"<li>{html.escape(s)}: {html.escape(unlabel(c['name']))}: {html.escape(c['known_discrepancy'])}</li>" for s, c in known) + "</ul></div>")
+        h.append('<div class="known"><p><b>Known discrepancies of the paper</b> (shown, not hidden):</p><ul>' + "".join(f"<li>{html.escape(s)}: {html.escape(unlabel(c['name']))}: {html.escape(unlabel(c['known_discrepancy']))}</li>" for s, c in known) + "</ul></div>")
     h.append(_h2("figures", "The paper's figures"))
     table = _html_block(_figures_table(views))
     for v in views:  # section names link to their sections
@@ -605,7 +608,7 @@ def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, fai
     m.append("**Failures** (the command exits non-zero):\n\n" + "\n".join(f"- {f}" for f in failures) + "\n" if failures else "No failures.\n")
     known = [(v.section.slug, c) for v in views for c in v.known_checks]
     if known:
-        m.append("**Known discrepancies of the paper** (shown, not hidden):\n\n" + "\n".join(f"- {s}: {unlabel(c['name'])}: {c['known_discrepancy']}" for s, c in known) + "\n")
+        m.append("**Known discrepancies of the paper** (shown, not hidden):\n\n" + "\n".join(f"- {s}: {unlabel(c['name'])}: {unlabel(c['known_discrepancy'])}" for s, c in known) + "\n")
     m += ["## The paper's figures", "", _md_block(_figures_table(views))]
     m += ["## Provenance", "", _md_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=_provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"]))]
     for v in views:

@@ -14,6 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from crosscheck.locking import owner_text
+
 from crosscheck import report
 from crosscheck.cli import main
 from crosscheck.report.section import Section, Table
@@ -111,7 +113,8 @@ def test_a_second_writer_is_refused_with_one_line(saved, capsys):
         assert main(["report", "--out", str(saved), "--no-progress"]) == 2
         err = capsys.readouterr().err
         assert err == (f"crosscheck: error: out must be a report directory no other process is writing; {str(saved)!r} is being written "
-                       f"by pid {os.getpid()} (wait for it, or choose another --out)\n")
+                       f"by {owner_text()} (wait for it, or choose another --out)\n")
+        assert f"pid {os.getpid()} on " in err  # the holder: its pid, host and command
     assert main(["report", "--out", str(saved), "--no-progress"]) == 0  # released with its holder
 
 

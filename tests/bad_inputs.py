@@ -297,6 +297,16 @@ def api_cases() -> list:
     for k, v in [("alpha", 0.0), ("timeconst", -1.0), ("dampratio", math.nan)]:
         add(f"kelvin_voigt.mujoco_equivalent({k}={v!r})", lambda k=k, v=v: kelvin_voigt.mujoco_equivalent(s, **{"alpha": 3.0, "timeconst": 0.06, "dampratio": 1.0,
                                                                                                 "solimp": (0.9, 0.95, 0.001, 0.5, 2.0), k: v}), k)
+    # the front door's other arguments: a name that is not a string, a rod that is not a Rod, thresholds that are not Thresholds
+    from crosscheck import engines as registry
+
+    add("engines.get(['mujoco'])", lambda: registry.get(["mujoco"]), "engine")
+    add("engines.get(None)", lambda: registry.get(None), "engine")
+    add("get('mujoco').simulate(rod=None)", lambda: registry.get("mujoco").simulate(None, s, 1.4, horizon=0.1), "rod")
+    add("get('pinocchio').sweep(rod='rod')", lambda: registry.get("pinocchio").sweep("rod", [s], 1.4, horizon=0.1), "rod")
+    add("get('mujoco').simulate(thresholds='bogus')", lambda: registry.get("mujoco").simulate(rod, s, 1.4, horizon=0.1, thresholds="bogus"),
+        "thresholds")
+    add("critical_values(mu=[1.4, 1.5])", lambda: critical.critical_values([1.4, 1.5], 3.0), "mu")
     # not real numbers, or several where one belongs: a complex value would lose its imaginary part, a bool count as 1
     from crosscheck.coordinates import from_generalized, to_generalized
 

@@ -66,6 +66,8 @@ def names() -> list[str]:
 
 def get(name: str) -> EngineSpec:
     """The engine called ``name`` (ValueError listing the available names otherwise)."""
+    if not isinstance(name, str):  # a list or None is not a name: the same one line, not a TypeError from the dict lookup
+        raise ValueError(f"engine must be one of {', '.join(names())}; got {name!r}")
     if name in _registered:
         return _registered[name]
     if name in _builtins():

@@ -89,6 +89,17 @@ class ReportPlan:
     ladder_section: str | None = None
 
 
+def _check_rod_and_thresholds(rod, thresholds) -> None:
+    """One ValueError line for a ``rod`` that is not a ``Rod`` or ``thresholds`` that are not ``Thresholds`` (or None)."""
+    from crosscheck.engines.classifier import Thresholds
+    from crosscheck.rod import Rod
+
+    if not isinstance(rod, Rod):
+        raise ValueError(f"rod must be a crosscheck.Rod; got {type(rod).__name__}")
+    if thresholds is not None and not isinstance(thresholds, Thresholds):
+        raise ValueError(f"thresholds must be a crosscheck.engines.Thresholds or None; got {thresholds!r}")
+
+
 class EngineSpec:
     """One registered engine: how to run it and everything the harness needs to know about it.
 
@@ -185,10 +196,12 @@ class EngineSpec:
 
     def simulate(self, rod, state, mu, *, horizon, thresholds=None, **options):
         """The engine's ``simulate`` with its ``defaults`` (see ``crosscheck.engines.base.Engine``)."""
+        _check_rod_and_thresholds(rod, thresholds)
         return self._part("simulate")(rod, state, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options})
 
     def sweep(self, rod, states, mu, *, horizon, thresholds=None, **options):
         """The engine's ``sweep`` with its ``defaults`` (see ``crosscheck.engines.base.Engine``)."""
+        _check_rod_and_thresholds(rod, thresholds)
         return self._part("sweep")(rod, states, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options})
 
     def interventions_for(self, cause: str, options) -> tuple[Intervention, ...]:

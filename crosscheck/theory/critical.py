@@ -171,8 +171,10 @@ class CriticalValues:
 
 def critical_values(mu: float, alpha: float) -> CriticalValues:
     """All critical values for friction ``mu`` >= 0 and ``alpha`` > 0 (scalars)."""
-    mu = float(check("mu", mu, MU))
-    alpha = float(check("alpha", alpha, ALPHA))
+    from crosscheck.state import real_scalar
+
+    mu = real_scalar("mu", mu, MU)  # one value: a list or an array is refused in one line, not by float()
+    alpha = real_scalar("alpha", alpha, ALPHA)
     th1, th2 = (float(t) for t in theta_12(mu, alpha))
     thP = float(theta_P(alpha))
     vp1, vp2 = (float(v) for v in varphi_pm(thP, mu, alpha))

@@ -58,8 +58,12 @@ for _spec in engines.specs():
             EXPECTED_FIGURES[f"{_spec.slug}_liftoff"] = []
     if _plan is not None and _plan.convergence is not None:
         EXPECTED_FIGURES[f"{_spec.slug}_convergence"] = ["convergence"]
+    if _plan is not None and _plan.maps is not None:
+        EXPECTED_FIGURES[f"{_spec.slug}_rounding"] = []
     if _plan is not None and _plan.ladder and _plan.maps is not None:
         EXPECTED_FIGURES[f"{_spec.slug}_ladder"] = []
+    if _plan is not None and _spec.interventions and (_plan.ladder_section or _plan.ladder and _plan.maps is not None):
+        EXPECTED_FIGURES[f"{_spec.slug}_interventions"] = ["interventions"]
 
 #: Sections the quick report skips (shown as skipped, with the reason): full report only.
 FULL_ONLY = {"mujoco_validate"}
@@ -323,7 +327,8 @@ def test_findings_come_first_with_a_line_per_engine(quick):
         k, n = int(np.trace(conf[:4, :4])), int(conf[:4].sum())
         assert f"{k} of {n} rated" in f.text and f.verdict in ("agrees", "disagrees", "inconclusive")
     md = (out / "report.md").read_text()
-    assert md.index("## Findings") < md.index("## Summary") and all(f.text in md for f in found)
+    flat = " ".join(md.split())  # the Markdown wraps its prose lines
+    assert md.index("## Findings") < md.index("## Summary") and all(" ".join(f.text.split()) in flat for f in found)
 
 
 def test_the_engine_table_heads_the_findings_with_a_row_per_engine_and_setting(quick):

@@ -82,6 +82,28 @@ def _mark(rows: list[dict]) -> str:
     return " / ".join("failed" if r["status"] != "ok" else r["label"].lower() + (" (removes)" if r["removes"] else "") for r in rows)
 
 
+def _figure(ctx: RenderContext, name: str, summary: dict):
+    """Per cause the ladder named: starts confirmed by their own intervention, removed by another's, by none (stacked bars)."""
+    import matplotlib.pyplot as plt
+
+    causes = list(summary["per_cause"])
+    parts = [("confirmed by its own intervention", [summary["per_cause"][c]["confirmed"] for c in causes], "#2a9d4b"),
+             ("removed by another cause's instead", [sum(summary["per_cause"][c]["by_other"].values()) for c in causes], "#e9a23b"),
+             ("removed by none", [summary["per_cause"][c]["none"] for c in causes], "#c0392b")]
+    fig, ax = plt.subplots(figsize=(7.0, 0.6 + 0.55 * len(causes)))
+    left = [0] * len(causes)
+    for label, counts, colour in parts:
+        ax.barh(causes, counts, left=left, color=colour, label=label)
+        left = [a + b for a, b in zip(left, counts)]
+    ax.invert_yaxis()
+    ax.set_xlabel("laddered disagreements")
+    ax.xaxis.get_major_locator().set_params(integer=True)
+    ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize=8, frameon=False)
+    fig.tight_layout()
+    return ctx.figure("interventions", fig, f"{name}: per cause the ladder named, its disagreements removed by the cause's own "
+                                         "intervention on the engine, by another cause's, or by none.", ["summary.json"])
+
+
 def render(ctx: RenderContext) -> list:
     from crosscheck.engines.base import engine_label
     from crosscheck import engines
@@ -101,6 +123,8 @@ def render(ctx: RenderContext) -> list:
         other = ", ".join(f"{c} {n}" for c, n in sorted(r["by_other"].items())) or "-"
         rows.append([cause, str(r["n"]), (f"{r['confirmed']} ({r['not_at_strongest']} only at the weaker step)" if r["not_at_strongest"] else
                                           str(r["confirmed"])) if cause in summary["causes"] else "no intervention", other, str(r["none"])])
+    if summary["per_cause"]:
+        blocks.append(_figure(ctx, name, summary))
     share = summary["confirmed_share"]
     head = (f"{summary['confirmed']} of {summary['attributed']} attributed disagreements ({100 * share:.0f} %) confirmed by their own cause's "
             "intervention." if share is not None else "No attributed disagreement to confirm.")

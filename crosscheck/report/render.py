@@ -551,6 +551,7 @@ MD_ROW_WIDTH = 380
 MD_WIDTH = 120
 
 
+_UNBROKEN = re.compile(r"!?\[[^\]\n]*\]\([^)\n]*\)|`[^`\n]+`")
 _BLOCK_START = re.compile(r"(?:[>#|*+=]|-(?:\s|$)|\d+[.)](?:\s|$))")
 
 
@@ -565,11 +566,14 @@ def _wrap_md(text: str) -> str:
         if code or len(line) <= MD_WIDTH or line.startswith(("|", "#", "    ")):
             out.append(line)
             continue
-        indent = "  " if line.startswith("- ") else ""
-        wrapped = textwrap.wrap(line, MD_WIDTH, subsequent_indent=indent, break_long_words=False, break_on_hyphens=False)
+        indent = "  " if line.startswith("- ") else "> " if line.startswith("> ") else ""
+        # a link, an image or a code span is never broken: its spaces are hidden from textwrap
+        kept = _UNBROKEN.sub(lambda m: m.group(0).replace(" ", "\x00"), line)
+        wrapped = [w.replace("\x00", " ") for w in
+                   textwrap.wrap(kept, MD_WIDTH, subsequent_indent=indent, break_long_words=False, break_on_hyphens=False)]
         for w in wrapped[1:]:  # a line that Markdown would read as a quote, a list item, a heading or a table row joins the one before
-            if _BLOCK_START.match(w.strip()):
-                wrapped[wrapped.index(w) - 1] += " " + w.strip()
+            if _BLOCK_START.match(w[len(indent):].lstrip()):
+                wrapped[wrapped.index(w) - 1] += " " + w[len(indent):].lstrip()
                 wrapped.remove(w)
         out.extend(wrapped)
     return "\n".join(out)

@@ -131,7 +131,14 @@ def exclusive(path: Path | str, holder: str, refuse: Callable[[str], Exception])
         if pid is not None and pid != os.getpid() and not _alive(pid):
             sys.stderr.write(f"note: took over the lock {str(path)!r} left by a writer that is no longer running ({previous})\n")
         os.ftruncate(fd, 0)
-        os.pwrite(fd, holder.encode(), 0)
+        try:
+            os.pwrite(fd, holder.encode(), 0)
+        except OSError as e:  # a full disk: one line naming the directory, not a traceback from the lock
+            from crosscheck.sweeps.store import NO_SPACE, StoreError, no_space
+
+            if e.errno in NO_SPACE:
+                raise StoreError(no_space(path.parent, len(holder.encode()), e)) from None
+            raise
         HELD.add(fd)
         yield path
     finally:

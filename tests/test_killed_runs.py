@@ -176,3 +176,21 @@ def test_a_worker_of_a_pool_does_not_hold_its_parents_lock(tmp_path):
             worker = p.submit(os.getpid).result()
             assert worker != os.getpid()
             assert worker not in holders(lock), "a forked worker must close its parent's lock"
+
+
+def test_a_lock_on_a_full_disk_is_one_line_and_leaves_no_file(tmp_path):
+    """A real 64 KiB tmpfs, filled: the lock's owner text does not fit (skipped where this process cannot mount one)."""
+    from crosscheck.sweeps.store import StoreError
+
+    mnt = tmp_path / "full"
+    mnt.mkdir()
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(mnt)], capture_output=True).returncode != 0:
+        pytest.skip("cannot mount a tmpfs here")
+    try:
+        subprocess.run(["dd", "if=/dev/zero", f"of={mnt / 'fill'}", "bs=4k", "count=100"], capture_output=True)
+        with pytest.raises(StoreError, match=rf"^out {str(mnt)!r} has no room left \(No space left on device\): writing \d+ bytes needs"):
+            with exclusive(mnt / ".lock", "pid 4 on host: crosscheck report", ValueError):
+                pass
+        assert not (mnt / ".lock").exists()
+    finally:
+        subprocess.run(["umount", str(mnt)], check=True)

@@ -100,7 +100,9 @@ def integer(name: str, value, lo: int, hi: int) -> int:
     """An integer in [lo, hi] from an int or the CLI's raw text ("1e3" and "2.5" are not integers); ValueError naming both."""
     if isinstance(value, str):
         text = value.strip()
-        v = int(text) if text.lstrip("+-").isdigit() else None
+        digits = text.lstrip("+-")
+        # ASCII digits only ("²" and "٣" pass isdigit), and few of them (a 5000-digit string hits Python's int limit)
+        v = int(text) if digits.isascii() and digits.isdigit() and len(digits) <= 30 else None
     else:
         v = int(value) if isinstance(value, (int, np.integer)) and not isinstance(value, bool) else None
     if v is None or not lo <= v <= hi:

@@ -140,6 +140,11 @@ def cli_cases(tmp: Path) -> list:
         cases.append((f"critical --mu={v[:8]!r}", ["critical", "--mu", v, "--alpha", "3"], "mu"))
         cases.append((f"simulate --theta={v[:8]!r}", _argv(["simulate"], {**STATE, "mu": "1.4", "horizon": "0.05"}, "theta", v), "theta"))
         cases.append((f"simulate --horizon={v[:8]!r}", _argv(["simulate"], {**STATE, "mu": "1.4", "horizon": "0.05"}, "horizon", v), "horizon"))
+        cases.append((f"gb --samples={v[:8]!r}", ["gb", "--mu", "1.7", "--samples", v], "samples"))
+        cases.append((f"validate mujoco --states={v[:8]!r}", ["validate", "mujoco", "--states", v], "states"))
+        cases.append((f"validate mujoco --seed={v[:8]!r}", ["validate", "mujoco", "--seed", v], "seed"))
+        cases.append((f"slip --t-max={v[:8]!r}", _argv(["slip"], {**STATE, "mu": "1.4", "t-max": "1"}, "t-max", v), "t-max"))
+        cases.append((f"explain --timestep={v[:8]!r}", _argv(["explain"], {**STATE, "mu": "1.4", "timestep": "3e-4"}, "timestep", v), "timestep"))
     # paths the file system refuses, and scheduler addresses crosscheck cannot use
     too_long = str(tmp / ("n" * 300))
     cases.append(("sweep --out=<300-character name>", ["sweep", spec("ok"), "--out", too_long], "out"))

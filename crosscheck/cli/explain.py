@@ -7,7 +7,7 @@ import math
 
 from crosscheck.checks import ALPHA, ETA, HORIZON, MU, RATE, THETA, VARPHI
 from crosscheck.checks import number as _num
-from crosscheck.cli.options import add_alpha, add_state
+from crosscheck.cli.options import add_alpha, add_state, ascii_number
 
 
 def _fmt_time(t: float) -> str:
@@ -145,9 +145,9 @@ def register(sub) -> None:
     add_state(s)
     add_alpha(s)
     s.add_argument("--engine", default="mujoco", help="the engine whose ladder to climb (engines that declare one; default mujoco)")
-    s.add_argument("--timestep", type=str, default=None, metavar="DT", help="MuJoCo's scaled timestep, in (0, 0.03] (at most half its time constant 0.06; default 3e-4)")
-    s.add_argument("--radius", type=str, default=None, metavar="R", help="capsule radius r / l, in (0, 0.5) (default 0.01)")
-    s.add_argument("--horizon", type=str, default="2", help="scaled comparison horizon, in (0, 10000] (default 2, the agreement study's)")
+    s.add_argument("--timestep", type=ascii_number, default=None, metavar="DT", help="MuJoCo's scaled timestep, in (0, 0.03] (at most half its time constant 0.06; default 3e-4)")
+    s.add_argument("--radius", type=ascii_number, default=None, metavar="R", help="capsule radius r / l, in (0, 0.5) (default 0.01)")
+    s.add_argument("--horizon", type=ascii_number, default="2", help="scaled comparison horizon, in (0, 10000] (default 2, the agreement study's)")
     s.add_argument("--json", action="store_true", help="print the ladder as JSON")
     s.add_argument("--plot", metavar="FILE", default=None, help="draw every rung (its outcome and event time against the comparison "
                    "window) on one figure in FILE (.png, .svg or .pdf), with FILE's .json beside it")

@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from crosscheck.checks import ALPHA, AZIMUTH, ETA, HORIZON, MU, RATE, THETA, UNIT, VARPHI, integer, number as _num
-from crosscheck.cli.options import add_alpha, add_psi, add_state
+from crosscheck.cli.options import add_alpha, add_psi, add_state, ascii_number
 
 # Numbers are parsed by crosscheck.checks.number (type=str) so that the CLI and the
 # Python API give the same one-line message for the same mistake.
@@ -122,7 +122,7 @@ def register(sub) -> None:
     add_alpha(g)
     g.add_argument("--Psi", type=str, default="0", metavar="PSI_DOT", help=f"scaled azimuthal rate, fixed along the manifold, in {RATE} (default 0)")
     g.add_argument("--eta", type=str, default="1", metavar="ETA", help=f"scaled slip speed (K depends on it), in {ETA} (default 1)")
-    g.add_argument("--samples", type=str, default="9", help=f"samples printed per curve, an integer in [1, {MAX_PRINTED}] (default 9)")
+    g.add_argument("--samples", type=ascii_number, default="9", help=f"samples printed per curve, an integer in [1, {MAX_PRINTED}] (default 9)")
     g.add_argument("--json", action="store_true", help="print the result as JSON")
     g.set_defaults(func=_gb)
 
@@ -130,9 +130,9 @@ def register(sub) -> None:
     add_state(s)
     add_psi(s)
     add_alpha(s)
-    s.add_argument("--t-max", dest="t_max", type=str, default="10", help="horizon in scaled time, in (0, 1e4] (default 10)")
+    s.add_argument("--t-max", dest="t_max", type=ascii_number, default="10", help="horizon in scaled time, in (0, 1e4] (default 10)")
     s.add_argument("--continue", dest="continue_", action="store_true",
                    help="go on through impacts without collision (at a jam or a GB point), sticking and slipping again (the hybrid rigid model)")
-    s.add_argument("--restitution", type=str, default="0", help="Poisson restitution of the impact, in [0, 1] (with --continue)")
+    s.add_argument("--restitution", type=ascii_number, default="0", help="Poisson restitution of the impact, in [0, 1] (with --continue)")
     s.add_argument("--json", action="store_true", help="print the result as JSON")
     s.set_defaults(func=_slip)

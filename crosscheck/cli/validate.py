@@ -11,6 +11,8 @@ tolerance.
 
 from __future__ import annotations
 
+from crosscheck.cli.options import ascii_number
+
 import sys
 
 import numpy as np
@@ -36,8 +38,8 @@ def register(sub) -> None:
     engines = v.add_subparsers(dest="engine", required=True, parser_class=type(v))
     for name in validation.names():
         e = engines.add_parser(name, help=f"{name} vs the analytic reference")
-        e.add_argument("--states", type=str, default=None, help=f"number of random states, 1 to {MAX_STATES} (default: the engine's)")
-        e.add_argument("--seed", type=str, default="0", help="seed of numpy.random.default_rng, >= 0 (default 0)")
+        e.add_argument("--states", type=ascii_number, default=None, help=f"number of random states, 1 to {MAX_STATES} (default: the engine's)")
+        e.add_argument("--seed", type=ascii_number, default="0", help="seed of numpy.random.default_rng, >= 0 (default 0)")
         e.add_argument("--json", action="store_true", help="print the result as JSON")
         e.add_argument("--checks", choices=["all", *validation.parts_of(name)], default="all", help="run only these checks (default: all the engine has)")
         e.set_defaults(func=_run)

@@ -20,7 +20,7 @@ from crosscheck.report.section import RenderContext, RunContext, Section, Table,
 
 #: The most starts rerun, an even spread over the maps' slipping starts: each costs 5 runs, and a Drake run ~0.1-0.3 s
 #: (measured: 108 starts x 5 runs of Drake SAP at the quick maps' options took 46 s on 2 shared cores).
-MAX_STARTS = {"quick": 12, "full": 200}
+MAX_STARTS = {"quick": 12, "full": 60}
 
 
 def params(quick: bool, engine: str, options: dict, n: dict | None) -> dict:

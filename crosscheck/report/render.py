@@ -437,6 +437,15 @@ _SUMMARY_CAPTION = ("Sections, in report order. Ran: whether the section's compu
                     "Finding: the verdict of the section's line(s) under Findings, by the rules given there.")
 
 
+def _verdicts(found: list, slug: str) -> list[str]:
+    """The distinct verdicts of the findings lines that come from section ``slug``, in order."""
+    out = []
+    for f in found:
+        if f.slug == slug and f.verdict not in out:
+            out.append(f.verdict)
+    return out
+
+
 def _summary_table(summary_rows) -> Table:
     return Table(caption=_SUMMARY_CAPTION, header=["section", "paper", "ran", "run time", "checks", "finding"],
                  rows=[r[0] for r in summary_rows], data=[f"data/{_REFERENCES}"], row_class=[r[1] for r in summary_rows])
@@ -494,7 +503,9 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
     h.append(_html_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=_provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"])))
     for v in views:
         s = v.section
-        h.append(_h2(s.slug, f'{html.escape(s.title)} <span class="badge b-{_badge(v.state).replace(" ", "")}">{_badge(v.state)}</span>'))
+        verdicts = _verdicts(found, s.slug)
+        finding = "".join(f' <span class="v-{w.replace(" ", "")}" style="font-size:.7em">{html.escape(w)}</span>' for w in verdicts)
+        h.append(_h2(s.slug, f'{html.escape(s.title)} <span class="badge b-{_badge(v.state).replace(" ", "")}">{_badge(v.state)}</span>{finding}'))
         if s.paper:
             h.append(f"<p><i>Paper: {html.escape(paper_reference(s.paper, labels=True))}</i></p>")
         h.append(_html_error(v))
@@ -617,7 +628,8 @@ def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, fai
     m += ["## Provenance", "", _md_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=_provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"]))]
     for v in views:
         s = v.section
-        m += [f"## {s.title} [{_badge(v.state)}]", ""]
+        verdicts = _verdicts(found, s.slug)
+        m += [f"## {s.title} [{_badge(v.state)}]" + (f" finding: {', '.join(verdicts)}" if verdicts else ""), ""]
         if s.paper:
             m += [f"*Paper: {paper_reference(s.paper, labels=True)}*", ""]
         if v.error:
@@ -702,16 +714,11 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
     from crosscheck.report.findings import findings
 
     found = findings(out / "data")  # from the saved results alone, like every block
-    verdicts: dict[str, list[str]] = {}
-    for f in found:
-        verdicts.setdefault(f.slug, [])
-        if f.verdict not in verdicts[f.slug]:
-            verdicts[f.slug].append(f.verdict)
     summary_rows = []
     for v in views:
         nf = len(v.failed_checks)
         row = [v.section.title, paper_reference(v.section.paper), _badge(v.state), _fmt_seconds((v.status or {}).get("seconds")),
-               _checks_cell(v.checks), ", ".join(verdicts.get(v.section.slug, [])) or "-"]
+               _checks_cell(v.checks), ", ".join(_verdicts(found, v.section.slug)) or "-"]
         summary_rows.append((row, "ok" if v.state in ("ok", "skipped") and not nf else "fail"))
     summary = RenderSummary(html=out / "index.html", markdown=out / "report.md", views=views)
     failures = summary.failures

@@ -128,6 +128,9 @@ def test_the_rules_behind_the_verdicts_are_in_the_report(rendered):
         assert f"- *{name}*: " in md and rule.split(";")[0] in " ".join(md.split())
         assert f"<dt>{html.escape(name)}</dt>" in page
     assert "lower end" in md and ".v-explained" in page and ".v-inconclusive" in page
+    saved = json.loads((rendered / "data" / "findings.json").read_text())  # the findings' data beside them
+    assert saved["rules"] == dict(RULES) and all(f["verdict"] and f["text"] in " ".join(md.split()) for f in saved["findings"])
+    assert "](data/findings.json)" in md
 
 
 def test_no_line_of_the_markdown_is_over_400_characters(rendered):

@@ -13,6 +13,7 @@ discrepancies of the paper.
 
 from __future__ import annotations
 
+import dataclasses
 import html
 import json
 import multiprocessing
@@ -429,6 +430,9 @@ def _engine_table(out: Path) -> Table | None:
     return Table(caption=ENGINE_TABLE_CAPTION, header=header, rows=rows, data=["data/engine_table.json"])
 
 
+#: The findings lines and the rules behind their verdicts, written beside the report's data (derived, not computed).
+_FINDINGS = "findings.json"
+
 _RULES_TITLE = "How the verdicts are given (crosscheck.report.findings.RULES)"
 
 _SUMMARY_CAPTION = ("Sections, in report order. Ran: whether the section's computation finished (ok), not whether an engine agrees "
@@ -479,6 +483,7 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
          "<ul>" + "".join(f'<li><b>{html.escape(f.leg)}</b>: {html.escape(f.text)}. <span class="v-{f.verdict.replace(" ", "")}">{html.escape(f.verdict)}</span>'
                           + (f' <span class="why">({html.escape(f.why)})</span>' if f.why else "")
                           + f' (<a href="#{f.slug}">{html.escape(f.slug)}</a>)</li>' for f in found) + "</ul>",
+         f'<div class=data><a href="data/{_FINDINGS}">data: {_FINDINGS}</a></div>',
          f"<p><b>{_RULES_TITLE}</b></p>",
          '<dl class="rules">' + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(r)}</dd>" for k, r in RULES) + "</dl>",
          _h2("summary", "Summary")]
@@ -617,6 +622,7 @@ def _write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, fai
          f"from the project's model; beside each figure and table is the data behind it. {_NUMBERING} HTML version: [index.html](index.html).", "",
          "## Findings", "", *([_md_block(t)] if (t := _engine_table(out)) is not None else []),
          *(f"- **{f.leg}**: {f.text}. *{f.verdict}*" + (f" ({f.why})" if f.why else "") + f" ({f.slug})" for f in found), "",
+         f"[data: {_FINDINGS}](data/{_FINDINGS})", "",
          f"**{_RULES_TITLE}**", "", *(f"- *{k}*: {r}" for k, r in RULES), "",
          "## Summary", ""]
     m.append(_md_block(_summary_table(summary_rows)))
@@ -723,6 +729,7 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
     summary = RenderSummary(html=out / "index.html", markdown=out / "report.md", views=views)
     failures = summary.failures
     _write_references(out)
+    (out / "data" / _FINDINGS).write_text(json.dumps({"findings": [dataclasses.asdict(f) for f in found], "rules": dict(RULES)}, indent=1) + "\n")
     _write_html(out, views, prov, summary_rows, failures, found)
     _write_md(out, views, prov, summary_rows, failures, found)
     return summary

@@ -295,7 +295,7 @@ def render(ctx: RenderContext) -> list:
     # read at the report's 1100 px: labels of 9-11 pt (the thumbnails' own 6-7.5 pt were unreadable), and the strata
     # without a picture marked as such instead of left blank
     fig = plt.figure(figsize=(10.0, 12.6))
-    gs = fig.add_gridspec(8, 6, width_ratios=[0.36] + [1] * 5, height_ratios=[1] * 7 + [0.16], wspace=0.02, hspace=0.16)
+    gs = fig.add_gridspec(8, 6, width_ratios=[0.36] + [1] * 5, height_ratios=[1] * 7 + [0.16], wspace=0.02, hspace=0.24)
     for j, name in enumerate(MU_STRATA):
         ax = fig.add_subplot(gs[7, j + 1])
         ax.set_axis_off()
@@ -326,7 +326,7 @@ def render(ctx: RenderContext) -> list:
         else:
             color, text = "k", "codim 2: " + _POINT_TEX[cl["what"]]
         ax.set_title(text, fontsize=10, pad=0, color=color, fontweight="bold" if cl["kind"] != "case" else "normal")
-        ax.text2D(0.5, -0.02, f"$\\mu$ = {cl['mu']:.3g}, $\\Psi$ = {cl['Psi']:.3g}", transform=ax.transAxes, ha="center", fontsize=9)
+        ax.text2D(0.5, -0.1, f"$\\mu$ = {cl['mu']:.3g}, $\\Psi$ = {cl['Psi']:.3g}", transform=ax.transAxes, ha="center", fontsize=9)
     cap_b = ("Fig. 21 in the paper's layout: columns are the mu strata, rows the |Psi| strata, one picture for each of the 19 cells the paper draws (cells "
              "spanning several strata there sit in their middle column or row here). Each is computed at the (mu, Psi) printed under it: b = 0 (red), "
              "p = 0 (blue: absent below mu_P, a segment at mu_P) and the GB manifold (black) in (theta, varphi, Theta), Theta in [0, 2.2], viewed as Figs. 3-7. "

@@ -210,7 +210,9 @@ def test_printed_numbers_table_flags_every_known_misprint_and_nothing_else(quick
         assert ("| agrees |" in row) == pv.agrees()
 
 
-def _toy_sections(tmp_marker: list):
+def _toy_sections(tmp_marker: Path):
+    """A section that works and one that fails after saving part of its results; the failing one touches ``tmp_marker``
+    (a file: each section runs in its own process)."""
     def run_ok(ctx):
         ctx.store.write_table("values", {"x": np.arange(3.0)})
         ctx.check("toy check", True, value=0.0, allowance=1.0)
@@ -220,7 +222,7 @@ def _toy_sections(tmp_marker: list):
 
     def run_bad(ctx):
         ctx.store.write_table("partial", {"y": [1.0, 2.0]})  # finished work before the failure
-        tmp_marker.append("bad ran")
+        tmp_marker.write_text("bad ran")
         raise RuntimeError("boom: the engine diverged")
 
     def render_bad(ctx):
@@ -233,12 +235,12 @@ def _toy_sections(tmp_marker: list):
 
 
 def test_failing_section_is_shown_keeps_partial_results_and_exits_nonzero(tmp_path, monkeypatch):
-    marker: list = []
+    marker = tmp_path / "marker"
     good, bad = _toy_sections(marker)
     monkeypatch.setattr(report, "SECTIONS", (bad, good))  # the failing one first: the next must still run
     out = tmp_path / "r"
     assert main(["report", "--out", str(out), "--no-progress"]) == 1
-    assert marker == ["bad ran"]
+    assert marker.read_text() == "bad ran"
     st_bad = json.loads((out / "data" / "toy_bad" / "status.json").read_text())
     st_good = json.loads((out / "data" / "toy_ok" / "status.json").read_text())
     assert st_bad["status"] == "error" and st_bad["error"] == "RuntimeError: boom: the engine diverged"

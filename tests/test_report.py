@@ -351,6 +351,12 @@ def test_the_engine_table_heads_the_findings_with_a_row_per_engine_and_setting(q
         conf = sum(np.asarray(mp["runs"][0]["confusion"]) for mp in json.loads((out / "data" / f"{e.slug}_maps" / "maps.json").read_text()))
         launch = int(conf[:4, 6].sum())
         assert row["LAUNCH"] == (f"{100 * launch / n:.0f} % ({launch}/{n})" if n else "-")
+        iv = out / "data" / f"{e.slug}_interventions" / "summary.json"
+        if iv.exists() and json.loads(iv.read_text())["attributed"]:
+            s = json.loads(iv.read_text())
+            assert row["causes confirmed (intervention)"] == f"{100 * s['confirmed_share']:.0f} % ({s['confirmed']}/{s['attributed']})"
+        rounding = json.loads((out / "data" / f"{e.slug}_rounding" / "summary.json").read_text())
+        assert row["outcome moves within 2 ulp"] == f"{rounding['changed']} of {rounding['n']}"
     md = (out / "report.md").read_text()
     findings_at = md.index("## Findings")
     assert findings_at < md.index("| " + " | ".join(HEADER[:3])) < md.index("- **", findings_at)

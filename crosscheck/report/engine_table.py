@@ -17,6 +17,8 @@ engine), so ``--from-results`` rebuilds it:
 * friction: the median angle between its friction force and -slip, and the
   worst cone violation, from its contact-quality section;
 * causes: the split of its disagreements by the ladder;
+* confirmed: the share of those its own cause's intervention on the engine removes (``<slug>_interventions``);
+* rounding: the starts of its maps whose outcome changes within 2 ulp of theta (``<slug>_rounding``);
 * cost: microseconds per engine step (or per record row of a continuous
   engine) and runs per second on this machine, from the maps' wall time.
 
@@ -33,7 +35,8 @@ from pathlib import Path
 __all__ = ["engine_table", "HEADER"]
 
 HEADER = ["engine", "setting", "agreement (95 % CI)", "theory slips", "theory lifts off", "theory jams", "LAUNCH", "onset |Psi - Psi_L|",
-          "convergence", "friction skew, cone violation", "causes (ladder)", "us/step", "runs/s"]
+          "convergence", "friction skew, cone violation", "causes (ladder)",
+          "causes confirmed (intervention)", "outcome moves within 2 ulp", "us/step", "runs/s"]
 
 _NONE = "-"
 _WORDS = {"timestep": "timestep", "timeconst": "time constant"}
@@ -135,6 +138,18 @@ def _causes(data: Path, name: str) -> str:
     return _NONE
 
 
+def _confirmed(data: Path, slug: str) -> str:
+    s = _read(data / f"{slug}_interventions" / "summary.json")
+    if not s or not s.get("attributed"):
+        return _NONE
+    return f"{100 * s['confirmed_share']:.0f} % ({s['confirmed']}/{s['attributed']})"
+
+
+def _rounding(data: Path, slug: str) -> str:
+    s = _read(data / f"{slug}_rounding" / "summary.json")
+    return _NONE if not s else f"{s['changed']} of {s['n']}"
+
+
 def engine_table(data: Path) -> tuple[list[str], list[list[str]], list[dict]]:
     """(header, rows, records) of the engine table from the saved results in ``data`` (``<out>/data``).
 
@@ -156,8 +171,9 @@ def engine_table(data: Path) -> tuple[list[str], list[list[str]], list[dict]]:
         runs = [mp["runs"][0] for mp in maps]
         label = f"{spec.label} (rigid)" if "rigid" in spec.tags else spec.label
         onset, conv, friction, causes = _onset(data, spec.slug), _convergence(data, spec.slug), _friction(data, spec.slug), _causes(data, spec.name)
-        rows.append([label, _setting(runs[0]["options"], defaults) + " (maps)", *_confusion_cells(runs), onset, conv, friction, causes, *_cost(runs)])
+        rows.append([label, _setting(runs[0]["options"], defaults) + " (maps)", *_confusion_cells(runs), onset, conv, friction, causes,
+                     _confirmed(data, spec.slug), _rounding(data, spec.slug), *_cost(runs)])
         study = _read(data / f"{spec.slug}_convergence" / "study.json")
         for r in (study or {}).get("runs", []):
-            rows.append([label, _setting(r["options"], defaults), *_confusion_cells([r]), "", "", "", "", *_cost([r])])
+            rows.append([label, _setting(r["options"], defaults), *_confusion_cells([r]), "", "", "", "", "", "", *_cost([r])])
     return HEADER, rows, [dict(zip(HEADER, r)) for r in rows]

@@ -414,6 +414,8 @@ ENGINE_TABLE_CAPTION = (
     "LAUNCH: the share the engine throws off the plane while b < 0; onset: the worst lift-off onset error against Psi_L; "
     "convergence: per parameter with the others held fixed, by the rule under the findings; friction: median angle between the friction force and -slip, and the worst "
     "cone violation max(0, |F_t| - mu F_n) / (m g), while slipping; causes: the ladder's split of the disagreements; "
+    "confirmed: the share of those removed by their own cause's intervention on the engine itself; rounding: the starts of its maps "
+    "whose outcome changes when theta moves by up to 2 ulp; "
     "cost: engine microseconds per step (per record row for a continuous engine) and runs per second on this machine (one core). "
     "Grids were chosen by each engine's cost; '-' where a section did not run."
 )

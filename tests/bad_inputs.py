@@ -312,6 +312,10 @@ def api_cases() -> list:
     add("get('mujoco').simulate(thresholds='bogus')", lambda: registry.get("mujoco").simulate(rod, s, 1.4, horizon=0.1, thresholds="bogus"),
         "thresholds")
     add("critical_values(mu=[1.4, 1.5])", lambda: critical.critical_values([1.4, 1.5], 3.0), "mu")
+    add("get('mujoco').simulate(horizon=True)", lambda: registry.get("mujoco").simulate(rod, s, 1.4, horizon=True), "horizon")
+    add("get('mujoco').simulate(mu=1.4+5j)", lambda: registry.get("mujoco").simulate(rod, s, 1.4 + 5j, horizon=0.1), "mu")
+    add("get('mujoco').sweep(mu=complex array)", lambda: registry.get("mujoco").sweep(rod, [s, s], np.array([1.4 + 5j] * 2), horizon=0.1), "mu")
+    add("get('mujoco').sweep(mu of 3 for 2 states)", lambda: registry.get("mujoco").sweep(rod, [s, s], [1.4, 1.4, 1.4], horizon=0.1), "mu")
     # not real numbers, or several where one belongs: a complex value would lose its imaginary part, a bool count as 1
     from crosscheck.coordinates import from_generalized, to_generalized
 

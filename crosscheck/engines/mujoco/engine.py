@@ -27,14 +27,14 @@ import numpy as np
 from mujoco import rollout
 from crosscheck.progress import bar
 
-from crosscheck.checks import MU, POSITIVE, check
+from crosscheck.checks import MU, POSITIVE
 from crosscheck.engines.base import (SERIES, STATE_KEYS, SUMMARY, Run, SweepResult, check_states, n_steps_within_memory, summaries)
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.mujoco import warning_counts as mujoco_warnings
 from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import SensorLayout, build_model, initial_state, record_from_sensordata
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState
+from crosscheck.state import SlipState, real, real_scalar
 
 __all__ = ["NAME", "Options", "Batch", "simulate", "sweep", "CHUNK_BYTES"]
 
@@ -81,10 +81,13 @@ class Batch:
         """Validate the inputs, compile one model per distinct mu and place every state."""
         states = check_states(states)
         B = len(states)
-        horizon = float(check("horizon", horizon, POSITIVE))
-        if not (isinstance(nthread, int) and nthread >= 1):
+        horizon = real_scalar("horizon", horizon, POSITIVE)
+        if not (isinstance(nthread, int) and not isinstance(nthread, bool) and nthread >= 1):
             raise ValueError(f"nthread must be an integer >= 1; got {nthread!r}")
-        mu = np.broadcast_to(check("mu", mu, MU), (B,)).astype(float)
+        mu = real("mu", mu, MU)
+        if mu.ndim > 1 or mu.ndim == 1 and len(mu) not in (1, B):
+            raise ValueError(f"mu must be one number or one per state ({B}); got an array of shape {mu.shape}")
+        mu = np.broadcast_to(mu, (B,)).astype(float)
         # a chunk holds at least nthread states' whole time series: refuse what cannot fit before allocating it
         nstep = n_steps_within_memory(horizon, options.timestep, ROW_BYTES, copies=nthread, what="records", context=f" with nthread = {nthread}")
         models = {m: build_model(rod, m, options) for m in np.unique(mu)}
@@ -149,9 +152,9 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
     state.check_start()
-    horizon = float(check("horizon", horizon, POSITIVE))
+    horizon = real_scalar("horizon", horizon, POSITIVE)
     opts = Options.from_kwargs(options)
-    mu = float(check("mu", mu, MU))
+    mu = real_scalar("mu", mu, MU)
     th = thresholds or Thresholds()
     batch = Batch.build(rod, [state], mu, horizon=horizon, options=opts, nthread=1)
     (_, record), = batch.records(rod, progress=False)

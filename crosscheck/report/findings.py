@@ -52,6 +52,8 @@ class Finding:
     why: str = ""  # the rule applied to this line's numbers (shown beside the verdict)
 
 
+from crosscheck.report.sections.engine_interventions import CONFIRMED_SHARE  # noqa: E402  (its section's verdict rule)
+
 #: The rules behind the verdicts, shown where the verdicts are (the report's findings).
 RULES = (
     ("first event", f"agrees when the lower end of the Wilson 95 % interval of the agreement is >= {100 * CONVERGED:.0f} %; disagrees when its "
@@ -64,6 +66,10 @@ RULES = (
     ("lift-off onset", "agrees when every onset check against Psi_L holds within its allowance, disagrees otherwise"),
     ("causes of disagreement", "explained when the ladder attributes >= 90 % of the laddered disagreements to a named cause, "
                                "partly explained otherwise"),
+    ("causes confirmed on the engine", f"confirmed when >= {100 * CONFIRMED_SHARE:.0f} % of the attributed disagreements are removed by one of their own "
+                                       "cause's interventions on the engine itself, partly confirmed otherwise"),
+    ("outcomes against rounding", "agrees when no start of the engine's maps changes outcome as theta moves by up to 2 ulp, "
+                                  "disagrees otherwise"),
     ("friction direction", "explained when MuJoCo's contact law, run on the same states, predicts the measured skew within its "
                            "check's allowance; not explained otherwise"),
     ("a section's own line", "agrees when every physics check of the section holds (regression guards do not count), disagrees otherwise"),

@@ -268,7 +268,7 @@ nav.toc .st{font-size:.8em;margin-left:.3em}
 @media (min-width:1500px){nav.toc{position:fixed;top:1em;left:1em;width:230px;max-height:95vh;overflow-y:auto;border-right:1px solid #ddd;padding-right:.6em}}
 @media (min-width:1500px){body{margin-left:280px}}
 @media (max-width:1499px){nav.toc{border:1px solid #ddd;padding:.5em 1em;columns:2}}
-.v-agrees,.v-converges,.v-explained{color:#176317;font-weight:bold}.v-disagrees,.v-doesnotconverge,.v-notexplained{color:#a11;font-weight:bold}.v-inconclusive,.v-known,.v-partlyexplained{color:#8a5a00;font-weight:bold}.why{color:#555;font-size:.9em}
+.v-agrees,.v-converges,.v-explained,.v-confirmed{color:#176317;font-weight:bold}.v-disagrees,.v-doesnotconverge,.v-notexplained{color:#a11;font-weight:bold}.v-inconclusive,.v-known,.v-partlyexplained,.v-partlyconfirmed{color:#8a5a00;font-weight:bold}.why{color:#555;font-size:.9em}
 td.num,span.num{white-space:nowrap}.tw{overflow-x:auto}dl.rules dt{font-weight:bold}dl.rules dd{margin:0 0 .3em 1.5em}
 a.top{font-size:.6em;font-weight:normal;margin-left:.6em;color:#888;text-decoration:none}
 """

@@ -90,7 +90,7 @@ def _figure(ctx: RenderContext, name: str, summary: dict):
     parts = [("confirmed by its own intervention", [summary["per_cause"][c]["confirmed"] for c in causes], "#2a9d4b"),
              ("removed by another cause's instead", [sum(summary["per_cause"][c]["by_other"].values()) for c in causes], "#e9a23b"),
              ("removed by none", [summary["per_cause"][c]["none"] for c in causes], "#c0392b")]
-    fig, ax = plt.subplots(figsize=(7.0, 0.6 + 0.55 * len(causes)))
+    fig, ax = plt.subplots(figsize=(7.0, 0.9 + 0.55 * len(causes)), layout="constrained")
     left = [0] * len(causes)
     for label, counts, colour in parts:
         ax.barh(causes, counts, left=left, color=colour, label=label)
@@ -99,7 +99,6 @@ def _figure(ctx: RenderContext, name: str, summary: dict):
     ax.set_xlabel("laddered disagreements")
     ax.xaxis.get_major_locator().set_params(integer=True)
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize=8, frameon=False)
-    fig.tight_layout()
     return ctx.figure("interventions", fig, f"{name}: per cause the ladder named, its disagreements removed by the cause's own "
                                          "intervention on the engine, by another cause's, or by none.", ["summary.json"])
 

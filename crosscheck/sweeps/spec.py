@@ -315,7 +315,7 @@ def _cell(key: str, text: str) -> float:
     return float(t)
 
 
-def _options(engine: str, table: dict) -> dict[str, tuple]:
+def _options(engine: str, table: dict, horizon: float | None = None) -> dict[str, tuple]:
     if engine == ANALYTIC:
         out = {}
         for k, v in table.items():
@@ -354,11 +354,14 @@ def _options(engine: str, table: dict) -> dict[str, tuple]:
     # each combination a chunk will run, checked now (options that bound each other: MuJoCo's timeconst >= 2 timestep)
     combos = itertools.product(*(out[k] for k in out))
     for combo in itertools.islice(combos, MAX_OPTION_COMBINATIONS):
+        shown = ", ".join(f"{k} = {v!r}" for k, v in zip(out, combo))
         try:
-            E.Options(**dict(zip(out, combo)))
+            opts = E.Options(**dict(zip(out, combo)))
         except (TypeError, ValueError) as e:
-            shown = ", ".join(f"{k} = {v!r}" for k, v in zip(out, combo))
             raise SpecError(f"options {shown}: {e}") from None
+        # every engine's run refuses a step longer than its horizon: refused here, before any chunk runs
+        if horizon is not None and getattr(opts, "timestep", 0.0) > horizon:
+            raise SpecError(f"options {shown}: timestep must be in (0, sweep.horizon = {horizon:g}]; got {opts.timestep!r}")
     return out
 
 
@@ -384,7 +387,7 @@ def parse_spec(doc: dict, *, base: Path | None = None) -> Spec:
     par = doc.get("parameters", {})
     mu = tuple(_values("parameters.mu", par["mu"], **_MU)) if "mu" in par else ()
     alpha = tuple(_values("parameters.alpha", par.get("alpha", 3.0), **_ALPHA))
-    options = _options(engine, doc.get("options", {}))
+    options = _options(engine, doc.get("options", {}), horizon)
     return Spec(engine=engine, horizon=horizon, seed=seed, chunk=chunk, states=states, mu=mu, alpha=alpha, options=options, source=doc)
 
 

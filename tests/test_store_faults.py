@@ -13,7 +13,7 @@ import pytest
 
 from crosscheck import sweeps
 from crosscheck.cli import main
-from crosscheck.sweeps.store import Store, StoreError
+from crosscheck.sweeps.store import StoreError
 
 SPEC = """
 [sweep]

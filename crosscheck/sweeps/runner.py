@@ -16,7 +16,6 @@ command computes only what is missing or failed.
 
 from __future__ import annotations
 
-import os
 import re
 import sys
 import time

@@ -84,7 +84,7 @@ def render(ctx: RenderContext) -> list:
         rows = [[t["map"][i], f"theta {t['theta'][i]:.17g}, varphi {t['varphi'][i]:.3g}, Theta {t['Theta'][i]:.3g}, Psi {t['Psi'][i]:.3g}",
                  f"{t['mu'][i]:.3g}", *[str(t[f"ulp_{k}"][i]).lower() for k in (-2, -1, 0, 1, 2)]] for i in range(len(t["map"]))]
         blocks.append(Table(caption=f"The starts whose {name} outcome hangs on the last bits of theta.",
-                            header=["map", "start", "mu", "-2 ulp", "-1 ulp", "theta", "+1 ulp", "+2 ulp"], rows=rows, data=ctx.data("changed.csv")))
+                            header=["map", "start", "mu", "-2 ulp", "-1 ulp", "at theta", "+1 ulp", "+2 ulp"], rows=rows, data=ctx.data("changed.csv")))
     return blocks
 
 

@@ -109,3 +109,4 @@ def test_summary_counts_confirmed_misattributed_and_unremoved():
     assert s["per_cause"]["compliance"]["none"] == 1
     assert s["per_cause"]["unexplained"]["by_other"] == {"geometry": 1}
     assert s["per_cause"]["friction law"]["no_intervention"] == 1
+    assert (s["n"], s["removed_by_any"]) == (6, 4)  # all but the compliance and friction-law starts no intervention removes

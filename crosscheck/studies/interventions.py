@@ -102,16 +102,18 @@ def _not_at_strongest(result: dict, cause: str) -> bool:
 
 def summarise(results: list[dict]) -> dict:
     """Per cause named by the ladder: how many its own interventions confirm (and of those, how many only at a weaker step),
-    how many another cause's remove instead, how many none does.
+    how many another cause's remove instead, how many none does; and over all of them (``removed_by_any``) how many
+    some cause's intervention removes, whatever the ladder named.
 
     ``results``: one dict per laddered disagreement with ``cause`` (the ladder's) and ``interventions``
     (``intervene``'s result).  Only the causes of ``LADDER_CAUSES`` count as attributed.
     """
     per = {}
-    attributed = confirmed = 0
+    attributed = confirmed = removed = 0
     for r in results:
         cause, iv = r["cause"], r["interventions"]
         fixing = [c for c in iv["causes"] if _fixes(iv, c)]
+        removed += bool(fixing)
         row = per.setdefault(cause, {"n": 0, "confirmed": 0, "not_at_strongest": 0, "by_other": {}, "none": 0, "no_intervention": 0})
         row["n"] += 1
         if cause in LADDER_CAUSES:
@@ -128,7 +130,9 @@ def summarise(results: list[dict]) -> dict:
             if not fixing:
                 row["none"] += 1
     return {"per_cause": per, "attributed": attributed, "confirmed": confirmed,
-            "confirmed_share": confirmed / attributed if attributed else None}
+            "confirmed_share": confirmed / attributed if attributed else None,
+            # whatever the ladder named: the disagreements some cause's intervention on the engine removes
+            "n": len(results), "removed_by_any": removed}
 
 
 def as_record(x) -> dict:

@@ -127,6 +127,9 @@ def render(ctx: RenderContext) -> list:
     share = summary["confirmed_share"]
     head = (f"{summary['confirmed']} of {summary['attributed']} attributed disagreements ({100 * share:.0f} %) confirmed by their own cause's "
             "intervention." if share is not None else "No attributed disagreement to confirm.")
+    if summary.get("n"):
+        head += (f" Whatever the ladder named, {summary['removed_by_any']} of the {summary['n']} laddered disagreements are removed by some "
+                 "cause's intervention on the engine.")
     blocks.append(Table(caption=f"{name}: {head} Per cause named by the ladder: starts, confirmed by its own intervention, removed by "
                                 "another cause's interventions instead (a misattribution to look into), removed by none.",
                         header=["cause (ladder)", "starts", "confirmed", "removed by another cause instead", "removed by none"],
@@ -158,7 +161,7 @@ def finding(data: Path) -> list:
     other = sum(sum(r["by_other"].values()) for r in summary["per_cause"].values())
     return [Finding(f"{name}: causes confirmed on the engine", f"{summary['confirmed']} of {summary['attributed']} attributed disagreements "
                     f"({100 * share:.0f} %) removed by their own cause's intervention on {name} itself; {other} removed by another cause's "
-                    f"instead, {none} by none", "confirmed" if share >= CONFIRMED_SHARE else "partly confirmed", data.name,
+                    f"instead, {none} by none; {summary.get('removed_by_any', '-')} of {summary.get('n', '-')} removed by some intervention", "confirmed" if share >= CONFIRMED_SHARE else "partly confirmed", data.name,
                     why=f"confirmed when at least {100 * CONFIRMED_SHARE:.0f} % are removed by one of their own cause's interventions")]
 
 

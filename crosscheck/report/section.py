@@ -127,6 +127,21 @@ class RunContext:
     sweeps: dict | None = None
     checks: list[dict] = field(default_factory=list)
 
+    def finished(self, slug: str) -> tuple[dict, SectionStore] | None:
+        """(status, store) of the section ``slug`` of this report if it finished ok and its saved files are intact
+        (a section whose run reads another's results, ``Section.after``); None otherwise."""
+        from crosscheck.report.integrity import DamagedResults
+        from crosscheck.report.pipeline import verified_status
+
+        out = self.store.root.parent.parent
+        try:
+            status = verified_status(out, slug)
+        except (DamagedResults, OSError, ValueError):
+            return None
+        if not status or status.get("status") != "ok":
+            return None
+        return status, SectionStore(out / "data" / slug)
+
     def check(self, name: str, passed: bool, *, value: Any = None, allowance: Any = None, detail: str = "", known: str = "",
               guard: bool = False) -> bool:
         """Record a check and save the list at once (a later failure keeps it).

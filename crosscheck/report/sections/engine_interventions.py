@@ -25,39 +25,17 @@ def params(quick: bool, engine: str, ladder: Section) -> dict:
 
 
 def _laddered(ctx: RunContext) -> tuple[list[dict], dict]:
-    """(disagreements as {map, state, mu, cause, reference}, the ladder's options/alpha/horizon) from the saved ladder section."""
-    from crosscheck.report.integrity import DamagedResults
-    from crosscheck.report.pipeline import verified_status
-    from crosscheck.report.store import SectionStore
-
+    """(disagreements as {map, state, mu, cause, reference}, the ladder's options/alpha/horizon) from the ladder section's
+    ``ladders.json``, the format every ladder section publishes."""
     P = ctx.params
-    out = ctx.store.root.parent.parent
-    try:
-        status = verified_status(out, P["ladder"])
-    except (DamagedResults, OSError, ValueError):
-        status = None
-    if not status or status.get("status") != "ok":
+    found = ctx.finished(P["ladder"])
+    if found is None:
         raise SkipSection(f"needs the {P['ladder']} section's results: run it first (the report runs it before this one)")
+    status, store = found
     lp = status["params"]
-    store = SectionStore(out / "data" / P["ladder"])
-    starts = []
-    if store.path("ladders.json").exists():  # the generic ladder (crosscheck.studies.ladder)
-        for ld in store.read_json("ladders"):
-            if ld["cause"] in ("agree", "not rated"):
-                continue
-            s = {k: ld["state"][k] for k in ("theta", "varphi", "Theta", "Psi", "eta")}
-            starts.append({"map": ld["map"], "state": s, "mu": ld["mu"], "cause": ld["cause"], "reference": ld["reference"]})
-    else:  # MuJoCo's own ladder: one row per start
-        t = store.read_table("ladder", text=("map", "analytic", "mujoco_study", "cause", "tip_status", "tip_outcome", "tip_label",
-                                             "capsule_status", "capsule_outcome", "capsule_label", "compliant_status", "compliant_outcome",
-                                             "compliant_label", "mujoco_law_status", "mujoco_law_outcome", "mujoco_law_label", "mujoco_status",
-                                             "mujoco_outcome", "mujoco_label"))
-        for i in range(len(t["cause"])):
-            if t["cause"][i] in ("agree", "not rated"):
-                continue
-            s = {k: float(t[k][i]) for k in ("theta", "varphi", "Theta", "Psi", "eta")}
-            starts.append({"map": str(t["map"][i]), "state": s, "mu": float(t["mu"][i]), "cause": str(t["cause"][i]),
-                           "reference": str(t["mujoco_study"][i])})
+    starts = [{"map": ld["map"], "state": {k: ld["state"][k] for k in ("theta", "varphi", "Theta", "Psi", "eta")}, "mu": ld["mu"],
+               "cause": ld["cause"], "reference": ld["reference"]}
+              for ld in store.read_json("ladders") if ld["cause"] not in ("agree", "not rated")]
     return starts, {"options": lp["options"], "alpha": lp["alpha"], "horizon": lp["horizon"]}
 
 

@@ -30,20 +30,12 @@ def params(quick: bool, engine: str, options: dict, maps_slug: str) -> dict:
 
 def _saved_events(ctx: RunContext) -> dict:
     """The engine's map section's saved event tables (SkipSection when that section has not run ok with these options)."""
-    from crosscheck.report.integrity import DamagedResults
-    from crosscheck.report.pipeline import verified_status
-    from crosscheck.report.store import SectionStore
-
     P = ctx.params
-    out = ctx.store.root.parent.parent
-    try:
-        status = verified_status(out, P["maps"])
-    except (DamagedResults, OSError, ValueError):
-        status = None
-    theirs = (status or {}).get("params", {})
-    if not status or status.get("status") != "ok" or theirs.get("options") != P["options"] or theirs.get("engine") != P["ladder_engine"]:
+    found = ctx.finished(P["maps"])
+    status, store = found if found else ({}, None)
+    theirs = status.get("params", {})
+    if not found or theirs.get("options") != P["options"] or theirs.get("engine") != P["ladder_engine"]:
         raise SkipSection(f"needs the {P['maps']} section's results at the same options: run it first (the report runs it before this one)")
-    store = SectionStore(out / "data" / P["maps"])
     return {m["name"]: store.read_table(f"events_{m['name']}", text=("analytic_reason",)) for m in theirs["maps"]}
 
 

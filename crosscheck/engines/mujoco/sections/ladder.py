@@ -74,24 +74,14 @@ def _grid(m: dict):
 
 def _saved_maps(ctx: RunContext) -> dict | None:
     """The ``mujoco_maps`` section's saved event tables, if that section ran ok with this section's maps and options."""
-    from crosscheck.report.integrity import DamagedResults
-    from crosscheck.report.pipeline import verified_status
-    from crosscheck.report.store import SectionStore
-
     P = ctx.params
-    if not P["reuse"]:
+    found = ctx.finished(P["reuse"]) if P["reuse"] else None
+    if found is None:
         return None
-    out = ctx.store.root.parent.parent
-    try:
-        status = verified_status(out, P["reuse"])
-    except (DamagedResults, OSError, ValueError):
-        return None
-    if status is None or status.get("status") != "ok":
-        return None
+    status, store = found
     theirs = status.get("params", {})
     if any(theirs.get(k) != P[k] for k in ("alpha", "horizon", "options", "maps")) or theirs.get("engine") != "mujoco":
         return None
-    store = SectionStore(out / "data" / P["reuse"])
     return {m["name"]: store.read_table(f"events_{m['name']}", text=("analytic_reason",)) for m in P["maps"]}
 
 
@@ -154,6 +144,11 @@ def run(ctx: RunContext) -> None:
     cols["eps"] = [ld.match.eps for ld in study.ladders]
     cols["xi"] = [ld.match.xi for ld in study.ladders]
     ctx.store.write_table("ladder", cols)
+    # the laddered starts in the format every ladder section publishes (``crosscheck.report.sections.engine_ladder``),
+    # read by the engine's interventions section
+    ctx.store.write_json("ladders", [{"map": n, "state": {k: getattr(s, k) for k in ("theta", "varphi", "Theta", "Psi", "eta")}, "mu": float(m),
+                                      "cause": ld.cause, "reference": ld.reference.name}
+                                     for (n, _), s, m, ld in zip(chosen, states, mus, study.ladders)])
     failures = sorted({f"{r.name}: {r.detail}" for ld in study.ladders for r in ld.rungs if not r.ok})
     summary = {**study.summary(), "n_disagreements_on_maps": n_all, "source": source, "failures": failures[:20]}
     ctx.store.write_json("summary", summary)

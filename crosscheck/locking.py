@@ -134,7 +134,8 @@ def exclusive(path: Path | str, holder: str, refuse: Callable[[str], Exception])
         try:
             os.pwrite(fd, holder.encode(), 0)
         except OSError as e:  # a full disk: one line naming the directory, not a traceback from the lock
-            from crosscheck.sweeps.store import NO_SPACE, StoreError, no_space
+            from crosscheck.files import NO_SPACE, no_space
+            from crosscheck.sweeps.store import StoreError
 
             if e.errno in NO_SPACE:
                 raise StoreError(no_space(path.parent, len(holder.encode()), e)) from None

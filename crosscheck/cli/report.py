@@ -47,7 +47,7 @@ def _run(args) -> int:
         try:
             return _locked(args, report, out, sections, selected, seed, workers, scheduler, jobs)
         except OSError as e:  # a full disk under a writer that does not say so itself (the render's pages and figures)
-            from crosscheck.sweeps.store import NO_SPACE, no_space
+            from crosscheck.files import NO_SPACE, no_space
 
             if e.errno not in NO_SPACE:
                 raise

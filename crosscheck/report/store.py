@@ -58,23 +58,14 @@ def seal_of(data: bytes) -> dict:
 def write_atomic(path: Path, data: bytes) -> None:
     """Write ``data`` to ``path`` through a temporary file renamed into place; a full disk or an unwritable
     directory is a ``ValueError`` naming the directory (and the bytes needed), leaving no temporary file."""
-    import os
+    from crosscheck import files
 
-    from crosscheck.sweeps.store import NO_SPACE, no_space
-
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        with open(tmp, "wb") as f:
-            f.write(data)
-        os.replace(tmp, path)
+        files.write_atomic(path, data)
     except OSError as e:
-        try:
-            tmp.unlink(missing_ok=True)  # nothing half-written stays behind
-        except OSError:
-            pass  # never created (its name, say, too long)
-        if e.errno in NO_SPACE:
-            raise ValueError(no_space(path.parent, len(data), e)) from None
+        if e.errno in files.NO_SPACE:
+            raise ValueError(files.no_space(path.parent, len(data), e)) from None
         name = path.name if len(path.name) <= 60 else f"{path.name[:40]}... ({len(path.name)} characters)"
         raise ValueError(f"out must be a writable path; cannot write {name} in {str(path.parent)[:200]!r}: {e.strerror or e}") from None
 

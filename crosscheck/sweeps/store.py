@@ -30,7 +30,6 @@ proves it belongs to that spec.  Files in ``chunks`` that are not the store's
 
 from __future__ import annotations
 
-import errno
 import hashlib
 import json
 import math
@@ -45,7 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
-from crosscheck.files import exclusive, sha256_file
+from crosscheck.files import NO_SPACE, exclusive, no_space, sha256_file, write_atomic
 
 __all__ = ["Store", "StoreError", "versions", "FORMATS"]
 
@@ -62,40 +61,14 @@ _SHA256 = re.compile(r"^[0-9a-f]{64}$")
 
 _REBUILD = "re-run the same crosscheck sweep command to rebuild it (its intact chunks are kept)"
 
-#: The errors of a file system that has no room left (EFBIG: a file-size limit).
-NO_SPACE = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
-
-
 class StoreError(ValueError):
     """A store that cannot be used as asked (another writer, another spec, a damaged manifest)."""
 
 
-def no_space(directory: Path, needed: int | None, e: OSError) -> str:
-    """The one line of a write that found no room: the directory, the bytes needed (None: not known) and those free."""
-    try:
-        st = os.statvfs(directory)
-        free = f"{st.f_bavail * st.f_frsize} bytes free"
-    except OSError:
-        free = "free space unknown"
-    if needed is None:
-        what = Path(e.filename).name if e.filename else "its files"
-        return f"out {str(directory)!r} has no room left ({e.strerror or e}): writing {what} needs more free space than that ({free})"
-    return f"out {str(directory)!r} has no room left ({e.strerror or e}): writing {needed} bytes needs at least that much free space ({free})"
-
-
 def _write_atomic(path: Path, data: bytes) -> None:
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
     try:
-        with open(tmp, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
+        write_atomic(path, data, sync=True)
     except OSError as e:
-        try:
-            tmp.unlink(missing_ok=True)  # nothing half-written stays behind
-        except OSError:
-            pass  # never created (its name, say, too long)
         raise StoreError(_os_error(path.parent, e, len(data))) from None
 
 

@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import math
+import subprocess
+from contextlib import contextmanager
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -28,3 +31,37 @@ def random_slip_states(rng: np.random.Generator, n: int) -> list[SlipState]:
 def rod() -> Rod:
     """The scaled uniform rod (m = l = g = 1, alpha = 3)."""
     return Rod.scaled(ALPHA)
+
+
+@contextmanager
+def tmpfs(path: Path, options: str = "size=1m"):
+    """A real tmpfs mounted at ``path`` (created) for the ``with`` block: a small or read-only file system for the
+    full-disk and unwritable-directory tests (the test is skipped where this process cannot mount one)."""
+    path.mkdir(parents=True, exist_ok=True)
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", options, "tmpfs", str(path)], capture_output=True).returncode != 0:
+        pytest.skip("cannot mount a tmpfs here")
+    try:
+        yield path
+    finally:
+        subprocess.run(["umount", str(path)], check=True)
+
+
+def small(engine: str = "mujoco", horizon: float = 0.2, chunk: int = 4, **options) -> str:
+    """A small sweep spec (TOML text): 3 x 2 x 2 planar starts at two mu (24 runs) of ``engine``, with ``options``."""
+    opts = "".join(f"{k} = {v!r}\n" for k, v in options.items())
+    return f"""
+[sweep]
+engine = "{engine}"
+horizon = {horizon}
+seed = 0
+chunk = {chunk}
+[states]
+theta = {{start = 0.5, stop = 1.1, num = 3}}
+varphi = -1.5707963267948966
+Theta = [0.0, 0.6]
+Psi = [0.0, 1.5]
+eta = 1.0
+[parameters]
+mu = [0.5, 1.4]
+alpha = 3.0
+""" + (f"[options]\n{opts}" if opts else "")

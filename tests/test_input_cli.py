@@ -4,13 +4,14 @@ a valid IPv6 scheduler address, and the rule for how a number is written (crossc
 from __future__ import annotations
 
 import socket
-import subprocess
 from pathlib import Path
 
 import pytest
 
 from crosscheck import sweeps
 from crosscheck.cli import main
+
+from conftest import tmpfs
 
 SPEC = """
 [sweep]
@@ -40,11 +41,8 @@ def stores(tmp_path_factory):
 @pytest.fixture(scope="module")
 def read_only(tmp_path_factory):
     """A real read-only tmpfs (skipped where this process cannot mount one)."""
-    mnt = tmp_path_factory.mktemp("ro")
-    if subprocess.run(["mount", "-t", "tmpfs", "-o", "ro,size=64k", "tmpfs", str(mnt)], capture_output=True).returncode != 0:
-        pytest.skip("cannot mount a tmpfs here")
-    yield mnt
-    subprocess.run(["umount", str(mnt)], check=True)
+    with tmpfs(tmp_path_factory.mktemp("ro"), "ro,size=64k") as mnt:
+        yield mnt
 
 
 def _one_line(capsys) -> str:

@@ -21,25 +21,13 @@ from crosscheck import sweeps
 from crosscheck.locking import exclusive, holders
 from crosscheck.sweeps.store import Store
 
+from conftest import small, tmpfs
+
 #: Seconds a killed run's workers may take to go (they get SIGKILL from the kernel when their parent dies).
 ORPHAN_GRACE = 5.0
 
-SPEC = """
-[sweep]
-engine = "pinocchio"
-horizon = 0.6
-seed = 0
-chunk = 2
-[states]
-theta = {start = 0.5, stop = 1.1, num = 3}
-varphi = -1.5707963267948966
-Theta = [0.0, 0.6]
-Psi = [0.0, 1.5]
-eta = 1.0
-[parameters]
-mu = [0.5, 1.4]
-alpha = 3.0
-"""
+#: 24 rigid-engine runs (3 x 2 x 2 planar starts at two mu), 12 chunks of 2: long enough to be killed in the middle.
+SPEC = small("pinocchio", horizon=0.6, chunk=2)
 
 
 def _children(pid: int) -> list[int]:
@@ -182,15 +170,9 @@ def test_a_lock_on_a_full_disk_is_one_line_and_leaves_no_file(tmp_path):
     """A real 64 KiB tmpfs, filled: the lock's owner text does not fit (skipped where this process cannot mount one)."""
     from crosscheck.sweeps.store import StoreError
 
-    mnt = tmp_path / "full"
-    mnt.mkdir()
-    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(mnt)], capture_output=True).returncode != 0:
-        pytest.skip("cannot mount a tmpfs here")
-    try:
+    with tmpfs(tmp_path / "full", "size=64k") as mnt:
         subprocess.run(["dd", "if=/dev/zero", f"of={mnt / 'fill'}", "bs=4k", "count=100"], capture_output=True)
         with pytest.raises(StoreError, match=rf"^out {str(mnt)!r} has no room left \(No space left on device\): writing \d+ bytes needs"):
             with exclusive(mnt / ".lock", "pid 4 on host: crosscheck report", ValueError):
                 pass
         assert not (mnt / ".lock").exists()
-    finally:
-        subprocess.run(["umount", str(mnt)], check=True)

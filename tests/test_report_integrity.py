@@ -20,6 +20,8 @@ from crosscheck import report
 from crosscheck.cli import main
 from crosscheck.report.section import Section, Table
 
+from conftest import tmpfs
+
 
 def _run(ctx):
     ctx.store.write_table("values", {"x": np.arange(3.0), "y": np.arange(3.0) ** 2})
@@ -164,11 +166,7 @@ def test_a_full_disk_is_one_line_naming_the_directory_and_leaves_the_section_unf
     """A real 1 MiB tmpfs, full but for a few pages: the section's table does not fit."""
     import shutil
 
-    mnt = tmp_path / "disk"
-    mnt.mkdir()
-    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(mnt)], capture_output=True).returncode != 0:
-        pytest.skip("cannot mount a tmpfs here")
-    try:
+    with tmpfs(tmp_path / "disk") as mnt:
         st = os.statvfs(mnt)
         (mnt / "filler").write_bytes(b"\0" * (st.f_bavail * st.f_frsize - 40000))
 
@@ -187,17 +185,11 @@ def test_a_full_disk_is_one_line_naming_the_directory_and_leaves_the_section_unf
         (mnt / "filler").unlink()
         assert main(["report", "--out", str(mnt / "r"), "--no-progress"]) == 0
         shutil.rmtree(mnt / "r")
-    finally:
-        subprocess.run(["umount", str(mnt)], check=True)
 
 
 def test_a_disk_that_fills_during_the_render_is_one_line(tmp_path, monkeypatch, capsys):
     """A real 1 MiB tmpfs that fills while the pages are written (a filler written by the section's render)."""
-    mnt = tmp_path / "disk"
-    mnt.mkdir()
-    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(mnt)], capture_output=True).returncode != 0:
-        pytest.skip("cannot mount a tmpfs here")
-    try:
+    with tmpfs(tmp_path / "disk") as mnt:
         def fill(ctx):
             st = os.statvfs(mnt)
             (mnt / "filler").write_bytes(b"\0" * (st.f_bavail * st.f_frsize))
@@ -207,5 +199,3 @@ def test_a_disk_that_fills_during_the_render_is_one_line(tmp_path, monkeypatch, 
         assert main(["report", "--out", str(mnt / "r"), "--no-progress"]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and err.startswith(f"crosscheck: error: out {str(mnt / 'r')!r}") and "has no room left (No space left on device)" in err
-    finally:
-        subprocess.run(["umount", str(mnt)], check=True)

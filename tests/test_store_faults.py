@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import shutil
-import subprocess
 from pathlib import Path
 
 import pandas as pd
@@ -14,6 +13,8 @@ import pytest
 from crosscheck import sweeps
 from crosscheck.cli import main
 from crosscheck.sweeps.store import StoreError
+
+from conftest import tmpfs
 
 SPEC = """
 [sweep]
@@ -176,14 +177,8 @@ def test_chunks_replaced_by_a_file_is_one_line(store, capsys):
 @pytest.fixture
 def small_disk(tmp_path):
     """A real 1 MiB tmpfs (skipped where this process cannot mount one)."""
-    mnt = tmp_path / "disk"
-    mnt.mkdir()
-    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(mnt)], capture_output=True).returncode != 0:
-        pytest.skip("cannot mount a tmpfs here")
-    try:
+    with tmpfs(tmp_path / "disk") as mnt:
         yield mnt
-    finally:
-        subprocess.run(["umount", str(mnt)], check=True)
 
 
 def fill(mnt: Path, leave: int) -> None:

@@ -20,28 +20,9 @@ from crosscheck.sweeps.compare import compare_frames, wilson_interval
 from crosscheck.sweeps.spec import SpecError, parse_spec
 from crosscheck.sweeps.store import Store, StoreError
 
+from conftest import small
+
 EXAMPLE = Path(__file__).parents[1] / "examples" / "sweep.toml"
-
-
-def small(engine: str = "mujoco", horizon: float = 0.2, chunk: int = 4, **options) -> str:
-    """A small spec: 3 x 2 x 2 planar starts at two mu (24 runs)."""
-    opts = "".join(f"{k} = {v!r}\n" for k, v in options.items())
-    return f"""
-[sweep]
-engine = "{engine}"
-horizon = {horizon}
-seed = 0
-chunk = {chunk}
-[states]
-theta = {{start = 0.5, stop = 1.1, num = 3}}
-varphi = -1.5707963267948966
-Theta = [0.0, 0.6]
-Psi = [0.0, 1.5]
-eta = 1.0
-[parameters]
-mu = [0.5, 1.4]
-alpha = 3.0
-""" + (f"[options]\n{opts}" if opts else "")
 
 
 def write(tmp_path: Path, text: str, name: str = "spec.toml") -> Path:

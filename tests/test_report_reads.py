@@ -155,7 +155,7 @@ def test_the_summary_names_no_latex_label_and_separates_ran_from_agrees(rendered
 
 
 def test_paper_references_keep_numbers_and_drop_labels():
-    from crosscheck.report.render import paper_reference, unlabel
+    from crosscheck.report.references import paper_reference, unlabel
 
     ref = "Figs. 11 (fig:GBs_bif3) and 17 (fig:stabilty_on_GB); eq. K, Theorem 4.1"
     assert paper_reference(ref) == "Figs. 11 and 17; Theorem 4.1; 1 equation"

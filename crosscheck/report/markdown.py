@@ -13,8 +13,9 @@ from pathlib import Path
 
 from crosscheck.report.findings import RULES
 from crosscheck.report.pipeline import PROVENANCE_FILE
-from crosscheck.report.render import (_FINDINGS, _NUMBERING, _RULES_TITLE, SectionView, _badge, _long, paper_reference, unlabel, _checks_note, _checks_shown, _checks_table,
-                                      _engine_table, _figures_table, _md_cell, _provenance_rows, _summary_table, _verdicts)
+from crosscheck.report.references import _NUMBERING, _figures_table, paper_reference, unlabel
+from crosscheck.report.render import (_FINDINGS, _RULES_TITLE, SectionView, _badge, _checks_note, _checks_shown, _checks_table, _engine_table, _long,
+                                      _md_cell, _provenance_rows, _summary_table, _verdicts)
 from crosscheck.report.section import Figure, Preformatted, Table, Text
 
 __all__ = ["write_md", "MD_WIDTH", "MD_ROW_WIDTH"]

@@ -110,3 +110,24 @@ def test_summary_counts_confirmed_misattributed_and_unremoved():
     assert s["per_cause"]["unexplained"]["by_other"] == {"geometry": 1}
     assert s["per_cause"]["friction law"]["no_intervention"] == 1
     assert (s["n"], s["removed_by_any"]) == (6, 4)  # all but the compliance and friction-law starts no intervention removes
+
+
+#: A start of the full report's theta-Theta map where MuJoCo's slip stops at once (JAM at t = 0) while the theory lifts
+#: off at t = 0.030: the start is near p = 0, where the skew of MuJoCo's friction off the slip (p_eff depends on the
+#: friction's direction) makes its own p negative.  The full report's ladder named geometry (the rigid rod at the capsule
+#: point C jams too).
+MUJOCO_SKEW_JAM = (SlipState(theta=0.992, varphi=-1.9, Theta=0.891, Psi=0.0, eta=1.0), 1.4)
+
+
+def test_mujoco_skew_jam_is_removed_by_a_smaller_impratio_not_by_a_thinner_capsule():
+    """impratio 0.1 (an isotropic friction regulariser ten times the normal one) turns MuJoCo's friction toward -u and
+    the tip lifts off as the theory's does; a capsule 16 times thinner still jams: the geometry the ladder named is not
+    what MuJoCo needs changed here (a misattribution the interventions section lists)."""
+    state, mu = MUJOCO_SKEW_JAM
+    r = intervene("mujoco", state, mu, causes=("geometry", "friction law"), timestep=3e-4)
+    assert r["theory"] == "LIFTOFF"
+    assert [x["label"] for x in r["causes"]["geometry"]] == ["JAM", "JAM"]
+    by_text = {x["text"]: x for x in r["causes"]["friction law"]}
+    assert by_text["impratio 1 -> 0.1"]["label"] == "LIFTOFF" and by_text["impratio 1 -> 0.1"]["removes"]
+    # too soft a friction no longer stops anything: the tip keeps slipping past the theory's lift-off
+    assert by_text["impratio 1 -> 0.01"]["label"] == "SLIP" and not by_text["impratio 1 -> 0.01"]["removes"]

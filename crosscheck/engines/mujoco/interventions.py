@@ -6,12 +6,23 @@ weakest first (``crosscheck.studies.interventions`` runs them):
 * geometry: a thinner capsule (MuJoCo needs r > 0: r / 4, r / 16);
 * compliance: a stiffer contact toward the rigid limit, the time constant of
   solref down to a third and a tenth (never below MuJoCo's 2 dt), the last
-  with the impedance raised to d0 = dmax = 0.99 (the fraction of the rigid
-  force MuJoCo feeds forward at once);
-* friction law: a shorter friction time constant (``friction_timeconst``): the
-  skew of MuJoCo's friction is the angle between u and u + a_t / B with
-  B = 2 / (dmax tau_f) (``crosscheck.engines.mujoco.studies.friction_skew``),
-  so tau_f -> 0 makes its friction oppose the slip as Coulomb's does;
+  two with the impedance raised to d0 = dmax = 0.99 (the fraction of the
+  rigid force MuJoCo feeds forward at once), and the strongest at a
+  hundredth with the timestep divided by 16.  Why the smaller step: the
+  rigid limit of a compliant contact is tau -> 0, and MuJoCo silently
+  raises tau to 2 dt ("refsafe"), so at the run's step a tenth is as stiff
+  as it gets; tau / dt = 32 at the strongest step still resolves the
+  contact time (the run's own ratio is 200);
+* friction law: two ways to make MuJoCo's friction oppose the slip as
+  Coulomb's does (``crosscheck.engines.mujoco.studies.friction_skew``), each
+  weakest first.  A shorter friction time constant (``friction_timeconst``):
+  the friction is anti-parallel to u + a_t / B with B = 2 / (dmax tau_f),
+  so tau_f -> 0 turns it toward -u.  A smaller ``impratio`` (0.1, 0.01):
+  the friction rows' regulariser R_t = R_n / impratio is isotropic and
+  outweighs the anisotropic, normal-coupled Delassus block that skews the
+  friction (the skew section's medians fall from ~17 to ~6 degrees at 0.01),
+  at the price of a softer friction (at 0.001 the friction no longer
+  saturates the cone and the tip keeps slipping where it should stop);
 * discretisation: the timestep divided by 4 and 16 at the same contact.
 
 Scaled units (section 2.1).
@@ -33,14 +44,20 @@ def compliance(o):
     tc3, tc10 = max(floor, o.timeconst / 3), max(floor, o.timeconst / 10)
     d0, dmax, width, mid, power = o.solimp
     stiff = (max(d0, 0.99), max(dmax, 0.99), width, mid, power)
+    dt16 = o.timestep / 16
+    tc100 = max(2 * dt16, o.timeconst / 100)
     return (Intervention(f"time constant {o.timeconst:g} -> {tc3:g}", {"timeconst": tc3}),
-            Intervention(f"time constant {o.timeconst:g} -> {tc10:g}, impedance {dmax:g} -> {stiff[1]:g}", {"timeconst": tc10, "solimp": stiff}))
+            Intervention(f"time constant {o.timeconst:g} -> {tc10:g}, impedance {dmax:g} -> {stiff[1]:g}", {"timeconst": tc10, "solimp": stiff}),
+            Intervention(f"time constant {o.timeconst:g} -> {tc100:g}, impedance {dmax:g} -> {stiff[1]:g}, timestep {o.timestep:g} -> {dt16:g}",
+                         {"timeconst": tc100, "solimp": stiff, "timestep": dt16}))
 
 
 def friction_law(o):
     now = o.timeconst if o.friction_timeconst is None else o.friction_timeconst
     steps = [max(2 * o.timestep, now / k) for k in (6, 30)]
-    return tuple(Intervention(f"friction time constant {now:g} -> {tf:g}", {"friction_timeconst": tf}) for tf in steps)
+    shorter = tuple(Intervention(f"friction time constant {now:g} -> {tf:g}", {"friction_timeconst": tf}) for tf in steps)
+    softer = tuple(Intervention(f"impratio {o.impratio:g} -> {r:g}", {"impratio": r}) for r in (0.1 * o.impratio, 0.01 * o.impratio))
+    return shorter + softer
 
 
 def discretisation(o):

@@ -99,11 +99,11 @@ class Parameters:
     impratio: float
 
     @classmethod
-    def of(cls, rod: Rod, options: Options, *, impratio: float = 1.0) -> "Parameters":
-        """Convert scaled ``Options`` as ``crosscheck.engines.mujoco.model.build_model`` does (rod.xml: impratio 1)."""
+    def of(cls, rod: Rod, options: Options, *, impratio: float | None = None) -> "Parameters":
+        """Convert scaled ``Options`` as ``crosscheck.engines.mujoco.model.build_model`` does (impratio: the options' unless given)."""
         if not isinstance(options, Options):
             raise ValueError(f"options must be crosscheck.engines.mujoco.options.Options; got {type(options).__name__}")
-        impratio = float(check("impratio", impratio, POSITIVE))
+        impratio = float(check("impratio", options.impratio if impratio is None else impratio, POSITIVE))
         w, l = rod.omega, rod.length
         dt = options.timestep / w
         tau = max(options.timeconst / w, 2 * dt)
@@ -227,7 +227,7 @@ class ContactProblem:
         return solve_cone(self.A + np.diag(self.R), self.a0 - self.aref, self.mu)
 
 
-def contact_problem(rod: Rod, q, v, mu: float, options: Options, *, impratio: float = 1.0) -> ContactProblem:
+def contact_problem(rod: Rod, q, v, mu: float, options: Options, *, impratio: float | None = None) -> ContactProblem:
     """Build MuJoCo's contact problem at generalised (q, v) (physical) for friction mu and scaled ``options``.
 
     The contact is the A end cap's lowest point; the problem is built whatever
@@ -300,14 +300,14 @@ def solve_cone(H: np.ndarray, g: np.ndarray, mu: float) -> np.ndarray:
     return fn * dd
 
 
-def contact_force(rod: Rod, q, v, mu: float, options: Options, *, impratio: float = 1.0) -> np.ndarray:
+def contact_force(rod: Rod, q, v, mu: float, options: Options, *, impratio: float | None = None) -> np.ndarray:
     """MuJoCo's contact force on the rod at generalised (q, v) [physical], world frame, in m g.
 
     Zero while the capsule does not penetrate (dist >= 0: MuJoCo keeps a
     contact only while dist < margin = 0).  mu is clamped to MINMU as MuJoCo
     does.  On the sliding mode at dist = 0 (``crosscheck.engines.mujoco.ode``)
     the motion applies a fraction lambda of this force, not all of it.  ``options``: the MuJoCo engine's
-    scaled ``Options``; impratio as rod.xml's (1) unless given.
+    scaled ``Options``; impratio the options' unless given.
     """
     mu = float(check("mu", mu, MU))
     q = check("q", q, FINITE)
@@ -320,7 +320,7 @@ def contact_force(rod: Rod, q, v, mu: float, options: Options, *, impratio: floa
     return pb.frame.T @ pb.force() / rod.force_scale
 
 
-def accelerations(rod: Rod, q, v, mu: float, options: Options, *, contact: bool, impratio: float = 1.0):
+def accelerations(rod: Rod, q, v, mu: float, options: Options, *, contact: bool, impratio: float | None = None):
     """qacc [physical] and the contact force (contact frame [N]) under MuJoCo's law; ``contact`` says whether the contact exists."""
     pb = contact_problem(rod, q, v, mu, options, impratio=impratio)
     if not contact:

@@ -102,6 +102,7 @@ def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
         raise ModelFileError(f"MuJoCo model file {path} lacks body 'rod', geom 'rod', site 'tip' or pair 'floor_rod'")
     spec.option.timestep = options.timestep / w
     spec.option.tolerance = options.solver_tolerance
+    spec.option.impratio = options.impratio
     spec.option.gravity = [0.0, 0.0, -rod.gravity]
     body.explicitinertial = True
     body.mass = rod.mass

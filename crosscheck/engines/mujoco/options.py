@@ -31,6 +31,11 @@ class Options:
         (solreffriction on the contact pair); None uses ``timeconst``.
       solimp: MuJoCo impedance (d0, dmax, width / l, midpoint, power);
         default MuJoCo's (0.9, 0.95, 0.001 m for l = 1 m, 0.5, 2).
+      impratio: MuJoCo's ratio of frictional to normal impedance (default 1,
+        rod.xml's and MuJoCo's): the friction rows' regulariser is
+        R_t = R_n / impratio, so impratio << 1 makes the friction soft and
+        isotropic and removes most of its skew off the slip
+        (``crosscheck.engines.mujoco.studies.friction_skew``).
       solver_tolerance: MuJoCo's solver tolerance (default 1e-10, as in
         rod.xml).  The Newton solver stops on it, so the contact force and the
         acceleration agree to ~5e-7 relative at 1e-10; 0 runs to
@@ -45,6 +50,7 @@ class Options:
     dampratio: float = 1.0
     friction_timeconst: float | None = None
     solimp: tuple[float, float, float, float, float] = (0.9, 0.95, 0.001, 0.5, 2.0)
+    impratio: float = 1.0
     solver_tolerance: float = 1e-10
     model_file: str | None = None
 
@@ -69,6 +75,7 @@ class Options:
         if not (0 < solimp[0] < 1 and 0 < solimp[1] < 1 and solimp[2] > 0 and 0 < solimp[3] < 1 and solimp[4] >= 1):
             raise ValueError(f"solimp must have d0, dmax in (0, 1), width > 0, midpoint in (0, 1) and power >= 1; got {tuple(solimp)!r}")
         object.__setattr__(self, "solimp", tuple(float(x) for x in solimp))
+        object.__setattr__(self, "impratio", real_scalar("impratio", self.impratio, POSITIVE))
         object.__setattr__(self, "solver_tolerance", real_scalar("solver_tolerance", self.solver_tolerance, NONNEGATIVE))
         if self.model_file is not None:
             object.__setattr__(self, "model_file", os.fspath(self.model_file))

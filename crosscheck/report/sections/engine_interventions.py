@@ -98,7 +98,7 @@ def render(ctx: RenderContext) -> list:
     rows = []
     for cause, r in summary["per_cause"].items():
         other = ", ".join(f"{c} {n}" for c, n in sorted(r["by_other"].items())) or "-"
-        rows.append([cause, str(r["n"]), (f"{r['confirmed']} ({r['not_at_strongest']} only at the weaker step)" if r["not_at_strongest"] else
+        rows.append([cause, str(r["n"]), (f"{r['confirmed']} ({r['not_at_strongest']} removed at a weaker step but not at the strongest)" if r["not_at_strongest"] else
                                           str(r["confirmed"])) if cause in summary["causes"] else "no intervention", other, str(r["none"])])
     if summary["per_cause"]:
         blocks.append(_figure(ctx, name, summary))

@@ -131,3 +131,22 @@ def test_mujoco_skew_jam_is_removed_by_a_smaller_impratio_not_by_a_thinner_capsu
     assert by_text["impratio 1 -> 0.1"]["label"] == "LIFTOFF" and by_text["impratio 1 -> 0.1"]["removes"]
     # too soft a friction no longer stops anything: the tip keeps slipping past the theory's lift-off
     assert by_text["impratio 1 -> 0.01"]["label"] == "SLIP" and not by_text["impratio 1 -> 0.01"]["removes"]
+
+
+#: A start of the theta-Theta map where the theory jams at t = 0.011 (p reaches 0 with b < 0) and MuJoCo's slip ends in a
+#: STICK: near p = 0 its normal force follows -b/p_eff at once (60 m g at p_eff = 0.007 two steps in), and that force's
+#: friction brakes the slip to a stop before p crosses 0.  The ladder names the friction law (rung 4, MuJoCo's law).
+MUJOCO_FED_STICK = (SlipState(theta=0.9921875, varphi=-1.9, Theta=-0.703125, Psi=0.0, eta=1.0), 1.4)
+
+
+def test_mujoco_stick_before_the_jam_is_removed_by_less_feed_forward_not_by_a_closer_friction_direction():
+    """Impedance 0.1: MuJoCo applies a tenth of the rigid force at once and builds the rest through its spring, as the matched
+    Kelvin-Voigt rod does; the slip then lasts until p crosses 0 and ends in a jam.  A shorter friction time constant or a
+    smaller impratio (the friction's direction) still stick: the feed-forward, not the skew, is what the law rung added here."""
+    state, mu = MUJOCO_FED_STICK
+    r = intervene("mujoco", state, mu, causes=("friction law",), timestep=3e-4)
+    assert r["theory"] == "JAM"
+    by_text = {x["text"]: x for x in r["causes"]["friction law"]}
+    assert by_text["impedance 0.95 -> 0.1"]["label"] == "JAM" and by_text["impedance 0.95 -> 0.1"]["removes"]
+    direction = [x for t, x in by_text.items() if not t.startswith("impedance")]
+    assert len(direction) == 4 and not any(x["removes"] for x in direction)

@@ -17,9 +17,12 @@ From one start, rung 1 is the paper's rod (``slip_until_event``); each rung
 after it runs to rung 1's comparison time plus the agreement study's lag
 (``crosscheck.studies.comparison``), and every outcome is relabelled as the
 agreement study does, so the last rung's label is the study's label of the
-engine.  The cause of a disagreement is the first rung whose label equals the
-engine's; "unexplained" if none does, "undetermined" after a rung that could
-not run.  MuJoCo's own ladder (``crosscheck.engines.mujoco.studies.ladder``)
+engine.  The cause of a disagreement is the rung from which every later rung's
+label equals the engine's (the first rung of the final stretch of matches: a
+match that the next rung undoes is not the difference the engine keeps;
+``crosscheck.engines.mujoco.studies.ladder`` says why); "unexplained" if the
+last rung differs, "undetermined" when the last rung or the one before the
+stretch could not run.  MuJoCo's own ladder (``crosscheck.engines.mujoco.studies.ladder``)
 is this ladder with its rungs written out, the Kelvin-Voigt match of its
 impedance among them.
 
@@ -45,7 +48,7 @@ from crosscheck.studies.agreement import DEFAULT_HORIZON
 from crosscheck.studies.comparison import RATED, compared_label, comparison_window, window_margin
 from crosscheck.theory.slipping import slip_until_event
 
-__all__ = ["Rung", "EngineLadder", "rungs_of", "run_ladder", "CAUSES"]
+__all__ = ["Rung", "EngineLadder", "rungs_of", "run_ladder", "final_stretch_cause", "CAUSES"]
 
 #: Every cause a start can get (as MuJoCo's ladder): the four rungs' causes, "unexplained", "undetermined",
 #: "agree" (rung 1 already equals the engine) and "not rated" (rung 1 is GB or DIVERGED).
@@ -166,9 +169,24 @@ def _cause(rungs, reference: Outcome | None) -> str:
         return "not rated"
     if first.label == reference:
         return "agree"
-    for r in rungs[1:]:
-        if not r.ok:
-            return "undetermined"  # the missing rung might have matched: a later match cannot be attributed
-        if r.label == reference:
-            return r.cause
-    return "unexplained"
+    return final_stretch_cause(rungs[1:], reference, lambda r: r.cause)
+
+
+def final_stretch_cause(later, reference, cause_of) -> str:
+    """The cause of a disagreement: the first rung of the final stretch of rungs that all equal ``reference``.
+
+    ``later``: rungs 2, 3, ... (each with ``ok`` and ``label``); ``cause_of(rung)``
+    its cause.  "unexplained" when the last rung differs from the reference;
+    "undetermined" when the last rung, or the rung just before the stretch,
+    could not run (it might have extended the stretch or ended it).
+    """
+    if not later or not later[-1].ok:
+        return "undetermined"
+    if later[-1].label != reference:
+        return "unexplained"
+    k = len(later) - 1
+    while k > 0 and later[k - 1].ok and later[k - 1].label == reference:
+        k -= 1
+    if k > 0 and not later[k - 1].ok:
+        return "undetermined"
+    return cause_of(later[k])

@@ -22,7 +22,12 @@ weakest first (``crosscheck.studies.interventions`` runs them):
   outweighs the anisotropic, normal-coupled Delassus block that skews the
   friction (the skew section's medians fall from ~17 to ~6 degrees at 0.01),
   at the price of a softer friction (at 0.001 the friction no longer
-  saturates the cone and the tip keeps slipping where it should stop);
+  saturates the cone and the tip keeps slipping where it should stop).
+  And what else the ladder's law rung adds to the matched Kelvin-Voigt rod:
+  the impedance's feed-forward, d0 = dmax lowered to 0.5 and 0.1, so that
+  MuJoCo applies a fraction d of the rigid force at once (0.9-0.95 by
+  default) and builds the rest through its reference acceleration, as the
+  matched spring does (``crosscheck.engines.mujoco.studies.kelvin_voigt``);
 * discretisation: the timestep divided by 4 and 16 at the same contact.
 
 Scaled units (section 2.1).
@@ -57,7 +62,9 @@ def friction_law(o):
     steps = [max(2 * o.timestep, now / k) for k in (6, 30)]
     shorter = tuple(Intervention(f"friction time constant {now:g} -> {tf:g}", {"friction_timeconst": tf}) for tf in steps)
     softer = tuple(Intervention(f"impratio {o.impratio:g} -> {r:g}", {"impratio": r}) for r in (0.1 * o.impratio, 0.01 * o.impratio))
-    return shorter + softer
+    d0, dmax, width, mid, power = o.solimp
+    fed = tuple(Intervention(f"impedance {dmax:g} -> {d:g}", {"solimp": (min(d0, d), min(dmax, d), width, mid, power)}) for d in (0.5, 0.1))
+    return shorter + softer + fed
 
 
 def discretisation(o):

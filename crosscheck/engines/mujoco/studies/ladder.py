@@ -20,8 +20,18 @@ rung  name            model
 ====  ==============  =========================================================================
 
 The cause of a disagreement (rung 1's outcome differs from MuJoCo's) is the
-first rung whose outcome equals MuJoCo's: "geometry" (2), "compliance" (3),
-"friction law" (4), "discretisation" (5).  "friction law" stands for all of
+rung from which every later rung's outcome equals MuJoCo's (the first rung of
+the final stretch of matches): "geometry" (2), "compliance" (3), "friction
+law" (4), "discretisation" (5).  Why not the first rung that matches: two of
+MuJoCo's differences can each change the outcome, and a match that the next
+rung undoes is not the difference MuJoCo keeps.  Near p = 0 the rigid rod at
+the capsule point C jams where the rod at A lifts off (the offset r moves p
+across 0), while the Kelvin-Voigt rod at C lifts off again and only MuJoCo's
+law jams: the first match named geometry, yet a sixteen times thinner MuJoCo
+capsule still jams and a smaller impratio or another impedance removes the
+jam (``crosscheck.studies.interventions``).  Likewise a start where MuJoCo's
+law in continuous time does what the rigid theory does while MuJoCo's steps
+do not is discretisation, not compliance.  "friction law" stands for all of
 MuJoCo's contact law that rung 3 lacks: its friction not opposite the slip
 and regularised (its friction time constant), and its normal force's
 feed-forward of the free acceleration (below).  Rung 5 is MuJoCo itself at the
@@ -76,6 +86,7 @@ from crosscheck.rod import Rod
 from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
 from crosscheck.studies.agreement import DEFAULT_HORIZON
+from crosscheck.studies.ladder import final_stretch_cause
 from crosscheck.studies.comparison import RATED, compared_label, comparison_window, window_margin
 
 __all__ = [
@@ -285,19 +296,12 @@ def _run_rung(k: int, name: str, *, state: SlipState, mu: float, alpha: float, r
 
 def _cause(rungs: Sequence[RungResult], reference: Outcome | None) -> tuple[bool, str, int | None]:
     first = rungs[0]
-    labels = [r.label if r.ok else None for r in rungs]
     change = next((r.rung for r in rungs[1:] if r.ok and r.label != first.label), None)
     if first.label not in RATED or reference is None:
         return False, "not rated", change
     if first.label == reference:
         return False, "agree", change
-    for r in rungs[1:]:
-        if not r.ok:
-            # the missing rung might have matched: any later match cannot be attributed
-            return True, "undetermined", change
-        if labels[r.rung - 1] == reference:
-            return True, CAUSE_OF_RUNG[r.name], change
-    return True, "unexplained", change
+    return True, final_stretch_cause(rungs[1:], reference, lambda r: CAUSE_OF_RUNG[r.name]), change
 
 
 def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: float = DEFAULT_HORIZON, thresholds: Thresholds | None = None,

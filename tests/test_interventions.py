@@ -91,7 +91,8 @@ def _bad(options):
 
 def _result(cause, fixes: dict):
     """fixes: cause -> (removes at the weaker step, removes at the stronger)."""
-    return {"cause": cause, "interventions": {"theory": "SLIP", "causes": {c: [{"removes": w}, {"removes": s}] for c, (w, s) in fixes.items()}}}
+    return {"cause": cause, "interventions": {"theory": "SLIP", "causes": {c: [{"text": f"{c} weaker", "removes": w}, {"text": f"{c} stronger", "removes": s}]
+                                                                       for c, (w, s) in fixes.items()}}}
 
 
 def test_summary_counts_confirmed_misattributed_and_unremoved():
@@ -110,6 +111,7 @@ def test_summary_counts_confirmed_misattributed_and_unremoved():
     assert s["per_cause"]["unexplained"]["by_other"] == {"geometry": 1}
     assert s["per_cause"]["friction law"]["no_intervention"] == 1
     assert (s["n"], s["removed_by_any"]) == (6, 4)  # all but the compliance and friction-law starts no intervention removes
+    assert g["by_intervention"] == {"geometry weaker": 1, "geometry stronger": 1}  # each of the cause's own, over its starts
 
 
 #: A start of the full report's theta-Theta map where MuJoCo's slip stops at once (JAM at t = 0) while the theory lifts

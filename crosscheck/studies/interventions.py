@@ -102,7 +102,9 @@ def _not_at_strongest(result: dict, cause: str) -> bool:
 
 def summarise(results: list[dict]) -> dict:
     """Per cause named by the ladder: how many its own interventions confirm (and of those, how many only at a weaker step),
-    how many another cause's remove instead, how many none does; and over all of them (``removed_by_any``) how many
+    how many each of its interventions removes (``by_intervention``, text -> count: a cause whose interventions change
+    different parts of the engine, such as MuJoCo's friction direction and its impedance's feed-forward, says which part
+    acts), how many another cause's remove instead, how many none does; and over all of them (``removed_by_any``) how many
     some cause's intervention removes, whatever the ladder named.
 
     ``results``: one dict per laddered disagreement with ``cause`` (the ladder's) and ``interventions``
@@ -114,8 +116,11 @@ def summarise(results: list[dict]) -> dict:
         cause, iv = r["cause"], r["interventions"]
         fixing = [c for c in iv["causes"] if _fixes(iv, c)]
         removed += bool(fixing)
-        row = per.setdefault(cause, {"n": 0, "confirmed": 0, "not_at_strongest": 0, "by_other": {}, "none": 0, "no_intervention": 0})
+        row = per.setdefault(cause, {"n": 0, "confirmed": 0, "not_at_strongest": 0, "by_other": {}, "none": 0, "no_intervention": 0,
+                                     "by_intervention": {}})
         row["n"] += 1
+        for x in iv["causes"].get(cause) or []:  # what, of the cause's own interventions, removes it: which part of the cause acts
+            row["by_intervention"][x["text"]] = row["by_intervention"].get(x["text"], 0) + bool(x["removes"])
         if cause in LADDER_CAUSES:
             attributed += 1
             if cause not in iv["causes"]:

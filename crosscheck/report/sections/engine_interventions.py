@@ -93,8 +93,8 @@ def render(ctx: RenderContext) -> list:
     what = "; ".join(f"{c}: " + ", then ".join(iv.text for iv in spec.interventions_for(c, base)) for c in summary["causes"])
     blocks = [Text(f"{name} changed the way each cause names, from the laddered starts: {what}. A cause is confirmed when one of its "
                    f"interventions brings {name}'s outcome (compared as the agreement study compares) to the theory's; the table counts "
-                   "those confirmed only at the weaker step (the stronger one brings an artefact of its own, such as a launch in the first "
-                   "step).")]
+                   "those confirmed at a weaker step but not at the strongest (the stronger one brings an artefact of its own, such as a "
+                   "launch in the first step).")]
     rows = []
     for cause, r in summary["per_cause"].items():
         other = ", ".join(f"{c} {n}" for c, n in sorted(r["by_other"].items())) or "-"
@@ -112,6 +112,11 @@ def render(ctx: RenderContext) -> list:
                                 "another cause's interventions instead (a misattribution to look into), removed by none.",
                         header=["cause (ladder)", "starts", "confirmed", "removed by another cause instead", "removed by none"],
                         rows=rows or [["(no laddered disagreement)", "0", "0", "-", "0"]], data=ctx.data("summary.json")))
+    per_iv = [[cause, text, f"{k} of {r['n']}"] for cause, r in summary["per_cause"].items() for text, k in (r.get("by_intervention") or {}).items()]
+    if per_iv:
+        blocks.append(Table(caption=f"{name}: what removes each cause's disagreements, intervention by intervention (a start may be removed by "
+                                    "several). Where one cause's interventions change different parts of the engine, this says which part acts.",
+                            header=["cause (ladder)", "intervention", "removes"], rows=per_iv, data=ctx.data("summary.json")))
     if results:
         causes = summary["causes"]
         detail = []

@@ -107,7 +107,7 @@ def test_solver_health_is_recorded_and_unconverged_steps_counted():
 @pytest.mark.parametrize("kwargs, message", [
     ({"timestep": 0.0}, r"timestep must be in \(0, inf\); got 0.0"),
     ({"timestep": 0.5}, r"timestep must be in \(0, horizon = 0.1\]; got 0.5"),
-    ({"solver": "lemke"}, "solver must be one of pgs, admm; got 'lemke'"),
+    ({"solver": "lemke"}, "solver must be one of closed_form, pgs, admm; got 'lemke'"),
     ({"max_iterations": 0}, "max_iterations must be an integer >= 1; got 0"),
     ({"stiffness": 1.0}, "unknown Pinocchio option 'stiffness'"),
 ], ids=["timestep", "timestep_above_horizon", "solver", "iterations", "unknown"])

@@ -12,8 +12,9 @@ from crosscheck.engines.base import options_from_kwargs
 
 __all__ = ["Options", "SOLVERS"]
 
-#: Constraint solvers of Pinocchio that ``Options.solver`` names.
-SOLVERS = ("pgs", "admm")
+#: Constraint solvers that ``Options.solver`` names: the closed-form NCP over a batch of states (Pinocchio's PGS where
+#: a step's NCP has several solutions; ``crosscheck.engines.pinocchio.batch``), and Pinocchio's own solvers for every step.
+SOLVERS = ("closed_form", "pgs", "admm")
 
 
 @dataclass(frozen=True)
@@ -22,7 +23,10 @@ class Options:
 
     Attributes:
       timestep: omega dt (default 1e-3).
-      solver: "pgs" (projected Gauss-Seidel, default) or "admm".
+      solver: "pgs" (Pinocchio's projected Gauss-Seidel at every step, default),
+        "admm", or "closed_form" (the NCP in closed form, a batch of states
+        stepped together in numpy, PGS only at steps whose NCP has several
+        solutions: ``crosscheck.engines.pinocchio.batch``).
       tolerance: absolute complementarity and feasibility tolerance of the NCP
         as a force (m g): the solver stops when they are below tolerance x dt
         in impulses (default 1e-13, ~1e-13 of a step's impulse while slipping,

@@ -116,3 +116,12 @@ RIGID_NO_JAM_BELOW_MU_P = Tolerance(atol=0.5, rtol=0.0, why="integer count must 
 #: (n = 90) and 0.067 at seed 1; the JAMs alone are 0.83 and 0.74 of the states (mu = 6: 0.73 and
 #: 0.57; the rest stick at the jam row, as in RIGID_EVENT_DISAGREEMENT).
 RIGID_COROLLARY_STOP = Tolerance(atol=0.2, rtol=0.0, why="regression guard: measured 0.056-0.067 (n = 90, seeds 0, 1)", guard=True)
+
+#: The batched closed-form stepper (crosscheck.engines.pinocchio.batch) against Pinocchio's PGS stepper, one step from
+#: the same state: impulse relative to max(m g dt, |lambda|) and velocity relative to its size.  PGS stops at
+#: complementarity and feasibility 1e-13 m g dt (Options.tolerance), the closed form is exact to rounding, and the two
+#: terms (closed form, Pinocchio's) differ by ~eps / cos^2 theta (PIN_THROUGH_MINV): so the two steps differ by the solver's
+#: stopping rule, ~1e-13 relative to a slipping step's impulse, at most the 1e-11 measured for RIGID_STEP_FORCE.  Only
+#: steps where PGS met its tolerance are compared.  Measured max over the slip, lift-off, stick and two jam starts of
+#: tests/test_engine_pinocchio_batch.py: 1.7e-12 (impulse), 6.2e-15 (velocity).
+RIGID_BATCH_STEP = Tolerance(atol=0.0, rtol=1e-9, why="PGS's stopping rule 1e-13 m g dt against an exact solution (measured <= 1.7e-12)")

@@ -1,0 +1,181 @@
+"""The rigid engine's batched closed-form stepper against Pinocchio's terms and its PGS stepper, step by step and by outcome."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from crosscheck import Rod, SlipState
+from crosscheck.coordinates import to_generalized
+from crosscheck.engines import get
+from crosscheck.engines.pinocchio import closed_form as cf
+from crosscheck.engines.pinocchio import ncp
+from crosscheck.engines.pinocchio.batch import BatchStepper
+from crosscheck.engines.pinocchio.model import TIP_FRAME, build_model
+from crosscheck.engines.pinocchio.stepper import Options, Stepper
+from crosscheck.engines.pinocchio.tolerances import PIN_MATRICES, PIN_THROUGH_MINV, RIGID_BATCH_STEP
+from crosscheck.theory import analytic
+from crosscheck.theory.corollary import corollary_states
+
+ALPHA = 3.0
+ROD = Rod.scaled(ALPHA)
+ENGINE = get("pinocchio")
+LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+
+def _random_qv(rng: np.random.Generator, n: int) -> tuple[np.ndarray, np.ndarray]:
+    q = np.column_stack([rng.normal(size=(n, 3)), rng.uniform(-math.pi, math.pi, n), rng.uniform(0.05, 1.5, n)])
+    return q, 3.0 * rng.normal(size=(n, 5))
+
+
+def test_closed_form_terms_are_pinocchios():
+    """Tip position, velocity, dJ v, G, v_free and M^-1 J^T lambda against Pinocchio at seeded random states (physical units).
+
+    Allowances: PIN_MATRICES (~45 eps of the term's scale) for what does not go through M^-1; PIN_THROUGH_MINV times
+    cond(M) = 1/cos^2 theta for G and M^-1 J^T lambda, whose Pinocchio values carry that rounding (model.py)."""
+    rng = np.random.default_rng(11)
+    q, v = _random_qv(rng, 64)
+    lam = rng.normal(size=(64, 3))
+    dt = 1e-3
+    A = cf.angles(q)
+    T = cf.tip_terms(ROD, q, v, A)
+    vf, dv = cf.free_velocity(ROD, q, v, dt, A), cf.velocity_change(ROD, q, lam, A)
+    model = build_model(ROD)
+    data = model.createData()
+    tip = model.getFrameId(TIP_FRAME)
+    for i in range(len(q)):
+        a = pin.aba(model, data, q[i], v[i], np.zeros(5))
+        pin.forwardKinematics(model, data, q[i], v[i], np.zeros(5))
+        pin.updateFramePlacement(model, data, tip)
+        J = pin.computeFrameJacobian(model, data, q[i], tip, LWA)[:3]
+        M = pin.crba(model, data, q[i])
+        M = np.triu(M) + np.triu(M, 1).T
+        kappa = 1.0 / math.cos(q[i, 4]) ** 2
+        scale = 1.0 + np.abs(v[i]).sum()
+        plain = {"pos": (data.oMf[tip].translation, T.pos[i], 1.0 + np.abs(q[i]).sum()),
+                 "vel": (pin.getFrameVelocity(model, data, tip, LWA).linear, T.vel[i], scale),
+                 "dJv": (pin.getFrameClassicalAcceleration(model, data, tip, LWA).linear, T.dJv[i], scale**2),
+                 "v_free": (v[i] + dt * a, vf[i], scale**2)}
+        for name, (want, got, s) in plain.items():
+            assert np.abs(got - want).max() <= PIN_MATRICES.atol * s, (name, i)
+        through = {"G": (J @ np.linalg.solve(M, J.T), T.G[i], 1.0 + ALPHA),
+                   "M^-1 J^T lambda": (np.linalg.solve(M, J.T @ lam[i]), dv[i], (1.0 + ALPHA) * (1.0 + np.abs(lam[i]).sum()))}
+        for name, (want, got, s) in through.items():
+            assert np.abs(got - want).max() <= PIN_THROUGH_MINV.atol * kappa * s, (name, i)
+
+
+def test_the_closed_form_solution_satisfies_the_ncp_on_random_problems():
+    """Where ``ncp.solve`` answers: lambda in the cone, u+ = u + G lambda with u+_n >= 0 and lambda_n u+_n = 0, and a
+    slip's friction opposite the end-of-step slip at the cone's edge; a stick has u+ = 0.  Rounding: ~100 eps of |u|."""
+    rng = np.random.default_rng(5)
+    q, _ = _random_qv(rng, 2000)
+    G = cf.tip_terms(ROD, q, np.zeros_like(q)).G
+    u = rng.normal(size=(2000, 3)) - np.array([0.0, 0.0, 0.3])
+    mu = rng.choice([0.0, 0.3, 1.0, 2.5, 6.0], 2000)
+    lam, solved, kind = ncp.solve(G, u, mu)
+    assert solved.mean() > 0.98  # several solutions are the exception, even for these random problems
+    lam, u, G, mu, kind = lam[solved], u[solved], G[solved], mu[solved], kind[solved]
+    up = u + np.einsum("pij,pj->pi", G, lam)
+    tol = 1e-13 * (1.0 + np.abs(u).sum(axis=1))
+    lt = np.hypot(lam[:, 0], lam[:, 1])
+    assert np.all(lam[:, 2] >= 0) and np.all(lt <= mu * lam[:, 2] * (1 + 1e-12) + 1e-300)
+    assert np.all(up[:, 2] >= -tol)
+    assert np.all(np.abs(lam[:, 2] * up[:, 2]) <= tol * (1 + lam[:, 2]))
+    assert np.all(lam[kind == 0] == 0) and np.all(u[kind == 0, 2] >= 0)
+    stick = kind == 1
+    assert np.all(np.abs(up[stick]).max(axis=1) <= tol[stick])
+    slip = (kind == 2) & (mu > 0)
+    ut = np.hypot(up[slip, 0], up[slip, 1])
+    assert np.all(np.abs(lt[slip] - mu[slip] * lam[slip, 2]) <= 1e-12 * lt[slip])
+    cos = -(lam[slip, 0] * up[slip, 0] + lam[slip, 1] * up[slip, 1]) / (lt[slip] * ut)
+    assert np.all(cos >= 1 - 1e-9)
+
+
+def _starts():
+    """(name, state, mu, steps, timestep): a slip, a lift-off (b > 0), a slip that stops and sticks, and jams (Corollary 4.2)."""
+    slip = SlipState(theta=0.6, varphi=-1.2, Theta=0.3, Psi=0.5, eta=1.0)
+    liftoff = SlipState(theta=0.5, varphi=-math.pi / 2, Theta=0.0, Psi=2.5, eta=1.0)
+    stick = SlipState(theta=0.8, varphi=-2.0, Theta=0.0, Psi=0.0, eta=0.05)
+    jams, t_jam, _ = corollary_states(1.7, 2, np.random.default_rng(0))
+    out = [("slip", slip, 0.5, 300, 1e-3), ("liftoff", liftoff, 0.5, 100, 1e-3), ("stick", stick, 1.0, 300, 1e-3)]
+    out += [(f"jam{i}", s, 1.7, int((t + 0.05) / 3e-3), 3e-3) for i, (s, t) in enumerate(zip(jams, t_jam))]
+    return out
+
+
+STARTS = _starts()
+
+
+@pytest.mark.parametrize("name, state, mu, steps, dt", STARTS, ids=[s[0] for s in STARTS])
+def test_each_step_is_pgs_step(name, state, mu, steps, dt):
+    """From each state of the PGS engine's trajectory, one batched step and one PGS step: the same impulse and velocity
+    (``RIGID_BATCH_STEP``) wherever PGS met its tolerance; the steps handed to PGS are PGS's own."""
+    opts = Options(timestep=dt)
+    pgs, batch = Stepper(ROD, mu, opts), BatchStepper(ROD, np.array([mu]), opts)
+    q, v = to_generalized(ROD, state)
+    row = np.empty((1, 20))
+    scale = ROD.force_scale * pgs.dt  # m g dt: a slipping step's impulse is O(1) of it
+    seen, n_handed = set(), 0
+    for _ in range(steps):
+        q1, v1, info = pgs.step(q, v)
+        bq, bv = batch.step(q[None], v[None], row)
+        handed = row[0, 17] > 0
+        n_handed += handed
+        if info.converged:
+            dlam = np.abs(row[0, 9:12] - info.impulse).max() / max(scale, np.abs(info.impulse).max())
+            dv = np.abs(bv[0] - v1).max() / (1.0 + np.abs(v1).max() + np.abs(v1 - v).max() / dt * pgs.dt)
+            assert dlam <= RIGID_BATCH_STEP.rtol and dv <= RIGID_BATCH_STEP.rtol, (name, dlam, dv)
+        if handed:
+            assert np.array_equal(row[0, 9:12], info.impulse) and np.array_equal(bv[0], v1)
+        lam = info.impulse
+        seen.add("free" if not info.active else "none" if lam[2] == 0 else "handed" if handed
+                 else "stick" if math.hypot(lam[0], lam[1]) < mu * lam[2] * (1 - 1e-6) else "slip")
+        q, v = q1, v1
+    # each start exercises what it is named for
+    want = {"slip": {"slip"}, "liftoff": {"none", "free"}, "stick": {"slip", "stick"}}.get(name, {"slip"})
+    assert want <= seen, seen
+    if name == "liftoff":
+        assert analytic.b(state.Psi, state.Theta, state.theta) > 0
+    # below mu_P the closed form decides every step (one solution); at a jam PGS decides the steps with several
+    assert n_handed <= {"slip": 0, "liftoff": 0, "stick": 2}.get(name, steps), n_handed
+    if name.startswith("jam"):
+        assert n_handed > 0
+
+
+def test_jams_are_handed_to_pgs_and_keep_its_outcome():
+    """At a jam the step's NCP has the stick and a slip (or none but the stick): the batch hands those steps to PGS,
+    and simulate gives the PGS engine's outcome and event time."""
+    states, t_jam, _ = corollary_states(1.7, 4, np.random.default_rng(1))
+    a = ENGINE.sweep(ROD, states, 1.7, horizon=float(t_jam.max()) + 0.1, timestep=1e-3, solver="closed_form", workers=1)
+    b = ENGINE.sweep(ROD, states, 1.7, horizon=float(t_jam.max()) + 0.1, timestep=1e-3, solver="pgs", workers=1)
+    assert np.array_equal(a.outcome, b.outcome)
+    np.testing.assert_array_equal(a.event_time, b.event_time)
+    assert a.solver["max_iterations"].max() > 0  # some step went to PGS
+
+
+def test_outcomes_over_random_states_are_pgs_outcomes():
+    """A seeded random set across mu_P (mu in [0.1, 3]): every outcome and event time equal to the PGS engine's (event
+    times are row times, so equal means the same row)."""
+    rng = np.random.default_rng(2024)
+    states = [SlipState(theta=rng.uniform(0.2, 1.3), varphi=-rng.uniform(0.1, 3.0), Theta=0.7 * rng.normal(), Psi=rng.normal(),
+                        eta=rng.uniform(0.2, 3)) for _ in range(24)]
+    mu = rng.uniform(0.1, 3.0, 24)
+    a = ENGINE.sweep(ROD, states, mu, horizon=1.0, timestep=3e-3, solver="closed_form", workers=1)
+    b = ENGINE.sweep(ROD, states, mu, horizon=1.0, timestep=3e-3, solver="pgs", workers=1)
+    np.testing.assert_array_equal(a.outcome, b.outcome)
+    np.testing.assert_array_equal(a.event_time, b.event_time)
+    assert len(set(a.outcome.tolist())) >= 3  # the set reaches several outcomes, not only slips
+
+
+def test_simulate_is_a_batch_of_one():
+    """``simulate`` with the closed form steps one state through the same code as a sweep: the same record rows."""
+    s = SlipState(theta=0.6, varphi=-1.2, Theta=0.3, Psi=0.5, eta=1.0)
+    run = ENGINE.simulate(ROD, s, 0.5, horizon=0.3, solver="closed_form")
+    sw = ENGINE.sweep(ROD, [s, SlipState(theta=1.0, varphi=-2.0, Theta=0.0, Psi=1.0, eta=0.5)], 0.5, horizon=0.3, solver="closed_form",
+                      workers=1)
+    assert run.outcome == sw.outcome[0] and run.solver.contact_steps == sw.solver["contact_steps"][0]
+    pgs = ENGINE.simulate(ROD, s, 0.5, horizon=0.3, solver="pgs")
+    np.testing.assert_allclose(run.record.theta, pgs.record.theta, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(run.record.normal_force, pgs.record.normal_force, rtol=RIGID_BATCH_STEP.rtol, atol=0)

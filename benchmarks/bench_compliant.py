@@ -1,20 +1,29 @@
-"""Cost of the compliant rod (crosscheck.engines.compliant.integrate) per state against the rigid flow, and its solver choices.
+"""CPU time of the compliant engine (``simulate``) per state against its bare ``solve_ivp``; the model's cost and solver choices.
 
-Three measurements on the same random slipping states (b < 0 < p, seeded),
-each run to the rigid flow's first event (``crosscheck.theory.slipping.slip_until_event``,
-t_max = 2), in the same run so that the machine's load cancels in the ratios
-(CPU time of this process; the rigid runs the best of 3, as benchmarks/timing.py's
-best_of, the compliant runs once each: they take 0.1-0.5 s):
+The headline, on random slipping states (b < 0 < p, seeded) run over the
+same horizon: ``crosscheck.engines.get("compliant").simulate`` (integration
+with its mode-switch events, the sampled ``Record``, the classifier) against
+the bare ``scipy.integrate.solve_ivp`` of the same right-hand side over the
+same intervals: one call per mode segment of the engine's own trajectory,
+from that segment's start state to its end, with the same method,
+tolerances, analytic Jacobian and dense output, and nothing else (no events,
+no record).  Both are timed in the same run, interleaved, by the CPU time of
+this process (wall-time ratios moved 2x between two runs on the shared
+cores, CPU-time ratios by ~20 %), the best of ``--repeat`` each; the ratio
+bare / engine is the share of the engine's time that is the solver's.
+
+With ``--more``, three older measurements on states run to the rigid flow's first event
+(``crosscheck.theory.slipping.slip_until_event``, t_max = 2):
 
 1. cost per state of ``integrate`` at a few eps against ``slip_until_event``
    (the ratio of medians);
 2. Radau against BDF at the default tolerances (``COMPLIANT_INTEGRATION``)
-   and BDF at 100x tighter ones: wall time and the largest error of the slow
+   and BDF at 100x tighter ones: time and the largest error of the slow
    variables at the end against a Radau run at rtol 1e-11 / atol 1e-13;
 3. the analytic Jacobian (``Dynamics.jac``) against scipy's own
    finite-difference Jacobian of the whole right-hand side.
 
-    python benchmarks/bench_compliant.py [--n 12] [--mu 0.5] [--eps 1e-1 1e-2 1e-3]
+    python benchmarks/bench_compliant.py [--n 12] [--mu 0.5] [--horizon 0.5] [--repeat 3] [--more [--eps 1e-1 1e-2 1e-3]]
 """
 
 from __future__ import annotations
@@ -26,8 +35,10 @@ import numpy as np
 import scipy.integrate
 
 from crosscheck.theory import analytic
+from crosscheck.engines import get, n_steps
 from crosscheck.engines.compliant import integrate
 from crosscheck.engines.compliant import trajectory as _trajectory
+from crosscheck.engines.compliant.run import Options
 from crosscheck.rod import Rod
 from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
@@ -54,15 +65,50 @@ def _timed(f):
     return out, time.process_time() - t
 
 
+def bare_segments(traj, options: Options) -> None:
+    """``solve_ivp`` of each mode segment of ``traj`` alone: its right-hand side, Jacobian, start state and interval,
+    the engine's method and tolerances (``integrate`` scales atol by eps on the gap), dense output, no events."""
+    dyn = traj.dynamics
+    atol = options.atol * np.array([1, 1, min(1.0, dyn.eps), 1, 1, 1, 1, 1, 1, 1])
+    for seg in traj.segments:
+        if seg.t1 > seg.t0:
+            m, d = seg.mode, seg.direction
+            scipy.integrate.solve_ivp(lambda t, y: dyn.rhs(y, m, d), (seg.t0, seg.t1), seg.y0, method=options.method, rtol=options.rtol,
+                                      atol=atol, jac=lambda t, y: dyn.jac(y, m, d), dense_output=True)
+
+
+def engine_overhead(rod: Rod, states: list[SlipState], mu: float, horizon: float, repeat: int) -> None:
+    """The headline of the module docstring: ``simulate`` against the bare ``solve_ivp`` of its segments."""
+    engine, options = get("compliant"), Options()
+    # simulate integrates one timestep past its last record row, at (n_steps - 1) timestep
+    end = max(horizon, n_steps(horizon, options.timestep) * options.timestep)
+    trajs = [integrate(rod, s, mu, horizon=end, eps=options.eps, xi=options.xi) for s in states]
+    t_engine = t_bare = np.inf
+    for _ in range(repeat):  # interleaved, so the load of other processes hits both alike
+        t_engine = min(t_engine, _timed(lambda: [engine.simulate(rod, s, mu, horizon=horizon) for s in states])[1])
+        t_bare = min(t_bare, _timed(lambda: [bare_segments(tr, options) for tr in trajs])[1])
+    segments = sum(len(tr.segments) for tr in trajs)
+    print(f"{len(states)} slipping states, mu = {mu}, horizon {horizon} ({round(horizon / options.timestep)} record rows each), "
+          f"eps = {options.eps:g}, {options.method}; {segments} mode segments; CPU time, best of {repeat}")
+    print(f"bare solve_ivp of the segments: {t_bare / len(states) * 1e3:7.1f} ms per state")
+    print(f"compliant engine (simulate):    {t_engine / len(states) * 1e3:7.1f} ms per state   ratio bare / engine {t_bare / t_engine:.2f}")
+
+
 def main() -> None:
-    ap = argparse.ArgumentParser()
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=12)
     ap.add_argument("--mu", type=float, default=0.5)
     ap.add_argument("--alpha", type=float, default=3.0)
+    ap.add_argument("--horizon", type=float, default=0.5, help="scaled time per state of the engine measurement")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--more", action="store_true", help="also the rigid-flow cost and the solver choices (minutes)")
     ap.add_argument("--eps", type=float, nargs="+", default=[1e-1, 1e-2, 1e-3])
     args = ap.parse_args()
     rod = Rod.scaled(args.alpha)
     states = slipping_states(np.random.default_rng(0), args.n, args.mu, args.alpha)
+    engine_overhead(rod, states, args.mu, args.horizon, args.repeat)
+    if not args.more:
+        return
     horizons = []
     rigid = []
     for s in states:

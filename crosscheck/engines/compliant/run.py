@@ -172,10 +172,11 @@ def record_of(traj, times: np.ndarray) -> Record:
     acc = np.empty((n, 3))
     slip = np.zeros((n, 3))
     for k in range(n):
-        F = dyn.force(Y[k], int(modes[k]), dirs[k]) if modes[k] != FREE else np.zeros(3)
+        T = dyn.terms(Y[k])  # once for the force and the slip (``Dynamics.slip`` is J_t q' of the same terms)
+        F = dyn.force(Y[k], int(modes[k]), dirs[k], T) if modes[k] != FREE else np.zeros(3)
         force[k] = F
         acc[k] = dyn.tip_acceleration(Y[k], F)
-        slip[k, :2] = dyn.slip(Y[k])
+        slip[k, :2] = T[2][:2] @ T[4]
     rod = Rod.scaled(dyn.alpha)
     q, v = q_from_y(Y, dyn.radius)
     return Record(t=np.asarray(times, float), tip_pos=tip_position(rod, q), tip_vel=tip_velocity(rod, q, v), tip_acc=acc, force=force,

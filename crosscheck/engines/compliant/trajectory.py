@@ -468,7 +468,8 @@ def integrate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: flo
     y_all = np.vstack(Y) if Y else y[None]
     mode_all = np.concatenate(MODE) if MODE else np.array([mode])
     q, v = q_from_y(y_all, dyn.radius)
-    Fn = np.array([dyn.force(yy, int(mm), None)[2] if mm != FREE else 0.0 for yy, mm in zip(y_all, mode_all)])
+    # F_n is the law's push in both contact modes (``Dynamics.force``'s third component), without the friction part
+    Fn = np.array([dyn.push(yy) if mm != FREE else 0.0 for yy, mm in zip(y_all, mode_all)])
     return Trajectory(t=t_all, q=q, v=v, mode=mode_all, normal_force=Fn, events=events, slip_stop_time=slip_stop_time,
                       segments=segments, dynamics=dyn, nfev=nfev, njev=njev)
 

@@ -64,7 +64,7 @@ def test_the_convex_relaxation_launches_a_slipping_tip_and_the_engine_does_not_u
     assert abs(w["pgs", True][0]) < 1e-6 and abs(w["admm", True][0]) < 1e-6  # O(dt^2 dJ v): on the plane
     launched, mu_ut = w["admm", False]
     assert launched == pytest.approx(mu_ut, rel=1e-2)
-    assert Options().ncp is True and Options().solver == "pgs"
+    assert Options().ncp is True and Options().solver == "auto"
     with pytest.raises(ValueError, match="ncp=False .* needs solver='admm'"):
         Options(ncp=False)
 
@@ -107,7 +107,7 @@ def test_solver_health_is_recorded_and_unconverged_steps_counted():
 @pytest.mark.parametrize("kwargs, message", [
     ({"timestep": 0.0}, r"timestep must be in \(0, inf\); got 0.0"),
     ({"timestep": 0.5}, r"timestep must be in \(0, horizon = 0.1\]; got 0.5"),
-    ({"solver": "lemke"}, "solver must be one of closed_form, pgs, admm; got 'lemke'"),
+    ({"solver": "lemke"}, "solver must be one of auto, closed_form, pgs, admm; got 'lemke'"),
     ({"max_iterations": 0}, "max_iterations must be an integer >= 1; got 0"),
     ({"stiffness": 1.0}, "unknown Pinocchio option 'stiffness'"),
 ], ids=["timestep", "timestep_above_horizon", "solver", "iterations", "unknown"])

@@ -179,3 +179,19 @@ def test_simulate_is_a_batch_of_one():
     pgs = ENGINE.simulate(ROD, s, 0.5, horizon=0.3, solver="pgs")
     np.testing.assert_allclose(run.record.theta, pgs.record.theta, rtol=0, atol=1e-12)
     np.testing.assert_allclose(run.record.normal_force, pgs.record.normal_force, rtol=RIGID_BATCH_STEP.rtol, atol=0)
+
+
+def test_auto_batches_sweeps_of_AUTO_BATCH_states_and_steps_single_runs_with_pgs():
+    """The default solver: a sweep of ``AUTO_BATCH`` states is stepped in closed form (0 PGS iterations below mu_P, where
+    every step's NCP has one solution); a smaller sweep and ``simulate`` go through PGS (>= 1 iteration per contact step)."""
+    from crosscheck.engines.pinocchio.options import AUTO_BATCH
+
+    rng = np.random.default_rng(3)
+    states = [SlipState(theta=rng.uniform(0.3, 1.2), varphi=-rng.uniform(0.5, 2.5), Theta=0.3 * rng.normal(), Psi=0.5 * rng.normal(),
+                        eta=rng.uniform(0.5, 2)) for _ in range(AUTO_BATCH)]
+    assert Options().solver == "auto"
+    big = ENGINE.sweep(ROD, states, 0.5, horizon=0.1, workers=1)
+    assert big.options.solver == "auto" and np.all(big.solver["max_iterations"] == 0) and np.all(big.solver["contact_steps"] > 0)
+    small = ENGINE.sweep(ROD, states[:2], 0.5, horizon=0.1, workers=1)
+    assert np.all(small.solver["max_iterations"] >= 1)
+    assert ENGINE.simulate(ROD, states[0], 0.5, horizon=0.1).solver.max_iterations >= 1

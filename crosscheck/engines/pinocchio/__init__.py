@@ -2,7 +2,9 @@
 
 ``model``: the rod's chain (PX, PY, PZ, RZ, RX), its M, C, g, Jacobians and
 Delassus operator (equal to the analytic terms to 1e-14, ``crosscheck.engines.pinocchio.studies.dynamics_terms``);
-``options``: the run parameters; ``stepper``: the exact-cone time-stepper.
+``options``: the run parameters; ``stepper``: the exact-cone time-stepper and the engine's ``simulate`` and
+``sweep``; ``closed_form``, ``ncp`` and ``batch``: the same step for a batch of states in numpy, with the terms
+and the one-contact NCP in closed form (the default for sweeps of 16 states or more).
 """
 
 from crosscheck.engines.pinocchio import tolerances as pinocchio_tol

@@ -63,17 +63,19 @@ mu = 1.7 and stopped its jam time converging with dt, while the slipping
 solution continues the analytic flow (to which PGS converges given the
 iterations).
 
-The closed form (``solver="closed_form"``, ``crosscheck.engines.pinocchio.batch``).  The same
-step with Pinocchio's terms written out (``closed_form``: equal to Pinocchio's to ~eps / cos^2 theta)
-and the NCP solved in closed form (``ncp``: lambda = 0 when u_n >= 0, the sticking impulse, or a slip
-along a root of a trigonometric polynomial of degree 2 in the slip angle), a batch of states stepped
-together in numpy (``sweep`` steps all its states at once; ``simulate`` is a batch of one, whose
-numpy overhead per step is ~10x a Pinocchio step).  Where the step's NCP has several solutions (the
+The closed form (``solver="closed_form"``; the default "auto" uses it for sweeps of at least
+``AUTO_BATCH`` states and PGS otherwise).  The same step with Pinocchio's terms written out
+(``closed_form``: equal to Pinocchio's to ~eps / cos^2 theta) and the NCP solved in closed form
+(``ncp``: lambda = 0 when u_n >= 0, the sticking impulse, or a slip along a root of a trigonometric
+polynomial of degree 2 in the slip angle), a batch of states stepped together in numpy (``sweep``
+steps all its states at once; ``simulate`` is a batch of one, whose numpy calls cost ~10x a
+Pinocchio step, hence "auto" keeps PGS there).  Where the step's NCP has several solutions (the
 stick and the slip just before p = 0, above mu_P) the choice is PGS's, not the problem's, so those
 steps are made by ``Stepper.step`` itself with its retries and sticking guess: the outcomes are the
-PGS engine's.  They differ only where PGS misses its tolerance on an NCP with one solution (it cycles
-at large mu), where the closed form has the exact impulse: its ``Run.solver`` counts fewer
-unconverged steps, and 0 iterations for a step solved in closed form.
+PGS engine's (the quick report's rigid sections: every outcome and event time equal).  The two
+differ beyond the solver's tolerance only where PGS misses it on an NCP with one solution (it cycles
+at large mu) and the closed form has the exact impulse: ``Run.solver`` then counts fewer unconverged
+steps, and 0 iterations for a step solved in closed form.
 
 Everything this module takes and returns is in the paper's scaled units
 (section 2.1); the Pinocchio model itself is physical (``Rod``).
@@ -96,7 +98,7 @@ from crosscheck.engines.base import (STATE_KEYS, Run, SweepResult, check_states,
                                      sweep_by_simulate)
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.pinocchio.model import TIP_FRAME, build_model
-from crosscheck.engines.pinocchio.options import SOLVERS, Options
+from crosscheck.engines.pinocchio.options import AUTO_BATCH, SOLVERS, Options
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.checks import MU
@@ -147,10 +149,10 @@ class Stepper:
         self.datas = pin.StdVec_ConstraintData()
         self.datas.append(self.constraint.createData())
         self.cholesky = pin.ConstraintCholeskyDecomposition(self.model, self.data, self.models, self.datas)
-        if options.solver == "pgs":
-            self.solver, self.settings, self.result = pin.PGSConstraintSolver(3), pin.PGSSolverSettings(), pin.PGSSolverResult()
-        else:
+        if options.solver == "admm":
             self.solver, self.settings, self.result = pin.ADMMConstraintSolver(3), pin.ADMMSolverSettings(), pin.ADMMSolverResult()
+        else:  # "pgs", and the steps "auto" and "closed_form" hand to PGS
+            self.solver, self.settings, self.result = pin.PGSConstraintSolver(3), pin.PGSSolverSettings(), pin.PGSSolverResult()
         s = self.settings
         s.solve_ncp = bool(options.ncp)
         self.dt = options.timestep / rod.omega
@@ -333,7 +335,9 @@ def _sweep_closed_form(rod: Rod, states: Sequence[SlipState], mu, *, horizon: fl
 def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool | None = None,
           workers: int = 2, **options) -> SweepResult:
     """Every state through the engine (one classifier, the same records as ``simulate``'s), on ``workers`` processes (both
-    cores by default): with ``solver="closed_form"`` all states stepped together, otherwise one ``simulate`` per state."""
-    if options.get("solver", Options.solver) == "closed_form":
+    cores by default): with ``solver="closed_form"``, or "auto" and at least ``AUTO_BATCH`` states, all states stepped
+    together (on one process below ``workers * BATCH / 2`` states); otherwise one ``simulate`` per state."""
+    solver = options.get("solver", Options.solver)
+    if solver == "closed_form" or (solver == "auto" and len(states) >= AUTO_BATCH):
         return _sweep_closed_form(rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options)
     return sweep_by_simulate(get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options)

@@ -1,38 +1,100 @@
-"""Drake through the engine against Drake's own bare loop over the same steps, measured in the same run.
+"""Drake through the engine against Drake's own bare ``Simulator.AdvanceTo`` loop over the same steps, per approximation, in the same run.
 
-For each discrete approximation at the quick maps' options, from the same
-slipping starts (every ``--every``-th of a theta grid at Psi 0 and 1.7, mu
-1.4, varphi -1.9, eta 1), three timings of the same number of steps to the
-maps' horizon 2.0:
+For each approximation at the quick maps' options, from the same slipping
+starts (every ``--every``-th of a theta grid at Psi 0 and 1.7, mu 1.4,
+varphi -1.9, eta 1) to the maps' horizon 2.0, three timings of the same steps:
 
-* bare: ``Simulator.AdvanceTo(n dt)`` on the engine's own plant and context
-  (``crosscheck.engines.drake.model``), nothing read between steps;
-* stepped: the engine's step loop (``EvalUniquePeriodicDiscreteUpdate`` and the
-  contact results read every step, as ``engine.raw_run``), without the record
-  and the classifier;
+* bare: ``bare_advance``, Drake alone on the engine's own plant and context
+  (``crosscheck.engines.drake.model``), nothing read between steps: one
+  ``AdvanceTo`` over a discrete plant's steps; for the continuous plant one
+  ``AdvanceTo`` per record row with the engine's integrator and accuracy
+  (the engine's rows are where its integrator must land, so these are its steps);
+* raw: the engine's step loop (``engine.raw_run``: the contact results and the
+  state read every step or row), without the record and the classifier;
 * engine: ``crosscheck.engines.get(name).simulate``, the whole run.
 
-The ratios bare / engine and stepped / engine say what the engine's reads and
-its record cost on top of Drake's own stepping.  Each is the best of
-``--repeat`` timings (other processes share the 2 cores).
+A run that the engine stops early (a runaway or Drake's error) is advanced by
+bare over the steps the engine took.  Reported: microseconds per step (a plant
+step, or a record row of the continuous plant) and bare / engine.  The three
+are timed in turn, ``--repeat`` times, and each keeps its least CPU time
+(``time.process_time``: other processes share the 2 cores, and wall time
+counts their turns too).  The bare and engine states after the same steps are
+compared bit for bit ("same states").
 
-    python benchmarks/bench_drake_bare.py [--every 4] [--repeat 2] [--engines drake_sap,drake_tamsi]
+    python benchmarks/bench_drake_bare.py [--every 4] [--repeat 3] [--engines drake_sap,drake_tamsi]
 """
 
 from __future__ import annotations
 
 import argparse
+import time
 
 import numpy as np
-from pydrake.systems.analysis import Simulator
+from pydrake.systems.analysis import ResetIntegratorFromFlags, Simulator
 
 from crosscheck import Rod, SlipState, engines
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines.drake.engine import raw_run
-from crosscheck.engines.drake.model import model, new_context
-from timing import best_of
+from crosscheck.engines.drake.model import Model, model, new_context
 
 HORIZON = 2.0
+ALL = "drake_sap,drake_similar,drake_lagged,drake_tamsi,drake_continuous"
+
+
+def bare_advance(m: Model, x0: np.ndarray, rows: int, dt: float) -> np.ndarray:
+    """Drake alone over the engine's steps of ``rows`` record rows of ``dt`` seconds from x0 = [q, v] (SI), in a fresh
+    context of ``m`` as the engine's; returns the last row's state (discrete: the state after the last step)."""
+    ctx = new_context(m)
+    pc = m.plant.GetMyMutableContextFromRoot(ctx)
+    m.plant.SetPositionsAndVelocities(pc, x0)
+    sim = Simulator(m.diagram, ctx)
+    if m.options.discrete:
+        sim.Initialize()
+        sim.AdvanceTo(rows * dt)
+    else:
+        integrator = ResetIntegratorFromFlags(sim, m.options.integrator, dt)
+        integrator.set_target_accuracy(m.options.accuracy)
+        sim.Initialize()
+        for k in range(1, rows):  # the engine's rows 1 .. rows - 1
+            sim.AdvanceTo(k * dt)
+    return m.plant.GetPositionsAndVelocities(pc)
+
+
+def cpu_time(f) -> float:
+    t = time.process_time()
+    f()
+    return time.process_time() - t
+
+
+def compare(rod: Rod, spec, cases: list[tuple[SlipState, float]], *, horizon: float, repeat: int, options: dict | None = None) -> dict:
+    """Bare, raw and engine CPU seconds of one approximation over ``cases`` (start, mu), each the least of ``repeat``
+    timings taken in turn, with the steps timed and whether bare and engine reach the same states."""
+    given = dict(spec.report.maps["quick"] if options is None else options)
+    opts = spec.options(**given)
+    l, w = rod.length, rod.omega
+    dt, scale = opts.timestep / w, np.array([l * w, l * w, l * w, w, w])
+    n = spec.simulate(rod, cases[0][0], cases[0][1], horizon=horizon, **given).nstep  # the engine's rows
+    runs = []  # (model, x0, rows the engine made) per case; the engine's first runs build the diagrams
+    same = True
+    for s, mu in cases:
+        m = model(rod, mu, opts)
+        x0 = np.concatenate(to_generalized(rod, s, tip=(0.0, 0.0, opts.radius)))
+        raw = raw_run(m, x0, n, dt, scale)
+        spec.simulate(rod, s, mu, horizon=horizon, **given)
+        done = raw.health.steps if opts.discrete else int(np.isfinite(raw.x[:n, 0]).sum())
+        runs.append((m, x0, done))
+        last = raw.x[done] if opts.discrete else raw.x[done - 1]
+        same &= bool(np.array_equal(bare_advance(m, x0, done, dt), last))
+    timed = {
+        "bare": lambda: [bare_advance(m, x0, done, dt) for m, x0, done in runs],
+        "raw": lambda: [raw_run(m, x0, n, dt, scale) for m, x0, _ in runs],
+        "engine": lambda: [spec.simulate(rod, s, mu, horizon=horizon, **given) for s, mu in cases],
+    }
+    best = {k: np.inf for k in timed}
+    for _ in range(repeat):
+        for k, f in timed.items():
+            best[k] = min(best[k], cpu_time(f))
+    return {**best, "steps": sum(done for _, _, done in runs), "runs": len(runs), "same": same, "options": given}
 
 
 def _starts(every: int) -> list[SlipState]:
@@ -44,42 +106,16 @@ def _starts(every: int) -> list[SlipState]:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--every", type=int, default=4)
-    ap.add_argument("--repeat", type=int, default=2)
-    ap.add_argument("--engines", default="drake_sap,drake_similar,drake_lagged,drake_tamsi")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--engines", default=ALL)
     args = ap.parse_args()
     rod, mu = Rod.scaled(3.0), 1.4
-    states = _starts(args.every)
+    cases = [(s, mu) for s in _starts(args.every)]
     for name in args.engines.split(","):
-        spec = engines.get(name)
-        given = dict(spec.report.maps["quick"])
-        opts = spec.options(**given)
-        n = int(round(HORIZON / opts.timestep))
-        m = model(rod, mu, opts)
-        l, w = rod.length, rod.omega
-        dt = opts.timestep / w
-        x0s = [np.concatenate(to_generalized(rod, s, tip=(0.0, 0.0, opts.radius))) for s in states]
-
-        def bare():
-            for x0 in x0s:
-                ctx = new_context(m)
-                m.plant.SetPositionsAndVelocities(m.plant.GetMyMutableContextFromRoot(ctx), x0)
-                sim = Simulator(m.diagram, ctx)
-                sim.Initialize()
-                sim.AdvanceTo(n * dt)
-
-        def stepped():
-            for x0 in x0s:
-                raw_run(m, x0, n, dt, np.array([l * w, l * w, l * w, w, w]))
-
-        def engine():
-            for s in states:
-                spec.simulate(rod, s, mu, horizon=HORIZON, **given)
-
-        engine()  # warm-up: the diagram is built once per setting
-        t_bare, t_step, t_eng = best_of(args.repeat, bare), best_of(args.repeat, stepped), best_of(args.repeat, engine)
-        us = 1e6 / (n * len(states))
-        print(f"{name:16s} {len(states)} runs x {n} steps: bare {t_bare * us:6.1f} us/step, stepped {t_step * us:6.1f}, engine {t_eng * us:6.1f};"
-              f"  bare / engine {t_bare / t_eng:.2f}, stepped / engine {t_step / t_eng:.2f}")
+        r = compare(rod, engines.get(name), cases, horizon=HORIZON, repeat=args.repeat)
+        us = 1e6 / r["steps"]
+        print(f"{name:16s} {r['runs']} runs, {r['steps']} steps: bare {r['bare'] * us:6.1f} us/step, raw {r['raw'] * us:6.1f}, "
+              f"engine {r['engine'] * us:6.1f};  bare / engine {r['bare'] / r['engine']:.2f}; same states: {'yes' if r['same'] else 'NO'}")
 
 
 if __name__ == "__main__":

@@ -123,23 +123,81 @@ class Raw:
     health: Health
 
 
-def _contact(results, rod_body) -> tuple[bool, np.ndarray]:
-    """(a pair exists, the total point-pair force on the rod [N, world]); Drake's force is the one on body B."""
-    n = results.num_point_pair_contacts()
-    if n == 0:
-        return False, _ZERO
-    f = np.zeros(3)
-    for i in range(n):  # one pair for a capsule on a half-space
+def _read_pairs(results, rod_body, k: int, pairs: list) -> None:
+    """Append (k, the rod is body B, Drake's force on body B [N, world]) for each point pair of row k's contact
+    results: only copies here (the results are Drake's cache, recomputed in place at the next state); the forces are
+    summed after the run (``_contact_rows``)."""
+    for i in range(results.num_point_pair_contacts()):  # one pair for a capsule on a half-space
         info = results.point_pair_contact_info(i)
-        fi = info.contact_force()
-        if info.bodyB_index() == rod_body:
-            f += fi
-        else:
-            f -= fi
-    return True, f
+        pairs.append((k, info.bodyB_index() == rod_body, info.contact_force()))
 
 
-_ZERO = np.zeros(3)
+def _contact_rows(pairs: list, force: np.ndarray, active: np.ndarray) -> None:
+    """Rows of ``active`` (False on entry) and ``force`` (zeros on entry) from ``_read_pairs``: a pair exists, and
+    the sum of its forces on the rod, 0 + f or 0 + (-f) pair by pair in order (np.add.at), the IEEE values of
+    0 + f and 0 - f."""
+    if pairs:
+        k, on_b, f = zip(*pairs)
+        f = np.array(f)
+        f[~np.array(on_b, bool)] *= -1.0
+        np.add.at(force, np.array(k), f)
+        active[np.array(k)] = True
+
+
+def _runaway(row: np.ndarray, bound: tuple) -> bool:
+    """Not every generalised velocity of the state row [q, v] below its bound in magnitude (so also a NaN one).
+
+    On Python floats, whose abs and < are the IEEE operations numpy's are: a numpy expression per row cost as much as
+    Drake's own force-free step."""
+    a, b, c, d, e = row.tolist()[5:]
+    A, B, C, D, E = bound
+    return not (abs(a) < A and abs(b) < B and abs(c) < C and abs(d) < D and abs(e) < E)
+
+
+def _first_line(e: Exception) -> str:
+    return (str(e).splitlines() or [""])[0]
+
+
+def _discrete_rows(m: Model, pc, x: np.ndarray, pairs: list, n: int, bound: tuple) -> tuple[int, str | None]:
+    """Every step of a discrete plant from x[0] (already in ``pc``): row k's contact pairs (``_read_pairs``) and x[k + 1].
+
+    Returns (n, None), or (k, why) when step k ran away (x[k + 1] beyond ``bound``) or Drake raised in it.  The step
+    is computed once: the contact results read at x_k are cached with it, and the discrete update reuses them."""
+    plant, rod_body = m.plant, m.rod_body
+    results = plant.get_contact_results_output_port()
+    k = 0
+    try:
+        for k in range(n):
+            _read_pairs(results.Eval(pc), rod_body, k, pairs)
+            x[k + 1] = plant.EvalUniquePeriodicDiscreteUpdate(pc).value(0)
+            pc.SetDiscreteState(0, x[k + 1])
+            if _runaway(x[k + 1], bound):
+                return k, "runaway speed"
+    except RuntimeError as e:
+        return k, _first_line(e)
+    return n, None
+
+
+def _continuous_rows(m: Model, sim, pc, x: np.ndarray, vdot: np.ndarray, pairs: list, n: int, dt: float, bound: tuple) -> tuple[int, str | None]:
+    """Every row of a continuous plant: ``sim`` advanced to t_k = k dt, then row k of x, vdot and contact pairs there.
+
+    Returns (n, None), or (k, why) when x[k] ran away (beyond ``bound``) or Drake raised on the way to or at row k."""
+    plant, rod_body = m.plant, m.rod_body
+    results, accel = plant.get_contact_results_output_port(), plant.get_generalized_acceleration_output_port()
+    k = 0
+    try:
+        sim.Initialize()
+        for k in range(n):
+            if k:
+                sim.AdvanceTo(k * dt)
+            x[k] = plant.GetPositionsAndVelocities(pc)
+            _read_pairs(results.Eval(pc), rod_body, k, pairs)
+            vdot[k] = accel.Eval(pc)
+            if _runaway(x[k], bound):
+                return k, "runaway speed"
+    except RuntimeError as e:
+        return k, _first_line(e)
+    return n, None
 
 
 def raw_run(m: Model, x0: np.ndarray, n: int, dt: float, speed_scale: np.ndarray) -> Raw:
@@ -148,58 +206,34 @@ def raw_run(m: Model, x0: np.ndarray, n: int, dt: float, speed_scale: np.ndarray
     plant, opts = m.plant, m.options
     x = np.full((n + 1, 10), np.nan)
     vdot = np.full((n, 5), np.nan)
-    force = np.full((n, 3), np.nan)
+    force = np.zeros((n, 3))
     active = np.zeros(n, bool)
-    runaway = RUNAWAY_SPEED * np.asarray(speed_scale, float)
+    bound = tuple((RUNAWAY_SPEED * np.asarray(speed_scale, float)).tolist())
     ctx = new_context(m)
     pc = plant.GetMyMutableContextFromRoot(ctx)
     plant.SetPositionsAndVelocities(pc, x0)
-    results_port = plant.get_contact_results_output_port()
-    failed, message = 0, ""
-    steps = evaluations = shrinkages = 0
+    evaluations = shrinkages = 0
+    pairs: list = []
     if opts.discrete:
         x[0] = x0
-        k = 0
-        try:
-            for k in range(n):
-                active[k], force[k] = _contact(results_port.Eval(pc), m.rod_body)
-                nxt = np.array(plant.EvalUniquePeriodicDiscreteUpdate(pc).value(0))
-                pc.SetDiscreteState(0, nxt)
-                x[k + 1] = nxt
-                if not np.all(np.abs(nxt[5:]) < runaway):
-                    failed, message = 1, "runaway speed"
-                    break
-        except RuntimeError as e:
-            failed, message = 1, (str(e).splitlines() or [""])[0]
-        if failed:
+        k, message = _discrete_rows(m, pc, x, pairs, n, bound)
+        _contact_rows(pairs, force, active)
+        if message is not None:
             force[k:], x[k + 1:], active[k:] = np.nan, np.nan, False
-        steps = n if not failed else k
+        steps = k
         vdot[:] = (x[1:, 5:] - x[:-1, 5:]) / dt
     else:
-        accel_port = plant.get_generalized_acceleration_output_port()
         sim = Simulator(m.diagram, ctx)
         integrator = ResetIntegratorFromFlags(sim, opts.integrator, dt)
         integrator.set_target_accuracy(opts.accuracy)
-        k = 0
-        try:
-            sim.Initialize()
-            for k in range(n):
-                if k:
-                    sim.AdvanceTo(k * dt)
-                x[k] = plant.GetPositionsAndVelocities(pc)
-                active[k], force[k] = _contact(results_port.Eval(pc), m.rod_body)
-                vdot[k] = accel_port.Eval(pc)
-                if not np.all(np.abs(x[k, 5:]) < runaway):
-                    failed, message = 1, "runaway speed"
-                    break
-        except RuntimeError as e:
-            failed, message = 1, (str(e).splitlines() or [""])[0]
-        if failed:
+        k, message = _continuous_rows(m, sim, pc, x, vdot, pairs, n, dt, bound)
+        _contact_rows(pairs, force, active)
+        if message is not None:
             x[k:], vdot[k:], force[k:], active[k:] = np.nan, np.nan, np.nan, False
         steps, evaluations = integrator.get_num_steps_taken(), integrator.get_num_derivative_evaluations()
         shrinkages = integrator.get_num_step_shrinkages_from_error_control()
     health = Health(contact_rows=int(active.sum()), steps=int(steps), derivative_evaluations=int(evaluations),
-                    error_shrinkages=int(shrinkages), failed=failed, message=message)
+                    error_shrinkages=int(shrinkages), failed=int(message is not None), message=message or "")
     return Raw(x=x, vdot=vdot, force=force, active=active, health=health)
 
 

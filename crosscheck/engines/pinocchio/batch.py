@@ -43,6 +43,7 @@ class BatchStepper:
         self.band = options.gap * rod.length
         self._pgs: dict[float, object] = {}
         self.handed = 0  # steps made by Pinocchio's PGS stepper
+        self._health = np.tile([0.0, 0.0, 1.0], (len(self.mu), 1))  # a closed-form step: 0 iterations, complementarity 0, converged
 
     def _stepper(self, mu: float):
         from crosscheck.engines.pinocchio.stepper import Stepper
@@ -74,11 +75,9 @@ class BatchStepper:
         lam[~solved] = 0.0
         v1 = vf + velocity_change(rod, q, lam, A)
         q1 = q + dt * v1
-        row[:, 0:3], row[:, 3:6] = T.pos, T.vel
-        row[:, 6:9] = T.dJv + jacobian_times(rod, A, (v1 - v) / dt)
-        row[:, 9:12] = lam
-        row[:, 12], row[:, 13], row[:, 14], row[:, 15] = q[:, 3], q[:, 4], v[:, 3], v[:, 4]
-        row[:, 16], row[:, 17], row[:, 18], row[:, 19] = active, 0.0, 0.0, 1.0
+        # one write of the whole row (a dozen slice writes cost more than the copy at these sizes)
+        row[:] = np.concatenate((T.pos, T.vel, T.dJv + jacobian_times(rod, A, (v1 - v) / dt), lam, q[:, 3:5], v[:, 3:5],
+                                 active[:, None], self._health), axis=1)
         for i in np.flatnonzero(~solved):
             # several solutions: the step PGS makes (Pinocchio's terms, its retries and sticking guess)
             self.handed += 1

@@ -63,21 +63,27 @@ class BatchStepper:
         A = angles(q)
         T = tip_terms(rod, q, v, A)
         vf = free_velocity(rod, q, v, dt, A)
+        B = len(q)
+        vel, Jvf = jacobian_times(rod, A, np.stack((v, vf)))  # the tip's velocity at v and at v_free, one call
         gap = T.pos[:, 2]
         active = gap <= self.band
-        u = jacobian_times(rod, A, vf) + dt * T.dJv
+        u = Jvf + dt * T.dJv
         u[:, 2] += gap / dt
         lam = np.zeros_like(u)
-        solved = np.ones(len(u), bool)
-        need = np.flatnonzero(active & (u[:, 2] < 0.0))
-        if need.size:
-            lam[need], solved[need], _ = ncp.solve(T.G[need], u[need], self.mu[need])
-        lam[~solved] = 0.0
+        solved = np.ones(B, bool)
+        press = active & (u[:, 2] < 0.0)
+        if press.all():
+            lam, solved, _ = ncp.solve(T.G, u, self.mu)
+        elif press.any():
+            lam[press], solved[press], _ = ncp.solve(T.G[press], u[press], self.mu[press])
+        if not solved.all():
+            lam[~solved] = 0.0
         v1 = vf + velocity_change(rod, q, lam, A)
         q1 = q + dt * v1
+        # the classical acceleration dJ v + J (v1 - v) / dt with J v1 = J v_free + G lambda (no third J product);
         # one write of the whole row (a dozen slice writes cost more than the copy at these sizes)
-        row[:] = np.concatenate((T.pos, T.vel, T.dJv + jacobian_times(rod, A, (v1 - v) / dt), lam, q[:, 3:5], v[:, 3:5],
-                                 active[:, None], self._health), axis=1)
+        acc = T.dJv + (Jvf - vel + np.einsum("bij,bj->bi", T.G, lam)) / dt
+        row[:] = np.concatenate((T.pos, vel, acc, lam, q[:, 3:5], v[:, 3:5], active[:, None], self._health), axis=1)
         for i in np.flatnonzero(~solved):
             # several solutions: the step PGS makes (Pinocchio's terms, its retries and sticking guess)
             self.handed += 1

@@ -58,30 +58,28 @@ class TipTerms:
 
     Attributes:
       pos: (B, 3) tip A [m].
-      vel: (B, 3) its velocity J v [m/s].
       dJv: (B, 3) its classical acceleration at qdd = 0 [m/s^2].
       G: (B, 3, 3) the Delassus operator J M^-1 J^T [m/s per N s].
     """
 
     pos: np.ndarray
-    vel: np.ndarray
     dJv: np.ndarray
     G: np.ndarray
 
 
 def jacobian_times(rod: Rod, A: Angles, x: np.ndarray) -> np.ndarray:
-    """J x, (B, 3), for generalised velocities x (B, 5)."""
+    """J x, (..., B, 3), for generalised velocities x (..., B, 5) (leading axes: several vectors per state)."""
     L = rod.length
-    out = x[:, :3].copy()
-    lc_psi, ls_theta = L * A.c * x[:, 3], L * A.s * x[:, 4]
-    out[:, 0] += lc_psi * A.cp - ls_theta * A.sp
-    out[:, 1] += lc_psi * A.sp + ls_theta * A.cp
-    out[:, 2] -= L * A.c * x[:, 4]
+    out = x[..., :3].copy()
+    lc_psi, ls_theta = L * A.c * x[..., 3], L * A.s * x[..., 4]
+    out[..., 0] += lc_psi * A.cp - ls_theta * A.sp
+    out[..., 1] += lc_psi * A.sp + ls_theta * A.cp
+    out[..., 2] -= L * A.c * x[..., 4]
     return out
 
 
 def tip_terms(rod: Rod, q: np.ndarray, v: np.ndarray, A: Angles | None = None) -> TipTerms:
-    """``TipTerms`` at the states (q, v), each (B, 5) [physical]."""
+    """``TipTerms`` at the states (q, v), each (B, 5) [physical] (the tip's velocity is ``jacobian_times(rod, A, v)``)."""
     A = A if A is not None else angles(q)
     L, c, s, cp, sp = rod.length, A.c, A.s, A.cp, A.sp
     Psi, Theta = v[:, 3], v[:, 4]
@@ -105,7 +103,7 @@ def tip_terms(rod: Rod, q: np.ndarray, v: np.ndarray, A: Angles | None = None) -
     G[:, 0, 1] = G[:, 1, 0] = k * (cp * sp + wx * wy)
     G[:, 0, 2] = G[:, 2, 0] = -k * c * wx
     G[:, 1, 2] = G[:, 2, 1] = -k * c * wy
-    return TipTerms(pos=pos, vel=jacobian_times(rod, A, v), dJv=dJv, G=G)
+    return TipTerms(pos=pos, dJv=dJv, G=G)
 
 
 def free_velocity(rod: Rod, q: np.ndarray, v: np.ndarray, dt: float, A: Angles | None = None) -> np.ndarray:

@@ -192,10 +192,15 @@ def solve(G: np.ndarray, u: np.ndarray, mu: np.ndarray) -> tuple[np.ndarray, np.
         lam[frictionless, 2] = -u[frictionless, 2] / G[frictionless, 2, 2]
         kind[frictionless] = 2
         push &= ~frictionless
-    idx = np.flatnonzero(push)
-    if idx.size == 0:
-        return lam, np.ones(P, bool), kind
-    Gi, ui, mi = G[idx], u[idx], mu[idx]
+    if push.all():
+        idx = slice(None)  # the common case (the caller passes the pressed rows): no copies
+        Gi, ui, mi = G, u, mu
+    else:
+        idx = np.flatnonzero(push)
+        if idx.size == 0:
+            return lam, np.ones(P, bool), kind
+        Gi, ui, mi = G[idx], u[idx], mu[idx]
+    n = len(ui)
     stick = -np.linalg.solve(Gi, ui[:, :, None])[:, :, 0]
     stick_ok = (stick[:, 2] > 0.0) & (np.hypot(stick[:, 0], stick[:, 1]) <= mi * stick[:, 2])
     row, phi, unresolved = _roots(h_coefficients(Gi, ui, mi))
@@ -207,21 +212,21 @@ def solve(G: np.ndarray, u: np.ndarray, mu: np.ndarray) -> tuple[np.ndarray, np.
     slip = np.column_stack((-mr * lam_n * d[:, 0], -mr * lam_n * d[:, 1], lam_n))
     u_plus = ur + np.einsum("pij,pj->pi", Gr, slip)
     slip_ok = (D > 0.0) & (np.einsum("pi,pi->p", u_plus[:, :2], d) > 0.0)
-    n_slip = np.bincount(row[slip_ok], minlength=idx.size)
+    n_slip = np.bincount(row[slip_ok], minlength=n)
     count = n_slip + stick_ok
     both = stick_ok & (n_slip == 1)
     if both.any():
         # a slip at the edge of the stick region (a -> 0) is the sticking impulse itself: one solution, not two
         ok_rows = row[slip_ok]
         close = np.linalg.norm(slip[slip_ok] - stick[ok_rows], axis=1) <= 1e-9 * np.linalg.norm(stick[ok_rows], axis=1)
-        same = np.zeros(idx.size, bool)
+        same = np.zeros(n, bool)
         same[ok_rows[close]] = True
         count[both & same] = 1
     one = (count == 1) & ~unresolved
-    out = np.full((idx.size, 3), np.nan)
+    out = np.full((n, 3), np.nan)
     use_stick = one & stick_ok
     out[use_stick] = stick[use_stick]
-    k = np.zeros(idx.size, np.int8)
+    k = np.zeros(n, np.int8)
     k[use_stick] = 1
     pick = slip_ok & one[row] & ~stick_ok[row]
     out[row[pick]] = slip[pick]

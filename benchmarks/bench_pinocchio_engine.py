@@ -21,6 +21,8 @@ Timed, on one core unless said:
 
 The ratio engine / bare is bare time over engine time (> 1: faster than the
 bare PGS loop).  Target of the closed form: >= 1e5 steps/s on one core.
+Each line gives steps/s by wall clock and by this process's CPU time (both
+best of ``--repeat``): on a shared machine the CPU time is the steadier.
 
     python benchmarks/bench_pinocchio_engine.py [--states 128] [--horizon 1.0] [--repeat 3] [--mu 0.5]
 """
@@ -28,11 +30,10 @@ bare PGS loop).  Target of the closed form: >= 1e5 steps/s on one core.
 from __future__ import annotations
 
 import argparse
+import time
 
 import numpy as np
 import pinocchio as pin
-
-from timing import best_of  # benchmarks/timing.py (the script's directory is on sys.path)
 
 from crosscheck import Rod, SlipState
 from crosscheck.coordinates import to_generalized
@@ -101,30 +102,39 @@ def main() -> None:
     opts = Options()
     nstep = n_steps(args.horizon, opts.timestep)
     engine = get("pinocchio")
-    few = states[:8]  # the PGS loops take ~30 us a step: 8 states keep them short; steps/s does not depend on the count
+    few = states[:8]  # the PGS loops take ~30 us a step: 8 states keep them short; their steps/s does not depend on the count
 
-    def rate(n_states: int, seconds: float) -> float:
-        return n_states * nstep / seconds
+    def rates(n_states: int, f) -> tuple[float, float]:
+        """(wall, CPU) steps/s of ``f``, each the best of ``--repeat``."""
+        wall, cpu = [], []
+        for _ in range(args.repeat):
+            t, c = time.perf_counter(), time.process_time()
+            f()
+            wall.append(time.perf_counter() - t)
+            cpu.append(time.process_time() - c)
+        return n_states * nstep / min(wall), n_states * nstep / min(cpu)
 
-    bare_sps = rate(len(few), best_of(args.repeat, lambda: [bare(rod, s, mu, opts, nstep) for s in few]))
-    pgs_sps = rate(len(few), best_of(args.repeat, lambda: [engine.simulate(rod, s, mu, horizon=args.horizon) for s in few]))
     chunk = states[:32]
-    closed_chunk = rate(len(chunk), best_of(args.repeat, lambda: engine.sweep(rod, chunk, mu, horizon=args.horizon, progress=False, workers=1,
-                                                                            solver="closed_form")))
-    closed_all = rate(len(states), best_of(args.repeat, lambda: engine.sweep(rod, states, mu, horizon=args.horizon, progress=False, workers=1,
-                                                                           solver="closed_form")))
-    sweep1 = rate(len(few), best_of(args.repeat, lambda: engine.sweep(rod, few, mu, horizon=args.horizon, progress=False, workers=1)))
-    sweep2 = rate(len(few), best_of(args.repeat, lambda: engine.sweep(rod, few, mu, horizon=args.horizon, progress=False, workers=2)))
+    runs = {
+        "bare loop of the Pinocchio calls (PGS)": rates(len(few), lambda: [bare(rod, s, mu, opts, nstep) for s in few]),
+        "engine simulate, PGS": rates(len(few), lambda: [engine.simulate(rod, s, mu, horizon=args.horizon, solver="pgs") for s in few]),
+        f"engine sweep, closed form, {len(chunk)} states": rates(len(chunk), lambda: engine.sweep(
+            rod, chunk, mu, horizon=args.horizon, progress=False, workers=1, solver="closed_form")),
+        f"engine sweep, closed form, {len(states)} states": rates(len(states), lambda: engine.sweep(
+            rod, states, mu, horizon=args.horizon, progress=False, workers=1, solver="closed_form")),
+        "engine sweep, PGS, 1 process": rates(len(few), lambda: engine.sweep(rod, few, mu, horizon=args.horizon, progress=False, workers=1,
+                                                                             solver="pgs")),
+        "engine sweep, PGS, 2 processes": rates(len(few), lambda: engine.sweep(rod, few, mu, horizon=args.horizon, progress=False,
+                                                                               workers=2, solver="pgs")),
+    }
+    runs["engine sweep, PGS, 2 processes"] = (runs["engine sweep, PGS, 2 processes"][0], float("nan"))  # the workers' CPU is not ours
+    bare_wall, bare_cpu = runs["bare loop of the Pinocchio calls (PGS)"]
     print(f"timestep {opts.timestep:g}, mu {mu:g}, {nstep} steps per state, best of {args.repeat}")
-    print(f"bare loop of the Pinocchio calls (PGS):      {bare_sps:10.0f} steps/s  ({1e6 / bare_sps:.1f} us/step)")
-    print(f"engine simulate, PGS:                        {pgs_sps:10.0f} steps/s  ({1e6 / pgs_sps:.1f} us/step)  ratio {pgs_sps / bare_sps:.2f}")
-    print(f"engine sweep, closed form, {len(chunk):4d} states:    {closed_chunk:10.0f} steps/s  ({1e6 / closed_chunk:.1f} us/step)  "
-          f"ratio {closed_chunk / bare_sps:.2f}")
-    print(f"engine sweep, closed form, {len(states):4d} states:    {closed_all:10.0f} steps/s  ({1e6 / closed_all:.1f} us/step)  "
-          f"ratio {closed_all / bare_sps:.2f} (target >= 1e5 steps/s)")
-    print(f"engine sweep, PGS, 1 process:                {sweep1:10.0f} steps/s")
-    print(f"engine sweep, PGS, 2 processes:              {sweep2:10.0f} steps/s  parallel efficiency {sweep2 / (2 * sweep1):.2f}")
-
+    print(f"{'':44s} {'steps/s (wall)':>15s} {'ratio':>6s} {'steps/s (CPU)':>15s} {'ratio':>6s}")
+    for name, (wall, cpu) in runs.items():
+        print(f"{name:44s} {wall:15.0f} {wall / bare_wall:6.2f} {cpu:15.0f} {cpu / bare_cpu:6.2f}")
+    w1, w2 = runs["engine sweep, PGS, 1 process"][0], runs["engine sweep, PGS, 2 processes"][0]
+    print(f"PGS sweep parallel efficiency on 2 processes: {w2 / (2 * w1):.2f}")
 
 if __name__ == "__main__":
     main()

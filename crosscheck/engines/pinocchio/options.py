@@ -17,9 +17,9 @@ __all__ = ["Options", "SOLVERS", "AUTO_BATCH"]
 #: solutions; ``crosscheck.engines.pinocchio.batch``), and Pinocchio's own solvers for every step.
 SOLVERS = ("auto", "closed_form", "pgs", "admm")
 
-#: The smallest sweep "auto" steps as a batch: a batched step costs ~0.5 ms of numpy calls whatever the batch (measured
-#: 1.8e3 steps/s for one state, 1.8e4 for 8, 5.7e4 for 32, 1.1e5 for 128), a PGS step ~30 us per state, so the batch
-#: wins from ~16 states on.
+#: The smallest sweep "auto" steps as a batch: a batched step costs ~0.3 ms of numpy calls almost whatever the batch
+#: (measured in CPU time, best of runs: 3.5e3 steps/s for one state, 2.7e4 for 8, 9.1e4 for 32, 2.7e5 for 128), a PGS
+#: step ~30 us per state, so the batch wins from ~10 states on.
 AUTO_BATCH = 16
 
 

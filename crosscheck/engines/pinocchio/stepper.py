@@ -69,7 +69,7 @@ The closed form (``solver="closed_form"``; the default "auto" uses it for sweeps
 (``ncp``: lambda = 0 when u_n >= 0, the sticking impulse, or a slip along a root of a trigonometric
 polynomial of degree 2 in the slip angle), a batch of states stepped together in numpy (``sweep``
 steps all its states at once; ``simulate`` is a batch of one, whose numpy calls cost ~10x a
-Pinocchio step, hence "auto" keeps PGS there).  Where the step's NCP has several solutions (the
+PGS step, hence "auto" keeps PGS there).  Where the step's NCP has several solutions (the
 stick and the slip just before p = 0, above mu_P) the choice is PGS's, not the problem's, so those
 steps are made by ``Stepper.step`` itself with its retries and sticking guess: the outcomes are the
 PGS engine's (the quick report's rigid sections: every outcome and event time equal).  The two
@@ -283,7 +283,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     return dataclasses.replace(run, solver=_health(raw))
 
 
-#: States stepped together by the closed-form solver: past ~100 the numpy calls of a step cost as much as their arithmetic.
+#: States stepped together by the closed-form solver: from ~100 on, a step's arithmetic costs more than its numpy calls.
 BATCH = 128
 
 

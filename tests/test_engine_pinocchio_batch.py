@@ -196,3 +196,19 @@ def test_auto_batches_sweeps_of_AUTO_BATCH_states_and_steps_single_runs_with_pgs
     small = ENGINE.sweep(ROD, states[:2], 0.5, horizon=0.1, workers=1)
     assert np.all(small.solver["max_iterations"] >= 1)
     assert ENGINE.simulate(ROD, states[0], 0.5, horizon=0.1).solver.max_iterations >= 1
+
+
+@pytest.mark.parametrize("half_gap", [0.25, 0.45, 0.75], ids=lambda x: f"roots {2 * x:g} cells apart")
+def test_two_roots_in_one_grid_cell_are_not_lost(half_gap):
+    """h = cos(phi - phi0) - cos(eps) has the roots phi0 +- eps; centred in a grid cell with eps below half a cell,
+    no end of the cell sees a sign change: the problem must be flagged (handed to PGS), otherwise both roots found."""
+    delta = 2 * math.pi / ncp.GRID
+    phi0, eps = (10 + 0.5) * delta, half_gap * delta
+    coef = np.zeros((1, 3, 5))
+    coef[0, 0, :3] = -math.cos(eps), math.cos(phi0), math.sin(phi0)
+    coef[0, 1:, 0] = 1.0  # D and a D positive everywhere: every root is a candidate
+    row, phi, hidden = ncp._roots(coef)
+    if eps < delta / 2:
+        assert hidden[0]
+    else:
+        assert not hidden[0] and np.allclose(np.sort(phi), [phi0 - eps, phi0 + eps], rtol=0, atol=1e-12)

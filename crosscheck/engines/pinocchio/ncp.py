@@ -51,6 +51,7 @@ NEWTON_STEPS = 3
 _PHI = 2.0 * np.pi * np.arange(GRID + 1) / GRID
 _BASIS = np.stack((np.ones(GRID + 1), np.cos(_PHI), np.sin(_PHI), np.cos(2 * _PHI), np.sin(2 * _PHI)))
 _DBASIS = np.stack((np.zeros(GRID + 1), -np.sin(_PHI), np.cos(_PHI), -2 * np.sin(2 * _PHI), 2 * np.cos(2 * _PHI)))
+_SECOND = np.array([0.0, 1.0, 1.0, 4.0, 4.0])  # |d^2/dphi^2| of (1, cos, sin, cos 2, sin 2) <= these
 _EPS = np.finfo(float).eps
 
 
@@ -105,54 +106,53 @@ def _dh(coef: np.ndarray, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _curvature(coef: np.ndarray) -> np.ndarray:
     """A bound on |f''| of trigonometric polynomials of degree 2, (...,) for coefficients (..., 5)."""
-    return np.abs(coef[..., 1:3]).sum(axis=-1) + 4 * np.abs(coef[..., 3:]).sum(axis=-1)
+    return np.abs(coef) @ _SECOND
 
 
-def _hidden_pairs(coef: np.ndarray, H: np.ndarray, bound: np.ndarray) -> np.ndarray:
-    """Per problem, whether two roots of h may share one grid cell (no sign change at its ends).
+def _hidden_pairs(coef: np.ndarray, H: np.ndarray, change: np.ndarray, bound: np.ndarray) -> np.ndarray:
+    """Per problem, whether two roots of h may share one grid cell (no sign ``change`` at its ends).
 
-    Then h has an extremum inside (h' changes sign) whose value has the other sign, so both ends lie within
-    max|h''| delta^2 / 8 = ``bound`` of zero.  The bound is loose (a stuck tip, u_t ~ 0, meets it often), so such a
+    Then h has an extremum x* inside (h' changes sign) whose value has the other sign, so an end at distance e of x*
+    lies within max|h''| e^2 / 2 of zero: both within max|h''| delta^2 / 2, the nearer within max|h''| delta^2 / 8 =
+    ``bound``.  The bound is loose (a stuck tip, u_t ~ 0, meets it often), so such a
     cell's extremum is found by Newton on h' and the pair is hidden only if h there has crossed to the other side
     (or is too close to zero to tell).
     """
     hidden = np.zeros(len(coef), bool)
-    rows = np.flatnonzero(np.abs(H).min(axis=1) <= bound)  # most problems: every grid value clear of the bound
-    if rows.size == 0:
-        return hidden
-    Hr, cr = H[rows], coef[rows]
-    dH = cr @ _DBASIS
-    pos = Hr > 0
-    near = np.minimum(np.abs(Hr[:, :-1]), np.abs(Hr[:, 1:])) <= bound[rows, None]
-    r, k = np.nonzero((pos[:, :-1] == pos[:, 1:]) & near & ((dH[:, :-1] > 0) != (dH[:, 1:] > 0)))
+    aH = np.abs(H)
+    lo, hi = np.minimum(aH[:, :-1], aH[:, 1:]), np.maximum(aH[:, :-1], aH[:, 1:])
+    r, k = np.nonzero(~change & (lo <= bound[:, None]) & (hi <= 4.0 * bound[:, None]))
     if r.size == 0:
         return hidden
-    c, lo, hi = cr[r], _PHI[k], _PHI[k + 1]
-    x = lo + (hi - lo) * dH[r, k] / (dH[r, k] - dH[r, k + 1])
+    c, lo, hi = coef[r], _PHI[k], _PHI[k + 1]
+    dlo, dhi = np.einsum("pj,jp->p", c, _DBASIS[:, k]), np.einsum("pj,jp->p", c, _DBASIS[:, k + 1])
+    turn = (dlo > 0) != (dhi > 0)  # an extremum inside
+    c, lo, hi, dlo, dhi, r, k = c[turn], lo[turn], hi[turn], dlo[turn], dhi[turn], r[turn], k[turn]
+    x = lo + (hi - lo) * dlo / (dlo - dhi)
     with np.errstate(divide="ignore", invalid="ignore"):
         for _ in range(NEWTON_STEPS):
             dh, d2h = _dh(c, x)
             x = x - dh / d2h
     hx, _ = _h(*_complex(c), np.clip(x, lo, hi))
-    unsure = ((hx > 0) != (Hr[r, k] > 0)) | (np.abs(hx) <= 64 * _EPS * np.abs(c).sum(axis=1))
-    hidden[rows[r[unsure]]] = True
+    unsure = ((hx > 0) != (H[r, k] > 0)) | (np.abs(hx) <= 64 * _EPS * np.abs(c).sum(axis=1))
+    hidden[r[unsure]] = True
     return hidden
 
 
 def _roots(coef: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The roots of h that may be solutions, as (row, phi) pairs, and per row whether a root pair may hide in one
     cell or a root did not converge; ``coef`` (P, 3, 5) from ``h_coefficients``."""
-    ch = coef[:, 0]
-    H = ch @ _BASIS  # (P, GRID + 1): h on the grid; the last column repeats the first (phi = 2 pi)
+    F = coef @ _BASIS  # (P, 3, GRID + 1): h, D and a D on the grid; the last column repeats the first (phi = 2 pi)
+    ch, H = coef[:, 0], F[:, 0]
     pos = H > 0
+    change = pos[:, :-1] != pos[:, 1:]
     delta = 2 * np.pi / GRID
     bound = _curvature(coef) * (delta * delta / 2)  # (P, 3)
-    hidden = _hidden_pairs(ch, H, bound[:, 0] / 4)
-    row, k = np.nonzero(pos[:, :-1] != pos[:, 1:])
+    hidden = _hidden_pairs(ch, H, change, bound[:, 0] / 4)
+    row, k = np.nonzero(change)
     # a root in a cell where D or a D lies below -max|f''| delta^2 / 2 at an end is negative there (so it is no
     # solution): f at an interior point x* >= 0 would keep f >= -max|f''| delta^2 / 2 within delta of x*
-    ends = np.einsum("pfj,jp->pf", coef[row, 1:], _BASIS[:, k]), np.einsum("pfj,jp->pf", coef[row, 1:], _BASIS[:, k + 1])
-    keep = ~(np.minimum(*ends) < -bound[row, 1:]).any(axis=1)
+    keep = ~(np.minimum(F[row, 1:, k], F[row, 1:, k + 1]) < -bound[row, 1:]).any(axis=1)
     row, k = row[keep], k[keep]
     lo, hi = _PHI[k], _PHI[k + 1]
     hlo, hhi = H[row, k], H[row, k + 1]
@@ -163,9 +163,19 @@ def _roots(coef: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         for _ in range(NEWTON_STEPS):
             h, dh = _h(*cz, phi)
             phi = phi - h / dh
-    h, _ = _h(*cz, phi)
+        tol = 64 * _EPS * np.abs(c).sum(axis=1)
+        h, dh = _h(*cz, phi)
+        slow = np.flatnonzero(np.abs(h) > tol)
+        if slow.size:  # a root where h' is small against h'' (two roots a cell or so apart): Newton needs more steps
+            cs = tuple(x[slow] for x in cz)
+            ps = phi[slow]
+            for _ in range(NEWTON_STEPS):
+                hs, dhs = _h(*cs, ps)
+                ps = ps - hs / dhs
+            phi[slow] = ps
+            h[slow] = _h(*cs, ps)[0]
     # a root that left its cell or whose h is above rounding is one Newton could not settle (a near-double root)
-    bad = ~((phi >= lo) & (phi <= hi) & (np.abs(h) <= 64 * _EPS * np.abs(c).sum(axis=1)))
+    bad = ~((phi >= lo) & (phi <= hi) & (np.abs(h) <= tol))
     hidden[row[bad]] = True
     return row, phi, hidden
 

@@ -1,4 +1,4 @@
-"""Cost of the Drake engines: microseconds per record row and seconds per run at the report maps' horizon 2.0, per approximation.
+"""Cost of the Drake engines at the report maps' horizon 2.0, per approximation: seconds per run, and microseconds per step against Drake's bare loop over the same steps.
 
 Starts: every ``--every``-th cell of the three quick outcome maps of
 ``crosscheck.report.sections.engine_maps`` (10 x 10 each: (Psi, mu) at theta
@@ -9,10 +9,13 @@ them with its quick-map options (``EngineSpec.report.maps["quick"]``) or with
 for the runs that follow: one per rod, mu and options).  Reported per engine:
 the median and max seconds per run, microseconds per row (a row is one plant
 step for the discrete approximations, one record interval for the
-continuous plant), and the estimated time of the quick map section
-(300 starts x the mean seconds per slipping start x the slipping fraction).
-Each run is timed once (best-of is over the whole set with ``--repeat``),
-since other processes share the 2 cores.
+continuous plant) through the engine and through Drake's bare
+``Simulator.AdvanceTo`` over the same steps (``bench_drake_bare.bare_advance``:
+nothing read between steps), their ratio bare / engine, and the estimated time
+of the quick map section (300 starts x the mean seconds per slipping start x
+the slipping fraction).  Each start is timed through the engine and bare in
+turn, ``--repeat`` times, keeping each one's least CPU time
+(``time.process_time``: other processes share the 2 cores).
 
     python benchmarks/bench_drake.py [--every 3] [--engines drake_sap,drake_continuous] [--timestep 1e-3] [--repeat 1]
 """
@@ -20,12 +23,14 @@ since other processes share the 2 cores.
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 
+from bench_drake_bare import bare_advance, cpu_time
 from crosscheck import Rod, SlipState
+from crosscheck.coordinates import to_generalized
 from crosscheck.engines.drake import ENGINES
+from crosscheck.engines.drake.model import model
 
 
 def map_starts(every: int) -> list[tuple[SlipState, float]]:
@@ -69,21 +74,21 @@ def main() -> None:
         opts = dict(spec.report.maps["quick"])
         if args.timestep is not None:
             opts["timestep"] = args.timestep
-        best = None
+        o = spec.options(**opts)
+        dt = o.timestep / rod.omega
+        cases = []  # (start, mu, model, x0, steps the engine made); the first run builds the diagram
+        for s, mu in starts:
+            run = spec.simulate(rod, s, mu, horizon=args.horizon, **opts)
+            done = run.solver.steps if o.discrete else int(np.isfinite(run.record.theta).sum())
+            cases.append((s, mu, model(rod, mu, o), np.concatenate(to_generalized(rod, s, tip=(0.0, 0.0, o.radius))), done, run.nstep))
+        secs, bare = np.full(len(cases), np.inf), np.full(len(cases), np.inf)
         for _ in range(args.repeat):
-            secs, rows = [], 0
-            for s, mu in starts:
-                spec.simulate(rod, s, mu, horizon=min(args.horizon, 10 * opts.get("timestep", 1e-3)), **opts)  # builds the diagram
-                t0 = time.perf_counter()
-                run = spec.simulate(rod, s, mu, horizon=args.horizon, **opts)
-                secs.append(time.perf_counter() - t0)
-                rows += run.nstep
-            if best is None or sum(secs) < sum(best[0]):
-                best = (secs, rows)
-        secs, rows = best
-        secs = np.array(secs)
-        print(f"{name:18s} {opts}: run median {np.median(secs):.3f} s, max {secs.max():.3f} s; {1e6 * secs.sum() / rows:6.1f} us/row; "
-              f"quick map section ~{300 * slipping * secs.mean():.1f} s")
+            for i, (s, mu, m, x0, done, _) in enumerate(cases):
+                secs[i] = min(secs[i], cpu_time(lambda: spec.simulate(rod, s, mu, horizon=args.horizon, **opts)))
+                bare[i] = min(bare[i], cpu_time(lambda: bare_advance(m, x0, done, dt)))
+        steps = sum(c[4] for c in cases)
+        print(f"{name:18s} {opts}: run median {np.median(secs):.3f} s, max {secs.max():.3f} s; engine {1e6 * secs.sum() / steps:6.1f} us/step, "
+              f"bare {1e6 * bare.sum() / steps:6.1f}, bare / engine {bare.sum() / secs.sum():.2f}; quick map section ~{300 * slipping * secs.mean():.1f} s")
 
 
 if __name__ == "__main__":

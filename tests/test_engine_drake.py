@@ -171,6 +171,55 @@ def test_row_k_holds_the_force_that_moves_the_rod_from_row_k(name):
     assert np.nanmax(shifted) > 1e-2
 
 
+@pytest.mark.parametrize("name", [s.name for s in ENGINES])
+def test_the_engines_states_are_drakes_own_simulator_states_bit_for_bit(name):
+    """The engine's step loop (``engine.raw_run``: the contact results read, the discrete update set back by hand) and a
+    bare ``Simulator.AdvanceTo`` over the same steps (one call over a discrete plant's steps, one per row of the
+    continuous plant's, with the engine's integrator) reach the same states exactly: the reads change nothing."""
+    from pydrake.systems.analysis import ResetIntegratorFromFlags, Simulator
+
+    from crosscheck.coordinates import to_generalized
+    from crosscheck.engines.drake.engine import raw_run
+    from crosscheck.engines.drake.model import model, new_context
+
+    opts = SPEC[name].options(timestep=2e-3)
+    m, n, dt = model(ROD, SLIP_MU, opts), 40, opts.timestep / ROD.omega
+    x0 = np.concatenate(to_generalized(ROD, OFFPLANE, tip=(0.0, 0.0, opts.radius)))
+    raw = raw_run(m, x0, n, dt, np.ones(5))
+    ctx = new_context(m)
+    pc = m.plant.GetMyMutableContextFromRoot(ctx)
+    m.plant.SetPositionsAndVelocities(pc, x0)
+    sim = Simulator(m.diagram, ctx)
+    if not opts.discrete:
+        ResetIntegratorFromFlags(sim, opts.integrator, dt).set_target_accuracy(opts.accuracy)
+    sim.Initialize()
+    for k in range(1, n + 1 if opts.discrete else n):
+        sim.AdvanceTo(k * dt)
+        np.testing.assert_array_equal(m.plant.GetPositionsAndVelocities(pc), raw.x[k])
+    assert raw.active.any() and raw.health.failed == 0
+
+
+def test_contact_forces_summed_after_the_run_are_the_per_row_sums_bit_for_bit():
+    """``_contact_rows`` adds 0 + f or 0 + (-f) pair by pair, in order: the IEEE values of summing each row as it is read
+    (zeros, then += the force on B, -= the force on A), signed zeros included."""
+    from crosscheck.engines.drake.engine import _contact_rows
+
+    rng = np.random.default_rng(7)
+    f = [np.array([0.0, -0.0, 1.5]), np.array([-0.0, 0.0, -2.0]), *rng.normal(size=(5, 3))]
+    pairs = [(0, True, f[0]), (0, False, f[1]), (2, False, f[0]), (3, True, f[1]), (3, True, f[2]), (3, False, f[3]),
+             (5, False, f[4]), (6, True, f[5]), (6, False, f[6])]
+    want, want_active = np.zeros((7, 3)), np.zeros(7, bool)
+    for k, on_b, fk in pairs:
+        want_active[k] = True
+        if on_b:
+            want[k] += fk
+        else:
+            want[k] -= fk
+    got, active = np.zeros((7, 3)), np.zeros(7, bool)
+    _contact_rows(pairs, got, active)
+    assert got.tobytes() == want.tobytes() and (active == want_active).all()
+
+
 # ---------------------------------------------------------------------------------- slipping vs theory ---
 
 

@@ -26,8 +26,11 @@ candidates, each in closed form:
 
 ``solve`` brackets every root of h on a grid of ``GRID`` angles (a pair of
 roots inside one cell is caught by the bound |h| <= max|h''| delta^2 / 8 at
-the cell's ends where h' changes sign), polishes it by safeguarded Newton,
-and returns the solution where the NCP has exactly one.  Where it has
+the nearer end of a cell where h' changes sign), skips the cells where D or
+a D is negative beyond what the cell can hide, polishes each root by Newton
+from the cell's secant point, and returns the solution where the NCP has
+exactly one.  (PGS starts cold at every step: an impulse guess is used by
+one solve only, measured.)  Where it has
 several (just before p = 0 the stick and the slip; at a jam above mu_P two
 slips), the discrete problem does not say which one the engine takes:
 Pinocchio's PGS does, by where it converges from lambda = 0 (the module
@@ -44,8 +47,9 @@ __all__ = ["GRID", "solve", "h_coefficients"]
 #: Angles of the grid that brackets the roots of h (cell width 2 pi / GRID).
 GRID = 128
 
-#: Newton steps per root from the cell's secant point: its error ~ (h''/h') delta^2 / 8 ~ 1e-3 (h''/h') falls to
-#: 1e-6, 1e-12, rounding (quadratic convergence); a root still off after them is handed to PGS.
+#: Newton steps per root from the cell's secant point: its error ~ (h''/h') delta^2 / 8 ~ 3e-4 (h''/h') falls to
+#: ~1e-7, 1e-14, rounding (quadratic convergence); as many again for a root not yet at rounding (small h' against h''),
+#: and a root still off after them is handed to PGS.
 NEWTON_STEPS = 3
 
 _PHI = 2.0 * np.pi * np.arange(GRID + 1) / GRID

@@ -47,7 +47,7 @@ NAME = "mujoco"
 # MuJoCo's warnings are counted, not printed (nor logged to MUJOCO_LOG.TXT in the user's directory).
 mujoco_warnings.install()
 
-#: Memory for the sensordata of the chunks in flight (two: one rolling out, one read); sets the chunk size.
+#: Memory for the sensordata of the chunks in flight (two when they overlap: one rolling out, one read); sets the chunk size.
 CHUNK_BYTES = 48 * 2**20
 
 #: A sweep of fewer chunks is cut into this many, so that the rollout of one overlaps the reading of another ...
@@ -129,10 +129,16 @@ class Batch:
         first = next(iter(self.models.values()))
         B, nsensor = len(self.mu), first.nsensordata
         per_state = self.nstep * nsensor * 8
-        chunk = int(max(self.nthread, min(B, CHUNK_BYTES // 2 // per_state, max(-(-B // MIN_CHUNKS), -(-MIN_CHUNK_STEPS // self.nstep)))))
+        # With one rollout thread the batch keeps to one core (the sweeps layer runs one such process per core): no
+        # overlap.  One chunk (simulate, a small sweep) has nothing to overlap: it runs here, as a thread's start and
+        # handoff cost ~10 ms on a loaded machine (simulate at horizon 0.01: 5 ms inline, 18 ms through the thread).
+        overlap = self.nthread > 1
+        cut = max(-(-B // MIN_CHUNKS), -(-MIN_CHUNK_STEPS // self.nstep)) if overlap else B
+        chunk = int(max(self.nthread, min(B, CHUNK_BYTES // (2 if overlap else 1) // per_state, cut)))
         firsts = range(0, B, chunk)
+        overlap = overlap and len(firsts) > 1
         data = [mujoco.MjData(first) for _ in range(self.nthread)]
-        buffers = [np.empty((min(chunk, B), self.nstep, nsensor)) for _ in range(min(2, len(firsts)))]
+        buffers = [np.empty((min(chunk, B), self.nstep, nsensor)) for _ in range(2 if overlap else 1)]
 
         def run(k: int):
             a = firsts[k]
@@ -149,9 +155,6 @@ class Batch:
             )
             return sl, sd
 
-        # one chunk (simulate, a small sweep) has nothing to overlap: it runs here, as a thread's start and handoff
-        # cost ~10 ms on a loaded machine (simulate at horizon 0.01: 5 ms inline, 18 ms through the thread)
-        overlap = len(firsts) > 1
         with rollout.Rollout(nthread=self.nthread if self.nthread > 1 else 0) as pool, ThreadPoolExecutor(1) as ahead:
             pending = {0: ahead.submit(run, 0)} if overlap else {}
             try:

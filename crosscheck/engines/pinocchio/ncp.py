@@ -134,7 +134,8 @@ def _hidden_pairs(coef: np.ndarray, H: np.ndarray, change: np.ndarray, bound: np
     c, lo, hi, dlo, dhi, r, k = c[turn], lo[turn], hi[turn], dlo[turn], dhi[turn], r[turn], k[turn]
     x = lo + (hi - lo) * dlo / (dlo - dhi)
     with np.errstate(divide="ignore", invalid="ignore"):
-        for _ in range(NEWTON_STEPS):
+        # h at x is off h(x*) by ~h'' (x - x*)^2 / 2: two Newton steps (x - x* ~ 1e-7, then ~1e-14) are plenty
+        for _ in range(2):
             dh, d2h = _dh(c, x)
             x = x - dh / d2h
     hx, _ = _h(*_complex(c), np.clip(x, lo, hi))

@@ -126,7 +126,7 @@ def test_each_step_is_pgs_step(name, state, mu, steps, dt):
         n_handed += handed
         if info.converged:
             dlam = np.abs(row[0, 9:12] - info.impulse).max() / max(scale, np.abs(info.impulse).max())
-            dv = np.abs(bv[0] - v1).max() / (1.0 + np.abs(v1).max() + np.abs(v1 - v).max() / dt * pgs.dt)
+            dv = np.abs(bv[0] - v1).max() / (1.0 + np.abs(v1).max())  # relative to the velocity's size (units of l omega ~ 1)
             assert dlam <= RIGID_BATCH_STEP.rtol and dv <= RIGID_BATCH_STEP.rtol, (name, dlam, dv)
         if handed:
             assert np.array_equal(row[0, 9:12], info.impulse) and np.array_equal(bv[0], v1)
@@ -147,7 +147,7 @@ def test_each_step_is_pgs_step(name, state, mu, steps, dt):
 
 def test_jams_are_handed_to_pgs_and_keep_its_outcome():
     """At a jam the step's NCP has the stick and a slip (or none but the stick): the batch hands those steps to PGS,
-    and simulate gives the PGS engine's outcome and event time."""
+    and the sweep gives the PGS engine's outcome and event time."""
     states, t_jam, _ = corollary_states(1.7, 4, np.random.default_rng(1))
     a = ENGINE.sweep(ROD, states, 1.7, horizon=float(t_jam.max()) + 0.1, timestep=1e-3, solver="closed_form", workers=1)
     b = ENGINE.sweep(ROD, states, 1.7, horizon=float(t_jam.max()) + 0.1, timestep=1e-3, solver="pgs", workers=1)

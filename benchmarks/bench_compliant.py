@@ -10,7 +10,9 @@ tolerances, analytic Jacobian and dense output, and nothing else (no events,
 no record).  Both are timed in the same run, interleaved, by the CPU time of
 this process (wall-time ratios moved 2x between two runs on the shared
 cores, CPU-time ratios by ~20 %), the best of ``--repeat`` each; the ratio
-bare / engine is the share of the engine's time that is the solver's.
+bare / engine is the share of the engine's time that is the solver's.  Measured with the defaults: 0.70-0.72
+(0.62-0.67 before the record read the force and the slip from one ``Dynamics.terms`` per row); most of the rest is
+the record's second ``Dynamics.terms`` per row, inside ``Dynamics.tip_acceleration``, and the mode-switch events.
 
 With ``--more``, three older measurements on states run to the rigid flow's first event
 (``crosscheck.theory.slipping.slip_until_event``, t_max = 2):

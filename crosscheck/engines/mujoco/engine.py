@@ -4,9 +4,9 @@
 ``mujoco.rollout.Rollout`` thread pool (``nthread`` threads, one ``MjData``
 each) over chunks of states sized to a memory budget; only sensors are
 recorded (``skip_checks=True`` so MuJoCo does not also copy the full state of
-every step).  The next chunk rolls out while the last one is turned into
-records and classified, in blocks of a few states whose arrays stay in the
-CPU's cache (``BLOCK_BYTES``).  Both go through ``Batch``, so a state gives the same numbers
+every step).  With more than one thread the next chunk rolls out while the
+last one is turned into records and classified, which goes in blocks of a few
+states whose arrays stay in the CPU's cache (``BLOCK_BYTES``).  Both go through ``Batch``, so a state gives the same numbers
 either way (tests assert equality), and both classify with the one classifier
 ``crosscheck.engines.classifier``, with the STICK threshold following the run's
 friction time constant.  The model, its start and its sensors are in

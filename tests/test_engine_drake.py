@@ -199,6 +199,24 @@ def test_the_engines_states_are_drakes_own_simulator_states_bit_for_bit(name):
     assert raw.active.any() and raw.health.failed == 0
 
 
+def test_a_runaway_is_cut_at_its_first_fast_step_whatever_the_steps_between_speed_checks(monkeypatch):
+    """Lagged at the quick maps' timestep from a start that is thrown off the plane and spun up: step 170 passes
+    ``RUNAWAY_SPEED`` (mid-way through a chunk of ``CHUNK`` steps).  The run keeps the rows before it, NaN from it, and
+    is the same run, bit for bit, as one whose speeds are checked at every step."""
+    from crosscheck.engines.drake import engine
+
+    start = SlipState(theta=1.045, varphi=-1.9, Theta=1.05, Psi=0.0, eta=1.0)
+    runs, chunk0 = [], engine.CHUNK
+    for chunk in (chunk0, 1):
+        monkeypatch.setattr(engine, "CHUNK", chunk)
+        runs.append(SPEC["drake_lagged"].simulate(ROD, start, 1.4, horizon=0.6, timestep=3e-3))
+    (a, b), k = runs, runs[0].solver.steps
+    assert a.solver == b.solver and a.solver.message == "runaway speed" and 0 < k % chunk0
+    assert np.isfinite(a.record.theta[:k]).all() and np.isnan(a.record.theta[k:]).all()
+    for f in ("tip_pos", "tip_vel", "tip_acc", "force", "active", "theta", "Theta", "Psi"):
+        assert getattr(a.record, f).tobytes() == getattr(b.record, f).tobytes(), f
+
+
 def test_contact_forces_summed_after_the_run_are_the_per_row_sums_bit_for_bit():
     """``_contact_rows`` adds 0 + f or 0 + (-f) pair by pair, in order: the IEEE values of summing each row as it is read
     (zeros, then += the force on B, -= the force on A), signed zeros included."""

@@ -201,7 +201,7 @@ def test_the_engines_states_are_drakes_own_simulator_states_bit_for_bit(name):
 
 def test_a_runaway_is_cut_at_its_first_fast_step_whatever_the_steps_between_speed_checks(monkeypatch):
     """Lagged at the quick maps' timestep from a start that is thrown off the plane and spun up: step 170 passes
-    ``RUNAWAY_SPEED`` (mid-way through a chunk of ``CHUNK`` steps).  The run keeps the rows before it, NaN from it, and
+    ``RUNAWAY_SPEED`` (mid-way through a chunk of ``CHUNK`` steps).  The run keeps the rows before it and NaN after, and
     is the same run, bit for bit, as one whose speeds are checked at every step."""
     from crosscheck.engines.drake import engine
 
@@ -212,7 +212,9 @@ def test_a_runaway_is_cut_at_its_first_fast_step_whatever_the_steps_between_spee
         runs.append(SPEC["drake_lagged"].simulate(ROD, start, 1.4, horizon=0.6, timestep=3e-3))
     (a, b), k = runs, runs[0].solver.steps
     assert a.solver == b.solver and a.solver.message == "runaway speed" and 0 < k % chunk0
-    assert np.isfinite(a.record.theta[:k]).all() and np.isnan(a.record.theta[k:]).all()
+    # row k is the state the fast step started from; its force and everything after it are NaN
+    assert np.isfinite(a.record.theta[:k + 1]).all() and np.isnan(a.record.theta[k + 1:]).all()
+    assert np.isfinite(a.record.force[:k]).all() and np.isnan(a.record.force[k:]).all()
     for f in ("tip_pos", "tip_vel", "tip_acc", "force", "active", "theta", "Theta", "Psi"):
         assert getattr(a.record, f).tobytes() == getattr(b.record, f).tobytes(), f
 

@@ -143,12 +143,36 @@ def strong_weak_colors(strong: str) -> tuple:
     return (LINE_COLORS[0], LINE_COLORS[6]) if strong == "plus" else (LINE_COLORS[6], LINE_COLORS[0])
 
 
+#: Artists with more drawn elements than this (a map's cells, a surface's facets) go into the SVG as one embedded image
+#: at savefig.dpi: the vector copy of a 32 x 32 map's 1024 cells or a surface's facets costs more to write, and to open,
+#: than the whole rest of the figure, and adds nothing a reader zooms for (axes, labels and lines stay vectors).
+RASTER_ELEMENTS = 400
+
+
+def _rasterize_heavy(fig) -> None:
+    from matplotlib.collections import Collection
+    from matplotlib.image import AxesImage
+
+    for ax in fig.axes:
+        for artist in ax.get_children():
+            heavy = isinstance(artist, AxesImage) or (isinstance(artist, Collection) and len(artist.get_paths()) > RASTER_ELEMENTS)
+            if heavy and not artist.get_rasterized():
+                artist.set_rasterized(True)
+
+
 def save_figure(fig, stem: Path) -> None:
-    """Write ``<stem>.png`` and ``<stem>.svg`` and close ``fig``."""
+    """Write ``<stem>.png`` and ``<stem>.svg`` and close ``fig``.
+
+    The layout is computed once, for the PNG: the SVG keeps the positions it
+    gave (constrained layout is most of a figure's drawing time), and heavy
+    artists go into the SVG rasterised (``RASTER_ELEMENTS``).
+    """
     stem = Path(stem)
     stem.parent.mkdir(parents=True, exist_ok=True)
     # not with_suffix: a stem may contain a dot ("mu1.4")
     fig.savefig(stem.parent / f"{stem.name}.png", metadata={"Software": None})
+    fig.set_layout_engine("none")
+    _rasterize_heavy(fig)
     fig.savefig(stem.parent / f"{stem.name}.svg", metadata={"Date": None, "Creator": None})
     plt.close(fig)
 

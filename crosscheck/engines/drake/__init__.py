@@ -39,10 +39,14 @@ _LABELS = {"continuous": "Drake continuous", "sap": "Drake SAP", "similar": "Dra
 #: 2e-3 (a force-free step costs ~25 us, a stuck SAP step ~170 us); Lagged 0.10 (0.18), ~16 s at 3e-3; TAMSI 0.12
 #: (0.17), ~17 s at 1e-3; the continuous plant 0.14 (0.30), ~24 s at rows of 2e-3 with accuracy 1e-3 and stiction
 #: tolerance 1e-3 (its integrator steps cost ~60 us and it takes 1-3 per row; the default accuracy 1e-6 and stiction
-#: tolerance 1e-4 triple it).  Convergence: discrete approximations refine the timestep at stiffness 1e4, then stiffen
-#: (as MuJoCo's plan refines timestep, then timeconst); the continuous plant stiffens at a fixed row spacing.  SAP and
-#: Similar glide off a slipping tip at any of these settings (crosscheck.engines.drake.engine): their convergence
-#: section shows it rather than a convergence to the theory.
+#: tolerance 1e-4 triple it). Re-measured after the engine's step loop stopped making numpy calls per step (the same
+#: command with --repeat 2, CPU time, 2026-11-25): SAP 0.051 (0.13), Similar 0.052 (0.12), Lagged 0.076 (0.083),
+#: TAMSI 0.062 (0.067), continuous 0.095 (0.17) s/run, 13-26 % below the engine before it in the same conditions;
+#: Drake's bare Simulator.AdvanceTo over the same steps takes 0.49 (TAMSI) to 0.74 (continuous) of the engine's time.
+#: Convergence: discrete approximations refine the timestep at stiffness 1e4, then stiffen (as MuJoCo's plan
+#: refines timestep, then timeconst); the continuous plant stiffens at a fixed row spacing.  SAP and Similar glide off
+#: a slipping tip at any of these settings (crosscheck.engines.drake.engine): their convergence section shows it
+#: rather than a convergence to the theory.
 _CONTINUOUS_QUICK = {"timestep": 2e-3, "accuracy": 1e-3, "stiction_tolerance": 1e-3}
 _MAPS = {
     "continuous": {"quick": _CONTINUOUS_QUICK, "full": {"timestep": 1e-3, "accuracy": 1e-4, "stiction_tolerance": 1e-3}},

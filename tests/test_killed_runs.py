@@ -26,8 +26,9 @@ from conftest import small, tmpfs
 #: Seconds a killed run's workers may take to go (they get SIGKILL from the kernel when their parent dies).
 ORPHAN_GRACE = 5.0
 
-#: 24 rigid-engine runs (3 x 2 x 2 planar starts at two mu), 12 chunks of 2: long enough to be killed in the middle.
-SPEC = small("pinocchio", horizon=0.6, chunk=2)
+#: 24 rigid-engine runs (3 x 2 x 2 planar starts at two mu, 6667 steps each), 12 chunks of 2: long enough to be killed in the
+#: middle (at horizon 0.6 and the default step the pool could finish before the test saw its workers).
+SPEC = small("pinocchio", horizon=2.0, chunk=2, timestep=3e-4)
 
 
 def _children(pid: int) -> list[int]:
@@ -87,7 +88,9 @@ def test_a_killed_multi_worker_sweep_leaves_no_workers_and_reruns_at_once(tmp_pa
         m = store.read_manifest() if store.manifest_path.exists() else None
         return bool(m and len(m["chunks"]) >= 1)
 
-    workers = _kill_when(proc, some_chunks, "a first chunk")
+    # kill once the manifest is there and the pool's workers run: the manifest is written before the pool forks, so on a
+    # fast engine "a manifest" alone could be met with no worker yet to orphan
+    workers = _kill_when(proc, lambda: some_chunks() and len(_children(proc.pid)) >= 2, "a manifest and the pool's workers")
     assert len(workers) >= 2, f"the sweep ran {len(workers)} workers; this test needs a pool"
     _no_orphans(workers)
     assert not holders(out / ".lock")

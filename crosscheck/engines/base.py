@@ -30,7 +30,7 @@ from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState, real, real_scalar
 
-__all__ = ["Engine", "Run", "SweepResult", "SERIES", "SUMMARY", "STATE_KEYS", "MAX_RECORD_BYTES", "n_steps", "n_steps_within_memory", "options_from_kwargs", "run_inputs", "check_states",
+__all__ = ["Engine", "Run", "SweepResult", "SERIES", "SUMMARY", "STATE_KEYS", "MAX_RECORD_BYTES", "n_steps", "n_steps_within_memory", "options_from_kwargs", "run_inputs", "check_states", "sweep_mu_workers",
            "summaries", "sweep_by_simulate"]
 
 #: Decimated time series kept per state by ``sweep`` (each (B, n_series)), scaled units:
@@ -302,6 +302,16 @@ def _simulate_chunk(engine: Engine, rod: Rod, states: list, mu: list, horizon: f
     return [engine.simulate(rod, s, m, horizon=horizon, thresholds=thresholds, **options) for s, m in zip(states, mu)]
 
 
+def sweep_mu_workers(mu, n: int, workers) -> np.ndarray:
+    """A sweep's ``mu`` (one number or one per state) as n floats, after checking ``workers`` (an integer >= 1)."""
+    if not (isinstance(workers, int) and workers >= 1):
+        raise ValueError(f"workers must be an integer >= 1; got {workers!r}")
+    mu = real("mu", mu, MU)
+    if mu.shape not in ((), (n,)):
+        raise ValueError(f"mu must be one number or one per state (shape ({n},)), in {MU}; got shape {mu.shape}")
+    return np.broadcast_to(mu, (n,)).astype(float)
+
+
 def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu, *, horizon: float,
                       thresholds: Thresholds | None = None, n_series: int = 200, progress: bool | None = None, workers: int = 1,
                       **options) -> SweepResult:
@@ -313,13 +323,8 @@ def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu,
     """
     states = check_states(states)
     horizon = real_scalar("horizon", horizon, POSITIVE)
-    if not (isinstance(workers, int) and workers >= 1):
-        raise ValueError(f"workers must be an integer >= 1; got {workers!r}")
+    mu = sweep_mu_workers(mu, len(states), workers)
     B = len(states)
-    mu = real("mu", mu, MU)
-    if mu.shape not in ((), (B,)):
-        raise ValueError(f"mu must be one number or one per state (shape ({B},)), in {MU}; got shape {mu.shape}")
-    mu = np.broadcast_to(mu, (B,)).astype(float)
     th = thresholds or Thresholds()
     t0 = time.perf_counter()
     if workers == 1 or B == 1:

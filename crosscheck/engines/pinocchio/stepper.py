@@ -94,15 +94,14 @@ import pinocchio as pin
 
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get
-from crosscheck.engines.base import (STATE_KEYS, Run, SweepResult, check_states, n_steps_within_memory, run_inputs, summaries,
+from crosscheck.engines.base import (STATE_KEYS, Run, SweepResult, check_states, n_steps_within_memory, sweep_mu_workers, run_inputs, summaries,
                                      sweep_by_simulate)
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.pinocchio.model import TIP_FRAME, build_model
 from crosscheck.engines.pinocchio.options import AUTO_BATCH, SOLVERS, Options
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
-from crosscheck.checks import MU
-from crosscheck.state import SlipState, real
+from crosscheck.state import SlipState
 
 __all__ = ["NAME", "Options", "Stepper", "SOLVERS", "simulate", "sweep"]
 
@@ -299,13 +298,8 @@ def _sweep_closed_form(rod: Rod, states: Sequence[SlipState], mu, *, horizon: fl
     """``sweep`` with ``solver="closed_form"``: the states stepped together (``batch``), one classifier on the stacked records."""
     states = check_states(states)
     _, horizon, opts = run_inputs(states[0], 0.0, horizon, options, Options)  # every state was checked above
-    if not (isinstance(workers, int) and workers >= 1):
-        raise ValueError(f"workers must be an integer >= 1; got {workers!r}")
+    mu = sweep_mu_workers(mu, len(states), workers)
     B = len(states)
-    mu = real("mu", mu, MU)
-    if mu.shape not in ((), (B,)):
-        raise ValueError(f"mu must be one number or one per state (shape ({B},)), in {MU}; got shape {mu.shape}")
-    mu = np.broadcast_to(mu, (B,)).astype(float)
     th = thresholds or Thresholds()
     n = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES, copies=B, what="the records of a sweep")
     t0 = time.perf_counter()

@@ -174,6 +174,24 @@ def test_a_fast_slip_stop_is_located_and_tends_to_the_rigid_jam():
     assert 0.0 < lags[2] < lags[1] < lags[0], lags
 
 
+def test_a_graze_after_lift_off_leaves_the_rod_free_instead_of_chattering():
+    """After a jam and a lift-off the capsule comes back to the plane only to graze it (C's height has a root where C
+    already rises, by rounding), with the Hunt-Crossley law at a ladder's Drake stiffness (eps = 1e-2, xi = 2).
+
+    The law cannot push a rising C at zero penetration (its push changes sign at delta = 0 too): the graze must
+    leave the rod free.  Entering contact there ended it at once, and the push's sign change at delta = 0 started it
+    again: 20,000 zero-length segments at t = 0.0994 (22 s) and a run that stopped short of the horizon.
+    """
+    state = SlipState(theta=1.22916666667, varphi=-1.9, Theta=0.375, Psi=0.0, eta=1.0)
+    traj = integrate(ROD, state, 1.4, horizon=0.14, eps=1e-2, xi=2.0, radius=0.01, law="hunt-crossley")
+    kinds = [e.kind for e in traj.events]
+    assert kinds == ["contact_start", "slip_stop", "stick_break", "contact_end"], kinds
+    assert traj.t[-1] == pytest.approx(0.14, abs=1e-12)
+    # free after the lift-off: no contact force and C at or above the plane (to rounding) from there on
+    after = traj.t > traj.events[-1].time
+    assert np.all(traj.normal_force[after] == 0.0) and np.all(traj.mode[after] == 0)
+
+
 # ------------------------------------------------------------------------- the contact point's kinematics
 
 

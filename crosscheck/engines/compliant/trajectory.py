@@ -240,7 +240,9 @@ def _events(dyn: Dynamics, mode: int, below: bool):
     add(lambda t, y: 0.5 * math.pi - margin - y[4], -1, "domain_exit")
     if mode == FREE:
         if below:
-            add(lambda t, y: dyn.push(y), +1, "contact_start")
+            # the law's push changes sign at delta = 0 too (delta (1 + (xi/eps) delta') and delta/eps^2 + (xi/eps) delta'
+            # as C rises through the plane): only a push below the plane starts the contact ("above" takes the rest)
+            add(lambda t, y: dyn.push(y) if y[2] < 0.0 else -1.0, +1, "contact_start")
             add(lambda t, y: y[2], +1, "above")
         else:
             add(lambda t, y: y[2], -1, "contact_start")
@@ -433,6 +435,10 @@ def integrate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: flo
             break
         if kind == "above":
             below = False
+            continue
+        if kind == "contact_start" and not below and y[7] > 0.0:
+            # a graze: the root of C's height lies where C already rises (the dense output dipped below the plane by
+            # rounding), the law cannot push it, and entering contact would end it at once, over and over
             continue
         if kind == "contact_start":
             mode, direction, y, extra = _contact_mode(dyn, y)

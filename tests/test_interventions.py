@@ -71,6 +71,23 @@ def test_sap_launch_is_removed_by_dropping_the_relaxation_not_by_a_thinner_capsu
     assert r["causes"]["relaxation"][-1]["label"] == "SLIP" and r["causes"]["relaxation"][-1]["removes"]
 
 
+#: A start of the full report's Drake continuous maps (theta_Theta_0) where the theory jams at t = 0.0039 and the continuous
+#: plant at its default stiffness slips past the comparison window (its ladder names compliance).
+CONTINUOUS_LATE_JAM = (SlipState(theta=1.0125, varphi=-1.9, Theta=-0.375, Psi=0.0, eta=1.0), 1.4)
+
+
+def test_a_late_compliant_jam_is_removed_only_by_the_stiffest_contact():
+    """The continuous plant's jam comes later the softer its contact (a compliant impact without collision builds its
+    force over the contact's time): x 10 and x 100 still jam too late; x 1000 at a tenth of the step meets the theory's."""
+    state, mu = CONTINUOUS_LATE_JAM
+    r = intervene("drake_continuous", state, mu, causes=("compliance",))
+    assert r["theory"] == "JAM" and r["theory_time"] == pytest.approx(0.0039, abs=1e-4)
+    rows = r["causes"]["compliance"]
+    assert [x["removes"] for x in rows] == [False, False, True], [(x["text"], x["outcome"], x["time"]) for x in rows]
+    # every step jams, each earlier than the softer one before it: the stiffer contact moves the jam toward the theory's
+    assert all(x["outcome"] == "JAM" for x in rows[1:]) and rows[2]["time"] < rows[1]["time"]
+
+
 def test_a_refused_intervention_is_reported_not_raised():
     state, mu = SAP_LAUNCH
     spec = engines.get("drake_sap")

@@ -4,8 +4,12 @@ Each function takes the run's ``Options`` and returns ``Intervention`` s,
 weakest first (``crosscheck.studies.interventions`` runs them):
 
 * geometry: a thinner capsule (r / 4, r / 16);
-* compliance: a stiffer point contact (stiffness x 10, x 100), toward the rigid
-  limit the compliant rod reaches as eps = 1 / sqrt(S) -> 0;
+* compliance: a stiffer point contact (stiffness x 10, x 100, and x 1000 at a tenth
+  of the timestep), toward the rigid limit the compliant rod reaches as
+  eps = 1 / sqrt(S) -> 0.  The strongest step shortens the timestep with it: at
+  x 1000 the contact's time 1 / sqrt(S) is a thirtieth of the default step, and a
+  step that long cannot follow the force building up (the continuous plant's
+  rows and its error control are both set by the timestep);
 * friction law: a smaller stiction tolerance (/ 10, / 100): Drake's friction
   is Coulomb's regularised below that slip speed (the continuous plant and
   TAMSI; SAP, Similar and Lagged regularise by their own relaxation, which
@@ -29,7 +33,9 @@ def geometry(o):
 
 
 def compliance(o):
-    return tuple(Intervention(f"point stiffness {o.stiffness:g} -> {o.stiffness * k:g}", {"stiffness": o.stiffness * k}) for k in (10, 100))
+    stiffer = tuple(Intervention(f"point stiffness {o.stiffness:g} -> {o.stiffness * k:g}", {"stiffness": o.stiffness * k}) for k in (10, 100))
+    return (*stiffer, Intervention(f"point stiffness {o.stiffness:g} -> {o.stiffness * 1000:g}, timestep {o.timestep:g} -> {o.timestep / 10:g}",
+                                   {"stiffness": o.stiffness * 1000, "timestep": o.timestep / 10}))
 
 
 def friction_law(o):

@@ -15,8 +15,10 @@ Timed, on one core unless said:
 * ``sweep`` with ``solver="closed_form"`` (``crosscheck.engines.pinocchio.batch``):
   all states stepped together, the NCP in closed form; its steps/s grows
   with the batch (a step's numpy calls cost about the same for 1 or 100
-  states), so it is timed at ``--states`` and at the report's sweep chunk
-  (32 states, ``crosscheck.studies.agreement.STORE_CHUNK``);
+  states), so it is timed at ``--states``, at the report's sweep chunk for
+  this engine (``crosscheck.studies.agreement.store_chunk``: its
+  ``EngineSpec.sweep_chunk``, 128) and at the default chunk of the other
+  engines (32 states, ``STORE_CHUNK``);
 * ``sweep`` with PGS on one and on two processes (its parallel efficiency).
 
 The ratio engine / bare is bare time over engine time (> 1: faster than the
@@ -40,6 +42,7 @@ from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get, n_steps
 from crosscheck.engines.pinocchio.stepper import Options
 from crosscheck.engines.pinocchio.model import TIP_FRAME, build_model
+from crosscheck.studies.agreement import STORE_CHUNK, store_chunk
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
@@ -114,14 +117,14 @@ def main() -> None:
             cpu.append(time.process_time() - c)
         return n_states * nstep / min(wall), n_states * nstep / min(cpu)
 
-    chunk = states[:32]
+    report_chunk = store_chunk(engine)
+    sizes = sorted({STORE_CHUNK, report_chunk, len(states)})
     runs = {
         "bare loop of the Pinocchio calls (PGS)": rates(len(few), lambda: [bare(rod, s, mu, opts, nstep) for s in few]),
         "engine simulate, PGS": rates(len(few), lambda: [engine.simulate(rod, s, mu, horizon=args.horizon, solver="pgs") for s in few]),
-        f"engine sweep, closed form, {len(chunk)} states": rates(len(chunk), lambda: engine.sweep(
-            rod, chunk, mu, horizon=args.horizon, progress=False, workers=1, solver="closed_form")),
-        f"engine sweep, closed form, {len(states)} states": rates(len(states), lambda: engine.sweep(
-            rod, states, mu, horizon=args.horizon, progress=False, workers=1, solver="closed_form")),
+        **{f"engine sweep, closed form, {n} states{' (report chunk)' if n == report_chunk else ''}": rates(n, lambda n=n: engine.sweep(
+            rod, [states[i % len(states)] for i in range(n)], mu, horizon=args.horizon, progress=False, workers=1, solver="closed_form"))
+           for n in sizes},
         "engine sweep, PGS, 1 process": rates(len(few), lambda: engine.sweep(rod, few, mu, horizon=args.horizon, progress=False, workers=1,
                                                                              solver="pgs")),
         "engine sweep, PGS, 2 processes": rates(len(few), lambda: engine.sweep(rod, few, mu, horizon=args.horizon, progress=False,
@@ -130,9 +133,9 @@ def main() -> None:
     runs["engine sweep, PGS, 2 processes"] = (runs["engine sweep, PGS, 2 processes"][0], float("nan"))  # the workers' CPU is not ours
     bare_wall, bare_cpu = runs["bare loop of the Pinocchio calls (PGS)"]
     print(f"timestep {opts.timestep:g}, mu {mu:g}, {nstep} steps per state, best of {args.repeat}")
-    print(f"{'':44s} {'steps/s (wall)':>15s} {'ratio':>6s} {'steps/s (CPU)':>15s} {'ratio':>6s}")
+    print(f"{'':52s} {'steps/s (wall)':>15s} {'ratio':>6s} {'steps/s (CPU)':>15s} {'ratio':>6s}")
     for name, (wall, cpu) in runs.items():
-        print(f"{name:44s} {wall:15.0f} {wall / bare_wall:6.2f} {cpu:15.0f} {cpu / bare_cpu:6.2f}")
+        print(f"{name:52s} {wall:15.0f} {wall / bare_wall:6.2f} {cpu:15.0f} {cpu / bare_cpu:6.2f}")
     w1, w2 = runs["engine sweep, PGS, 1 process"][0], runs["engine sweep, PGS, 2 processes"][0]
     print(f"PGS sweep parallel efficiency on 2 processes: {w2 / (2 * w1):.2f}")
 

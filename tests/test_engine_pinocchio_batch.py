@@ -212,3 +212,37 @@ def test_two_roots_in_one_grid_cell_are_not_lost(half_gap):
         assert hidden[0]
     else:
         assert not hidden[0] and np.allclose(np.sort(phi), [phi0 - eps, phi0 + eps], rtol=0, atol=1e-12)
+
+
+def test_agreement_cuts_the_rigid_engines_store_in_its_own_chunks_and_a_rerun_resumes(tmp_path):
+    """The rigid engine declares ``sweep_chunk`` (one closed-form batch per chunk): a study's sweep store is cut in chunks of
+    that many runs, the manifest and the spec's doc say so, every chunk but the last is full, and a rerun computes nothing."""
+    import json
+
+    from crosscheck import sweeps
+    from crosscheck.studies.agreement import STORE_CHUNK, agreement_study, store_chunk
+    from crosscheck.studies.grids import random_event_points
+
+    chunk = ENGINE.sweep_chunk
+    assert store_chunk(ENGINE) == chunk and chunk != STORE_CHUNK and store_chunk(get("mujoco")) == STORE_CHUNK
+    points = random_event_points(chunk + 40, np.random.default_rng(5))
+    kw = dict(engine="pinocchio", boundary_directions=0, horizon=0.05, store=tmp_path, workers=1)
+    run = agreement_study(points, **kw).runs[0]
+    (store,) = [p for p in tmp_path.iterdir() if p.is_dir()]
+    manifest = json.loads((store / "manifest.json").read_text())
+    assert manifest["chunk"] == chunk and manifest["n_runs"] == len(run.outcome) > chunk
+    assert manifest["n_chunks"] == math.ceil(len(run.outcome) / chunk) == 2
+    table = sweeps.load(store)
+    assert table["chunk"].value_counts().to_dict() == {0: chunk, 1: len(run.outcome) - chunk}
+    stamps = {p: p.stat().st_mtime_ns for p in (store / "chunks").iterdir()}
+    again = agreement_study(points, **kw).runs[0]
+    assert {p: p.stat().st_mtime_ns for p in (store / "chunks").iterdir()} == stamps
+    np.testing.assert_array_equal(again.outcome, run.outcome)
+
+
+def test_sweep_chunk_out_of_range_is_one_line_naming_it():
+    from crosscheck.engines.spec import EngineSpec
+
+    for bad in (0, 2.5, True, "128"):
+        with pytest.raises(ValueError, match=r"^engine 'toy' sweep_chunk must be an integer in \[1, 1000000\] or None; got "):
+            EngineSpec(name="toy", module=ENGINE.module, sweep_chunk=bad)

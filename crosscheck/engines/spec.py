@@ -137,6 +137,10 @@ class EngineSpec:
       dynamics: module with ``DEFAULT_STATES`` and ``validate(n, rng, *, progress)``
         checking its dynamics terms against the analytic ones; None: none.
       report: the report sections generated for it (``ReportPlan``); None: none.
+      sweep_chunk: runs per chunk when a study sends its sweeps through a sweep store
+        (``crosscheck.studies.agreement``); None: the study's default.  Larger for an engine whose
+        ``sweep`` steps a chunk as one batch and gets cheaper per step the larger the batch (a killed
+        run loses at most one chunk of finished work).
     """
 
     def __init__(self, *, name: str, module: str | None = None, Options: type | None = None, simulate: Callable | None = None,
@@ -144,7 +148,8 @@ class EngineSpec:
                  defaults: Mapping[str, Any] | None = None,
                  one_core: Mapping[str, Any] | None = None, solver_columns: Sequence[str] = (), tolerances: Mapping[str, Any] | None = None,
                  tags: Iterable[str] = (), ladder: Mapping[str, Any] | None = None, checks: Callable | None = None,
-                 dynamics: str | None = None, report: ReportPlan | None = None, interventions: Mapping[str, str] | None = None) -> None:
+                 dynamics: str | None = None, report: ReportPlan | None = None, interventions: Mapping[str, str] | None = None,
+                 sweep_chunk: int | None = None) -> None:
         if not (isinstance(name, str) and name.isidentifier()):
             raise ValueError(f"engine name must be an identifier; got {name!r}")
         given = {k: v for k, v in (("Options", Options), ("simulate", simulate), ("sweep", sweep)) if v is not None}
@@ -166,12 +171,14 @@ class EngineSpec:
             missing = [k for k in EVENT_TOLERANCE_KEYS if k not in tolerances]
             if missing:
                 raise ValueError(f"engine {name!r} tolerance profile lacks {missing[0]!r} (needs {', '.join(EVENT_TOLERANCE_KEYS)})")
+        if sweep_chunk is not None and not (isinstance(sweep_chunk, int) and not isinstance(sweep_chunk, bool) and 1 <= sweep_chunk <= 1_000_000):
+            raise ValueError(f"engine {name!r} sweep_chunk must be an integer in [1, 1000000] or None; got {sweep_chunk!r}")
         d = self.__dict__
         d.update(name=name, module=module, label=label or name, slug=slug or name, libraries=tuple(libraries),
                  defaults=dict(defaults or {}), one_core=dict(one_core or {}),
                  solver_columns=tuple(solver_columns), tolerances=None if tolerances is None else dict(tolerances), tags=tags,
                  ladder=None if ladder is None else dict(ladder), checks=checks, dynamics=dynamics, report=report,
-                 interventions=None if interventions is None else dict(interventions), _given=given)
+                 interventions=None if interventions is None else dict(interventions), sweep_chunk=sweep_chunk, _given=given)
 
     def __setattr__(self, key, value):
         raise AttributeError(f"EngineSpec is read-only; cannot set {key!r}")

@@ -329,8 +329,19 @@ def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a:
     )
 
 
-#: Runs per chunk when an agreement study goes through a sweep store.
+#: Runs per chunk when an agreement study goes through a sweep store, for an engine that declares no
+#: ``EngineSpec.sweep_chunk`` of its own.
 STORE_CHUNK = 32
+
+
+def store_chunk(E) -> int:
+    """Runs per chunk of engine ``E``'s sweeps through a store: its own ``sweep_chunk``, else ``STORE_CHUNK``.
+
+    The chunk is part of the sweep's spec, hence of its digest and of the store's directory name: a
+    store written with another chunk size is never resumed into (a rerun after the chunk size changed
+    starts its own store beside the old one), and the doc's ``chunk`` is the one the chunks are cut by.
+    """
+    return STORE_CHUNK if E.sweep_chunk is None else E.sweep_chunk
 
 
 def _sweep_through_store(E, rod: Rod, states_cols: dict, mu: np.ndarray, horizon: float, given: dict, opts, store, scheduler, workers,
@@ -338,7 +349,7 @@ def _sweep_through_store(E, rod: Rod, states_cols: dict, mu: np.ndarray, horizon
     """The engine's runs through ``crosscheck.sweeps`` (resumable chunks in ``store``): outcome, event_time, jam_p_eff, wall, solver."""
     from crosscheck import sweeps
 
-    doc = {"sweep": {"engine": E.name, "horizon": horizon, "seed": 0, "chunk": STORE_CHUNK},
+    doc = {"sweep": {"engine": E.name, "horizon": horizon, "seed": 0, "chunk": store_chunk(E)},
            "states": {"zip": True, **{k: [float(x) for x in v] for k, v in states_cols.items()}, "mu": [float(x) for x in mu]},
            "parameters": {"alpha": float(rod.alpha)}, "options": dict(given)}
     spec = sweeps.parse_spec(doc)

@@ -7,10 +7,12 @@ import math
 
 import pytest
 
-from crosscheck import engines
+from crosscheck import Rod, engines
+from crosscheck.engines.classifier import Thresholds
 from crosscheck.engines.spec import LADDER_CAUSES, EngineSpec, Intervention
+from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
-from crosscheck.studies.interventions import intervene, summarise
+from crosscheck.studies.interventions import below_floor, intervene, summarise
 
 LADDERED = [s.name for s in engines.specs() if s.ladder is not None and s.report is not None]
 
@@ -88,6 +90,28 @@ def test_a_late_compliant_jam_is_removed_only_by_the_stiffest_contact():
     assert all(x["outcome"] == "JAM" for x in rows[1:]) and rows[2]["time"] < rows[1]["time"]
 
 
+#: A start of the full report's Psi_mu map whose theory slips to its exit from the paper's chart (varphi = -pi at
+#: t = 0.788) with its slip speed falling to 2.6e-3 on the way: below every engine's STICK floor (0.01 here).
+SLIP_BELOW_FLOOR = (SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=0.875, eta=1.0), 0.875)
+
+
+def test_a_theory_slip_below_the_stick_floor_is_told_apart_as_the_comparisons_artefact():
+    """The theory's slip measured as an engine's run is: the rigid engine, which follows the theory step by step, is
+    classified STICK within two steps of the time the theory's own eta crosses its STICK floor (10 timesteps): the
+    theory, measured so, sticks there too, before its comparison time."""
+    state, mu = SLIP_BELOW_FLOOR
+    r = intervene("pinocchio", state, mu, causes=())
+    opts = engines.get("pinocchio").options()
+    assert r["theory"] == "SLIP" and r["stick_floor"] == pytest.approx(Thresholds().rigid_stick_steps * opts.timestep)
+    assert r["theory_eta_min"] < r["stick_floor"] and r["theory_below_floor_time"] < r["theory_time"]
+    run = engines.get("pinocchio").simulate(Rod.scaled(3.0), state, mu, horizon=r["theory_time"] + 0.05)
+    assert run.outcome == Outcome.STICK and abs(run.event_time - r["theory_below_floor_time"]) <= 2 * opts.timestep
+    assert below_floor(r, "STICK") and not below_floor(r, "SLIP")
+    # a slip whose speed stays above the floor (eta >= 0.18 to its chart exit at 0.42) is not the comparison's artefact
+    other = intervene("mujoco", SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=1.453125, eta=1.0), 1.359375, causes=())
+    assert other["theory"] == "SLIP" and other["theory_eta_min"] > other["stick_floor"] and not below_floor(other, "STICK")
+
+
 def test_a_refused_intervention_is_reported_not_raised():
     state, mu = SAP_LAUNCH
     spec = engines.get("drake_sap")
@@ -106,18 +130,21 @@ def _bad(options):
     return (Intervention("timestep -> negative", {"timestep": -1.0}),)
 
 
-def _result(cause, fixes: dict):
-    """fixes: cause -> (removes at the weaker step, removes at the stronger)."""
-    return {"cause": cause, "interventions": {"theory": "SLIP", "causes": {c: [{"text": f"{c} weaker", "removes": w}, {"text": f"{c} stronger", "removes": s}]
-                                                                       for c, (w, s) in fixes.items()}}}
+def _result(cause, fixes: dict, reference="LIFTOFF", below_floor_time=None):
+    """fixes: cause -> (removes at the weaker step, removes at the stronger); the theory SLIPs to t = 1 and its slip speed
+    falls below the engine's STICK floor at ``below_floor_time`` (None: never)."""
+    return {"cause": cause, "reference": reference,
+            "interventions": {"theory": "SLIP", "theory_time": 1.0, "theory_below_floor_time": below_floor_time,
+                              "causes": {c: [{"text": f"{c} weaker", "removes": w}, {"text": f"{c} stronger", "removes": s}]
+                                         for c, (w, s) in fixes.items()}}}
 
 
 def test_summary_counts_confirmed_misattributed_and_unremoved():
     no, yes, weak = (False, False), (False, True), (True, False)
     results = [_result("geometry", {"geometry": yes, "compliance": no}),
                _result("geometry", {"geometry": weak, "compliance": no}),
-               _result("geometry", {"geometry": no, "compliance": yes}),
-               _result("compliance", {"geometry": no, "compliance": no}),
+               _result("geometry", {"geometry": no, "compliance": yes}, "STICK", 1.5),  # below the floor after the comparison time
+               _result("compliance", {"geometry": no, "compliance": no}, "STICK", 0.5),
                _result("unexplained", {"geometry": yes, "compliance": no}),
                _result("friction law", {"geometry": no, "compliance": no})]
     s = summarise(results)
@@ -129,6 +156,9 @@ def test_summary_counts_confirmed_misattributed_and_unremoved():
     assert s["per_cause"]["friction law"]["no_intervention"] == 1
     assert (s["n"], s["removed_by_any"]) == (6, 4)  # all but the compliance and friction-law starts no intervention removes
     assert g["by_intervention"] == {"geometry weaker": 1, "geometry stronger": 1}  # each of the cause's own, over its starts
+    # not confirmed: the third geometry start, the compliance start, the friction-law start (no intervention); of those
+    # only the compliance start's theory slip fell below the engine's STICK floor before its comparison time
+    assert (s["unconfirmed"], s["unconfirmed_below_floor"]) == (3, 1)
 
 
 #: A start of the full report's theta-Theta map where MuJoCo's slip stops at once (JAM at t = 0) while the theory lifts

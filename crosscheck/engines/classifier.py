@@ -232,6 +232,11 @@ class Thresholds:
         """Slip speed below which a run with friction time constant ``friction_timeconst`` is stuck."""
         return max(self.stick_speed, self.stick_creep * friction_timeconst)
 
+    def stick_floor(self, *, timestep: float, friction_timeconst: float, rigid: bool) -> float:
+        """The slip speed below which ``classify`` calls a contact stuck: rigid_stick_steps timesteps for a rigid
+        contact, ``stick_threshold(friction_timeconst)`` otherwise."""
+        return self.rigid_stick_steps * timestep if rigid else self.stick_threshold(friction_timeconst)
+
     def as_dict(self) -> dict:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
@@ -425,7 +430,7 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
         touched = c[..., 1:] > 0  # rows k < w - 1: the window is rows 0..k
         if w <= n:
             touched[..., w - 1 :] = c[..., w:] > c[..., : n - w + 1]
-        stick_speed = th.rigid_stick_steps * timestep if rigid else th.stick_threshold(friction_timeconst)
+        stick_speed = th.stick_floor(timestep=timestep, friction_timeconst=friction_timeconst, rigid=rigid)
         has_stick, k_stick = _first((eta < stick_speed) & touched & (rows < end))
 
         # Compliant JAM: the first slip stop, judged on the rows of the last jam_contact_times contact times before

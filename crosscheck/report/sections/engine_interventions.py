@@ -112,6 +112,14 @@ def render(ctx: RenderContext) -> list:
                                 "another cause's interventions instead (a misattribution to look into), removed by none.",
                         header=["cause (ladder)", "starts", "confirmed", "removed by another cause instead", "removed by none"],
                         rows=rows or [["(no laddered disagreement)", "0", "0", "-", "0"]], data=ctx.data("summary.json")))
+    if summary.get("unconfirmed"):
+        blocks.append(Text(f"{name}: of the {summary['unconfirmed']} attributed disagreements no own intervention confirms, "
+                           f"{summary['unconfirmed_below_floor']} are a theory SLIP against a {name} STICK where the theory's own slip speed "
+                           f"eta falls below {name}'s STICK floor (the slip speed below which the classifier calls a contact stuck) before "
+                           "the theory's comparison time: the theory, measured as the engine is, sticks too, so that disagreement is the "
+                           "comparison's, not the engine's. The last columns of the table below give, per start, the theory's least "
+                           "eta against the floor and its least eq. p along the slip (near 0: the slip passes close to the "
+                           "Genot-Brogliato point, where a time step cannot tell a lift-off from a jam)."))
     per_iv = [[cause, text, f"{k} of {r['n']}"] for cause, r in summary["per_cause"].items() for text, k in (r.get("by_intervention") or {}).items()]
     if per_iv:
         blocks.append(Table(caption=f"{name}: what removes each cause's disagreements, intervention by intervention (a start may be removed by "
@@ -124,11 +132,27 @@ def render(ctx: RenderContext) -> list:
             s = r["state"]
             detail.append([r["map"], f"theta {s['theta']:.3g}, varphi {s['varphi']:.3g}, Theta {s['Theta']:.3g}, Psi {s['Psi']:.3g}",
                            f"{r['mu']:.3g}", r["interventions"]["theory"].lower(), str(r["reference"]).lower(), r["cause"],
-                           *[_mark(r["interventions"]["causes"].get(c, [])) for c in causes]])
-        blocks.append(Table(caption=f"Each start: the theory's outcome, {name}'s, the ladder's cause, and {name}'s outcome under each cause's "
-                                    "interventions, weakest first.",
-                            header=["map", "start", "mu", "theory", name, "cause", *causes], rows=detail, data=ctx.data("interventions.json")))
+                           *[_mark(r["interventions"]["causes"].get(c, [])) for c in causes], _floor_cell(r["interventions"]),
+                           _fmt(r["interventions"].get("theory_p_min"))])
+        blocks.append(Table(caption=f"Each start: the theory's outcome, {name}'s, the ladder's cause, {name}'s outcome under each cause's "
+                                    "interventions, weakest first, the theory's least slip speed eta against the engine's STICK floor "
+                                    "(and when it falls below it), and the theory's least eq. p along its slip.",
+                            header=["map", "start", "mu", "theory", name, "cause", *causes, "theory eta min (floor)", "theory p min"], rows=detail,
+                            data=ctx.data("interventions.json")))
     return blocks
+
+
+def _fmt(x) -> str:
+    return "-" if x is None else f"{x:.2g}"
+
+
+def _floor_cell(iv: dict) -> str:
+    """The theory's least eta against the engine's STICK floor: "2.6e-03 (< 0.01 at t 0.78)" or "0.18 (0.01)"."""
+    if iv.get("theory_eta_min") is None:
+        return "-"
+    t = iv.get("theory_below_floor_time")
+    below = t is not None and t == t  # None once through JSON (no NaN there); NaN in memory
+    return f"{iv['theory_eta_min']:.2g} ({'< ' if below else ''}{iv['stick_floor']:.2g}{f' at t {t:.3g}' if below else ''})"
 
 
 def finding(data: Path) -> list:

@@ -333,3 +333,45 @@ def test_launch_is_a_contact_step_that_throws_the_tip_up_while_b_is_negative():
     up = _launched(0.45)
     up = replace(up, Psi=np.full(len(up), 3.0))  # b = Psi^2 cos^2 theta sin theta - 1 > 0 at theta = 0.6
     assert Outcome(int(classify(up, mu=0.5, alpha=ALPHA, timestep=1e-3, rigid=True, thresholds=th).outcome)) != Outcome.LAUNCH
+
+
+# ------------------------------------------------------------ records cut after the first event ---
+
+
+def _cut(R: Record, k: int) -> Record:
+    """R with rows k.. not computed (NaN everywhere, time too; ``active`` False), as an engine that stopped there leaves them."""
+    out = {}
+    for f in ("t", "tip_pos", "tip_vel", "tip_acc", "force", "normal_force", "gap", "slip_vel", "psi", "theta", "Psi", "Theta"):
+        x = np.array(getattr(R, f), dtype=float)
+        x[k:] = np.nan
+        out[f] = x
+    active = np.array(R.active, bool)
+    active[k:] = False
+    return replace(R, active=active, **out)
+
+
+def test_a_run_cut_once_its_first_event_is_judged_keeps_that_event_and_nothing_after_it():
+    """MuJoCo runs of several outcomes, cut at the first row where ``first_event_final`` holds for their first rows: the
+    outcome, time and JAM numbers are the whole run's; a cut is not a divergence nor a domain exit; a cut a row before
+    the event's look-ahead ends is not final (the event could still be judged otherwise)."""
+    from crosscheck.engines.classifier import first_event_final
+
+    th, dt = Thresholds(), 1e-3
+    w = th.window_rows(dt)
+    seen = set()
+    starts = (COROLLARY_JAM, (SlipState(theta=1.2, varphi=-1.9, Theta=0.9, Psi=0.0, eta=1.0), 1.4),  # JAM at 0.40, LIFTOFF at 0.087
+              (SlipState(theta=1.1, varphi=-1.9, Theta=-0.6, Psi=0.0, eta=1.0), 1.4))  # STICK at 0.11
+    for s, m in starts:
+        R = MUJOCO.simulate(SCALED, s, m, horizon=1.0, timestep=dt, timeconst=0.1).record
+        kw = dict(mu=m, alpha=ALPHA, timestep=dt, friction_timeconst=0.1, contact_time=0.1)
+        whole = classify(R, **kw)
+        assert whole.event_row >= 0, s
+        seen.add(int(whole.outcome))
+        k = int(whole.event_row) + w + max(2, th.lift_steps)  # the fewest rows that settle it
+        head = classify(R.rows(slice(0, k)), **kw)
+        assert first_event_final(head, k, th, dt) and not first_event_final(classify(R.rows(slice(0, k - 1)), **kw), k - 1, th, dt)
+        cut = classify(_cut(R, k), **kw)
+        for f in ("outcome", "event_time", "event_row", "jam_p_eff", "jam_impulse"):
+            np.testing.assert_array_equal(getattr(cut, f), getattr(whole, f), err_msg=f)
+        assert math.isnan(cut.diverged_time) and (math.isnan(cut.exit_time) or cut.exit_time < k * dt)
+    assert seen == {int(Outcome.JAM), int(Outcome.LIFTOFF), int(Outcome.STICK)}

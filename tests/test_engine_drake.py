@@ -334,12 +334,17 @@ def test_at_their_defaults_the_convex_relaxations_launch_a_slipping_tip_and_the_
 
 
 def test_sweep_rows_are_simulate_runs_exactly():
-    """sweep (one process and two) returns for each state exactly what simulate returns for it, diagrams reused."""
+    """sweep (one process and two) returns for each state exactly what simulate, stopped once its first event is
+    judged, returns for it, diagrams reused; and that first event is the whole run's."""
     states = [SLIP, LIFT, OFFPLANE]
     mus = np.array([SLIP_MU, SLIP_MU, 1.4])
     spec = SPEC["drake_sap"]
     opts = {"timestep": 2e-3}
-    runs = [spec.simulate(ROD, s, m, horizon=0.3, **opts) for s, m in zip(states, mus)]
+    whole = [spec.simulate(ROD, s, m, horizon=0.3, **opts) for s, m in zip(states, mus)]
+    runs = [spec.simulate(ROD, s, m, horizon=0.3, until_event=True, **opts) for s, m in zip(states, mus)]
+    assert any(np.isnan(r.record.t).any() for r in runs)  # some run stopped early, ...
+    for a, b in zip(whole, runs):  # ... with the whole run's first event
+        assert (a.outcome, a.event_time) == (b.outcome, b.event_time)
     for workers in (1, 2):
         res = spec.sweep(ROD, states, mus, horizon=0.3, progress=False, workers=workers, **opts)
         assert res.engine == "drake_sap" and res.nstep == 150
@@ -378,3 +383,26 @@ def test_contact_and_friction_times_follow_the_options():
     assert Options(stiffness=1e8, timestep=1e-3).contact_time == pytest.approx(1e-3 / (2 * math.pi))
     assert Options(approximation="tamsi", stiction_tolerance=1e-3).friction_time == pytest.approx(2.5e-3)
     assert Options(timestep=1e-3).friction_time == pytest.approx(2.5e-6)
+
+
+@pytest.mark.parametrize("name", sorted(SPEC))
+def test_a_run_stopped_once_its_first_event_is_judged_has_the_whole_runs_first_event(name):
+    """Each approximation from starts that lift off, jam, stick and keep slipping (at mu 1.4, varphi -1.9): ``until_event``
+    stops the run early where an event settles it, with the whole run's outcome, time and JAM numbers, and counts only the
+    steps it took; a run that keeps slipping is never cut."""
+    spec = SPEC[name]
+    cuts = 0
+    for theta, Theta, Psi in ((1.2, 0.9, 0.0), (1.1, -0.6, 0.0), (1.0, 0.0, 1.8), (0.5, 0.0, 0.0)):
+        state = SlipState(theta=theta, varphi=-1.9, Theta=Theta, Psi=Psi, eta=1.0)
+        whole = spec.simulate(ROD, state, 1.4, horizon=0.6)
+        cut = spec.simulate(ROD, state, 1.4, horizon=0.6, until_event=True)
+        for f in ("outcome", "event_time", "jam_p_eff", "jam_impulse"):
+            np.testing.assert_array_equal(getattr(cut, f), getattr(whole, f), err_msg=f"{state}: {f}")
+        rows = int(np.isfinite(cut.record.t).sum())
+        if whole.outcome == Outcome.SLIP:
+            assert rows == len(whole.record)
+        assert cut.solver.failed == whole.solver.failed and cut.solver.message == whole.solver.message
+        cuts += rows < len(whole.record)
+        if rows < len(whole.record) and whole.options.discrete:
+            assert cut.solver.steps == rows < whole.solver.steps
+    assert cuts >= 2

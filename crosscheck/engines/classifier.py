@@ -305,6 +305,18 @@ class Classification(NamedTuple):
     max_gap: np.ndarray
 
 
+def first_event_final(c: Classification, rows: int, thresholds: Thresholds, timestep: float) -> bool:
+    """Whether the first event ``classify`` found on a run's first ``rows`` rows is the first event of the whole run.
+
+    Every rule judges a row from the rows before it and at most a window (``Thresholds.window_rows``) plus one
+    row after it, and a rule whose rows reach past the record is not judged.  An event whose look-ahead ends
+    inside the rows is therefore judged exactly as on any longer record that begins with them, and an earlier
+    event would have been judged too: nothing the run does later can change the first event.
+    """
+    k = int(c.event_row)
+    return k >= 0 and k + thresholds.window_rows(timestep) + max(2, thresholds.lift_steps) <= rows
+
+
 def classify(record: Record, *, mu, alpha: float, timestep: float, friction_timeconst: float = 0.0, rigid: bool = False,
              contact_time: float | None = None, thresholds: Thresholds | None = None) -> Classification:
     """Outcome and event time of recorded runs, for every engine.
@@ -351,14 +363,18 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         # DIVERGED: non-finite values (NaN fails every comparison), runaway speed,
         # or a stopped clock (mujoco.rollout repeats the last row after a warning).
+        # A record may end early: rows with a NaN time were not computed (an engine that stops a run once its first
+        # event is judged, ``first_event_final``); they are neither judged nor read, as rows past a domain exit.
+        computed = np.isfinite(t)
         speed2 = vel[..., 0] * vel[..., 0] + vel[..., 1] * vel[..., 1] + vel[..., 2] * vel[..., 2]
         bad = ~(speed2 <= th.diverged_speed**2) | ~(np.abs(az + 1.0) < 1e9) | ~(np.abs(Fn) < np.inf) | ~(np.abs(theta) < np.inf)
         bad[..., 1:] |= ~(np.diff(t, axis=-1) > 0.0)
-        has_div, k_div = _first(bad)
+        has_div, k_div = _first(bad & computed)
 
-        # Domain: theta in (0, pi/2).  Windows must end before the exit.
-        has_exit, k_exit = _first(~((theta > 0.0) & (theta < math.pi / 2)))
-        end = np.where(has_exit, k_exit, n)[..., None]
+        # Domain: theta in (0, pi/2).  Windows must end before the exit (or the last computed row).
+        has_exit, k_exit = _first(~((theta > 0.0) & (theta < math.pi / 2)) & computed)
+        has_cut, k_cut = _first(~computed)
+        end = np.where(has_exit, k_exit, np.where(has_cut, k_cut, n))[..., None]
 
         eta = R.eta
         st, ct = np.sin(theta), np.cos(theta)
@@ -503,6 +519,6 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
             jam_impulse=at(sF * timestep, k_jam, outcome == Outcome.JAM),
             max_normal_force=np.nanmax(np.where(np.isfinite(Fn), Fn, np.nan), axis=-1) if n else np.nan,
             max_window_force=np.nanmax(window_sum(Fn, w) / w, axis=-1) if n >= w else np.full(has_div.shape, np.nan),
-            active_fraction=np.asarray(R.active, dtype=bool).mean(axis=-1),
-            max_gap=np.max(R.gap, axis=-1),
+            active_fraction=(np.asarray(R.active, dtype=bool) & computed).sum(axis=-1) / np.maximum(computed.sum(axis=-1), 1),
+            max_gap=np.max(np.where(computed, R.gap, -np.inf), axis=-1),
         )

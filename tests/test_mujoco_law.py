@@ -161,3 +161,34 @@ def test_delassus_operator_closed_forms_at_the_contact_point():
         off = opts.radius + pb.dist / 2
         assert MUJOCO_LAW_PIECES.ok(pb.A[1, 1], 1 + alpha * (math.sin(theta) + off) ** 2)
         assert abs(pb.A[2, 2] - (1 + alpha)) < 1e-9  # the axial inertia 1e-12 I0 enters at 1e-12 tan^2(theta)
+
+
+def test_one_point_paths_give_the_array_paths_numbers_bit_for_bit():
+    # impedance and the cone's direction take scalar paths in the integration's hot loop; the numbers must be the
+    # general path's to the last bit (the ladder's saved results were made by it)
+    from crosscheck.engines.mujoco.law import _cone_direction, impedance, smooth_accelerations
+
+    rng = np.random.default_rng(11)
+    for solimp in ((0.9, 0.95, 1e-3, 0.5, 2.0), (0.9, 0.95, 1e-3, 0.3, 1.0), (0.5, 0.5, 1e-3, 0.5, 2.0), (0.2, 0.99, 0.01, 0.7, 3.5)):
+        dist = np.concatenate((rng.uniform(-2e-3, 2e-3, 200), -solimp[2] * rng.uniform(0, 1, 50), [0.0, -solimp[2], solimp[2]]))
+        whole = impedance(solimp, dist)
+        assert np.array_equal([float(impedance(solimp, float(d))) for d in dist], whole)
+        assert np.array_equal([float(impedance(solimp, np.float64(d))) for d in dist], whole)
+    for mu in (0.0, 0.3, 1.4, 2.9):
+        a = rng.uniform(-7.0, 7.0, 100)
+        assert np.array_equal(np.array([_cone_direction(float(x), mu) for x in a]), _cone_direction(a, mu))
+    rod = Rod.scaled(3.0)
+    for _ in range(20):
+        q, v = rng.normal(size=5), rng.normal(size=5)
+        pb = contact_problem(rod, q, v, 1.0, Options())
+        assert np.array_equal(smooth_accelerations(rod, q, v), pb.qacc_smooth)
+
+
+def test_the_continuous_law_run_does_not_depend_on_the_runs_before_it():
+    # solve_cone keeps its sampled directions per mu: a run after runs at other mu gives the same numbers
+    rod, state = Rod.scaled(3.0), SlipState(theta=0.9, varphi=-1.7, Theta=0.4, Psi=0.6, eta=1.0)
+    first = get("mujoco_law").simulate(rod, state, 0.9, horizon=0.05)
+    for mu in (0.2, 1.7):
+        get("mujoco_law").simulate(rod, state, mu, horizon=0.05)
+    again = get("mujoco_law").simulate(rod, state, 0.9, horizon=0.05)
+    assert np.array_equal(first.record.force, again.record.force) and np.array_equal(first.record.tip_acc, again.record.tip_acc)

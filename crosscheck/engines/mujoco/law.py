@@ -70,7 +70,7 @@ from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import AXIAL_INERTIA
 from crosscheck.rod import Rod
 
-__all__ = ["Parameters", "ContactProblem", "impedance", "inverse_weight", "mass_matrix", "smooth_force", "contact_problem",
+__all__ = ["Parameters", "ContactProblem", "impedance", "inverse_weight", "mass_matrix", "smooth_force", "smooth_accelerations", "contact_problem",
            "solve_cone", "contact_frame", "contact_force", "accelerations", "skew_angle", "simulate", "MINIMP", "MAXIMP", "MINVAL", "MINMU"]
 
 #: MuJoCo's clamps (mjMINIMP, mjMAXIMP: impedance parameters; mjMINVAL: smallest R; mjMINMU: smallest friction,
@@ -129,6 +129,8 @@ class Parameters:
 def impedance(solimp, dist) -> np.ndarray:
     """MuJoCo's impedance d(dist) of solimp (d0, dmax, width [m], midpoint, power); vectorised in dist [m]."""
     d0, dmax, width, mid, power = solimp
+    if isinstance(dist, float):  # one distance (the contact law's hot loop): the same operations on numpy's float64 scalars
+        return _impedance_scalar(d0, dmax, width, mid, power, dist)
     dist = np.asarray(dist, dtype=float)
     if d0 == dmax or width <= 1e-15:
         return np.full(dist.shape, 0.5 * (d0 + dmax))
@@ -140,6 +142,20 @@ def impedance(solimp, dist) -> np.ndarray:
         hi = 1 - (1 - x) ** power / (1 - mid) ** (power - 1)
         y = np.where(x <= mid, lo, hi)
     return d0 + y * (dmax - d0)
+
+
+def _impedance_scalar(d0, dmax, width, mid, power, dist: float) -> np.ndarray:
+    """``impedance`` of one distance, operation for operation (np.float64 scalars: numpy's scalar power, as the
+    array path's 0-d results take), without the array machinery that cost 15 us a call; a 0-d array as before."""
+    if d0 == dmax or width <= 1e-15:
+        return np.asarray(0.5 * (d0 + dmax))
+    x = min(max(np.float64(abs(dist)) / width, 0.0), 1.0)  # np.clip's value: clipping is exact
+    x = np.float64(x)
+    if power == 1:
+        y = x
+    else:
+        y = x ** power / mid ** (power - 1) if x <= mid else 1 - (1 - x) ** power / (1 - mid) ** (power - 1)
+    return np.asarray(d0 + y * (dmax - d0))
 
 
 def inverse_weight(rod: Rod) -> float:
@@ -158,6 +174,13 @@ def mass_matrix(rod: Rod, q) -> np.ndarray:
     st, ct = math.sin(q[4]), math.cos(q[4])
     I0 = rod.inertia
     return np.array([rod.mass, rod.mass, rod.mass, I0 * ct * ct + AXIAL_INERTIA * I0 * st * st, I0])
+
+
+def smooth_accelerations(rod: Rod, q, v) -> np.ndarray:
+    """qacc without contact, M^-1 qfrc_smooth [physical]: ``contact_problem``'s ``qacc_smooth``, computed alone."""
+    q = np.asarray(q, dtype=float)
+    v = np.asarray(v, dtype=float)
+    return 1.0 / mass_matrix(rod, q) * smooth_force(rod, q, v)
 
 
 def smooth_force(rod: Rod, q, v) -> np.ndarray:
@@ -227,14 +250,16 @@ class ContactProblem:
         return solve_cone(self.A + np.diag(self.R), self.a0 - self.aref, self.mu)
 
 
-def contact_problem(rod: Rod, q, v, mu: float, options: Options, *, impratio: float | None = None) -> ContactProblem:
+def contact_problem(rod: Rod, q, v, mu: float, options: Options, *, impratio: float | None = None,
+                    parameters: Parameters | None = None) -> ContactProblem:
     """Build MuJoCo's contact problem at generalised (q, v) (physical) for friction mu and scaled ``options``.
 
     The contact is the A end cap's lowest point; the problem is built whatever
     the sign of dist (MuJoCo has the contact only while dist < 0: see
-    ``contact_force``).
+    ``contact_force``).  ``parameters``: ``Parameters.of(rod, options, impratio=impratio)`` when the caller
+    already has it (an integration calls this at every evaluation with the same options).
     """
-    par = Parameters.of(rod, options, impratio=impratio)
+    par = Parameters.of(rod, options, impratio=impratio) if parameters is None else parameters
     q = np.asarray(q, dtype=float)
     v = np.asarray(v, dtype=float)
     l = rod.length
@@ -259,7 +284,27 @@ def contact_problem(rod: Rod, q, v, mu: float, options: Options, *, impratio: fl
 
 
 def _cone_direction(a, mu):
+    if isinstance(a, float):  # one angle (Brent's iterations): the same numpy cosine and sine, without broadcasting's cost
+        return np.array((1.0, mu * np.cos(a), mu * np.sin(a)))
     return np.stack(np.broadcast_arrays(1.0, mu * np.cos(a), mu * np.sin(a)), -1)
+
+
+#: The sampled slip directions' angles of ``solve_cone`` (the same for every call).
+_CONE_ANGLES = np.linspace(0.0, 2 * math.pi, CONE_SAMPLES, endpoint=False)
+_CONE_ANGLES.flags.writeable = False
+
+#: The sampled directions on the cone of each friction coefficient met (a run has one): mu -> (CONE_SAMPLES, 3).
+_cone_samples: dict = {}
+
+
+def _sampled_directions(mu: float) -> np.ndarray:
+    d = _cone_samples.get(mu)
+    if d is None:
+        if len(_cone_samples) >= 256:  # a sweep over many mu: keep the memory bounded
+            _cone_samples.clear()
+        d = _cone_samples[mu] = _cone_direction(_CONE_ANGLES, mu)
+        d.flags.writeable = False
+    return d
 
 
 def solve_cone(H: np.ndarray, g: np.ndarray, mu: float) -> np.ndarray:
@@ -279,8 +324,8 @@ def solve_cone(H: np.ndarray, g: np.ndarray, mu: float) -> np.ndarray:
     f = -np.linalg.solve(H, g)
     if f[0] >= 0.0 and math.hypot(f[1], f[2]) <= mu * f[0]:
         return f
-    a = np.linspace(0.0, 2 * math.pi, CONE_SAMPLES, endpoint=False)
-    d = _cone_direction(a, mu)
+    a = _CONE_ANGLES
+    d = _sampled_directions(mu)
     N = d @ g
     D = np.einsum("ki,ij,kj->k", d, H, d)
     h = np.where(N < 0, N * N / D, -np.inf)
@@ -320,9 +365,11 @@ def contact_force(rod: Rod, q, v, mu: float, options: Options, *, impratio: floa
     return pb.frame.T @ pb.force() / rod.force_scale
 
 
-def accelerations(rod: Rod, q, v, mu: float, options: Options, *, contact: bool, impratio: float | None = None):
-    """qacc [physical] and the contact force (contact frame [N]) under MuJoCo's law; ``contact`` says whether the contact exists."""
-    pb = contact_problem(rod, q, v, mu, options, impratio=impratio)
+def accelerations(rod: Rod, q, v, mu: float, options: Options, *, contact: bool, impratio: float | None = None,
+                  parameters: Parameters | None = None):
+    """qacc [physical] and the contact force (contact frame [N]) under MuJoCo's law; ``contact`` says whether the contact exists
+    (``parameters``: as ``contact_problem``)."""
+    pb = contact_problem(rod, q, v, mu, options, impratio=impratio, parameters=parameters)
     if not contact:
         return pb.qacc_smooth, np.zeros(3), pb
     f = pb.force()

@@ -51,7 +51,7 @@ from crosscheck.engines import get
 from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, options_from_kwargs, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.mujoco.options import Options
-from crosscheck.engines.mujoco.law import Parameters, accelerations
+from crosscheck.engines.mujoco.law import Parameters, accelerations, contact_frame, smooth_accelerations
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
@@ -102,11 +102,17 @@ class _Phases:
 
     def __init__(self, rod: Rod, mu: float, options: Options, tau: float, radius: float):
         self.rod, self.mu, self.options, self.tau, self.radius = rod, mu, options, tau, radius
+        self.parameters = Parameters.of(rod, options)  # the same at every evaluation: converted once
+
+    def _accelerations(self, y, contact: bool):
+        return accelerations(self.rod, y[:5], y[5:], self.mu, self.options, contact=contact, parameters=self.parameters)
 
     def evaluate(self, y, phase: str):
         """(qacc, contact-frame force [N], frame, lambda): lambda is the sliding mode's force fraction (1 in contact, 0 free)."""
         rod = self.rod
-        qacc, f, pb = accelerations(rod, y[:5], y[5:], self.mu, self.options, contact=phase != "free")
+        if phase == "free":  # no contact problem to build: its qacc_smooth and frame alone, the same numbers
+            return smooth_accelerations(rod, y[:5], y[5:]), np.zeros(3), contact_frame(y[3]), 0.0
+        qacc, f, pb = self._accelerations(y, True)
         if phase != "slide":
             return qacc, f, pb.frame, float(phase == "contact")
         # Filippov: the force fraction lambda that keeps dist'' = -(2/tau) dist' - dist/tau^2 (0 on the exact solution,
@@ -127,8 +133,7 @@ class _Phases:
     def grazing_phase(self, y) -> str:
         """The phase a state on dist = 0 with dist' = 0 enters: free if it falls off the plane's side by itself
         (free dist'' >= 0), contact if the contact law still lets it sink (dist'' <= 0 under the force), else sliding."""
-        qacc, _, _ = accelerations(self.rod, y[:5], y[5:], self.mu, self.options, contact=True)
-        _, _, pb = accelerations(self.rod, y[:5], y[5:], self.mu, self.options, contact=False)
+        qacc, _, pb = self._accelerations(y, True)
         free = _dist_acceleration(self.rod, y, pb.qacc_smooth)
         if free >= 0:
             return "free"

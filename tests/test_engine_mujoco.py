@@ -212,3 +212,27 @@ def test_a_run_too_long_to_record_is_refused_before_allocating(horizon, message)
 
     with pytest.raises(ValueError, match=message):
         get("mujoco").simulate(Rod.scaled(3.0), SlipState(1.0, -1.9, 0.0, 1.0, 1.0), 0.5, horizon=horizon)
+
+
+def test_a_setting_compiles_once_and_an_edited_model_file_anew(tmp_path):
+    import os
+    import shutil
+
+    from crosscheck.engines.mujoco.model import model
+
+    opts = Options(radius=0.02)
+    first = model(ROD, 0.6, opts)
+    assert model(ROD, 0.6, opts) is first and model(ROD, 0.61, opts) is not first
+    state = SlipState(0.9, -1.7, 0.3, 0.5, 1.0)
+    path = tmp_path / "rod.xml"
+    shutil.copy(model_path(), path)
+    before = simulate(ROD, state, 0.6, horizon=0.05, model_file=path)
+    fresh = simulate(ROD, state, 0.6, horizon=0.05, model_file=path)  # the cached model: the same numbers as the first compile
+    assert np.array_equal(before.record.force, fresh.record.force) and np.array_equal(before.record.tip_pos, fresh.record.tip_pos)
+    # the same file edited (gravity switched off: build_model sets its value, not the flag), same path
+    text = path.read_text()
+    assert '<flag autoreset="disable"/>' in text
+    path.write_text(text.replace('<flag autoreset="disable"/>', '<flag autoreset="disable" gravity="disable"/>'))
+    os.utime(path, ns=(1, 1))  # an mtime of its own, whatever the clock's resolution
+    edited = simulate(ROD, state, 0.6, horizon=0.05, model_file=path)
+    assert not np.array_equal(before.record.tip_pos, edited.record.tip_pos)

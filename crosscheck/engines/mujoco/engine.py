@@ -35,7 +35,7 @@ from crosscheck.engines.base import (SERIES, STATE_KEYS, SUMMARY, Run, SweepResu
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.mujoco import warning_counts as mujoco_warnings
 from crosscheck.engines.mujoco.options import Options
-from crosscheck.engines.mujoco.model import SensorLayout, build_model, initial_state, record_from_sensordata
+from crosscheck.engines.mujoco.model import SensorLayout, initial_state, model, record_from_sensordata
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState, real, real_scalar
 
@@ -106,7 +106,7 @@ class Batch:
         mu = np.broadcast_to(mu, (B,)).astype(float)
         # a chunk holds at least nthread states' whole time series: refuse what cannot fit before allocating it
         nstep = n_steps_within_memory(horizon, options.timestep, ROW_BYTES, copies=nthread, what="records", context=f" with nthread = {nthread}")
-        models = {m: build_model(rod, m, options) for m in np.unique(mu)}
+        models = {m: model(rod, m, options) for m in np.unique(mu)}  # compiled once per setting (``model``'s cache)
         first = next(iter(models.values()))
         return cls(models, SensorLayout.from_model(first), mu, rod, states, nstep, nthread, options.radius)
 

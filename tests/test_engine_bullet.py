@@ -252,7 +252,10 @@ def test_simulate_equals_its_sweep_row_whatever_ran_before(registered):
     sw2 = registered.sweep(ROD, states, mus, horizon=horizon, progress=False, workers=2)
     every = max(1, sw.nstep // 200)
     for i, (s, mu) in enumerate(zip(states, mus)):
-        run = registered.simulate(ROD, s, float(mu), horizon=horizon)
+        run = registered.simulate(ROD, s, float(mu), horizon=horizon, until_event=True)  # as the sweep runs it
+        whole = registered.simulate(ROD, s, float(mu), horizon=horizon)
+        assert whole.outcome == run.outcome
+        np.testing.assert_array_equal(whole.event_time, run.event_time)  # NaN for a SLIP
         assert run.outcome == sw.outcome[i] == sw2.outcome[i]
         np.testing.assert_array_equal([run.event_time, run.event_time], [sw.event_time[i], sw2.event_time[i]])
         for k in ("theta", "Theta", "Psi", "gap", "eta"):
@@ -345,3 +348,22 @@ def test_bad_mu_is_named(mu, message):
     with pytest.raises(ValueError) as e:
         SPEC.simulate(ROD, SLIPPING, mu, horizon=0.1)
     assert str(e.value) == message
+
+
+def test_a_rollout_stopped_once_its_first_event_is_judged_has_the_whole_runs_first_event(registered):
+    """From starts that lift off, jam, stick and keep slipping (mu 1.4, varphi -1.9): ``until_event`` stops the rollout
+    early where an event settles it, with the whole run's outcome, time and JAM numbers, and health over the steps taken;
+    a run that keeps slipping is never cut."""
+    cuts = 0
+    for theta, Theta, Psi in ((1.2, 0.9, 0.0), (1.1, -0.6, 0.0), (1.0, 0.0, 1.8), (0.5, 0.0, 0.0)):
+        state = SlipState(theta=theta, varphi=-1.9, Theta=Theta, Psi=Psi, eta=1.0)
+        whole = registered.simulate(ROD, state, 1.4, horizon=0.6)
+        cut = registered.simulate(ROD, state, 1.4, horizon=0.6, until_event=True)
+        for f in ("outcome", "event_time", "jam_p_eff", "jam_impulse"):
+            np.testing.assert_array_equal(getattr(cut, f), getattr(whole, f), err_msg=f"{state}: {f}")
+        rows = int(np.isfinite(cut.record.t).sum())
+        if whole.outcome == Outcome.SLIP:
+            assert rows == len(whole.record)
+        cuts += rows < len(whole.record)
+        assert cut.solver.contact_steps <= whole.solver.contact_steps
+    assert cuts >= 2

@@ -344,7 +344,8 @@ def test_sweep_rows_are_simulate_runs_exactly():
     runs = [spec.simulate(ROD, s, m, horizon=0.3, until_event=True, **opts) for s, m in zip(states, mus)]
     assert any(np.isnan(r.record.t).any() for r in runs)  # some run stopped early, ...
     for a, b in zip(whole, runs):  # ... with the whole run's first event
-        assert (a.outcome, a.event_time) == (b.outcome, b.event_time)
+        assert a.outcome == b.outcome
+        np.testing.assert_array_equal(a.event_time, b.event_time)  # NaN for a SLIP
     for workers in (1, 2):
         res = spec.sweep(ROD, states, mus, horizon=0.3, progress=False, workers=workers, **opts)
         assert res.engine == "drake_sap" and res.nstep == 150

@@ -122,6 +122,8 @@ class Raw:
     iterations: (n,) PGS sweeps the step's solve took (Bullet's solver analytics; at most ``solver_iterations``).
     residual: (n,) the solve's last residual, the largest squared velocity change of a row in its last sweep [(m/s)^2]
       (0: a sweep changed nothing, the fixed point).
+    computed: the steps taken (n, or fewer when the rollout stopped once its first event was judged: the later
+      states and forces are NaN, their points 0).
     """
 
     q: np.ndarray
@@ -131,6 +133,12 @@ class Raw:
     distance: np.ndarray
     iterations: np.ndarray
     residual: np.ndarray
+    computed: int | None = None
+
+
+#: Steps after which a rollout that may stop once its first event is judged is first classified (``World.rollout``);
+#: then after twice as many each time, so the checks cost at most about two classifications of the rows computed.
+FIRST_CHECK = 128
 
 
 class World:
@@ -187,8 +195,12 @@ class World:
         for j in JOINTS:
             pb.resetJointState(body, j, float(q[j]), float(v[j]), physicsClientId=c)
 
-    def rollout(self, q0: np.ndarray, v0: np.ndarray, nstep: int) -> Raw:
-        """``nstep`` Bullet steps from (q0, v0) [physical]: the states and each step's contact."""
+    def rollout(self, q0: np.ndarray, v0: np.ndarray, nstep: int, judged=None) -> Raw:
+        """``nstep`` Bullet steps from (q0, v0) [physical]: the states and each step's contact.
+
+        ``judged(raw)``, if given, is asked after ``FIRST_CHECK`` steps and then after twice as many each time whether
+        the steps so far (a ``Raw`` of them) settle the run's first event; the rollout stops there if so.
+        """
         self.set_state(q0, v0)
         c, body, ground = self.client, self.body, self.ground
         joints = list(JOINTS)
@@ -203,7 +215,15 @@ class World:
         s = states(body, joints, physicsClientId=c)
         q[0] = [x[0] for x in s]
         v[0] = [x[1] for x in s]
+        check = FIRST_CHECK
         for k in range(nstep):
+            if judged is not None and k == check:
+                if judged(Raw(q=q[:k + 1], v=v[:k + 1], force=force[:k], points=points[:k], distance=distance[:k],
+                              iterations=iterations[:k], residual=residual[:k], computed=k)):
+                    q[k + 1:], v[k + 1:], force[k:] = np.nan, np.nan, np.nan
+                    return Raw(q=q, v=v, force=force, points=points, distance=distance, iterations=iterations, residual=residual,
+                               computed=k)
+                check *= 2
             for island in step(physicsClientId=c) or ():  # the solver's analytics (reportSolverAnalytics): one island
                 iterations[k] = max(iterations[k], island["numIterationsUsed"])
                 residual[k] = max(residual[k], island["remainingResidual"])

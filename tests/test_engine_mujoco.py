@@ -236,3 +236,18 @@ def test_a_setting_compiles_once_and_an_edited_model_file_anew(tmp_path):
     os.utime(path, ns=(1, 1))  # an mtime of its own, whatever the clock's resolution
     edited = simulate(ROD, state, 0.6, horizon=0.05, model_file=path)
     assert not np.array_equal(before.record.tip_pos, edited.record.tip_pos)
+
+
+def test_a_run_in_used_data_is_the_run_in_fresh_data():
+    # the engine lends the MjData of earlier runs (engine._lent_data): nothing of an earlier run may reach a later one
+    from crosscheck.engines.mujoco import engine
+
+    state, other = SlipState(0.9, -1.7, 0.3, 0.5, 1.0), SlipState(1.3, -2.4, -0.8, 1.6, 0.7)
+    engine._spare.clear()
+    fresh = simulate(ROD, state, 0.8, horizon=0.3)
+    simulate(ROD, other, 1.9, horizon=0.4, timeconst=0.02)  # another setting of the same layout: leaves its data to the next
+    simulate(ROD, other, 0.8, horizon=0.4)
+    assert any(engine._spare.values())
+    used = simulate(ROD, state, 0.8, horizon=0.3)
+    for f in ("t", "force", "tip_pos", "tip_vel", "tip_acc", "active"):
+        assert np.array_equal(getattr(fresh.record, f), getattr(used.record, f)), f

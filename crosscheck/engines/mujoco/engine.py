@@ -20,9 +20,11 @@ omega dt, ``radius`` is r / l, ...).  ``Rod`` supplies m, l, I0, g.
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import mujoco
@@ -110,14 +112,15 @@ class Batch:
         first = next(iter(models.values()))
         return cls(models, SensorLayout.from_model(first), mu, rod, states, nstep, nthread, options.radius)
 
-    def starts(self, sl: slice) -> np.ndarray:
+    def starts(self, sl: slice, scratch: mujoco.MjData | None = None) -> np.ndarray:
         """(n, nstate) MuJoCo start states of ``states[sl]`` (``initial_state``).
 
         Placed per chunk, in the thread that rolls the chunk out: only the first chunk's states then wait before
         the first rollout (placing one takes ~0.2 ms; placing all of them first was 3 % of a default sweep).
+        ``scratch``: an ``MjData`` of these models to place them in (reset for each state; a new one if None).
         """
         first = next(iter(self.models.values()))
-        scratch = mujoco.MjData(first)  # all models share sizes; the state layout is the same
+        scratch = mujoco.MjData(first) if scratch is None else scratch  # all models share sizes; the state layout is the same
         return np.stack([initial_state(first, self.rod, s, self.radius, data=scratch) for s in self.states[sl]])
 
     def chunks(self, *, progress: bool | None, desc: str = "mujoco sweep"):
@@ -137,7 +140,13 @@ class Batch:
         chunk = int(max(self.nthread, min(B, CHUNK_BYTES // (2 if overlap else 1) // per_state, cut)))
         firsts = range(0, B, chunk)
         overlap = overlap and len(firsts) > 1
-        data = [mujoco.MjData(first) for _ in range(self.nthread)]
+        with _lent_data(first, self.nthread + 1) as lent:
+            yield from self._rolled_out(lent, firsts, chunk, overlap, progress, desc)
+
+    def _rolled_out(self, lent: list, firsts: range, chunk: int, overlap: bool, progress, desc: str):
+        """``chunks``' rollouts in the lent ``MjData``: one per rollout thread, and the last one to place the starts in."""
+        B, nsensor = len(self.mu), next(iter(self.models.values())).nsensordata
+        data, scratch = lent[:-1], lent[-1]
         buffers = [np.empty((min(chunk, B), self.nstep, nsensor)) for _ in range(2 if overlap else 1)]
 
         def run(k: int):
@@ -147,7 +156,7 @@ class Batch:
             pool.rollout(
                 [self.models[m] for m in self.mu[sl]],
                 data,
-                self.starts(sl),
+                self.starts(sl, scratch),
                 skip_checks=True,
                 nstep=self.nstep,
                 sensordata=sd,
@@ -177,6 +186,43 @@ class Batch:
         for sl, sd in self.chunks(progress=progress, desc=desc):
             for a in range(0, len(sd), block):
                 yield slice(sl.start + a, min(sl.start + a + block, sl.stop)), record_from_sensordata(sd[a:a + block], self.layout, rod, self.radius)
+
+
+#: Spare ``MjData`` kept per model layout (``_lent_data``).
+SPARE_DATA = 4
+
+_spare: dict = {}  # model layout (_layout) -> [spare MjData]
+_spare_lock = threading.Lock()
+
+
+def _layout(compiled: mujoco.MjModel) -> tuple:
+    """What an ``MjData`` of ``compiled`` is sized by: models of one file at other options (mu, radius, solref,
+    timestep) share it, as the models of one rollout share its data."""
+    return tuple(int(getattr(compiled, k)) for k in ("nq", "nv", "nu", "na", "nbody", "njnt", "ngeom", "nsite", "nsensor", "nsensordata",
+                                                     "npair", "nkey", "nmocap", "nuserdata", "nbuffer", "narena"))
+
+
+@contextmanager
+def _lent_data(compiled: mujoco.MjModel, n: int):
+    """``n`` ``MjData`` for one batch of ``compiled`` (spares of earlier batches when there are some, kept again afterwards).
+
+    Making one costs ~1 ms (its 13 MiB arena), 2 ms of a short ``simulate``, and the ladder and the interventions run
+    thousands.  A spare's contents never reach a run: ``initial_state`` resets the data it places a start in, and
+    the rollout sets each run's whole physics state and warmstart, as it does for the runs of one sweep that share a
+    thread's data (tests/test_engine_mujoco.py compares runs in fresh and used data).  Each batch has its own: two
+    batches at once (threads) never share one.
+    """
+    key = _layout(compiled)
+    with _spare_lock:
+        free = _spare.setdefault(key, [])
+        lent = [free.pop() for _ in range(min(n, len(free)))]
+    lent += [mujoco.MjData(compiled) for _ in range(n - len(lent))]
+    try:
+        yield lent
+    finally:
+        with _spare_lock:
+            free = _spare.setdefault(key, [])
+            free.extend(lent[: max(0, SPARE_DATA - len(free))])
 
 
 def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:

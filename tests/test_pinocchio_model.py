@@ -409,3 +409,35 @@ def test_mu_P_from_pinocchio_p_alone_equals_eq_mup2D(alpha):
     want = 2 * math.sqrt(1 + alpha) / alpha
     assert abs(got - want) <= pinocchio_tol.PIN_MU_P.atol
     assert got == pytest.approx(float(mu_P(alpha)), abs=pinocchio_tol.PIN_MU_P.atol)
+
+
+def test_mu_P_searches_the_modules_own_p_to_the_last_bit():
+    """mu_P evaluates p without ``p``'s per-call checks: the same Brent searches over ``p`` itself land on the same float."""
+    from scipy.optimize import brentq, minimize_scalar
+
+    alpha = 3.0
+
+    def min_p(mu):
+        return float(minimize_scalar(lambda theta: float(pinrod.p(theta, -math.pi / 2, mu, alpha)), bounds=(0.0, math.pi / 2),
+                                     method="bounded", options={"xatol": 1e-10}).fun)
+
+    hi = 1.0
+    while min_p(hi) > 0.0:
+        hi *= 2.0
+    assert pinrod.mu_P(alpha) == brentq(min_p, 0.0, hi, xtol=1e-14, rtol=4 * np.finfo(float).eps)
+
+
+def test_terms_are_computed_once_and_shared_read_only():
+    """G and the free acceleration are computed once per RodTerms and handed out read-only: a caller cannot change another's."""
+    rod = Rod.uniform(2.0, 0.7)
+    q, v = paper_to_qv(rod, np.array([0.4, 1.2]), -1.0, 0.3, -0.8, 1.5, 0.2)
+    terms = pinrod.engine(rod).terms(q, v)
+    for method in (terms.delassus, terms.free_acceleration):
+        assert method() is method()
+        with pytest.raises(ValueError, match="read-only"):
+            method()[...] = 0.0
+    # and G is J M^-1 J^T of the terms' own matrices, within the rounding of a solve through M (PIN_THROUGH_MINV:
+    # ~90 eps of the term scale times cond(M) = 1/cos^2 theta)
+    G = terms.J @ np.linalg.solve(terms.M, np.swapaxes(terms.J, 1, 2))
+    allowance = pinocchio_tol.PIN_THROUGH_MINV.atol * np.abs(G).max() / math.cos(1.2) ** 2
+    np.testing.assert_allclose(terms.delassus(), G, rtol=0, atol=allowance)

@@ -68,6 +68,8 @@ __all__ = [
     "RodTerms",
     "engine",
     "slip_coefficients",
+    "slip_coefficients_of",
+    "symmetrised",
     "tip_acceleration",
     "b",
     "p",
@@ -138,19 +140,38 @@ class RodTerms:
         x = np.linalg.solve(self.M, rhs)
         return x[..., :3], x[..., 3]
 
-    def delassus(self) -> np.ndarray:
-        """G = J M^-1 J^T, (N, 3, 3) [m/s^2 per N]: tip acceleration per unit tip force."""
+    @cached_property
+    def _delassus(self) -> np.ndarray:
         minv_jt, _ = self._solved
-        return self.J @ minv_jt
+        return _read_only(self.J @ minv_jt)
+
+    @cached_property
+    def _free(self) -> np.ndarray:
+        _, minv_h = self._solved
+        return _read_only(np.einsum("nij,nj->ni", self.dJ, self.v) - np.einsum("nij,nj->ni", self.J, minv_h))
+
+    def delassus(self) -> np.ndarray:
+        """G = J M^-1 J^T, (N, 3, 3) [m/s^2 per N]: tip acceleration per unit tip force (read-only, computed once)."""
+        return self._delassus
 
     def free_acceleration(self) -> np.ndarray:
-        """dJ v - J M^-1 (C v + g), (N, 3) [m/s^2]: tip acceleration without contact force."""
-        _, minv_h = self._solved
-        return np.einsum("nij,nj->ni", self.dJ, self.v) - np.einsum("nij,nj->ni", self.J, minv_h)
+        """dJ v - J M^-1 (C v + g), (N, 3) [m/s^2]: tip acceleration without contact force (read-only, computed once)."""
+        return self._free
 
     def tip_acceleration(self, force) -> np.ndarray:
         """G F + free acceleration, (N, 3) [m/s^2], for tip forces F of shape (N, 3) [N]."""
         return np.einsum("nij,nj->ni", self.delassus(), np.asarray(force, float)) + self.free_acceleration()
+
+
+def _read_only(x: np.ndarray) -> np.ndarray:
+    # shared by every caller of a RodTerms method: an in-place change would corrupt the others' results
+    x.flags.writeable = False
+    return x
+
+
+def symmetrised(M: np.ndarray) -> np.ndarray:
+    """M (N, 5, 5) from its upper triangle (``crba`` fills the upper triangle only)."""
+    return np.triu(M) + np.swapaxes(np.triu(M, 1), 1, 2)
 
 
 def _rows(x, n: int) -> np.ndarray:
@@ -175,25 +196,32 @@ class PinocchioRod:
         q = np.atleast_2d(np.asarray(q, float))
         n = q.shape[0]
         q, v = _rows(q, n), _rows(v, n)
+        M, C, J6, dJ6 = (np.empty((n, k, 5)) for k in (5, 5, 6, 6))
+        g, nle = np.empty((n, 5)), np.empty((n, 5))
+        self.fill_terms(q, v, M, C, g, nle, J6, dJ6)
+        return RodTerms(v=v, M=symmetrised(M), C=C, g=g, nle=nle, J=np.ascontiguousarray(J6[:, :3]), dJ=np.ascontiguousarray(dJ6[:, :3]))
+
+    def fill_terms(self, q, v, M, C, g, nle, J6, dJ6) -> None:
+        """Pinocchio's terms at (q, v) ((N, 5) C-contiguous arrays) written into preallocated arrays (views of larger ones allowed).
+
+        M (N, 5, 5) upper triangle only, as ``crba`` fills it (``symmetrised`` completes it); C (N, 5, 5); g,
+        nle (N, 5); J6, dJ6 (N, 6, 5): the whole frame Jacobian and its time variation, LOCAL_WORLD_ALIGNED
+        (rows 0-2 translation).  The loop holds only the Pinocchio calls and one copy of each result into
+        its row: at ~1 us per call, a slice, an attribute lookup or a temporary per state costs as much as
+        a call (``benchmarks/bench_pinocchio.py``).
+        """
         model, data, tip = self.model, self.data, self.tip
-        M = np.empty((n, 5, 5))
-        C = np.empty((n, 5, 5))
-        g = np.empty((n, 5))
-        nle = np.empty((n, 5))
-        J = np.empty((n, 3, 5))
-        dJ = np.empty((n, 3, 5))
-        for i in range(n):
-            qi, vi = q[i], v[i]
-            M[i] = pin.crba(model, data, qi)
-            C[i] = pin.computeCoriolisMatrix(model, data, qi, vi)
-            g[i] = pin.computeGeneralizedGravity(model, data, qi)
-            nle[i] = pin.nonLinearEffects(model, data, qi, vi)
-            pin.computeJointJacobiansTimeVariation(model, data, qi, vi)
-            J[i] = pin.getFrameJacobian(model, data, tip, _LWA)[:3]
-            dJ[i] = pin.getFrameJacobianTimeVariation(model, data, tip, _LWA)[:3]
-        # crba fills the upper triangle only.
-        M = np.triu(M) + np.swapaxes(np.triu(M, 1), 1, 2)
-        return RodTerms(v=v, M=M, C=C, g=g, nle=nle, J=J, dJ=dJ)
+        crba, coriolis, gravity, nonlinear = pin.crba, pin.computeCoriolisMatrix, pin.computeGeneralizedGravity, pin.nonLinearEffects
+        jacobians_dt, frame_jacobian, frame_jacobian_dt = (pin.computeJointJacobiansTimeVariation, pin.getFrameJacobian,
+                                                           pin.getFrameJacobianTimeVariation)
+        for i, qi, vi in zip(range(len(q)), q, v):
+            M[i] = crba(model, data, qi)
+            C[i] = coriolis(model, data, qi, vi)
+            g[i] = gravity(model, data, qi)
+            nle[i] = nonlinear(model, data, qi, vi)
+            jacobians_dt(model, data, qi, vi)
+            J6[i] = frame_jacobian(model, data, tip, _LWA)
+            dJ6[i] = frame_jacobian_dt(model, data, tip, _LWA)
 
     def aba_tip_acceleration(self, q, v, force, *, J=None) -> np.ndarray:
         """Tip acceleration (N, 3) [m/s^2] by ``aba`` with tau = J^T F, then the frame's classical acceleration.
@@ -205,17 +233,19 @@ class PinocchioRod:
         n = q.shape[0]
         q, v = _rows(q, n), _rows(v, n)
         force = np.ascontiguousarray(np.broadcast_to(np.asarray(force, float), (n, 3)))
-        model, data, tip = self.model, self.data, self.tip
         if J is None:
             J = self.jacobian(q)
-        tau = np.einsum("nij,ni->nj", J, force)
         out = np.empty((n, 3))
-        for i in range(n):
-            qi, vi = q[i], v[i]
-            a = pin.aba(model, data, qi, vi, tau[i])
-            pin.forwardKinematics(model, data, qi, vi, a)
-            out[i] = pin.getFrameClassicalAcceleration(model, data, tip, _LWA).linear
+        self.fill_aba_tip_acceleration(q, v, np.einsum("nij,ni->nj", J, force), out)
         return out
+
+    def fill_aba_tip_acceleration(self, q, v, tau, out) -> None:
+        """``aba`` with the generalised forces tau (N, 5), then the tip's classical acceleration written into ``out`` (N, 3)."""
+        model, data, tip = self.model, self.data, self.tip
+        aba, kinematics, classical = pin.aba, pin.forwardKinematics, pin.getFrameClassicalAcceleration
+        for i, qi, vi, ti in zip(range(len(q)), q, v, tau):
+            kinematics(model, data, qi, vi, aba(model, data, qi, vi, ti))
+            out[i] = classical(model, data, tip, _LWA).linear
 
     def jacobian(self, q) -> np.ndarray:
         """Tip Jacobian (N, 3, 5), translation rows, LOCAL_WORLD_ALIGNED."""
@@ -273,13 +303,22 @@ def slip_coefficients(rod: Rod, terms: RodTerms, beta, mu) -> tuple[np.ndarray, 
     Returns:
       (b, p), each (N,).
     """
+    return slip_coefficients_of(terms, beta, mu, mass=rod.mass, gravity=rod.gravity)
+
+
+def slip_coefficients_of(terms: RodTerms, beta, mu, *, mass, gravity) -> tuple[np.ndarray, np.ndarray]:
+    """``slip_coefficients`` with the rod's mass m [kg] and gravity g [m/s^2] given per state ((N,) arrays) or as scalars.
+
+    For terms of many rods at once (``crosscheck.engines.pinocchio.studies.dynamics_terms``): the
+    arithmetic per state is the same as with one rod's scalars.
+    """
     n = terms.M.shape[0]
     beta = np.broadcast_to(np.asarray(beta, float), (n,))
     mu = np.broadcast_to(np.asarray(mu, float), (n,))
     G = terms.delassus()
     free = terms.free_acceleration()
     direction = np.stack((-mu * np.cos(beta), -mu * np.sin(beta), np.ones(n)), axis=-1)  # e_z - mu t_hat
-    return free[:, 2] / rod.gravity, rod.mass * np.einsum("nj,nj->n", G[:, 2, :], direction)
+    return free[:, 2] / gravity, mass * np.einsum("nj,nj->n", G[:, 2, :], direction)
 
 
 def tip_acceleration(rod: Rod, psi, theta, psi_dot, theta_dot, force, *, route: str = "delassus") -> np.ndarray:
@@ -381,10 +420,23 @@ def mu_P(alpha, *, xtol: float = 1e-14) -> float:
     (min p > 0) and a doubling search, then refined by ``brentq`` to ``xtol``.
     """
     alpha = float(check("alpha", alpha, ALPHA))
+    # p(theta, -pi/2, mu, alpha) as ``p`` computes it (the same (q, v), terms and slip_coefficients, hence the same
+    # value to the last bit), without its per-call checks and grouping by alpha: Brent calls it ~130 times per
+    # alpha, one theta at a time.  The terms are kept per theta: each search over mu starts at the same theta.
+    rod = Rod.scaled(alpha)
+    varphi = np.array([-math.pi / 2])
+    terms_at: dict[float, RodTerms] = {}
+
+    def p_at(theta: float, mu: float) -> float:
+        theta = float(theta)
+        if theta not in terms_at:
+            q, v = paper_to_qv(rod, np.array([theta]), varphi, np.zeros(1), np.zeros(1), 1.0, 0.0)
+            terms_at[theta] = engine(rod).terms(q, v)
+        return float(slip_coefficients(rod, terms_at[theta], varphi, np.array([float(mu)]))[1][0])
 
     def min_p(mu: float) -> float:
         res = minimize_scalar(
-            lambda theta: float(p(theta, -math.pi / 2, mu, alpha)),
+            lambda theta: p_at(theta, mu),
             bounds=(0.0, math.pi / 2),
             method="bounded",
             options={"xatol": 1e-10},

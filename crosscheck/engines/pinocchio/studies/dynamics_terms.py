@@ -129,25 +129,32 @@ def reference_terms(rod: Rod, q, v) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     return M, C, g
 
 
+def _scale_factors(rod: Rod) -> tuple:
+    """(L (5,), L L^T (5, 5), m l^2, m l^2 omega, m g l) of ``scaled_matrices``, each as the rod's own floats give it."""
+    L = np.array([rod.length] * 3 + [1.0, 1.0])
+    ml2 = rod.mass * rod.length**2
+    return L, L[:, None] * L[None, :], ml2, ml2 * rod.omega, rod.mass * rod.gravity * rod.length
+
+
 def scaled_matrices(rod: Rod, M, C, g) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """M, C and a generalised force (g or C v + g) in the paper's scaled units.
 
     With q = L q_s, L = diag(l, l, l, 1, 1), and t = t_s / omega:
     M_s = L M L / (m l^2), C_s = L C L / (m l^2 omega), g_s = L g / (m g l).
     """
-    L = np.array([rod.length] * 3 + [1.0, 1.0])
-    ml2 = rod.mass * rod.length**2
-    outer = L[:, None] * L[None, :]
-    return M * outer / ml2, C * outer / (ml2 * rod.omega), g * L / (rod.mass * rod.gravity * rod.length)
+    L, outer, ml2, ml2_omega, mgl = _scale_factors(rod)
+    return M * outer / ml2, C * outer / ml2_omega, g * L / mgl
 
 
-def _stat(quantity: str, got, want, tolerance, states: dict, *, scale=1.0) -> ErrorStat:
-    """``error_stat`` with the allowance ``atol * scale + rtol * |want|`` (``scale`` per state or entry).
+def _stat(quantity: str, got, want, tolerance, states: dict, *, scale=None) -> ErrorStat:
+    """``error_stat`` with the allowance ``atol * scale + rtol * |want|`` (``scale`` per state or entry; None: 1).
 
     max_abs stays in the units of ``got`` (scaled units); max_rel is unchanged.
     """
     got = np.asarray(got, float)
     want = np.asarray(want, float)
+    if scale is None:  # x / 1.0 is x: error_stat's own max_abs is already |got - want|
+        return error_stat(quantity, got, want, tolerance, states)
     scale = np.asarray(scale, float)
     scale = scale.reshape(scale.shape + (1,) * (want.ndim - scale.ndim))
     stat = error_stat(quantity, got / scale, want / scale, tolerance, states)
@@ -177,7 +184,8 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
     """Compare Pinocchio with the analytic reference on ``n_states`` random states (see the module docstring)."""
     s = random_states(n_states, rng)
     n = n_states
-    # Pinocchio, rod by rod, in physical units
+    # Rod by rod, into preallocated arrays of all states: Pinocchio's raw terms go to scratch arrays of one
+    # block (reused, small enough to stay in cache), everything else is written to its rows in scaled units.
     pin_acc = {name: np.empty((n, 3)) for name in ("delassus", "aba", "free")}
     pin_G = np.empty((n, 3, 3))
     pin_M, pin_C = np.empty((n, 5, 5)), np.empty((n, 5, 5))
@@ -186,48 +194,56 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
     ref_acc, ref_free, ref_G = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3, 3))
     pin_b, pin_p = np.empty(n), np.empty(n)
     v_scaled = np.empty((n, 5))
-    blocks = np.split(np.arange(n), np.flatnonzero(np.diff(s["rod"])) + 1)
+    starts = np.flatnonzero(np.diff(s["rod"], prepend=-1))
+    blocks = [slice(a, b) for a, b in zip(starts, [*starts[1:], n])]
+    most = max(b.stop - b.start for b in blocks)
+    raw_M, raw_C, raw_J, raw_dJ = (np.empty((most, k, 5)) for k in (5, 5, 6, 6))
+    raw_g, raw_nle, raw_aba = np.empty((most, 5)), np.empty((most, 5)), np.empty((most, 3))
+    tips = np.stack((s["x"], s["y"], np.zeros(n)), axis=-1)
     bar = None
     if progress:
         from tqdm import tqdm
 
         bar = tqdm(total=n, desc="validate pinocchio", unit="state")
     for idx in blocks:
-        i = idx[0]
+        i, k = idx.start, idx.stop - idx.start
         rod = Rod(mass=s["m"][i], length=s["l"][i], inertia=s["I0"][i], gravity=s["g"][i])
-        q, v = paper_to_qv(
-            rod, s["theta"][idx], s["varphi"][idx], s["Theta"][idx], s["Psi"][idx], s["eta"][idx], s["psi"][idx],
-            tip=np.stack((s["x"][idx], s["y"][idx], np.zeros(len(idx))), axis=-1),
-        )  # fmt: skip
+        q, v = paper_to_qv(rod, s["theta"][idx], s["varphi"][idx], s["Theta"][idx], s["Psi"][idx], s["eta"][idx], s["psi"][idx], tip=tips[idx])
         F = s["F"][idx] * rod.force_scale
         rod_engine = pinrod.PinocchioRod(rod)
-        terms = rod_engine.terms(q, v)
+        rod_engine.fill_terms(q, v, raw_M[:k], raw_C[:k], raw_g[:k], raw_nle[:k], raw_J[:k], raw_dJ[:k])
+        terms = pinrod.RodTerms(v=v, M=pinrod.symmetrised(raw_M[:k]), C=raw_C[:k], g=raw_g[:k], nle=raw_nle[:k],
+                                J=np.ascontiguousarray(raw_J[:k, :3]), dJ=np.ascontiguousarray(raw_dJ[:k, :3]))
+        rod_engine.fill_aba_tip_acceleration(q, v, np.einsum("nij,ni->nj", terms.J, F), raw_aba[:k])
         acc_scale = rod.gravity  # accelerations in units of g = l omega^2
         pin_acc["delassus"][idx] = terms.tip_acceleration(F) / acc_scale
-        pin_acc["aba"][idx] = rod_engine.aba_tip_acceleration(q, v, F, J=terms.J) / acc_scale
+        pin_acc["aba"][idx] = raw_aba[:k] / acc_scale
         pin_acc["free"][idx] = terms.free_acceleration() / acc_scale
         pin_G[idx] = terms.delassus() * rod.mass  # per unit scaled force m g, in units of g
         pin_b[idx], pin_p[idx] = pinrod.slip_coefficients(rod, terms, s["psi"][idx] + s["varphi"][idx], s["mu"][idx])
-        Cv = np.einsum("nij,nj->ni", terms.C, v)
+        L, outer, ml2, ml2_omega, mgl = _scale_factors(rod)  # scaled_matrices' factors, for the two forces below
         pin_M[idx], pin_C[idx], pin_g[idx] = scaled_matrices(rod, terms.M, terms.C, terms.g)
-        pin_nle[idx] = scaled_matrices(rod, terms.M, terms.C, terms.nle)[2]
-        pin_Cv[idx] = scaled_matrices(rod, terms.M, terms.C, Cv + terms.g)[2]
+        pin_nle[idx] = terms.nle * L / mgl
+        pin_Cv[idx] = (np.einsum("nij,nj->ni", terms.C, v) + terms.g) * L / mgl
         ref_M[idx], ref_C[idx], ref_g[idx] = scaled_matrices(rod, *reference_terms(rod, q, v))
         v_scaled[idx] = v * np.array([1.0, 1.0, 1.0, rod.length, rod.length]) / (rod.length * rod.omega)
-        # eq. linode2 at the same states (the reference reads rates in rad/s)
-        rates = (s["psi"][idx], s["theta"][idx], s["Psi"][idx] * rod.omega, s["Theta"][idx] * rod.omega)
-        ref_acc[idx] = analytic.tip_acceleration(rod, *rates, F) / acc_scale
-        ref_free[idx] = analytic.tip_acceleration(rod, *rates, np.zeros(3)) / acc_scale
-        # Columns of G from the linear dependence of eq. linode2 on F, at rest so that the difference
-        # does not cancel large velocity terms (G does not depend on the rates).
-        at_rest = (s["psi"][idx], s["theta"][idx], 0.0, 0.0)
-        gravity_only = analytic.tip_acceleration(rod, *at_rest, np.zeros(3)) / acc_scale
-        for k in range(3):
-            unit = np.zeros(3)
-            unit[k] = rod.force_scale
-            ref_G[idx, :, k] = analytic.tip_acceleration(rod, *at_rest, unit) / acc_scale - gravity_only
+        # eq. linode2 (the reference reads rates in rad/s) in one call at six (rates, force) pairs per state:
+        # (rates, F), (rates, 0), and at rest with 0 and with the unit forces m g e_j, whose differences are
+        # the columns of G (G does not depend on the rates; at rest the difference does not cancel large
+        # velocity terms).
+        zero, unit = np.zeros(k), np.zeros((3, k, 3))
+        for j in range(3):
+            unit[j, :, j] = rod.force_scale
+        Psi_dot, Theta_dot = s["Psi"][idx] * rod.omega, s["Theta"][idx] * rod.omega
+        ref = analytic.tip_acceleration(
+            rod, np.tile(s["psi"][idx], 6), np.tile(s["theta"][idx], 6), np.concatenate((Psi_dot, Psi_dot, zero, zero, zero, zero)),
+            np.concatenate((Theta_dot, Theta_dot, zero, zero, zero, zero)), np.concatenate((F, np.zeros((2 * k, 3)), unit.reshape(-1, 3))),
+        ).reshape(6, k, 3) / acc_scale  # fmt: skip
+        ref_acc[idx], ref_free[idx] = ref[0], ref[1]
+        for j in range(3):
+            ref_G[idx, :, j] = ref[3 + j] - ref[2]
         if bar is not None:
-            bar.update(len(idx))
+            bar.update(k)
     if bar is not None:
         bar.close()
 

@@ -284,9 +284,10 @@ class Dynamics:
         jac[5:, 7] += -cd * col
         return jac
 
-    def tip_acceleration(self, y, F) -> np.ndarray:
-        """Acceleration of the tip A (world, / g, gravity included) under contact force F at C."""
-        Minv, Q, J, dJv, qd, G, a_free, MJt = self.terms(y)
+    def tip_acceleration(self, y, F, terms=None) -> np.ndarray:
+        """Acceleration of the tip A (world, / g, gravity included) under contact force F at C (``terms``: ``terms(y)``
+        when the caller has them)."""
+        Minv, Q, J, dJv, qd, G, a_free, MJt = terms if terms is not None else self.terms(y)
         qdd = Minv * Q + MJt @ F
         th, psi = y[4], y[3]
         s, c, sp, cp = math.sin(th), math.cos(th), math.sin(psi), math.cos(psi)

@@ -172,10 +172,10 @@ def record_of(traj, times: np.ndarray) -> Record:
     acc = np.empty((n, 3))
     slip = np.zeros((n, 3))
     for k in range(n):
-        T = dyn.terms(Y[k])  # once for the force and the slip (``Dynamics.slip`` is J_t q' of the same terms)
+        T = dyn.terms(Y[k])  # once for the force, the tip's acceleration and the slip (``Dynamics.slip`` is J_t q' of the same terms)
         F = dyn.force(Y[k], int(modes[k]), dirs[k], T) if modes[k] != FREE else np.zeros(3)
         force[k] = F
-        acc[k] = dyn.tip_acceleration(Y[k], F)
+        acc[k] = dyn.tip_acceleration(Y[k], F, T)
         slip[k, :2] = T[2][:2] @ T[4]
     rod = Rod.scaled(dyn.alpha)
     q, v = q_from_y(Y, dyn.radius)

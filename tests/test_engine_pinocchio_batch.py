@@ -214,12 +214,15 @@ def test_two_roots_in_one_grid_cell_are_not_lost(half_gap):
         assert not hidden[0] and np.allclose(np.sort(phi), [phi0 - eps, phi0 + eps], rtol=0, atol=1e-12)
 
 
-def test_agreement_cuts_the_rigid_engines_store_in_its_own_chunks_and_a_rerun_resumes(tmp_path):
+def test_agreement_cuts_the_rigid_engines_store_in_its_own_chunks_and_a_rerun_resumes(tmp_path, monkeypatch):
     """The rigid engine declares ``sweep_chunk`` (one closed-form batch per chunk): a study's sweep store is cut in chunks of
-    that many runs, the manifest and the spec's doc say so, every chunk but the last is full, and a rerun computes nothing."""
+    that many runs, the manifest and the spec's doc say so, every chunk but the last is full, and a rerun computes nothing.
+    Another chunk size is another sweep: the study writes a store of its own beside the old one (never resumed into),
+    and the sweep itself refuses the old store's directory in one ValueError line."""
     import json
 
     from crosscheck import sweeps
+    from crosscheck.studies import agreement
     from crosscheck.studies.agreement import STORE_CHUNK, agreement_study, store_chunk
     from crosscheck.studies.grids import random_event_points
 
@@ -238,6 +241,16 @@ def test_agreement_cuts_the_rigid_engines_store_in_its_own_chunks_and_a_rerun_re
     again = agreement_study(points, **kw).runs[0]
     assert {p: p.stat().st_mtime_ns for p in (store / "chunks").iterdir()} == stamps
     np.testing.assert_array_equal(again.outcome, run.outcome)
+
+    monkeypatch.setattr(agreement, "store_chunk", lambda E: chunk // 2)
+    halves = agreement_study(points, **kw).runs[0]
+    (other,) = [p for p in tmp_path.iterdir() if p.is_dir() and p != store]
+    assert json.loads((other / "manifest.json").read_text())["chunk"] == chunk // 2
+    assert {p: p.stat().st_mtime_ns for p in (store / "chunks").iterdir()} == stamps
+    np.testing.assert_array_equal(halves.outcome, run.outcome)  # every chunk still >= AUTO_BATCH: the same closed form
+    doc = json.loads((other / "manifest.json").read_text())["spec"]
+    with pytest.raises(ValueError, match=r"^out .* holds a different sweep \(spec sha256 [0-9a-f]{12}, this one [0-9a-f]{12}\); use --fresh"):
+        sweeps.run(sweeps.parse_spec(doc), store, workers=1, progress=False)
 
 
 def test_sweep_chunk_out_of_range_is_one_line_naming_it():

@@ -47,6 +47,25 @@ def test_comparison_labels_censor_events_after_the_comparison_time():
     assert got.tolist() == [Outcome.LIFTOFF, Outcome.SLIP, Outcome.SLIP, Outcome.DIVERGED, Outcome.SLIP]
 
 
+def test_a_stick_the_classifier_cannot_tell_from_the_theorys_slip_is_compared_as_that_slip():
+    """``stick_from``: where the theory SLIPs to its comparison time and its slip speed falls below the engine's STICK floor on
+    the way (at t_floor), an engine STICK from t_floor - lag on is read as SLIP; an earlier STICK, any other event, and
+    every theory that does not slip (or never falls below the floor) are compared as before."""
+    from crosscheck.studies.comparison import floor_time, stick_from
+
+    assert floor_time([0.0, 1.0, 2.0], [1.0, 0.5, 0.0], 0.25) == pytest.approx(1.5)  # linear between the samples
+    assert math.isnan(floor_time([0.0, 1.0], [1.0, 0.5], 0.25)) and floor_time([0.0, 1.0], [0.1, 0.5], 0.25) == 0.0
+    S, L, T = (int(o) for o in (Outcome.SLIP, Outcome.LIFTOFF, Outcome.STICK))
+    theory = np.array([S, S, S, L, S], np.int8)
+    until = np.array([0.8, 0.8, 2.0, 0.5, 0.8])
+    since = stick_from(theory, until, np.array([0.78, 0.78, 2.5, 0.4, np.nan]), 0.01)
+    assert since.tolist() == pytest.approx([0.77, 0.77, math.inf, math.inf, math.inf])
+    engine = np.array([T, T, T, T, T], np.int8)
+    t = np.array([0.775, 0.70, 1.9, 0.45, 0.79])
+    assert comparison_labels(engine, t, until, since).tolist() == [S, T, T, T, T]
+    assert comparison_labels(np.array([L], np.int8), np.array([0.775]), np.array([0.8]), since[:1]).tolist() == [L]  # only a STICK
+
+
 def test_mirror_symmetry_used_by_the_default_grid():
     """(varphi, Psi) -> (-pi - varphi, -Psi) maps analytic runs onto each other (mirror in the rod's plane)."""
     rng = np.random.default_rng(5)
@@ -84,6 +103,9 @@ def test_agreement_study_on_a_small_grid():
         assert run.time_difference.size == sum(run.confusion[o, o] for o in (1, 2, 3))
     # MuJoCo meets the theory here, and where it does not the state is next to an analytic boundary
     assert eff.agreement_jam_as_stop >= 1 - MUJOCO_EVENT_DISAGREEMENT.atol
+    # the STICKs read as the theory's slip: where the theory's least slip speed is below MuJoCo's STICK floor
+    read = (eff.outcome == Outcome.STICK) & (eff.label == Outcome.SLIP) & (eff.event_time <= a.until[res.index])
+    assert eff.stick_as_slip == read.sum() and np.all(a.eta_min[res.index][read] < eff.stick_floor)
     disagree = eff.label != a.outcome[res.index]
     assert np.all(res.distance[disagree] < 0.05)
     assert np.median(np.abs(eff.time_difference)) < COARSE["timeconst"]

@@ -63,8 +63,8 @@ from crosscheck.engines.base import n_steps, options_from_kwargs
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.studies.analytic_events import BOUNDARY_RADII, AnalyticEvents, analytic_events, boundary_distance
-from crosscheck.studies.comparison import EVENTS, LAG_STEPS, LAG_TAU, RATED, comparison_labels, window_margin
+from crosscheck.studies.analytic_events import BOUNDARY_RADII, AnalyticEvents, analytic_events, boundary_distance, floor_times
+from crosscheck.studies.comparison import EVENTS, LAG_STEPS, LAG_TAU, RATED, comparison_labels, engine_floor, event_lag, stick_from, window_margin
 from crosscheck.studies.grids import AXES, EventGrid, states_at
 
 __all__ = [
@@ -148,6 +148,9 @@ class AgreementRun:
       solver_health: for an engine with a solver (``SweepResult.solver``):
         states, steps in contact, steps and states that missed the solver's
         tolerance, the largest iteration count; None otherwise.
+      stick_floor: the engine's STICK floor (``comparison.engine_floor``);
+        stick_as_slip: how many engine STICKs were compared as the theory's
+        SLIP, its slip speed having fallen below that floor (``comparison.stick_from``).
     """
 
     engine: str
@@ -173,6 +176,8 @@ class AgreementRun:
     steps_per_second: float
     solver_health: dict | None = None
     engine_warnings: dict = field(default_factory=dict)
+    stick_floor: float = math.nan
+    stick_as_slip: int = 0
 
     labels = tuple(_NAMES)
 
@@ -205,6 +210,8 @@ class AgreementRun:
             "by_offplane": self.by_offplane,
             "options": self.options,
             "thresholds": self.thresholds,
+            "stick_floor": self.stick_floor,
+            "stick_as_slip": self.stick_as_slip,
             "wall_time": self.wall_time,
             "steps_per_second": self.steps_per_second,
             "solver_health": self.solver_health,
@@ -286,17 +293,21 @@ class AgreementResult:
 
 
 def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a: AnalyticEvents, idx, distance, offplane,
-          wall_time: float, steps_per_second: float, solver: dict | None = None, warnings: dict | None = None) -> AgreementRun:
+          wall_time: float, steps_per_second: float, solver: dict | None = None, warnings: dict | None = None, points: dict,
+          alpha: float, horizon: float) -> AgreementRun:
     until = a.until[idx]
+    ao = a.outcome[idx]
     tau = float(opts.contact_time)
     # A soft contact answers the rigid force with a lag ~ tau (its force builds up over tau; STICK is
     # read at eta = tau_f): an analytic event may be met up to LAG_TAU tau later, and never less than
     # LAG_STEPS timesteps later (a record resolves time to its rows and a first-order integrator moves
     # an event by O(dt): this is what a rigid contact gets).  Censored
     # SLIPs get no lag: nothing is known analytically after the domain exit.
-    lag = np.where(np.isin(a.outcome[idx], EVENTS), max(LAG_TAU * tau, LAG_STEPS * float(opts.timestep)), 0.0)
-    label = comparison_labels(outcome, event_time, until + lag)
-    ao = a.outcome[idx]
+    lag = np.where(np.isin(ao, EVENTS), event_lag(tau, float(opts.timestep)), 0.0)
+    # an engine STICK the classifier cannot tell from the theory's slip, slower there than the engine's STICK floor
+    floor = engine_floor(th, opts)
+    since = stick_from(ao, until, floor_times(points, idx, a, floor, alpha=alpha, horizon=horizon), event_lag(tau, float(opts.timestep)))
+    label = comparison_labels(outcome, event_time, until + lag, since)
     rated = np.isin(ao, RATED)
     agree = label == ao
     same_event = rated & agree & np.isin(ao, EVENTS)
@@ -326,6 +337,8 @@ def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a:
         steps_per_second=steps_per_second,
         solver_health=solver_health(solver, engines.get(engine).solver_columns),
         engine_warnings=dict(warnings or {}),
+        stick_floor=float(floor),
+        stick_as_slip=int(((label == Outcome.SLIP) & (comparison_labels(outcome, event_time, until + lag) == Outcome.STICK)).sum()),
     )
 
 
@@ -385,12 +398,13 @@ def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresho
         outcome, event_time, p_event, wall, sps, solver, warned = _sweep_through_store(E, rod, cols, points["mu"][idx], horizon + margin, given,
                                                                                        opts, store, scheduler, workers, progress)
         return _rate(engine=engine, opts=opts, th=th, outcome=outcome, event_time=event_time, p_event=p_event, a=a, idx=idx, distance=distance,
-                     offplane=offplane, wall_time=wall, steps_per_second=sps, solver=solver, warnings=warned)
+                     offplane=offplane, wall_time=wall, steps_per_second=sps, solver=solver, warnings=warned, points=points, alpha=rod.alpha,
+                     horizon=horizon)
     r = E.sweep(rod, states_at(points, idx), points["mu"][idx], horizon=horizon + margin, thresholds=th, progress=progress,
                 **{f.name: getattr(opts, f.name) for f in fields(opts)})
     return _rate(engine=engine, opts=opts, th=th, outcome=r.outcome, event_time=r.event_time, p_event=r.summary["jam_p_eff"], a=a,
                  idx=idx, distance=distance, offplane=offplane, wall_time=r.wall_time,
-                 steps_per_second=r.steps_per_second, solver=r.solver, warnings=r.warnings)
+                 steps_per_second=r.steps_per_second, solver=r.solver, warnings=r.warnings, points=points, alpha=rod.alpha, horizon=horizon)
 
 
 def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings: Sequence[Mapping] = ({},), alpha: float = 3.0,

@@ -18,11 +18,11 @@ from tqdm.auto import tqdm
 from crosscheck.checks import ALPHA, POSITIVE, check
 from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
-from crosscheck.studies.comparison import EVENTS
+from crosscheck.studies.comparison import EVENTS, floor_time
 from crosscheck.studies.grids import floats, initial_b_p, states_at
 from crosscheck.theory.slipping import slip_until_event
 
-__all__ = ["BOUNDARY_RADII", "AnalyticEvents", "analytic_events", "boundary_distance"]
+__all__ = ["BOUNDARY_RADII", "AnalyticEvents", "analytic_events", "boundary_distance", "floor_times"]
 
 #: Perturbation sizes of ``boundary_distance`` (scaled units, Euclidean in
 #: (theta, varphi, Theta, Psi, eta)).
@@ -37,7 +37,9 @@ class AnalyticEvents:
     ``slip_until_event`` that ended the run ("b=0", "p=0", "eta=0", "gb",
     "t_max", "varphi=0", "varphi=-pi", "theta=0", "theta=pi/2", "start", ...);
     b0, p0: eqs. b and p at the start; slipping: b0 < 0 < p0 (the studied
-    states); until: comparison time T_i (module docstring).
+    states); until: comparison time T_i (module docstring); eta_min: the least
+    slip speed along the run (``floor_times`` reads the theory at an engine's
+    STICK floor from it).
     """
 
     outcome: np.ndarray
@@ -47,6 +49,7 @@ class AnalyticEvents:
     p0: np.ndarray
     slipping: np.ndarray
     until: np.ndarray
+    eta_min: np.ndarray
 
 
 def analytic_events(points: dict, *, alpha: float, horizon: float, progress: bool = False) -> AnalyticEvents:
@@ -58,12 +61,24 @@ def analytic_events(points: dict, *, alpha: float, horizon: float, progress: boo
     outcome = np.empty(n, np.int8)
     t = np.empty(n)
     reason = np.empty(n, dtype=object)
+    eta_min = np.empty(n)
     for i in tqdm(range(n), desc="analytic", unit="state", disable=not progress):
         s = states_at(points, [i])[0]
         r = slip_until_event(s, points["mu"][i], alpha, t_max=horizon)
-        outcome[i], t[i], reason[i] = int(r.outcome), r.time, r.reason
+        outcome[i], t[i], reason[i], eta_min[i] = int(r.outcome), r.time, r.reason, float(np.min(r.x[:, 0]))
     until = np.where(outcome == Outcome.SLIP, np.minimum(t, horizon), np.where(np.isin(outcome, EVENTS), t, horizon))
-    return AnalyticEvents(outcome, t, reason.astype(str), b0, p0, (b0 < 0) & (p0 > 0), until)
+    return AnalyticEvents(outcome, t, reason.astype(str), b0, p0, (b0 < 0) & (p0 > 0), until, eta_min)
+
+
+def floor_times(points: dict, index, a: AnalyticEvents, floor: float, *, alpha: float, horizon: float) -> np.ndarray:
+    """For the points ``index``: the first time the theory's slip speed falls below ``floor`` (``comparison.floor_time``),
+    NaN where it never does; only the runs whose least slip speed is below the floor are integrated again."""
+    out = np.full(len(index), np.nan)
+    for j, i in enumerate(np.asarray(index)):
+        if a.eta_min[i] < floor:
+            r = slip_until_event(states_at(points, [int(i)])[0], points["mu"][i], alpha, t_max=horizon)
+            out[j] = floor_time(r.t, r.x[:, 0], floor)
+    return out
 
 
 def _perturbed(points: dict, i: int, delta: np.ndarray) -> SlipState:

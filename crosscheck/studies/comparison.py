@@ -6,6 +6,19 @@ time counts as SLIP (``comparison_labels``), allowing the engine up to
 ``LAG_TAU`` contact time constants and at least ``LAG_STEPS`` timesteps of
 lag at an analytic event; the engine runs ``window_margin`` past the horizon
 so that an event near its end is judged by whole classifier windows.
+
+A STICK the classifier cannot tell from the theory's slip is read as that
+slip (``stick_from``).  The classifier calls a contact stuck once its slip
+speed eta falls below the engine's STICK floor (``Thresholds.stick_floor``:
+10 timesteps for a rigid contact, the larger of 1e-2 and the friction time
+otherwise), so an engine that followed a theory whose slip slows below that
+floor (to eta ~ 1e-3 at its chart's edge varphi = -pi, say) would be called
+STICK even though the theory slips on.  Where the theory SLIPs to its
+comparison time and its eta falls below the floor at t_floor on the way, an
+engine STICK from t_floor - lag on (the lag an event is allowed) is
+compared as the SLIP it cannot be told from.  An earlier STICK, while the
+theory's slip is still faster than the floor, stays a disagreement, as does
+any other event; the theory's own outcome is never changed.
 Scaled units (section 2.1).
 """
 
@@ -18,7 +31,8 @@ import numpy as np
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 
-__all__ = ["RATED", "EVENTS", "LAG_TAU", "LAG_STEPS", "window_margin", "comparison_labels", "comparison_window", "compared_label"]
+__all__ = ["RATED", "EVENTS", "LAG_TAU", "LAG_STEPS", "window_margin", "comparison_labels", "comparison_window", "compared_label",
+           "floor_time", "engine_floor", "event_lag", "stick_from"]
 
 #: Outcomes an analytic run is compared on (GB and DIVERGED rows are counted, not rated).
 RATED = (Outcome.SLIP, Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM)
@@ -38,13 +52,15 @@ def window_margin(thresholds: Thresholds, timestep: float) -> float:
     return 2.0 * thresholds.window_rows(timestep) * timestep
 
 
-def comparison_labels(outcome: np.ndarray, event_time: np.ndarray, until: np.ndarray) -> np.ndarray:
-    """An engine's outcome as compared: an event after the comparison time ``until`` counts as SLIP.
+def comparison_labels(outcome: np.ndarray, event_time: np.ndarray, until: np.ndarray, stick_from=np.inf) -> np.ndarray:
+    """An engine's outcome as compared: an event after the comparison time ``until`` counts as SLIP, and so does a
+    STICK at or after ``stick_from`` (``stick_from``: where the classifier cannot tell it from the theory's slip).
 
     DIVERGED is kept whatever its time (a diverged run is never relabelled).
     """
-    outcome = np.asarray(outcome)
-    keep = (outcome == Outcome.DIVERGED) | (np.asarray(event_time) <= np.asarray(until))
+    outcome, event_time = np.asarray(outcome), np.asarray(event_time)
+    keep = (outcome == Outcome.DIVERGED) | (event_time <= np.asarray(until))
+    keep &= ~((outcome == Outcome.STICK) & (event_time >= np.asarray(stick_from)))
     return np.where(keep, outcome, np.int8(Outcome.SLIP)).astype(np.int8)
 
 
@@ -53,11 +69,45 @@ def comparison_window(outcome: Outcome, time: float, horizon: float, *, contact_
     time for an event, the domain-exit time of a censored SLIP, the horizon otherwise), the lag an engine is allowed at an event
     (max(LAG_TAU contact_time, LAG_STEPS timestep)), and how far an engine must run for its label: until + lag within the horizon."""
     until = min(time, horizon) if outcome == Outcome.SLIP else (time if outcome in EVENTS else horizon)
-    lag = max(LAG_TAU * contact_time, LAG_STEPS * timestep) if outcome in EVENTS else 0.0
+    lag = event_lag(contact_time, timestep) if outcome in EVENTS else 0.0
     return until, lag, max(min(until + lag, horizon), timestep)
 
 
-def compared_label(outcome: Outcome, time: float, until: float) -> Outcome:
+def compared_label(outcome: Outcome, time: float, until: float, stick_from: float = math.inf) -> Outcome:
     """``comparison_labels`` of one run (a NaN time, no event, counts as never)."""
     t = time if math.isfinite(time) else math.inf
-    return Outcome(int(comparison_labels(np.array([int(outcome)], np.int8), np.array([t]), np.array([until]))[0]))
+    return Outcome(int(comparison_labels(np.array([int(outcome)], np.int8), np.array([t]), np.array([until]), np.array([stick_from]))[0]))
+
+
+def floor_time(t, eta, floor: float) -> float:
+    """The first time the theory's slip speed ``eta`` (samples at times ``t``) falls below ``floor``, linear between the
+    samples; NaN if it never does."""
+    eta = np.asarray(eta, float)
+    below = np.flatnonzero(eta < floor)
+    if not below.size:
+        return math.nan
+    k = int(below[0])
+    if k == 0:
+        return float(t[0])
+    return float(np.interp(floor, [eta[k], eta[k - 1]], [t[k], t[k - 1]]))
+
+
+def engine_floor(thresholds: Thresholds, options) -> float:
+    """The STICK floor of a run at ``options`` (an engine's ``Options``): rigid when its contact time is 0, as the engines
+    call ``classify``."""
+    return thresholds.stick_floor(timestep=options.timestep, friction_timeconst=options.friction_time, rigid=options.contact_time == 0.0)
+
+
+def event_lag(contact_time: float, timestep: float) -> float:
+    """The lag an engine is allowed at an analytic event: LAG_TAU contact times, at least LAG_STEPS timesteps."""
+    return max(LAG_TAU * contact_time, LAG_STEPS * timestep)
+
+
+def stick_from(outcome, until, t_floor, lag):
+    """The time from which an engine STICK is read as the theory's SLIP (module docstring): t_floor - lag where the
+    theory SLIPs to ``until`` and its slip speed falls below the engine's STICK floor at ``t_floor`` <= until; +inf
+    elsewhere (a NaN t_floor: never below).  Scalars or arrays."""
+    outcome, until, t_floor = np.asarray(outcome), np.asarray(until, float), np.asarray(t_floor, float)
+    with np.errstate(invalid="ignore"):
+        hit = (outcome == Outcome.SLIP) & (t_floor <= until)
+    return np.where(hit, t_floor - np.asarray(lag, float), np.inf)

@@ -27,7 +27,6 @@ Scaled units (section 2.1).
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import asdict
 
@@ -39,7 +38,8 @@ from crosscheck.engines.spec import LADDER_CAUSES
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
-from crosscheck.studies.comparison import RATED, compared_label, comparison_window, window_margin
+from crosscheck.studies.comparison import (RATED, compared_label, comparison_window, engine_floor, event_lag, floor_time, stick_from,
+                                          window_margin)
 from crosscheck.theory.slipping import slip_until_event
 
 __all__ = ["intervene", "summarise", "causes_with_interventions"]
@@ -68,7 +68,7 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
     rod = Rod.scaled(alpha)
     first = slip_until_event(state, mu, alpha, t_max=horizon)
     o1, t1 = Outcome(int(first.outcome)), float(first.time)
-    out = {"theory": None, "theory_time": t1, **theory_against_floor(first, mu, alpha, th, base), "causes": {}}
+    out = {"theory": compared_label(o1, t1, t1).name, "theory_time": t1, **theory_against_floor(first, mu, alpha, th, base), "causes": {}}
     given = {k: getattr(base, k) for k in base.__dataclass_fields__}
     for cause in (causes if causes is not None else causes_with_interventions(engine)):
         rows = []
@@ -78,49 +78,32 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
             try:
                 opts = spec.options(**opts_kw)
                 until, lag, run_until = comparison_window(o1, t1, horizon, contact_time=opts.contact_time, timestep=opts.timestep)
+                # a STICK the classifier cannot tell from the theory's slip, at the intervened run's own STICK floor
+                since = float(stick_from(o1, until, floor_time(first.t, first.x[:, 0], engine_floor(th, opts)),
+                                         event_lag(opts.contact_time, opts.timestep)))
                 run = spec.simulate(rod, state, mu, horizon=run_until + window_margin(th, opts.timestep), thresholds=th, **opts_kw)
                 o, t = Outcome(int(run.outcome)), float(run.event_time)
-                theory, label = compared_label(o1, t1, until + lag), compared_label(o, t, until + lag)
-                out["theory"] = theory.name
+                theory, label = compared_label(o1, t1, until + lag), compared_label(o, t, until + lag, since)
                 rows.append({"text": iv.text, "options": dict(iv.options), "status": "ok", "outcome": o.name, "time": t, "label": label.name,
                              "removes": label == theory and theory in RATED, "wall_time": time.perf_counter() - t0})
             except Exception as e:  # noqa: BLE001 - an intervention the engine refuses is reported, the others go on
                 rows.append({"text": iv.text, "options": dict(iv.options), "status": "failed", "detail": f"{type(e).__name__}: {e}",
                              "removes": False, "wall_time": time.perf_counter() - t0})
         out["causes"][cause] = rows
-    if out["theory"] is None:
-        out["theory"] = compared_label(o1, t1, t1).name
     return out
 
 
 def theory_against_floor(first, mu: float, alpha: float, th: Thresholds, opts) -> dict:
-    """The theory's slip measured as the engine's run is: its least slip speed and least eq. p along the slip, the
-    engine's STICK floor (``Thresholds.stick_floor`` at the run's options; rigid when the contact time is 0, as
-    ``classify`` is called), and the first time the theory's slip speed eta falls below that floor (NaN if never;
-    linear between the solver's steps).
-
-    A theory that slips to its comparison time with eta below the floor part of the way would itself be classified
-    STICK: an engine that follows it is called STICK, and the disagreement is the measurement's, not the engine's.
-    """
+    """What the theory's slip looks like to the engine's run: its least slip speed and least eq. p along the slip, the
+    run's STICK floor (``comparison.engine_floor``) and the first time the theory's slip speed falls below it (NaN if
+    never; the comparison reads the theory as a STICK there, ``comparison.at_floor``).  A least p near 0: the slip
+    passes close to the Genot-Brogliato point, where a time step cannot tell a lift-off from a jam."""
     from crosscheck.theory import analytic
 
-    eta, varphi, theta = first.x[:, 0], first.x[:, 1], first.x[:, 4]
-    floor = th.stick_floor(timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=opts.contact_time == 0.0)
-    below = np.flatnonzero(eta < floor)
-    t_floor = math.nan
-    if below.size:
-        k = int(below[0])
-        t_floor = float(first.t[0]) if k == 0 else float(np.interp(floor, [eta[k], eta[k - 1]], [first.t[k], first.t[k - 1]]))
-    p = analytic.p(theta, varphi, mu, alpha)
-    return {"theory_eta_min": float(eta.min()), "theory_p_min": float(np.min(p)), "stick_floor": float(floor), "theory_below_floor_time": t_floor}
-
-
-def below_floor(result: dict, reference: str) -> bool:
-    """A theory SLIP compared against an engine STICK whose own slip speed fell below the engine's STICK floor before
-    the theory's comparison time (``theory_against_floor``): the theory, measured as the engine is, sticks too."""
-    t = result.get("theory_below_floor_time")  # None once through JSON, which has no NaN
-    return (result["theory"] == "SLIP" and reference == "STICK" and t is not None and math.isfinite(t)
-            and t <= result.get("theory_time", math.inf))
+    floor = engine_floor(th, opts)
+    p = analytic.p(first.x[:, 4], first.x[:, 1], mu, alpha)
+    return {"theory_eta_min": float(first.x[:, 0].min()), "theory_p_min": float(np.min(p)), "stick_floor": float(floor),
+            "theory_below_floor_time": floor_time(first.t, first.x[:, 0], floor)}
 
 
 def _fixes(result: dict, cause: str) -> bool:
@@ -144,7 +127,7 @@ def summarise(results: list[dict]) -> dict:
     (``intervene``'s result).  Only the causes of ``LADDER_CAUSES`` count as attributed.
     """
     per = {}
-    attributed = confirmed = removed = unconfirmed = floor_artefacts = 0
+    attributed = confirmed = removed = 0
     for r in results:
         cause, iv = r["cause"], r["interventions"]
         fixing = [c for c in iv["causes"] if _fixes(iv, c)]
@@ -167,16 +150,11 @@ def summarise(results: list[dict]) -> dict:
                 row["by_other"][c] = row["by_other"].get(c, 0) + 1
             if not fixing:
                 row["none"] += 1
-        if cause in LADDER_CAUSES and not _fixes(iv, cause):
-            unconfirmed += 1
-            floor_artefacts += below_floor(iv, r.get("reference"))
+
     return {"per_cause": per, "attributed": attributed, "confirmed": confirmed,
             "confirmed_share": confirmed / attributed if attributed else None,
             # whatever the ladder named: the disagreements some cause's intervention on the engine removes
-            "n": len(results), "removed_by_any": removed,
-            # of the attributed ones not confirmed: theory SLIPs whose slip speed falls below the engine's STICK floor
-            # against an engine STICK (``below_floor``), the comparison's artefact rather than the engine's
-            "unconfirmed": unconfirmed, "unconfirmed_below_floor": floor_artefacts}
+            "n": len(results), "removed_by_any": removed}
 
 
 def as_record(x) -> dict:

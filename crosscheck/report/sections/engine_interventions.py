@@ -112,14 +112,6 @@ def render(ctx: RenderContext) -> list:
                                 "another cause's interventions instead (a misattribution to look into), removed by none.",
                         header=["cause (ladder)", "starts", "confirmed", "removed by another cause instead", "removed by none"],
                         rows=rows or [["(no laddered disagreement)", "0", "0", "-", "0"]], data=ctx.data("summary.json")))
-    if summary.get("unconfirmed"):
-        blocks.append(Text(f"{name}: of the {summary['unconfirmed']} attributed disagreements no own intervention confirms, "
-                           f"{summary['unconfirmed_below_floor']} are a theory SLIP against a {name} STICK where the theory's own slip speed "
-                           f"eta falls below {name}'s STICK floor (the slip speed below which the classifier calls a contact stuck) before "
-                           "the theory's comparison time: the theory, measured as the engine is, sticks too, so that disagreement is the "
-                           "comparison's, not the engine's. The last columns of the table below give, per start, the theory's least "
-                           "eta against the floor and its least eq. p along the slip (near 0: the slip passes close to the "
-                           "Genot-Brogliato point, where a time step cannot tell a lift-off from a jam)."))
     per_iv = [[cause, text, f"{k} of {r['n']}"] for cause, r in summary["per_cause"].items() for text, k in (r.get("by_intervention") or {}).items()]
     if per_iv:
         blocks.append(Table(caption=f"{name}: what removes each cause's disagreements, intervention by intervention (a start may be removed by "
@@ -136,7 +128,9 @@ def render(ctx: RenderContext) -> list:
                            _fmt(r["interventions"].get("theory_p_min"))])
         blocks.append(Table(caption=f"Each start: the theory's outcome, {name}'s, the ladder's cause, {name}'s outcome under each cause's "
                                     "interventions, weakest first, the theory's least slip speed eta against the engine's STICK floor "
-                                    "(and when it falls below it), and the theory's least eq. p along its slip.",
+                                    "(and when it falls below it: the comparison reads the theory as a STICK from there), and the theory's "
+                                    "least eq. p along its slip (near 0: the slip passes close to the Genot-Brogliato point, where a time "
+                                    "step cannot tell a lift-off from a jam).",
                             header=["map", "start", "mu", "theory", name, "cause", *causes, "theory eta min (floor)", "theory p min"], rows=detail,
                             data=ctx.data("interventions.json")))
     return blocks

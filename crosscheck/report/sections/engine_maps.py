@@ -62,6 +62,16 @@ def _sweeps(ctx: RunContext, name: str) -> dict:
     return {} if ctx.sweeps is None else {**ctx.sweeps, "store": ctx.sweeps["store"] / name}
 
 
+def _floors(maps: list) -> str:
+    floors = sorted({r["stick_floor"] for mp in maps for r in mp["runs"] if r.get("stick_floor") is not None})
+    return ", ".join(f"{f:g}" for f in floors) or "-"
+
+
+def _stick_as_slip(maps: list) -> str:
+    n = sum(int(r.get("stick_as_slip") or 0) for mp in maps for r in mp["runs"])
+    return f"{n} start{'' if n == 1 else 's'}"
+
+
 def run(ctx: RunContext) -> None:
     from crosscheck.studies.agreement import agreement_study
 
@@ -166,7 +176,9 @@ def render(ctx: RenderContext) -> list:
                    f"slipping at t = 0 (b >= 0 or p <= 0), not compared. Panels: the analytic first event, {name}'s outcome (counted only up to the "
                    "analytic comparison time; a JAM is judged against the engine's own friction direction), "
                    + (f"{other_name}'s outcome on the same starts (its own section), " if other is not None else "") + "and where "
-                   f"{name} and the analytic model disagree. Hover the cells of the interactive maps (`figures/{ctx.slug}/outcome_maps.html`, "
+                   f"{name} and the analytic model disagree. A {name} STICK where the theory slips on but slower than {name}'s STICK "
+                   f"floor (slip speed {_floors(maps)}, below which the classifier calls a contact stuck) is compared as that slip, "
+                   f"which it cannot be told from (`crosscheck.studies.comparison.stick_from`; {_stick_as_slip(maps)} here). Hover the cells of the interactive maps (`figures/{ctx.slug}/outcome_maps.html`, "
                    "linked under each map) for each start's state and its analytic and engine outcomes and times.")]
     page_rel = f"figures/{ctx.slug}/outcome_maps.html"
     pages = []

@@ -87,7 +87,7 @@ from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
 from crosscheck.studies.agreement import DEFAULT_HORIZON
 from crosscheck.studies.ladder import final_stretch_cause
-from crosscheck.studies.comparison import RATED, compared_label, comparison_window, window_margin
+from crosscheck.studies.comparison import RATED, compared_label, comparison_window, engine_floor, event_lag, floor_time, stick_from, window_margin
 
 __all__ = [
     "RUNGS",
@@ -356,6 +356,8 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
     outcome1 = first.outcome
     # the agreement study's comparison time and lag (crosscheck.studies.comparison)
     until, lag, run_until = comparison_window(outcome1, first.time, horizon, contact_time=opts.contact_time, timestep=opts.timestep)
+    # a STICK the classifier cannot tell from the theory's slip (crosscheck.studies.comparison.stick_from)
+    since = float(stick_from(outcome1, until, floor_time(r1.t, r1.x[:, 0], engine_floor(th, opts)), event_lag(opts.contact_time, opts.timestep)))
     results = [first]
     for k, name in enumerate(RUNGS[1:], start=2):
         if name not in rungs:
@@ -363,7 +365,7 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
             continue
         results.append(_run_rung(k, name, state=state, mu=mu, alpha=alpha, rod=rod, opts=opts, th=th, match=match, t_analytic=run_until,
                                  t_engine=run_until + margin, keep=keep))
-    labelled = tuple(r if not r.ok else RungResult(**{**{f.name: getattr(r, f.name) for f in fields(r)}, "label": compared_label(r.outcome, r.time, until + lag)})
+    labelled = tuple(r if not r.ok else RungResult(**{**{f.name: getattr(r, f.name) for f in fields(r)}, "label": compared_label(r.outcome, r.time, until + lag, since)})
                      for r in results)
     if reference is not None:
         ref, source = Outcome(int(reference)), "given"

@@ -71,11 +71,12 @@ def analytic_events(points: dict, *, alpha: float, horizon: float, progress: boo
 
 
 def floor_times(points: dict, index, a: AnalyticEvents, floor: float, *, alpha: float, horizon: float) -> np.ndarray:
-    """For the points ``index``: the first time the theory's slip speed falls below ``floor`` (``comparison.floor_time``),
-    NaN where it never does; only the runs whose least slip speed is below the floor are integrated again."""
+    """For the points ``index`` whose theory SLIPs to its comparison time (the only ones ``comparison.stick_from`` reads):
+    the first time its slip speed falls below ``floor`` (``comparison.floor_time``), NaN where it never does or the
+    theory has an event; only the runs whose least slip speed is below the floor are integrated again."""
     out = np.full(len(index), np.nan)
     for j, i in enumerate(np.asarray(index)):
-        if a.eta_min[i] < floor:
+        if a.outcome[i] == Outcome.SLIP and a.eta_min[i] < floor:
             r = slip_until_event(states_at(points, [int(i)])[0], points["mu"][i], alpha, t_max=horizon)
             out[j] = floor_time(r.t, r.x[:, 0], floor)
     return out

@@ -44,6 +44,7 @@ from crosscheck.engines.base import n_steps
 from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.law import accelerations, contact_problem, skew_angle, solve_cone
 from crosscheck.engines.mujoco.model import SensorLayout, build_model, initial_state, record_from_sensordata
+from crosscheck.engines.mujoco.model import model as cached_model
 from crosscheck.engines.mujoco.ode import integrate, record
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
@@ -101,12 +102,15 @@ def measured(states: Sequence[SlipState], mu, *, alpha: float = 3.0, duration: f
     mu = np.broadcast_to(check("mu", mu, MU), (len(states),)).astype(float)
     nstep = n_steps(float(check("duration", duration, POSITIVE)), opts.timestep)
     out = {k: np.full(len(states), np.nan) for k in ("skew", "saturation")}
+    data = None  # one MjData for every run: the models differ in parameters only, and a rollout sets each run's whole state
     for i, (s, m) in enumerate(zip(states, mu)):
-        model = build_model(rod, m, opts)
+        # a model of its own where its options are changed after compiling; else the engine's kept one (never changed)
+        model = build_model(rod, m, opts) if model_options else cached_model(rod, m, opts)
         for k, v in (model_options or {}).items():
             setattr(model.opt, k, v)
         layout = SensorLayout.from_model(model)
-        _, sd = rollout.rollout(model, mujoco.MjData(model), initial_state(model, rod, s, opts.radius)[None], nstep=nstep)
+        data = mujoco.MjData(model) if data is None else data
+        _, sd = rollout.rollout(model, data, initial_state(model, rod, s, opts.radius, data=data)[None], nstep=nstep)
         out["skew"][i], out["saturation"][i] = skew_of_record(record_from_sensordata(sd[0], layout, rod, opts.radius), m)
     return out
 

@@ -169,3 +169,22 @@ def test_through_a_sweep_store_the_study_is_the_same_and_resumes(tmp_path):
     agreement_study(SMALL_GRID, store=tmp_path, workers=2, **kw)
     assert {p: p.stat().st_mtime_ns for p in (store / "chunks").iterdir()} == stamps
     assert len(sweeps.load(store)) == len(direct.outcome)
+
+
+def test_boundary_distances_kept_in_a_file_are_read_back_and_a_damaged_file_is_replaced(tmp_path):
+    """Two studies of one grid with the same probe stream share the distances through ``boundary_cache``: the second reads
+    the file (a different stream then changes nothing); a file of another length or damaged is computed again."""
+    g = EventGrid(theta=(0.3, 0.9), varphi=(-math.pi / 2,), Theta=(0.0,), Psi=(-1.0, 1.0), mu=(0.6, 1.4))
+    run = dict(settings=(COARSE,), boundary_directions=2, boundary_radii=(0.03, 0.3))
+    cache = tmp_path / "probes" / "grid.npy"
+    first = agreement_study(g, rng=np.random.default_rng(5), boundary_cache=cache, **run)
+    assert cache.exists() and np.load(cache).shape == (len(g),)
+    again = agreement_study(g, rng=np.random.default_rng(99), boundary_cache=cache, **run)
+    np.testing.assert_array_equal(again.distance, first.distance)
+    fresh = agreement_study(g, rng=np.random.default_rng(5), **run)  # the same stream without the file: the same distances
+    np.testing.assert_array_equal(fresh.distance, first.distance)
+    assert not np.array_equal(agreement_study(g, rng=np.random.default_rng(99), **run).distance, first.distance)  # the file was read
+    cache.write_bytes(b"not a numpy file")
+    redone = agreement_study(g, rng=np.random.default_rng(5), boundary_cache=cache, **run)
+    np.testing.assert_array_equal(redone.distance, first.distance)
+    assert np.load(cache).shape == (len(g),)

@@ -305,7 +305,7 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
             return inner(iterable, desc=f"{_slug}: {desc}" if desc else _slug, **kw)
 
         ctx = RunContext(slug=s.slug, params=params[s.slug], quick=quick, rng=section_rng(seed, s.slug), store=store, progress=named,
-                         show_progress=progress and not parallel, sweeps=sweeps)
+                         show_progress=progress and not parallel, sweeps=sweeps, seed=seed)
         jobs_of[s.slug] = lambda s=s, status=status, ctx=ctx: _compute(s, out, status, ctx, log)
     outer = bar(range(len(todo)), desc="report", total=len(todo), leave=True)
     if parallel:

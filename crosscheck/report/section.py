@@ -115,6 +115,8 @@ class RunContext:
         sweeps of ``crosscheck.studies.agreement.agreement_study``: a
         resumable store per section (``crosscheck.sweeps``); None runs the
         engines directly.
+      seed: the report's seed (``rng`` is the section's own stream of it; a
+        computation several sections share seeds its own stream from it).
     """
 
     slug: str
@@ -125,6 +127,7 @@ class RunContext:
     progress: Callable[..., Iterable] = _no_progress
     show_progress: bool = False
     sweeps: dict | None = None
+    seed: int = 0
     checks: list[dict] = field(default_factory=list)
 
     def finished(self, slug: str) -> tuple[dict, SectionStore] | None:

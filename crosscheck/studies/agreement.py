@@ -410,7 +410,7 @@ def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresho
 def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings: Sequence[Mapping] = ({},), alpha: float = 3.0,
                     horizon: float = DEFAULT_HORIZON, rng: np.random.Generator | None = None, thresholds: Thresholds | None = None,
                     boundary_radii: Sequence[float] = BOUNDARY_RADII, boundary_directions: int = 6, progress: bool = False,
-                    store=None, scheduler: str | None = None, workers: int | None = None, **options) -> AgreementResult:
+                    store=None, scheduler: str | None = None, workers: int | None = None, boundary_cache=None, **options) -> AgreementResult:
     """Event agreement, analytic vs an engine, over ``grid`` at one or more settings of the engine's options.
 
     Args:
@@ -432,6 +432,10 @@ def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings:
         ``store`` (a rerun resumes them), on ``workers`` processes or a Dask
         ``scheduler`` ("local" or an address); None (default) calls the
         engine's ``sweep`` directly.  The runs are the same either way.
+      boundary_cache: a file (.npy) keeping the boundary distances of these
+        points, ``rng`` and probe settings: read if it holds them, written
+        otherwise (the caller keys the name by what the distances depend on;
+        a file of another shape is computed again and replaced).
       **options: engine options shared by every setting (radius, ...).
 
     Returns:
@@ -463,8 +467,9 @@ def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings:
     mask = np.zeros(len(a.outcome), bool)
     mask[idx] = True
     if boundary_directions > 0:
-        dist = boundary_distance(points, a.outcome, alpha=alpha, horizon=horizon, rng=rng, radii=boundary_radii,
-                                 directions=boundary_directions, mask=mask, progress=progress)[idx]
+        dist = _kept(boundary_cache, len(a.outcome), lambda: boundary_distance(points, a.outcome, alpha=alpha, horizon=horizon, rng=rng,
+                                                                               radii=boundary_radii, directions=boundary_directions, mask=mask,
+                                                                               progress=progress))[idx]
     else:
         dist = np.full(idx.size, np.nan)
     base = {"points": points, "analytic": a, "index": idx, "distance": dist, "horizon": horizon}
@@ -473,6 +478,29 @@ def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings:
                          scheduler=scheduler, workers=workers) for s in settings]
     return AgreementResult(engine=E.name, grid=grid, alpha=alpha, horizon=horizon, points=points, analytic=a, index=idx,
                            distance=dist, runs=runs)
+
+
+def _kept(path, n: int, compute) -> np.ndarray:
+    """``compute()``'s (n,) array, kept in the .npy file ``path`` (None: not kept): read when the file holds n floats, else
+    computed and written atomically (a damaged or foreign file is replaced, never trusted)."""
+    import io
+
+    from crosscheck.files import write_atomic
+
+    if path is not None:
+        try:
+            x = np.load(path, allow_pickle=False)
+            if x.shape == (n,) and x.dtype == np.float64:
+                return x
+        except (OSError, ValueError):
+            pass
+    x = np.asarray(compute(), dtype=np.float64)
+    if path is not None:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        buf = io.BytesIO()
+        np.save(buf, x, allow_pickle=False)
+        write_atomic(Path(path), buf.getvalue())
+    return x
 
 
 def convergence_table(result: AgreementResult) -> list[dict]:

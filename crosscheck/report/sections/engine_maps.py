@@ -21,6 +21,10 @@ Event-time errors: t_engine - t_analytic where both report the same event.
 
 from __future__ import annotations
 
+import hashlib
+import json
+from pathlib import Path
+
 import numpy as np
 
 from crosscheck.report.grids import cell_centres
@@ -62,6 +66,18 @@ def _sweeps(ctx: RunContext, name: str) -> dict:
     return {} if ctx.sweeps is None else {**ctx.sweeps, "store": ctx.sweeps["store"] / name}
 
 
+def _probes(ctx: RunContext, m: dict, P: dict) -> dict:
+    """The analytic boundary probes of map ``m``: a stream seeded by the report's seed and the map itself, so every engine
+    that maps the same grid (MuJoCo's and the rigid engine's 32 x 32, Drake's five 12 x 12) gets the same distances, kept
+    once under the report's sweeps directory (``agreement_study``'s ``boundary_cache``) and read by the others."""
+    key = json.dumps({"map": m, "alpha": P["alpha"], "horizon": P["horizon"], "directions": P["boundary_directions"], "seed": ctx.seed},
+                     sort_keys=True, default=str)
+    digest = hashlib.sha256(key.encode()).hexdigest()[:16]
+    rng = np.random.default_rng([ctx.seed, int(digest, 16) & 0xFFFFFFFF])
+    cache = None if ctx.sweeps is None else Path(ctx.sweeps["store"]).parent / "boundary_distance" / f"{m['name']}-{digest}.npy"
+    return {"rng": rng, "boundary_cache": cache}
+
+
 def _floors(maps: list) -> str:
     floors = sorted({r["stick_floor"] for mp in maps for r in mp["runs"] if r.get("stick_floor") is not None})
     return ", ".join(f"{f:g}" for f in floors) or "-"
@@ -86,8 +102,8 @@ def run(ctx: RunContext) -> None:
     summary = []
     for m in ctx.progress(P["maps"], desc="agreement maps"):
         grid, x, y = _grid(m)
-        res = agreement_study(grid, engine=engine, settings=(P["options"],), alpha=P["alpha"],
-                              horizon=P["horizon"], rng=ctx.rng, boundary_directions=P["boundary_directions"], progress=ctx.show_progress,
+        res = agreement_study(grid, engine=engine, settings=(P["options"],), alpha=P["alpha"], horizon=P["horizon"],
+                              boundary_directions=P["boundary_directions"], progress=ctx.show_progress, **_probes(ctx, m, P),
                               **_sweeps(ctx, m["name"]))
         (ctx.store.root / f"study_{m['name']}.json").write_text(res.to_json() + "\n")
         pts, a = res.points, res.analytic

@@ -55,7 +55,8 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
               causes=None, **options) -> dict:
     """``state`` through every intervention ``engine`` declares (or those of ``causes``), at the run's ``options``.
 
-    Returns a dict: ``theory`` (rung 1's label), ``theory_time``, and ``causes``:
+    Returns a dict: ``theory`` (rung 1's label), ``theory_time``, what the theory's slip looks like to the run
+    (``theory_against_floor``: ``theory_eta_min``, ``theory_p_min``, ``stick_floor``, ``theory_below_floor_time``), and ``causes``:
     cause -> list of {text, options, status, outcome, time, label, removes} per
     intervention, weakest first; ``removes`` is whether the engine's label equals
     the theory's.  An intervention that raises is ``status: failed`` with the error.

@@ -136,7 +136,8 @@ def render(ctx: RenderContext) -> list:
                            _fmt(r["interventions"].get("theory_p_min"))])
         blocks.append(Table(caption=f"Each start: the theory's outcome, {name}'s, the ladder's cause, {name}'s outcome under each cause's "
                                     "interventions, weakest first, the theory's least slip speed eta against the engine's STICK floor "
-                                    "(and when it falls below it: the comparison reads the theory as a STICK from there), and the theory's "
+                                    "(and when it falls below it: an engine STICK from then on, less an event's lag, is compared as the "
+                                    "theory's slip, which the classifier cannot tell it from), and the theory's "
                                     "least eq. p along its slip (near 0: the slip passes close to the Genot-Brogliato point, where a time "
                                     "step cannot tell a lift-off from a jam).",
                             header=["map", "start", "mu", "theory", name, "cause", *causes, "theory eta min (floor)", "theory p min"], rows=detail,

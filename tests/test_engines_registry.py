@@ -170,3 +170,21 @@ def test_the_toy_engine_keeps_the_engine_contract(toy, rod, promise):
 
     fn = getattr(contract, promise)
     fn("toy", rod) if "rod" in fn.__code__.co_varnames[:fn.__code__.co_argcount] else fn("toy")
+
+
+def test_kept_models_are_built_once_per_key_and_the_least_recently_used_dropped():
+    from crosscheck.engines.kept import Kept
+
+    built = []
+    kept = Kept(2)
+    make = lambda k: (lambda: built.append(k) or f"model {k}")  # noqa: E731 - a builder that records its calls
+    assert kept.get("a", make("a")) == "model a" and kept.get("a", make("a")) == "model a" and built == ["a"]
+    kept.get("b", make("b"))
+    kept.get("a", make("a"))  # a is now the most recently used: b goes first
+    kept.get("c", make("c"))
+    assert len(kept) == 2 and built == ["a", "b", "c"]
+    kept.get("a", make("a"))
+    kept.get("b", make("b"))
+    assert built == ["a", "b", "c", "b"]
+    with pytest.raises(ValueError, match=r"^size must be an integer >= 1; got 0$"):
+        Kept(0)

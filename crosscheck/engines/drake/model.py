@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import logging
 import math
-from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -59,6 +58,7 @@ from pydrake.systems.framework import DiagramBuilder
 
 from crosscheck.checks import MU, check
 from crosscheck.engines.drake.options import Options
+from crosscheck.engines.kept import Kept
 from crosscheck.rod import Rod
 
 __all__ = ["AXIAL_INERTIA", "CACHE_SIZE", "JOINTS", "Model", "build_model", "model", "new_context", "tip_kinematics"]
@@ -155,21 +155,12 @@ def new_context(m: Model):
     return m.context.Clone()
 
 
-_cache: OrderedDict = OrderedDict()
+_kept = Kept(CACHE_SIZE)
 
 
 def model(rod: Rod, mu: float, options: Options) -> Model:
     """``build_model`` once per (rod, mu, options), kept for the next run of the same setting (the last ``CACHE_SIZE``)."""
-    key = (rod, float(mu), options)
-    hit = _cache.get(key)
-    if hit is not None:
-        _cache.move_to_end(key)
-        return hit
-    built = build_model(rod, mu, options)
-    _cache[key] = built
-    while len(_cache) > CACHE_SIZE:
-        _cache.popitem(last=False)
-    return built
+    return _kept.get((rod, float(mu), options), lambda: build_model(rod, mu, options))
 
 
 def tip_kinematics(rod: Rod, q: np.ndarray, v: np.ndarray, vdot: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

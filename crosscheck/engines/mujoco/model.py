@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import importlib.resources
 import os
-from collections import OrderedDict
 from dataclasses import dataclass
 
 import mujoco
@@ -42,6 +41,7 @@ import numpy as np
 
 from crosscheck.checks import MU, check
 from crosscheck.coordinates import to_generalized
+from crosscheck.engines.kept import Kept
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
@@ -129,7 +129,7 @@ def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
 #: Compiled models kept by ``model`` (one per rod, mu, options and model file; a sweep over a grid of mu compiles one per mu).
 CACHE_SIZE = 64
 
-_cache: OrderedDict = OrderedDict()
+_kept = Kept(CACHE_SIZE)
 
 
 def model(rod: Rod, mu: float, options) -> mujoco.MjModel:
@@ -144,16 +144,7 @@ def model(rod: Rod, mu: float, options) -> mujoco.MjModel:
         stamp = (st.st_mtime_ns, st.st_size, st.st_ino)  # an edited or replaced file compiles anew
     except OSError:
         return build_model(rod, mu, options)  # build_model says what is wrong with the file
-    key = (rod, mu, options, path, stamp)
-    hit = _cache.get(key)
-    if hit is not None:
-        _cache.move_to_end(key)
-        return hit
-    built = build_model(rod, mu, options)
-    _cache[key] = built
-    while len(_cache) > CACHE_SIZE:
-        _cache.popitem(last=False)
-    return built
+    return _kept.get((rod, mu, options, path, stamp), lambda: build_model(rod, mu, options))
 
 
 #: How far above the plane the capsule starts (scaled, l): positive, so that no contact is active in the first row

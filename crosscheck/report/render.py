@@ -330,6 +330,8 @@ def _provenance_rows(prov: dict) -> list[list[str]]:
 ENGINE_TABLE_CAPTION = (
     "Every engine at every setting the report ran, against the rigid theory (`crosscheck.report.engine_table`). "
     "Agreement: the share of rated slipping starts whose first event is the theory's, compared up to the theory's comparison time "
+    "(an engine STICK where the theory slips on, slower than the engine's STICK floor, counts as that slip: "
+    "`crosscheck.studies.comparison.stick_from`) "
     "(Wilson 95 % interval), first on the engine's outcome maps, then on its convergence grid per setting; "
     "theory slips / lifts off / jams: the same share among the starts with that analytic event; "
     "LAUNCH: the share the engine throws off the plane while b < 0; onset: the worst lift-off onset error against Psi_L; "

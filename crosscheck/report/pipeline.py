@@ -18,6 +18,8 @@ killed half-way keeps its finished chunks too.
 
 from __future__ import annotations
 
+import importlib
+
 import json
 import os
 import sys
@@ -149,6 +151,21 @@ def _in_child(parent: int, job) -> None:
     finally:
         sys.stderr.flush()
         os._exit(code)
+
+
+def _preload(sections: Sequence[Section]) -> None:
+    """Import every section's ``requires`` here, before the sections are forked from this process: each inherits them.
+
+    Otherwise each of the ~90 forked sections imports its own, and that was a large part of a short section's work
+    (measured imports in a fresh process: Drake's engine 0.43 s, Pinocchio's 0.67 s, the compliant rod 0.54 s, the
+    agreement study 0.48 s).  A module that fails to import here is left for its section, which reports it.
+    """
+    for s in sections:
+        for name in s.requires:
+            try:
+                importlib.import_module(name)
+            except Exception:  # noqa: BLE001 - the section's own run says what is wrong
+                pass
 
 
 def _order(todo: list[Section], out: Path) -> list[Section]:
@@ -309,6 +326,7 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
         jobs_of[s.slug] = lambda s=s, status=status, ctx=ctx: _compute(s, out, status, ctx, log)
     outer = bar(range(len(todo)), desc="report", total=len(todo), leave=True)
     if parallel:
+        _preload(todo)
         _run_parallel(jobs_of, order, min(jobs, len(todo)), outer, results, out)
     else:
         for s in order:

@@ -97,8 +97,9 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
 def theory_against_floor(first, mu: float, alpha: float, th: Thresholds, opts) -> dict:
     """What the theory's slip looks like to the engine's run: its least slip speed and least eq. p along the slip, the
     run's STICK floor (``comparison.engine_floor``) and the first time the theory's slip speed falls below it (NaN if
-    never; the comparison reads the theory as a STICK there, ``comparison.at_floor``).  A least p near 0: the slip
-    passes close to the Genot-Brogliato point, where a time step cannot tell a lift-off from a jam."""
+    never; an engine STICK from then on, less an event's lag, is compared as the theory's slip: ``comparison.stick_from``).
+    A least p near 0: the slip passes close to the Genot-Brogliato point, where a time step cannot tell a lift-off from
+    a jam."""
     from crosscheck.theory import analytic
 
     floor = engine_floor(th, opts)
@@ -151,7 +152,6 @@ def summarise(results: list[dict]) -> dict:
                 row["by_other"][c] = row["by_other"].get(c, 0) + 1
             if not fixing:
                 row["none"] += 1
-
     return {"per_cause": per, "attributed": attributed, "confirmed": confirmed,
             "confirmed_share": confirmed / attributed if attributed else None,
             # whatever the ladder named: the disagreements some cause's intervention on the engine removes

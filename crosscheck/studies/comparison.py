@@ -32,7 +32,7 @@ from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 
 __all__ = ["RATED", "EVENTS", "LAG_TAU", "LAG_STEPS", "window_margin", "comparison_labels", "comparison_window", "compared_label",
-           "floor_time", "engine_floor", "event_lag", "stick_from"]
+           "floor_time", "engine_floor", "event_lag", "stick_from", "run_stick_from"]
 
 #: Outcomes an analytic run is compared on (GB and DIVERGED rows are counted, not rated).
 RATED = (Outcome.SLIP, Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM)
@@ -111,3 +111,10 @@ def stick_from(outcome, until, t_floor, lag):
     with np.errstate(invalid="ignore"):
         hit = (outcome == Outcome.SLIP) & (t_floor <= until)
     return np.where(hit, t_floor - np.asarray(lag, float), np.inf)
+
+
+def run_stick_from(first, until: float, thresholds: Thresholds, options) -> float:
+    """``stick_from`` of one theory run ``first`` (``slip_until_event``'s result, its ``x[:, 0]`` the slip speed) compared up
+    to ``until`` with an engine run at ``options`` (its STICK floor and event lag)."""
+    t_floor = floor_time(first.t, first.x[:, 0], engine_floor(thresholds, options))
+    return float(stick_from(int(first.outcome), until, t_floor, event_lag(options.contact_time, options.timestep)))

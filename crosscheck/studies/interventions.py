@@ -38,8 +38,7 @@ from crosscheck.engines.spec import LADDER_CAUSES
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
-from crosscheck.studies.comparison import (RATED, compared_label, comparison_window, engine_floor, event_lag, floor_time, stick_from,
-                                          window_margin)
+from crosscheck.studies.comparison import RATED, compared_label, comparison_window, engine_floor, floor_time, run_stick_from, window_margin
 from crosscheck.theory.slipping import slip_until_event
 
 __all__ = ["intervene", "summarise", "causes_with_interventions"]
@@ -80,8 +79,7 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
                 opts = spec.options(**opts_kw)
                 until, lag, run_until = comparison_window(o1, t1, horizon, contact_time=opts.contact_time, timestep=opts.timestep)
                 # a STICK the classifier cannot tell from the theory's slip, at the intervened run's own STICK floor
-                since = float(stick_from(o1, until, floor_time(first.t, first.x[:, 0], engine_floor(th, opts)),
-                                         event_lag(opts.contact_time, opts.timestep)))
+                since = run_stick_from(first, until, th, opts)
                 run = spec.simulate(rod, state, mu, horizon=run_until + window_margin(th, opts.timestep), thresholds=th, **opts_kw)
                 o, t = Outcome(int(run.outcome)), float(run.event_time)
                 theory, label = compared_label(o1, t1, until + lag), compared_label(o, t, until + lag, since)

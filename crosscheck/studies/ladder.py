@@ -45,8 +45,7 @@ from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 from crosscheck.studies.agreement import DEFAULT_HORIZON
-from crosscheck.studies.comparison import (RATED, compared_label, comparison_window, engine_floor, event_lag, floor_time, stick_from,
-                                          window_margin)
+from crosscheck.studies.comparison import RATED, compared_label, comparison_window, run_stick_from, window_margin
 from crosscheck.theory.slipping import slip_until_event
 
 __all__ = ["Rung", "EngineLadder", "rungs_of", "run_ladder", "final_stretch_cause", "CAUSES"]
@@ -145,7 +144,7 @@ def run_ladder(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, 
     o1, t1 = Outcome(int(first.outcome)), float(first.time)
     until, lag, run_until = comparison_window(o1, t1, horizon, contact_time=opts.contact_time, timestep=opts.timestep)
     # a STICK the classifier cannot tell from the theory's slip (``crosscheck.studies.comparison.stick_from``)
-    since = float(stick_from(o1, until, floor_time(first.t, first.x[:, 0], engine_floor(th, opts)), event_lag(opts.contact_time, opts.timestep)))
+    since = run_stick_from(first, until, th, opts)
 
     def label(o: Outcome, t: float) -> Outcome:
         return compared_label(o, t, until + lag, since)

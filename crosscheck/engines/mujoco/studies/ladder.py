@@ -87,7 +87,7 @@ from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
 from crosscheck.studies.agreement import DEFAULT_HORIZON
 from crosscheck.studies.ladder import final_stretch_cause
-from crosscheck.studies.comparison import RATED, compared_label, comparison_window, engine_floor, event_lag, floor_time, stick_from, window_margin
+from crosscheck.studies.comparison import RATED, compared_label, comparison_window, run_stick_from, window_margin
 
 __all__ = [
     "RUNGS",
@@ -357,7 +357,7 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
     # the agreement study's comparison time and lag (crosscheck.studies.comparison)
     until, lag, run_until = comparison_window(outcome1, first.time, horizon, contact_time=opts.contact_time, timestep=opts.timestep)
     # a STICK the classifier cannot tell from the theory's slip (crosscheck.studies.comparison.stick_from)
-    since = float(stick_from(outcome1, until, floor_time(r1.t, r1.x[:, 0], engine_floor(th, opts)), event_lag(opts.contact_time, opts.timestep)))
+    since = run_stick_from(r1, until, th, opts)
     results = [first]
     for k, name in enumerate(RUNGS[1:], start=2):
         if name not in rungs:

@@ -305,6 +305,11 @@ class Classification(NamedTuple):
     max_gap: np.ndarray
 
 
+#: Rows after which an engine that may stop a run once its first event is judged first classifies the rows so far;
+#: then after twice as many each time, so the checks cost at most about two classifications of the rows computed.
+FIRST_CHECK = 128
+
+
 def first_event_final(c: Classification, rows: int, thresholds: Thresholds, timestep: float) -> bool:
     """Whether the first event ``classify`` found on a run's first ``rows`` rows is the first event of the whole run.
 

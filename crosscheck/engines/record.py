@@ -6,10 +6,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Record", "FIELDS"]
+__all__ = ["Record", "FIELDS", "row_times"]
 
 #: The fields of a ``Record``, in order.
 FIELDS = ("t", "tip_pos", "tip_vel", "tip_acc", "force", "normal_force", "active", "gap", "slip_vel", "psi", "theta", "Psi", "Theta")
+
+
+def row_times(n: int, timestep: float, computed: int | None = None) -> np.ndarray:
+    """The scaled times k timestep of a record's n rows; NaN from row ``computed`` on when only the first rows were
+    computed (a run stopped once its first event was judged: ``crosscheck.engines.classifier.first_event_final``)."""
+    t = timestep * np.arange(n)
+    if computed is not None and computed < n:
+        t[computed:] = np.nan
+    return t
 
 
 @dataclass(frozen=True, eq=False)

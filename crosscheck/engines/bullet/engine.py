@@ -80,7 +80,7 @@ from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, run
 from crosscheck.engines.bullet.model import Raw, world
 from crosscheck.engines.bullet.options import MU_MAX, Options
 from crosscheck.engines.classifier import Thresholds, classify, first_event_final
-from crosscheck.engines.record import Record
+from crosscheck.engines.record import Record, row_times
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
@@ -140,10 +140,7 @@ def record_from_raw(raw: Raw, rod: Rod, options: Options) -> Record:
     slip = np.zeros((n, 3))
     slip[:, 0] = tip_vel[:, 0] - r * Theta * np.sin(psi)
     slip[:, 1] = tip_vel[:, 1] + r * Theta * np.cos(psi)
-    t = options.timestep * np.arange(n)
-    if raw.computed is not None and raw.computed < n:
-        t[raw.computed:] = np.nan  # steps not taken (the rollout stopped once its first event was judged)
-    return Record(t=t, tip_pos=tip_pos, tip_vel=tip_vel, tip_acc=acc, force=force,
+    return Record(t=row_times(n, options.timestep, raw.computed), tip_pos=tip_pos, tip_vel=tip_vel, tip_acc=acc, force=force,
                   normal_force=force[:, 2].copy(), active=raw.points > 0, gap=tip_pos[:, 2] - r, slip_vel=slip,
                   psi=psi, theta=theta, Psi=Psi, Theta=Theta)
 
@@ -173,17 +170,14 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     th = thresholds or Thresholds()
     n = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES)  # the record holds every row: refuse before allocating
     q0, v0 = to_generalized(rod, state, tip=(0.0, 0.0, opts.radius))
-
-    def classified(raw: Raw):
-        return classify(record_from_raw(raw, rod, opts), mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time,
-                        rigid=True, thresholds=th)
+    rules = dict(mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=True, thresholds=th)
 
     def judged(raw: Raw) -> bool:
-        return first_event_final(classified(raw), raw.computed, th, opts.timestep)
+        return first_event_final(classify(record_from_raw(raw, rod, opts), **rules), raw.computed, th, opts.timestep)
 
     raw = world(rod, mu, opts).rollout(q0, v0, n, judged if until_event else None)
     record = record_from_raw(raw, rod, opts)
-    c = classify(record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=True, thresholds=th)
+    c = classify(record, **rules)
     run = Run.from_classification(NAME, c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
                                   horizon=horizon, nstep=n)
     return dataclasses.replace(run, solver=health(raw, record, rod, opts))

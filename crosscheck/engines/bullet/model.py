@@ -77,6 +77,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from crosscheck.engines.classifier import FIRST_CHECK
 from crosscheck.rod import Rod
 
 
@@ -134,11 +135,6 @@ class Raw:
     iterations: np.ndarray
     residual: np.ndarray
     computed: int | None = None
-
-
-#: Steps after which a rollout that may stop once its first event is judged is first classified (``World.rollout``);
-#: then after twice as many each time, so the checks cost at most about two classifications of the rows computed.
-FIRST_CHECK = 128
 
 
 class World:

@@ -75,10 +75,10 @@ from crosscheck.engines.base import (
     run_inputs,
     sweep_by_simulate,
 )
-from crosscheck.engines.classifier import Thresholds, classify, first_event_final
+from crosscheck.engines.classifier import FIRST_CHECK, Thresholds, classify, first_event_final
 from crosscheck.engines.drake.model import Model, model, new_context, tip_kinematics
 from crosscheck.engines.drake.options import APPROXIMATIONS, Options, engine_name
-from crosscheck.engines.record import Record
+from crosscheck.engines.record import Record, row_times
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
@@ -181,11 +181,6 @@ def _discrete_steps(m: Model, pc, x: np.ndarray, pairs: list, start: int, stop: 
     return stop, None
 
 
-#: Rows at which a run that may stop once its first event is judged (``raw_run``'s ``judged``) is first classified; then
-#: at twice as many rows each time, so the checks cost at most about two classifications of the rows computed.
-FIRST_CHECK = 128
-
-
 def _discrete_rows(m: Model, pc, x: np.ndarray, pairs: list, n: int, bound: np.ndarray, judged=None) -> tuple[int, str | None]:
     """Every step of a discrete plant from x[0] (already in ``pc``), as ``_discrete_steps``.
 
@@ -268,9 +263,7 @@ def raw_run(m: Model, x0: np.ndarray, n: int, dt: float, speed_scale: np.ndarray
         x[0] = x0
         k, message = _discrete_rows(m, pc, x, pairs, n, np.array(bound), None if judged is None else ask)
         _contact_rows(pairs, force, active)
-        if message == STOPPED:  # rows k.. not computed: row k's state is known, but not its contact or its step
-            force[k:], x[k + 1:], active[k:] = np.nan, np.nan, False
-        elif message is not None:
+        if message is not None:  # rows k.. not computed (stopped, failed or ran away): row k's contact and step are not known
             force[k:], x[k + 1:], active[k:] = np.nan, np.nan, False
         steps = k
         vdot[:] = (x[1:, 5:] - x[:-1, 5:]) / dt
@@ -305,10 +298,7 @@ def record(rod: Rod, raw: Raw, opts: Options) -> Record:
     slip[:, 0] = tip_vel[:, 0] - r * Theta * np.sin(psi)
     slip[:, 1] = tip_vel[:, 1] + r * Theta * np.cos(psi)
     force = raw.force / rod.force_scale
-    t = opts.timestep * np.arange(n)
-    if raw.computed is not None and raw.computed < n:
-        t[raw.computed:] = np.nan  # rows not computed (the run stopped once its first event was judged)
-    return Record(t=t, tip_pos=tip_pos, tip_vel=tip_vel, tip_acc=acc / g, force=force,
+    return Record(t=row_times(n, opts.timestep, raw.computed), tip_pos=tip_pos, tip_vel=tip_vel, tip_acc=acc / g, force=force,
                   normal_force=force[:, 2].copy(), active=raw.active.copy(), gap=tip_pos[:, 2] - r, slip_vel=slip, psi=psi,
                   theta=theta, Psi=v[:, 3] / w, Theta=Theta)
 
@@ -340,16 +330,14 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     q0, v0 = to_generalized(rod, state, tip=(0.0, 0.0, opts.radius))
     l, w = rod.length, rod.omega
 
-    def classified(raw: Raw):
-        return classify(record(rod, raw, opts), mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time,
-                        contact_time=opts.contact_time, thresholds=th)
+    rules = dict(mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, thresholds=th)
 
     def judged(raw: Raw) -> bool:
-        return first_event_final(classified(raw), raw.computed, th, opts.timestep)
+        return first_event_final(classify(record(rod, raw, opts), **rules), raw.computed, th, opts.timestep)
 
     raw = raw_run(m, np.concatenate((q0, v0)), n, opts.timestep / w, np.array([l * w, l * w, l * w, w, w]), judged if until_event else None)
     rec = record(rod, raw, opts)
-    c = classify(rec, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, thresholds=th)
+    c = classify(rec, **rules)
     run = Run.from_classification(opts.name, c, rec, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
                                   horizon=horizon, nstep=n)
     return replace(run, solver=raw.health)

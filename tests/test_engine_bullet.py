@@ -20,6 +20,7 @@ from crosscheck.engines.bullet import ENGINES
 from crosscheck.engines.bullet.engine import BulletHealth, Options, record_from_raw
 from crosscheck.engines.bullet.model import world
 from crosscheck.engines.record import FIELDS
+from stopped_runs import stopped_and_whole
 
 ALPHA = 3.0
 ROD = Rod.scaled(ALPHA)
@@ -354,16 +355,5 @@ def test_a_rollout_stopped_once_its_first_event_is_judged_has_the_whole_runs_fir
     """From starts that lift off, jam, stick and keep slipping (mu 1.4, varphi -1.9): ``until_event`` stops the rollout
     early where an event settles it, with the whole run's outcome, time and JAM numbers, and health over the steps taken;
     a run that keeps slipping is never cut."""
-    cuts = 0
-    for theta, Theta, Psi in ((1.2, 0.9, 0.0), (1.1, -0.6, 0.0), (1.0, 0.0, 1.8), (0.5, 0.0, 0.0)):
-        state = SlipState(theta=theta, varphi=-1.9, Theta=Theta, Psi=Psi, eta=1.0)
-        whole = registered.simulate(ROD, state, 1.4, horizon=0.6)
-        cut = registered.simulate(ROD, state, 1.4, horizon=0.6, until_event=True)
-        for f in ("outcome", "event_time", "jam_p_eff", "jam_impulse"):
-            np.testing.assert_array_equal(getattr(cut, f), getattr(whole, f), err_msg=f"{state}: {f}")
-        rows = int(np.isfinite(cut.record.t).sum())
-        if whole.outcome == Outcome.SLIP:
-            assert rows == len(whole.record)
-        cuts += rows < len(whole.record)
+    for whole, cut, rows in stopped_and_whole(registered, ROD):
         assert cut.solver.contact_steps <= whole.solver.contact_steps
-    assert cuts >= 2

@@ -18,6 +18,7 @@ from crosscheck.engines.classifier import classify, window_sum
 from crosscheck.engines.drake import ENGINES
 from crosscheck.engines.drake.options import APPROXIMATIONS, Options
 from crosscheck.theory import analytic, capsule
+from stopped_runs import stopped_and_whole
 
 ALPHA = 3.0
 ROD = Rod.scaled(ALPHA)
@@ -391,19 +392,7 @@ def test_a_run_stopped_once_its_first_event_is_judged_has_the_whole_runs_first_e
     """Each approximation from starts that lift off, jam, stick and keep slipping (at mu 1.4, varphi -1.9): ``until_event``
     stops the run early where an event settles it, with the whole run's outcome, time and JAM numbers, and counts only the
     steps it took; a run that keeps slipping is never cut."""
-    spec = SPEC[name]
-    cuts = 0
-    for theta, Theta, Psi in ((1.2, 0.9, 0.0), (1.1, -0.6, 0.0), (1.0, 0.0, 1.8), (0.5, 0.0, 0.0)):
-        state = SlipState(theta=theta, varphi=-1.9, Theta=Theta, Psi=Psi, eta=1.0)
-        whole = spec.simulate(ROD, state, 1.4, horizon=0.6)
-        cut = spec.simulate(ROD, state, 1.4, horizon=0.6, until_event=True)
-        for f in ("outcome", "event_time", "jam_p_eff", "jam_impulse"):
-            np.testing.assert_array_equal(getattr(cut, f), getattr(whole, f), err_msg=f"{state}: {f}")
-        rows = int(np.isfinite(cut.record.t).sum())
-        if whole.outcome == Outcome.SLIP:
-            assert rows == len(whole.record)
+    for whole, cut, rows in stopped_and_whole(SPEC[name], ROD):
         assert cut.solver.failed == whole.solver.failed and cut.solver.message == whole.solver.message
-        cuts += rows < len(whole.record)
         if rows < len(whole.record) and whole.options.discrete:
             assert cut.solver.steps == rows < whole.solver.steps
-    assert cuts >= 2

@@ -16,7 +16,7 @@ Timed, on one core unless said:
   all states stepped together, the NCP in closed form; its steps/s grows
   with the batch (a step's numpy calls cost about the same for 1 or 100
   states), so it is timed at ``--states``, at the report's sweep chunk for
-  this engine (``crosscheck.studies.agreement.store_chunk``: its
+  this engine (``crosscheck.studies.agreement_store.store_chunk``: its
   ``EngineSpec.sweep_chunk``, 128) and at the default chunk of the other
   engines (32 states, ``STORE_CHUNK``);
 * ``sweep`` with PGS on one and on two processes (its parallel efficiency).
@@ -42,7 +42,7 @@ from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get, n_steps
 from crosscheck.engines.pinocchio.stepper import Options
 from crosscheck.engines.pinocchio.model import TIP_FRAME, build_model
-from crosscheck.studies.agreement import STORE_CHUNK, store_chunk
+from crosscheck.studies.agreement_store import STORE_CHUNK, store_chunk
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 

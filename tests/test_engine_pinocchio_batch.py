@@ -222,8 +222,9 @@ def test_agreement_cuts_the_rigid_engines_store_in_its_own_chunks_and_a_rerun_re
     import json
 
     from crosscheck import sweeps
-    from crosscheck.studies import agreement
-    from crosscheck.studies.agreement import STORE_CHUNK, agreement_study, store_chunk
+    from crosscheck.studies import agreement_store
+    from crosscheck.studies.agreement import agreement_study
+    from crosscheck.studies.agreement_store import STORE_CHUNK, store_chunk
     from crosscheck.studies.grids import random_event_points
 
     chunk = ENGINE.sweep_chunk
@@ -242,7 +243,7 @@ def test_agreement_cuts_the_rigid_engines_store_in_its_own_chunks_and_a_rerun_re
     assert {p: p.stat().st_mtime_ns for p in (store / "chunks").iterdir()} == stamps
     np.testing.assert_array_equal(again.outcome, run.outcome)
 
-    monkeypatch.setattr(agreement, "store_chunk", lambda E: chunk // 2)
+    monkeypatch.setattr(agreement_store, "store_chunk", lambda E: chunk // 2)
     halves = agreement_study(points, **kw).runs[0]
     (other,) = [p for p in tmp_path.iterdir() if p.is_dir() and p != store]
     assert json.loads((other / "manifest.json").read_text())["chunk"] == chunk // 2

@@ -138,7 +138,7 @@ class EngineSpec:
         checking its dynamics terms against the analytic ones; None: none.
       report: the report sections generated for it (``ReportPlan``); None: none.
       sweep_chunk: runs per chunk when a study sends its sweeps through a sweep store
-        (``crosscheck.studies.agreement``); None: the study's default.  Larger for an engine whose
+        (``crosscheck.studies.agreement_store``); None: the study's default.  Larger for an engine whose
         ``sweep`` steps a chunk as one batch and gets cheaper per step the larger the batch (a killed
         run loses at most one chunk of finished work).
     """

@@ -52,18 +52,18 @@ import json
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, fields
-from pathlib import Path
 
 import numpy as np
 
 from crosscheck import engines
 from crosscheck.checks import ALPHA, POSITIVE, check
 from crosscheck.compare import as_json
-from crosscheck.engines.base import n_steps, options_from_kwargs
+from crosscheck.engines.base import options_from_kwargs
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.studies.analytic_events import BOUNDARY_RADII, AnalyticEvents, analytic_events, boundary_distance, floor_times
+from crosscheck.studies.agreement_store import sweep_through_store
 from crosscheck.studies.comparison import EVENTS, LAG_STEPS, LAG_TAU, RATED, comparison_labels, engine_floor, event_lag, stick_from, window_margin
 from crosscheck.studies.grids import AXES, EventGrid, states_at
 
@@ -342,42 +342,6 @@ def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a:
     )
 
 
-#: Runs per chunk when an agreement study goes through a sweep store, for an engine that declares no
-#: ``EngineSpec.sweep_chunk`` of its own.
-STORE_CHUNK = 32
-
-
-def store_chunk(E) -> int:
-    """Runs per chunk of engine ``E``'s sweeps through a store: its own ``sweep_chunk``, else ``STORE_CHUNK``.
-
-    The chunk is part of the sweep's spec, hence of its digest and of the store's directory name: a
-    store written with another chunk size is never resumed into (a rerun after the chunk size changed
-    starts its own store beside the old one), and the doc's ``chunk`` is the one the chunks are cut by.
-    """
-    return STORE_CHUNK if E.sweep_chunk is None else E.sweep_chunk
-
-
-def _sweep_through_store(E, rod: Rod, states_cols: dict, mu: np.ndarray, horizon: float, given: dict, opts, store, scheduler, workers,
-                         progress: bool):
-    """The engine's runs through ``crosscheck.sweeps`` (resumable chunks in ``store``): outcome, event_time, jam_p_eff, wall, solver."""
-    from crosscheck import sweeps
-
-    doc = {"sweep": {"engine": E.name, "horizon": horizon, "seed": 0, "chunk": store_chunk(E)},
-           "states": {"zip": True, **{k: [float(x) for x in v] for k, v in states_cols.items()}, "mu": [float(x) for x in mu]},
-           "parameters": {"alpha": float(rod.alpha)}, "options": dict(given)}
-    spec = sweeps.parse_spec(doc)
-    summary = sweeps.run(spec, Path(store) / f"{E.name}-{spec.digest[:16]}", workers=workers, scheduler=scheduler, progress=progress)
-    if summary.failed:
-        raise RuntimeError(f"{len(summary.failed)} chunks of the {E.name} sweep failed; first: {next(iter(summary.failed.values()))}")
-    df = sweeps.load(summary.out)
-    outcome = np.array([Outcome[o] for o in df["outcome"]], np.int8)
-    solver = {c: df[f"solver_{c}"].to_numpy() for c in E.solver_columns} or None
-    wall = float(df["wall_time"].sum())
-    warned = sweeps.Store(summary.out).warnings()
-    return (outcome, df["event_time"].to_numpy(), df["jam_p_eff"].to_numpy(), wall, len(df) * n_steps(horizon, opts.timestep) / wall, solver,
-            warned)
-
-
 def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresholds: Thresholds | None, progress: bool,
                  options: dict, store=None, scheduler: str | None = None, workers: int | None = None) -> AgreementRun:
     """One engine sweep of the studied states at one setting of its options, rated.
@@ -395,7 +359,7 @@ def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresho
     offplane = np.abs(points["varphi"][idx] + math.pi / 2)
     if store is not None and thresholds is None and not any(isinstance(v, (list, tuple)) for v in given.values()):
         cols = {k: points[k][idx] for k in ("theta", "varphi", "Theta", "Psi", "eta")}
-        outcome, event_time, p_event, wall, sps, solver, warned = _sweep_through_store(E, rod, cols, points["mu"][idx], horizon + margin, given,
+        outcome, event_time, p_event, wall, sps, solver, warned = sweep_through_store(E, rod, cols, points["mu"][idx], horizon + margin, given,
                                                                                        opts, store, scheduler, workers, progress)
         return _rate(engine=engine, opts=opts, th=th, outcome=outcome, event_time=event_time, p_event=p_event, a=a, idx=idx, distance=distance,
                      offplane=offplane, wall_time=wall, steps_per_second=sps, solver=solver, warnings=warned, points=points, alpha=rod.alpha,
@@ -467,9 +431,8 @@ def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings:
     mask = np.zeros(len(a.outcome), bool)
     mask[idx] = True
     if boundary_directions > 0:
-        dist = _kept(boundary_cache, len(a.outcome), lambda: boundary_distance(points, a.outcome, alpha=alpha, horizon=horizon, rng=rng,
-                                                                               radii=boundary_radii, directions=boundary_directions, mask=mask,
-                                                                               progress=progress))[idx]
+        dist = boundary_distance(points, a.outcome, alpha=alpha, horizon=horizon, rng=rng, radii=boundary_radii, directions=boundary_directions,
+                                 mask=mask, progress=progress, kept=boundary_cache)[idx]
     else:
         dist = np.full(idx.size, np.nan)
     base = {"points": points, "analytic": a, "index": idx, "distance": dist, "horizon": horizon}
@@ -478,29 +441,6 @@ def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings:
                          scheduler=scheduler, workers=workers) for s in settings]
     return AgreementResult(engine=E.name, grid=grid, alpha=alpha, horizon=horizon, points=points, analytic=a, index=idx,
                            distance=dist, runs=runs)
-
-
-def _kept(path, n: int, compute) -> np.ndarray:
-    """``compute()``'s (n,) array, kept in the .npy file ``path`` (None: not kept): read when the file holds n floats, else
-    computed and written atomically (a damaged or foreign file is replaced, never trusted)."""
-    import io
-
-    from crosscheck.files import write_atomic
-
-    if path is not None:
-        try:
-            x = np.load(path, allow_pickle=False)
-            if x.shape == (n,) and x.dtype == np.float64:
-                return x
-        except (OSError, ValueError):
-            pass
-    x = np.asarray(compute(), dtype=np.float64)
-    if path is not None:
-        Path(path).parent.mkdir(parents=True, exist_ok=True)
-        buf = io.BytesIO()
-        np.save(buf, x, allow_pickle=False)
-        write_atomic(Path(path), buf.getvalue())
-    return x
 
 
 def convergence_table(result: AgreementResult) -> list[dict]:

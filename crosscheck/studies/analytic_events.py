@@ -8,14 +8,17 @@ units) of growing size and returns the smallest size that changes it.
 
 from __future__ import annotations
 
+import io
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from tqdm.auto import tqdm
 
 from crosscheck.checks import ALPHA, POSITIVE, check
+from crosscheck.files import write_atomic
 from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
 from crosscheck.studies.comparison import EVENTS, floor_time
@@ -96,7 +99,7 @@ def _perturbed(points: dict, i: int, delta: np.ndarray) -> SlipState:
 
 def boundary_distance(points: dict, outcome: np.ndarray, *, alpha: float, horizon: float, rng: np.random.Generator,
                       radii: Sequence[float] = BOUNDARY_RADII, directions: int = 6, mask: np.ndarray | None = None,
-                      progress: bool = False) -> np.ndarray:
+                      progress: bool = False, kept=None) -> np.ndarray:
     """Distance of each point to the analytic event boundary, probed by perturbation.
 
     For r in ``radii`` (increasing), ``directions`` random unit vectors u in
@@ -114,12 +117,22 @@ def boundary_distance(points: dict, outcome: np.ndarray, *, alpha: float, horizo
       rng: seeded generator of the probe directions.
       radii, directions: probe sizes and count per size.
       mask: (N,) points to probe (others get NaN); default all.
+      kept: a .npy file keeping the distances of these points, ``rng`` and probe settings (None: not kept): read when
+        it holds N floats, else probed and written whole (a damaged or foreign file is probed again and replaced,
+        never trusted).  The caller names the file by what the distances depend on.
 
     Returns:
       (N,) distances (scaled units): one of ``radii``, inf or NaN.
     """
     radii = floats("radii", radii, POSITIVE)
     n = len(points["theta"])
+    if kept is not None:
+        try:
+            x = np.load(kept, allow_pickle=False)
+            if x.shape == (n,) and x.dtype == np.float64:
+                return x
+        except (OSError, ValueError):
+            pass
     mask = np.ones(n, bool) if mask is None else np.asarray(mask, bool)
     out = np.full(n, np.nan)
     for i in tqdm(np.flatnonzero(mask), desc="boundary distance", unit="state", disable=not progress):
@@ -130,4 +143,9 @@ def boundary_distance(points: dict, outcome: np.ndarray, *, alpha: float, horizo
             if any(slip_until_event(_perturbed(points, i, r * d), points["mu"][i], alpha, t_max=horizon).outcome != outcome[i] for d in u):
                 out[i] = r
                 break
+    if kept is not None:
+        buf = io.BytesIO()
+        np.save(buf, out, allow_pickle=False)
+        Path(kept).parent.mkdir(parents=True, exist_ok=True)
+        write_atomic(Path(kept), buf.getvalue())
     return out

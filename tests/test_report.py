@@ -375,7 +375,7 @@ def test_the_committed_quick_report_is_current(quick):
 
 def test_provenance_outside_a_checkout_names_the_installed_version(tmp_path):
     from crosscheck.report import provenance
-    from crosscheck.report.render import _revision
+    from crosscheck.report.provenance import revision_text as _revision
 
     git = provenance.git_revision(tmp_path)
     assert git == {"revision": None, "dirty": None, "describe": "not a git checkout"}

@@ -220,7 +220,7 @@ def test_the_build_records_the_checkouts_revision(tmp_path):
 def test_an_installed_package_names_the_revision_it_was_built_from(tmp_path, monkeypatch):
     from crosscheck import _build
     from crosscheck.report import provenance
-    from crosscheck.report.render import _revision
+    from crosscheck.report.provenance import revision_text as _revision
 
     package = tmp_path / "site-packages" / "crosscheck"
     package.mkdir(parents=True)

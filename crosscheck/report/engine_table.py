@@ -32,7 +32,7 @@ import json
 import math
 from pathlib import Path
 
-__all__ = ["engine_table", "HEADER"]
+__all__ = ["engine_table", "HEADER", "CAPTION", "table_block"]
 
 HEADER = ["engine", "setting", "agreement (95 % CI)", "theory slips", "theory lifts off", "theory jams", "LAUNCH", "onset |Psi - Psi_L|",
           "convergence", "friction skew, cone violation", "causes (ladder)",
@@ -177,3 +177,33 @@ def engine_table(data: Path) -> tuple[list[str], list[list[str]], list[dict]]:
         for r in (study or {}).get("runs", []):
             rows.append([label, _setting(r["options"], defaults), *_confusion_cells([r]), "", "", "", "", "", "", *_cost([r])])
     return HEADER, rows, [dict(zip(HEADER, r)) for r in rows]
+
+
+#: What the engine table measures and the rules behind its cells (shown as its caption).
+CAPTION = (
+    "Every engine at every setting the report ran, against the rigid theory (`crosscheck.report.engine_table`). "
+    "Agreement: the share of rated slipping starts whose first event is the theory's, compared up to the theory's comparison time "
+    "(an engine STICK where the theory slips on, slower than the engine's STICK floor, counts as that slip: "
+    "`crosscheck.studies.comparison.stick_from`) "
+    "(Wilson 95 % interval), first on the engine's outcome maps, then on its convergence grid per setting; "
+    "theory slips / lifts off / jams: the same share among the starts with that analytic event; "
+    "LAUNCH: the share the engine throws off the plane while b < 0; onset: the worst lift-off onset error against Psi_L; "
+    "convergence: per parameter with the others held fixed, by the rule under the findings; friction: median angle between the friction force and -slip, and the worst "
+    "cone violation max(0, |F_t| - mu F_n) / (m g), while slipping; causes: the ladder's split of the disagreements; "
+    "confirmed: the share of those removed by their own cause's intervention on the engine itself; rounding: the starts of its maps "
+    "whose outcome changes when theta moves by up to 2 ulp; "
+    "cost: engine microseconds per step (per record row for a continuous engine) and runs per second on this machine (one core). "
+    "Grids were chosen by each engine's cost; '-' where a section did not run."
+)
+
+
+def table_block(out: Path):
+    """The engine table from the saved results of the report in ``out``, as the report shows it (a ``Table`` with
+    ``CAPTION``; None when no engine section ran), its JSON written beside the report's data (derived, not computed)."""
+    from crosscheck.report.section import Table
+
+    header, rows, records = engine_table(out / "data")
+    if not rows:
+        return None
+    (out / "data" / "engine_table.json").write_text(json.dumps(records, indent=1) + "\n")
+    return Table(caption=CAPTION, header=header, rows=rows, data=["data/engine_table.json"])

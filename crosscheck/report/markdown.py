@@ -14,8 +14,9 @@ from pathlib import Path
 from crosscheck.report.findings import RULES
 from crosscheck.report.pipeline import PROVENANCE_FILE
 from crosscheck.report.references import _NUMBERING, _figures_table, paper_reference, unlabel
-from crosscheck.report.render import (_FINDINGS, _RULES_TITLE, SectionView, _badge, _checks_note, _checks_shown, _checks_table, _engine_table, _long,
-                                      _md_cell, _provenance_rows, _summary_table, _verdicts)
+from crosscheck.report.provenance import provenance_rows
+from crosscheck.report.render import (_FINDINGS, _RULES_TITLE, SectionView, _badge, _checks_note, _checks_shown, _checks_table, _long,
+                                      _md_cell, _summary_table, _verdicts)
 from crosscheck.report.section import Figure, Preformatted, Table, Text
 
 __all__ = ["write_md", "MD_WIDTH", "MD_ROW_WIDTH"]
@@ -94,11 +95,11 @@ def _md_raw_link(out: Path, slug: str, b: Preformatted, k: int) -> str:
     return f"{b.title or 'raw output'}: [{path.name}]({path}) ({b.text.count(chr(10)) + 1} lines)\n"
 
 
-def write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list) -> Path:
+def write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list, table) -> Path:
     m = ["# crosscheck report: contact engines against the rigid theory of the 3D Painlevé rod", "",
          "Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painlevé paradox*. Every figure is recomputed "
          f"from the project's model; beside each figure and table is the data behind it. {_NUMBERING} HTML version: [index.html](index.html).", "",
-         "## Findings", "", *([_md_block(t)] if (t := _engine_table(out)) is not None else []),
+         "## Findings", "", *([_md_block(table)] if table is not None else []),
          *(f"- **{f.leg}**: {f.text}. *{f.verdict}*" + (f" ({f.why})" if f.why else "") + f" ({f.slug})" for f in found), "",
          f"[data: {_FINDINGS}](data/{_FINDINGS})", "",
          f"**{_RULES_TITLE}**", "", *(f"- *{k}*: {r}" for k, r in RULES), "",
@@ -109,7 +110,7 @@ def write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, fail
     if known:
         m.append("**Known discrepancies of the paper** (shown, not hidden):\n\n" + "\n".join(f"- {s}: {unlabel(c['name'])}: {unlabel(c['known_discrepancy'])}" for s, c in known) + "\n")
     m += ["## The paper's figures", "", _md_block(_figures_table(views))]
-    m += ["## Provenance", "", _md_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=_provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"]))]
+    m += ["## Provenance", "", _md_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"]))]
     for v in views:
         s = v.section
         verdicts = _verdicts(found, s.slug)

@@ -16,7 +16,7 @@ import sys
 from importlib import metadata
 from pathlib import Path
 
-__all__ = ["PACKAGES", "collect", "git_revision", "package_versions", "machine"]
+__all__ = ["PACKAGES", "collect", "git_revision", "package_versions", "machine", "provenance_rows", "revision_text", "seconds_text"]
 
 #: Distributions whose versions every report records besides the engines' libraries (PyPI names).
 PACKAGES = ("crosscheck", "numpy", "scipy", "matplotlib", "tqdm")
@@ -135,3 +135,38 @@ def collect(*, quick: bool, seed: int, parameters: dict, argv: list[str] | None 
         "parameters": parameters,
         "tolerances": all_tolerances(),
     }
+
+
+def seconds_text(s) -> str:
+    """A duration for the report: "12.3 s", or "" when not known."""
+    return "" if s is None else f"{s:.1f} s"
+
+
+def revision_text(git: dict, prov: dict) -> str:
+    """The source revision as a reader can use it: the commit (clean or dirty), or the installed version outside a checkout."""
+    if not git.get("revision"):
+        return f"installed package, version {prov.get('versions', {}).get('crosscheck', '?')} (not a git checkout)"
+    state = "dirty" if git.get("dirty") else "clean" if git.get("dirty") is False else "clean or dirty: unknown"
+    if git.get("source") == "build":
+        return f"{git['revision']} ({state}; installed package, revision recorded when it was built on {git.get('built') or '?'})"
+    return f"{git['revision']} ({state})"
+
+
+def provenance_rows(prov: dict) -> list[list[str]]:
+    """The provenance block of a report: run and render revisions, command, mode, seed, versions, machine, run time."""
+    git = prov.get("git", {})
+    m = prov.get("machine", {})
+    rows = [["date (UTC)", prov.get("date", "")],
+            ["git revision", revision_text(git, prov)],
+            ["command", " ".join(prov.get("command") or [])],
+            ["mode", "quick" if prov.get("quick") else "full"],
+            ["seed", str(prov.get("seed"))]]
+    rows += [[f"version: {k}", str(v)] for k, v in prov.get("versions", {}).items()]
+    rendered = prov.get("rendered", {})
+    if rendered:
+        rows += [["rendered (UTC)", rendered.get("date", "")],
+                 ["render git revision", revision_text(rendered.get("git", {}), prov)]]
+    rows += [["machine: platform", str(m.get("platform"))], ["machine: processor", str(m.get("processor"))],
+             ["machine: CPUs (usable)", f"{m.get('cpu_count')} ({m.get('usable_cpus')})"],
+             ["run time of the run stage", seconds_text(prov.get("seconds"))]]
+    return rows

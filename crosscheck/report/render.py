@@ -28,6 +28,7 @@ from typing import Sequence
 from crosscheck.report.findings import RULES
 from crosscheck.report.pipeline import PROVENANCE_FILE, read_provenance, read_status, verified_status
 from crosscheck.report.references import _NUMBERING, _REFERENCES, _figures_table, _write_references, paper_reference, unlabel
+from crosscheck.report.provenance import provenance_rows, seconds_text as _fmt_seconds
 from crosscheck.report.section import Figure, Preformatted, RenderContext, Section, Table, Text
 from crosscheck.report.store import SectionStore
 
@@ -153,10 +154,6 @@ def _html_cell(c) -> str:
 
 def _md_cell(s: str) -> str:
     return str(s).replace("|", "\\|").replace("\n", " ")
-
-
-def _fmt_seconds(s) -> str:
-    return "" if s is None else f"{s:.1f} s"
 
 
 def _badge(state: str) -> str:
@@ -297,64 +294,6 @@ def _short(v) -> str:
     return str(v)
 
 
-def _revision(git: dict, prov: dict) -> str:
-    """The source revision as a reader can use it: the commit (clean or dirty), or the installed version outside a checkout."""
-    if not git.get("revision"):
-        return f"installed package, version {prov.get('versions', {}).get('crosscheck', '?')} (not a git checkout)"
-    state = "dirty" if git.get("dirty") else "clean" if git.get("dirty") is False else "clean or dirty: unknown"
-    if git.get("source") == "build":
-        return f"{git['revision']} ({state}; installed package, revision recorded when it was built on {git.get('built') or '?'})"
-    return f"{git['revision']} ({state})"
-
-
-def _provenance_rows(prov: dict) -> list[list[str]]:
-    git = prov.get("git", {})
-    m = prov.get("machine", {})
-    rows = [["date (UTC)", prov.get("date", "")],
-            ["git revision", _revision(git, prov)],
-            ["command", " ".join(prov.get("command") or [])],
-            ["mode", "quick" if prov.get("quick") else "full"],
-            ["seed", str(prov.get("seed"))]]
-    rows += [[f"version: {k}", str(v)] for k, v in prov.get("versions", {}).items()]
-    rendered = prov.get("rendered", {})
-    if rendered:
-        rows += [["rendered (UTC)", rendered.get("date", "")],
-                 ["render git revision", _revision(rendered.get("git", {}), prov)]]
-    rows += [["machine: platform", str(m.get("platform"))], ["machine: processor", str(m.get("processor"))],
-             ["machine: CPUs (usable)", f"{m.get('cpu_count')} ({m.get('usable_cpus')})"],
-             ["run time of the run stage", _fmt_seconds(prov.get("seconds"))]]
-    return rows
-
-
-#: What the engine table measures and the rules behind its cells (shown as its caption).
-ENGINE_TABLE_CAPTION = (
-    "Every engine at every setting the report ran, against the rigid theory (`crosscheck.report.engine_table`). "
-    "Agreement: the share of rated slipping starts whose first event is the theory's, compared up to the theory's comparison time "
-    "(an engine STICK where the theory slips on, slower than the engine's STICK floor, counts as that slip: "
-    "`crosscheck.studies.comparison.stick_from`) "
-    "(Wilson 95 % interval), first on the engine's outcome maps, then on its convergence grid per setting; "
-    "theory slips / lifts off / jams: the same share among the starts with that analytic event; "
-    "LAUNCH: the share the engine throws off the plane while b < 0; onset: the worst lift-off onset error against Psi_L; "
-    "convergence: per parameter with the others held fixed, by the rule under the findings; friction: median angle between the friction force and -slip, and the worst "
-    "cone violation max(0, |F_t| - mu F_n) / (m g), while slipping; causes: the ladder's split of the disagreements; "
-    "confirmed: the share of those removed by their own cause's intervention on the engine itself; rounding: the starts of its maps "
-    "whose outcome changes when theta moves by up to 2 ulp; "
-    "cost: engine microseconds per step (per record row for a continuous engine) and runs per second on this machine (one core). "
-    "Grids were chosen by each engine's cost; '-' where a section did not run."
-)
-
-
-def _engine_table(out: Path) -> Table | None:
-    """The engine table from the saved results, with its JSON written beside the report's data (derived, not computed)."""
-    from crosscheck.report.engine_table import engine_table
-
-    header, rows, records = engine_table(out / "data")
-    if not rows:
-        return None
-    (out / "data" / "engine_table.json").write_text(json.dumps(records, indent=1) + "\n")
-    return Table(caption=ENGINE_TABLE_CAPTION, header=header, rows=rows, data=["data/engine_table.json"])
-
-
 #: The findings lines and the rules behind their verdicts, written beside the report's data (derived, not computed).
 _FINDINGS = "findings.json"
 
@@ -394,7 +333,7 @@ def _checks_cell(checks: list[dict]) -> str:
     return "; ".join(out)
 
 
-def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list) -> Path:
+def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list, table: Table | None) -> Path:
     h = ['<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crosscheck report</title>',
          f"<style>{_CSS}</style></head><body>",
          "<h1>crosscheck report: contact engines against the rigid theory of the 3D Painlevé rod</h1>",
@@ -404,7 +343,7 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
          'Markdown twin: <a href="report.md">report.md</a>.</p>',
          _toc(views),
          _h2("findings", "Findings"),
-         *([_html_block(t)] if (t := _engine_table(out)) is not None else []),
+         *([_html_block(table)] if table is not None else []),
          "<ul>" + "".join(f'<li><b>{html.escape(f.leg)}</b>: {html.escape(f.text)}. <span class="v-{f.verdict.replace(" ", "")}">{html.escape(f.verdict)}</span>'
                           + (f' <span class="why">({html.escape(f.why)})</span>' if f.why else "")
                           + f' (<a href="#{f.slug}">{html.escape(f.slug)}</a>)</li>' for f in found) + "</ul>",
@@ -430,7 +369,7 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
         table = table.replace(_html_text(v.section.title), f'<a href="#{v.section.slug}">{_html_text(v.section.title)}</a>')
     h.append(table)
     h.append(_h2("provenance", "Provenance"))
-    h.append(_html_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=_provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"])))
+    h.append(_html_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"])))
     for v in views:
         s = v.section
         verdicts = _verdicts(found, s.slug)
@@ -530,8 +469,10 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
     failures = summary.failures
     _write_references(out)
     (out / "data" / _FINDINGS).write_text(json.dumps({"findings": [dataclasses.asdict(f) for f in found], "rules": dict(RULES)}, indent=1) + "\n")
-    _write_html(out, views, prov, summary_rows, failures, found)
+    from crosscheck.report.engine_table import table_block
     from crosscheck.report.markdown import write_md
 
-    write_md(out, views, prov, summary_rows, failures, found)
+    table = table_block(out)  # read from the saved results once, for both pages
+    _write_html(out, views, prov, summary_rows, failures, found, table)
+    write_md(out, views, prov, summary_rows, failures, found, table)
     return summary

@@ -19,7 +19,6 @@ killed half-way keeps its finished chunks too.
 from __future__ import annotations
 
 import importlib
-
 import json
 import os
 import sys

@@ -77,4 +77,4 @@ def test_mujocos_declared_ladder_is_its_own_study_at_ic2():
     declared, written = run_ladder("mujoco", IC2, 1.4), own.run_ladder(IC2, 1.4)
     assert [r.label for r in declared.rungs] == [r.label for r in written.rungs]
     assert [r.time for r in declared.rungs] == pytest.approx([r.time for r in written.rungs], nan_ok=True)
-    assert declared.cause == written.cause == "friction law"
+    assert declared.cause == written.cause == "feed-forward"

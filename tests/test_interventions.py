@@ -186,18 +186,24 @@ def test_mujoco_skew_jam_is_removed_by_a_smaller_impratio_not_by_a_thinner_capsu
 
 #: A start of the theta-Theta map where the theory jams at t = 0.011 (p reaches 0 with b < 0) and MuJoCo's slip ends in a
 #: STICK: near p = 0 its normal force follows -b/p_eff at once (60 m g at p_eff = 0.007 two steps in), and that force's
-#: friction brakes the slip to a stop before p crosses 0.  The ladder names the friction law (rung 4, MuJoCo's law).
+#: friction brakes the slip to a stop before p crosses 0.  The ladder names the feed-forward: MuJoCo's law without it
+#: (rung 4) slips on as the Kelvin-Voigt rod does, and with it (rung 5) sticks.
 MUJOCO_FED_STICK = (SlipState(theta=0.9921875, varphi=-1.9, Theta=-0.703125, Psi=0.0, eta=1.0), 1.4)
 
 
 def test_mujoco_stick_before_the_jam_is_removed_by_less_feed_forward_not_by_a_closer_friction_direction():
     """Impedance 0.1: MuJoCo applies a tenth of the rigid force at once and builds the rest through its spring, as the matched
     Kelvin-Voigt rod does; the slip then lasts until p crosses 0 and ends in a jam.  A shorter friction time constant or a
-    smaller impratio (the friction's direction) still stick: the feed-forward, not the skew, is what the law rung added here."""
+    smaller impratio (the friction's direction) still stick: the ladder's feed-forward is confirmed on MuJoCo, the friction law is not."""
+    from crosscheck.engines.mujoco.studies.ladder import run_ladder
+
     state, mu = MUJOCO_FED_STICK
-    r = intervene("mujoco", state, mu, causes=("friction law",), timestep=3e-4)
+    assert run_ladder(state, mu, timestep=3e-4).cause == "feed-forward"
+    r = intervene("mujoco", state, mu, causes=("friction law", "feed-forward"), timestep=3e-4)
     assert r["theory"] == "JAM"
-    by_text = {x["text"]: x for x in r["causes"]["friction law"]}
-    assert by_text["impedance 0.95 -> 0.1"]["label"] == "JAM" and by_text["impedance 0.95 -> 0.1"]["removes"]
-    direction = [x for t, x in by_text.items() if not t.startswith("impedance")]
+    fed = {x["text"].split(" (")[0]: x for x in r["causes"]["feed-forward"]}
+    assert fed["impedance 0.95 -> 0.1"]["label"] == "JAM" and fed["impedance 0.95 -> 0.1"]["removes"]
+    # with the friction rows' regulariser kept (impratio raised as R_n grows), as the ladder's rung keeps it
+    assert fed["impedance 0.95 -> 0.1"]["options"]["impratio"] == pytest.approx((0.9 / 0.1) / (0.05 / 0.95), rel=1e-12)
+    direction = r["causes"]["friction law"]
     assert len(direction) == 4 and not any(x["removes"] for x in direction)

@@ -72,9 +72,10 @@ def test_impedance_is_mujocos_sigmoid_at_its_ends_and_midpoint():
 
 
 def test_ic2_rungs(ic2):
-    """IC2: the paper's rod lifts off at t = 0.01654 with p = 0.0125; the rigid rod at C jams, the Kelvin-Voigt rod at C does not, MuJoCo's
-    law and MuJoCo jam at once: cause friction law (the final stretch of matches starts at rung 4; the interventions agree: a
-    sixteen times thinner MuJoCo capsule still jams, impratio 0.01 lifts off)."""
+    """IC2: the paper's rod lifts off at t = 0.01654 with p = 0.0125; the rigid rod at C jams, the Kelvin-Voigt rod at C does not, nor does
+    MuJoCo's law without its feed-forward (MuJoCo's friction on its spring-damper); MuJoCo's law and MuJoCo jam at once: cause feed-forward
+    (the final stretch of matches starts at rung 5), after a detour through SLIP from rung 3 that the feed-forward ends.  (On MuJoCo
+    itself a sixteen times thinner capsule still jams, impratio 0.01 lifts off: ``tests/test_interventions.py``.)"""
     one, two, five = ic2.rung("tip"), ic2.rung("capsule"), ic2.rung("mujoco")
     assert one.outcome == Outcome.LIFTOFF and LADDER_QUOTED_TIME.ok(one.time, 0.01654) and abs(one.p - 0.0125) <= 5e-5
     assert EVENT_TIME.ok(one.time, slip_until_event(IC2, 1.4, 3.0, t_max=2.0).time)
@@ -87,15 +88,16 @@ def test_ic2_rungs(ic2):
     full = engines.get("mujoco").simulate(Rod.scaled(3.0), IC2, 1.4, horizon=2.0 + 2 * Thresholds().window_rows(opts.timestep) * opts.timestep)
     study_label = comparison_labels(np.array([int(full.outcome)]), np.array([full.event_time]), np.array([ic2.until + ic2.lag]))[0]
     assert five.label == Outcome(int(study_label)) == Outcome.JAM and five.time == full.event_time == 0.0
-    three, four = ic2.rung("compliant"), ic2.rung("mujoco_law")
-    assert three.label != Outcome.JAM and four.label == Outcome.JAM
-    assert ic2.disagree and ic2.cause == "friction law" and ic2.first_change == 2 and not ic2.missing
+    three, spring, law = ic2.rung("compliant"), ic2.rung("spring_law"), ic2.rung("mujoco_law")
+    assert three.label == spring.label == Outcome.SLIP and law.label == Outcome.JAM
+    assert ic2.disagree and ic2.cause == "feed-forward" and ic2.first_change == 2 and not ic2.missing
+    assert ic2.detour == (3, 5) and ic2.detour_ended_by == "feed-forward"
     # the series behind the report's figure: every rung starts at the same slip speed of C (A's for rung 1)
     series = LS.trajectories(ic2)
     assert set(series) == set(L.RUNGS)
     assert abs(series["tip"]["eta"][0] - IC2.eta) < 1e-12
     eta_C = series["mujoco"]["eta"][0]
-    assert abs(series["compliant"]["eta"][0] - eta_C) < 1e-9 and abs(series["mujoco_law"]["eta"][0] - eta_C) < 1e-9
+    assert all(abs(series[r]["eta"][0] - eta_C) < 1e-9 for r in ("compliant", "spring_law", "mujoco_law"))
 
 
 def test_every_rung_is_relabelled_by_the_studys_comparison_time():
@@ -106,11 +108,13 @@ def test_every_rung_is_relabelled_by_the_studys_comparison_time():
     for r in ld.rungs:
         assert r.ok
         assert r.label == (r.outcome if r.outcome == Outcome.SLIP or r.time <= end else Outcome.SLIP)
-    three = ld.rung("compliant")
-    assert three.outcome == Outcome.STICK and three.time > end and three.label == Outcome.SLIP
-    # MuJoCo sticks within the comparison, and so does MuJoCo's law in continuous time; rungs 1-3 do not: "friction law"
+    # the Kelvin-Voigt rod and MuJoCo's law without its feed-forward both stick after the comparison (their springs build the
+    # force over the time constant); MuJoCo sticks within it, and so does its law in continuous time: "feed-forward"
+    for name in ("compliant", "spring_law"):
+        r = ld.rung(name)
+        assert r.outcome == Outcome.STICK and r.time > end and r.label == Outcome.SLIP
     assert ld.rung("mujoco").label == ld.rung("mujoco_law").label == Outcome.STICK
-    assert ld.cause == "friction law" and ld.first_change == 3
+    assert ld.cause == "feed-forward" and ld.first_change == 3 and ld.detour == (3, 5)
 
 
 def test_discretisation_by_construction():
@@ -120,27 +124,32 @@ def test_discretisation_by_construction():
     fine = L.run_ladder(s, mu, rungs=("mujoco",))
     assert fine.rung("tip").label == fine.rung("mujoco").label == Outcome.SLIP and fine.cause == "agree"
     coarse = L.run_ladder(s, mu, timestep=0.02)
-    assert [r.label for r in coarse.rungs] == [Outcome.SLIP] * 4 + [Outcome.STICK]
-    assert coarse.cause == "discretisation" and coarse.first_change == 5
+    assert [r.label for r in coarse.rungs] == [Outcome.SLIP] * 5 + [Outcome.STICK]
+    assert coarse.cause == "discretisation" and coarse.first_change == 6 and coarse.detour is None
 
 
 def _rung(k, label, status="ok"):
     return L.RungResult(k, L.RUNGS[k - 1], status, label, 0.0, label if status == "ok" else None)
 
 
+J, S, T, L_ = Outcome.JAM, Outcome.SLIP, Outcome.STICK, Outcome.LIFTOFF
+
+
 @pytest.mark.parametrize("labels, reference, cause", [
-    ((Outcome.LIFTOFF, Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.JAM), Outcome.JAM, "geometry"),
-    ((Outcome.LIFTOFF, Outcome.JAM, Outcome.SLIP, Outcome.JAM, Outcome.JAM), Outcome.JAM, "friction law"),  # rung 3 undoes rung 2's match
-    ((Outcome.SLIP, Outcome.SLIP, Outcome.STICK, Outcome.STICK, Outcome.STICK), Outcome.STICK, "compliance"),
-    ((Outcome.SLIP, Outcome.SLIP, Outcome.STICK, Outcome.SLIP, Outcome.STICK), Outcome.STICK, "discretisation"),
-    ((Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.STICK, Outcome.STICK), Outcome.STICK, "friction law"),
-    ((Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.STICK), Outcome.STICK, "discretisation"),
-    ((Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.JAM), Outcome.STICK, "unexplained"),
-    ((Outcome.JAM, Outcome.JAM, None, Outcome.STICK, Outcome.STICK), Outcome.STICK, "undetermined"),
-    ((Outcome.JAM, Outcome.STICK, None, Outcome.JAM, Outcome.JAM), Outcome.STICK, "unexplained"),  # a given reference rung 5 misses
-    ((Outcome.JAM, Outcome.JAM, None, Outcome.STICK, Outcome.STICK), Outcome.STICK, "undetermined"),
-    ((Outcome.STICK, Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.STICK), Outcome.STICK, "agree"),
-    ((Outcome.GB, Outcome.JAM, Outcome.JAM, Outcome.JAM, Outcome.STICK), Outcome.STICK, "not rated"),
+    ((L_, J, J, J, J, J), J, "geometry"),
+    ((L_, J, S, J, J, J), J, "friction law"),  # rung 3 undoes rung 2's match
+    ((L_, J, S, S, J, J), J, "feed-forward"),  # and rung 4 keeps rung 3's detour
+    ((S, S, T, T, T, T), T, "compliance"),
+    ((S, S, T, S, S, T), T, "discretisation"),
+    ((J, J, J, T, T, T), T, "friction law"),
+    ((J, J, J, J, T, T), T, "feed-forward"),
+    ((J, J, J, J, J, T), T, "discretisation"),
+    ((J, J, J, J, J, J), T, "unexplained"),
+    ((J, J, None, T, T, T), T, "undetermined"),
+    ((J, T, None, J, J, J), T, "unexplained"),  # a given reference rung 6 misses
+    ((J, J, J, None, T, T), T, "undetermined"),
+    ((T, J, J, J, J, T), T, "agree"),
+    ((Outcome.GB, J, J, J, J, T), T, "not rated"),
 ])
 def test_cause_is_the_first_rung_of_the_final_stretch_matching_mujoco(labels, reference, cause):
     rungs = [_rung(k, lab, "ok" if lab is not None else "not available") for k, lab in enumerate(labels, start=1)]
@@ -153,7 +162,7 @@ def test_a_missing_rung_is_reported_and_blocks_later_causes(monkeypatch):
     with pytest.warns(RuntimeWarning, match="rung 3 \\(compliant\\) not available"):
         ld = L.run_ladder(STICKS, 1.4, rungs=("capsule", "compliant", "mujoco"))
     assert ld.rung("compliant").status == "not available" and "crosscheck.no_such_module" in ld.rung("compliant").detail
-    assert ld.missing == ["compliant", "mujoco_law"] and ld.cause == "undetermined"
+    assert ld.missing == ["compliant", "spring_law", "mujoco_law"] and ld.cause == "undetermined"
 
 
 def test_disagreements_are_the_rated_starts_where_mujoco_differs():
@@ -166,13 +175,13 @@ def test_explain_prints_each_rung_and_the_cause(ic2, capsys):
     argv = ["explain", "--theta", "1.1031", "--varphi", "-1.9233", "--Theta", "0.9", "--Psi", "0", "--eta", "2", "--mu", "1.4"]
     assert main(argv) == 0
     out = capsys.readouterr().out.splitlines()
-    rungs = [line for line in out if line[:2] in ("1 ", "2 ", "3 ", "4 ", "5 ")]
+    rungs = [line for line in out if line[:2] in ("1 ", "2 ", "3 ", "4 ", "5 ", "6 ")]
     assert [line.split()[1] for line in rungs] == list(L.RUNGS)
     assert rungs[0].endswith(f"LIFTOFF at t = {ic2.rung('tip').time:.6g}") and rungs[1].endswith(f"JAM at t = {ic2.rung('capsule').time:.6g}")
-    assert out[-1] == "cause: friction law (MuJoCo JAM, theory LIFTOFF)"
+    assert out[-1] == "cause: feed-forward (MuJoCo JAM, theory LIFTOFF)"
     assert main(argv + ["--json"]) == 0
     got = json.loads(capsys.readouterr().out)
-    assert got["cause"] == "friction law" and [r["label"] for r in got["rungs"]] == [r.label.name for r in ic2.rungs]
+    assert got["cause"] == "feed-forward" and got["detour"] == [3, 5] and [r["label"] for r in got["rungs"]] == [r.label.name for r in ic2.rungs]
     assert got["match"]["eps"] == pytest.approx(ic2.match.eps, rel=1e-15)
 
 
@@ -216,3 +225,17 @@ def test_the_cause_is_the_first_rung_of_the_final_stretch_of_matches():
     assert cause([ok(J, "g"), ok(J, "c"), ok(J, "f"), ok(L, "d")]) == "unexplained"  # the last rung differs (a given reference)
     assert cause([ok(S, "g"), R(ok=False, label=None, cause="c"), ok(J, "f"), ok(J, "d")]) == "undetermined"
     assert cause([R(ok=False, label=None, cause="g"), ok(S, "c"), ok(J, "f"), ok(J, "d")]) == "f"  # the failure is before a rung that differs
+
+
+@pytest.mark.parametrize("labels, reference, want", [
+    ((J, J, S, S, T, T), T, (2, 4)),  # the spring's slip, ended by the feed-forward's stick
+    ((L_, J, S, J, J, J), J, (2, 3)),
+    ((J, J, J, T, T, T), T, None),  # monotone
+    ((J, T, J, T), T, None),  # back and forth between the theory's and the engine's: no third outcome
+    ((J, S, S, S), T, (1, None)),  # never back
+    ((J, None, S, None, T), T, (2, 4)),  # rungs that did not run are passed over
+])
+def test_a_detour_is_a_stretch_of_rungs_on_neither_the_theorys_nor_the_engines_outcome(labels, reference, want):
+    from crosscheck.studies.ladder import detour
+
+    assert detour(labels, reference) == want

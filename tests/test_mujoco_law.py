@@ -11,7 +11,9 @@ from crosscheck import Rod, SlipState
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get
 from crosscheck.engines.mujoco.options import Options
-from crosscheck.engines.mujoco.law import accelerations, contact_force, contact_problem, inverse_weight, skew_angle, solve_cone
+from crosscheck.tolerances import CLOSED_FORM
+from crosscheck.engines.mujoco.law import (NO_FEED_FORWARD_IMPEDANCE, Parameters, accelerations, contact_force, contact_problem, inverse_weight,
+                                          skew_angle, solve_cone)
 from crosscheck.engines.mujoco.ode import integrate
 from crosscheck.engines.mujoco.studies import friction_skew as fs
 from crosscheck.engines.mujoco.studies.law_check import convergence_order, random_contact
@@ -113,6 +115,31 @@ def test_sliding_mode_holds_the_capsule_on_the_plane_with_a_fraction_of_the_forc
     assert np.all(traj.force[:, 0] > 0) and np.all(traj.force[:, 0] < 0.2 * full)
 
 
+def test_the_law_without_its_feed_forward_is_solrefs_spring_damper_on_the_normal_row():
+    """feed_forward=False: the normal row at impedance d = NO_FEED_FORWARD_IMPEDANCE, the friction rows MuJoCo's.  Its normal force
+    (the normal row's balance, friction aside) obeys f_n (w + d (A_nn - w)) = s - d a0_n exactly, s = -(2/tau) v_n - dist/(tau^2 zeta^2)
+    the solref spring-damper: f_n = s / w up to a fraction of order d of the rigid force, where MuJoCo's own row feeds ~0.9 of it forward."""
+    rng = np.random.default_rng(11)
+    d = NO_FEED_FORWARD_IMPEDANCE
+    for _ in range(16):
+        rod, mu, opts, impratio, model, data = random_contact(rng)
+        with_ff = contact_problem(rod, data.qpos, data.qvel, mu, opts, impratio=impratio)
+        par = Parameters.of(rod, opts, impratio=impratio, feed_forward=False)
+        pb = contact_problem(rod, data.qpos, data.qvel, mu, opts, parameters=par)
+        # the friction rows and everything but the normal row's K, B, R are MuJoCo's
+        assert np.array_equal(pb.R[1:], with_ff.R[1:]) and np.array_equal(pb.aref[1:], with_ff.aref[1:]) and np.array_equal(pb.B[1:], with_ff.B[1:])
+        assert np.array_equal(pb.A, with_ff.A) and np.array_equal(pb.a0, with_ff.a0) and pb.imp == with_ff.imp
+        w, tau, zeta = inverse_weight(rod), par.timeconst, par.dampratio
+        s = -(2.0 / tau) * pb.vel[0] - pb.dist / (tau * tau * zeta * zeta)
+        H, g = pb.A + np.diag(pb.R), pb.a0 - pb.aref
+        fn = -g[0] / H[0, 0]
+        size = abs(s) + d * abs(pb.a0[0]) + abs(fn) * (w + d * abs(pb.A[0, 0] - w))
+        assert abs(fn * (w + d * (pb.A[0, 0] - w)) - (s - d * pb.a0[0])) <= CLOSED_FORM.allowance(size)
+        # MuJoCo's own normal row is far from the spring alone: it carries most of the rigid force -a0_n / A_nn at once
+        Hf, gf = with_ff.A + np.diag(with_ff.R), with_ff.a0 - with_ff.aref
+        assert abs(-gf[0] / Hf[0, 0] - s / w) > 10 * abs(fn - s / w)
+
+
 def test_bad_inputs():
     rod = Rod.scaled(3.0)
     with pytest.raises(ValueError, match="q and v must each have 5 numbers"):
@@ -130,6 +157,8 @@ def test_bad_inputs():
         get("mujoco_law").simulate(rod, s, 1.0, horizon=0.1, rtol=1.0)
     with pytest.raises(ValueError, match="unknown"):
         get("mujoco_law").simulate(rod, s, 1.0, horizon=0.1, bogus=1)
+    with pytest.raises(ValueError, match="feed_forward must be True or False; got 'no'"):
+        get("mujoco_law").simulate(rod, s, 1.0, horizon=0.1, feed_forward="no")
 
 
 def test_hops_shrink_and_end_in_the_sliding_mode():

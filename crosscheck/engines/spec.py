@@ -35,10 +35,11 @@ __all__ = ["EngineSpec", "ReportPlan", "Intervention", "TAGS", "LADDER_CAUSES"]
 TAGS = frozenset({"rigid", "compliant", "relaxed", "time_stepping", "continuous", "batched"})
 
 #: The causes a ladder can name, in the order of its rungs (each rung one model closer to the engine): the contact
-#: point's place, the contact's compliance, the engine's friction law (its own law in continuous time), the time
+#: point's place, the contact's compliance, the engine's friction law (its own law in continuous time), a
+#: normal force that feeds the rigid force forward at once where a spring builds it (MuJoCo's impedance), the time
 #: step, and the convex relaxation of the step's contact problem (a relaxed engine against a non-relaxed step of the
 #: same law and timestep: the mechanism behind SAP's "gliding", its launch of a slipping tip).
-LADDER_CAUSES = ("geometry", "compliance", "friction law", "discretisation", "relaxation")
+LADDER_CAUSES = ("geometry", "compliance", "friction law", "feed-forward", "discretisation", "relaxation")
 
 
 @dataclass(frozen=True)

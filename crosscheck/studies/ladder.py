@@ -1,7 +1,7 @@
 """The ladder of any engine: the models between the theory and the engine, each adding one of its differences, and the cause of a disagreement.
 
 An engine declares its ladder in its ``EngineSpec.ladder``: cause -> rung, in
-the order of ``LADDER_CAUSES`` (geometry, compliance, friction law,
+the order of ``LADDER_CAUSES`` (geometry, compliance, friction law, feed-forward,
 discretisation, relaxation).  A rung is
 
 * ``"capsule"``: the rigid rod with its contact at the capsule point C = A - r K
@@ -48,7 +48,7 @@ from crosscheck.studies.agreement import DEFAULT_HORIZON
 from crosscheck.studies.comparison import RATED, compared_label, comparison_window, run_stick_from, window_margin
 from crosscheck.theory.slipping import slip_until_event
 
-__all__ = ["Rung", "EngineLadder", "rungs_of", "run_ladder", "final_stretch_cause", "CAUSES"]
+__all__ = ["Rung", "EngineLadder", "rungs_of", "run_ladder", "final_stretch_cause", "detour", "CAUSES"]
 
 #: Every cause a start can get (as MuJoCo's ladder): the four rungs' causes, "unexplained", "undetermined",
 #: "agree" (rung 1 already equals the engine) and "not rated" (rung 1 is GB or DIVERGED).
@@ -192,3 +192,22 @@ def final_stretch_cause(later, reference, cause_of) -> str:
     if k > 0 and not later[k - 1].ok:
         return "undetermined"
     return cause_of(later[k])
+
+
+def detour(labels, reference) -> tuple[int, int | None] | None:
+    """The first detour of a ladder: (k, j), rung indexes into ``labels`` (rung 1 at 0), or None.
+
+    A detour is a stretch of rungs whose labels are neither rung 1's (the
+    theory's) nor ``reference`` (the engine's): a difference added at rung k
+    took the outcome somewhere the engine does not go, and rung j is the
+    first after it back on the theory's or the engine's label (None if no
+    rung is).  A ladder without a detour is monotone: each rung either keeps
+    the theory's outcome or takes the engine's.  Labels of rungs that could
+    not run (None) are passed over.
+    """
+    first = labels[0]
+    for k in range(1, len(labels)):
+        if labels[k] is not None and labels[k] not in (first, reference):
+            j = next((i for i in range(k + 1, len(labels)) if labels[i] is not None and labels[i] in (first, reference)), None)
+            return k, j
+    return None

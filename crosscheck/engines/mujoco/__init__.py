@@ -46,12 +46,14 @@ ENGINES = (
                     "corollary_stop": mujoco_tol.MUJOCO_COROLLARY_STOP},
         checks=_checks,
         # the models between the theory and MuJoCo: its capsule's contact point, the compliant rod with MuJoCo's matched
-        # Kelvin-Voigt law, MuJoCo's own law in continuous time, MuJoCo itself (crosscheck.studies.ladder runs them; MuJoCo's
-        # own study, crosscheck.engines.mujoco.studies.ladder, is the same ladder written out, for its section and explain)
+        # Kelvin-Voigt law, MuJoCo's own law in continuous time without and with its normal force's feed-forward, MuJoCo
+        # itself (crosscheck.studies.ladder runs them; MuJoCo's own study, crosscheck.engines.mujoco.studies.ladder, is the
+        # same ladder written out, for its section and explain)
         ladder={"geometry": "capsule", "compliance": "crosscheck.engines.mujoco.studies.ladder:compliant_rung",
-                "friction law": "crosscheck.engines.mujoco.studies.ladder:law_rung", "discretisation": "engine"},
-        interventions={c: f"crosscheck.engines.mujoco.interventions:{c.replace(' ', '_')}"
-                       for c in ("geometry", "compliance", "friction law", "discretisation")},
+                "friction law": "crosscheck.engines.mujoco.studies.ladder:spring_law_rung",
+                "feed-forward": "crosscheck.engines.mujoco.studies.ladder:law_rung", "discretisation": "engine"},
+        interventions={c: f"crosscheck.engines.mujoco.interventions:{c.replace(' ', '_').replace('-', '_')}"
+                       for c in ("geometry", "compliance", "friction law", "feed-forward", "discretisation")},
         report=ReportPlan(maps={"quick": {"timestep": 3e-4, "timeconst": 0.06}, "full": {"timestep": 3e-4, "timeconst": 0.06}},
                           convergence={"quick": [{"timestep": dt, "timeconst": tc} for dt, tc in ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02))],
                                        "full": [{"timestep": dt, "timeconst": tc} for dt, tc in

@@ -71,11 +71,17 @@ from crosscheck.engines.mujoco.model import AXIAL_INERTIA
 from crosscheck.rod import Rod
 
 __all__ = ["Parameters", "ContactProblem", "impedance", "inverse_weight", "mass_matrix", "smooth_force", "smooth_accelerations", "contact_problem",
-           "solve_cone", "contact_frame", "contact_force", "accelerations", "skew_angle", "simulate", "MINIMP", "MAXIMP", "MINVAL", "MINMU"]
+           "solve_cone", "contact_frame", "contact_force", "accelerations", "skew_angle", "simulate", "MINIMP", "MAXIMP", "MINVAL", "MINMU",
+           "NO_FEED_FORWARD_IMPEDANCE"]
 
 #: MuJoCo's clamps (mjMINIMP, mjMAXIMP: impedance parameters; mjMINVAL: smallest R; mjMINMU: smallest friction,
 #: so that mu = 0 is a cone of opening 1e-5, not a frictionless contact).
 MINIMP, MAXIMP, MINVAL, MINMU = 1e-4, 0.9999, 1e-15, 1e-5
+
+#: The normal row's impedance of the law without its feed-forward (``contact_problem``): the fraction of the
+#: rigid normal force fed forward at once, 0.95 by default and this much without; the rest of the law's force
+#: is its solref spring-damper, to within this fraction.
+NO_FEED_FORWARD_IMPEDANCE = 1e-3
 
 #: Sample count of the slip direction on the cone's surface before the stationarity root is polished:
 #: 5 degrees apart, so the two sign changes of the stationarity function around the optimum are bracketed.
@@ -88,7 +94,8 @@ class Parameters:
 
     Attributes: radius r [m]; timeconst, friction_timeconst [s] (after MuJoCo's
     "refsafe" max(tau, 2 timestep)); dampratio; solimp with width in m;
-    impratio; dmax (clamped solimp[1]).
+    impratio; dmax (clamped solimp[1]); feed_forward: False for the law
+    without its feed-forward (``contact_problem``).
     """
 
     radius: float
@@ -97,10 +104,12 @@ class Parameters:
     dampratio: float
     solimp: tuple
     impratio: float
+    feed_forward: bool = True
 
     @classmethod
-    def of(cls, rod: Rod, options: Options, *, impratio: float | None = None) -> "Parameters":
-        """Convert scaled ``Options`` as ``crosscheck.engines.mujoco.model.build_model`` does (impratio: the options' unless given)."""
+    def of(cls, rod: Rod, options: Options, *, impratio: float | None = None, feed_forward: bool = True) -> "Parameters":
+        """Convert scaled ``Options`` as ``crosscheck.engines.mujoco.model.build_model`` does (impratio: the options' unless given;
+        ``feed_forward``: as the attribute)."""
         if not isinstance(options, Options):
             raise ValueError(f"options must be crosscheck.engines.mujoco.options.Options; got {type(options).__name__}")
         impratio = float(check("impratio", options.impratio if impratio is None else impratio, POSITIVE))
@@ -111,7 +120,7 @@ class Parameters:
         d0, dmax, width, mid, power = options.solimp
         # getsolparam's clamps
         solimp = (min(MAXIMP, max(MINIMP, d0)), min(MAXIMP, max(MINIMP, dmax)), max(0.0, width * l), min(MAXIMP, max(MINIMP, mid)), max(1.0, power))
-        return cls(options.radius * l, tau, tau_f, options.dampratio, solimp, impratio)
+        return cls(options.radius * l, tau, tau_f, options.dampratio, solimp, impratio, bool(feed_forward))
 
     @property
     def damping(self) -> tuple[float, float]:
@@ -258,6 +267,19 @@ def contact_problem(rod: Rod, q, v, mu: float, options: Options, *, impratio: fl
     the sign of dist (MuJoCo has the contact only while dist < 0: see
     ``contact_force``).  ``parameters``: ``Parameters.of(rod, options, impratio=impratio)`` when the caller
     already has it (an integration calls this at every evaluation with the same options).
+
+    Without the feed-forward (``parameters.feed_forward`` False) the normal row
+    has the constant impedance d_n = ``NO_FEED_FORWARD_IMPEDANCE``: its
+    K, B and R at d_n, the friction rows as MuJoCo's (their R_t from the
+    normal row's R at the solimp impedance, B_f at dmax).  Why this is the
+    law without the feed-forward: the normal row's force is
+    f_n = (aref_n - a0_n) / (A_nn + R_n) with R_n = (1 - d) / d w (w the
+    inverse weight), so as d -> 0, f_n -> -((2 / tau) v_n + dist / (tau^2 zeta^2)) / w
+    - d a0_n / w: solref's spring-damper alone, with a fraction d of the
+    rigid force -a0_n / A_nn fed forward where MuJoCo's default feeds 0.9-0.95.
+    What is left of MuJoCo's law then is its friction (the cone problem with
+    its skewed direction and soft stick) on a spring-damper normal force, as
+    the matched Kelvin-Voigt rod has.
     """
     par = Parameters.of(rod, options, impratio=impratio) if parameters is None else parameters
     q = np.asarray(q, dtype=float)
@@ -277,10 +299,17 @@ def contact_problem(rod: Rod, q, v, mu: float, options: Options, *, impratio: fl
     B = np.array([Bn, Bf, Bf])
     aref = -B * vel
     aref[0] -= par.stiffness * imp * dist
-    Rn = max(MINVAL, (1.0 - imp) * inverse_weight(rod) / imp)
+    w = inverse_weight(rod)
+    Rn = max(MINVAL, (1.0 - imp) * w / imp)
     Rt = Rn / max(MINVAL, par.impratio)
+    R = np.array([Rn, Rt, Rt])
+    if not par.feed_forward:  # the normal row at the constant impedance d_n (docstring); the friction rows unchanged
+        d = NO_FEED_FORWARD_IMPEDANCE
+        B[0] = 2.0 / (d * par.timeconst)
+        aref[0] = -B[0] * vel[0] - dist / (d * par.timeconst**2 * par.dampratio**2)  # K(d_n) d_n dist
+        R[0] = (1.0 - d) * w / d
     mu = max(MINMU, float(mu))  # mj_assignFriction's clamp
-    return ContactProblem(dist, imp, frame, J, A, np.array([Rn, Rt, Rt]), aref, a0, vel, mu, B, minv, qacc_smooth)
+    return ContactProblem(dist, imp, frame, J, A, R, aref, a0, vel, mu, B, minv, qacc_smooth)
 
 
 def _cone_direction(a, mu):

@@ -100,9 +100,9 @@ def _dist_acceleration(rod: Rod, y, qacc) -> float:
 class _Phases:
     """The three right-hand sides: free flight, contact, and sliding on dist = 0 (see ``integrate``)."""
 
-    def __init__(self, rod: Rod, mu: float, options: Options, tau: float, radius: float):
+    def __init__(self, rod: Rod, mu: float, options: Options, tau: float, radius: float, feed_forward: bool = True):
         self.rod, self.mu, self.options, self.tau, self.radius = rod, mu, options, tau, radius
-        self.parameters = Parameters.of(rod, options)  # the same at every evaluation: converted once
+        self.parameters = Parameters.of(rod, options, feed_forward=feed_forward)  # the same at every evaluation: converted once
 
     def _accelerations(self, y, contact: bool):
         return accelerations(self.rod, y[:5], y[5:], self.mu, self.options, contact=contact, parameters=self.parameters)
@@ -150,7 +150,7 @@ class _Phases:
 GRAZING_SPEED = 1e-4
 
 
-def integrate(rod: Rod, q0, v0, mu: float, options: Options, *, times, rtol: float = RTOL) -> Trajectory:
+def integrate(rod: Rod, q0, v0, mu: float, options: Options, *, times, rtol: float = RTOL, feed_forward: bool = True) -> Trajectory:
     """Integrate MuJoCo's continuous-time dynamics from (q0, v0) [physical] and sample at ``times`` [s] (increasing, from 0).
 
     Phases: "free" (dist > 0, no force), "contact" (dist < 0, the law's force
@@ -162,7 +162,8 @@ def integrate(rod: Rod, q0, v0, mu: float, options: Options, *, times, rtol: flo
     the fraction that holds dist'' = 0.  MuJoCo's time-stepper realises it as
     a chatter of contact and free steps with a contact fraction -> lambda as
     dt -> 0.  Sliding ends when lambda reaches 0 (lift-off) or 1 (the capsule
-    sinks in: contact).
+    sinks in: contact).  ``feed_forward`` False: the law without its normal row's feed-forward
+    (``crosscheck.engines.mujoco.law.contact_problem``).
     """
     par = Parameters.of(rod, options)
     width = par.solimp[2]
@@ -177,7 +178,7 @@ def integrate(rod: Rod, q0, v0, mu: float, options: Options, *, times, rtol: flo
     active = np.zeros(n, bool)
     events: list = []
     nfev = 0
-    phases = _Phases(rod, mu, options, par.timeconst, par.radius)
+    phases = _Phases(rod, mu, options, par.timeconst, par.radius, feed_forward)
     grazing = GRAZING_SPEED * l * w
     # the distance an event function must leave its start by: rounding of dist at a restart is ~1e-17 l
     nudge = 1e-14 * l
@@ -306,7 +307,7 @@ def record(rod: Rod, traj: Trajectory, options: Options) -> Record:
 
 
 def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, rtol: float = RTOL,
-             **options) -> Run:
+             feed_forward: bool = True, **options) -> Run:
     """Run one slipping state under MuJoCo's contact law in continuous time and classify it.
 
     Args:
@@ -316,6 +317,8 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
       horizon: scaled time, > 0.
       thresholds: outcome criteria (``Thresholds()`` by default).
       rtol: DOP853's relative tolerance (default 1e-10).
+      feed_forward: False for MuJoCo's law without its normal row's feed-forward of the rigid force (its solref
+        spring-damper alone under MuJoCo's friction: ``crosscheck.engines.mujoco.law.contact_problem``).
       **options: the MuJoCo engine's scaled ``Options`` (timestep: record
         spacing only; radius, timeconst, dampratio, friction_timeconst,
         solimp; solver_tolerance is ignored: the law is solved exactly;
@@ -333,11 +336,13 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
         raise ValueError(f"model_file must be None for the mujoco_law engine (its law is rod.xml's); got {opts.model_file!r}")
     mu = float(check("mu", mu, MU))
     rtol = float(check("rtol", rtol, RELATIVE_TOLERANCE))
+    if not isinstance(feed_forward, bool):
+        raise ValueError(f"feed_forward must be True or False; got {feed_forward!r}")
     th = thresholds or Thresholds()
     nstep = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES, what="records")
     times = np.arange(nstep) * (opts.timestep / rod.omega)
     q0, v0 = to_generalized(rod, state, tip=(0.0, 0.0, opts.radius))
-    traj = integrate(rod, q0, v0, mu, opts, times=times, rtol=rtol)
+    traj = integrate(rod, q0, v0, mu, opts, times=times, rtol=rtol, feed_forward=feed_forward)
     rec = record(rod, traj, opts)
     c = classify(rec, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, thresholds=th)
     return Run.from_classification(NAME, c, rec, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,

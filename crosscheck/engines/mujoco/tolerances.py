@@ -92,7 +92,7 @@ MUJOCO_COROLLARY_STOP = Tolerance(atol=0.55, rtol=0.0, why="regression guard: me
 LADDER_QUOTED_TIME = Tolerance(atol=5e-6, rtol=0.0, why="half a unit of the last digit of the quoted IC2 lift-off time 0.01654")
 
 #: The ladder's goal: at least 90 % of the disagreements of the MuJoCo maps attributed to a named cause
-#: (geometry, compliance, friction law, discretisation).  A target set for the study, not a bound derived
+#: (geometry, compliance, friction law, feed-forward, discretisation).  A target set for the study, not a bound derived
 #: from the physics or the numerics: the report labels its check a regression guard.
 LADDER_ATTRIBUTED = Tolerance(atol=0.1, rtol=0.0, why="goal, not a derived bound: at least 90% of the disagreements get a named cause", guard=True)
 

@@ -1,4 +1,4 @@
-"""The ladder: a named cause (geometry, compliance, friction law, discretisation) for each MuJoCo-theory disagreement.
+"""The ladder: a named cause (geometry, compliance, friction law, feed-forward, discretisation) for each MuJoCo-theory disagreement.
 
 The starts are those of the MuJoCo outcome maps (``mujoco_maps``: (Psi, mu)
 and two (theta, Theta) slices), compared by
@@ -9,10 +9,12 @@ a few of their disagreements.  Every start where MuJoCo's label differs from
 the analytic first event goes through ``crosscheck.engines.mujoco.studies.ladder``: the
 rigid rod at the tip A, the rigid rod at the capsule point C, the
 Kelvin-Voigt rod at C with MuJoCo-equivalent (eps, xi), MuJoCo's contact law
-in continuous time, and MuJoCo at its timestep; the cause is the first rung
-whose outcome (relabelled by the study's comparison rule) equals MuJoCo's
-label in the study.  The paper's Fig. 20 initial condition IC2 is followed
-through all five rungs on one figure.
+in continuous time without and with its normal force's feed-forward, and
+MuJoCo at its timestep; the cause is the first rung of the final stretch whose
+outcomes (relabelled by the study's comparison rule) equal MuJoCo's label in
+the study.  A ladder's detours (rungs whose outcome is neither the theory's
+nor MuJoCo's) are counted with the rung that ends each.  The paper's Fig. 20
+initial condition IC2 is followed through all six rungs on one figure.
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ CAUSE_COLORS = {
     "geometry": (0.12, 0.47, 0.71),
     "compliance": (1.0, 0.5, 0.05),
     "friction law": (0.17, 0.63, 0.17),
+    "feed-forward": (0.55, 0.34, 0.29),
     "discretisation": (0.58, 0.4, 0.74),
     "unexplained": (0.84, 0.15, 0.16),
     "undetermined": (0.5, 0.5, 0.5),
@@ -54,7 +57,7 @@ def params(quick: bool) -> dict:
     spec = engines.get("mujoco")
     base = engine_maps.params(quick, spec.name, spec.report.maps["quick" if quick else "full"])
     maps = [dict(m) for m in base["maps"]]
-    if quick:  # coarser maps and a few of their disagreements: the ladder's cost is its rungs 3 and 4, ~1 s a start
+    if quick:  # coarser maps and a few of their disagreements: the ladder's cost is its rungs 3 to 5, ~1 s a start
         for m in maps:
             m["n"] = 8
     # ladder_engine: whose disagreements these are (the engine table reads the causes of each engine from it)
@@ -110,7 +113,7 @@ def _events(ctx: RunContext) -> tuple[dict, str]:
 
 def run(ctx: RunContext) -> None:
     from crosscheck.state import SlipState
-    from crosscheck.engines.mujoco.studies.ladder import CAUSE_CODES, CAUSES, RUNGS, run_ladder
+    from crosscheck.engines.mujoco.studies.ladder import CAUSE_CODES, NAMED_CAUSES, RUNGS, run_ladder
     from crosscheck.engines.mujoco.studies.ladder_study import ladder_study, trajectories
     from crosscheck.engines.mujoco.studies.ladder_study import disagreements as find_disagreements
 
@@ -141,6 +144,8 @@ def run(ctx: RunContext) -> None:
     cols["cause"] = [ld.cause for ld in study.ladders]
     cols["cause_code"] = [CAUSE_CODES[ld.cause] for ld in study.ladders]
     cols["first_change"] = [ld.first_change if ld.first_change is not None else 0 for ld in study.ladders]
+    cols["detour_from"] = [ld.detour[0] if ld.detour is not None else 0 for ld in study.ladders]
+    cols["detour_ended_by"] = [ld.detour_ended_by or ("none" if ld.detour is not None else "") for ld in study.ladders]
     cols["eps"] = [ld.match.eps for ld in study.ladders]
     cols["xi"] = [ld.match.xi for ld in study.ladders]
     ctx.store.write_table("ladder", cols)
@@ -153,7 +158,7 @@ def run(ctx: RunContext) -> None:
     summary = {**study.summary(), "n_disagreements_on_maps": n_all, "source": source, "failures": failures[:20]}
     ctx.store.write_json("summary", summary)
 
-    # IC2 through all five rungs, with each rung's time series
+    # IC2 through all six rungs, with each rung's time series
     ic2 = SlipState(**P["ic2"])
     ld = run_ladder(ic2, P["ic2_mu"], alpha=P["alpha"], horizon=P["horizon"], keep=True, **P["options"])
     ctx.store.write_json("ic2", ld.as_dict())
@@ -168,7 +173,7 @@ def run(ctx: RunContext) -> None:
     # Checks
     ctx.check("every rung ran at every start (none missing or failed)", not any(study.missing.values()),
               value=study.missing, allowance=0, detail="; ".join(failures[:5]))
-    ctx.check("rung 5 (MuJoCo rerun at the same options) reproduces the agreement study's MuJoCo label at every disagreement, "
+    ctx.check("rung 6 (MuJoCo rerun at the same options) reproduces the agreement study's MuJoCo label at every disagreement, "
               "or 1-2 ulp of theta away (MuJoCo's first-row contact decided by rounding)",
               study.reference_mismatch == study.rounding_decided, value=study.reference_mismatch - study.rounding_decided, allowance=0,
               detail=f"{study.n_disagree} disagreements laddered; the rerun runs only to the comparison time + lag, as the study compares; "
@@ -181,19 +186,21 @@ def run(ctx: RunContext) -> None:
     goal = 1.0 - mujoco_tol.LADDER_ATTRIBUTED.atol
     ctx.check(f"at least {100 * goal:.0f}% of the disagreements attributed to a named cause", bool(math.isfinite(att) and att >= goal),
               value=att, allowance=goal, guard=True,
-              detail=", ".join(f"{c} {study.counts[c]}" for c in CAUSES[:6] if study.counts[c]) + f" of {study.n_disagree}")
+              detail=", ".join(f"{c} {study.counts[c]}" for c in (*NAMED_CAUSES, "unexplained", "undetermined") if study.counts[c])
+              + f" of {study.n_disagree}")
 
 
 def render(ctx: RenderContext) -> list:
     from matplotlib.patches import Patch
 
     from crosscheck.report.plotting import LINE_COLORS, categorical_image, plt
-    from crosscheck.engines.mujoco.studies.ladder import CAUSE_CODES, CAUSES, RUNG_TITLES, RUNGS
+    from crosscheck.engines.mujoco.studies.ladder import CAUSE_CODES, CAUSES, NAMED_CAUSES, RUNG_TITLES, RUNGS
 
     P = ctx.params
     summary = ctx.store.read_json("summary")
-    lad = ctx.store.read_table("ladder", text=tuple(["map", "analytic", "mujoco_study", "cause"] + [f"{r}_{k}" for r in RUNGS for k in
-                                                                                                   ("status", "outcome", "label")]))
+    lad = ctx.store.read_table("ladder", text=tuple(["map", "analytic", "mujoco_study", "cause", "detour_ended_by"]
+                                                    + [f"{r}_{k}" for r in RUNGS for k in ("status", "outcome", "label")]))
+    shown = (*NAMED_CAUSES, "unexplained", "undetermined")
     n = summary["n_disagree"]
     blocks = [Text(f"Starts from {summary['source']} (alpha = {P['alpha']:g}, horizon {P['horizon']:g}, MuJoCo "
                    + ", ".join(f"{k} {v:g}" for k, v in P["options"].items()) + f"). {summary['n_disagreements_on_maps']} starts disagree with "
@@ -214,14 +221,16 @@ def render(ctx: RenderContext) -> list:
                        f"of the start (IC2: A_nn = {mt['A_nn']:.4g}, d = {mt['d']:.4g}, eps = {mt['eps']:.4g}, xi = {mt['xi']:.4g}). The match is of the "
                        "normal row alone and of the spring about a penetration: MuJoCo's force also feeds forward d of the free acceleration "
                        "(d ~ 0.9 of the rigid force at once), which the spring builds only over ~timeconst, and friction changes the gap's "
-                       "inverse mass from A_nn to p; both belong to MuJoCo's law, rung 4, whose cause is named 'friction law'."))
+                       "inverse mass from A_nn to p. Rung 4 is MuJoCo's law with its friction but without that feed-forward (the normal row "
+                       "at the impedance 0.001: its solref spring-damper alone), so rung 4 adds MuJoCo's friction law to the spring "
+                       "('friction law') and rung 5 the feed-forward ('feed-forward')."))
     if any(summary["missing"].values()):
         blocks.append(Text("RUNGS THAT DID NOT RUN: " + "; ".join(f"{k} at {v} starts" for k, v in summary["missing"].items() if v)
                            + ". A start whose first match would come after such a rung is counted 'undetermined'. " + " | ".join(summary["failures"][:5])))
-    rows = [[c, str(summary["counts"][c]), f"{100 * summary['fractions'][c]:.1f}%" if n else "-"] for c in CAUSES[:6]]
+    rows = [[c, str(summary["counts"][c]), f"{100 * summary['fractions'][c]:.1f}%" if n else "-"] for c in shown]
     blocks.append(Table(caption="Disagreements per cause (fractions of the laddered disagreements).", header=["cause", "starts", "fraction"],
                         rows=rows, data=ctx.data("summary.json", "ladder.csv")))
-    blocks.append(Text("What the attributed fraction means: rung 5 is MuJoCo itself at the same options, rerun to the comparison time plus "
+    blocks.append(Text("What the attributed fraction means: rung 6 is MuJoCo itself at the same options, rerun to the comparison time plus "
                        "the lag, so it reproduces the study's label whenever the rerun is faithful "
                        f"({summary['reference_mismatch']} of {n} did not; of those, {summary.get('rounding_decided', 0)} give the study's label "
                        "1-2 units in the last place of theta away: MuJoCo's contact in the first row, and with it the outcome, is decided by "
@@ -230,12 +239,20 @@ def render(ctx: RenderContext) -> list:
                        "the split: which of MuJoCo's differences from the paper's rod is the first to produce its outcome."))
     # the ladder need not be monotone: an outcome may change at one rung and reach MuJoCo's only at a later one, or match it and leave it again
     changes = sorted({int(v) for v in lad["first_change"]})
-    named = [c for c in CAUSES[:6] if summary["counts"][c]]
+    named = [c for c in shown if summary["counts"][c]]
     blocks.append(Table(caption="First rung at which the outcome differs from rung 1's (rows) against the cause (columns): off the diagonal "
                                 "the outcome changed first to something MuJoCo does not do.",
                         header=["first change \\ cause"] + named,
                         rows=[[f"rung {k}" if k else "none"] + [str(int(np.sum((lad["first_change"] == k) & (lad["cause"] == c)))) for c in named]
                               for k in changes], data=ctx.data("ladder.csv")))
+    det = summary.get("detours", {"n": 0, "ended_by": {}})
+    ends = [c for c in (*NAMED_CAUSES, "none") if det["ended_by"].get(c)]
+    blocks.append(Table(caption=f"Detours: {det['n']} of {n} ladders pass through an outcome that is neither the theory's nor MuJoCo's (a "
+                                "ladder without one is monotone: each rung keeps the theory's outcome or takes MuJoCo's). Per cause named "
+                                "(rows), the rung whose difference ends the detour (columns; 'none': no later rung does).",
+                        header=["cause \\ detour ended by"] + ends,
+                        rows=[[c] + [str(int(np.sum((lad["cause"] == c) & (lad["detour_ended_by"] == e)))) for e in ends] for c in named]
+                        if ends else [["no detour"]], data=ctx.data("summary.json", "ladder.csv")))
 
     # maps coloured by cause
     for m in P["maps"]:
@@ -295,7 +312,7 @@ def render(ctx: RenderContext) -> list:
     fig.legend(handles=handles, loc="outside right center", fontsize=7, frameon=False)
     st = ic2["state"]
     blocks.append(ctx.figure("ic2_rungs", fig, f"IC2 of Fig. 20 (theta {st['theta']:g}, varphi {st['varphi']:g}, Theta {st['Theta']:g}, Psi {st['Psi']:g}, "
-                             f"eta {st['eta']:g}, mu {ic2['mu']:g}) through the five rungs, up to each rung's first event or t = {ic2['run_until']:.3g}: "
+                             f"eta {st['eta']:g}, mu {ic2['mu']:g}) through the six rungs, up to each rung's first event or t = {ic2['run_until']:.3g}: "
                              f"cause {ic2['cause']}. Rung 3's Kelvin-Voigt contact has eps = {ic2['match']['eps']:.4g}, xi = {ic2['match']['xi']:.4g}.",
                              ["ic2_series.csv", "ic2.json"]))
     blocks.append(Table(caption="IC2 through the ladder (labels as the agreement study compares them).",
@@ -314,8 +331,8 @@ def finding(data: Path) -> list:
     ladder = read_json(data / "summary.json")
     if ladder and ladder.get("n_disagree"):
         counts, n = ladder["counts"], ladder["n_disagree"]
-        causes = ", ".join(f"{k} {counts[k]}" for k in ("geometry", "compliance", "friction law", "discretisation", "unexplained", "undetermined")
-                           if counts.get(k))
+        causes = ", ".join(f"{k} {counts[k]}" for k in ("geometry", "compliance", "friction law", "feed-forward", "discretisation", "unexplained",
+                                                        "undetermined") if counts.get(k))
         ic2 = read_json(data / "ic2.json") or {}
         text = (f"{n} MuJoCo-theory disagreements laddered (of {ladder.get('n_disagreements_on_maps', n)} on the maps), "
                 f"{100 * ladder['attributed']:.0f} % attributed to a named cause: {causes}")
@@ -329,5 +346,5 @@ def finding(data: Path) -> list:
 SECTION = Section(slug=SLUG, title="The ladder: a named cause for each MuJoCo-theory disagreement", paper="Fig. 20 (IC2); sections 2, 4",
                   params=params, run=run, render=render,
                   requires=("crosscheck.engines.mujoco.studies.ladder", "crosscheck.theory.capsule", "crosscheck.engines.compliant", "crosscheck.engines.mujoco.law",
-                            "crosscheck.engines.mujoco.engine"), finding=finding,
+                            "crosscheck.engines.mujoco.ode", "crosscheck.engines.mujoco.engine"), finding=finding,
                   after=("mujoco_maps",))  # the full report ladders that section's saved disagreements

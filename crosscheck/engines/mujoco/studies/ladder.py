@@ -1,10 +1,11 @@
 """The ladder: a named cause for each start where MuJoCo's first event differs from the rigid theory's.
 
-MuJoCo's capsule differs from the paper's rod in four ways at once: its
+MuJoCo's capsule differs from the paper's rod in five ways at once: its
 contact point C lies a radius r below the tip A, its contact is compliant,
-its soft elliptic friction is not exactly opposite the slip, and its time is
-discretised.  The ladder removes them one at a time.  From one start
-(``SlipState``, mu, alpha, MuJoCo's ``Options``) it runs five models, each
+its soft elliptic friction is not exactly opposite the slip, its normal force
+feeds most of the rigid force forward at once (the impedance), and its time
+is discretised.  The ladder removes them one at a time.  From one start
+(``SlipState``, mu, alpha, MuJoCo's ``Options``) it runs six models, each
 adding one of MuJoCo's differences to the one before:
 
 ====  ==============  =========================================================================
@@ -14,15 +15,18 @@ rung  name            model
 2     ``capsule``     rigid rod, contact at C: ``crosscheck.theory.capsule.slip_until_event(radius=r)``
 3     ``compliant``   Kelvin-Voigt rod at C, exact Coulomb friction, MuJoCo-equivalent
                       (eps, xi) (``mujoco_equivalent``): ``crosscheck.engines.compliant.simulate``
-4     ``mujoco_law``  MuJoCo's contact law at C in continuous time:
+4     ``spring_law``  MuJoCo's contact law at C in continuous time without its normal
+                      force's feed-forward: MuJoCo's friction on its solref spring-damper
+                      (``crosscheck.engines.mujoco.ode.simulate(feed_forward=False)``)
+5     ``mujoco_law``  MuJoCo's contact law at C in continuous time:
                       ``crosscheck.engines.mujoco.law.simulate``
-5     ``mujoco``      MuJoCo at the run's timestep: ``crosscheck.engines.get("mujoco").simulate``
+6     ``mujoco``      MuJoCo at the run's timestep: ``crosscheck.engines.get("mujoco").simulate``
 ====  ==============  =========================================================================
 
 The cause of a disagreement (rung 1's outcome differs from MuJoCo's) is the
 rung from which every later rung's outcome equals MuJoCo's (the first rung of
 the final stretch of matches): "geometry" (2), "compliance" (3), "friction
-law" (4), "discretisation" (5).  Why not the first rung that matches: two of
+law" (4), "feed-forward" (5), "discretisation" (6).  Why not the first rung that matches: two of
 MuJoCo's differences can each change the outcome, and a match that the next
 rung undoes is not the difference MuJoCo keeps.  Near p = 0 the rigid rod at
 the capsule point C jams where the rod at A lifts off (the offset r moves p
@@ -31,10 +35,17 @@ law jams: the first match named geometry, yet a sixteen times thinner MuJoCo
 capsule still jams and a smaller impratio or another impedance removes the
 jam (``crosscheck.studies.interventions``).  Likewise a start where MuJoCo's
 law in continuous time does what the rigid theory does while MuJoCo's steps
-do not is discretisation, not compliance.  "friction law" stands for all of
-MuJoCo's contact law that rung 3 lacks: its friction not opposite the slip
-and regularised (its friction time constant), and its normal force's
-feed-forward of the free acceleration (below).  Rung 5 is MuJoCo itself at the
+do not is discretisation, not compliance.  "friction law" is MuJoCo's
+friction where rung 3 has Coulomb's: not opposite the slip, regularised (its
+friction time constant, its soft stick) and coupled to the normal row by one
+convex problem.  "feed-forward" is the rest of MuJoCo's law: its impedance
+applies a fraction d (0.9-0.95 by default) of the rigid normal force at once,
+where the matched spring, and rung 4's solref spring-damper, build the force
+over the time constant (``crosscheck.engines.mujoco.law.contact_problem``).
+Without rung 4 the two were one cause, and a ladder often went from the
+theory's outcome to a third one at rung 3 (the spring's slower force: a slip
+where the theory jams) and to MuJoCo's only at the law: rung 4 shows the
+feed-forward as the step that ends such a detour (``detour``).  Rung 6 is MuJoCo itself at the
 same options, so for a single start it always matches; a cause can only be
 "unexplained" when MuJoCo's outcome is given from elsewhere (the agreement
 study's label, ``run_ladder(reference=...)``) and the rerun differs from it.
@@ -51,7 +62,7 @@ solref time constant): a later engine event counts as SLIP
 (``comparison_labels``).  Every rung's outcome here goes through the same
 relabelling with rung 1's T and the same lag, so rung 5's label is exactly
 the study's label of MuJoCo and the rungs are compared on the same footing.
-Since nothing after T + lag can change a label, rungs 2-5 run only to
+Since nothing after T + lag can change a label, rungs 2-6 run only to
 min(T + lag, horizon) (plus the classifier's margin of two windows for the
 engines, as the study adds), which is what the study's runs see up to that
 time.
@@ -86,7 +97,7 @@ from crosscheck.rod import Rod
 from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
 from crosscheck.studies.agreement import DEFAULT_HORIZON
-from crosscheck.studies.ladder import final_stretch_cause
+from crosscheck.studies.ladder import detour, final_stretch_cause
 from crosscheck.studies.comparison import RATED, compared_label, comparison_window, run_stick_from, window_margin
 
 __all__ = [
@@ -94,32 +105,40 @@ __all__ = [
     "RUNG_TITLES",
     "CAUSES",
     "CAUSE_CODES",
+    "NAMED_CAUSES",
     "RungResult",
     "Ladder",
     "run_ladder",
     "compliant_rung",
+    "spring_law_rung",
     "law_rung",
+    "detour",
 ]
 
 #: The rungs, in order (rung k is RUNGS[k - 1]).
-RUNGS = ("tip", "capsule", "compliant", "mujoco_law", "mujoco")
+RUNGS = ("tip", "capsule", "compliant", "spring_law", "mujoco_law", "mujoco")
 
 #: What each rung is, for tables and the CLI.
 RUNG_TITLES = {
     "tip": "rigid rod, contact at the tip A (the paper)",
     "capsule": "rigid rod, contact at the capsule point C",
     "compliant": "Kelvin-Voigt rod at C, MuJoCo-equivalent eps, xi, exact Coulomb",
+    "spring_law": "MuJoCo's contact law at C, continuous time, no normal feed-forward",
     "mujoco_law": "MuJoCo's contact law at C, continuous time",
     "mujoco": "MuJoCo at the run's timestep",
 }
 
 #: The difference from the theory that each rung from 2 on adds: the cause if it is the first to match MuJoCo.
-CAUSE_OF_RUNG = {"capsule": "geometry", "compliant": "compliance", "mujoco_law": "friction law", "mujoco": "discretisation"}
+CAUSE_OF_RUNG = {"capsule": "geometry", "compliant": "compliance", "spring_law": "friction law", "mujoco_law": "feed-forward",
+                 "mujoco": "discretisation"}
+
+#: The causes a ladder names (one per rung from 2 on), in rung order.
+NAMED_CAUSES = tuple(CAUSE_OF_RUNG[r] for r in RUNGS[1:])
 
 #: Every cause a start can get.  "agree": rung 1 already equals MuJoCo (not a disagreement);
 #: "not rated": rung 1's outcome is GB or DIVERGED (the agreement study does not rate those);
 #: "undetermined": the first match comes after a rung that could not run; "unexplained": no rung matches.
-CAUSES = ("geometry", "compliance", "friction law", "discretisation", "unexplained", "undetermined", "agree", "not rated")
+CAUSES = ("geometry", "compliance", "friction law", "feed-forward", "discretisation", "unexplained", "undetermined", "agree", "not rated")
 
 #: Integer code of each cause (maps and CSV columns).
 CAUSE_CODES = {c: i for i, c in enumerate(CAUSES)}
@@ -128,10 +147,11 @@ CAUSE_CODES = {c: i for i, c in enumerate(CAUSES)}
 #: horizon / timestep would need more than ``MAX_RECORD_BYTES`` is refused before any rung runs.
 ROW_BYTES = 1200
 
-#: The module and function of each rung from 2 to 4 (rung 1 and 5 are always there).
+#: The module and function of each rung from 2 to 5 (rung 1 and 6 are always there).
 _RUNG_CALLABLE = {
     "capsule": ("crosscheck.theory.capsule", "slip_until_event"),
     "compliant": ("crosscheck.engines.compliant", "simulate"),
+    "spring_law": ("crosscheck.engines.mujoco.ode", "simulate"),
     "mujoco_law": ("crosscheck.engines.mujoco.law", "simulate"),
 }
 
@@ -146,7 +166,7 @@ class RungResult:
     """One rung's run of one start.
 
     Attributes:
-      rung: 1-5; name: ``RUNGS[rung - 1]``.
+      rung: 1-6; name: ``RUNGS[rung - 1]``.
       status: "ok", "not available" (the rung's module or function is
         missing) or "failed" (it raised); ``detail`` says which and why.
       outcome: its own first event (``Outcome``; None unless ok).
@@ -183,20 +203,23 @@ class RungResult:
 
 @dataclass(frozen=True, eq=False)
 class Ladder:
-    """A start through the five rungs, and the cause of its disagreement.
+    """A start through the six rungs, and the cause of its disagreement.
 
     Attributes:
       state, mu, alpha: the start.
       options: MuJoCo's options (a dict of ``crosscheck.engines.mujoco.options.Options``' fields).
       match: the Kelvin-Voigt (eps, xi) of rung 3 (``mujoco_equivalent``).
       horizon: the study's horizon; until: rung 1's comparison time; lag: the
-        extension of an analytic event's comparison; run_until: how far rungs 2-5 ran.
-      rungs: five ``RungResult``s.
-      reference: MuJoCo's label the cause is judged against (rung 5's own, or
-        the agreement study's when given); reference_source: "rung 5" or "given".
+        extension of an analytic event's comparison; run_until: how far rungs 2-6 ran.
+      rungs: six ``RungResult``s.
+      reference: MuJoCo's label the cause is judged against (rung 6's own, or
+        the agreement study's when given); reference_source: "rung 6" or "given".
       disagree: rung 1 is rated and its label differs from the reference.
       cause: one of ``CAUSES``.
       first_change: the first rung whose label differs from rung 1's (None if none).
+      detour: (k, j) rung numbers of its first detour: rung k takes an outcome that is neither the theory's nor
+        MuJoCo's, rung j is the first back on one of them (None if none; ``crosscheck.studies.ladder.detour``);
+        None for a start that is not a disagreement.
     """
 
     state: SlipState
@@ -219,6 +242,19 @@ class Ladder:
         return self.rungs[RUNGS.index(name)]
 
     @property
+    def detour(self) -> tuple[int, int | None] | None:
+        if not self.disagree:
+            return None
+        d = detour([r.label if r.ok else None for r in self.rungs], self.reference)
+        return None if d is None else (d[0] + 1, None if d[1] is None else d[1] + 1)
+
+    @property
+    def detour_ended_by(self) -> str | None:
+        """The cause of the rung that ends the detour (None without one, or if no rung ends it)."""
+        d = self.detour
+        return None if d is None or d[1] is None else CAUSE_OF_RUNG[RUNGS[d[1] - 1]]
+
+    @property
     def missing(self) -> list[str]:
         """Names of the rungs that did not run (not available or failed)."""
         return [r.name for r in self.rungs if not r.ok]
@@ -228,14 +264,15 @@ class Ladder:
                         "horizon": self.horizon, "comparison_time": self.until, "lag": self.lag, "run_until": self.run_until,
                         "rungs": [r.as_dict() for r in self.rungs],
                         "reference": self.reference.name if self.reference is not None else None, "reference_source": self.reference_source,
-                        "disagree": self.disagree, "cause": self.cause, "first_change": self.first_change, "missing": self.missing})
+                        "disagree": self.disagree, "cause": self.cause, "first_change": self.first_change, "missing": self.missing,
+                        "detour": self.detour, "detour_ended_by": self.detour_ended_by})
 
     def to_json(self) -> str:
         return json.dumps(self.as_dict(), indent=2, allow_nan=False)
 
 
 def _rung_callable(name: str):
-    """The function of rung ``name`` (2-4), or the reason it is not available."""
+    """The function of rung ``name`` (2-5), or the reason it is not available."""
     module, attr = _RUNG_CALLABLE[name]
     try:
         mod = importlib.import_module(module)
@@ -267,7 +304,7 @@ def _engine_rung(k: int, name: str, run, t0: float, keep: bool) -> RungResult:
 
 def _run_rung(k: int, name: str, *, state: SlipState, mu: float, alpha: float, rod: Rod, opts, th: Thresholds, match: KelvinVoigtMatch,
               t_analytic: float, t_engine: float, keep: bool) -> RungResult:
-    """Rung k (2-5) of one start; never raises for a missing or failing rung (status says so)."""
+    """Rung k (2-6) of one start; never raises for a missing or failing rung (status says so)."""
     t0 = time.perf_counter()
     try:
         if name == "mujoco":
@@ -287,6 +324,8 @@ def _run_rung(k: int, name: str, *, state: SlipState, mu: float, alpha: float, r
             if _accepts(fn, "timestep"):  # records at MuJoCo's timestep: the classifier's windows span the same rows
                 kw["timestep"] = opts.timestep
             run = fn(rod, state, mu, eps=match.eps, xi=match.xi, radius=opts.radius, **kw)
+        elif name == "spring_law":
+            run = fn(rod, state, mu, feed_forward=False, **kw, **opts.as_dict())
         else:
             run = fn(rod, state, mu, **kw, **opts.as_dict())
         return _engine_rung(k, name, run, t0, keep)
@@ -306,21 +345,21 @@ def _cause(rungs: Sequence[RungResult], reference: Outcome | None) -> tuple[bool
 
 def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: float = DEFAULT_HORIZON, thresholds: Thresholds | None = None,
                reference: Outcome | int | None = None, rungs: Sequence[str] = RUNGS, keep: bool = False, **options) -> Ladder:
-    """Run the five rungs from ``state`` and name the cause of a disagreement (module docstring).
+    """Run the six rungs from ``state`` and name the cause of a disagreement (module docstring).
 
     Args:
       state: the start (``SlipState``, scaled units; the tip on the plane).
       mu: friction coefficient.
       alpha: m l^2 / I0 (``Rod.scaled(alpha)``).
       horizon: the comparison horizon of the agreement study (scaled).
-      thresholds: the classifier's criteria for rungs 3-5 (``Thresholds()`` by default).
+      thresholds: the classifier's criteria for rungs 3-6 (``Thresholds()`` by default).
       reference: MuJoCo's label to judge the cause against (e.g. the
-        agreement study's); None uses rung 5's own label.
+        agreement study's); None uses rung 6's own label.
       rungs: the rungs to run besides rung 1 (the others are reported
         "not available: not requested"); all by default.
       keep: keep each rung's own result object (``RungResult.result``).
       **options: MuJoCo's options (fields of ``crosscheck.engines.mujoco.options.Options``:
-        timestep, radius, timeconst, dampratio, solimp, ...); rungs 2-4 use
+        timestep, radius, timeconst, dampratio, solimp, ...); rungs 2-5 use
         the same radius, solref and solimp.
 
     Returns:
@@ -370,8 +409,8 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
     if reference is not None:
         ref, source = Outcome(int(reference)), "given"
     else:
-        five = labelled[-1]
-        ref, source = (five.label if five.ok else None), "rung 5"
+        last = labelled[-1]
+        ref, source = (last.label if last.ok else None), "rung 6"
     disagree, cause, change = _cause(labelled, ref)
     for r in labelled:
         if r.status != "ok" and r.detail != "not requested":
@@ -389,8 +428,15 @@ def compliant_rung(rod: Rod, state: SlipState, mu: float, *, horizon: float, thr
                                              radius=options.radius, timestep=options.timestep)
 
 
+def spring_law_rung(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds, options):
+    """Rung 4 as a declared rung: MuJoCo's contact law at C in continuous time without its normal force's feed-forward."""
+    from crosscheck import engines
+
+    return engines.get("mujoco_law").simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, feed_forward=False, **options.as_dict())
+
+
 def law_rung(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds, options):
-    """Rung 4 as a declared rung: MuJoCo's contact law at C in continuous time, at the run's options."""
+    """Rung 5 as a declared rung: MuJoCo's contact law at C in continuous time, at the run's options."""
     from crosscheck import engines
 
     return engines.get("mujoco_law").simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, **options.as_dict())

@@ -12,7 +12,7 @@ from tqdm.auto import tqdm
 
 from crosscheck.compare import as_json
 from crosscheck.engines.classifier import Thresholds
-from crosscheck.engines.mujoco.studies.ladder import CAUSES, RUNGS, Ladder, run_ladder
+from crosscheck.engines.mujoco.studies.ladder import CAUSES, NAMED_CAUSES, RUNGS, Ladder, run_ladder
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
@@ -41,11 +41,10 @@ class LadderStudy:
       ladders: one ``Ladder`` per start.
       counts: starts per cause (every ``CAUSES`` entry).
       n_disagree: the starts that disagree (rung 1 rated, its label != MuJoCo's).
-      attributed: the fraction of them with a named cause (geometry,
-        compliance, friction law, discretisation); NaN if none disagree.
+      attributed: the fraction of them with a named cause (``NAMED_CAUSES``); NaN if none disagree.
       missing: per rung, how many starts it could not run.
-      reference_mismatch: starts where rung 5's rerun label differs from the
-        given reference (rung 5 is MuJoCo at the same options).
+      reference_mismatch: starts where rung 6's rerun label differs from the
+        given reference (rung 6 is MuJoCo at the same options).
       rounding_decided: those of them where a start 1-2 ulp of theta away
         gives the reference (``decided_by_rounding``): the same start but for
         its last bits.  A mismatch that is not is unexplained.
@@ -61,14 +60,20 @@ class LadderStudy:
 
     def fractions(self) -> dict:
         """Fraction of the disagreements per cause."""
-        n = max(self.n_disagree, 1)
-        return {c: self.counts[c] / n for c in CAUSES[:6]} if self.n_disagree else {c: math.nan for c in CAUSES[:6]}
+        n, causes = max(self.n_disagree, 1), [c for c in CAUSES if c not in ("agree", "not rated")]
+        return {c: self.counts[c] / n for c in causes} if self.n_disagree else {c: math.nan for c in causes}
+
+    def detours(self) -> dict:
+        """Disagreements whose ladder takes a detour (``Ladder.detour``): their number, and per cause of the rung that
+        ends it (the cause named "none" when no rung does)."""
+        ended = [ld.detour_ended_by or "none" for ld in self.ladders if ld.detour is not None]
+        return {"n": len(ended), "ended_by": {c: ended.count(c) for c in dict.fromkeys(ended)}}
 
     def summary(self) -> dict:
         wall = {name: float(sum(ld.rung(name).wall_time for ld in self.ladders)) for name in RUNGS}  # seconds per rung, over all starts
         return as_json({"n": len(self.ladders), "n_disagree": self.n_disagree, "attributed": self.attributed, "counts": self.counts,
                         "fractions": self.fractions(), "missing": self.missing, "reference_mismatch": self.reference_mismatch,
-                        "rounding_decided": self.rounding_decided, "wall_time": wall})
+                        "rounding_decided": self.rounding_decided, "detours": self.detours(), "wall_time": wall})
 
 
 #: Units in the last place by which ``decided_by_rounding`` moves theta.
@@ -87,7 +92,7 @@ def decided_by_rounding(ladder: "Ladder", label: Outcome, *, thresholds: Thresho
     The agreement study builds its starts as arrays, whose sine and cosine
     take numpy's SIMD paths, the ladder one by one: a rerun that differs from
     the study's label at such a start is the same start in all but its last
-    bits.  Labelled as the ladder labels rung 5 (the study's comparison time
+    bits.  Labelled as the ladder labels rung 6 (the study's comparison time
     plus lag).
     """
     from crosscheck import engines
@@ -113,7 +118,7 @@ def ladder_study(states: Sequence[SlipState], mu, *, alpha: float = 3.0, horizon
     Args:
       states, mu: the starts and their friction (mu a scalar or one per start).
       references: MuJoCo's labels to judge against (one per start, e.g. the
-        agreement study's), or None for rung 5's own.
+        agreement study's), or None for rung 6's own.
       other arguments: as ``run_ladder``.
     """
     states = list(states)
@@ -128,7 +133,7 @@ def ladder_study(states: Sequence[SlipState], mu, *, alpha: float = 3.0, horizon
             ladders.append(run_ladder(s, float(m), alpha=alpha, horizon=horizon, thresholds=thresholds, reference=ref, keep=keep, **options))
     counts = {c: sum(ld.cause == c for ld in ladders) for c in CAUSES}
     n_dis = sum(ld.disagree for ld in ladders)
-    named = sum(counts[c] for c in CAUSES[:4])
+    named = sum(counts[c] for c in NAMED_CAUSES)
     missing = {name: sum(not ld.rung(name).ok for ld in ladders) for name in RUNGS}
     mismatched = [ld for ld in ladders if ld.reference_source == "given" and ld.rung("mujoco").ok and ld.rung("mujoco").label != ld.reference]
     rounding = sum(decided_by_rounding(ld, ld.reference, thresholds=thresholds) for ld in mismatched)

@@ -164,11 +164,42 @@ def test_through_a_sweep_store_the_study_is_the_same_and_resumes(tmp_path):
     np.testing.assert_array_equal(stored.outcome, direct.outcome)
     np.testing.assert_array_equal(stored.event_time, direct.event_time)
     assert stored.agreement == direct.agreement
-    (store,) = [p for p in tmp_path.iterdir() if p.is_dir()]
-    stamps = {p: p.stat().st_mtime_ns for p in (store / "chunks").iterdir()}
+    stores = [p for p in tmp_path.iterdir() if p.is_dir()]  # one sweep per run horizon
+    assert len(stores) > 1
+    stamps = {p: p.stat().st_mtime_ns for st in stores for p in (st / "chunks").iterdir()}
     agreement_study(SMALL_GRID, store=tmp_path, workers=2, **kw)
-    assert {p: p.stat().st_mtime_ns for p in (store / "chunks").iterdir()} == stamps
-    assert len(sweeps.load(store)) == len(direct.outcome)
+    assert {p: p.stat().st_mtime_ns for st in stores for p in (st / "chunks").iterdir()} == stamps
+    assert sum(len(sweeps.load(st)) for st in stores) == len(direct.outcome)
+
+
+@pytest.mark.parametrize("engine, options", [("mujoco", COARSE), ("pinocchio", {"timestep": 1e-3})])
+def test_runs_cut_at_each_states_comparison_label_every_state_as_runs_to_the_horizon(monkeypatch, engine, options):
+    """Each state runs to its comparison time plus lag (rounded up to horizon / 2^k) plus two windows: the labels, and the
+    event times of every event the comparison sees, are those of runs to the horizon (HORIZON_HALVINGS = 0), with fewer steps."""
+    from crosscheck.studies import agreement_store
+
+    # slips, lift-offs, sticks and jams, early and late
+    grid = EventGrid(theta=(0.5, 0.9, 1.0, 1.2), varphi=(-1.9, -math.pi / 2), Theta=(-0.7, 0.0, 0.9), Psi=(0.0, 1.7), mu=(0.6, 1.4))
+    kw = dict(engine=engine, settings=[options], boundary_directions=0, horizon=2.0)
+    cut = agreement_study(grid, **kw)
+    runs_to = agreement_store.run_horizons(cut.analytic.until[cut.index], 2.0)
+    monkeypatch.setattr(agreement_store, "HORIZON_HALVINGS", 0)
+    whole = agreement_study(grid, **kw)
+    c, w = cut.runs[0], whole.runs[0]
+    np.testing.assert_array_equal(c.label, w.label)
+    seen = np.isin(c.label, [int(o) for o in (Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM, Outcome.LAUNCH)])
+    assert seen.any() and np.array_equal(c.event_time[seen], w.event_time[seen])
+    assert len(set(c.label.tolist())) == 4  # a grid with every rated outcome, not one that agrees by being dull
+    # the states whose comparison ends early ran shorter
+    assert (runs_to < 2.0).sum() >= len(runs_to) // 4
+
+
+def test_run_horizons_are_the_smallest_halving_of_the_horizon_past_the_comparison():
+    from crosscheck.studies.agreement_store import HORIZON_HALVINGS, run_horizons
+
+    h = run_horizons([0.0, 0.1, 0.125, 0.126, 0.9, 1.0, 1.5, 2.0, 7.0], 2.0)
+    assert HORIZON_HALVINGS == 4
+    assert h.tolist() == [0.125, 0.125, 0.125, 0.25, 1.0, 1.0, 2.0, 2.0, 2.0]
 
 
 def test_boundary_distances_kept_in_a_file_are_read_back_and_a_damaged_file_is_replaced(tmp_path):

@@ -182,19 +182,21 @@ def test_simulate_is_a_batch_of_one():
     np.testing.assert_allclose(run.record.normal_force, pgs.record.normal_force, rtol=RIGID_BATCH_STEP.rtol, atol=0)
 
 
-def test_auto_batches_sweeps_of_AUTO_BATCH_states_and_steps_single_runs_with_pgs():
-    """The default solver: a sweep of ``AUTO_BATCH`` states is stepped in closed form (0 PGS iterations below mu_P, where
-    every step's NCP has one solution); a smaller sweep and ``simulate`` go through PGS (>= 1 iteration per contact step)."""
-    from crosscheck.engines.pinocchio.options import AUTO_BATCH
-
+def test_auto_steps_every_sweep_in_closed_form_whatever_its_size_and_single_runs_with_pgs():
+    """The default solver: every sweep is stepped in closed form (0 PGS iterations below mu_P, where every step's NCP has one
+    solution), so a state's outcome does not depend on the states swept with it: the first two of 16 states alone give the
+    same outcomes, times and rows' solver counts; ``simulate`` goes through PGS (>= 1 iteration per contact step)."""
     rng = np.random.default_rng(3)
     states = [SlipState(theta=rng.uniform(0.3, 1.2), varphi=-rng.uniform(0.5, 2.5), Theta=0.3 * rng.normal(), Psi=0.5 * rng.normal(),
-                        eta=rng.uniform(0.5, 2)) for _ in range(AUTO_BATCH)]
+                        eta=rng.uniform(0.5, 2)) for _ in range(16)]
     assert Options().solver == "auto"
     big = ENGINE.sweep(ROD, states, 0.5, horizon=0.1, workers=1)
     assert big.options.solver == "auto" and np.all(big.solver["max_iterations"] == 0) and np.all(big.solver["contact_steps"] > 0)
     small = ENGINE.sweep(ROD, states[:2], 0.5, horizon=0.1, workers=1)
-    assert np.all(small.solver["max_iterations"] >= 1)
+    assert np.all(small.solver["max_iterations"] == 0)
+    np.testing.assert_array_equal(small.outcome, big.outcome[:2])
+    np.testing.assert_array_equal(small.event_time, big.event_time[:2])
+    np.testing.assert_array_equal(small.solver["contact_steps"], big.solver["contact_steps"][:2])
     assert ENGINE.simulate(ROD, states[0], 0.5, horizon=0.1).solver.max_iterations >= 1
 
 
@@ -227,6 +229,7 @@ def test_agreement_cuts_the_rigid_engines_store_in_its_own_chunks_and_a_rerun_re
     from crosscheck.studies.agreement_store import STORE_CHUNK, store_chunk
     from crosscheck.studies.grids import random_event_points
 
+    monkeypatch.setattr(agreement_store, "HORIZON_HALVINGS", 0)  # every state to the horizon: one sweep, one store
     chunk = ENGINE.sweep_chunk
     assert store_chunk(ENGINE) == chunk and chunk != STORE_CHUNK and store_chunk(get("mujoco")) == STORE_CHUNK
     points = random_event_points(chunk + 40, np.random.default_rng(5))
@@ -248,7 +251,7 @@ def test_agreement_cuts_the_rigid_engines_store_in_its_own_chunks_and_a_rerun_re
     (other,) = [p for p in tmp_path.iterdir() if p.is_dir() and p != store]
     assert json.loads((other / "manifest.json").read_text())["chunk"] == chunk // 2
     assert {p: p.stat().st_mtime_ns for p in (store / "chunks").iterdir()} == stamps
-    np.testing.assert_array_equal(halves.outcome, run.outcome)  # every chunk still >= AUTO_BATCH: the same closed form
+    np.testing.assert_array_equal(halves.outcome, run.outcome)  # every chunk in the same closed form
     doc = json.loads((other / "manifest.json").read_text())["spec"]
     with pytest.raises(ValueError, match=r"^out .* holds a different sweep \(spec sha256 [0-9a-f]{12}, this one [0-9a-f]{12}\); use --fresh"):
         sweeps.run(sweeps.parse_spec(doc), store, workers=1, progress=False)

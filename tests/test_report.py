@@ -277,7 +277,8 @@ def test_unknown_section_is_a_one_line_error(tmp_path, capsys):
 
 
 def test_sweep_heavy_sections_keep_their_engine_runs_in_finished_stores(quick):
-    """The agreement maps and convergence tables ran their engines through crosscheck.sweeps: complete stores, one per setting."""
+    """The agreement maps and convergence tables ran their engines through crosscheck.sweeps: complete stores, per setting one
+    per run horizon (``crosscheck.studies.agreement_store``), each horizon a halving of the study's plus the margin."""
     out, _ = quick
     from crosscheck.sweeps import Store
 
@@ -286,9 +287,15 @@ def test_sweep_heavy_sections_keep_their_engine_runs_in_finished_stores(quick):
     assert ("mujoco_convergence", 4) in heavy and ("rigid_convergence", 3) in heavy
     for slug, n_settings in heavy:
         manifests = sorted((out / "sweeps" / slug).rglob("manifest.json"))
-        assert len(manifests) == n_settings, slug
-        for m in (Store(p.parent).read_manifest() for p in manifests):
+        settings: dict = {}
+        for p in manifests:
+            m = Store(p.parent).read_manifest()
             assert len(m["chunks"]) == m["n_chunks"] and m["failed"] == {}
+            key = (p.parent.parent, json.dumps(m["spec"]["options"], sort_keys=True))
+            settings.setdefault(key, []).append(m["spec"]["sweep"]["horizon"])
+        assert len(settings) == n_settings, slug  # a map or a setting each
+        for horizons in settings.values():  # one store per run horizon
+            assert len(set(horizons)) == len(horizons)
 
 
 def test_a_rerun_keeps_finished_sections_and_redoes_an_interrupted_one(tmp_path, monkeypatch):

@@ -30,9 +30,11 @@ Horizon.  ``DEFAULT_HORIZON`` = 2 scaled time units (2/omega, 0.64 s for a
 1 m rod).  On ``DEFAULT_GRID`` 99 % of the analytic first events happen
 before t = 1.4 (median 0.19) and 98 % of all states are decided (event or
 domain exit) before t = 2; a longer horizon adds engine steps to states that
-have already left the comparison.  The engine runs ``horizon + 2 W`` (W the
-classifier's window) so that an event near the horizon can still be judged
-by the windowed criteria.
+have already left the comparison.  An engine runs each state to its own
+comparison time plus lag (rounded up to horizon / 2^k) plus ``2 W`` (W the
+classifier's window), so that an event near that time can still be judged by
+the windowed criteria: nothing later can change the label
+(``crosscheck.studies.agreement_store``).
 
 Boundary distance.  ``boundary_distance`` probes the analytic outcome with
 random perturbations of the initial state (theta, varphi, Theta, Psi, eta;
@@ -63,9 +65,9 @@ from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.studies.analytic_events import BOUNDARY_RADII, AnalyticEvents, analytic_events, boundary_distance, floor_times
-from crosscheck.studies.agreement_store import sweep_through_store
+from crosscheck.studies.agreement_store import engine_runs
 from crosscheck.studies.comparison import EVENTS, LAG_STEPS, LAG_TAU, RATED, comparison_labels, engine_floor, event_lag, stick_from, window_margin
-from crosscheck.studies.grids import AXES, EventGrid, states_at
+from crosscheck.studies.grids import AXES, EventGrid
 
 __all__ = [
     "DEFAULT_HORIZON",
@@ -357,18 +359,15 @@ def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresho
     th = thresholds or Thresholds()
     margin = window_margin(th, opts.timestep)
     offplane = np.abs(points["varphi"][idx] + math.pi / 2)
-    if store is not None and thresholds is None and not any(isinstance(v, (list, tuple)) for v in given.values()):
-        cols = {k: points[k][idx] for k in ("theta", "varphi", "Theta", "Psi", "eta")}
-        outcome, event_time, p_event, wall, sps, solver, warned = sweep_through_store(E, rod, cols, points["mu"][idx], horizon + margin, given,
-                                                                                       opts, store, scheduler, workers, progress)
-        return _rate(engine=engine, opts=opts, th=th, outcome=outcome, event_time=event_time, p_event=p_event, a=a, idx=idx, distance=distance,
-                     offplane=offplane, wall_time=wall, steps_per_second=sps, solver=solver, warnings=warned, points=points, alpha=rod.alpha,
-                     horizon=horizon)
-    r = E.sweep(rod, states_at(points, idx), points["mu"][idx], horizon=horizon + margin, thresholds=th, progress=progress,
-                **{f.name: getattr(opts, f.name) for f in fields(opts)})
-    return _rate(engine=engine, opts=opts, th=th, outcome=r.outcome, event_time=r.event_time, p_event=r.summary["jam_p_eff"], a=a,
-                 idx=idx, distance=distance, offplane=offplane, wall_time=r.wall_time,
-                 steps_per_second=r.steps_per_second, solver=r.solver, warnings=r.warnings, points=points, alpha=rod.alpha, horizon=horizon)
+    # each state runs only as far as its comparison sees (crosscheck.studies.agreement_store): T + lag, plus the margin
+    needed = a.until[idx] + np.where(np.isin(a.outcome[idx], EVENTS), event_lag(float(opts.contact_time), float(opts.timestep)), 0.0)
+    cols = {k: points[k][idx] for k in ("theta", "varphi", "Theta", "Psi", "eta")}
+    through = store is not None and thresholds is None and not any(isinstance(v, (list, tuple)) for v in given.values())
+    r = engine_runs(E, rod, cols, points["mu"][idx], needed, horizon, margin, given if through else {f.name: getattr(opts, f.name) for f in fields(opts)},
+                    opts, th, progress, store=store if through else None, scheduler=scheduler, workers=workers)
+    return _rate(engine=engine, opts=opts, th=th, outcome=r.outcome, event_time=r.event_time, p_event=r.p_event, a=a, idx=idx, distance=distance,
+                 offplane=offplane, wall_time=r.wall_time, steps_per_second=r.steps_per_second, solver=r.solver, warnings=r.warnings, points=points,
+                 alpha=rod.alpha, horizon=horizon)
 
 
 def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings: Sequence[Mapping] = ({},), alpha: float = 3.0,

@@ -10,17 +10,13 @@ from crosscheck.checks import POSITIVE
 from crosscheck.state import check_timestep, real_scalar
 from crosscheck.engines.base import options_from_kwargs
 
-__all__ = ["Options", "SOLVERS", "AUTO_BATCH"]
+__all__ = ["Options", "SOLVERS"]
 
-#: Constraint solvers that ``Options.solver`` names: "auto" (the closed form for a sweep of at least ``AUTO_BATCH``
-#: states, PGS otherwise), the closed-form NCP over a batch of states (Pinocchio's PGS where a step's NCP has several
+#: Constraint solvers that ``Options.solver`` names: "auto" (the closed form for every sweep, PGS for one ``simulate``),
+#: the closed-form NCP over a batch of states (Pinocchio's PGS where a step's NCP has several
 #: solutions; ``crosscheck.engines.pinocchio.batch``), and Pinocchio's own solvers for every step.
 SOLVERS = ("auto", "closed_form", "pgs", "admm")
 
-#: The smallest sweep "auto" steps as a batch: a batched step costs ~0.3 ms of numpy calls almost whatever the batch
-#: (measured in CPU time, best of runs: 3.5e3 steps/s for one state, 2.7e4 for 8, 9.1e4 for 32, 2.7e5 for 128), a PGS
-#: step ~30 us per state, so the batch wins from ~10 states on.
-AUTO_BATCH = 16
 
 
 @dataclass(frozen=True)
@@ -33,9 +29,17 @@ class Options:
         stepped together in numpy, PGS only at steps whose NCP has several
         solutions: ``crosscheck.engines.pinocchio.batch``), "pgs"
         (Pinocchio's projected Gauss-Seidel at every step), "admm", or "auto"
-        (default): "closed_form" for a ``sweep`` of at least ``AUTO_BATCH``
-        states, "pgs" for ``simulate`` and smaller sweeps, whichever is
-        faster; the two give the same outcomes (the stepper's docstring).
+        (default): "closed_form" for every ``sweep`` and "pgs" for
+        ``simulate``.  Every sweep, whatever its size: a state's outcome in a
+        sweep must not depend on the other states swept with it (where the
+        step's NCP has several solutions, the choice is PGS's and depends on
+        its warm start, so the two solvers can choose differently: theta 1.2,
+        varphi -1.9, Theta 0, Psi 1.7, eta 1, mu 1.4 at timestep 1e-3 lifts
+        off at t = 0.021 by PGS alone and jams at 0.017 in closed form, as
+        both do at 3e-4).  A batched step costs ~0.3 ms of numpy calls
+        almost whatever the batch (3.5e3 steps/s for one state, 2.7e5 for
+        128), a PGS step ~30 us per state: small sweeps cost more, a
+        handful of states at most.
       tolerance: absolute complementarity and feasibility tolerance of the NCP
         as a force (m g): the solver stops when they are below tolerance x dt
         in impulses (default 1e-13, ~1e-13 of a step's impulse while slipping,

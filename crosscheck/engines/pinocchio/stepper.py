@@ -63,8 +63,8 @@ mu = 1.7 and stopped its jam time converging with dt, while the slipping
 solution continues the analytic flow (to which PGS converges given the
 iterations).
 
-The closed form (``solver="closed_form"``; the default "auto" uses it for sweeps of at least
-``AUTO_BATCH`` states and PGS otherwise).  The same step with Pinocchio's terms written out
+The closed form (``solver="closed_form"``; the default "auto" uses it for every sweep and PGS for
+``simulate``).  The same step with Pinocchio's terms written out
 (``closed_form``: equal to Pinocchio's to ~eps / cos^2 theta) and the NCP solved in closed form
 (``ncp``: lambda = 0 when u_n >= 0, the sticking impulse, or a slip along a root of a trigonometric
 polynomial of degree 2 in the slip angle), a batch of states stepped together in numpy (``sweep``
@@ -98,7 +98,7 @@ from crosscheck.engines.base import (STATE_KEYS, Run, SweepResult, check_states,
                                      sweep_by_simulate)
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.pinocchio.model import TIP_FRAME, build_model
-from crosscheck.engines.pinocchio.options import AUTO_BATCH, SOLVERS, Options
+from crosscheck.engines.pinocchio.options import SOLVERS, Options
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
@@ -329,9 +329,9 @@ def _sweep_closed_form(rod: Rod, states: Sequence[SlipState], mu, *, horizon: fl
 def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool | None = None,
           workers: int = 2, **options) -> SweepResult:
     """Every state through the engine (one classifier, the same records as ``simulate``'s), on ``workers`` processes (both
-    cores by default): with ``solver="closed_form"``, or "auto" and at least ``AUTO_BATCH`` states, all states stepped
-    together (on one process below ``workers * BATCH / 2`` states); otherwise one ``simulate`` per state."""
+    cores by default): with ``solver="closed_form"`` or "auto", all states stepped together (on one process below
+    ``workers * BATCH / 2`` states); otherwise one ``simulate`` per state."""
     solver = options.get("solver", Options.solver)
-    if solver == "closed_form" or (solver == "auto" and len(states) >= AUTO_BATCH):
+    if solver in ("closed_form", "auto"):
         return _sweep_closed_form(rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options)
     return sweep_by_simulate(get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options)

@@ -367,8 +367,8 @@ def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresho
     needed = a.until[idx] + np.where(np.isin(a.outcome[idx], EVENTS), event_lag(float(opts.contact_time), float(opts.timestep)), 0.0)
     cols = {k: points[k][idx] for k in ("theta", "varphi", "Theta", "Psi", "eta")}
     through = store is not None and thresholds is None and not any(isinstance(v, (list, tuple)) for v in given.values())
-    r = engine_runs(E, rod, cols, points["mu"][idx], needed, horizon, margin, given if through else {f.name: getattr(opts, f.name) for f in fields(opts)},
-                    opts, th, progress, store=store if through else None, scheduler=scheduler, workers=workers)
+    r = engine_runs(E, rod, cols, points["mu"][idx], needed, horizon, margin, given, opts, th, progress, store=store if through else None,
+                    scheduler=scheduler, workers=workers)
     return _rate(engine=engine, opts=opts, th=th, outcome=r.outcome, event_time=r.event_time, p_event=r.p_event, a=a, idx=idx, distance=distance,
                  offplane=offplane, wall_time=r.wall_time, steps_per_second=r.steps_per_second, solver=r.solver, warnings=r.warnings, points=points,
                  alpha=rod.alpha, horizon=horizon)

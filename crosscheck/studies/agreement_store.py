@@ -19,7 +19,7 @@ MuJoCo maps the states need 31 % of the steps of runs to the horizon.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numpy as np
@@ -50,9 +50,9 @@ def store_chunk(E) -> int:
     return STORE_CHUNK if E.sweep_chunk is None else E.sweep_chunk
 
 
-def sweep_through_store(E, rod: Rod, states_cols: dict, mu: np.ndarray, horizon: float, given: dict, opts, store, scheduler, workers,
-                        progress: bool):
-    """The engine's runs through ``crosscheck.sweeps`` (resumable chunks in ``store``): outcome, event_time, jam_p_eff, wall, solver."""
+def sweep_through_store(E, rod: Rod, states_cols: dict, mu: np.ndarray, horizon: float, given: dict, store, scheduler, workers, progress: bool):
+    """The engine's runs through ``crosscheck.sweeps`` (resumable chunks in ``store``): outcome, event_time, jam_p_eff, wall, solver,
+    warnings."""
     from crosscheck import sweeps
 
     doc = {"sweep": {"engine": E.name, "horizon": horizon, "seed": 0, "chunk": store_chunk(E)},
@@ -67,8 +67,7 @@ def sweep_through_store(E, rod: Rod, states_cols: dict, mu: np.ndarray, horizon:
     solver = {c: df[f"solver_{c}"].to_numpy() for c in E.solver_columns} or None
     wall = float(df["wall_time"].sum())
     warned = sweeps.Store(summary.out).warnings()
-    return (outcome, df["event_time"].to_numpy(), df["jam_p_eff"].to_numpy(), wall, len(df) * n_steps(horizon, opts.timestep) / wall, solver,
-            warned)
+    return outcome, df["event_time"].to_numpy(), df["jam_p_eff"].to_numpy(), wall, solver, warned
 
 
 def run_horizons(needed, horizon: float) -> np.ndarray:
@@ -82,7 +81,7 @@ def run_horizons(needed, horizon: float) -> np.ndarray:
 @dataclass(frozen=True)
 class EngineRuns:
     """The engine's runs of a study's states, in the states' order: outcome, event_time, jam_p_eff (B,), wall seconds, steps per
-    second over every step taken, solver statistics (dict of (B,) arrays or None), warnings by kind, and each state's run horizon."""
+    second over every step taken, solver statistics (dict of (B,) arrays or None), warnings by kind."""
 
     outcome: np.ndarray
     event_time: np.ndarray
@@ -91,17 +90,17 @@ class EngineRuns:
     steps_per_second: float
     solver: dict | None
     warnings: dict
-    run_horizon: np.ndarray
 
 
 def engine_runs(E, rod: Rod, states_cols: dict, mu: np.ndarray, needed: np.ndarray, horizon: float, margin: float, given: dict, opts,
                 thresholds, progress: bool, store=None, scheduler=None, workers=None) -> EngineRuns:
     """Every state run to its ``run_horizons`` horizon plus ``margin`` (module docstring), one sweep per horizon: through the
-    sweep store when ``store`` is given (``sweep_through_store``), else by the engine's ``sweep``."""
-    from crosscheck.engines.base import n_steps
+    sweep store when ``store`` is given (``sweep_through_store``, its spec holding the options as ``given``), else by the
+    engine's ``sweep`` at every field of ``opts``."""
     from crosscheck.studies.grids import states_at
 
     B = len(mu)
+    every = {f.name: getattr(opts, f.name) for f in fields(opts)}
     runs_to = run_horizons(needed, horizon)
     outcome, event_time, p_event = np.empty(B, np.int8), np.full(B, np.nan), np.full(B, np.nan)
     solver, warned, wall, steps = None, {}, 0.0, 0
@@ -109,10 +108,10 @@ def engine_runs(E, rod: Rod, states_cols: dict, mu: np.ndarray, needed: np.ndarr
         sel = np.flatnonzero(runs_to == h)
         cols = {k: np.asarray(v)[sel] for k, v in states_cols.items()}
         if store is not None:
-            o, t, p, w, _, sv, wn = sweep_through_store(E, rod, cols, mu[sel], float(h) + margin, given, opts, store, scheduler, workers, progress)
+            o, t, p, w, sv, wn = sweep_through_store(E, rod, cols, mu[sel], float(h) + margin, given, store, scheduler, workers, progress)
         else:
             r = E.sweep(rod, states_at(cols, np.arange(len(sel))), mu[sel], horizon=float(h) + margin, thresholds=thresholds, progress=progress,
-                        **given)
+                        **every)
             o, t, p, w, sv, wn = r.outcome, r.event_time, r.summary["jam_p_eff"], r.wall_time, r.solver, r.warnings
         outcome[sel], event_time[sel], p_event[sel] = o, t, p
         if sv is not None:
@@ -123,4 +122,4 @@ def engine_runs(E, rod: Rod, states_cols: dict, mu: np.ndarray, needed: np.ndarr
             warned[k] = warned.get(k, 0) + int(n)
         wall += float(w)
         steps += len(sel) * n_steps(float(h) + margin, opts.timestep)
-    return EngineRuns(outcome, event_time, p_event, wall, steps / wall if wall > 0 else float("nan"), solver, warned, runs_to)
+    return EngineRuns(outcome, event_time, p_event, wall, steps / wall if wall > 0 else float("nan"), solver, warned)

@@ -50,7 +50,8 @@ ENGINES = (
                     "event_time": pinocchio_tol.RIGID_EVENT_TIME, "no_jam_below_mu_P": pinocchio_tol.RIGID_NO_JAM_BELOW_MU_P,
                     "corollary_stop": pinocchio_tol.RIGID_COROLLARY_STOP},
         checks=_checks, dynamics="crosscheck.engines.pinocchio.studies.dynamics_terms",
-        # A chunk is one closed-form batch, whose step costs ~0.3 ms of numpy calls almost whatever its size: 128 states step at ~2.3e5 steps/s on one core, 32 at ~0.9e5
+        # A chunk is one closed-form batch, whose step costs ~0.3 ms of numpy calls almost whatever its size: 128 states
+        # step at ~2.3e5 steps/s on one core, 32 at ~0.9e5
         # (benchmarks/bench_pinocchio_engine.py).
         sweep_chunk=128,
         # the quick report at a coarser timestep (its cost is the NCP's), drawn beside MuJoCo's maps

@@ -327,12 +327,13 @@ def finding(data: Path) -> list:
     """The findings line of the ladder: the share of MuJoCo's disagreements attributed to each cause."""
     from crosscheck.report.findings import Finding, read_json
 
+    from crosscheck.engines.mujoco.studies.ladder import NAMED_CAUSES
+
     out = []
     ladder = read_json(data / "summary.json")
     if ladder and ladder.get("n_disagree"):
         counts, n = ladder["counts"], ladder["n_disagree"]
-        causes = ", ".join(f"{k} {counts[k]}" for k in ("geometry", "compliance", "friction law", "feed-forward", "discretisation", "unexplained",
-                                                        "undetermined") if counts.get(k))
+        causes = ", ".join(f"{k} {counts[k]}" for k in (*NAMED_CAUSES, "unexplained", "undetermined") if counts.get(k))
         ic2 = read_json(data / "ic2.json") or {}
         text = (f"{n} MuJoCo-theory disagreements laddered (of {ladder.get('n_disagreements_on_maps', n)} on the maps), "
                 f"{100 * ladder['attributed']:.0f} % attributed to a named cause: {causes}")

@@ -112,7 +112,6 @@ __all__ = [
     "compliant_rung",
     "spring_law_rung",
     "law_rung",
-    "detour",
 ]
 
 #: The rungs, in order (rung k is RUNGS[k - 1]).
@@ -138,7 +137,7 @@ NAMED_CAUSES = tuple(CAUSE_OF_RUNG[r] for r in RUNGS[1:])
 #: Every cause a start can get.  "agree": rung 1 already equals MuJoCo (not a disagreement);
 #: "not rated": rung 1's outcome is GB or DIVERGED (the agreement study does not rate those);
 #: "undetermined": the first match comes after a rung that could not run; "unexplained": no rung matches.
-CAUSES = ("geometry", "compliance", "friction law", "feed-forward", "discretisation", "unexplained", "undetermined", "agree", "not rated")
+CAUSES = (*NAMED_CAUSES, "unexplained", "undetermined", "agree", "not rated")
 
 #: Integer code of each cause (maps and CSV columns).
 CAUSE_CODES = {c: i for i, c in enumerate(CAUSES)}

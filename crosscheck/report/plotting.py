@@ -171,7 +171,10 @@ def save_figure(fig, stem: Path) -> None:
     stem.parent.mkdir(parents=True, exist_ok=True)
     # not with_suffix: a stem may contain a dot ("mu1.4")
     fig.savefig(stem.parent / f"{stem.name}.png", metadata={"Software": None})
-    fig.set_layout_engine("none")
+    # No layout engine at all for the SVG: set_layout_engine("none") leaves a placeholder engine, and savefig
+    # draws a figure with any engine twice (once to lay it out): 4.4 of the 37 s of the quick report's figures.
+    with plt.rc_context({"figure.constrained_layout.use": False, "figure.autolayout": False}):
+        fig.set_layout_engine(None)
     _rasterize_heavy(fig)
     fig.savefig(stem.parent / f"{stem.name}.svg", metadata={"Date": None, "Creator": None})
     plt.close(fig)

@@ -9,6 +9,7 @@ report assembled from runs of different revisions says so.
 from __future__ import annotations
 
 import datetime as _dt
+import functools
 import os
 import platform
 import subprocess
@@ -29,14 +30,19 @@ def package_versions(packages=None) -> dict[str, str | None]:
         from crosscheck import engines
 
         packages = PACKAGES[:1] + engines.libraries() + PACKAGES[1:]
-    out: dict[str, str | None] = {}
-    for name in packages:
-        try:
-            out[name] = metadata.version(name)
-        except metadata.PackageNotFoundError:
-            out[name] = None
+    out = {name: _version(name) for name in packages}
     out["python"] = platform.python_version()
     return out
+
+
+@functools.lru_cache(maxsize=None)
+def _version(name: str) -> str | None:
+    # Read once per process: every sweep store stamps its versions, and reading a distribution's metadata
+    # costs ~1 ms (2.4 s of a serial quick report's 1865 reads).  Forked sections inherit the parent's reads.
+    try:
+        return metadata.version(name)
+    except metadata.PackageNotFoundError:
+        return None
 
 
 def _repo_root() -> Path:

@@ -51,7 +51,7 @@ from functools import cached_property, lru_cache
 
 import numpy as np
 import pinocchio as pin
-from scipy.optimize import brentq, minimize_scalar
+from scipy.optimize import minimize_scalar
 
 from crosscheck.theory import analytic
 from crosscheck.theory.analytic import _force_components  # same check and message as the reference
@@ -410,40 +410,29 @@ def normal_force(Psi, Theta, theta, varphi, mu, alpha):
 mode = analytic.mode
 
 
-def mu_P(alpha, *, xtol: float = 1e-14) -> float:
+def mu_P(alpha, *, xatol: float = 1e-10) -> float:
     """Painleve's critical friction found numerically from this module's ``p`` alone.
 
     The smallest mu at which min over theta in (0, pi/2) of p(theta, -pi/2, mu,
-    alpha) touches 0 (compare eq. mup2D, 2 sqrt(1 + alpha) / alpha).  The
-    minimum over theta is found by bounded Brent; its value is accurate to
-    rounding because p is flat there.  The root in mu is bracketed by mu = 0
-    (min p > 0) and a doubling search, then refined by ``brentq`` to ``xtol``.
+    alpha) touches 0 (compare eq. mup2D, 2 sqrt(1 + alpha) / alpha).  p is
+    affine in mu (eq. p: p = p0 - mu p1, p1 = p(mu = 0) - p(mu = 1) > 0 on
+    (0, pi/2) at varphi = -pi/2), so p(theta, mu) <= 0 exactly where
+    mu >= p0 / p1, and mu_P = min over theta of p0 / p1: one bounded Brent
+    search in theta (to ``xatol``), whose minimum value is accurate to rounding
+    because the ratio is flat there.
     """
     alpha = float(check("alpha", alpha, ALPHA))
     # p(theta, -pi/2, mu, alpha) as ``p`` computes it (the same (q, v), terms and slip_coefficients, hence the same
-    # value to the last bit), without its per-call checks and grouping by alpha: Brent calls it ~130 times per
-    # alpha, one theta at a time.  The terms are kept per theta: each search over mu starts at the same theta.
+    # value to the last bit), without its per-call checks and grouping by alpha: Brent calls it ~30 times.
     rod = Rod.scaled(alpha)
     varphi = np.array([-math.pi / 2])
-    terms_at: dict[float, RodTerms] = {}
+    mus = np.array([0.0, 1.0])
 
-    def p_at(theta: float, mu: float) -> float:
-        theta = float(theta)
-        if theta not in terms_at:
-            q, v = paper_to_qv(rod, np.array([theta]), varphi, np.zeros(1), np.zeros(1), 1.0, 0.0)
-            terms_at[theta] = engine(rod).terms(q, v)
-        return float(slip_coefficients(rod, terms_at[theta], varphi, np.array([float(mu)]))[1][0])
+    def ratio(theta: float) -> float:
+        q, v = paper_to_qv(rod, np.full(2, float(theta)), np.repeat(varphi, 2), np.zeros(2), np.zeros(2), 1.0, 0.0)
+        p0, p_one = slip_coefficients(rod, engine(rod).terms(q, v), np.repeat(varphi, 2), mus)[1]
+        slope = p0 - p_one
+        return float(p0 / slope) if slope > 0.0 else math.inf
 
-    def min_p(mu: float) -> float:
-        res = minimize_scalar(
-            lambda theta: p_at(theta, mu),
-            bounds=(0.0, math.pi / 2),
-            method="bounded",
-            options={"xatol": 1e-10},
-        )
-        return float(res.fun)
-
-    hi = 1.0
-    while min_p(hi) > 0.0:
-        hi *= 2.0
-    return float(brentq(min_p, 0.0, hi, xtol=xtol, rtol=4 * np.finfo(float).eps))
+    res = minimize_scalar(ratio, bounds=(0.0, math.pi / 2), method="bounded", options={"xatol": xatol})
+    return float(res.fun)

@@ -177,6 +177,25 @@ def test_a_fast_slip_stop_at_the_engines_own_p_below_zero_is_a_jam_given_the_con
     assert Outcome(int(classify(weak, mu=2.5, alpha=ALPHA, timestep=dt, contact_time=5e-3).outcome)) == Outcome.STICK
 
 
+def test_the_slip_stop_reads_p_at_the_capsules_contact_point():
+    """A capsule's friction acts at C, r below the tip: its moment arm is sin theta + r, and its p_eff reaches 0 at a
+    smaller friction than the tip's.  At theta 0.6 and friction 2.16 F_z the tip's arm gives p_eff 0.024 > 0, whose
+    slipping force -b/p_eff = 42 m g is more than the stop's 40 m g can beat thrice: STICK.  With r = 0.05 the
+    contact point's p_eff is -0.24: the stop is a JAM, with that p_eff."""
+    dt, theta, f, r = 1e-3, 0.6, 2.16, 0.05
+    st, ct = math.sin(theta), math.cos(theta)
+    R = compliant_stop_record(slip_friction=f)
+    tip = classify(R, mu=2.5, alpha=ALPHA, timestep=dt, contact_time=5e-3)
+    at_C = classify(R, mu=2.5, alpha=ALPHA, timestep=dt, contact_time=5e-3, radius=r)
+    p_tip, p_C = 1 + ALPHA - ALPHA * st * st - ALPHA * st * ct * f, 1 + ALPHA - ALPHA * st * st - ALPHA * (st + r) * ct * f
+    assert 0 < p_tip < Thresholds().jam_p_eff and 1.0 / p_tip > 40.0 / Thresholds().jam_ratio and p_C < 0  # the case described
+    assert Outcome(int(tip.outcome)) == Outcome.STICK
+    assert Outcome(int(at_C.outcome)) == Outcome.JAM and at_C.event_row == tip.event_row
+    assert at_C.jam_p_eff == pytest.approx(p_C)
+    with pytest.raises(ValueError, match=r"radius must be in \[0, inf\); got -0.01"):
+        classify(R, mu=2.5, alpha=ALPHA, timestep=dt, contact_time=5e-3, radius=-0.01)
+
+
 def test_the_compliant_jam_tends_to_the_rigid_rule_as_the_contact_time_vanishes():
     """As contact_time -> 0 the look-back shrinks to lift_steps rows (the rigid rule's look-ahead), and on a Coulomb
     record both rules read the impulse as a JAM: the rigid one at the impulse's first row, the compliant one at the stop."""
@@ -247,7 +266,8 @@ def test_engine_outcome_is_the_classifier_on_its_record():
     kinds = set()
     for s, m in zip(states, mu):
         run = MUJOCO.simulate(SCALED, s, m, horizon=1.0, timestep=1e-3, timeconst=0.1)
-        c = classify(run.record, mu=m, alpha=ALPHA, timestep=1e-3, friction_timeconst=0.1)
+        o = run.options  # the engine's own rules: its contact time (the slip stop's look-back) and its capsule radius
+        c = classify(run.record, mu=m, alpha=ALPHA, timestep=1e-3, friction_timeconst=0.1, contact_time=o.contact_time, radius=o.radius)
         assert (run.outcome, run.event_time if run.outcome else 0.0) == (c.outcome, c.event_time if c.outcome else 0.0)
         kinds.add(run.outcome)
     assert len(kinds) >= 2

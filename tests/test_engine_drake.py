@@ -396,3 +396,21 @@ def test_a_run_stopped_once_its_first_event_is_judged_has_the_whole_runs_first_e
         assert cut.solver.failed == whole.solver.failed and cut.solver.message == whole.solver.message
         if rows < len(whole.record) and whole.options.discrete:
             assert cut.solver.steps == rows < whole.solver.steps
+
+
+def test_tamsi_stiffened_toward_the_rigid_limit_jams_where_its_capsule_does():
+    """The compliance intervention's strongest step (stiffness x 1000, timestep / 10) on a start where the theory jams
+    (p reaches 0 at t 0.0133): the slip stops at 0.0088, after the rigid capsule's jam (p_C reaches 0 at 0.0076) and
+    before the tip's, under a spike far above -b/p.  Read at the capsule's contact point (the classifier's ``radius``)
+    the stop is a JAM at the engine's own p_C < 0; with the tip's moment arm it passed for a STICK."""
+    from crosscheck.theory.slipping import slip_until_event
+
+    state, mu = SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=0.125, eta=1.0), 1.375
+    run = engines.get("drake_tamsi").simulate(ROD, state, mu, horizon=0.03, timestep=1e-4, stiffness=1e7)
+    t_tip = slip_until_event(state, mu, ALPHA).time
+    t_capsule = capsule.slip_until_event(state, mu, ALPHA, radius=R).time
+    assert t_capsule < run.event_time < t_tip
+    assert Outcome(int(run.outcome)) == Outcome.JAM and run.jam_p_eff < 0.0
+    o = run.options
+    tip_arm = classify(run.record, mu=mu, alpha=ALPHA, timestep=o.timestep, friction_timeconst=o.friction_time, contact_time=o.contact_time)
+    assert Outcome(int(tip_arm.outcome)) == Outcome.STICK and tip_arm.event_row == int(round(run.event_time / o.timestep))

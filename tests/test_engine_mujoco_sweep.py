@@ -17,14 +17,15 @@ COARSE = 1e-3 * ROD.omega  # dt = 1 ms for the 1 m rod, in scaled time
 
 #: A mix of outcomes at the default options (found by a seeded random search; the
 #: outcome named is what MuJoCo gives, checked below through simulate).  The fourth
-#: state jams analytically at t = 0.055; MuJoCo's contact sticks at t = 0.104 (its own
-#: p stays ~0.7, no impulse): a JAM only for a rule that compared the window force
-#: with -b/p instead of the engine's own friction (it fired at t = 0).
+#: state jams analytically at t = 0.055 (its capsule at 0.046); MuJoCo's slip stops at
+#: t = 0.104 with its contact point's own p_eff at -0.061: a JAM by the slip stop's rule
+#: (a STICK while that rule read p_eff with the tip's moment arm; a rule that compared
+#: the window force with -b/p instead of the engine's own friction fired at t = 0).
 MIXED = [
     (0.5, SlipState(theta=0.5, varphi=-math.pi / 2, Theta=0.0, Psi=0.5, eta=1.0)),  # SLIP
     (0.5, SlipState(theta=0.6154797087, varphi=-math.pi / 2, Theta=0.0, Psi=1.62, eta=1.0)),  # LIFTOFF at 0
     (1.4, SlipState(theta=1.0248, varphi=-1.653, Theta=-0.2955, Psi=0.1496, eta=2.925)),  # JAM (p < 0, b < 0)
-    (3.0, SlipState(theta=0.526, varphi=-0.7066, Theta=-0.383, Psi=0.882, eta=2.124)),  # STICK (analytic JAM)
+    (3.0, SlipState(theta=0.526, varphi=-0.7066, Theta=-0.383, Psi=0.882, eta=2.124)),  # JAM at the slip stop (analytic JAM)
     (2.93, SlipState(theta=1.20, varphi=-0.38, Theta=-0.01, Psi=1.19, eta=0.20)),  # STICK
     (1.4, SlipState(theta=0.8, varphi=-math.pi / 2, Theta=0.5, Psi=0.0, eta=3.0)),
 ]
@@ -39,7 +40,7 @@ def test_sweep_equals_simulate_exactly():
     np.testing.assert_array_equal(result.event_time, [r.event_time for r in single])
     np.testing.assert_array_equal(result.exit_time, [r.exit_time for r in single])
     assert set(result.outcome[:5]) == {Outcome.SLIP, Outcome.LIFTOFF, Outcome.JAM, Outcome.STICK}
-    assert list(result.outcome[:5]) == [Outcome.SLIP, Outcome.LIFTOFF, Outcome.JAM, Outcome.STICK, Outcome.STICK]
+    assert list(result.outcome[:5]) == [Outcome.SLIP, Outcome.LIFTOFF, Outcome.JAM, Outcome.JAM, Outcome.STICK]
     assert result.engine == "mujoco" and all(r.engine == "mujoco" for r in single)
     np.testing.assert_array_equal(result.summary["jam_p_eff"], [r.jam_p_eff for r in single])
     assert set(result.summary) == set(SUMMARY) and set(result.series) == set(SERIES)

@@ -184,11 +184,12 @@ def test_mujoco_skew_jam_is_removed_by_a_smaller_impratio_not_by_a_thinner_capsu
     assert by_text["impratio 1 -> 0.01"]["label"] == "SLIP" and not by_text["impratio 1 -> 0.01"]["removes"]
 
 
-#: A start of the theta-Theta map where the theory jams at t = 0.011 (p reaches 0 with b < 0) and MuJoCo's slip ends in a
-#: STICK: near p = 0 its normal force follows -b/p_eff at once (60 m g at p_eff = 0.007 two steps in), and that force's
-#: friction brakes the slip to a stop before p crosses 0.  The ladder names the feed-forward: MuJoCo's law without it
-#: (rung 4) slips on as the Kelvin-Voigt rod does, and with it (rung 5) sticks.
-MUJOCO_FED_STICK = (SlipState(theta=0.9921875, varphi=-1.9, Theta=-0.703125, Psi=0.0, eta=1.0), 1.4)
+#: A start of the theta-Theta map where the theory jams at t = 0.031 (p reaches 0 with b < 0; the capsule's p_C at 0.025)
+#: and MuJoCo's slip ends in a STICK at 0.083, its contact point's own p_eff above the jam rule's.  The ladder names the
+#: feed-forward: MuJoCo's law without it (rung 4) jams at 0.097, as the Kelvin-Voigt rod does, and with it (rung 5)
+#: sticks at 0.085.  (The start used before, theta 0.992, Theta -0.703, now agrees: its stop is at the capsule's
+#: p_C < 0, a JAM.)
+MUJOCO_FED_STICK = (SlipState(theta=1.2359375, varphi=-1.9, Theta=-0.984375, Psi=0.0, eta=1.0), 1.4)
 
 
 def test_mujoco_stick_before_the_jam_is_removed_by_less_feed_forward_not_by_a_closer_friction_direction():

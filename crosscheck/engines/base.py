@@ -345,7 +345,7 @@ def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu,
     opts = runs[0].options
     # the one classifier again on the stacked records: the same rule and numbers as each run's own
     c = classify(record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time,
-                 rigid=opts.contact_time == 0.0, contact_time=opts.contact_time, thresholds=th)
+                 rigid=opts.contact_time == 0.0, contact_time=opts.contact_time, radius=getattr(opts, "radius", 0.0), thresholds=th)
     nstep = lengths.pop()
     summary, series = summaries(record, c, mu, rod.alpha, max(1, nstep // max(1, n_series)))
     solver = None

@@ -62,6 +62,21 @@ first slip stop as in their trajectories.  The rule's slip-loss test is
 the rigid rule's; at a stop it only asks that the look-back start
 slipping, and the stop's speed is judged through the force it took.
 
+The stop's p_eff is read at the engine's contact point.  A capsule of
+radius r touches at C = A - r K, r below the tip, so its friction's moment
+arm about S is sin theta + r, not sin theta (``crosscheck.theory.capsule.p``):
+p_eff = 1 + alpha - alpha sin^2 theta - alpha (sin theta + r) cos theta (F_t . e) / F_z,
+which reaches 0 at a smaller friction than the tip's, and where the capsule
+jams.  Measured: Drake's TAMSI at 1000 x its stiffness and a tenth of its
+step, from theta 1, varphi -1.9, Theta 0, Psi 0.125, mu 1.375, r 0.01, stops
+slipping at t 0.0088, after the rigid capsule's jam (0.0076) and before the
+tip's (0.0133), under 274 m g; the tip's arm still gave p_eff 0.0067 > 0 there,
+and a slipping force -b/p_eff of 114 m g to beat thrice, so the jam passed for
+a STICK.  The window rule keeps the tip's arm: its jam_p_eff was measured on
+it (MuJoCo's Corollary 4.2 jams against its landings below mu_P), and read at
+C it labelled three quick-map starts of Drake's SAP and Similar below mu_P as
+jams at t = 0.
+
 All quantities are in the paper's scaled units (section 2.1).
 """
 
@@ -162,7 +177,7 @@ def first_event_final(c: Classification, rows: int, thresholds: Thresholds, time
 
 
 def classify(record: Record, *, mu, alpha: float, timestep: float, friction_timeconst: float = 0.0, rigid: bool = False,
-             contact_time: float | None = None, thresholds: Thresholds | None = None) -> Classification:
+             contact_time: float | None = None, radius: float = 0.0, thresholds: Thresholds | None = None) -> Classification:
     """Outcome and event time of recorded runs, for every engine.
 
     Args:
@@ -184,6 +199,8 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
         the first slip stop is also judged as a compliant JAM (module
         docstring; ``Thresholds.jam_contact_times``).  None or 0: the window
         rule only.
+      radius: the capsule radius r [l] of the engine's rod (0: it touches at the tip), the friction's extra moment arm
+        in the slip stop's p_eff (module docstring).
       thresholds: criteria (``Thresholds()`` by default; see there for why).
 
     Returns:
@@ -193,6 +210,7 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
       the horizon can be missed.
     """
     th = thresholds or Thresholds()
+    r = float(check("radius", radius, NONNEGATIVE))
     w = th.window_rows(timestep)
     n = len(record)
     rows = np.arange(n)
@@ -315,7 +333,7 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
                     continue
                 # the row's own p_eff (eq. linode2 with its force), only on the look-back: inf where it carries no load
                 st_a, ct_a, Fz_a = st[idx][a:j], ct[idx][a:j], Fz[idx][a:j]
-                p_row = np.where(Fz_a > 0.0, 1.0 + alpha - alpha * st_a * st_a - alpha * st_a * ct_a * Fe[idx][a:j] / np.where(Fz_a > 0.0, Fz_a, 1.0), np.inf)
+                p_row = np.where(Fz_a > 0.0, 1.0 + alpha - alpha * st_a * st_a - alpha * (st_a + r) * ct_a * Fe[idx][a:j] / np.where(Fz_a > 0.0, Fz_a, 1.0), np.inf)
                 pr = np.where(loaded, p_row, np.inf)
                 i = int(np.argmin(pr))
                 p_min = float(pr[i])

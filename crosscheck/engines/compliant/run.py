@@ -220,7 +220,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: floa
         theta = np.where(past, np.where(record.theta[-1] < 0.75, 0.0, 0.5 * np.pi), record.theta)
         record = Record(**{f.name: getattr(record, f.name) for f in fields(Record)} | {"t": opts.timestep * np.arange(n), "theta": theta})
     c = classify(record, mu=float(mu), alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=False,
-                 contact_time=opts.contact_time, thresholds=th)
+                 contact_time=opts.contact_time, radius=opts.radius, thresholds=th)
     return Run.from_classification(NAME, c, record, state=state, mu=float(mu), alpha=rod.alpha, options=opts, thresholds=th,
                                    horizon=horizon, nstep=n, solver=SolverStats.of(traj))
 

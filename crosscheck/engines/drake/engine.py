@@ -330,7 +330,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     q0, v0 = to_generalized(rod, state, tip=(0.0, 0.0, opts.radius))
     l, w = rod.length, rod.omega
 
-    rules = dict(mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, thresholds=th)
+    rules = dict(mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, radius=opts.radius, thresholds=th)
 
     def judged(raw: Raw) -> bool:
         return first_event_final(classify(record(rod, raw, opts), **rules), raw.computed, th, opts.timestep)

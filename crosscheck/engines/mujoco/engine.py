@@ -257,7 +257,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     batch = Batch.build(rod, [state], mu, horizon=horizon, options=opts, nthread=1)
     (_, record), = batch.records(rod, progress=False)
     one = record.run(0)
-    c = classify(one, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, thresholds=th)
+    c = classify(one, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, radius=opts.radius, thresholds=th)
     return Run.from_classification(NAME, c, one, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
                                    horizon=horizon, nstep=batch.nstep)
 
@@ -307,7 +307,7 @@ def sweep(
     summary = {k: np.empty(B) for k in SUMMARY}
     series = {k: np.empty((B, nstep // every)) for k in SERIES}
     for sl, record in batch.records(rod, progress=progress):
-        c = classify(record, mu=mu[sl], alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, thresholds=th)
+        c = classify(record, mu=mu[sl], alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, radius=opts.radius, thresholds=th)
         outcome[sl], event_time[sl], exit_time[sl], diverged_time[sl] = c.outcome, c.event_time, c.exit_time, c.diverged_time
         summ, ser = summaries(record, c, mu[sl], rod.alpha, every)
         for k in SUMMARY:

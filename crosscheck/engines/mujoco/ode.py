@@ -344,7 +344,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     q0, v0 = to_generalized(rod, state, tip=(0.0, 0.0, opts.radius))
     traj = integrate(rod, q0, v0, mu, opts, times=times, rtol=rtol, feed_forward=feed_forward)
     rec = record(rod, traj, opts)
-    c = classify(rec, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, thresholds=th)
+    c = classify(rec, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, radius=opts.radius, thresholds=th)
     return Run.from_classification(NAME, c, rec, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
                                    horizon=horizon, nstep=nstep)
 

@@ -15,7 +15,7 @@ printed beside the wall time, as it moves less with their load.  Target: sweep /
 Measured with the defaults while other processes kept the load at 4-6 on the 2 cores: 0.89-1.08 in five runs
 (0.60-0.79 before the sweep overlapped the next chunk's rollout with the reading of the last one, in blocks of
 states that stay in cache).  On an idle machine the bare rollout is faster and the ratio lower: 0.78-0.83 at the
-default 64 states (CPU time 0.89), 0.98 at ``--states 256`` (CPU 0.99), the size of the report's map sweeps.  At 64
+default 64 states (CPU time 0.89), 0.98 at ``--states 256`` (CPU 0.99); a full-report map has 1024 starts, a quick one 100.  At 64
 states the last chunk's reading, which no rollout overlaps, and the model and start setup (~50 ms) are what is left.
 
     python benchmarks/bench_mujoco.py [--states 64] [--horizon 1.0] [--repeat 5] [--loop-states 4]

@@ -52,9 +52,11 @@ def write_build_info(package_dir: Path | str, root: Path | str) -> Path | None:
     """Write ``BUILD_INFO`` into the built package at ``package_dir`` with the revision of the checkout ``root``.
 
     Returns the file written, or None (and writes nothing) when ``root`` is not a git checkout, e.g. a build from an
-    sdist: an installed package then says it cannot be traced rather than naming a wrong revision."""
+    sdist: an installed package then says it cannot be traced rather than naming a wrong revision.  An editable
+    install (``pip install -e .``) builds no copy of the package (``package_dir`` is absent): the package runs from
+    the checkout itself, whose git history answers directly, so nothing is written."""
     rev = source_revision(root)
-    if rev is None:
+    if rev is None or not Path(package_dir).is_dir():
         return None
     built = _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
     path = Path(package_dir) / BUILD_INFO

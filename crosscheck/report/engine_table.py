@@ -183,7 +183,9 @@ def engine_table(data: Path) -> tuple[list[str], list[list[str]], list[dict]]:
 CAPTION = (
     "Every engine at every setting the report ran, against the rigid theory (`crosscheck.report.engine_table`). "
     "Agreement: the share of rated slipping starts whose first event is the theory's, compared up to the theory's comparison time "
-    "(an engine STICK where the theory slips on, slower than the engine's STICK floor, counts as that slip: "
+    "(an engine event may come 2 contact times or 3 timesteps late; a spring contact's jam (Drake's point contact) "
+    "s* (eps^4 / (k |b|))^(1/5) late, the slip stop's lag behind the rigid jam, s* = 3.919 the pole of Painleve I: "
+    "`crosscheck.theory.jam_lag`; an engine STICK where the theory slips on, slower than the engine's STICK floor, counts as that slip: "
     "`crosscheck.studies.comparison.stick_from`) "
     "(Wilson 95 % interval), first on the engine's outcome maps, then on its convergence grid per setting; "
     "theory slips / lifts off / jams: the same share among the starts with that analytic event; "

@@ -21,7 +21,7 @@ from crosscheck.checks import ALPHA, POSITIVE, check
 from crosscheck.files import write_atomic
 from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
-from crosscheck.studies.comparison import EVENTS, floor_time
+from crosscheck.studies.comparison import EVENTS, floor_time, theory_jam_scale
 from crosscheck.studies.grids import floats, initial_b_p, states_at
 from crosscheck.theory.slipping import slip_until_event
 
@@ -42,7 +42,9 @@ class AnalyticEvents:
     b0, p0: eqs. b and p at the start; slipping: b0 < 0 < p0 (the studied
     states); until: comparison time T_i (module docstring); eta_min: the least
     slip speed along the run (``floor_times`` reads the theory at an engine's
-    STICK floor from it).
+    STICK floor from it); jam_scale: (k |b|)^(-1/5) at a JAM's state, NaN
+    elsewhere (``crosscheck.studies.comparison.jam_scale``: the lag a spring
+    contact is allowed there).
     """
 
     outcome: np.ndarray
@@ -53,6 +55,7 @@ class AnalyticEvents:
     slipping: np.ndarray
     until: np.ndarray
     eta_min: np.ndarray
+    jam_scale: np.ndarray
 
 
 def analytic_events(points: dict, *, alpha: float, horizon: float, progress: bool = False) -> AnalyticEvents:
@@ -65,12 +68,14 @@ def analytic_events(points: dict, *, alpha: float, horizon: float, progress: boo
     t = np.empty(n)
     reason = np.empty(n, dtype=object)
     eta_min = np.empty(n)
+    scale = np.full(n, np.nan)
     for i in tqdm(range(n), desc="analytic", unit="state", disable=not progress):
         s = states_at(points, [i])[0]
         r = slip_until_event(s, points["mu"][i], alpha, t_max=horizon)
         outcome[i], t[i], reason[i], eta_min[i] = int(r.outcome), r.time, r.reason, float(np.min(r.x[:, 0]))
+        scale[i] = theory_jam_scale(r, points["mu"][i], alpha)
     until = np.where(outcome == Outcome.SLIP, np.minimum(t, horizon), np.where(np.isin(outcome, EVENTS), t, horizon))
-    return AnalyticEvents(outcome, t, reason.astype(str), b0, p0, (b0 < 0) & (p0 > 0), until, eta_min)
+    return AnalyticEvents(outcome, t, reason.astype(str), b0, p0, (b0 < 0) & (p0 > 0), until, eta_min, scale)
 
 
 def floor_times(points: dict, index, a: AnalyticEvents, floor: float, *, alpha: float, horizon: float) -> np.ndarray:

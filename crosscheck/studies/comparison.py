@@ -19,6 +19,17 @@ engine STICK from t_floor - lag on (the lag an event is allowed) is
 compared as the SLIP it cannot be told from.  An earlier STICK, while the
 theory's slip is still faster than the floor, stays a disagreement, as does
 any other event; the theory's own outcome is never changed.
+
+At a jam a spring contact is allowed the lag the theory gives it.  A
+contact whose normal force is a spring of time eps (``Options.spring_time``:
+the compliant rod, Drake's point contact) stops slipping
+s* (eps^4 / (k |b|))^(1/5) after the rigid rod's Corollary 4.2 jam
+(``crosscheck.theory.jam_lag``: the pole s* = 3.919 of Painleve I, k and b at
+the theory's jam state), which shrinks as eps^(4/5), slower than LAG_TAU eps:
+without it a stiffer contact, converging to the theory's jam at that rate,
+would be judged farther from it.  MuJoCo's impedance feeds the rigid force
+forward, so its contact is not a spring there (``spring_time`` None) and
+keeps LAG_TAU tau.
 Scaled units (section 2.1).
 """
 
@@ -32,7 +43,7 @@ from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 
 __all__ = ["RATED", "EVENTS", "LAG_TAU", "LAG_STEPS", "window_margin", "comparison_labels", "comparison_window", "compared_label",
-           "floor_time", "engine_floor", "event_lag", "stick_from", "run_stick_from"]
+           "floor_time", "engine_floor", "event_lag", "stick_from", "run_stick_from", "jam_scale", "theory_jam_scale", "jam_lag"]
 
 #: Outcomes an analytic run is compared on (GB and DIVERGED rows are counted, not rated).
 RATED = (Outcome.SLIP, Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM)
@@ -64,12 +75,14 @@ def comparison_labels(outcome: np.ndarray, event_time: np.ndarray, until: np.nda
     return np.where(keep, outcome, np.int8(Outcome.SLIP)).astype(np.int8)
 
 
-def comparison_window(outcome: Outcome, time: float, horizon: float, *, contact_time: float, timestep: float) -> tuple[float, float, float]:
+def comparison_window(outcome: Outcome, time: float, horizon: float, *, contact_time: float, timestep: float,
+                      spring_jam: float = 0.0) -> tuple[float, float, float]:
     """(until, lag, run_until) of one start whose analytic first event is ``outcome`` at ``time``: its comparison time (the event
     time for an event, the domain-exit time of a censored SLIP, the horizon otherwise), the lag an engine is allowed at an event
-    (max(LAG_TAU contact_time, LAG_STEPS timestep)), and how far an engine must run for its label: until + lag within the horizon."""
+    (max(LAG_TAU contact_time, LAG_STEPS timestep), and at a JAM at least ``spring_jam``: ``jam_lag``), and how far an engine
+    must run for its label: until + lag within the horizon."""
     until = min(time, horizon) if outcome == Outcome.SLIP else (time if outcome in EVENTS else horizon)
-    lag = event_lag(contact_time, timestep) if outcome in EVENTS else 0.0
+    lag = event_lag(contact_time, timestep, spring_jam if outcome == Outcome.JAM else 0.0) if outcome in EVENTS else 0.0
     return until, lag, max(min(until + lag, horizon), timestep)
 
 
@@ -98,9 +111,38 @@ def engine_floor(thresholds: Thresholds, options) -> float:
     return thresholds.stick_floor(timestep=options.timestep, friction_timeconst=options.friction_time, rigid=options.contact_time == 0.0)
 
 
-def event_lag(contact_time: float, timestep: float) -> float:
-    """The lag an engine is allowed at an analytic event: LAG_TAU contact times, at least LAG_STEPS timesteps."""
-    return max(LAG_TAU * contact_time, LAG_STEPS * timestep)
+def event_lag(contact_time: float, timestep: float, spring_jam=0.0):
+    """The lag an engine is allowed at an analytic event: LAG_TAU contact times, at least LAG_STEPS timesteps, and at a
+    jam at least ``spring_jam`` (``jam_lag``; a scalar or an array of one per start)."""
+    base = max(LAG_TAU * contact_time, LAG_STEPS * timestep)
+    return np.maximum(base, spring_jam) if np.ndim(spring_jam) else max(base, float(spring_jam))
+
+
+def jam_scale(x, mu: float, alpha: float) -> float:
+    """(k |b|)^(-1/5) at the theory's jam state ``x`` (eq. f's state (eta, varphi, psi, Psi, theta, Theta)):
+    ``crosscheck.theory.jam_lag.inner_scale``; NaN where b >= 0 or k <= 0."""
+    from crosscheck.theory import analytic
+    from crosscheck.theory.jam_lag import inner_scale, jam_stiffness
+
+    eta, varphi, _psi, Psi, theta, Theta = (float(v) for v in x)
+    return inner_scale(float(analytic.b(Psi, Theta, theta)), jam_stiffness(theta, varphi, eta, mu, alpha))
+
+
+def theory_jam_scale(first, mu: float, alpha: float) -> float:
+    """``jam_scale`` of a theory run (``slip_until_event``'s result) that JAMs, NaN for any other outcome."""
+    return jam_scale(first.x[-1], mu, alpha) if int(first.outcome) == Outcome.JAM else math.nan
+
+
+def jam_lag(options, scale):
+    """The lag a run at ``options`` (an engine's ``Options``) is allowed at a theory jam of ``scale`` (``jam_scale``):
+    ``crosscheck.theory.jam_lag.spring_jam_lag`` at its ``spring_time`` for a spring contact, 0 otherwise (module
+    docstring).  ``scale``: a scalar or an array (NaN: no Corollary 4.2 jam, 0)."""
+    from crosscheck.theory.jam_lag import spring_jam_lag
+
+    eps = getattr(options, "spring_time", None)  # optional in the engine contract: only spring contacts declare it
+    if np.ndim(scale):
+        return np.array([0.0 if eps is None else spring_jam_lag(float(eps), float(c)) for c in np.asarray(scale, float)])
+    return 0.0 if eps is None else spring_jam_lag(float(eps), float(scale))
 
 
 def stick_from(outcome, until, t_floor, lag):

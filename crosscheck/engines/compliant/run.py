@@ -109,6 +109,12 @@ class Options:
         return self.eps
 
     @property
+    def spring_time(self) -> float:
+        """eps of the normal law delta / eps^2 (Kelvin-Voigt or Hunt & Crossley): the time through which a jam lags the
+        rigid one by s* (eps^4 / (k |b|))^(1/5) (``crosscheck.theory.jam_lag``)."""
+        return self.eps
+
+    @property
     def friction_time(self) -> float:
         """The stick phase is exact (no creep): 0."""
         return 0.0

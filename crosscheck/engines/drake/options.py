@@ -200,6 +200,12 @@ class Options:
         return t
 
     @property
+    def spring_time(self) -> float:
+        """eps of the normal force as a spring delta / eps^2 (Hunt & Crossley or SAP's Kelvin-Voigt, damping aside): the
+        contact time, through which a jam lags the rigid one by s* (eps^4 / (k |b|))^(1/5) (``crosscheck.theory.jam_lag``)."""
+        return self.contact_time
+
+    @property
     def friction_time(self) -> float:
         """The STICK threshold's friction time: CREEP_MARGIN x the creep speed of a stuck contact at 1 g.
 

@@ -1,0 +1,61 @@
+"""The slip stop of a spring contact after a Corollary 4.2 jam: Painleve I's pole and the comparison that uses it (the compliant rod's lag
+against it: ``tests/test_compliant_limit.py``)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from crosscheck import engines
+from crosscheck.outcome import Outcome
+from crosscheck.state import SlipState
+from crosscheck.studies.comparison import LAG_STEPS, LAG_TAU, comparison_window, event_lag, jam_lag, jam_scale
+from crosscheck.theory import analytic
+from crosscheck.theory.jam_lag import inner_pole, inner_scale, jam_stiffness, spring_jam_lag
+from crosscheck.theory.slipping import slip_until_event
+
+ALPHA = 3.0
+
+
+def test_the_inner_pole_is_painleve_one_tritronquee_pole():
+    # q = 12^(3/5) y, s = 12^(1/5) x maps q'' = s + q^2/2 to y'' = 6 y^2 + x, whose tritronquee solution
+    # (y ~ -sqrt(-x/6) as x -> -inf) has its first real pole at x = 2.3841687 (Joshi & Kitaev 2001)
+    assert abs(inner_pole() / 12**0.2 - 2.3841687) < 1e-6
+
+
+def test_jam_stiffness_is_minus_dp_dP_along_the_impulse():
+    """k against a finite difference of eq. p along the slip direction's turn d varphi / dP (darboux_keller's rate)."""
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        theta, varphi, eta, mu = rng.uniform(0.2, 1.4), rng.uniform(-3.0, -0.1), rng.uniform(0.2, 3.0), rng.uniform(0.5, 3.0)
+        s, c = math.sin(theta), math.cos(theta)
+        turn = ALPHA * c * math.cos(varphi) * (mu * c * math.sin(varphi) - s) / eta  # d varphi / dP
+        h = 1e-6
+        dp = (analytic.p(theta, varphi + h * turn, mu, ALPHA) - analytic.p(theta, varphi - h * turn, mu, ALPHA)) / (2 * h)
+        assert jam_stiffness(theta, varphi, eta, mu, ALPHA) == pytest.approx(-dp, rel=1e-6, abs=1e-9)
+
+
+def test_no_inner_scale_without_a_corollary_jam():
+    assert math.isnan(inner_scale(0.3, 1.0))  # b > 0: not a jam
+    assert math.isnan(inner_scale(-0.3, 0.0))  # planar section: p does not move with the impulse
+    assert inner_scale(-0.5, 2.0) == pytest.approx(1.0)
+    assert spring_jam_lag(1e-3, math.nan) == 0.0 and spring_jam_lag(0.0, 1.0) == 0.0
+
+
+def test_a_jam_gives_a_spring_contact_its_lag_and_mujoco_none():
+    state = SlipState(theta=1.1208333333333333, varphi=-1.9, Theta=-0.375, Psi=0.0, eta=1.0)
+    first = slip_until_event(state, 1.4, ALPHA, t_max=2.0)
+    assert first.outcome == Outcome.JAM
+    scale = jam_scale(first.x[-1], 1.4, ALPHA)
+    drake = engines.get("drake_continuous").options(stiffness=1e7)
+    lag = jam_lag(drake, scale)
+    assert lag == pytest.approx(inner_pole() * scale * drake.contact_time**0.8) and lag > LAG_TAU * drake.contact_time
+    _, window, _ = comparison_window(Outcome.JAM, first.time, 2.0, contact_time=drake.contact_time, timestep=drake.timestep, spring_jam=lag)
+    assert window == lag
+    # other events keep LAG_TAU contact times; MuJoCo's impedance feeds the rigid force forward: no spring lag
+    _, window, _ = comparison_window(Outcome.LIFTOFF, first.time, 2.0, contact_time=drake.contact_time, timestep=drake.timestep, spring_jam=lag)
+    assert window == event_lag(drake.contact_time, drake.timestep) == max(LAG_TAU * drake.contact_time, LAG_STEPS * drake.timestep)
+    assert jam_lag(engines.get("mujoco").options(), scale) == 0.0
+    assert np.array_equal(jam_lag(drake, np.array([scale, np.nan])), [lag, 0.0])

@@ -103,12 +103,18 @@ def build_model(rod: Rod) -> pin.Model:
     parent = 0
     for name, joint in JOINT_TYPES.items():
         parent = model.addJoint(parent, joint(), pin.SE3.Identity(), name)
-    # Slender rod along the body j axis: no inertia about it (eq. inertia).
-    body = pin.Inertia(rod.mass, np.zeros(3), np.diag([rod.inertia, 0.0, rod.inertia]))
-    model.appendBodyToJoint(parent, body, pin.SE3.Identity())
-    tip = pin.SE3(np.eye(3), np.array([0.0, -rod.length, 0.0]))
-    model.addFrame(pin.Frame(TIP_FRAME, parent, tip, pin.FrameType.OP_FRAME))
+    model.appendBodyToJoint(parent, _body(rod), pin.SE3.Identity())
+    model.addFrame(pin.Frame(TIP_FRAME, parent, _tip_placement(rod), pin.FrameType.OP_FRAME))
     return model
+
+
+def _body(rod: Rod) -> pin.Inertia:
+    # Slender rod along the body j axis: no inertia about it (eq. inertia).
+    return pin.Inertia(rod.mass, np.zeros(3), np.diag([rod.inertia, 0.0, rod.inertia]))
+
+
+def _tip_placement(rod: Rod) -> pin.SE3:
+    return pin.SE3(np.eye(3), np.array([0.0, -rod.length, 0.0]))
 
 
 @dataclass(frozen=True)
@@ -134,9 +140,14 @@ class RodTerms:
     dJ: np.ndarray
 
     @cached_property
+    def bias(self) -> np.ndarray:
+        """C v + g, (N, 5) [N, N m]: the generalised bias forces from C and g (compare ``nle``; read-only, computed once)."""
+        return _read_only(np.einsum("nij,nj->ni", self.C, self.v) + self.g)
+
+    @cached_property
     def _solved(self) -> tuple[np.ndarray, np.ndarray]:
         # One batched solve for M^-1 J^T (N, 5, 3) and M^-1 (C v + g) (N, 5), shared by the methods below.
-        rhs = np.concatenate((np.swapaxes(self.J, 1, 2), (np.einsum("nij,nj->ni", self.C, self.v) + self.g)[..., None]), axis=2)
+        rhs = np.concatenate((np.swapaxes(self.J, 1, 2), self.bias[..., None]), axis=2)
         x = np.linalg.solve(self.M, rhs)
         return x[..., :3], x[..., 3]
 
@@ -169,9 +180,18 @@ def _read_only(x: np.ndarray) -> np.ndarray:
     return x
 
 
+_LOWER = np.tril_indices(5, -1)
+
+
 def symmetrised(M: np.ndarray) -> np.ndarray:
-    """M (N, 5, 5) from its upper triangle (``crba`` fills the upper triangle only)."""
-    return np.triu(M) + np.swapaxes(np.triu(M, 1), 1, 2)
+    """M (N, 5, 5) from its upper triangle (``crba`` fills the upper triangle only).
+
+    Each entry is its upper-triangle value plus 0.0, as triu(M) + triu(M, 1)^T forms it (a -0.0 becomes
+    0.0), in a third of the time.
+    """
+    out = np.add(M, 0.0)
+    out[:, _LOWER[0], _LOWER[1]] = out[:, _LOWER[1], _LOWER[0]]
+    return out
 
 
 def _rows(x, n: int) -> np.ndarray:
@@ -191,6 +211,19 @@ class PinocchioRod:
         self.data = self.model.createData()
         self.tip = self.model.getFrameId(TIP_FRAME)
 
+    def set_rod(self, rod: Rod) -> None:
+        """Make this the engine of ``rod`` in place: gravity, the body's inertia and the tip's placement as ``build_model``
+        sets them; the joints and the data are kept (the data carries no parameter of the rod from one call to the next).
+
+        A fraction of the cost of a new ``PinocchioRod`` where rods follow one another (``dynamics_terms.validate``);
+        not for the shared instances of ``engine``.
+        """
+        model = self.model
+        model.gravity.linear[:] = (0.0, 0.0, -rod.gravity)
+        model.inertias[model.njoints - 1] = _body(rod)  # the body alone on the last joint, as appendBodyToJoint leaves it
+        model.frames[self.tip].placement = _tip_placement(rod)
+        self.rod = rod
+
     def terms(self, q, v) -> RodTerms:
         """Pinocchio's M, C, g, C v + g, J, dJ at the states (q, v), each (N, 5) (see ``RodTerms``)."""
         q = np.atleast_2d(np.asarray(q, float))
@@ -206,22 +239,30 @@ class PinocchioRod:
 
         M (N, 5, 5) upper triangle only, as ``crba`` fills it (``symmetrised`` completes it); C (N, 5, 5); g,
         nle (N, 5); J6, dJ6 (N, 6, 5): the whole frame Jacobian and its time variation, LOCAL_WORLD_ALIGNED
-        (rows 0-2 translation).  The loop holds only the Pinocchio calls and one copy of each result into
-        its row: at ~1 us per call, a slice, an attribute lookup or a temporary per state costs as much as
-        a call (``benchmarks/bench_pinocchio.py``).
+        (rows 0-2 translation).  The loop holds only the Pinocchio calls and one append of each result's bytes
+        to a buffer, copied into the outputs once after the loop: at ~0.6 us per call, a slice, an attribute
+        lookup, an item assignment or a temporary per state costs a large part of a call
+        (``benchmarks/bench_pinocchio.py``).
         """
-        model, data, tip = self.model, self.data, self.tip
+        model, data, tip, lwa = self.model, self.data, self.tip, _LWA
         crba, coriolis, gravity, nonlinear = pin.crba, pin.computeCoriolisMatrix, pin.computeGeneralizedGravity, pin.nonLinearEffects
         jacobians_dt, frame_jacobian, frame_jacobian_dt = (pin.computeJointJacobiansTimeVariation, pin.getFrameJacobian,
                                                            pin.getFrameJacobianTimeVariation)
-        for i, qi, vi in zip(range(len(q)), q, v):
-            M[i] = crba(model, data, qi)
-            C[i] = coriolis(model, data, qi, vi)
-            g[i] = gravity(model, data, qi)
-            nle[i] = nonlinear(model, data, qi, vi)
+        buffers = [bytearray() for _ in range(6)]
+        put_M, put_C, put_g, put_nle, put_J, put_dJ = (b.extend for b in buffers)
+        # extend() copies a C-contiguous float64 result through the buffer protocol (a non-contiguous one raises
+        # BufferError): cheaper than M[i] = ..., and the result is freed at once, so numpy's small-array cache
+        # serves the next call (keeping the results in lists until the end is slower).
+        for qi, vi in zip(q, v):
+            put_M(crba(model, data, qi))
+            put_C(coriolis(model, data, qi, vi))
+            put_g(gravity(model, data, qi))
+            put_nle(nonlinear(model, data, qi, vi))
             jacobians_dt(model, data, qi, vi)
-            J6[i] = frame_jacobian(model, data, tip, _LWA)
-            dJ6[i] = frame_jacobian_dt(model, data, tip, _LWA)
+            put_J(frame_jacobian(model, data, tip, lwa))
+            put_dJ(frame_jacobian_dt(model, data, tip, lwa))
+        for out, buffer in zip((M, C, g, nle, J6, dJ6), buffers):
+            out[...] = np.frombuffer(buffer).reshape(out.shape)
 
     def aba_tip_acceleration(self, q, v, force, *, J=None) -> np.ndarray:
         """Tip acceleration (N, 3) [m/s^2] by ``aba`` with tau = J^T F, then the frame's classical acceleration.
@@ -241,11 +282,14 @@ class PinocchioRod:
 
     def fill_aba_tip_acceleration(self, q, v, tau, out) -> None:
         """``aba`` with the generalised forces tau (N, 5), then the tip's classical acceleration written into ``out`` (N, 3)."""
-        model, data, tip = self.model, self.data, self.tip
+        model, data, tip, lwa = self.model, self.data, self.tip, _LWA
         aba, kinematics, classical = pin.aba, pin.forwardKinematics, pin.getFrameClassicalAcceleration
-        for i, qi, vi, ti in zip(range(len(q)), q, v, tau):
+        buffer = bytearray()
+        put = buffer.extend  # as in fill_terms
+        for qi, vi, ti in zip(q, v, tau):
             kinematics(model, data, qi, vi, aba(model, data, qi, vi, ti))
-            out[i] = classical(model, data, tip, _LWA).linear
+            put(classical(model, data, tip, lwa).linear)
+        out[...] = np.frombuffer(buffer).reshape(out.shape)
 
     def jacobian(self, q) -> np.ndarray:
         """Tip Jacobian (N, 3, 5), translation rows, LOCAL_WORLD_ALIGNED."""

@@ -26,6 +26,7 @@ their reasons are in the Pinocchio section of ``crosscheck.tolerances``.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -95,6 +96,14 @@ def random_states(n: int, rng: np.random.Generator) -> dict[str, np.ndarray]:
     }
 
 
+class _Rods(NamedTuple):
+    """The rods of N states as (N,) arrays, with the names of ``Rod``'s attributes that ``reference_terms`` reads."""
+
+    mass: np.ndarray
+    inertia: np.ndarray
+    gravity: np.ndarray
+
+
 def reference_terms(rod: Rod, q, v) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """M, C, g of the rod written from eqs. rotode and linode (physical units).
 
@@ -107,7 +116,8 @@ def reference_terms(rod: Rod, q, v) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     linear in v with C v as above and M' - 2C skew-symmetric):
     C[psi, psi] = -I0 s c theta', C[psi, theta] = -I0 s c psi', C[theta, psi] = I0 s c psi'.
 
-    q, v: (N, 5).  Returns M (N, 5, 5), C (N, 5, 5), g (N, 5).
+    q, v: (N, 5); ``rod`` may also hold one rod per state, its mass, inertia and gravity as (N,) arrays.
+    Returns M (N, 5, 5), C (N, 5, 5), g (N, 5).
     """
     q = np.asarray(q, float)
     v = np.asarray(v, float)
@@ -117,7 +127,7 @@ def reference_terms(rod: Rod, q, v) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     i0 = rod.inertia
     sc = np.sin(theta) * np.cos(theta)
     M = np.zeros((n, 5, 5))
-    M[:, [0, 1, 2], [0, 1, 2]] = rod.mass
+    M[:, [0, 1, 2], [0, 1, 2]] = np.reshape(rod.mass, (-1, 1))
     M[:, 3, 3] = i0 * np.cos(theta) ** 2
     M[:, 4, 4] = i0
     C = np.zeros((n, 5, 5))
@@ -146,20 +156,89 @@ def scaled_matrices(rod: Rod, M, C, g) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return M * outer / ml2, C * outer / ml2_omega, g * L / mgl
 
 
+_TINY, _EPS = np.finfo(float).tiny, np.finfo(float).eps
+
+
+class _ErrorStats:
+    """``compare.error_stat``'s numbers for one quantity, its states given chunk by chunk in order (``add``), in fewer passes.
+
+    With rtol = 0 (all of ``validate``'s tolerances) and finite errors the allowance atol + 0 |want| is
+    atol and an entry's ratio fl(err / atol).  Division by atol > 0 keeps the order, so a chunk's largest
+    ratio is fl(max err / atol), and its worst state (``error_stat``'s first state with the largest
+    ratio) the first holding an entry whose ratio rounds to it: such entries lie within a few ulp of max
+    err, and only those are divided.  The relative error is formed only in the columns whose reference is
+    non-zero somewhere, the only ones holding ``error_stat``'s err[nz].  A chunk outside that case (rtol >
+    0, a non-finite error, a subnormal ratio) takes ``error_stat``'s own steps.  Across chunks the
+    largest values are kept (NaN kept as numpy's max keeps it) and the first worst state.
+    """
+
+    def __init__(self, quantity: str, tolerance):
+        self.quantity, self.tolerance = quantity, tolerance
+        self.n, self.worst, self.max_ratio = 0, 0, -math.inf
+        self.max_abs = self.max_rel = None
+
+    def add(self, got, want, scale=None) -> None:
+        """The next chunk: ``_stat``'s got, want and scale (per state or entry; None: 1) of its states."""
+        got, want = np.asarray(got, float), np.asarray(want, float)
+        k = got.shape[0]
+        if scale is not None:  # max_abs in the units of got; the rest on got / scale, want / scale
+            scale = np.asarray(scale, float)
+            scale = scale.reshape(scale.shape + (1,) * (want.ndim - scale.ndim))
+            diff = np.subtract(got, want)
+            self.max_abs = _max(self.max_abs, np.abs(diff, out=diff).max())
+            got, want = np.divide(got, scale, out=diff), want / scale
+        err = np.subtract(got, want)
+        err = np.abs(err, out=err).reshape(k, -1)
+        max_err = err.max()
+        if scale is None:
+            self.max_abs = _max(self.max_abs, max_err)
+        atol, rtol = self.tolerance.atol, self.tolerance.rtol
+        ratio = max_err / atol if rtol == 0.0 and atol > 0.0 else math.nan
+        abs_want = np.abs(want).reshape(k, -1)
+        if np.isfinite(ratio) and (ratio == 0.0 or ratio >= _TINY):  # (a subnormal ratio has fewer bits: more may round to it)
+            flat = err.reshape(-1)
+            near = np.flatnonzero(flat >= max_err * (1.0 - 4.0 * _EPS))
+            i = int(near[np.flatnonzero(flat[near] / atol == ratio)[0]]) // err.shape[1]
+            # got - want finite everywhere, so want is: a column holds a non-zero where its sum of |want| is > 0
+            columns = np.einsum("ij->j", abs_want) > 0  # (a tenth of the time of abs_want.max(axis=0))
+            if not columns.all():
+                err, abs_want = err[:, columns], abs_want[:, columns]
+            rel = np.divide(err, abs_want, out=np.zeros(err.shape), where=abs_want > 0).max() if columns.any() else None
+        else:
+            per_state = self.tolerance.ratio(got, want).reshape(k, -1)
+            per_state = np.where(np.isfinite(per_state), per_state, np.inf).max(axis=1)
+            i = int(np.argmax(per_state))
+            ratio = per_state[i]
+            nz = abs_want > 0
+            rel = (err[nz] / abs_want[nz]).max() if nz.any() else None
+        if ratio > self.max_ratio:
+            self.max_ratio, self.worst = ratio, self.n + i
+        if rel is not None:
+            self.max_rel = _max(self.max_rel, rel)
+        self.n += k
+
+    def result(self, states: dict) -> ErrorStat:
+        """The ``ErrorStat`` of all states added, the worst one's entries read from ``states`` ((N,) arrays)."""
+        worst = {k: float(np.asarray(v)[self.worst]) for k, v in states.items()}
+        worst["index"] = self.worst
+        return ErrorStat(quantity=self.quantity, n=self.n, max_abs=float(self.max_abs),
+                         max_rel=math.nan if self.max_rel is None else float(self.max_rel), max_ratio=float(self.max_ratio),
+                         worst_state=worst, tolerance=self.tolerance.as_dict(), passed=bool(self.max_ratio <= 1.0))
+
+
+def _max(a, b):
+    """max(a, b) with NaN kept, as numpy's max keeps it; a None: b."""
+    return b if a is None else np.maximum(a, b)
+
+
 def _stat(quantity: str, got, want, tolerance, states: dict, *, scale=None) -> ErrorStat:
     """``error_stat`` with the allowance ``atol * scale + rtol * |want|`` (``scale`` per state or entry; None: 1).
 
     max_abs stays in the units of ``got`` (scaled units); max_rel is unchanged.
     """
-    got = np.asarray(got, float)
-    want = np.asarray(want, float)
-    if scale is None:  # x / 1.0 is x: error_stat's own max_abs is already |got - want|
-        return error_stat(quantity, got, want, tolerance, states)
-    scale = np.asarray(scale, float)
-    scale = scale.reshape(scale.shape + (1,) * (want.ndim - scale.ndim))
-    stat = error_stat(quantity, got / scale, want / scale, tolerance, states)
-    stat.max_abs = float(np.max(np.abs(got - want)))
-    return stat
+    stat = _ErrorStats(quantity, tolerance)
+    stat.add(got, want, scale)
+    return stat.result(states)
 
 
 def _by_decade(cos: np.ndarray, errors: dict[str, np.ndarray]) -> list[dict]:
@@ -173,6 +252,11 @@ def _by_decade(cos: np.ndarray, errors: dict[str, np.ndarray]) -> list[dict]:
     return rows
 
 
+def _row_max(x: np.ndarray) -> np.ndarray:
+    """x.max(axis=1) of an (N, 3) array, column by column (max(axis=1) over rows of 3 is several times slower)."""
+    return np.maximum(np.maximum(x[:, 0], x[:, 1]), x[:, 2])
+
+
 def _mu_P_stat() -> ErrorStat:
     alphas = np.array(ALPHAS_MU_P)
     got = np.array([pinrod.mu_P(a) for a in alphas])
@@ -180,95 +264,143 @@ def _mu_P_stat() -> ErrorStat:
     return error_stat("mu_P from p", got, want, pinocchio_tol.PIN_MU_P, {"alpha": alphas})
 
 
+def _per_state(rod_of_state: np.ndarray, rods: list[Rod], value) -> np.ndarray:
+    """``value(rod)`` of each state's rod, (N,): computed once per rod with the rod's own floats, as ``Rod`` gives it."""
+    return np.array([value(rod) for rod in rods])[rod_of_state]
+
+
+class _Units(NamedTuple):
+    """Per-state factors of the scaled units, ``_scale_factors``' of each state's rod ((N,) arrays; L (N, 5))."""
+
+    mass: np.ndarray
+    gravity: np.ndarray  # accelerations in units of g = l omega^2
+    force_scale: np.ndarray  # m g
+    L: np.ndarray  # q = L q_s
+    ml2: np.ndarray
+    ml2_omega: np.ndarray
+    mgl: np.ndarray
+
+    def at(self, states: slice) -> _Units:
+        return _Units(*(x[states] for x in self))
+
+    def outer(self) -> np.ndarray:
+        """L L^T (N, 5, 5), entry by entry as ``_scale_factors`` forms it for one rod."""
+        return self.L[:, :, None] * self.L[:, None, :]
+
+
+#: ``validate`` takes whole rods (at least one) of at most this many states at a time through Pinocchio, the
+#: reference and the statistics: every array of a chunk (<= 1.6 MB) is then reused from the heap instead of
+#: being mapped afresh from the system (page faults cost a tenth of the run on 100000 states at once).
+CHUNK_STATES = 8192
+
+
+def _chunks(blocks: list[slice]) -> list[list[int]]:
+    """The rods (their indices) in chunks of consecutive rods of at most CHUNK_STATES states (a larger rod alone)."""
+    chunks, size = [[]], 0
+    for r, block in enumerate(blocks):
+        if chunks[-1] and size + (block.stop - block.start) > CHUNK_STATES:
+            chunks.append([])
+            size = 0
+        chunks[-1].append(r)
+        size += block.stop - block.start
+    return chunks
+
+
+#: The quantities compared chunk by chunk, in the order of the result.
+_QUANTITIES = (
+    ("tip acc, aba", pinocchio_tol.PIN_TIP_ACCELERATION),
+    ("tip acc, G F + free", pinocchio_tol.PIN_THROUGH_MINV),
+    ("Delassus G", pinocchio_tol.PIN_THROUGH_MINV),
+    ("free tip acc", pinocchio_tol.PIN_THROUGH_MINV),
+    ("M (crba)", pinocchio_tol.PIN_MATRICES),
+    ("C (Coriolis matrix)", pinocchio_tol.PIN_MATRICES),
+    ("g (gravity)", pinocchio_tol.PIN_MATRICES),
+    ("C v + g = nle", pinocchio_tol.PIN_MATRICES),
+)
+
+
 def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False) -> ValidationResult:
     """Compare Pinocchio with the analytic reference on ``n_states`` random states (see the module docstring)."""
     s = random_states(n_states, rng)
     n = n_states
-    # Rod by rod, into preallocated arrays of all states: Pinocchio's raw terms go to scratch arrays of one
-    # block (reused, small enough to stay in cache), everything else is written to its rows in scaled units.
-    pin_acc = {name: np.empty((n, 3)) for name in ("delassus", "aba", "free")}
-    pin_G = np.empty((n, 3, 3))
-    pin_M, pin_C = np.empty((n, 5, 5)), np.empty((n, 5, 5))
-    pin_g, pin_nle, pin_Cv = np.empty((n, 5)), np.empty((n, 5)), np.empty((n, 5))
-    ref_M, ref_C, ref_g = np.empty((n, 5, 5)), np.empty((n, 5, 5)), np.empty((n, 5))
-    ref_acc, ref_free, ref_G = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3, 3))
-    pin_b, pin_p = np.empty(n), np.empty(n)
-    v_scaled = np.empty((n, 5))
     starts = np.flatnonzero(np.diff(s["rod"], prepend=-1))
     blocks = [slice(a, b) for a, b in zip(starts, [*starts[1:], n])]
-    most = max(b.stop - b.start for b in blocks)
-    raw_M, raw_C, raw_J, raw_dJ = (np.empty((most, k, 5)) for k in (5, 5, 6, 6))
-    raw_g, raw_nle, raw_aba = np.empty((most, 5)), np.empty((most, 5)), np.empty((most, 3))
+    rods = [Rod(mass=s["m"][b.start], length=s["l"][b.start], inertia=s["I0"][b.start], gravity=s["g"][b.start]) for b in blocks]
+    # Each rod's scale factors in its own floats (Python's l**2 and numpy's differ in the last bit now and
+    # then), spread to its states; every product with them below is then the one a rod at a time would form.
+    of, l, ones = s["rod"], s["l"], np.ones(n)
+    omega = _per_state(of, rods, lambda r: r.omega)
+    units = _Units(mass=s["m"], gravity=s["g"], force_scale=_per_state(of, rods, lambda r: r.force_scale), L=np.stack((l, l, l, ones, ones), axis=-1),
+                   ml2=_per_state(of, rods, lambda r: r.mass * r.length**2), ml2_omega=_per_state(of, rods, lambda r: r.mass * r.length**2 * r.omega),
+                   mgl=_per_state(of, rods, lambda r: r.mass * r.gravity * r.length))
+    L_rates, l_omega = np.stack((ones, ones, ones, l, l), axis=-1), (l * omega)[:, None]  # v_s = v L_rates / (l omega)
+    F = s["F"] * units.force_scale[:, None]
     tips = np.stack((s["x"], s["y"], np.zeros(n)), axis=-1)
+    theta, Psi, Theta, alpha, mu = s["theta"], s["Psi"], s["Theta"], s["alpha"], s["mu"]
+    rates_rad = (Psi * omega, Theta * omega)  # the reference reads rates in rad/s
+    cos = np.cos(theta)
+    kappa = 1.0 / cos**2  # condition number of M in its natural units diag(m, m, m, I0, I0)
+    # Term scales (scaled units).  Eq. linode2 sums force terms with coefficients <= 1 + alpha, velocity
+    # terms and gravity 1; Pinocchio's spatial algebra also forms products of the linear velocities
+    # with the rates that cancel only in exact arithmetic, so the velocity terms are measured by
+    # V = (1 + |v_s|_1)^2 over all five scaled velocities, not by Psi^2 + Theta^2 alone.
+    rates, V, A = np.empty(n), np.empty(n), np.empty(n)
+    force_terms = (1 + alpha, np.abs(s["F"]).sum(axis=1))  # A = (1 + alpha) |F|_1 + V
+    pin_b, pin_p = np.empty(n), np.empty(n)
+    tip_errors = {"aba": np.empty(n), "G F + free": np.empty(n)}  # largest tip acceleration error / A per state
+    stats = {quantity: _ErrorStats(quantity, tolerance) for quantity, tolerance in _QUANTITIES}
+
+    chunks = _chunks(blocks)
+    most = max(blocks[c[-1]].stop - blocks[c[0]].start for c in chunks)
+    # Pinocchio's raw terms of a chunk go to these arrays, reused chunk after chunk; one model, set to each rod in turn
+    work = [np.empty((most,) + shape) for shape in ((5,), (5,), (5, 5), (5, 5), (6, 5), (6, 5), (5,), (5,), (3,))]
+    rod_engine = pinrod.PinocchioRod(rods[0])
     bar = None
     if progress:
         from tqdm import tqdm
 
         bar = tqdm(total=n, desc="validate pinocchio", unit="state")
-    for idx in blocks:
-        i, k = idx.start, idx.stop - idx.start
-        rod = Rod(mass=s["m"][i], length=s["l"][i], inertia=s["I0"][i], gravity=s["g"][i])
-        q, v = paper_to_qv(rod, s["theta"][idx], s["varphi"][idx], s["Theta"][idx], s["Psi"][idx], s["eta"][idx], s["psi"][idx], tip=tips[idx])
-        F = s["F"][idx] * rod.force_scale
-        rod_engine = pinrod.PinocchioRod(rod)
-        rod_engine.fill_terms(q, v, raw_M[:k], raw_C[:k], raw_g[:k], raw_nle[:k], raw_J[:k], raw_dJ[:k])
-        terms = pinrod.RodTerms(v=v, M=pinrod.symmetrised(raw_M[:k]), C=raw_C[:k], g=raw_g[:k], nle=raw_nle[:k],
-                                J=np.ascontiguousarray(raw_J[:k, :3]), dJ=np.ascontiguousarray(raw_dJ[:k, :3]))
-        rod_engine.fill_aba_tip_acceleration(q, v, np.einsum("nij,ni->nj", terms.J, F), raw_aba[:k])
-        acc_scale = rod.gravity  # accelerations in units of g = l omega^2
-        pin_acc["delassus"][idx] = terms.tip_acceleration(F) / acc_scale
-        pin_acc["aba"][idx] = raw_aba[:k] / acc_scale
-        pin_acc["free"][idx] = terms.free_acceleration() / acc_scale
-        pin_G[idx] = terms.delassus() * rod.mass  # per unit scaled force m g, in units of g
-        pin_b[idx], pin_p[idx] = pinrod.slip_coefficients(rod, terms, s["psi"][idx] + s["varphi"][idx], s["mu"][idx])
-        L, outer, ml2, ml2_omega, mgl = _scale_factors(rod)  # scaled_matrices' factors, for the two forces below
-        pin_M[idx], pin_C[idx], pin_g[idx] = scaled_matrices(rod, terms.M, terms.C, terms.g)
-        pin_nle[idx] = terms.nle * L / mgl
-        pin_Cv[idx] = (np.einsum("nij,nj->ni", terms.C, v) + terms.g) * L / mgl
-        ref_M[idx], ref_C[idx], ref_g[idx] = scaled_matrices(rod, *reference_terms(rod, q, v))
-        v_scaled[idx] = v * np.array([1.0, 1.0, 1.0, rod.length, rod.length]) / (rod.length * rod.omega)
-        # eq. linode2 (the reference reads rates in rad/s) in one call at six (rates, force) pairs per state:
-        # (rates, F), (rates, 0), and at rest with 0 and with the unit forces m g e_j, whose differences are
-        # the columns of G (G does not depend on the rates; at rest the difference does not cancel large
-        # velocity terms).
-        zero, unit = np.zeros(k), np.zeros((3, k, 3))
-        for j in range(3):
-            unit[j, :, j] = rod.force_scale
-        Psi_dot, Theta_dot = s["Psi"][idx] * rod.omega, s["Theta"][idx] * rod.omega
-        ref = analytic.tip_acceleration(
-            rod, np.tile(s["psi"][idx], 6), np.tile(s["theta"][idx], 6), np.concatenate((Psi_dot, Psi_dot, zero, zero, zero, zero)),
-            np.concatenate((Theta_dot, Theta_dot, zero, zero, zero, zero)), np.concatenate((F, np.zeros((2 * k, 3)), unit.reshape(-1, 3))),
-        ).reshape(6, k, 3) / acc_scale  # fmt: skip
-        ref_acc[idx], ref_free[idx] = ref[0], ref[1]
-        for j in range(3):
-            ref_G[idx, :, j] = ref[3 + j] - ref[2]
-        if bar is not None:
-            bar.update(k)
+    for chunk in chunks:
+        lo, hi = blocks[chunk[0]].start, blocks[chunk[-1]].stop
+        k, now = hi - lo, slice(lo, hi)
+        q, v, raw_M, raw_C, raw_J, raw_dJ, raw_g, raw_nle, raw_aba = (x[:k] for x in work)
+        rod_states = [(slice(blocks[r].start - lo, blocks[r].stop - lo), blocks[r], rods[r]) for r in chunk]  # (in chunk, of all, rod)
+        for i, idx, rod in rod_states:  # all (q, v) of the chunk first: a loop of like calls stays in the caches
+            q[i], v[i] = paper_to_qv(rod, theta[idx], s["varphi"][idx], Theta[idx], Psi[idx], s["eta"][idx], s["psi"][idx], tip=tips[idx])
+        # Pinocchio rod by rod: the terms, then aba with tau = J^T F at the same states.
+        for i, idx, rod in rod_states:
+            rod_engine.set_rod(rod)
+            rod_engine.fill_terms(q[i], v[i], raw_M[i], raw_C[i], raw_g[i], raw_nle[i], raw_J[i], raw_dJ[i])
+            tau = np.einsum("nij,ni->nj", np.ascontiguousarray(raw_J[i, :3]), F[idx])
+            rod_engine.fill_aba_tip_acceleration(q[i], v[i], tau, raw_aba[i])
+            if bar is not None:
+                bar.update(idx.stop - idx.start)
+        rates[now] = 1 + np.abs(v * L_rates[now] / l_omega[now]).sum(axis=1)
+        V[now] = rates[now] ** 2
+        A[now] = force_terms[0][now] * force_terms[1][now] + V[now]
+        chunk_units = units.at(now)
+        outer = chunk_units.outer()
+        terms = pinrod.RodTerms(v=v, M=pinrod.symmetrised(raw_M), C=raw_C, g=raw_g, nle=raw_nle,
+                                J=np.ascontiguousarray(raw_J[:, :3]), dJ=np.ascontiguousarray(raw_dJ[:, :3]))
+        pin, ref = _pinocchio_chunk(terms, raw_aba, F[now], chunk_units, outer)
+        pin_b[now], pin_p[now] = pinrod.slip_coefficients_of(terms, s["psi"][now] + s["varphi"][now], mu[now], mass=chunk_units.mass,
+                                                             gravity=chunk_units.gravity)
+        ref.update(_reference_chunk(q, v, rod_states, lo, s, rates_rad, F, chunk_units, outer))
+        scales = {"tip acc, aba": A[now] / cos[now], "tip acc, G F + free": kappa[now] * A[now], "Delassus G": kappa[now] * force_terms[0][now],
+                  "free tip acc": kappa[now] * V[now], "M (crba)": None, "C (Coriolis matrix)": rates[now], "g (gravity)": None,
+                  "C v + g = nle": V[now]}
+        for quantity, stat in stats.items():
+            stat.add(pin[quantity], ref[quantity], scales[quantity])
+        for route, quantity in (("aba", "tip acc, aba"), ("G F + free", "tip acc, G F + free")):
+            tip_errors[route][now] = _row_max(np.abs(pin[quantity] - ref[quantity])) / A[now]
     if bar is not None:
         bar.close()
 
-    theta, Psi, Theta, alpha, mu = s["theta"], s["Psi"], s["Theta"], s["alpha"], s["mu"]
     ref_b = analytic.b(Psi, Theta, theta)
     ref_p = analytic.p(theta, s["varphi"], mu, alpha)
-    # Term scales (scaled units).  Eq. linode2 sums force terms with coefficients <= 1 + alpha, velocity
-    # terms and gravity 1; Pinocchio's spatial algebra also forms products of the linear velocities
-    # with the rates that cancel only in exact arithmetic, so the velocity terms are measured by
-    # V = (1 + |v_s|_1)^2 over all five scaled velocities, not by Psi^2 + Theta^2 alone.
-    rates = 1 + np.abs(v_scaled).sum(axis=1)
-    V = rates**2
-    A = (1 + alpha) * np.abs(s["F"]).sum(axis=1) + V
-    cos = np.cos(theta)
-    kappa = 1.0 / cos**2  # condition number of M in its natural units diag(m, m, m, I0, I0)
     where = {k: s[k] for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi", "alpha", "mu", "m", "l", "I0", "g")}
-    stats = [
-        _stat("tip acc, aba", pin_acc["aba"], ref_acc, pinocchio_tol.PIN_TIP_ACCELERATION, where, scale=A / cos),
-        _stat("tip acc, G F + free", pin_acc["delassus"], ref_acc, pinocchio_tol.PIN_THROUGH_MINV, where, scale=kappa * A),
-        _stat("Delassus G", pin_G, ref_G, pinocchio_tol.PIN_THROUGH_MINV, where, scale=kappa * (1 + alpha)),
-        _stat("free tip acc", pin_acc["free"], ref_free, pinocchio_tol.PIN_THROUGH_MINV, where, scale=kappa * V),
-        _stat("M (crba)", pin_M, ref_M, pinocchio_tol.PIN_MATRICES, where),
-        _stat("C (Coriolis matrix)", pin_C, ref_C, pinocchio_tol.PIN_MATRICES, where, scale=rates),
-        _stat("g (gravity)", pin_g, ref_g, pinocchio_tol.PIN_MATRICES, where),
-        _stat("C v + g = nle", pin_Cv, pin_nle, pinocchio_tol.PIN_MATRICES, where, scale=V),
+    stats = [stat.result(where) for stat in stats.values()]
+    stats += [
         _stat("b", pin_b, ref_b, pinocchio_tol.PIN_SLIP, where, scale=V),
         _stat("p", pin_p, ref_p, pinocchio_tol.PIN_SLIP, where, scale=(1 + alpha) * (1 + mu)),
     ]
@@ -279,7 +411,7 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
     near_b = np.abs(ref_b) <= pinocchio_tol.PIN_SLIP.atol * V
     near_p = np.abs(ref_p) <= pinocchio_tol.PIN_SLIP.atol * (1 + alpha) * (1 + mu)
     boundary = near_b | near_p
-    stats.append(error_stat("mode", np.where(boundary, ref_mode, pin_mode), ref_mode, pinocchio_tol.PIN_MODE, where))
+    stats.append(_stat("mode", np.where(boundary, ref_mode, pin_mode), ref_mode, pinocchio_tol.PIN_MODE, where))
     stats.append(_mu_P_stat())
     confusion = np.zeros((4, 4), dtype=int)
     np.add.at(confusion, (ref_mode, pin_mode), 1)
@@ -294,10 +426,56 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
             "disagree_off_boundary": int(((pin_mode != ref_mode) & ~boundary).sum()),
         },
         "min_cos_theta": float(cos.min()),
-        "tip_acc_error_over_A_by_cos_theta": _by_decade(cos, {
-            "aba": np.abs(pin_acc["aba"] - ref_acc).max(axis=1) / A,
-            "G F + free": np.abs(pin_acc["delassus"] - ref_acc).max(axis=1) / A,
-        }),
+        "tip_acc_error_over_A_by_cos_theta": _by_decade(cos, tip_errors),
         "tolerances": {k: v for k, v in tol.all_tolerances().items() if k.startswith("PIN_")},
     }
     return ValidationResult(engine="pinocchio", stats=stats, extra=extra)
+
+
+def _pinocchio_chunk(terms: pinrod.RodTerms, raw_aba, F, units: _Units, outer) -> tuple[dict, dict]:
+    """Pinocchio's quantities of one chunk of states in scaled units, and the want of C v + g = nle (nle, Pinocchio's too).
+
+    ``terms`` and ``raw_aba`` (tip acceleration by aba) in physical units, F (N, 3) [N], ``units`` and ``outer`` the chunk's.
+    """
+    acc_scale = units.gravity[:, None]
+    pin = {"tip acc, aba": raw_aba / acc_scale, "tip acc, G F + free": terms.tip_acceleration(F) / acc_scale,
+           "Delassus G": terms.delassus() * units.mass[:, None, None],  # per unit scaled force m g, in units of g
+           "free tip acc": terms.free_acceleration() / acc_scale}
+    # scaled_matrices' M * outer / ml2 (and so on), in place where the product is a fresh array
+    for quantity, x, by, over in (("M (crba)", terms.M, outer, units.ml2[:, None, None]), ("C (Coriolis matrix)", terms.C, outer, units.ml2_omega[:, None, None]),
+                                  ("g (gravity)", terms.g, units.L, units.mgl[:, None]), ("C v + g = nle", terms.bias, units.L, units.mgl[:, None]),
+                                  ("nle", terms.nle, units.L, units.mgl[:, None])):
+        pin[quantity] = np.multiply(x, by)
+        pin[quantity] /= over
+    return pin, {"C v + g = nle": pin.pop("nle")}
+
+
+def _reference_chunk(q, v, rod_states, lo, s, rates_rad, F, units: _Units, outer) -> dict:
+    """The reference's quantities of one chunk of states in scaled units.
+
+    ``rod_states``: (states in the chunk, states of all, Rod) of its rods; ``lo`` its first state; ``s``, ``rates_rad``
+    (psi', theta' [rad/s]) and F (N, 3) [N] of all states; ``units`` and ``outer`` the chunk's.
+    """
+    k = q.shape[0]
+    now = slice(lo, lo + k)
+    ref_M, ref_C, ref_g = reference_terms(_Rods(mass=units.mass, inertia=s["I0"][now], gravity=units.gravity), q, v)
+    for x, by, over in ((ref_M, outer, units.ml2[:, None, None]), (ref_C, outer, units.ml2_omega[:, None, None]), (ref_g, units.L, units.mgl[:, None])):
+        x *= by
+        x /= over
+    # eq. linode2 at six (rates, force) pairs per state: (rates, F), (rates, 0), and at rest with 0 and with
+    # the unit forces m g e_j, whose differences are the columns of G (G does not depend on the rates; at
+    # rest the difference does not cancel large velocity terms).  One call per rod (the reference takes
+    # one Rod); the six pairs broadcast against the states' angles.
+    zero = np.zeros(k)
+    psi_dot, theta_dot = (np.stack((x[now], x[now], zero, zero, zero, zero)) for x in rates_rad)
+    forces = np.zeros((6, k, 3))
+    forces[0] = F[now]
+    for j in range(3):
+        forces[3 + j, :, j] = units.force_scale
+    ref = np.empty((6, k, 3))
+    for i, idx, rod in rod_states:
+        ref[:, i] = analytic.tip_acceleration(rod, s["psi"][idx], s["theta"][idx], psi_dot[:, i], theta_dot[:, i], forces[:, i])
+    ref /= units.gravity[:, None]
+    ref_G = np.stack([ref[3 + j] - ref[2] for j in range(3)], axis=-1)
+    return {"tip acc, aba": ref[0], "tip acc, G F + free": ref[0], "Delassus G": ref_G, "free tip acc": ref[1],
+            "M (crba)": ref_M, "C (Coriolis matrix)": ref_C, "g (gravity)": ref_g}

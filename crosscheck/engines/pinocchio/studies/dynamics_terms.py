@@ -127,7 +127,8 @@ def reference_terms(rod: Rod, q, v) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     i0 = rod.inertia
     sc = np.sin(theta) * np.cos(theta)
     M = np.zeros((n, 5, 5))
-    M[:, [0, 1, 2], [0, 1, 2]] = np.reshape(rod.mass, (-1, 1))
+    for j in range(3):
+        M[:, j, j] = rod.mass
     M[:, 3, 3] = i0 * np.cos(theta) ** 2
     M[:, 4, 4] = i0
     C = np.zeros((n, 5, 5))
@@ -184,9 +185,10 @@ class _ErrorStats:
         if scale is not None:  # max_abs in the units of got; the rest on got / scale, want / scale
             scale = np.asarray(scale, float)
             scale = scale.reshape(scale.shape + (1,) * (want.ndim - scale.ndim))
-            diff = np.subtract(got, want)
-            self.max_abs = _max(self.max_abs, np.abs(diff, out=diff).max())
-            got, want = np.divide(got, scale, out=diff), want / scale
+            err = np.subtract(got, want)
+            self.max_abs = _max(self.max_abs, np.abs(err, out=err).max())
+            want_given = want
+            got, want = np.divide(got, scale), np.divide(want, scale, out=err)
         err = np.subtract(got, want)
         err = np.abs(err, out=err).reshape(k, -1)
         max_err = err.max()
@@ -194,7 +196,7 @@ class _ErrorStats:
             self.max_abs = _max(self.max_abs, max_err)
         atol, rtol = self.tolerance.atol, self.tolerance.rtol
         ratio = max_err / atol if rtol == 0.0 and atol > 0.0 else math.nan
-        abs_want = np.abs(want).reshape(k, -1)
+        abs_want = np.abs(want, out=want if scale is not None else None).reshape(k, -1)  # (want / scale is ours to overwrite)
         if np.isfinite(ratio) and (ratio == 0.0 or ratio >= _TINY):  # (a subnormal ratio has fewer bits: more may round to it)
             flat = err.reshape(-1)
             near = np.flatnonzero(flat >= max_err * (1.0 - 4.0 * _EPS))
@@ -205,6 +207,8 @@ class _ErrorStats:
                 err, abs_want = err[:, columns], abs_want[:, columns]
             rel = np.divide(err, abs_want, out=np.zeros(err.shape), where=abs_want > 0).max() if columns.any() else None
         else:
+            if scale is not None:
+                want = want_given / scale
             per_state = self.tolerance.ratio(got, want).reshape(k, -1)
             per_state = np.where(np.isfinite(per_state), per_state, np.inf).max(axis=1)
             i = int(np.argmax(per_state))
@@ -289,8 +293,9 @@ class _Units(NamedTuple):
 
 
 #: ``validate`` takes whole rods (at least one) of at most this many states at a time through Pinocchio, the
-#: reference and the statistics: every array of a chunk (<= 1.6 MB) is then reused from the heap instead of
-#: being mapped afresh from the system (page faults cost a tenth of the run on 100000 states at once).
+#: reference and the statistics: every array of a chunk (<= 2 MB) is then reused from the heap, and mostly from
+#: the caches, instead of being mapped afresh from the system (page faults took a tenth of the run on 100000
+#: states at once) and read back from memory.
 CHUNK_STATES = 8192
 
 
@@ -367,6 +372,12 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
         rod_states = [(slice(blocks[r].start - lo, blocks[r].stop - lo), blocks[r], rods[r]) for r in chunk]  # (in chunk, of all, rod)
         for i, idx, rod in rod_states:  # all (q, v) of the chunk first: a loop of like calls stays in the caches
             q[i], v[i] = paper_to_qv(rod, theta[idx], s["varphi"][idx], Theta[idx], Psi[idx], s["eta"][idx], s["psi"][idx], tip=tips[idx])
+        chunk_units = units.at(now)
+        outer = chunk_units.outer()
+        ref = _reference_chunk(q, v, rod_states, lo, s, rates_rad, F, chunk_units, outer)  # (the same, for the reference's calls)
+        rates[now] = 1 + np.abs(v * L_rates[now] / l_omega[now]).sum(axis=1)
+        V[now] = rates[now] ** 2
+        A[now] = force_terms[0][now] * force_terms[1][now] + V[now]
         # Pinocchio rod by rod: the terms, then aba with tau = J^T F at the same states.
         for i, idx, rod in rod_states:
             rod_engine.set_rod(rod)
@@ -375,17 +386,12 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
             rod_engine.fill_aba_tip_acceleration(q[i], v[i], tau, raw_aba[i])
             if bar is not None:
                 bar.update(idx.stop - idx.start)
-        rates[now] = 1 + np.abs(v * L_rates[now] / l_omega[now]).sum(axis=1)
-        V[now] = rates[now] ** 2
-        A[now] = force_terms[0][now] * force_terms[1][now] + V[now]
-        chunk_units = units.at(now)
-        outer = chunk_units.outer()
         terms = pinrod.RodTerms(v=v, M=pinrod.symmetrised(raw_M), C=raw_C, g=raw_g, nle=raw_nle,
                                 J=np.ascontiguousarray(raw_J[:, :3]), dJ=np.ascontiguousarray(raw_dJ[:, :3]))
-        pin, ref = _pinocchio_chunk(terms, raw_aba, F[now], chunk_units, outer)
+        pin, nle = _pinocchio_chunk(terms, raw_aba, F[now], chunk_units, outer)
+        ref.update(nle)
         pin_b[now], pin_p[now] = pinrod.slip_coefficients_of(terms, s["psi"][now] + s["varphi"][now], mu[now], mass=chunk_units.mass,
                                                              gravity=chunk_units.gravity)
-        ref.update(_reference_chunk(q, v, rod_states, lo, s, rates_rad, F, chunk_units, outer))
         scales = {"tip acc, aba": A[now] / cos[now], "tip acc, G F + free": kappa[now] * A[now], "Delassus G": kappa[now] * force_terms[0][now],
                   "free tip acc": kappa[now] * V[now], "M (crba)": None, "C (Coriolis matrix)": rates[now], "g (gravity)": None,
                   "C v + g = nle": V[now]}

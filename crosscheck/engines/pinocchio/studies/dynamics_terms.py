@@ -285,6 +285,7 @@ class _Units(NamedTuple):
     mgl: np.ndarray
 
     def at(self, states: slice) -> _Units:
+        """The factors of ``states`` only."""
         return _Units(*(x[states] for x in self))
 
     def outer(self) -> np.ndarray:
@@ -350,7 +351,7 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
     # with the rates that cancel only in exact arithmetic, so the velocity terms are measured by
     # V = (1 + |v_s|_1)^2 over all five scaled velocities, not by Psi^2 + Theta^2 alone.
     rates, V, A = np.empty(n), np.empty(n), np.empty(n)
-    force_terms = (1 + alpha, np.abs(s["F"]).sum(axis=1))  # A = (1 + alpha) |F|_1 + V
+    alpha_1, F_1 = 1 + alpha, np.abs(s["F"]).sum(axis=1)  # A = (1 + alpha) |F|_1 + V
     pin_b, pin_p = np.empty(n), np.empty(n)
     tip_errors = {"aba": np.empty(n), "G F + free": np.empty(n)}  # largest tip acceleration error / A per state
     stats = {quantity: _ErrorStats(quantity, tolerance) for quantity, tolerance in _QUANTITIES}
@@ -374,10 +375,10 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
             q[i], v[i] = paper_to_qv(rod, theta[idx], s["varphi"][idx], Theta[idx], Psi[idx], s["eta"][idx], s["psi"][idx], tip=tips[idx])
         chunk_units = units.at(now)
         outer = chunk_units.outer()
-        ref = _reference_chunk(q, v, rod_states, lo, s, rates_rad, F, chunk_units, outer)  # (the same, for the reference's calls)
+        ref = _reference_chunk(q, v, rod_states, lo, s, rates_rad, F, chunk_units, outer)  # its calls rod by rod too, before Pinocchio's
         rates[now] = 1 + np.abs(v * L_rates[now] / l_omega[now]).sum(axis=1)
         V[now] = rates[now] ** 2
-        A[now] = force_terms[0][now] * force_terms[1][now] + V[now]
+        A[now] = alpha_1[now] * F_1[now] + V[now]
         # Pinocchio rod by rod: the terms, then aba with tau = J^T F at the same states.
         for i, idx, rod in rod_states:
             rod_engine.set_rod(rod)
@@ -392,7 +393,7 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
         ref.update(nle)
         pin_b[now], pin_p[now] = pinrod.slip_coefficients_of(terms, s["psi"][now] + s["varphi"][now], mu[now], mass=chunk_units.mass,
                                                              gravity=chunk_units.gravity)
-        scales = {"tip acc, aba": A[now] / cos[now], "tip acc, G F + free": kappa[now] * A[now], "Delassus G": kappa[now] * force_terms[0][now],
+        scales = {"tip acc, aba": A[now] / cos[now], "tip acc, G F + free": kappa[now] * A[now], "Delassus G": kappa[now] * alpha_1[now],
                   "free tip acc": kappa[now] * V[now], "M (crba)": None, "C (Coriolis matrix)": rates[now], "g (gravity)": None,
                   "C v + g = nle": V[now]}
         for quantity, stat in stats.items():

@@ -169,6 +169,33 @@ def test_summary_counts_confirmed_misattributed_and_unremoved():
     assert g["by_intervention"] == {"geometry weaker": 1, "geometry stronger": 1}  # each of the cause's own, over its starts
 
 
+def test_summary_counts_a_disagreement_removed_only_jointly_apart_from_confirmed_and_none():
+    no = (False, False)
+    joint = _result("geometry", {"geometry": no, "compliance": no})
+    joint["interventions"]["joint"] = [{"with": "compliance", "removes": True}]
+    still = _result("geometry", {"geometry": no, "compliance": no})
+    still["interventions"]["joint"] = [{"with": "compliance", "removes": False}]
+    s = summarise([joint, still])
+    g = s["per_cause"]["geometry"]
+    assert (s["confirmed"], s["jointly"], g["jointly"], g["none"], s["removed_by_any"]) == (0, 1, {"compliance": 1}, 1, 1)
+
+
+#: A start of the full report's Drake continuous theta-Theta map (Psi 1.7) where the theory slips on (p down to 0.026)
+#: and the continuous plant jams at 0.026: so does the rigid rod at the capsule point C (r = 0.01, at 0.007), and so does
+#: Drake's point contact with a capsule 16 times thinner (its softness alone) or 1000 times stiffer (its capsule alone).
+OVERDETERMINED_JAM = (SlipState(theta=1.0125, varphi=-1.9, Theta=-0.125, Psi=1.7, eta=1.0), 1.4)
+
+
+def test_an_overdetermined_jam_is_removed_only_by_the_thinner_capsule_and_the_stiffer_contact_together():
+    state, mu = OVERDETERMINED_JAM
+    r = intervene("drake_continuous", state, mu, causes=("geometry", "compliance"), named="geometry")
+    assert r["theory"] == "SLIP"
+    assert not any(x["removes"] for x in r["causes"]["geometry"]) and not any(x["removes"] for x in r["causes"]["compliance"])
+    assert [x["outcome"] for x in r["causes"]["geometry"] + r["causes"]["compliance"]] == ["JAM"] * 5
+    (joint,) = r["joint"]
+    assert joint["with"] == "compliance" and joint["removes"] and joint["options"]["radius"] < 0.001 and joint["options"]["stiffness"] > 1e6
+
+
 #: A start of the full report's theta-Theta map where MuJoCo's slip stops at once (JAM at t = 0) while the theory lifts
 #: off at t = 0.030: the start is near p = 0, where the skew of MuJoCo's friction off the slip (p_eff depends on the
 #: friction's direction) makes its own p negative.  The full report's ladder named geometry (the rigid rod at the capsule

@@ -361,7 +361,8 @@ def test_the_engine_table_heads_the_findings_with_a_row_per_engine_and_setting(q
         iv = out / "data" / f"{e.slug}_interventions" / "summary.json"
         if iv.exists() and json.loads(iv.read_text())["attributed"]:
             s = json.loads(iv.read_text())
-            assert row["causes confirmed (intervention)"] == f"{100 * s['confirmed_share']:.0f} % ({s['confirmed']}/{s['attributed']})"
+            joint = f", {s['jointly']} more jointly" if s["jointly"] else ""
+            assert row["causes confirmed (intervention)"] == f"{100 * s['confirmed_share']:.0f} % ({s['confirmed']}/{s['attributed']}{joint})"
         rounding = json.loads((out / "data" / f"{e.slug}_rounding" / "summary.json").read_text())
         assert row["outcome moves within 2 ulp"] == f"{rounding['changed']} of {rounding['n']}"
     md = (out / "report.md").read_text()

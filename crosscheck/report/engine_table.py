@@ -17,7 +17,8 @@ engine), so ``--from-results`` rebuilds it:
 * friction: the median angle between its friction force and -slip, and the
   worst cone violation, from its contact-quality section;
 * causes: the split of its disagreements by the ladder;
-* confirmed: the share of those its own cause's intervention on the engine removes (``<slug>_interventions``);
+* confirmed: the share of those its own cause's intervention on the engine removes (``<slug>_interventions``), and how
+  many more only its and a later cause's together remove (overdetermined);
 * rounding: the starts of its maps whose outcome changes within 2 ulp of theta (``<slug>_rounding``);
 * cost: microseconds per engine step (or per record row of a continuous
   engine) and runs per second on this machine, from the maps' wall time.
@@ -142,7 +143,8 @@ def _confirmed(data: Path, slug: str) -> str:
     s = _read(data / f"{slug}_interventions" / "summary.json")
     if not s or not s.get("attributed"):
         return _NONE
-    return f"{100 * s['confirmed_share']:.0f} % ({s['confirmed']}/{s['attributed']})"
+    joint = f", {s['jointly']} more jointly" if s.get("jointly") else ""
+    return f"{100 * s['confirmed_share']:.0f} % ({s['confirmed']}/{s['attributed']}{joint})"
 
 
 def _rounding(data: Path, slug: str) -> str:
@@ -192,7 +194,8 @@ CAPTION = (
     "LAUNCH: the share the engine throws off the plane while b < 0; onset: the worst lift-off onset error against Psi_L; "
     "convergence: per parameter with the others held fixed, by the rule under the findings; friction: median angle between the friction force and -slip, and the worst "
     "cone violation max(0, |F_t| - mu F_n) / (m g), while slipping; causes: the ladder's split of the disagreements; "
-    "confirmed: the share of those removed by their own cause's intervention on the engine itself; rounding: the starts of its maps "
+    "confirmed: the share of those removed by their own cause's intervention on the engine itself (and how many more only "
+    "jointly with a later cause's: overdetermined); rounding: the starts of its maps "
     "whose outcome changes when theta moves by up to 2 ulp; "
     "cost: engine microseconds per step (per record row for a continuous engine) and runs per second on this machine (one core). "
     "Grids were chosen by each engine's cost; '-' where a section did not run."

@@ -52,7 +52,7 @@ def causes_with_interventions(engine: str) -> list[str]:
 
 
 def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, horizon: float = 2.0, thresholds: Thresholds | None = None,
-              causes=None, **options) -> dict:
+              causes=None, named: str | None = None, **options) -> dict:
     """``state`` through every intervention ``engine`` declares (or those of ``causes``), at the run's ``options``.
 
     Returns a dict: ``theory`` (rung 1's label), ``theory_time``, what the theory's slip looks like to the run
@@ -60,6 +60,11 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
     cause -> list of {text, options, status, outcome, time, label, removes} per
     intervention, weakest first; ``removes`` is whether the engine's label equals
     the theory's.  An intervention that raises is ``status: failed`` with the error.
+
+    ``named``: the cause the ladder named.  Where none of its interventions removes the disagreement, ``joint`` holds its
+    strongest intervention combined with the strongest of each later cause of the ladder (``LADDER_CAUSES`` order) that
+    does not remove it alone either (a pair that sets one parameter two ways is not combined): the rows of an
+    overdetermined disagreement, which each of the two differences produces on its own (``summarise``).
     """
     spec = engines.get(engine)
     if not isinstance(state, SlipState):
@@ -72,26 +77,37 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
     scale = theory_jam_scale(first, mu, alpha)
     out = {"theory": compared_label(o1, t1, t1).name, "theory_time": t1, **theory_against_floor(first, mu, alpha, th, base), "causes": {}}
     given = {k: getattr(base, k) for k in base.__dataclass_fields__}
+
+    def attempt(text: str, changed: dict) -> dict:
+        opts_kw = {**given, **changed}
+        t0 = time.perf_counter()
+        try:
+            opts = spec.options(**opts_kw)
+            until, lag, run_until = comparison_window(o1, t1, horizon, contact_time=opts.contact_time, timestep=opts.timestep,
+                                                      spring_jam=jam_lag(opts, scale))
+            # a STICK the classifier cannot tell from the theory's slip, at the intervened run's own STICK floor
+            since = run_stick_from(first, until, th, opts)
+            run = spec.simulate(rod, state, mu, horizon=run_until + window_margin(th, opts.timestep), thresholds=th, **opts_kw)
+            o, t = Outcome(int(run.outcome)), float(run.event_time)
+            theory, label = compared_label(o1, t1, until + lag), compared_label(o, t, until + lag, since)
+            return {"text": text, "options": dict(changed), "status": "ok", "outcome": o.name, "time": t, "label": label.name,
+                    "removes": label == theory and theory in RATED, "wall_time": time.perf_counter() - t0}
+        except Exception as e:  # noqa: BLE001 - an intervention the engine refuses is reported, the others go on
+            return {"text": text, "options": dict(changed), "status": "failed", "detail": f"{type(e).__name__}: {e}", "removes": False,
+                    "wall_time": time.perf_counter() - t0}
+
     for cause in (causes if causes is not None else causes_with_interventions(engine)):
-        rows = []
-        for iv in spec.interventions_for(cause, base):
-            opts_kw = {**given, **iv.options}
-            t0 = time.perf_counter()
-            try:
-                opts = spec.options(**opts_kw)
-                until, lag, run_until = comparison_window(o1, t1, horizon, contact_time=opts.contact_time, timestep=opts.timestep,
-                                                          spring_jam=jam_lag(opts, scale))
-                # a STICK the classifier cannot tell from the theory's slip, at the intervened run's own STICK floor
-                since = run_stick_from(first, until, th, opts)
-                run = spec.simulate(rod, state, mu, horizon=run_until + window_margin(th, opts.timestep), thresholds=th, **opts_kw)
-                o, t = Outcome(int(run.outcome)), float(run.event_time)
-                theory, label = compared_label(o1, t1, until + lag), compared_label(o, t, until + lag, since)
-                rows.append({"text": iv.text, "options": dict(iv.options), "status": "ok", "outcome": o.name, "time": t, "label": label.name,
-                             "removes": label == theory and theory in RATED, "wall_time": time.perf_counter() - t0})
-            except Exception as e:  # noqa: BLE001 - an intervention the engine refuses is reported, the others go on
-                rows.append({"text": iv.text, "options": dict(iv.options), "status": "failed", "detail": f"{type(e).__name__}: {e}",
-                             "removes": False, "wall_time": time.perf_counter() - t0})
-        out["causes"][cause] = rows
+        out["causes"][cause] = [attempt(iv.text, iv.options) for iv in spec.interventions_for(cause, base)]
+    own = out["causes"].get(named) or []
+    if own and not _fixes(out, named):
+        # an overdetermined disagreement: the named difference and a later one each produce the engine's outcome alone
+        strongest = own[-1]["options"]
+        out["joint"] = []
+        for c in LADDER_CAUSES[LADDER_CAUSES.index(named) + 1:]:
+            rows = out["causes"].get(c) or []
+            if not rows or _fixes(out, c) or set(strongest) & set(rows[-1]["options"]):
+                continue
+            out["joint"].append({"with": c, **attempt(f"{own[-1]['text']}; {rows[-1]['text']}", {**strongest, **rows[-1]["options"]})})
     return out
 
 
@@ -119,24 +135,33 @@ def _not_at_strongest(result: dict, cause: str) -> bool:
     return _fixes(result, cause) and not rows[-1]["removes"]
 
 
+def _jointly(result: dict) -> list[str]:
+    """The later causes whose strongest intervention, joined to the named cause's strongest, removes the disagreement
+    (``intervene``'s ``joint``: neither removes it alone)."""
+    return [r["with"] for r in result.get("joint") or [] if r["removes"]]
+
+
 def summarise(results: list[dict]) -> dict:
     """Per cause named by the ladder: how many its own interventions confirm (and of those, how many only at a weaker step),
     how many each of its interventions removes (``by_intervention``, text -> count: a cause whose interventions change
     different parts of the engine, such as MuJoCo's friction direction and its impedance's feed-forward, says which part
-    acts), how many another cause's remove instead, how many none does; and over all of them (``removed_by_any``) how many
-    some cause's intervention removes, whatever the ladder named.
+    acts), how many another cause's remove instead, how many only the named cause's and a later cause's interventions
+    together remove (``jointly``, later cause -> count: overdetermined, each difference alone giving the engine's
+    outcome, so that neither intervention alone can remove it; not counted as confirmed), how many none does; and over
+    all of them (``removed_by_any``) how many some cause's intervention removes, whatever the ladder named.
 
     ``results``: one dict per laddered disagreement with ``cause`` (the ladder's) and ``interventions``
     (``intervene``'s result).  Only the causes of ``LADDER_CAUSES`` count as attributed.
     """
     per = {}
-    attributed = confirmed = removed = 0
+    attributed = confirmed = removed = jointly = 0
     for r in results:
         cause, iv = r["cause"], r["interventions"]
         fixing = [c for c in iv["causes"] if _fixes(iv, c)]
-        removed += bool(fixing)
-        row = per.setdefault(cause, {"n": 0, "confirmed": 0, "not_at_strongest": 0, "by_other": {}, "none": 0, "no_intervention": 0,
-                                     "by_intervention": {}})
+        joint = _jointly(iv)
+        removed += bool(fixing or joint)
+        row = per.setdefault(cause, {"n": 0, "confirmed": 0, "not_at_strongest": 0, "by_other": {}, "jointly": {}, "none": 0,
+                                     "no_intervention": 0, "by_intervention": {}})
         row["n"] += 1
         for x in iv["causes"].get(cause) or []:  # what, of the cause's own interventions, removes it: which part of the cause acts
             row["by_intervention"][x["text"]] = row["by_intervention"].get(x["text"], 0) + bool(x["removes"])
@@ -151,10 +176,13 @@ def summarise(results: list[dict]) -> dict:
         if cause not in fixing:
             for c in fixing:
                 row["by_other"][c] = row["by_other"].get(c, 0) + 1
-            if not fixing:
+            if not fixing and joint:
+                row["jointly"][joint[0]] = row["jointly"].get(joint[0], 0) + 1
+                jointly += 1
+            elif not fixing:
                 row["none"] += 1
     return {"per_cause": per, "attributed": attributed, "confirmed": confirmed,
-            "confirmed_share": confirmed / attributed if attributed else None,
+            "confirmed_share": confirmed / attributed if attributed else None, "jointly": jointly,
             # whatever the ladder named: the disagreements some cause's intervention on the engine removes
             "n": len(results), "removed_by_any": removed}
 

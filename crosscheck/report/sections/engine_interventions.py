@@ -53,7 +53,8 @@ def run(ctx: RunContext) -> None:
     results = []
     written = time.monotonic()
     for st in ctx.progress(starts, desc=f"{P['engine']} interventions"):
-        iv = intervene(P["engine"], SlipState(**st["state"]), st["mu"], alpha=at["alpha"], horizon=at["horizon"], **at["options"])
+        iv = intervene(P["engine"], SlipState(**st["state"]), st["mu"], alpha=at["alpha"], horizon=at["horizon"], named=st["cause"],
+                       **at["options"])
         results.append({**st, "interventions": iv})
         if time.monotonic() - written >= SAVE_EVERY:  # the starts so far, for a reader of a long run; not at every start:
             ctx.store.write_json("interventions", results)  # the whole file each time (0.4 s at MuJoCo's 291 starts)
@@ -75,6 +76,7 @@ def _figure(ctx: RenderContext, name: str, summary: dict):
     causes = list(summary["per_cause"])
     parts = [("confirmed by its own intervention", [summary["per_cause"][c]["confirmed"] for c in causes], "#2a9d4b"),
              ("removed by another cause's instead", [sum(summary["per_cause"][c]["by_other"].values()) for c in causes], "#e9a23b"),
+             ("removed only jointly with a later cause's", [sum(summary["per_cause"][c].get("jointly", {}).values()) for c in causes], "#6c8ebf"),
              ("removed by none", [summary["per_cause"][c]["none"] for c in causes], "#c0392b")]
     fig, ax = plt.subplots(figsize=(7.0, 0.9 + 0.55 * len(causes)), layout="constrained")
     left = [0] * len(causes)
@@ -84,9 +86,10 @@ def _figure(ctx: RenderContext, name: str, summary: dict):
     ax.invert_yaxis()
     ax.set_xlabel("laddered disagreements")
     ax.xaxis.get_major_locator().set_params(integer=True)
-    ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize=8, frameon=False)
+    ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=2, fontsize=8, frameon=False)
     return ctx.figure("interventions", fig, f"{name}: per cause the ladder named, its disagreements removed by the cause's own "
-                                         "intervention on the engine, by another cause's, or by none.", ["summary.json"])
+                                         "intervention on the engine, by another cause's, only by the cause's and a later cause's together "
+                                         "(overdetermined), or by none.", ["summary.json"])
 
 
 def render(ctx: RenderContext) -> list:
@@ -106,8 +109,9 @@ def render(ctx: RenderContext) -> list:
     rows = []
     for cause, r in summary["per_cause"].items():
         other = ", ".join(f"{c} {n}" for c, n in sorted(r["by_other"].items())) or "-"
+        joint = ", ".join(f"with {c} {n}" for c, n in sorted((r.get("jointly") or {}).items())) or "-"
         rows.append([cause, str(r["n"]), (f"{r['confirmed']} ({r['not_at_strongest']} removed at a weaker step but not at the strongest)" if r["not_at_strongest"] else
-                                          str(r["confirmed"])) if cause in summary["causes"] else "no intervention", other, str(r["none"])])
+                                          str(r["confirmed"])) if cause in summary["causes"] else "no intervention", other, joint, str(r["none"])])
     if summary["per_cause"]:
         blocks.append(_figure(ctx, name, summary))
     share = summary["confirmed_share"]
@@ -116,10 +120,15 @@ def render(ctx: RenderContext) -> list:
     if summary.get("n"):
         head += (f" Whatever the ladder named, {summary['removed_by_any']} of the {summary['n']} laddered disagreements are removed by some "
                  "cause's intervention on the engine.")
+    if summary.get("jointly"):
+        head += (f" {summary['jointly']} more are removed only by the cause's strongest intervention joined to a later cause's, neither "
+                 "removing it alone: overdetermined, each difference giving the engine's outcome on its own (not counted as confirmed).")
     blocks.append(Table(caption=f"{name}: {head} Per cause named by the ladder: starts, confirmed by its own intervention, removed by "
-                                "another cause's interventions instead (a misattribution to look into), removed by none.",
-                        header=["cause (ladder)", "starts", "confirmed", "removed by another cause instead", "removed by none"],
-                        rows=rows or [["(no laddered disagreement)", "0", "0", "-", "0"]], data=ctx.data("summary.json")))
+                                "another cause's interventions instead (a misattribution to look into), removed only jointly with a "
+                                "later cause of the ladder, removed by none.",
+                        header=["cause (ladder)", "starts", "confirmed", "removed by another cause instead", "removed only jointly",
+                                "removed by none"],
+                        rows=rows or [["(no laddered disagreement)", "0", "0", "-", "-", "0"]], data=ctx.data("summary.json")))
     per_iv = [[cause, text, f"{k} of {r['n']}"] for cause, r in summary["per_cause"].items() for text, k in (r.get("by_intervention") or {}).items()]
     if per_iv:
         blocks.append(Table(caption=f"{name}: what removes each cause's disagreements, intervention by intervention (a start may be removed by "
@@ -171,7 +180,7 @@ def finding(data: Path) -> list:
     other = sum(sum(r["by_other"].values()) for r in summary["per_cause"].values())
     return [Finding(f"{name}: causes confirmed on the engine", f"{summary['confirmed']} of {summary['attributed']} attributed disagreements "
                     f"({100 * share:.0f} %) removed by their own cause's intervention on {name} itself; {other} removed by another cause's "
-                    f"instead, {none} by none; {summary.get('removed_by_any', '-')} of {summary.get('n', '-')} removed by some intervention", "confirmed" if share >= CONFIRMED_SHARE else "partly confirmed", data.name,
+                    f"instead, {summary.get('jointly', 0)} only jointly with a later cause's (overdetermined), {none} by none; {summary.get('removed_by_any', '-')} of {summary.get('n', '-')} removed by some intervention", "confirmed" if share >= CONFIRMED_SHARE else "partly confirmed", data.name,
                     why=f"confirmed when at least {100 * CONFIRMED_SHARE:.0f} % are removed by one of their own cause's interventions")]
 
 

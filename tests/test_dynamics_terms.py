@@ -131,3 +131,32 @@ def test_progress_bar_goes_to_stderr(capsys):
     captured = capsys.readouterr()
     assert "validate pinocchio" in captured.err and "50/50" in captured.err
     assert captured.out == ""
+
+
+@pytest.mark.parametrize("rtol", [0.0, 1e-3], ids=["atol-only", "with-rtol"])
+def test_chunked_error_statistics_equal_error_stat_on_the_whole(rtol):
+    """``validate``'s chunked statistics give exactly ``compare.error_stat``'s numbers: random errors with ties at the
+    maximum, structural zeros of the reference, NaN and inf, split into random chunks (rtol > 0: its fallback steps)."""
+    from crosscheck.compare import error_stat
+    from crosscheck.tolerances import Tolerance
+
+    rng = np.random.default_rng(7)
+    tol = Tolerance(atol=1e-14, rtol=rtol, why="test")
+    for case in range(40):
+        n, shape = int(rng.integers(1, 60)), [(3,), (5, 5), (5,)][case % 3]
+        want = rng.standard_normal((n, *shape))
+        want[..., 0] = 0.0  # a structural zero column: judged by max_abs alone
+        got = want + rng.choice([0.0, 1e-15, -1e-15, 2e-15], size=want.shape) * rng.integers(1, 4, size=want.shape)
+        if case % 5 == 0:  # ties: the largest error in several states, the first must be reported
+            got.reshape(n, -1)[:, 1] = want.reshape(n, -1)[:, 1] + 3e-15
+        if case % 7 == 3:
+            got.reshape(n, -1)[int(rng.integers(n)), 2] = np.nan if case % 2 else np.inf
+        states = {"theta": rng.uniform(0, 1.5, n)}
+        cuts = np.sort(rng.choice(np.arange(1, n), size=min(3, n - 1), replace=False)) if n > 1 else []
+        stat = dynamics_terms._ErrorStats("q", tol)
+        for part in np.split(np.arange(n), cuts):
+            stat.add(got[part], want[part])
+        a, b = stat.result(states), error_stat("q", got, want, tol, states)
+        for field in ("n", "max_abs", "max_rel", "max_ratio", "worst_state", "passed"):
+            x, y = getattr(a, field), getattr(b, field)
+            assert x == y or (isinstance(x, float) and np.isnan(x) and np.isnan(y)), (case, field, x, y)

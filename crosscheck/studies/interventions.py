@@ -61,7 +61,7 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
     intervention, weakest first; ``removes`` is whether the engine's label equals
     the theory's.  An intervention that raises is ``status: failed`` with the error.
 
-    ``named``: the cause the ladder named.  Where none of its interventions removes the disagreement, ``joint`` holds its
+    ``named``: the cause the ladder named.  Where no single intervention removes the disagreement, ``joint`` holds its
     strongest intervention combined with the strongest of each later cause of the ladder (``LADDER_CAUSES`` order) that
     does not remove it alone either (a pair that sets one parameter two ways is not combined): the rows of an
     overdetermined disagreement, which each of the two differences produces on its own (``summarise``).
@@ -99,7 +99,7 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
     for cause in (causes if causes is not None else causes_with_interventions(engine)):
         out["causes"][cause] = [attempt(iv.text, iv.options) for iv in spec.interventions_for(cause, base)]
     own = out["causes"].get(named) or []
-    if own and not _fixes(out, named):
+    if own and not any(_fixes(out, c) for c in out["causes"]):  # (one that another cause removes alone is a misattribution)
         # an overdetermined disagreement: the named difference and a later one each produce the engine's outcome alone
         strongest = own[-1]["options"]
         out["joint"] = []

@@ -141,17 +141,25 @@ def render(ctx: RenderContext) -> list:
             s = r["state"]
             detail.append([r["map"], f"theta {s['theta']:.3g}, varphi {s['varphi']:.3g}, Theta {s['Theta']:.3g}, Psi {s['Psi']:.3g}",
                            f"{r['mu']:.3g}", r["interventions"]["theory"].lower(), str(r["reference"]).lower(), r["cause"],
-                           *[_mark(r["interventions"]["causes"].get(c, [])) for c in causes], _floor_cell(r["interventions"]),
+                           *[_mark(r["interventions"]["causes"].get(c, [])) for c in causes], _joint_cell(r["interventions"]),
+                           _floor_cell(r["interventions"]),
                            _fmt(r["interventions"].get("theory_p_min"))])
         blocks.append(Table(caption=f"Each start: the theory's outcome, {name}'s, the ladder's cause, {name}'s outcome under each cause's "
-                                    "interventions, weakest first, the theory's least slip speed eta against the engine's STICK floor "
+                                    "interventions, weakest first, the named cause's strongest joined to each later cause's strongest "
+                                    "where neither removes it alone, the theory's least slip speed eta against the engine's STICK floor "
                                     "(and when it falls below it: an engine STICK from then on, less an event's lag, is compared as the "
                                     "theory's slip, which the classifier cannot tell it from), and the theory's "
                                     "least eq. p along its slip (near 0: the slip passes close to the Genot-Brogliato point, where a time "
                                     "step cannot tell a lift-off from a jam).",
-                            header=["map", "start", "mu", "theory", name, "cause", *causes, "theory eta min (floor)", "theory p min"], rows=detail,
+                            header=["map", "start", "mu", "theory", name, "cause", *causes, "joined", "theory eta min (floor)", "theory p min"],
+                            rows=detail,
                             data=ctx.data("interventions.json")))
     return blocks
+
+
+def _joint_cell(iv: dict) -> str:
+    """The joined interventions' labels: "with compliance: slip (removes)"; "-" where none ran."""
+    return "; ".join(f"with {r['with']}: " + _mark([r]) for r in iv.get("joint") or []) or "-"
 
 
 def _fmt(x) -> str:

@@ -59,3 +59,22 @@ def test_a_jam_gives_a_spring_contact_its_lag_and_mujoco_none():
     assert window == event_lag(drake.contact_time, drake.timestep) == max(LAG_TAU * drake.contact_time, LAG_STEPS * drake.timestep)
     assert jam_lag(engines.get("mujoco").options(), scale) == 0.0
     assert np.array_equal(jam_lag(drake, np.array([scale, np.nan])), [lag, 0.0])
+
+
+def test_the_maps_analytic_events_carry_each_jams_inner_scale_and_nan_elsewhere():
+    """``analytic_events`` gives every JAM start its (k |b|)^(-1/5) at the theory's jam state (the lag the agreement study
+    allows a spring contact there) and every other start NaN."""
+    from crosscheck.studies.analytic_events import analytic_events
+
+    theta = np.array([1.1208333333333333, 1.0125, 0.4, 1.2])
+    points = {"theta": theta, "varphi": np.full(4, -1.9), "Theta": np.array([-0.375, -0.375, 0.3, 0.9]), "Psi": np.zeros(4),
+              "eta": np.ones(4), "mu": np.array([1.4, 1.4, 0.5, 1.4])}
+    a = analytic_events(points, alpha=ALPHA, horizon=2.0)
+    assert (a.outcome == Outcome.JAM).sum() >= 2 and (a.outcome != Outcome.JAM).any()
+    for i in range(4):
+        s = SlipState(theta=theta[i], varphi=-1.9, Theta=points["Theta"][i], Psi=0.0, eta=1.0)
+        r = slip_until_event(s, points["mu"][i], ALPHA, t_max=2.0)
+        if a.outcome[i] == Outcome.JAM:
+            assert a.jam_scale[i] == jam_scale(r.x[-1], points["mu"][i], ALPHA) and np.isfinite(a.jam_scale[i])
+        else:
+            assert np.isnan(a.jam_scale[i])

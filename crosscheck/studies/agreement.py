@@ -70,7 +70,7 @@ from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.studies.analytic_events import BOUNDARY_RADII, AnalyticEvents, analytic_events, boundary_distance, floor_times
 from crosscheck.studies.agreement_store import engine_runs
-from crosscheck.studies.comparison import EVENTS, LAG_STEPS, LAG_TAU, RATED, comparison_labels, engine_floor, event_lag, jam_lag, stick_from, window_margin
+from crosscheck.studies.comparison import EVENTS, LAG_STEPS, LAG_TAU, RATED, comparison_labels, engine_floor, event_lag, event_lags, stick_from, window_margin
 from crosscheck.studies.grids import AXES, EventGrid
 
 __all__ = [
@@ -310,8 +310,7 @@ def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a:
     # an event by O(dt): this is what a rigid contact gets).  Censored
     # SLIPs get no lag: nothing is known analytically after the domain exit.
     # at a Corollary 4.2 jam a spring contact lags by s* (eps^4 / (k |b|))^(1/5) (crosscheck.theory.jam_lag)
-    spring_jam = np.where(ao == Outcome.JAM, jam_lag(opts, a.jam_scale[idx]), 0.0)
-    lag = np.where(np.isin(ao, EVENTS), event_lag(tau, float(opts.timestep), spring_jam), 0.0)
+    lag = event_lags(ao, a.jam_scale[idx], opts)
     # an engine STICK the classifier cannot tell from the theory's slip, slower there than the engine's STICK floor
     floor = engine_floor(th, opts)
     since = stick_from(ao, until, floor_times(points, idx, a, floor, alpha=alpha, horizon=horizon), event_lag(tau, float(opts.timestep)))
@@ -366,8 +365,7 @@ def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresho
     margin = window_margin(th, opts.timestep)
     offplane = np.abs(points["varphi"][idx] + math.pi / 2)
     # each state runs only as far as its comparison sees (crosscheck.studies.agreement_store): T + lag, plus the margin
-    spring_jam = np.where(a.outcome[idx] == Outcome.JAM, jam_lag(opts, a.jam_scale[idx]), 0.0)
-    needed = a.until[idx] + np.where(np.isin(a.outcome[idx], EVENTS), event_lag(float(opts.contact_time), float(opts.timestep), spring_jam), 0.0)
+    needed = a.until[idx] + event_lags(a.outcome[idx], a.jam_scale[idx], opts)
     cols = {k: points[k][idx] for k in ("theta", "varphi", "Theta", "Psi", "eta")}
     through = store is not None and thresholds is None and not any(isinstance(v, (list, tuple)) for v in given.values())
     r = engine_runs(E, rod, cols, points["mu"][idx], needed, horizon, margin, given, opts, th, progress, store=store if through else None,

@@ -43,7 +43,7 @@ from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 
 __all__ = ["RATED", "EVENTS", "LAG_TAU", "LAG_STEPS", "window_margin", "comparison_labels", "comparison_window", "compared_label",
-           "floor_time", "engine_floor", "event_lag", "stick_from", "run_stick_from", "jam_scale", "theory_jam_scale", "jam_lag"]
+           "floor_time", "engine_floor", "event_lag", "stick_from", "run_stick_from", "jam_scale", "theory_jam_scale", "jam_lag", "event_lags", "run_comparison_window"]
 
 #: Outcomes an analytic run is compared on (GB and DIVERGED rows are counted, not rated).
 RATED = (Outcome.SLIP, Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM)
@@ -84,6 +84,21 @@ def comparison_window(outcome: Outcome, time: float, horizon: float, *, contact_
     until = min(time, horizon) if outcome == Outcome.SLIP else (time if outcome in EVENTS else horizon)
     lag = event_lag(contact_time, timestep, spring_jam if outcome == Outcome.JAM else 0.0) if outcome in EVENTS else 0.0
     return until, lag, max(min(until + lag, horizon), timestep)
+
+
+def run_comparison_window(first, horizon: float, mu: float, alpha: float, options) -> tuple[float, float, float]:
+    """``comparison_window`` of a theory run ``first`` (``slip_until_event``'s result) for an engine run at ``options``:
+    its contact time, timestep and, at a jam, its spring lag (``jam_lag``)."""
+    return comparison_window(Outcome(int(first.outcome)), float(first.time), horizon, contact_time=options.contact_time,
+                             timestep=options.timestep, spring_jam=jam_lag(options, theory_jam_scale(first, mu, alpha)))
+
+
+def event_lags(outcome, scale, options) -> np.ndarray:
+    """``comparison_window``'s lag for many starts: per analytic ``outcome`` (int8 array) and jam ``scale`` (``jam_scale``,
+    NaN where no jam), the lag an engine run at ``options`` is allowed; 0 where the theory has no event."""
+    outcome = np.asarray(outcome)
+    spring_jam = np.where(outcome == Outcome.JAM, jam_lag(options, scale), 0.0)
+    return np.where(np.isin(outcome, EVENTS), event_lag(float(options.contact_time), float(options.timestep), spring_jam), 0.0)
 
 
 def compared_label(outcome: Outcome, time: float, until: float, stick_from: float = math.inf) -> Outcome:

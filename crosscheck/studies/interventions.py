@@ -38,8 +38,8 @@ from crosscheck.engines.spec import LADDER_CAUSES
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
-from crosscheck.studies.comparison import (RATED, compared_label, comparison_window, engine_floor, floor_time, jam_lag, run_stick_from,
-                                          theory_jam_scale, window_margin)
+from crosscheck.studies.comparison import (RATED, compared_label, engine_floor, floor_time, run_comparison_window, run_stick_from,
+                                          window_margin)
 from crosscheck.theory.slipping import slip_until_event
 
 __all__ = ["intervene", "summarise", "causes_with_interventions"]
@@ -74,7 +74,6 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
     rod = Rod.scaled(alpha)
     first = slip_until_event(state, mu, alpha, t_max=horizon)
     o1, t1 = Outcome(int(first.outcome)), float(first.time)
-    scale = theory_jam_scale(first, mu, alpha)
     out = {"theory": compared_label(o1, t1, t1).name, "theory_time": t1, **theory_against_floor(first, mu, alpha, th, base), "causes": {}}
     given = {k: getattr(base, k) for k in base.__dataclass_fields__}
 
@@ -83,8 +82,7 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
         t0 = time.perf_counter()
         try:
             opts = spec.options(**opts_kw)
-            until, lag, run_until = comparison_window(o1, t1, horizon, contact_time=opts.contact_time, timestep=opts.timestep,
-                                                      spring_jam=jam_lag(opts, scale))
+            until, lag, run_until = run_comparison_window(first, horizon, mu, alpha, opts)
             # a STICK the classifier cannot tell from the theory's slip, at the intervened run's own STICK floor
             since = run_stick_from(first, until, th, opts)
             run = spec.simulate(rod, state, mu, horizon=run_until + window_margin(th, opts.timestep), thresholds=th, **opts_kw)

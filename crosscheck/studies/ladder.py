@@ -45,7 +45,7 @@ from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 from crosscheck.studies.agreement import DEFAULT_HORIZON
-from crosscheck.studies.comparison import RATED, compared_label, comparison_window, jam_lag, run_stick_from, theory_jam_scale, window_margin
+from crosscheck.studies.comparison import RATED, compared_label, run_comparison_window, run_stick_from, window_margin
 from crosscheck.theory.slipping import slip_until_event
 
 __all__ = ["Rung", "EngineLadder", "rungs_of", "run_ladder", "final_stretch_cause", "detour", "CAUSES"]
@@ -142,8 +142,7 @@ def run_ladder(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, 
     rod = Rod.scaled(alpha)
     first = slip_until_event(state, mu, alpha, t_max=horizon)
     o1, t1 = Outcome(int(first.outcome)), float(first.time)
-    until, lag, run_until = comparison_window(o1, t1, horizon, contact_time=opts.contact_time, timestep=opts.timestep,
-                                              spring_jam=jam_lag(opts, theory_jam_scale(first, mu, alpha)))
+    until, lag, run_until = run_comparison_window(first, horizon, mu, alpha, opts)
     # a STICK the classifier cannot tell from the theory's slip (``crosscheck.studies.comparison.stick_from``)
     since = run_stick_from(first, until, th, opts)
 

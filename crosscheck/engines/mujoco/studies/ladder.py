@@ -98,7 +98,7 @@ from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
 from crosscheck.studies.agreement import DEFAULT_HORIZON
 from crosscheck.studies.ladder import detour, final_stretch_cause
-from crosscheck.studies.comparison import RATED, compared_label, comparison_window, jam_lag, run_stick_from, theory_jam_scale, window_margin
+from crosscheck.studies.comparison import RATED, compared_label, run_comparison_window, run_stick_from, window_margin
 
 __all__ = [
     "RUNGS",
@@ -391,10 +391,8 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
     t0 = time.perf_counter()
     r1 = slip_until_event(state, mu, alpha, t_max=horizon)
     first = _analytic_rung(1, "tip", r1, t0, keep)
-    outcome1 = first.outcome
     # the agreement study's comparison time and lag (crosscheck.studies.comparison)
-    until, lag, run_until = comparison_window(outcome1, first.time, horizon, contact_time=opts.contact_time, timestep=opts.timestep,
-                                              spring_jam=jam_lag(opts, theory_jam_scale(r1, mu, alpha)))
+    until, lag, run_until = run_comparison_window(r1, horizon, mu, alpha, opts)
     # a STICK the classifier cannot tell from the theory's slip (crosscheck.studies.comparison.stick_from)
     since = run_stick_from(r1, until, th, opts)
     results = [first]

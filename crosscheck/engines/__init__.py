@@ -27,7 +27,7 @@ from crosscheck.engines.classifier import Classification, Thresholds, classify
 from crosscheck.engines.record import Record
 from crosscheck.engines.spec import TAGS, EngineSpec, ReportPlan
 
-__all__ = ["names", "get", "specs", "libraries", "register", "unregister", "labels", "Engine", "EngineSpec", "ReportPlan", "TAGS", "Run", "SweepResult",
+__all__ = ["DEFAULT", "names", "get", "specs", "libraries", "register", "unregister", "labels", "Engine", "EngineSpec", "ReportPlan", "TAGS", "Run", "SweepResult",
            "Record", "Thresholds", "Classification", "classify", "n_steps", "sweep_by_simulate", "SERIES", "SUMMARY"]
 
 #: The engine subpackages shipped with crosscheck, each with ``ENGINES``.
@@ -38,6 +38,9 @@ BUILTIN = (
     "crosscheck.engines.drake",
     "crosscheck.engines.bullet",
 )
+
+#: The engine a study runs when none is named (the studies' ``engine=`` default): MuJoCo, the engine the ladder explains.
+DEFAULT = "mujoco"
 
 _builtin: dict[str, EngineSpec] = {}
 _registered: dict[str, EngineSpec] = {}

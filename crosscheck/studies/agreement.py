@@ -375,7 +375,7 @@ def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresho
                  alpha=rod.alpha, horizon=horizon)
 
 
-def agreement_study(grid: EventGrid | dict, *, engine: str = "mujoco", settings: Sequence[Mapping] = ({},), alpha: float = 3.0,
+def agreement_study(grid: EventGrid | dict, *, engine: str = engines.DEFAULT, settings: Sequence[Mapping] = ({},), alpha: float = 3.0,
                     horizon: float = DEFAULT_HORIZON, rng: np.random.Generator | None = None, thresholds: Thresholds | None = None,
                     boundary_radii: Sequence[float] = BOUNDARY_RADII, boundary_directions: int = 6, progress: bool = False,
                     store=None, scheduler: str | None = None, workers: int | None = None, boundary_cache=None, **options) -> AgreementResult:

@@ -65,7 +65,7 @@ def outcome_counts(outcome: np.ndarray) -> dict:
     return {o.name: int((outcome == o).sum()) for o in Outcome if (outcome == o).any()}
 
 
-def jam_check(*, engine: str = "mujoco", mus_below: Sequence[float] = (0.5, 1.0, 1.3), mus_above: Sequence[float] = (1.4, 1.7, 6.0),
+def jam_check(*, engine: str = engines.DEFAULT, mus_below: Sequence[float] = (0.5, 1.0, 1.3), mus_above: Sequence[float] = (1.4, 1.7, 6.0),
               n_below: int = 100, n_above: int = 40, rng: np.random.Generator, alpha: float = 3.0, horizon: float = DEFAULT_HORIZON,
               thresholds: Thresholds | None = None, near_window: float = 0.15, progress: bool = False, **options) -> JamCheck:
     """No jam below mu_P; above it, the engine against the theory's jam states.

@@ -241,3 +241,16 @@ def test_mujoco_stick_before_the_jam_is_removed_by_less_feed_forward_not_by_a_cl
     assert fed["impedance 0.95 -> 0.1"]["options"]["impratio"] == pytest.approx((0.9 / 0.1) / (0.05 / 0.95), rel=1e-12)
     direction = r["causes"]["friction law"]
     assert len(direction) == 4 and not any(x["removes"] for x in direction)
+
+
+def test_summary_splits_the_confirmed_by_how_close_the_theory_slip_comes_to_p_zero():
+    no, yes = (False, False), (False, True)
+    results = [_result("geometry", {"geometry": yes}), _result("geometry", {"geometry": no}), _result("geometry", {"geometry": yes}),
+               _result("unexplained", {"geometry": yes})]
+    for r, p_min in zip(results, (0.05, 0.15, 0.6, 0.01)):
+        r["interventions"]["theory_p_min"] = p_min
+    s = summarise(results)  # the band is the classifier's jam_p_eff, 0.2: the first two starts and the unattributed one in it
+    assert s["by_p"]["p_band"] == Thresholds().jam_p_eff
+    assert s["by_p"]["in_band"] == {"attributed": 2, "confirmed": 1} and s["by_p"]["above"] == {"attributed": 1, "confirmed": 1}
+    narrow = summarise(results, p_band=0.1)
+    assert narrow["by_p"]["in_band"] == {"attributed": 1, "confirmed": 1} and narrow["by_p"]["above"] == {"attributed": 2, "confirmed": 1}

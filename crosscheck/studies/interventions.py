@@ -27,6 +27,7 @@ Scaled units (section 2.1).
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import asdict
 
@@ -139,7 +140,7 @@ def _jointly(result: dict) -> list[str]:
     return [r["with"] for r in result.get("joint") or [] if r["removes"]]
 
 
-def summarise(results: list[dict]) -> dict:
+def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
     """Per cause named by the ladder: how many its own interventions confirm (and of those, how many only at a weaker step),
     how many each of its interventions removes (``by_intervention``, text -> count: a cause whose interventions change
     different parts of the engine, such as MuJoCo's friction direction and its impedance's feed-forward, says which part
@@ -148,16 +149,27 @@ def summarise(results: list[dict]) -> dict:
     outcome, so that neither intervention alone can remove it; not counted as confirmed), how many none does; and over
     all of them (``removed_by_any``) how many some cause's intervention removes, whatever the ladder named.
 
+    ``by_p``: the attributed disagreements and those confirmed, apart for the starts whose theory slip enters the band
+    eq. p <= ``p_band`` (default: the classifier's ``Thresholds.jam_p_eff``, where a slip stop under a force beyond
+    the slipping -b/p_eff reads as a JAM) and for those whose slip keeps above it.  In the band the rigid normal force
+    -b/p is at least |b| / p_band and grows without bound toward p = 0, and each difference of an engine (the capsule's
+    offset r below the tip, a friction skewed off the slip, a force that builds up over a contact time) moves its own
+    p_eff by as much as the theory's p is away from 0: removing one difference leaves another to jam or lift off.
+    Measured on the full report: 91 % confirmed above the band, 66 % in it.
+
     ``results``: one dict per laddered disagreement with ``cause`` (the ladder's) and ``interventions``
-    (``intervene``'s result).  Only the causes of ``LADDER_CAUSES`` count as attributed.
+    (``intervene``'s result, with ``theory_p_min``).  Only the causes of ``LADDER_CAUSES`` count as attributed.
     """
+    band = Thresholds().jam_p_eff if p_band is None else float(p_band)
     per = {}
+    by_p = {"p_band": band, "in_band": {"attributed": 0, "confirmed": 0}, "above": {"attributed": 0, "confirmed": 0}}
     attributed = confirmed = removed = jointly = 0
     for r in results:
         cause, iv = r["cause"], r["interventions"]
         fixing = [c for c in iv["causes"] if _fixes(iv, c)]
         joint = _jointly(iv)
         removed += bool(fixing or joint)
+        side = by_p["in_band" if iv.get("theory_p_min", math.inf) <= band else "above"]
         row = per.setdefault(cause, {"n": 0, "confirmed": 0, "not_at_strongest": 0, "by_other": {}, "jointly": {}, "none": 0,
                                      "no_intervention": 0, "by_intervention": {}})
         row["n"] += 1
@@ -165,12 +177,14 @@ def summarise(results: list[dict]) -> dict:
             row["by_intervention"][x["text"]] = row["by_intervention"].get(x["text"], 0) + bool(x["removes"])
         if cause in LADDER_CAUSES:
             attributed += 1
+            side["attributed"] += 1
             if cause not in iv["causes"]:
                 row["no_intervention"] += 1
             elif _fixes(iv, cause):
                 row["confirmed"] += 1
                 row["not_at_strongest"] += _not_at_strongest(iv, cause)
                 confirmed += 1
+                side["confirmed"] += 1
         if cause not in fixing:
             for c in fixing:
                 row["by_other"][c] = row["by_other"].get(c, 0) + 1
@@ -180,7 +194,7 @@ def summarise(results: list[dict]) -> dict:
             elif not fixing:
                 row["none"] += 1
     return {"per_cause": per, "attributed": attributed, "confirmed": confirmed,
-            "confirmed_share": confirmed / attributed if attributed else None, "jointly": jointly,
+            "confirmed_share": confirmed / attributed if attributed else None, "jointly": jointly, "by_p": by_p,
             # whatever the ladder named: the disagreements some cause's intervention on the engine removes
             "n": len(results), "removed_by_any": removed}
 

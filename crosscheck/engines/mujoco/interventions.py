@@ -34,7 +34,21 @@ weakest first (``crosscheck.studies.interventions`` runs them):
   keeps the friction rows whole.  (MuJoCo has one impedance for all rows, so
   the friction rows' damping 2 / (dmax tau_f) still grows as dmax falls.)
   Measured on the full report's 157 feed-forward starts: lowering d alone
-  removes 87, 119 and 125 at 0.5, 0.1, 0.01; with R_t kept 86, 118, 129;
+  removes 87, 119 and 125 at 0.5, 0.1, 0.01; with R_t kept 86, 118, 129.
+  What it cannot remove: near p = 0 (the theory's least p below ~0.05)
+  MuJoCo jams in its first steps where the theory lifts off, the capsule's
+  offset and the friction's skew each putting MuJoCo's own p_eff at or
+  below 0 (the rigid rod at C jams at t = 0 too).  Lowering d then makes the
+  normal row soft while the friction rows stay stiff, and MuJoCo's cone
+  problem raises the normal force to carry the friction instead: from
+  theta 1.114, varphi -1.9, Theta 0.984, Psi 0, mu 1.4 (the theory's -b/p
+  ~9 m g, a lift-off at 0.0029), the first step's normal force is 9.3 m g
+  at MuJoCo's defaults and 44 m g at d = 0.01 with R_t kept, and the slip
+  still stops under it; keeping the friction rows' damping too (their time
+  constant raised by dmax / d) gives 0.5 m g and a STICK.  MuJoCo has one
+  impedance for a contact's rows, so its feed-forward cannot be removed
+  without changing its friction; impratio 0.01 (the friction law's) removes
+  14 of these by taking the skew away;
 * discretisation: the timestep divided by 4 and 16 at the same contact.
 
 Scaled units (section 2.1).

@@ -123,6 +123,7 @@ def render(ctx: RenderContext) -> list:
     if summary.get("jointly"):
         head += (f" {summary['jointly']} more are removed only by the cause's strongest intervention joined to a later cause's, neither "
                  "removing it alone: overdetermined, each difference giving the engine's outcome on its own (not counted as confirmed).")
+    head += _by_p_sentence(summary)
     blocks.append(Table(caption=f"{name}: {head} Per cause named by the ladder: starts, confirmed by its own intervention, removed by "
                                 "another cause's interventions instead (a misattribution to look into), removed only jointly with a "
                                 "later cause of the ladder, removed by none.",
@@ -157,6 +158,23 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
+def _share(side: dict) -> str:
+    n, k = side["attributed"], side["confirmed"]
+    return f"{k} of {n}" + (f" ({100 * k / n:.0f} %)" if n else "")
+
+
+def _by_p_sentence(summary: dict) -> str:
+    """Where the confirmed ones are: the starts whose theory slip keeps eq. p above the classifier's jam band, and the rest."""
+    by_p = summary.get("by_p")
+    if not by_p or not summary.get("attributed"):
+        return ""
+    band = by_p["p_band"]
+    return (f" Confirmed where the theory's slip keeps eq. p above {band:g} (the classifier's jam band): {_share(by_p['above'])}; where "
+            f"it enters the band, {_share(by_p['in_band'])}. In the band the rigid normal force -b/p is at least |b| / {band:g} and "
+            "each of the engine's differences (the capsule's offset, a friction skewed off the slip, a force built over a contact "
+            "time) moves its own p across 0, so that removing one leaves another to jam or lift off.")
+
+
 def _joint_cell(iv: dict) -> str:
     """The joined interventions' labels: "with compliance: slip (removes)"; "-" where none ran."""
     return "; ".join(f"with {r['with']}: " + _mark([r]) for r in iv.get("joint") or []) or "-"
@@ -188,7 +206,9 @@ def finding(data: Path) -> list:
     other = sum(sum(r["by_other"].values()) for r in summary["per_cause"].values())
     return [Finding(f"{name}: causes confirmed on the engine", f"{summary['confirmed']} of {summary['attributed']} attributed disagreements "
                     f"({100 * share:.0f} %) removed by their own cause's intervention on {name} itself; {other} removed by another cause's "
-                    f"instead, {summary.get('jointly', 0)} only jointly with a later cause's (overdetermined), {none} by none; {summary.get('removed_by_any', '-')} of {summary.get('n', '-')} removed by some intervention", "confirmed" if share >= CONFIRMED_SHARE else "partly confirmed", data.name,
+                    f"instead, {summary.get('jointly', 0)} only jointly with a later cause's (overdetermined), {none} by none; {summary.get('removed_by_any', '-')} of {summary.get('n', '-')} removed by some intervention"
+                    + (f"; above eq. p {summary['by_p']['p_band']:g} along the theory's slip {_share(summary['by_p']['above'])}, in that band "
+                       f"{_share(summary['by_p']['in_band'])}" if summary.get("by_p") else ""), "confirmed" if share >= CONFIRMED_SHARE else "partly confirmed", data.name,
                     why=f"confirmed when at least {100 * CONFIRMED_SHARE:.0f} % are removed by one of their own cause's interventions")]
 
 

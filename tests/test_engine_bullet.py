@@ -331,7 +331,7 @@ def test_scaled_units_and_the_start_on_the_plane():
     ({"contact_erp": 1.5}, "contact_erp must be in [0, 1]; got 1.5"),
     ({"contact_margin": math.inf}, "contact_margin must be in (0, inf); got inf"),
     ({"cone": "yes"}, "cone must be True or False; got 'yes'"),
-    ({"stiffness": 1.0}, ("unknown Bullet option 'stiffness': options must be one of cone, contact_erp, contact_margin, radius, "
+    ({"stiffness": 1.0}, ("unknown Bullet option 'stiffness': options must be one of cone, contact_erp, contact_margin, friction_axes, radius, "
                           "solver_iterations, solver_tolerance, timestep")),
 ], ids=["timestep", "timestep_above_horizon", "radius", "iterations", "iterations_float", "tolerance", "erp", "margin", "cone",
         "unknown"])

@@ -13,6 +13,7 @@ from crosscheck.engines.spec import LADDER_CAUSES, EngineSpec, Intervention
 from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
 from crosscheck.studies.comparison import LAG_TAU
+from crosscheck.theory.jam_lag import P_FLOOR
 from crosscheck.studies.interventions import intervene, summarise
 from crosscheck.theory.slipping import slip_until_event
 
@@ -41,8 +42,9 @@ def test_every_laddered_cause_has_an_intervention_the_engine_accepts(name):
                 spec.options(**{**given, **iv.options})  # valid options of the engine (ValueError otherwise)
 
 
+@pytest.mark.parametrize("p_min", [None, 0.01, 2.0], ids=["start unknown", "slip close to p = 0", "slip far from p = 0"])
 @pytest.mark.parametrize("name", LADDERED, ids=str)
-def test_each_intervention_moves_the_engine_the_way_its_cause_names(name):
+def test_each_intervention_moves_the_engine_the_way_its_cause_names(name, p_min):
     """Geometry: a thinner capsule; compliance: a shorter contact time; discretisation: a shorter step; weakest first."""
     spec = engines.get(name)
     for base in _settings(spec):
@@ -50,9 +52,23 @@ def test_each_intervention_moves_the_engine_the_way_its_cause_names(name):
             if cause not in (spec.interventions or {}):
                 continue
             given = {k: getattr(base, k) for k in base.__dataclass_fields__}
-            values = [getattr(spec.options(**{**given, **iv.options}), attr) for iv in spec.interventions_for(cause, base)]
+            values = [getattr(spec.options(**{**given, **iv.options}), attr) for iv in spec.interventions_for(cause, base, p_min=p_min)]
             now = getattr(base, attr)
             assert all(v < now for v in values) and values == sorted(values, reverse=True), (cause, now, values)
+
+
+def test_a_spring_contact_gets_its_strongest_stiffening_again_at_the_closest_approach_to_p_zero():
+    """Drake's point contact: stiffness / p_min and timestep * p_min^(1/2) beyond the strongest, only where p_min < 1."""
+    spec = engines.get("drake_tamsi")
+    base = spec.options()
+    strongest = spec.interventions_for("compliance", base)[-1].options
+    for p_min, slower in ((0.01, 10.0), (1e-6, 1 / math.sqrt(P_FLOOR))):
+        *given, closest = spec.interventions_for("compliance", base, p_min=p_min)
+        assert [iv.options for iv in given] == [iv.options for iv in spec.interventions_for("compliance", base)]
+        assert math.isclose(closest.options["stiffness"], strongest["stiffness"] * slower**2, rel_tol=1e-12)
+        assert math.isclose(closest.options["timestep"], strongest["timestep"] / slower, rel_tol=1e-12)
+    for p_min in (1.0, 3.5, math.nan, 0.0, -0.2):  # far from p = 0, unknown, or a slip that reaches it (a jam: its own lag)
+        assert spec.interventions_for("compliance", base, p_min=p_min) == spec.interventions_for("compliance", base)
 
 
 def test_an_intervention_outside_the_ladder_is_refused():
@@ -191,7 +207,8 @@ def test_an_overdetermined_jam_is_removed_only_by_the_thinner_capsule_and_the_st
     r = intervene("drake_continuous", state, mu, causes=("geometry", "compliance"), named="geometry")
     assert r["theory"] == "SLIP"
     assert not any(x["removes"] for x in r["causes"]["geometry"]) and not any(x["removes"] for x in r["causes"]["compliance"])
-    assert [x["outcome"] for x in r["causes"]["geometry"] + r["causes"]["compliance"]] == ["JAM"] * 5
+    # (the compliance rows: x 10, x 100, x 1000 at a tenth of the step, and that again at the slip's closest approach to p = 0)
+    assert [x["outcome"] for x in r["causes"]["geometry"] + r["causes"]["compliance"]] == ["JAM"] * 6
     (joint,) = r["joint"]
     assert joint["with"] == "compliance" and joint["removes"] and joint["options"]["radius"] < 0.001 and joint["options"]["stiffness"] > 1e6
 

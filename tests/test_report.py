@@ -45,6 +45,7 @@ EXPECTED_FIGURES = {
     "rigid_engine": ["jams", "trajectory_jam"],
     "friction_skew": ["skew"],
     "compliant_limit": ["slip_stop_time", "restitution", "jam_convergence"],
+    "bullet_azimuth": ["azimuth"],
     "ladder": ["causes_Psi_mu", "causes_theta_Theta_0", "causes_theta_Theta_1", "ic2_rungs"],
 }
 # the sections generated for every registered engine from its report plan, with the figures each draws

@@ -19,6 +19,7 @@ accelerations in g, forces in m g; so are its ``Options``.
 from __future__ import annotations
 
 import importlib
+import inspect
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any, Callable, Mapping
@@ -212,13 +213,21 @@ class EngineSpec:
         _check_rod_and_thresholds(rod, thresholds)
         return self._part("sweep")(rod, states, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options})
 
-    def interventions_for(self, cause: str, options) -> tuple[Intervention, ...]:
-        """The engine's interventions for ``cause`` from the run's ``options`` (weakest first); () if it declares none."""
+    def interventions_for(self, cause: str, options, *, p_min: float | None = None) -> tuple[Intervention, ...]:
+        """The engine's interventions for ``cause`` from the run's ``options`` (weakest first); () if it declares none.
+
+        ``p_min``: the least eq. p along the theory's slip from the start at hand, passed on to a function that takes it
+        (a keyword ``p_min``): a compliant contact follows the rod's normal motion more slowly where p is small
+        (``crosscheck.engines.drake.interventions.compliance``).  None: the start is not known.
+        """
         rung = (self.interventions or {}).get(cause)
         if rung is None:
             return ()
         module, _, attr = rung.partition(":")
-        return tuple(getattr(importlib.import_module(module), attr)(options))
+        fn = getattr(importlib.import_module(module), attr)
+        if p_min is not None and "p_min" in inspect.signature(fn).parameters:
+            return tuple(fn(options, p_min=p_min))
+        return tuple(fn(options))
 
     def has(self, tag: str) -> bool:
         """Whether the engine carries ``tag`` (one of ``TAGS``)."""

@@ -96,7 +96,7 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
                     "wall_time": time.perf_counter() - t0}
 
     for cause in (causes if causes is not None else causes_with_interventions(engine)):
-        out["causes"][cause] = [attempt(iv.text, iv.options) for iv in spec.interventions_for(cause, base)]
+        out["causes"][cause] = [attempt(iv.text, iv.options) for iv in spec.interventions_for(cause, base, p_min=out["theory_p_min"])]
     own = out["causes"].get(named) or []
     if own and not any(_fixes(out, c) for c in out["causes"]):  # (one that another cause removes alone is a misattribution)
         # an overdetermined disagreement: the named difference and a later one each produce the engine's outcome alone

@@ -37,6 +37,13 @@ the lag over s* T rises to 1 as 0.62-0.68, 0.75-0.77, 0.83-0.84 at eps = 1e-3, 1
 rigid approach) stops sooner: Drake's point contact, x 10 to x 1000 stiffer,
 at starts that jam at t ~ 3e-4, lags 0.18-0.32 s* T.
 
+Where the rod slips at a small p > 0 without reaching 0 (a slip that passes close
+to p = 0 and lifts off or slips on), the same penetration equation,
+delta'' = -b - p delta / eps^2 linearised about the slipping force, is an
+oscillator of frequency p^(1/2) / eps: the contact follows the rod's normal
+motion in a time eps / p^(1/2), longer than its own eps by 1 / p^(1/2) where the
+rod's effective normal mass m / p is large (``contact_time_at``).
+
 Scaled units (section 2.1): eps, T and t in 1/omega, b in g/l.
 """
 
@@ -47,7 +54,7 @@ import math
 
 from scipy.integrate import solve_ivp
 
-__all__ = ["inner_pole", "jam_stiffness", "inner_scale", "spring_jam_lag"]
+__all__ = ["inner_pole", "jam_stiffness", "inner_scale", "spring_jam_lag", "P_FLOOR", "contact_time_at"]
 
 
 @functools.lru_cache(maxsize=1)
@@ -88,3 +95,18 @@ def spring_jam_lag(eps: float, scale: float) -> float:
     """s* scale eps^(4/5): the slip stop's lag behind the rigid jam for a spring contact of time ``eps`` (module docstring);
     0 where ``scale`` is NaN (no such jam) or ``eps`` is 0."""
     return inner_pole() * scale * eps**0.8 if eps > 0.0 and math.isfinite(scale) else 0.0
+
+
+#: The least p at which ``contact_time_at`` is taken: a slip that passes closer to p = 0 without reaching it is given
+#: the time at this p, a contact 1000 times stiffer than at p = 1, rather than an unbounded one.
+P_FLOOR = 1e-3
+
+
+def contact_time_at(p_min: float) -> float:
+    """eps_p / eps = 1 / max(p_min, P_FLOOR)^(1/2): a spring contact's time where the rod's slip keeps eq. p >= p_min > 0,
+    over its time at p = 1 (module docstring).  1 where p_min >= 1 (the contact is no slower there than at p = 1), where
+    p_min <= 0 (the slip reaches p = 0: a jam, whose inner time ``spring_jam_lag`` gives, or a start at p <= 0) or where
+    it is not a number."""
+    if not 0.0 < p_min < 1.0:  # (NaN: no such p)
+        return 1.0
+    return max(float(p_min), P_FLOOR) ** -0.5

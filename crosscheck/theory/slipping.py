@@ -295,17 +295,21 @@ def continue_slip(state: SlipState, mu, alpha, *, t_max: float = 10.0, s_max: fl
 
 
 def integrate(y0: np.ndarray, mu: float, alpha: float, r: float, *, t_max: float, s_max: float, rtol: float | None = None,
-              atol: float | None = None) -> tuple:
+              atol: float | None = None, rhs=None, bp=None) -> tuple:
     """The slipping flow with its contact at C = A - r K from the slipping start ``y0`` = (eta, varphi, psi, Psi, theta,
     Theta, 0) to its first event (checked arguments; the start rules are the caller's).
+
+    ``rhs(y)``, ``bp(y)``: another flow on the same 7-state and its (b, p), for a friction law other than Coulomb's
+    (``crosscheck.engines.bullet.law``); None: this module's.
 
     Returns (outcome, t_end, y, reason, s, Y, eta_out): the event, its real time, the 7-state there, which rule fired,
     the trajectory cut at the event (s and the (n, 7) states), and 0 for a STICK's returned slip speed (None otherwise).
     """
     rtol = SLIP_INTEGRATION.rtol if rtol is None else rtol
     atol = SLIP_INTEGRATION.atol if atol is None else atol
-    events, meaning = _events(mu, alpha, r, t_max)
-    sol = solve_ivp(lambda s, y: _rhs7(y, mu, alpha, r), (0.0, s_max), y0, method="DOP853", rtol=rtol, atol=atol, events=events)
+    events, meaning = _events(mu, alpha, r, t_max) if bp is None else event_table(bp, t_max)
+    fun = (lambda s, y: _rhs7(y, mu, alpha, r)) if rhs is None else (lambda s, y: rhs(y))
+    sol = solve_ivp(fun, (0.0, s_max), y0, method="DOP853", rtol=rtol, atol=atol, events=events)
     s_arr, Y = sol.t, sol.y.T
     if sol.status == -1 or not np.all(np.isfinite(Y)):
         good = np.all(np.isfinite(Y), axis=1)
@@ -319,7 +323,7 @@ def integrate(y0: np.ndarray, mu: float, alpha: float, r: float, *, t_max: float
     if outcome is Outcome.STICK:
         # eta = 0 is reached as s -> inf but at finite real time: add the time
         # still needed at the current real-time deceleration d eta/dt = f_eta / (eta p).
-        f7 = _rhs7(y, mu, alpha, r)
+        f7 = fun(0.0, y)
         deta_dt = f7[0] / f7[6]
         if deta_dt < 0:
             t_end += -y[0] / deta_dt

@@ -10,6 +10,13 @@ from crosscheck.engines.spec import EngineSpec, ReportPlan
 
 __all__ = ["ENGINES"]
 
+
+def _sections():
+    from crosscheck.engines.bullet.sections import azimuth
+
+    return (azimuth.SECTION,)
+
+
 ENGINES = (
     EngineSpec(
         name="bullet", module="crosscheck.engines.bullet.engine", label="Bullet", libraries=("pybullet",),
@@ -22,11 +29,11 @@ ENGINES = (
         # engine: at mu >= 1 Bullet's PGS misses its tolerance in 15-27 % of the contact steps (cycling between two
         # impulses in part of them), which a profile would freeze as "measured" (engine.py's docstring).
         tolerances=None,
-        # its models in between (crosscheck.studies.ladder): the capsule's contact point, then Bullet itself (its PGS step,
-        # whose friction opposes diag(D)^-1 u rather than the slip: a rigid step has no compliant or continuous-time model here)
-        ladder={"geometry": "capsule", "discretisation": "engine"},
-        interventions={"geometry": "crosscheck.engines.bullet.interventions:geometry",
-                       "discretisation": "crosscheck.engines.bullet.interventions:discretisation"},
+        # its models in between (crosscheck.studies.ladder): the capsule's contact point, then Bullet's friction law in
+        # continuous time (the capsule whose friction opposes diag(D)^-1 u in world axes rather than the slip u: Bullet's
+        # fixed friction rows, crosscheck.engines.bullet.law), then Bullet itself (its PGS step)
+        ladder={"geometry": "capsule", "friction law": "crosscheck.engines.bullet.law:friction_law", "discretisation": "engine"},
+        interventions={c: f"crosscheck.engines.bullet.interventions:{c.replace(' ', '_')}" for c in ("geometry", "friction law", "discretisation")},
         # ~28 us per step with the record (benchmarks/bench_bullet.py).  The quick report's three 10 x 10 maps took 7.2 s
         # at the default timestep 1e-3 (the agreement study stops each run after its analytic event), so both reports
         # use it.  Drawn beside the rigid engine's maps: the same rigid Coulomb contact in another time-stepper.
@@ -37,6 +44,6 @@ ENGINES = (
                           convergence_n={"quick": 5, "full": 14},
                           # 24 x 24 full maps: its 32 x 32 took 90 s in the full report beside five Drake engines
                           maps_n={"quick": 10, "full": 24},
-                          ladder=True, order=50),
+                          ladder=True, order=50, sections=_sections),
     ),
 )

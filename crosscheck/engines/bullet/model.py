@@ -77,6 +77,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from crosscheck.coordinates import tip_position, tip_velocity
 from crosscheck.engines.classifier import FIRST_CHECK
 from crosscheck.rod import Rod
 
@@ -211,6 +212,8 @@ class World:
         s = states(body, joints, physicsClientId=c)
         q[0] = [x[0] for x in s]
         v[0] = [x[1] for x in s]
+        along_slip = self.options.friction_axes == "slip"
+        turn = 0.0
         check = FIRST_CHECK
         for k in range(nstep):
             if judged is not None and k == check:
@@ -220,12 +223,16 @@ class World:
                     return Raw(q=q, v=v, force=force, points=points, distance=distance, iterations=iterations, residual=residual,
                                computed=k)
                 check *= 2
+            if along_slip:
+                turn, about = self._turn_to_slip(q[k], v[k])
             for island in step(physicsClientId=c) or ():  # the solver's analytics (reportSolverAnalytics): one island
                 iterations[k] = max(iterations[k], island["numIterationsUsed"])
                 residual[k] = max(residual[k], island["remainingResidual"])
             s = states(body, joints, physicsClientId=c)
             q[k + 1] = [x[0] for x in s]
             v[k + 1] = [x[1] for x in s]
+            if along_slip:
+                q[k + 1], v[k + 1] = _turned(q[k + 1], v[k + 1], -turn, about)
             cps = contacts(body, ground, physicsClientId=c)
             if cps:
                 # on the rod (body A): normal force along the plane's normal (from B to A), the two friction forces
@@ -238,10 +245,35 @@ class World:
                     fy += fn * n[1] + f1 * d1[1] + f2 * d2[1]
                     fz += fn * n[2] + f1 * d1[2] + f2 * d2[2]
                     dmin = min(dmin, cp[8])
+                if along_slip:  # back to the world's axes
+                    cg, sg = math.cos(turn), math.sin(turn)
+                    fx, fy = cg * fx + sg * fy, -sg * fx + cg * fy
                 force[k] = fx, fy, fz
                 points[k] = len(cps)
                 distance[k] = dmin
         return Raw(q=q, v=v, force=force, points=points, distance=distance, iterations=iterations, residual=residual)
+
+    def _turn_to_slip(self, q: np.ndarray, v: np.ndarray) -> tuple[float, np.ndarray]:
+        """Set the rod at (q, v) turned about the vertical through the tip A by the angle that brings the slip of its
+        contact point C = A - r K along world +x (``Options.friction_axes`` "slip"); return the angle and A (x, y)."""
+        rod, psi = self.rod, q[3]
+        u = tip_velocity(rod, q, v)[:2] + self.options.radius * rod.length * v[4] * np.array((-math.sin(psi), math.cos(psi)))
+        turn = -math.atan2(u[1], u[0]) if u[0] or u[1] else 0.0
+        about = tip_position(rod, q)[:2]
+        qt, vt = _turned(q, v, turn, about)
+        for j in JOINTS:
+            pb.resetJointState(self.body, j, float(qt[j]), float(vt[j]), physicsClientId=self.client)
+        return turn, about
+
+
+def _turned(q: np.ndarray, v: np.ndarray, angle: float, about: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(q, v) turned by ``angle`` about the vertical through ``about`` (x, y) [m]: psi + angle, S and its velocity turned."""
+    c, s = math.cos(angle), math.sin(angle)
+    q, v = q.copy(), v.copy()
+    x, y = q[0] - about[0], q[1] - about[1]
+    q[0], q[1], q[3] = about[0] + c * x - s * y, about[1] + s * x + c * y, q[3] + angle
+    v[0], v[1] = c * v[0] - s * v[1], s * v[0] + c * v[1]
+    return q, v
 
 
 _world: World | None = None

@@ -11,7 +11,7 @@ from crosscheck.checks import NONNEGATIVE, POSITIVE, UNIT, Interval
 from crosscheck.state import check_timestep, real_scalar
 from crosscheck.engines.base import options_from_kwargs
 
-__all__ = ["Options", "RADIUS", "MU_MAX"]
+__all__ = ["Options", "RADIUS", "MU_MAX", "FRICTION_AXES"]
 
 #: The capsule radius r / l (as MuJoCo's: at r >= l/2 the end cap reaches the centre of mass).
 RADIUS = Interval(0.0, 0.5, lo_open=True, hi_open=True)
@@ -20,6 +20,9 @@ RADIUS = Interval(0.0, 0.5, lo_open=True, hi_open=True)
 #: [-10, 10] (``btManifoldResult::calculateCombinedFriction``, MAX_FRICTION): a larger mu would be run
 #: silently at 10, so ``simulate`` refuses it.
 MU_MAX = 10.0
+
+#: Where the friction rows lie (``Options.friction_axes``).
+FRICTION_AXES = ("world", "slip")
 
 #: Largest ``solver_iterations`` accepted: Bullet's PGS costs ~1 us per iteration and contact step, so
 #: 1e5 iterations is already 0.1 s per step.
@@ -60,6 +63,12 @@ class Options:
       cone: True (default) solves friction on Bullet's cone (``enableConeFriction``: the two
         tangential rows clipped together to a disk of radius mu F_n); False on two independent rows
         (a square pyramid, |F_t| up to sqrt(2) mu F_n), kept to show the difference.
+      friction_axes: "world" (default, Bullet's: its multibody solver puts the friction rows along
+        world x and y, and its friction then opposes diag(D)^-1 u, not the slip u:
+        ``crosscheck.engines.bullet.law``) or "slip": before each step the whole state is turned
+        about the vertical through the tip so that the contact point's slip lies along world x,
+        and turned back after it (an exact symmetry of rod, plane and gravity), so that Bullet's
+        unchanged solver has its first friction row along the slip: Coulomb's direction.
     """
 
     timestep: float = 1e-3
@@ -69,6 +78,7 @@ class Options:
     contact_erp: float = 0.08
     contact_margin: float = 0.02
     cone: bool = True
+    friction_axes: str = "world"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "timestep", check_timestep(self.timestep))
@@ -83,6 +93,8 @@ class Options:
         if not isinstance(self.cone, (bool, np.bool_)):
             raise ValueError(f"cone must be True or False; got {self.cone!r}")
         object.__setattr__(self, "cone", bool(self.cone))
+        if self.friction_axes not in FRICTION_AXES:
+            raise ValueError(f"friction_axes must be one of {', '.join(FRICTION_AXES)}; got {self.friction_axes!r}")
 
     @classmethod
     def from_kwargs(cls, options: dict[str, Any]) -> Options:

@@ -9,7 +9,17 @@ weakest first (``crosscheck.studies.interventions`` runs them):
   eps = 1 / sqrt(S) -> 0.  The strongest step shortens the timestep with it: at
   x 1000 the contact's time 1 / sqrt(S) is a thirtieth of the default step, and a
   step that long cannot follow the force building up (the continuous plant's
-  rows and its error control are both set by the timestep);
+  rows and its error control are both set by the timestep).  Where the theory's
+  slip from the start passes close to p = 0 (its least eq. p, p_min < 1), one
+  more: the strongest made as far into the rigid limit at that closest approach
+  as it is at p = 1.  There the contact follows the rod's normal motion in
+  1 / (S p)^(1/2), not 1 / S^(1/2) (``crosscheck.theory.jam_lag.contact_time_at``),
+  so the stiffness is divided by p_min and the timestep multiplied by
+  p_min^(1/2) (the same steps per contact time).  Measured on the full report:
+  from theta 0.904, varphi -1.9, Theta 0.625, Psi 0, mu 1.4 (p_min 0.003, the
+  theory lifts off at 0.079) TAMSI and the continuous plant still jam at
+  x 1000 and a tenth of the step, and lift off at 0.06 at that closest
+  approach; a thinner capsule joined to it removes jams that each leaves alone;
 * friction law: a smaller stiction tolerance (/ 10, / 100): Drake's friction
   is Coulomb's regularised below that slip speed (the continuous plant and
   TAMSI; SAP, Similar and Lagged regularise by their own relaxation, which
@@ -24,6 +34,7 @@ Scaled units (section 2.1).
 from __future__ import annotations
 
 from crosscheck.engines.spec import Intervention
+from crosscheck.theory.jam_lag import contact_time_at
 
 __all__ = ["geometry", "compliance", "friction_law", "discretisation", "relaxation"]
 
@@ -32,10 +43,17 @@ def geometry(o):
     return tuple(Intervention(f"capsule radius {o.radius:g} -> {o.radius / k:g}", {"radius": o.radius / k}) for k in (4, 16))
 
 
-def compliance(o):
+def compliance(o, p_min: float | None = None):
     stiffer = tuple(Intervention(f"point stiffness {o.stiffness:g} -> {o.stiffness * k:g}", {"stiffness": o.stiffness * k}) for k in (10, 100))
-    return (*stiffer, Intervention(f"point stiffness {o.stiffness:g} -> {o.stiffness * 1000:g}, timestep {o.timestep:g} -> {o.timestep / 10:g}",
-                                   {"stiffness": o.stiffness * 1000, "timestep": o.timestep / 10}))
+    stiffest, step = o.stiffness * 1000, o.timestep / 10
+    out = (*stiffer, Intervention(f"point stiffness {o.stiffness:g} -> {stiffest:g}, timestep {o.timestep:g} -> {step:g}",
+                                  {"stiffness": stiffest, "timestep": step}))
+    slower = 1.0 if p_min is None else contact_time_at(p_min)
+    if slower > 1.0:
+        out += (Intervention(f"point stiffness {o.stiffness:g} -> {stiffest * slower**2:.3g}, timestep {o.timestep:g} -> {step / slower:.3g} "
+                             f"(the closest approach to p = 0, p {1 / slower**2:.2g})",
+                             {"stiffness": stiffest * slower**2, "timestep": step / slower}),)
+    return out
 
 
 def friction_law(o):

@@ -64,6 +64,20 @@ def run(ctx: RunContext) -> None:
                                      **summarise(results)})
 
 
+#: The least eq. p of the example in ``_near_p0``'s text.
+_EXAMPLE_P = 0.01
+
+
+def _near_p0(spec, cause: str, base) -> str:
+    """What a cause adds for a start whose theory slip passes close to p = 0 (``EngineSpec.interventions_for``'s p_min)."""
+    given = spec.interventions_for(cause, base)
+    extra = spec.interventions_for(cause, base, p_min=_EXAMPLE_P)[len(given):]
+    if not extra:
+        return ""
+    return (", then, where the theory's slip passes closer to p = 0 than p = 1, the strongest at that closest approach "
+            f"(at p {_EXAMPLE_P:g}: " + "; ".join(iv.text for iv in extra) + ")")
+
+
 def _mark(rows: list[dict]) -> str:
     """Each intervention's label, weakest first, "removes" after those that bring the theory's outcome."""
     return " / ".join("failed" if r["status"] != "ok" else r["label"].lower() + (" (removes)" if r["removes"] else "") for r in rows)
@@ -101,7 +115,8 @@ def render(ctx: RenderContext) -> list:
     summary, results = ctx.store.read_json("summary"), ctx.store.read_json("interventions")
     spec = engines.get(P["engine"])
     base = spec.options(**summary["options"])
-    what = "; ".join(f"{c}: " + ", then ".join(iv.text for iv in spec.interventions_for(c, base)) for c in summary["causes"])
+    what = "; ".join(f"{c}: " + ", then ".join(iv.text for iv in spec.interventions_for(c, base)) + _near_p0(spec, c, base)
+                     for c in summary["causes"])
     blocks = [Text(f"{name} changed the way each cause names, from the laddered starts: {what}. A cause is confirmed when one of its "
                    f"interventions brings {name}'s outcome (compared as the agreement study compares) to the theory's; the table counts "
                    "those confirmed at a weaker step but not at the strongest (the stronger one brings an artefact of its own, such as a "

@@ -1,0 +1,159 @@
+"""Bullet's friction law in continuous time: the rigid capsule whose friction opposes diag(D)^-1 u in world axes, not the slip.
+
+Bullet's multibody solver (btMultiBodyConstraintSolver) puts the two friction
+rows of a contact with the plane z = 0 along fixed world axes (btPlaneSpace1
+of the normal +z: -y and x; the branch that would align the first row with
+the slip is commented out in ``convertMultiBodyContact``), and its cone
+friction (``enableConeFriction``) updates each row with its own diagonal
+D_x, D_y of the Delassus operator before clipping the pair to the disk
+|F_t| <= mu F_n.  At the fixed point of those sweeps a slipping contact's
+friction lies on the disk's edge along
+
+    -diag(1 / D_x, 1 / D_y) u        (world axes; u: C's slip velocity),
+
+not along -u.  With the rod's tangential Delassus block diagonal in its own
+(i, j) frame, A_ii = 1 + alpha across the rod and A_jj = 1 + alpha (sin theta
++ r)^2 along its horizontal projection (scaled units; the MuJoCo law's
+docstring derives them), the world diagonals are
+
+    D_x = A_ii cos^2 psi + A_jj sin^2 psi,   D_y = A_ii sin^2 psi + A_jj cos^2 psi,
+
+so the friction turns off the slip by up to 13-28 degrees at theta ~ 0.2-0.35
+(A_ii / A_jj ~ 3), and by an amount that depends on the rod's azimuth psi:
+Bullet's outcome from a start changes when the start is turned about the
+vertical, which the theory's does not (measured at dt = 1e-3 from theta 0.227,
+varphi -1.9, Theta 0.5625, Psi 1.7, mu 1.4: lift-off at 0.224, 0.214, 0.216,
+0.230 for psi = 0, pi/8, pi/4, 3 pi/8; the theory 0.2138).
+
+This module is that law in continuous time: the rigid capsule of
+``crosscheck.theory.capsule`` (contact at C = A - r K, F_z = -b / p_eff) with
+the friction along the direction above, the angle varphi_f of
+``friction_angle`` in the rod's frame taking the place of C's slip angle in
+every force term (p_eff is eq. p at C with varphi_f; the projections of the
+acceleration on the slip keep varphi).  It is integrated with the theory's own
+desingularised flow and events (``crosscheck.theory.slipping.event_table``),
+so with ``axes="slip"`` (varphi_f = varphi) it is the capsule theory to the
+last bit.  Bullet's ladder (``crosscheck.studies.ladder``) has it as the rung
+between the rigid capsule and Bullet's own step.
+
+Scaled units (section 2.1).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from crosscheck.checks import ALPHA, HORIZON, MU, check
+from crosscheck.engines.bullet.options import FRICTION_AXES
+from crosscheck.outcome import Outcome
+from crosscheck.state import SlipState
+from crosscheck.theory import capsule, slipping
+from crosscheck.theory.capsule import RADIUS, contact_slip
+
+__all__ = ["AXES", "friction_angle", "slip_until_event", "LawRun", "friction_law"]
+
+#: Where the friction rows lie: "world" (Bullet's fixed x, y axes) or "slip" (along C's slip: Coulomb's law).
+AXES = FRICTION_AXES
+
+
+def friction_angle(varphi, psi, theta, alpha, r):
+    """varphi_f: the friction's direction -(cos varphi_f i + sin varphi_f j) in the rod's frame, for C's slip at varphi
+    (module docstring; scalars)."""
+    cpsi, spsi = math.cos(psi), math.sin(psi)
+    a_ii, a_jj = 1.0 + alpha, 1.0 + alpha * (math.sin(theta) + r) ** 2
+    d_x, d_y = a_ii * cpsi * cpsi + a_jj * spsi * spsi, a_ii * spsi * spsi + a_jj * cpsi * cpsi
+    ui, uj = math.cos(varphi), math.sin(varphi)
+    ux, uy = (cpsi * ui - spsi * uj) / d_x, (spsi * ui + cpsi * uj) / d_y  # diag(D)^-1 u in world axes
+    return math.atan2(-spsi * ux + cpsi * uy, cpsi * ux + spsi * uy)  # back in the rod's (i, j) frame
+
+
+def _coefficients(varphi, varphi_f, Psi, theta, Theta, mu, alpha, r):
+    """``slipping._coefficients`` with the friction along varphi_f (its force terms) instead of the slip's varphi."""
+    st, ct = math.sin(theta), math.cos(theta)
+    sf, cf = math.sin(varphi_f), math.cos(varphi_f)
+    sr = st + r
+    W = Psi * Psi * ct * ct + Theta * Theta
+    b = W * st - 1.0
+    p = 1.0 + alpha * ct * ct + alpha * mu * ct * sr * sf
+    ai1 = -(1.0 + alpha) * mu * cf
+    ai0 = -r * Theta * Psi
+    aj1 = -mu * sf * (1.0 + alpha * sr * sr) - alpha * ct * sr
+    aj0 = ct * W - r * st * ct * Psi * Psi
+    Psi1 = -alpha * mu * cf / ct
+    Psi0 = 2.0 * Psi * Theta * st / ct
+    Theta1 = -alpha * mu * sr * sf - alpha * ct
+    Theta0 = -st * ct * Psi * Psi
+    return b, p, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0
+
+
+def _angle(y, alpha, r, axes):
+    return y[1] if axes == "slip" else friction_angle(y[1], y[2], y[4], alpha, r)
+
+
+def _rhs7(y, mu, alpha, r, axes):
+    """``slipping._rhs7`` with the friction along ``_angle`` (same desingularised time, eta p_eff ds = dt)."""
+    eta, varphi, Psi, theta, Theta = y[0], y[1], y[3], y[4], y[5]
+    b, p, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0 = _coefficients(varphi, _angle(y, alpha, r, axes), Psi, theta, Theta, mu, alpha, r)
+    Ai = -b * ai1 + p * ai0
+    Aj = -b * aj1 + p * aj0
+    sp, cp = math.sin(varphi), math.cos(varphi)
+    ep = eta * p
+    return [eta * (cp * Ai + sp * Aj), (cp * Aj - sp * Ai) - eta * Psi * p, ep * Psi, eta * (-b * Psi1 + p * Psi0), ep * Theta,
+            eta * (-b * Theta1 + p * Theta0), ep]
+
+
+def slip_until_event(state: SlipState, mu, alpha, *, radius, axes: str = "world", t_max: float = 10.0, s_max: float = 1e4):
+    """The rigid capsule with Bullet's friction law from ``state`` (its psi included) to its first event.
+
+    The start rules, events and result are ``crosscheck.theory.capsule.slip_until_event``'s, with eq. p at C taken at the
+    friction's angle (p_eff).  ``axes``: "world" (Bullet's) or "slip" (Coulomb's: the capsule theory).
+    Returns a ``crosscheck.theory.capsule.CapsuleSlipResult`` (its ``p``: p_eff).
+    """
+    if not isinstance(state, SlipState):
+        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
+    if axes not in AXES:
+        raise ValueError(f"axes must be one of {', '.join(AXES)}; got {axes!r}")
+    state.check_start()
+    r = float(check("radius", radius, RADIUS))
+    mu, alpha = float(check("mu", mu, MU)), float(check("alpha", alpha, ALPHA))
+    t_max = float(check("t_max", t_max, HORIZON))
+    eta_C, varphi_C = contact_slip(state, radius=r)
+    y0 = np.array([eta_C, varphi_C, state.psi, state.Psi, state.theta, state.Theta, 0.0])
+
+    def bp(y):
+        b, p, *_ = _coefficients(y[1], _angle(y, alpha, r, axes), y[3], y[4], y[5], mu, alpha, r)
+        return b, p
+
+    def result(outcome, t, y, reason, s_arr, Y, eta_out=None):
+        b, p = bp(y)
+        eta_A, varphi_A = capsule.tip_slip(y[0] if eta_out is None else eta_out, y[1], y[5], radius=r)
+        return capsule.CapsuleSlipResult(outcome, t, slipping._state_from(y, eta=eta_out), reason, b, p, s_arr, Y[:, 6].copy(), Y[:, :6].copy(),
+                                         radius=r, tip_eta=float(eta_A), tip_varphi=float(varphi_A), mu=mu, alpha=alpha)
+
+    b0, p0 = bp(y0)
+    early = slipping._start_outcome(eta_C, b0, p0)
+    reason = "start"
+    if early is None and not -math.pi < varphi_C <= 0.0:
+        early, reason = Outcome.SLIP, ("varphi=0" if varphi_C < math.pi / 2 else "varphi=-pi")
+    if early is not None:
+        return result(early, 0.0, y0, reason, np.zeros(1), y0[None, :].copy())
+    outcome, t_end, y, reason, s_arr, Y, eta_out = slipping.integrate(y0, mu, alpha, r, t_max=t_max, s_max=s_max,
+                                                                      rhs=lambda y: _rhs7(y, mu, alpha, r, axes), bp=bp)
+    return result(outcome, t_end, y, reason, s_arr, Y, eta_out=eta_out)
+
+
+@dataclass(frozen=True)
+class LawRun:
+    """A rung's outcome for the ladder: the first event and its time (``result``: the whole ``CapsuleSlipResult``)."""
+
+    outcome: Outcome
+    event_time: float
+    result: object
+
+
+def friction_law(rod, state: SlipState, mu, *, horizon, thresholds=None, options) -> LawRun:
+    """Bullet's ladder rung "friction law": this law at Bullet's capsule radius and friction axes, to ``horizon``."""
+    res = slip_until_event(state, mu, rod.alpha, radius=options.radius, axes=options.friction_axes, t_max=horizon)
+    return LawRun(Outcome(int(res.outcome)), float(res.time), res)

@@ -1,0 +1,1 @@
+"""Bullet's own report sections (beside the generic ones every engine gets)."""

@@ -19,7 +19,7 @@ from crosscheck.checks import FINITE, NONNEGATIVE, THETA
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState, real, same_shape
 
-__all__ = ["GENERALIZED", "tip_position", "tip_velocity", "paper_to_qv", "qv_to_paper", "to_generalized", "from_generalized"]
+__all__ = ["GENERALIZED", "tip_position", "tip_velocity", "paper_to_qv", "qv_of", "qv_to_paper", "to_generalized", "from_generalized"]
 
 #: Names of the generalised coordinates, in order.
 GENERALIZED = ("X", "Y", "Z", "psi", "theta")
@@ -81,11 +81,16 @@ def paper_to_qv(rod: Rod, theta, varphi, Theta, Psi, eta, psi=0.0, *, tip=(0.0, 
     eta = real("eta", eta, NONNEGATIVE)
     varphi, Theta, Psi, psi, w = (real(n, x, FINITE) for n, x in (("varphi", varphi), ("Theta", Theta), ("Psi", Psi), ("psi", psi), ("w", w)))
     theta, varphi, Theta, Psi, eta, psi, w = same_shape(theta=theta, varphi=varphi, Theta=Theta, Psi=Psi, eta=eta, psi=psi, w=w)
-    l, om = rod.length, rod.omega
     tip = real("tip", tip, FINITE)
     if tip.shape[-1:] != (3,):
         raise ValueError(f"tip must have shape (..., 3) (x, y, z in units of l); got {tip.shape}")
-    tip = tip * l
+    return qv_of(rod.length, rod.omega, theta, varphi, Theta, Psi, eta, psi, tip, w)
+
+
+def qv_of(l, om, theta, varphi, Theta, Psi, eta, psi, tip, w):
+    """``paper_to_qv`` from the rod's length l [m] and omega [1/s] (floats, or one rod's per state, for many rods in one
+    call: the same arithmetic state by state), arguments unchecked arrays (tip (..., 3) in units of l)."""
+    tip = tip * (l[..., None] if np.ndim(l) else l)
     s, c, sp, cp = np.sin(theta), np.cos(theta), np.sin(psi), np.cos(psi)
     q = np.stack(
         np.broadcast_arrays(tip[..., 0] - l * c * sp, tip[..., 1] + l * c * cp, tip[..., 2] + l * s, psi, theta), -1

@@ -37,6 +37,8 @@ __all__ = [
     "Mode",
     "mode",
     "tip_acceleration",
+    "rod_factors",
+    "tip_acceleration_of",
     "rotational_acceleration",
     "b",
     "p",
@@ -92,13 +94,23 @@ def tip_acceleration(rod: Rod, psi, theta, psi_dot, theta_dot, force) -> np.ndar
     """
     theta = check("theta", theta, THETA)
     psi, psi_dot, theta_dot = (check(n, v) for n, v in (("psi", psi), ("psi_dot", psi_dot), ("theta_dot", theta_dot)))
-    fx, fy, fz = _force_components(force)
+    return tip_acceleration_of(rod_factors(rod), psi, theta, psi_dot, theta_dot, _force_components(force))
+
+
+def rod_factors(rod: Rod) -> tuple[float, float, float, float, float]:
+    """(m, k = m l^2 / I0, r = I0 / (m l^2), h = I0 / (m l), g / l) of eq. linode2, in the rod's own floats."""
     m, l, i0, g = rod.mass, rod.length, rod.inertia, rod.gravity
-    k = m * l**2 / i0
-    r = i0 / (m * l**2)
+    return m, m * l**2 / i0, i0 / (m * l**2), i0 / (m * l), g / l
+
+
+def tip_acceleration_of(factors, psi, theta, psi_dot, theta_dot, force_components) -> np.ndarray:
+    """``tip_acceleration`` from ``rod_factors`` (each a float, or an array of one rod's factors per state, for many rods in
+    one call: the same arithmetic state by state) and the force's (Fx, Fy, Fz), arguments unchecked."""
+    m, k, r, h, g_over_l = factors
+    fx, fy, fz = force_components
     s, c = np.sin(theta), np.cos(theta)
     sp, cp = np.sin(psi), np.cos(psi)
-    h = i0 / (m * l)  # the paper's I0/(m l) factor in front of the velocity terms
+    # h: the paper's I0/(m l) factor in front of the velocity terms
     xdd = k * (
         (-(sp**2) * c**2 + r + 1) * fx / m
         + (c**2 * sp * cp) * fy / m
@@ -115,7 +127,7 @@ def tip_acceleration(rod: Rod, psi, theta, psi_dot, theta_dot, force) -> np.ndar
         (sp * s * c) * fx / m
         - (c * cp * s) * fy / m
         + (c**2 + r) * fz / m
-        + h * (psi_dot**2 * c**2 * s + theta_dot**2 * s - g / l)
+        + h * (psi_dot**2 * c**2 * s + theta_dot**2 * s - g_over_l)
     )
     return np.stack(np.broadcast_arrays(xdd, ydd, zdd), axis=-1)
 

@@ -35,7 +35,7 @@ from crosscheck.theory import analytic
 from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck import tolerances as tol
 from crosscheck.compare import ErrorStat, ValidationResult, error_stat
-from crosscheck.coordinates import paper_to_qv
+from crosscheck.coordinates import qv_of
 from crosscheck.theory.critical import mu_P as mu_P_closed_form
 from crosscheck.rod import Rod
 
@@ -340,6 +340,7 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
                    ml2=_per_state(of, rods, lambda r: r.mass * r.length**2), ml2_omega=_per_state(of, rods, lambda r: r.mass * r.length**2 * r.omega),
                    mgl=_per_state(of, rods, lambda r: r.mass * r.gravity * r.length))
     L_rates, l_omega = np.stack((ones, ones, ones, l, l), axis=-1), (l * omega)[:, None]  # v_s = v L_rates / (l omega)
+    factors = tuple(_per_state(of, rods, lambda r, j=j: analytic.rod_factors(r)[j]) for j in range(5))  # eq. linode2's, per state
     F = s["F"] * units.force_scale[:, None]
     tips = np.stack((s["x"], s["y"], np.zeros(n)), axis=-1)
     theta, Psi, Theta, alpha, mu = s["theta"], s["Psi"], s["Theta"], s["alpha"], s["mu"]
@@ -371,11 +372,11 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
         k, now = hi - lo, slice(lo, hi)
         q, v, raw_M, raw_C, raw_J, raw_dJ, raw_g, raw_nle, raw_aba = (x[:k] for x in work)
         rod_states = [(slice(blocks[r].start - lo, blocks[r].stop - lo), blocks[r], rods[r]) for r in chunk]  # (in chunk, of all, rod)
-        for i, idx, rod in rod_states:  # all (q, v) of the chunk first: a loop of like calls stays in the caches
-            q[i], v[i] = paper_to_qv(rod, theta[idx], s["varphi"][idx], Theta[idx], Psi[idx], s["eta"][idx], s["psi"][idx], tip=tips[idx])
+        # every rod of the chunk in one call, each state with its rod's own floats (the arithmetic of a call per rod)
+        q[...], v[...] = qv_of(l[now], omega[now], theta[now], s["varphi"][now], Theta[now], Psi[now], s["eta"][now], s["psi"][now], tips[now], 0.0)
         chunk_units = units.at(now)
         outer = chunk_units.outer()
-        ref = _reference_chunk(q, v, rod_states, lo, s, rates_rad, F, chunk_units, outer)  # its calls rod by rod too, before Pinocchio's
+        ref = _reference_chunk(q, v, lo, s, rates_rad, F, chunk_units, outer, tuple(f[now] for f in factors))
         rates[now] = 1 + np.abs(v * L_rates[now] / l_omega[now]).sum(axis=1)
         V[now] = rates[now] ** 2
         A[now] = alpha_1[now] * F_1[now] + V[now]
@@ -457,11 +458,11 @@ def _pinocchio_chunk(terms: pinrod.RodTerms, raw_aba, F, units: _Units, outer) -
     return pin, {"C v + g = nle": pin.pop("nle")}
 
 
-def _reference_chunk(q, v, rod_states, lo, s, rates_rad, F, units: _Units, outer) -> dict:
+def _reference_chunk(q, v, lo, s, rates_rad, F, units: _Units, outer, factors) -> dict:
     """The reference's quantities of one chunk of states in scaled units.
 
-    ``rod_states``: (states in the chunk, states of all, Rod) of its rods; ``lo`` its first state; ``s``, ``rates_rad``
-    (psi', theta' [rad/s]) and F (N, 3) [N] of all states; ``units`` and ``outer`` the chunk's.
+    ``lo``: its first state; ``s``, ``rates_rad`` (psi', theta' [rad/s]) and F (N, 3) [N] of all states; ``units``,
+    ``outer`` and ``factors`` (``analytic.rod_factors`` of each state's rod) the chunk's.
     """
     k = q.shape[0]
     now = slice(lo, lo + k)
@@ -471,17 +472,16 @@ def _reference_chunk(q, v, rod_states, lo, s, rates_rad, F, units: _Units, outer
         x /= over
     # eq. linode2 at six (rates, force) pairs per state: (rates, F), (rates, 0), and at rest with 0 and with
     # the unit forces m g e_j, whose differences are the columns of G (G does not depend on the rates; at
-    # rest the difference does not cancel large velocity terms).  One call per rod (the reference takes
-    # one Rod); the six pairs broadcast against the states' angles.
+    # rest the difference does not cancel large velocity terms).  One call for the chunk, each state with its
+    # rod's factors; the six pairs broadcast against the states' angles.
     zero = np.zeros(k)
     psi_dot, theta_dot = (np.stack((x[now], x[now], zero, zero, zero, zero)) for x in rates_rad)
     forces = np.zeros((6, k, 3))
     forces[0] = F[now]
     for j in range(3):
         forces[3 + j, :, j] = units.force_scale
-    ref = np.empty((6, k, 3))
-    for i, idx, rod in rod_states:
-        ref[:, i] = analytic.tip_acceleration(rod, s["psi"][idx], s["theta"][idx], psi_dot[:, i], theta_dot[:, i], forces[:, i])
+    ref = analytic.tip_acceleration_of(factors, s["psi"][now], s["theta"][now], psi_dot, theta_dot,
+                                       (forces[..., 0], forces[..., 1], forces[..., 2]))
     ref /= units.gravity[:, None]
     ref_G = np.stack([ref[3 + j] - ref[2] for j in range(3)], axis=-1)
     return {"tip acc, aba": ref[0], "tip acc, G F + free": ref[0], "Delassus G": ref_G, "free tip acc": ref[1],

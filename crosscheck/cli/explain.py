@@ -127,13 +127,14 @@ def _explain_declared(args) -> int:
     name = engine_label(args.engine)
     print(f"start: theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; mu {mu:g}, alpha {alpha:g}")
     print(f"compared up to t = {ld.until + ld.lag:.6g} (comparison time {ld.until:.6g} + lag {ld.lag:.6g})")
+    width = max(11, *(len(r.name) for r in ld.rungs))  # the rung names in one column
     for r in ld.rungs:
         what = "the theory" if r.cause is None else r.cause
         if r.ok:
             relabel = "" if r.label == r.outcome else f" -> {r.label.name} as compared"
-            print(f"{r.rung} {r.name:<11} {what:<15} {r.outcome.name}{_fmt_time(r.time)}{relabel}")
+            print(f"{r.rung} {r.name:<{width}} {what:<15} {r.outcome.name}{_fmt_time(r.time)}{relabel}")
         else:
-            print(f"{r.rung} {r.name:<11} {what:<15} {r.status.upper()}: {r.detail}")
+            print(f"{r.rung} {r.name:<{width}} {what:<15} {r.status.upper()}: {r.detail}")
     ref = ld.reference.name if ld.reference is not None else "-"
     print(f"cause: {ld.cause} ({name} {ref}, theory {ld.rungs[0].label.name})")
     return 0

@@ -18,7 +18,7 @@ engine), so ``--from-results`` rebuilds it:
   worst cone violation, from its contact-quality section;
 * causes: the split of its disagreements by the ladder;
 * confirmed: the share of those its own cause's intervention on the engine removes (``<slug>_interventions``), and how
-  many more only its and a later cause's together remove (overdetermined);
+  many more only its and another cause's together remove (overdetermined);
 * rounding: the starts of its maps whose outcome changes within 2 ulp of theta (``<slug>_rounding``);
 * cost: microseconds per engine step (or per record row of a continuous
   engine) and runs per second on this machine, from the maps' wall time.
@@ -195,7 +195,7 @@ CAPTION = (
     "convergence: per parameter with the others held fixed, by the rule under the findings; friction: median angle between the friction force and -slip, and the worst "
     "cone violation max(0, |F_t| - mu F_n) / (m g), while slipping; causes: the ladder's split of the disagreements; "
     "confirmed: the share of those removed by their own cause's intervention on the engine itself (and how many more only "
-    "jointly with a later cause's: overdetermined); rounding: the starts of its maps "
+    "jointly with another cause's: overdetermined); rounding: the starts of its maps "
     "whose outcome changes when theta moves by up to 2 ulp; "
     "cost: engine microseconds per step (per record row for a continuous engine) and runs per second on this machine (one core). "
     "Grids were chosen by each engine's cost; '-' where a section did not run."

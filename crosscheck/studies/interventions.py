@@ -63,9 +63,11 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
     the theory's.  An intervention that raises is ``status: failed`` with the error.
 
     ``named``: the cause the ladder named.  Where no single intervention removes the disagreement, ``joint`` holds its
-    strongest intervention combined with the strongest of each later cause of the ladder (``LADDER_CAUSES`` order) that
-    does not remove it alone either (a pair that sets one parameter two ways is not combined): the rows of an
-    overdetermined disagreement, which each of the two differences produces on its own (``summarise``).
+    strongest intervention combined with the strongest of each other cause of the ladder (``LADDER_CAUSES`` order; a
+    pair that sets one parameter two ways is not combined): the rows of an overdetermined disagreement, which each of
+    the two differences produces on its own (``summarise``).  Not only the later causes: near p = 0 a difference whose
+    rung did not give the engine's outcome alone (a friction skewed off the slip, with the capsule's offset) still
+    gives it in the engine, where every other difference is present.
     """
     spec = engines.get(engine)
     if not isinstance(state, SlipState):
@@ -99,10 +101,10 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
         out["causes"][cause] = [attempt(iv.text, iv.options) for iv in spec.interventions_for(cause, base, p_min=out["theory_p_min"])]
     own = out["causes"].get(named) or []
     if own and not any(_fixes(out, c) for c in out["causes"]):  # (one that another cause removes alone is a misattribution)
-        # an overdetermined disagreement: the named difference and a later one each produce the engine's outcome alone
+        # an overdetermined disagreement: the named difference and another one each produce the engine's outcome alone
         strongest = own[-1]["options"]
         out["joint"] = []
-        for c in LADDER_CAUSES[LADDER_CAUSES.index(named) + 1:]:
+        for c in (c for c in LADDER_CAUSES if c != named):
             rows = out["causes"].get(c) or []
             if not rows or _fixes(out, c) or set(strongest) & set(rows[-1]["options"]):
                 continue
@@ -135,7 +137,7 @@ def _not_at_strongest(result: dict, cause: str) -> bool:
 
 
 def _jointly(result: dict) -> list[str]:
-    """The later causes whose strongest intervention, joined to the named cause's strongest, removes the disagreement
+    """The other causes whose strongest intervention, joined to the named cause's strongest, removes the disagreement
     (``intervene``'s ``joint``: neither removes it alone)."""
     return [r["with"] for r in result.get("joint") or [] if r["removes"]]
 
@@ -144,8 +146,8 @@ def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
     """Per cause named by the ladder: how many its own interventions confirm (and of those, how many only at a weaker step),
     how many each of its interventions removes (``by_intervention``, text -> count: a cause whose interventions change
     different parts of the engine, such as MuJoCo's friction direction and its impedance's feed-forward, says which part
-    acts), how many another cause's remove instead, how many only the named cause's and a later cause's interventions
-    together remove (``jointly``, later cause -> count: overdetermined, each difference alone giving the engine's
+    acts), how many another cause's remove instead, how many only the named cause's and another cause's interventions
+    together remove (``jointly``, other cause -> count: overdetermined, each difference alone giving the engine's
     outcome, so that neither intervention alone can remove it; not counted as confirmed), how many none does; and over
     all of them (``removed_by_any``) how many some cause's intervention removes, whatever the ladder named.
 

@@ -90,7 +90,7 @@ def _figure(ctx: RenderContext, name: str, summary: dict):
     causes = list(summary["per_cause"])
     parts = [("confirmed by its own intervention", [summary["per_cause"][c]["confirmed"] for c in causes], "#2a9d4b"),
              ("removed by another cause's instead", [sum(summary["per_cause"][c]["by_other"].values()) for c in causes], "#e9a23b"),
-             ("removed only jointly with a later cause's", [sum(summary["per_cause"][c].get("jointly", {}).values()) for c in causes], "#6c8ebf"),
+             ("removed only jointly with another cause's", [sum(summary["per_cause"][c].get("jointly", {}).values()) for c in causes], "#6c8ebf"),
              ("removed by none", [summary["per_cause"][c]["none"] for c in causes], "#c0392b")]
     fig, ax = plt.subplots(figsize=(7.0, 0.9 + 0.55 * len(causes)), layout="constrained")
     left = [0] * len(causes)
@@ -102,7 +102,7 @@ def _figure(ctx: RenderContext, name: str, summary: dict):
     ax.xaxis.get_major_locator().set_params(integer=True)
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=2, fontsize=8, frameon=False)
     return ctx.figure("interventions", fig, f"{name}: per cause the ladder named, its disagreements removed by the cause's own "
-                                         "intervention on the engine, by another cause's, only by the cause's and a later cause's together "
+                                         "intervention on the engine, by another cause's, only by the cause's and another cause's together "
                                          "(overdetermined), or by none.", ["summary.json"])
 
 
@@ -136,12 +136,12 @@ def render(ctx: RenderContext) -> list:
         head += (f" Whatever the ladder named, {summary['removed_by_any']} of the {summary['n']} laddered disagreements are removed by some "
                  "cause's intervention on the engine.")
     if summary.get("jointly"):
-        head += (f" {summary['jointly']} more are removed only by the cause's strongest intervention joined to a later cause's, neither "
+        head += (f" {summary['jointly']} more are removed only by the cause's strongest intervention joined to another cause's, neither "
                  "removing it alone: overdetermined, each difference giving the engine's outcome on its own (not counted as confirmed).")
     head += _by_p_sentence(summary)
     blocks.append(Table(caption=f"{name}: {head} Per cause named by the ladder: starts, confirmed by its own intervention, removed by "
-                                "another cause's interventions instead (a misattribution to look into), removed only jointly with a "
-                                "later cause of the ladder, removed by none.",
+                                "another cause's interventions instead (a misattribution to look into), removed only jointly with "
+                                "another cause of the ladder, removed by none.",
                         header=["cause (ladder)", "starts", "confirmed", "removed by another cause instead", "removed only jointly",
                                 "removed by none"],
                         rows=rows or [["(no laddered disagreement)", "0", "0", "-", "-", "0"]], data=ctx.data("summary.json")))
@@ -161,7 +161,7 @@ def render(ctx: RenderContext) -> list:
                            _floor_cell(r["interventions"]),
                            _fmt(r["interventions"].get("theory_p_min"))])
         blocks.append(Table(caption=f"Each start: the theory's outcome, {name}'s, the ladder's cause, {name}'s outcome under each cause's "
-                                    "interventions, weakest first, the named cause's strongest joined to each later cause's strongest "
+                                    "interventions, weakest first, the named cause's strongest joined to each other cause's strongest "
                                     "where neither removes it alone, the theory's least slip speed eta against the engine's STICK floor "
                                     "(and when it falls below it: an engine STICK from then on, less an event's lag, is compared as the "
                                     "theory's slip, which the classifier cannot tell it from), and the theory's "
@@ -221,7 +221,7 @@ def finding(data: Path) -> list:
     other = sum(sum(r["by_other"].values()) for r in summary["per_cause"].values())
     return [Finding(f"{name}: causes confirmed on the engine", f"{summary['confirmed']} of {summary['attributed']} attributed disagreements "
                     f"({100 * share:.0f} %) removed by their own cause's intervention on {name} itself; {other} removed by another cause's "
-                    f"instead, {summary.get('jointly', 0)} only jointly with a later cause's (overdetermined), {none} by none; {summary.get('removed_by_any', '-')} of {summary.get('n', '-')} removed by some intervention"
+                    f"instead, {summary.get('jointly', 0)} only jointly with another cause's (overdetermined), {none} by none; {summary.get('removed_by_any', '-')} of {summary.get('n', '-')} removed by some intervention"
                     + (f"; above eq. p {summary['by_p']['p_band']:g} along the theory's slip {_share(summary['by_p']['above'])}, in that band "
                        f"{_share(summary['by_p']['in_band'])}" if summary.get("by_p") else ""), "confirmed" if share >= CONFIRMED_SHARE else "partly confirmed", data.name,
                     why=f"confirmed when at least {100 * CONFIRMED_SHARE:.0f} % are removed by one of their own cause's interventions")]

@@ -69,15 +69,17 @@ _HALF_PI = 0.5 * math.pi
 _VARPHI_LOW = math.nextafter(-math.pi, 0.0)  # the closest float to -pi inside (-pi, 0]
 
 
-def _coefficients(varphi, Psi, theta, Theta, mu, alpha, r):
+def _coefficients(varphi, Psi, theta, Theta, mu, alpha, r, varphi_f=None):
     """b, p and the per-unit-F_z (...1) and force-free (...0) parts of the contact point's horizontal acceleration
     (a_i, a_j in the rod's (i, j) frame) and of Psi', Theta', with the contact at C = A - r K (scalars: hot loop).
 
     At r = 0 these are the paper's (C = A): p is eq. p, and a_i, a_j, Psi', Theta' give eq. polareqs_varphi with
-    the coefficients of Appendix A (``crosscheck.theory.capsule`` derives the r terms).
+    the coefficients of Appendix A (``crosscheck.theory.capsule`` derives the r terms).  ``varphi_f``: the friction's
+    angle, -(cos varphi_f i + sin varphi_f j), where it is not opposite the slip (``crosscheck.engines.bullet.law``);
+    None: Coulomb's, varphi (varphi enters only through the friction).
     """
     st, ct = math.sin(theta), math.cos(theta)
-    sp, cp = math.sin(varphi), math.cos(varphi)
+    sp, cp = (math.sin(varphi), math.cos(varphi)) if varphi_f is None else (math.sin(varphi_f), math.cos(varphi_f))
     sr = st + r
     W = Psi * Psi * ct * ct + Theta * Theta
     b = W * st - 1.0
@@ -93,10 +95,11 @@ def _coefficients(varphi, Psi, theta, Theta, mu, alpha, r):
     return b, p, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0
 
 
-def _rhs7(y, mu, alpha, r):
-    """f(x) of eq. f at the contact point C plus dt/ds = eta p, for y = (eta, varphi, psi, Psi, theta, Theta, t)."""
+def _rhs7(y, mu, alpha, r, varphi_f=None):
+    """f(x) of eq. f at the contact point C plus dt/ds = eta p, for y = (eta, varphi, psi, Psi, theta, Theta, t)
+    (``varphi_f``: the friction's angle as in ``_coefficients``; p is then the p of that friction)."""
     eta, varphi, Psi, theta, Theta = y[0], y[1], y[3], y[4], y[5]
-    b, p, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0 = _coefficients(varphi, Psi, theta, Theta, mu, alpha, r)
+    b, p, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0 = _coefficients(varphi, Psi, theta, Theta, mu, alpha, r, varphi_f)
     # p times each acceleration: F_z p = -b removes the 1/p of eq. FZ
     Ai = -b * ai1 + p * ai0
     Aj = -b * aj1 + p * aj0

@@ -69,39 +69,8 @@ def friction_angle(varphi, psi, theta, alpha, r):
     return math.atan2(-spsi * ux + cpsi * uy, cpsi * ux + spsi * uy)  # back in the rod's (i, j) frame
 
 
-def _coefficients(varphi, varphi_f, Psi, theta, Theta, mu, alpha, r):
-    """``slipping._coefficients`` with the friction along varphi_f (its force terms) instead of the slip's varphi."""
-    st, ct = math.sin(theta), math.cos(theta)
-    sf, cf = math.sin(varphi_f), math.cos(varphi_f)
-    sr = st + r
-    W = Psi * Psi * ct * ct + Theta * Theta
-    b = W * st - 1.0
-    p = 1.0 + alpha * ct * ct + alpha * mu * ct * sr * sf
-    ai1 = -(1.0 + alpha) * mu * cf
-    ai0 = -r * Theta * Psi
-    aj1 = -mu * sf * (1.0 + alpha * sr * sr) - alpha * ct * sr
-    aj0 = ct * W - r * st * ct * Psi * Psi
-    Psi1 = -alpha * mu * cf / ct
-    Psi0 = 2.0 * Psi * Theta * st / ct
-    Theta1 = -alpha * mu * sr * sf - alpha * ct
-    Theta0 = -st * ct * Psi * Psi
-    return b, p, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0
-
-
 def _angle(y, alpha, r, axes):
-    return y[1] if axes == "slip" else friction_angle(y[1], y[2], y[4], alpha, r)
-
-
-def _rhs7(y, mu, alpha, r, axes):
-    """``slipping._rhs7`` with the friction along ``_angle`` (same desingularised time, eta p_eff ds = dt)."""
-    eta, varphi, Psi, theta, Theta = y[0], y[1], y[3], y[4], y[5]
-    b, p, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0 = _coefficients(varphi, _angle(y, alpha, r, axes), Psi, theta, Theta, mu, alpha, r)
-    Ai = -b * ai1 + p * ai0
-    Aj = -b * aj1 + p * aj0
-    sp, cp = math.sin(varphi), math.cos(varphi)
-    ep = eta * p
-    return [eta * (cp * Ai + sp * Aj), (cp * Aj - sp * Ai) - eta * Psi * p, ep * Psi, eta * (-b * Psi1 + p * Psi0), ep * Theta,
-            eta * (-b * Theta1 + p * Theta0), ep]
+    return None if axes == "slip" else friction_angle(y[1], y[2], y[4], alpha, r)
 
 
 def slip_until_event(state: SlipState, mu, alpha, *, radius, axes: str = "world", t_max: float = 10.0, s_max: float = 1e4):
@@ -123,7 +92,7 @@ def slip_until_event(state: SlipState, mu, alpha, *, radius, axes: str = "world"
     y0 = np.array([eta_C, varphi_C, state.psi, state.Psi, state.theta, state.Theta, 0.0])
 
     def bp(y):
-        b, p, *_ = _coefficients(y[1], _angle(y, alpha, r, axes), y[3], y[4], y[5], mu, alpha, r)
+        b, p, *_ = slipping._coefficients(y[1], y[3], y[4], y[5], mu, alpha, r, _angle(y, alpha, r, axes))
         return b, p
 
     def result(outcome, t, y, reason, s_arr, Y, eta_out=None):
@@ -140,7 +109,7 @@ def slip_until_event(state: SlipState, mu, alpha, *, radius, axes: str = "world"
     if early is not None:
         return result(early, 0.0, y0, reason, np.zeros(1), y0[None, :].copy())
     outcome, t_end, y, reason, s_arr, Y, eta_out = slipping.integrate(y0, mu, alpha, r, t_max=t_max, s_max=s_max,
-                                                                      rhs=lambda y: _rhs7(y, mu, alpha, r, axes), bp=bp)
+                                                                      rhs=lambda y: slipping._rhs7(y, mu, alpha, r, _angle(y, alpha, r, axes)), bp=bp)
     return result(outcome, t_end, y, reason, s_arr, Y, eta_out=eta_out)
 
 

@@ -139,3 +139,18 @@ def test_above_mu_P_near_p_0_the_step_may_stick_the_tip_instead_of_slipping():
     c = one_step(ROD, s, mu)
     assert c.normal_force > 100 * c.slipping_force and c.friction_ratio < mu  # stuck inside the cone by one impulse
     assert not sticking_admissible(s, 1.0, ALPHA)  # below mu_P the slip is the only solution
+
+
+def test_the_step_admits_the_impulsive_stop_longer_before_the_jam_the_larger_mu():
+    """Along a Corollary 4.2 slip the sticking impulse enters the cone before p = 0 (its normal part grows as p -> 0); the
+    wider cone of mu = 6 takes it in far earlier than mu = 1.4 just above mu_P (medians measured 0.017 and 0.19 over 12
+    states each): ``jam_aftermath``'s stop_lead, the window in which the rigid step is not unique."""
+    from crosscheck.engines.pinocchio.studies.rigid import jam_aftermath
+
+    leads = {}
+    for mu in (1.4, 6.0):
+        states, t_jam, _ = corollary_states(mu, 6, np.random.default_rng(5))
+        a = jam_aftermath(ROD, states, mu, timesteps=(1e-3,))
+        assert np.all((a.stop_lead > 0) & (a.stop_lead <= t_jam)), (mu, a.stop_lead, t_jam)
+        leads[mu] = float(np.median(a.stop_lead))
+    assert leads[6.0] > 5 * leads[1.4], leads

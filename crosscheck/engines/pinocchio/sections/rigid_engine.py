@@ -118,12 +118,14 @@ def render(ctx: RenderContext) -> list:
         dts = np.asarray(j["timesteps"])
         jammed = np.asarray(j["jammed"], bool)
         te, re, ie = (np.asarray(j[n], float) for n in ("time_error", "rate_error", "impulse_error"))
+        lead = np.asarray(j.get("stop_lead") or [np.nan] * jammed.shape[1], float)
+        admits = f"{int(np.isfinite(lead).sum())} of {len(lead)}" + (f", median {np.nanmedian(lead):.3g}" if np.isfinite(lead).any() else "")
         for i, dt in enumerate(dts):
             n = jammed.shape[1]
             rows.append([mu, f"{dt:g}", f"{int(jammed[i].sum())} of {n}", _fmt(float(np.nanmedian(np.abs(te[i]))) if jammed[i].any() else None),
                          _fmt(float(np.nanmax(np.abs(te[i]))) if jammed[i].any() else None),
                          _fmt(float(np.nanmedian(np.abs(ie[i]))) if jammed[i].any() else None),
-                         _fmt(float(np.nanmedian(re[i])) if jammed[i].any() else None)])
+                         _fmt(float(np.nanmedian(re[i])) if jammed[i].any() else None), admits if i == 0 else ""])
         med_t = [np.nanmedian(np.abs(te[i])) if jammed[i].any() else np.nan for i in range(len(dts))]
         med_r = [np.nanmedian(re[i]) if jammed[i].any() else np.nan for i in range(len(dts))]
         ax[0].loglog(dts, med_t, "o-", color=LINE_COLORS[k % 7], label=f"Corollary 4.2, $\\mu$ = {mu}")
@@ -143,8 +145,13 @@ def render(ctx: RenderContext) -> list:
                              "p < 0, b < 0 (the step is the impulse problem plus O(dt) terms: first order); Corollary 4.2 states meet p = 0 along "
                              "p ~ (t_jam - t)^(1/2), which a first-order step meets early by up to O(sqrt(dt)).", ["jams.json", "impasses.json"]))
     blocks.append(Table(caption="Corollary 4.2 states in the rigid engine: how many jam (the classifier's one-row impulse JAM), their jam-time errors, the "
-                                "normal impulse against the IWC's, and the post-jam rates against the IWC's.",
-                        header=["mu", "timestep", "JAM", "median |dt jam|", "max |dt jam|", "median |impulse - IWC|", "median |rates - IWC|"],
+                                "normal impulse against the IWC's, the post-jam rates against the IWC's, and how many of the theory's slips reach "
+                                "states whose time step has a second solution before the jam: the tip stopped by one impulse (the sticking impulse "
+                                "-G^-1 u inside the cone), with the median lead before the jam (at least: read at the theory's integration rows). "
+                                "From there on the step's contact problem is not unique and PGS may return the stop: a jam then comes early by up to "
+                                "that lead, with post-jam rates off the IWC, and need not converge as dt shrinks.",
+                        header=["mu", "timestep", "JAM", "median |dt jam|", "max |dt jam|", "median |impulse - IWC|", "median |rates - IWC|",
+                                "step admits a stop before the jam"],
                         rows=rows, data=ctx.data("jams.json")))
     blocks.append(Table(caption="Planar impasses (p < 0, b < 0 at t = 0 on varphi = -pi/2, Psi = 0): the engine's post-jam rates against Keller's "
                                 "two-phase impact, and the observed order of convergence.",

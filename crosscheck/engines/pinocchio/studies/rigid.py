@@ -166,6 +166,11 @@ class Aftermath:
     of the JAM (NaN otherwise); impulse_error: its normal impulse minus the
     IWC's (m g / omega); rate_error: the largest |difference| of Theta, Psi,
     eta one row after the jam row against the IWC's post-impulse rates.
+    stop_lead (n_states,): how long before the analytic jam the theory's slip
+    reaches states whose time step admits a second solution, the tip stopped
+    by one impulse (``sticking_admissible``), read at the theory's integration
+    rows (so at least this long; NaN: never before the jam).  From then on PGS
+    may return the stop, and the engine then jams early by up to this lead.
     """
 
     timesteps: np.ndarray
@@ -173,6 +178,7 @@ class Aftermath:
     time_error: np.ndarray
     impulse_error: np.ndarray
     rate_error: np.ndarray
+    stop_lead: np.ndarray | None = None
 
     def orders(self) -> np.ndarray:
         """Per state jammed at every timestep: the order of convergence of rate_error (NaN otherwise)."""
@@ -181,7 +187,8 @@ class Aftermath:
 
     def as_dict(self) -> dict:
         return {"timesteps": self.timesteps.tolist(), "jammed": self.jammed.tolist(), "time_error": self.time_error.tolist(),
-                "impulse_error": self.impulse_error.tolist(), "rate_error": self.rate_error.tolist(), "orders": self.orders().tolist()}
+                "impulse_error": self.impulse_error.tolist(), "rate_error": self.rate_error.tolist(), "orders": self.orders().tolist(),
+                **({} if self.stop_lead is None else {"stop_lead": self.stop_lead.tolist()})}
 
 
 def jam_aftermath(rod: Rod, states: Sequence[SlipState], mu: float, *, timesteps: Sequence[float] = (1e-3, 3e-4, 1e-4),
@@ -197,6 +204,7 @@ def jam_aftermath(rod: Rod, states: Sequence[SlipState], mu: float, *, timesteps
     n = len(states)
     jammed = np.zeros((len(timesteps), n), bool)
     t_err, imp_err, rate_err = (np.full((len(timesteps), n), np.nan) for _ in range(3))
+    stop_lead = np.full(n, np.nan)
     engine = get("pinocchio")
     for i, s in enumerate(states):
         if analytic.p(s.theta, s.varphi, mu, rod.alpha) <= 0.0 and analytic.b(s.Psi, s.Theta, s.theta) < 0.0:
@@ -206,6 +214,7 @@ def jam_aftermath(rod: Rod, states: Sequence[SlipState], mu: float, *, timesteps
             if a.outcome != Outcome.JAM:
                 raise ValueError(f"states[{i}] must jam analytically by t_max = {t_max:g}; it ends with {a.outcome.name}")
             t_jam, at = float(a.time), a.state
+            stop_lead[i] = _stop_lead(a, mu, rod.alpha)
         iwc = impact(at, mu, rod.alpha)
         for j, dt in enumerate(timesteps):
             run = engine.simulate(rod, s, mu, horizon=t_jam + after, timestep=float(dt))
@@ -216,7 +225,15 @@ def jam_aftermath(rod: Rod, states: Sequence[SlipState], mu: float, *, timesteps
             t_err[j, i] = run.event_time - t_jam
             imp_err[j, i] = run.jam_impulse - iwc.normal_impulse
             rate_err[j, i] = max(abs(R.Theta[k] - iwc.Theta), abs(R.Psi[k] - iwc.Psi), abs(R.eta[k] - iwc.eta))
-    return Aftermath(timesteps=timesteps, jammed=jammed, time_error=t_err, impulse_error=imp_err, rate_error=rate_err)
+    return Aftermath(timesteps=timesteps, jammed=jammed, time_error=t_err, impulse_error=imp_err, rate_error=rate_err, stop_lead=stop_lead)
+
+
+def _stop_lead(slip, mu: float, alpha: float) -> float:
+    """t_jam - the first row of the theory's slip (a ``SlipResult`` ending in JAM) whose step admits the impulsive stop."""
+    for t, (eta, varphi, psi, Psi, theta, Theta) in zip(slip.t[:-1], slip.x[:-1]):
+        if sticking_admissible(SlipState(theta=theta, varphi=varphi, Theta=Theta, Psi=Psi, eta=eta, psi=psi), mu, alpha):
+            return float(slip.time - t)
+    return math.nan
 
 
 def corollary_aftermath(rod: Rod, mu: float, n: int, rng: np.random.Generator, **kw) -> Aftermath:

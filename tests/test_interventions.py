@@ -183,6 +183,16 @@ def test_summary_counts_confirmed_misattributed_and_unremoved():
     assert s["per_cause"]["friction law"]["no_intervention"] == 1
     assert (s["n"], s["removed_by_any"]) == (6, 4)  # all but the compliance and friction-law starts no intervention removes
     assert g["by_intervention"] == {"geometry weaker": 1, "geometry stronger": 1}  # each of the cause's own, over its starts
+    assert g["tried"] == {"geometry weaker": 3, "geometry stronger": 3}
+
+
+def test_summary_counts_a_step_only_some_starts_get_out_of_those_starts():
+    near = _result("compliance", {"compliance": (False, False)})
+    near["interventions"]["causes"]["compliance"].append({"text": "compliance at the closest approach", "removes": True})
+    far = _result("compliance", {"compliance": (False, True)})
+    row = summarise([near, far])["per_cause"]["compliance"]
+    assert row["by_intervention"]["compliance at the closest approach"] == 1 and row["tried"]["compliance at the closest approach"] == 1
+    assert row["tried"]["compliance stronger"] == 2 and row["confirmed"] == 2
 
 
 def test_summary_counts_a_disagreement_removed_only_jointly_apart_from_confirmed_and_none():

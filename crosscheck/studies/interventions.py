@@ -144,9 +144,10 @@ def _jointly(result: dict) -> list[str]:
 
 def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
     """Per cause named by the ladder: how many its own interventions confirm (and of those, how many only at a weaker step),
-    how many each of its interventions removes (``by_intervention``, text -> count: a cause whose interventions change
-    different parts of the engine, such as MuJoCo's friction direction and its impedance's feed-forward, says which part
-    acts), how many another cause's remove instead, how many only the named cause's and another cause's interventions
+    how many each of its interventions removes (``by_intervention``, text -> count, out of the ``tried`` starts that got
+    it, text -> count: a step only some starts get, as at the theory's closest approach to p = 0; a cause whose
+    interventions change different parts of the engine, such as MuJoCo's friction direction and its impedance's
+    feed-forward, says which part acts), how many another cause's remove instead, how many only the named cause's and another cause's interventions
     together remove (``jointly``, other cause -> count: overdetermined, each difference alone giving the engine's
     outcome, so that neither intervention alone can remove it; not counted as confirmed), how many none does; and over
     all of them (``removed_by_any``) how many some cause's intervention removes, whatever the ladder named.
@@ -173,10 +174,11 @@ def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
         removed += bool(fixing or joint)
         side = by_p["in_band" if iv.get("theory_p_min", math.inf) <= band else "above"]
         row = per.setdefault(cause, {"n": 0, "confirmed": 0, "not_at_strongest": 0, "by_other": {}, "jointly": {}, "none": 0,
-                                     "no_intervention": 0, "by_intervention": {}})
+                                     "no_intervention": 0, "by_intervention": {}, "tried": {}})
         row["n"] += 1
         for x in iv["causes"].get(cause) or []:  # what, of the cause's own interventions, removes it: which part of the cause acts
             row["by_intervention"][x["text"]] = row["by_intervention"].get(x["text"], 0) + bool(x["removes"])
+            row["tried"][x["text"]] = row["tried"].get(x["text"], 0) + 1  # (a step some starts get, as at p near 0: fewer than n)
         if cause in LADDER_CAUSES:
             attributed += 1
             side["attributed"] += 1

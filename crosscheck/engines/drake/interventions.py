@@ -50,9 +50,9 @@ def compliance(o, p_min: float | None = None):
                                   {"stiffness": stiffest, "timestep": step}))
     slower = 1.0 if p_min is None else contact_time_at(p_min)
     if slower > 1.0:
-        out += (Intervention(f"point stiffness {o.stiffness:g} -> {stiffest * slower**2:.3g}, timestep {o.timestep:g} -> {step / slower:.3g} "
-                             f"(the closest approach to p = 0, p {1 / slower**2:.2g})",
-                             {"stiffness": stiffest * slower**2, "timestep": step / slower}),)
+        # one text for every start (the values are in the options), so that the report counts this step as one
+        out += (Intervention(f"point stiffness {stiffest:g} / p_min, timestep {step:g} x p_min^(1/2) (at the theory's least p, "
+                             f"0 < p_min < 1)", {"stiffness": stiffest * slower**2, "timestep": step / slower}),)
     return out
 
 

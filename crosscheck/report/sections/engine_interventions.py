@@ -64,7 +64,7 @@ def run(ctx: RunContext) -> None:
                                      **summarise(results)})
 
 
-#: The least eq. p of the example in ``_near_p0``'s text.
+#: A least eq. p below 1, to ask an engine what it adds near p = 0 (``_near_p0``).
 _EXAMPLE_P = 0.01
 
 
@@ -74,8 +74,7 @@ def _near_p0(spec, cause: str, base) -> str:
     extra = spec.interventions_for(cause, base, p_min=_EXAMPLE_P)[len(given):]
     if not extra:
         return ""
-    return (", then, where the theory's slip passes closer to p = 0 than p = 1, the strongest at that closest approach "
-            f"(at p {_EXAMPLE_P:g}: " + "; ".join(iv.text for iv in extra) + ")")
+    return ", then, where the theory's slip passes closer to p = 0 than p = 1, " + "; ".join(iv.text for iv in extra)
 
 
 def _mark(rows: list[dict]) -> str:
@@ -145,11 +144,13 @@ def render(ctx: RenderContext) -> list:
                         header=["cause (ladder)", "starts", "confirmed", "removed by another cause instead", "removed only jointly",
                                 "removed by none"],
                         rows=rows or [["(no laddered disagreement)", "0", "0", "-", "-", "0"]], data=ctx.data("summary.json")))
-    per_iv = [[cause, text, f"{k} of {r['n']}"] for cause, r in summary["per_cause"].items() for text, k in (r.get("by_intervention") or {}).items()]
+    per_iv = [[cause, text, f"{k} of {(r.get('tried') or {}).get(text, r['n'])}"]
+              for cause, r in summary["per_cause"].items() for text, k in (r.get("by_intervention") or {}).items()]
     if per_iv:
         blocks.append(Table(caption=f"{name}: what removes each cause's disagreements, intervention by intervention (a start may be removed by "
                                     "several). Where one cause's interventions change different parts of the engine, this says which part acts.",
-                            header=["cause (ladder)", "intervention", "removes"], rows=per_iv, data=ctx.data("summary.json")))
+                            header=["cause (ladder)", "intervention", "removes (of the starts that got it)"], rows=per_iv,
+                            data=ctx.data("summary.json")))
     if results:
         causes = summary["causes"]
         detail = []

@@ -45,6 +45,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+
 from crosscheck.checks import ALPHA, HORIZON, MU, check
 from crosscheck.engines.bullet.options import FRICTION_AXES
 from crosscheck.outcome import Outcome

@@ -144,11 +144,11 @@ def _jointly(result: dict) -> list[str]:
 
 def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
     """Per cause named by the ladder: how many its own interventions confirm (and of those, how many only at a weaker step),
-    how many each of its interventions removes (``by_intervention``, text -> count, out of the ``tried`` starts that got
-    it, text -> count: a step only some starts get, as at the theory's closest approach to p = 0; a cause whose
-    interventions change different parts of the engine, such as MuJoCo's friction direction and its impedance's
-    feed-forward, says which part acts), how many another cause's remove instead, how many only the named cause's and another cause's interventions
-    together remove (``jointly``, other cause -> count: overdetermined, each difference alone giving the engine's
+    how many each of its interventions removes (``by_intervention``, text -> count, out of ``tried``, text -> the starts
+    that got it: fewer than all for a step only some starts get, as at the theory's closest approach to p = 0; a cause
+    whose interventions change different parts of the engine, such as MuJoCo's friction direction and its impedance's
+    feed-forward, says which part acts), how many another cause's remove instead, how many only the named cause's and
+    another cause's interventions together remove (``jointly``, other cause -> count: overdetermined, each difference alone giving the engine's
     outcome, so that neither intervention alone can remove it; not counted as confirmed), how many none does; and over
     all of them (``removed_by_any``) how many some cause's intervention removes, whatever the ladder named.
 
@@ -158,7 +158,7 @@ def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
     -b/p is at least |b| / p_band and grows without bound toward p = 0, and each difference of an engine (the capsule's
     offset r below the tip, a friction skewed off the slip, a force that builds up over a contact time) moves its own
     p_eff by as much as the theory's p is away from 0: removing one difference leaves another to jam or lift off.
-    Measured on the full report: 91 % confirmed above the band, 66 % in it.
+    Measured on the full report: 127 of 137 (93 %) confirmed above the band, 163 of 242 (67 %) in it.
 
     ``results``: one dict per laddered disagreement with ``cause`` (the ladder's) and ``interventions``
     (``intervene``'s result, with ``theory_p_min``).  Only the causes of ``LADDER_CAUSES`` count as attributed.

@@ -194,7 +194,7 @@ class CapsuleSlipResult(SlipResult):
 
 
 def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0, s_max: float = 1e4,
-                     rtol: float | None = None, atol: float | None = None) -> CapsuleSlipResult:
+                     rtol: float | None = None, atol: float | None = None, friction=None) -> CapsuleSlipResult:
     """Integrate the rigid rod slipping with its contact at C from ``state`` to its first event.
 
     The start is MuJoCo's: (q, v) = ``to_generalized(rod, state, tip=(0, 0, radius))``,
@@ -209,9 +209,12 @@ def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0
       radius: capsule radius r [units of l], in [0, 0.5).
       t_max: horizon in real scaled time; s_max: horizon in s.
       rtol, atol: integrator tolerances (default ``SLIP_INTEGRATION``, as ``crosscheck.theory.slipping``).
+      friction: ``friction(y) -> varphi_f``, the friction's angle at the 7-state y of ``slipping.integrate`` where it is
+        not opposite C's slip (``crosscheck.engines.bullet.law``); p_C is then the p of that friction.  None: Coulomb's.
 
     Returns:
-      A ``CapsuleSlipResult`` (a ``SlipResult``): outcome, real time, state at C, trajectory.
+      A ``CapsuleSlipResult`` (a ``SlipResult``): outcome, real time, state at C, trajectory.  (Its ``normal_force``
+      is Coulomb's -b / p_C: not that of another ``friction``.)
     """
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
@@ -227,13 +230,16 @@ def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0
     eta_C, varphi_C = contact_slip(state, radius=r)
     y0 = np.array([eta_C, varphi_C, state.psi, state.Psi, state.theta, state.Theta, 0.0])
 
+    def angle(y):
+        return None if friction is None else friction(y)
+
     def result(outcome, t, y, reason, s_arr, Y, *, eta_out=None):
-        bb, pp, *_ = slipping._coefficients(y[1], y[3], y[4], y[5], mu, alpha, r)
+        bb, pp, *_ = slipping._coefficients(y[1], y[3], y[4], y[5], mu, alpha, r, angle(y))
         eta_A, varphi_A = tip_slip(y[0] if eta_out is None else eta_out, y[1], y[5], radius=r)
         return CapsuleSlipResult(outcome, t, _state_from(y, eta=eta_out), reason, bb, pp, s_arr, Y[:, 6].copy(), Y[:, :6].copy(),
                                  radius=r, tip_eta=float(eta_A), tip_varphi=float(varphi_A), mu=mu, alpha=alpha)
 
-    b0, p0, *_ = slipping._coefficients(varphi_C, state.Psi, state.theta, state.Theta, mu, alpha, r)
+    b0, p0, *_ = slipping._coefficients(varphi_C, state.Psi, state.theta, state.Theta, mu, alpha, r, angle(y0))
     early = _start_outcome(eta_C, b0, p0)
     if early is None and not -math.pi < varphi_C <= 0.0:
         # C slips across the rod's vertical plane: outside the paper's domain, where a run would stop
@@ -243,5 +249,6 @@ def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0
     if early is not None:
         return result(early, 0.0, y0, reason, np.zeros(1), y0[None, :].copy())
 
-    outcome, t_end, y, reason, s_arr, Y, eta_out = slipping.integrate(y0, mu, alpha, r, t_max=t_max, s_max=s_max, rtol=rtol, atol=atol)
+    outcome, t_end, y, reason, s_arr, Y, eta_out = slipping.integrate(y0, mu, alpha, r, t_max=t_max, s_max=s_max, rtol=rtol, atol=atol,
+                                                                      friction=friction)
     return result(outcome, t_end, y, reason, s_arr, Y, eta_out=eta_out)

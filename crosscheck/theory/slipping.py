@@ -186,11 +186,11 @@ def _start_outcome(eta: float, b: float, p: float) -> Outcome | None:
     return None
 
 
-def _events(mu: float, alpha: float, r: float, t_max: float):
-    """Terminal event functions g(s, y) of the run and the (outcome, reason) each one means."""
+def _events(mu: float, alpha: float, r: float, t_max: float, friction=None):
+    """Terminal event functions g(s, y) of the run and the (outcome, reason) each one means (``friction``: ``integrate``'s)."""
 
     def bp(y):
-        b, p, *_ = _coefficients(y[1], y[3], y[4], y[5], mu, alpha, r)
+        b, p, *_ = _coefficients(y[1], y[3], y[4], y[5], mu, alpha, r, None if friction is None else friction(y))
         return b, p
 
     return event_table(bp, t_max)
@@ -298,20 +298,20 @@ def continue_slip(state: SlipState, mu, alpha, *, t_max: float = 10.0, s_max: fl
 
 
 def integrate(y0: np.ndarray, mu: float, alpha: float, r: float, *, t_max: float, s_max: float, rtol: float | None = None,
-              atol: float | None = None, rhs=None, bp=None) -> tuple:
+              atol: float | None = None, friction=None) -> tuple:
     """The slipping flow with its contact at C = A - r K from the slipping start ``y0`` = (eta, varphi, psi, Psi, theta,
     Theta, 0) to its first event (checked arguments; the start rules are the caller's).
 
-    ``rhs(y)``, ``bp(y)``: another flow on the same 7-state and its (b, p), for a friction law other than Coulomb's
-    (``crosscheck.engines.bullet.law``); None: this module's.
+    ``friction(y)``: the friction's angle varphi_f at the 7-state y (``_coefficients``), for a friction law other than
+    Coulomb's (``crosscheck.engines.bullet.law``); None: Coulomb's.
 
     Returns (outcome, t_end, y, reason, s, Y, eta_out): the event, its real time, the 7-state there, which rule fired,
     the trajectory cut at the event (s and the (n, 7) states), and 0 for a STICK's returned slip speed (None otherwise).
     """
     rtol = SLIP_INTEGRATION.rtol if rtol is None else rtol
     atol = SLIP_INTEGRATION.atol if atol is None else atol
-    events, meaning = _events(mu, alpha, r, t_max) if bp is None else event_table(bp, t_max)
-    fun = (lambda s, y: _rhs7(y, mu, alpha, r)) if rhs is None else (lambda s, y: rhs(y))
+    events, meaning = _events(mu, alpha, r, t_max, friction)
+    fun = (lambda s, y: _rhs7(y, mu, alpha, r)) if friction is None else (lambda s, y: _rhs7(y, mu, alpha, r, friction(y)))
     sol = solve_ivp(fun, (0.0, s_max), y0, method="DOP853", rtol=rtol, atol=atol, events=events)
     s_arr, Y = sol.t, sol.y.T
     if sol.status == -1 or not np.all(np.isfinite(Y)):

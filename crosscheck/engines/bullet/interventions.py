@@ -23,7 +23,7 @@ def geometry(o):
 def friction_law(o):
     if o.friction_axes == "slip":  # already Coulomb's direction: nothing to change
         return ()
-    return (Intervention(f"friction rows along world x, y -> along the slip", {"friction_axes": "slip"}),)
+    return (Intervention("friction rows along world x, y -> along the slip", {"friction_axes": "slip"}),)
 
 
 def discretisation(o):

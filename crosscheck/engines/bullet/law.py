@@ -30,10 +30,10 @@ This module is that law in continuous time: the rigid capsule of
 the friction along the direction above, the angle varphi_f of
 ``friction_angle`` in the rod's frame taking the place of C's slip angle in
 every force term (p_eff is eq. p at C with varphi_f; the projections of the
-acceleration on the slip keep varphi).  It is integrated with the theory's own
-desingularised flow and events (``crosscheck.theory.slipping.event_table``),
-so with ``axes="slip"`` (varphi_f = varphi) it is the capsule theory to the
-last bit.  Bullet's ladder (``crosscheck.studies.ladder``) has it as the rung
+acceleration on the slip keep varphi).  It is the capsule theory's own
+desingularised flow, events and start rules with that friction
+(``crosscheck.theory.capsule.slip_until_event``'s ``friction``), so with
+``axes="slip"`` (varphi_f = varphi) it is the capsule theory to the last bit.  Bullet's ladder (``crosscheck.studies.ladder``) has it as the rung
 between the rigid capsule and Bullet's own step.
 
 Scaled units (section 2.1).
@@ -44,14 +44,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
-from crosscheck.checks import ALPHA, HORIZON, MU, check
 from crosscheck.engines.bullet.options import FRICTION_AXES
 from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
-from crosscheck.theory import capsule, slipping
-from crosscheck.theory.capsule import RADIUS, contact_slip
+from crosscheck.theory import capsule
 
 __all__ = ["AXES", "friction_angle", "slip_until_event", "LawRun", "friction_law"]
 
@@ -70,48 +66,16 @@ def friction_angle(varphi, psi, theta, alpha, r):
     return math.atan2(-spsi * ux + cpsi * uy, cpsi * ux + spsi * uy)  # back in the rod's (i, j) frame
 
 
-def _angle(y, alpha, r, axes):
-    return None if axes == "slip" else friction_angle(y[1], y[2], y[4], alpha, r)
-
-
 def slip_until_event(state: SlipState, mu, alpha, *, radius, axes: str = "world", t_max: float = 10.0, s_max: float = 1e4):
-    """The rigid capsule with Bullet's friction law from ``state`` (its psi included) to its first event.
-
-    The start rules, events and result are ``crosscheck.theory.capsule.slip_until_event``'s, with eq. p at C taken at the
-    friction's angle (p_eff).  ``axes``: "world" (Bullet's) or "slip" (Coulomb's: the capsule theory).
-    Returns a ``crosscheck.theory.capsule.CapsuleSlipResult`` (its ``p``: p_eff).
+    """The rigid capsule with Bullet's friction law from ``state`` (its psi included) to its first event: the capsule
+    theory (``crosscheck.theory.capsule.slip_until_event``: its start rules, events and result) with the friction along
+    ``friction_angle``, and eq. p at C taken at that angle (p_eff).  ``axes``: "world" (Bullet's) or "slip" (Coulomb's:
+    the capsule theory itself).  Returns a ``crosscheck.theory.capsule.CapsuleSlipResult`` (its ``p``: p_eff).
     """
-    if not isinstance(state, SlipState):
-        raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
     if axes not in AXES:
         raise ValueError(f"axes must be one of {', '.join(AXES)}; got {axes!r}")
-    state.check_start()
-    r = float(check("radius", radius, RADIUS))
-    mu, alpha = float(check("mu", mu, MU)), float(check("alpha", alpha, ALPHA))
-    t_max = float(check("t_max", t_max, HORIZON))
-    eta_C, varphi_C = contact_slip(state, radius=r)
-    y0 = np.array([eta_C, varphi_C, state.psi, state.Psi, state.theta, state.Theta, 0.0])
-
-    def bp(y):
-        b, p, *_ = slipping._coefficients(y[1], y[3], y[4], y[5], mu, alpha, r, _angle(y, alpha, r, axes))
-        return b, p
-
-    def result(outcome, t, y, reason, s_arr, Y, eta_out=None):
-        b, p = bp(y)
-        eta_A, varphi_A = capsule.tip_slip(y[0] if eta_out is None else eta_out, y[1], y[5], radius=r)
-        return capsule.CapsuleSlipResult(outcome, t, slipping._state_from(y, eta=eta_out), reason, b, p, s_arr, Y[:, 6].copy(), Y[:, :6].copy(),
-                                         radius=r, tip_eta=float(eta_A), tip_varphi=float(varphi_A), mu=mu, alpha=alpha)
-
-    b0, p0 = bp(y0)
-    early = slipping._start_outcome(eta_C, b0, p0)
-    reason = "start"
-    if early is None and not -math.pi < varphi_C <= 0.0:
-        early, reason = Outcome.SLIP, ("varphi=0" if varphi_C < math.pi / 2 else "varphi=-pi")
-    if early is not None:
-        return result(early, 0.0, y0, reason, np.zeros(1), y0[None, :].copy())
-    outcome, t_end, y, reason, s_arr, Y, eta_out = slipping.integrate(y0, mu, alpha, r, t_max=t_max, s_max=s_max,
-                                                                      rhs=lambda y: slipping._rhs7(y, mu, alpha, r, _angle(y, alpha, r, axes)), bp=bp)
-    return result(outcome, t_end, y, reason, s_arr, Y, eta_out=eta_out)
+    friction = None if axes == "slip" else (lambda y: friction_angle(y[1], y[2], y[4], float(alpha), float(radius)))
+    return capsule.slip_until_event(state, mu, alpha, radius=radius, t_max=t_max, s_max=s_max, friction=friction)
 
 
 @dataclass(frozen=True)

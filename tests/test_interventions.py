@@ -270,6 +270,29 @@ def test_mujoco_stick_before_the_jam_is_removed_by_less_feed_forward_not_by_a_cl
     assert len(direction) == 4 and not any(x["removes"] for x in direction)
 
 
+#: A start of the theta-Theta map whose theory slip passes p = 0.077 and goes on slipping (SLIP at the domain's edge at
+#: 0.498) while MuJoCo jams in its first steps; the ladder names the feed-forward.
+MUJOCO_FED_JAM = (SlipState(theta=0.9921875, varphi=-1.9, Theta=-0.234375, Psi=1.7, eta=1.0), 1.4)
+
+
+def test_mujoco_feed_forward_near_p_zero_is_removed_with_the_friction_rows_softened_alike_not_kept_stiff():
+    """Lowering the impedance on every row, as MuJoCo has one impedance per contact, lets the slip go on as the theory's does;
+    lowering it with the friction rows' regulariser kept leaves stiff friction rows that MuJoCo's cone problem carries by
+    raising the normal force, and the slip still stops (a jam, or at 0.01 a lift-off).  Both are the feed-forward removed,
+    neither alone, so both run and either confirms it."""
+    from crosscheck.engines.mujoco.studies.ladder import run_ladder
+
+    state, mu = MUJOCO_FED_JAM
+    assert run_ladder(state, mu, timestep=3e-4).cause == "feed-forward"
+    r = intervene("mujoco", state, mu, causes=("feed-forward",), timestep=3e-4)
+    assert r["theory"] == "SLIP" and 0 < r["theory_p_min"] < Thresholds().jam_p_eff
+    fed = {x["text"].split(" (")[0]: x for x in r["causes"]["feed-forward"]}
+    assert fed["impedance 0.95 -> 0.1 on every row"]["removes"] and fed["impedance 0.95 -> 0.01 on every row"]["removes"]
+    assert "impratio" not in fed["impedance 0.95 -> 0.1 on every row"]["options"]
+    kept = [fed[f"impedance 0.95 -> {d}"] for d in ("0.5", "0.1", "0.01")]
+    assert [x["label"] for x in kept[:2]] == ["JAM", "JAM"] and not any(x["removes"] for x in kept)
+
+
 def test_summary_splits_the_confirmed_by_how_close_the_theory_slip_comes_to_p_zero():
     no, yes = (False, False), (False, True)
     results = [_result("geometry", {"geometry": yes}), _result("geometry", {"geometry": no}), _result("geometry", {"geometry": yes}),
@@ -281,3 +304,16 @@ def test_summary_splits_the_confirmed_by_how_close_the_theory_slip_comes_to_p_ze
     assert s["by_p"]["in_band"] == {"attributed": 2, "confirmed": 1} and s["by_p"]["above"] == {"attributed": 1, "confirmed": 1}
     narrow = summarise(results, p_band=0.1)
     assert narrow["by_p"]["in_band"] == {"attributed": 1, "confirmed": 1} and narrow["by_p"]["above"] == {"attributed": 2, "confirmed": 1}
+
+
+def test_summary_splits_the_confirmed_by_the_start_s_distance_to_the_theory_s_event_boundary():
+    no, yes = (False, False), (False, True)
+    results = [_result("geometry", {"geometry": yes}), _result("geometry", {"geometry": no}), _result("compliance", {"compliance": yes}),
+               _result("geometry", {"geometry": yes}), _result("unexplained", {"geometry": yes}), _result("geometry", {"geometry": no})]
+    # as saved: "inf" beyond the largest probe (JSON has no inf), None where the map section did not probe
+    for r, d in zip(results, (0.01, 0.01, "inf", 0.3, 0.01, None)):
+        r["boundary_distance"] = d
+    s = summarise(results)
+    assert s["by_distance"] == [{"distance": 0.01, "attributed": 2, "confirmed": 1}, {"distance": 0.3, "attributed": 1, "confirmed": 1},
+                                {"distance": math.inf, "attributed": 1, "confirmed": 1}]
+    assert summarise(results[-1:])["by_distance"] == []

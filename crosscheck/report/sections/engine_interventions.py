@@ -14,6 +14,8 @@ import json
 import time
 from pathlib import Path
 
+import numpy as np
+
 from crosscheck.report.section import RenderContext, RunContext, Section, SkipSection, Table, Text
 
 #: Share of attributed disagreements their own cause's intervention must remove for the verdict "confirmed".
@@ -41,7 +43,35 @@ def _laddered(ctx: RunContext) -> tuple[list[dict], dict]:
     starts = [{"map": ld["map"], "state": {k: ld["state"][k] for k in ("theta", "varphi", "Theta", "Psi", "eta")}, "mu": ld["mu"],
                "cause": ld["cause"], "reference": ld["reference"]}
               for ld in store.read_json("ladders") if ld["cause"] not in ("agree", "not rated")]
+    _with_boundary_distance(ctx, starts, lp["maps"] if isinstance(lp.get("maps"), str) else lp.get("reuse"))
     return starts, {"options": lp["options"], "alpha": lp["alpha"], "horizon": lp["horizon"]}
+
+
+def _with_boundary_distance(ctx: RunContext, starts: list[dict], maps: str | None) -> None:
+    """Each start's distance to the theory's event boundary as the engine's map section probed it (``boundary_distance``:
+    "inf" beyond the largest probe; None where that section did not probe, as in the quick report, or is not there)."""
+    import math
+
+    found = ctx.finished(maps) if maps else None
+    tables = {}
+    for st in starts:
+        st["boundary_distance"] = None
+        if found is None:
+            continue
+        if st["map"] not in tables:
+            try:
+                tables[st["map"]] = found[1].read_table(f"events_{st['map']}", text=("analytic_reason",))
+            except (OSError, ValueError):
+                tables[st["map"]] = None
+        t = tables[st["map"]]
+        if t is None or "boundary_distance" not in t:
+            continue
+        at = np.ones(len(t["theta"]), bool)
+        for k, v in (*st["state"].items(), ("mu", st["mu"])):
+            at &= np.asarray(t[k], float) == v  # the ladder took its starts from these very tables
+        d = np.asarray(t["boundary_distance"], float)[at]
+        if len(d) == 1 and not math.isnan(d[0]):
+            st["boundary_distance"] = float(d[0])
 
 
 def run(ctx: RunContext) -> None:
@@ -138,12 +168,21 @@ def render(ctx: RenderContext) -> list:
         head += (f" {summary['jointly']} more are removed only by the cause's strongest intervention joined to another cause's, neither "
                  "removing it alone: overdetermined, each difference giving the engine's outcome on its own (not counted as confirmed).")
     head += _by_p_sentence(summary)
+    head += _by_distance_sentence(summary)
     blocks.append(Table(caption=f"{name}: {head} Per cause named by the ladder: starts, confirmed by its own intervention, removed by "
                                 "another cause's interventions instead (a misattribution to look into), removed only jointly with "
                                 "another cause of the ladder, removed by none.",
                         header=["cause (ladder)", "starts", "confirmed", "removed by another cause instead", "removed only jointly",
                                 "removed by none"],
                         rows=rows or [["(no laddered disagreement)", "0", "0", "-", "-", "0"]], data=ctx.data("summary.json")))
+    if summary.get("by_distance"):
+        blocks.append(Table(caption=f"{name}: the attributed disagreements and those confirmed, by the start's distance to the theory's own "
+                                    "event boundary (the smallest random perturbation of (theta, varphi, Theta, Psi, eta) that changes the "
+                                    "theory's outcome, as the map section probed it). Where a perturbation as small as the capsule's radius "
+                                    "turns the theory's outcome, each of the engine's differences may turn it, and removing one leaves the others.",
+                            header=["distance to the theory's boundary", "attributed", "confirmed"],
+                            rows=[[_distance(b["distance"]), str(b["attributed"]), _share({"attributed": b["attributed"], "confirmed": b["confirmed"]})]
+                                  for b in summary["by_distance"]], data=ctx.data("summary.json")))
     per_iv = [[cause, text, f"{k} of {(r.get('tried') or {}).get(text, r['n'])}"]
               for cause, r in summary["per_cause"].items() for text, k in (r.get("by_intervention") or {}).items()]
     if per_iv:
@@ -191,6 +230,23 @@ def _by_p_sentence(summary: dict) -> str:
             "time) moves its own p across 0, so that removing one leaves another to jam or lift off.")
 
 
+def _distance(d) -> str:
+    return "beyond the largest probe" if float(d) == float("inf") else f"{float(d):g}"
+
+
+def _by_distance_sentence(summary: dict) -> str:
+    """The confirmed share at the smallest probed distance to the theory's event boundary and beyond the largest probe."""
+    rows = summary.get("by_distance") or []
+    if not rows:
+        return ""
+    near, far = rows[0], rows[-1]
+    out = f" Where a perturbation of {_distance(near['distance'])} turns the theory's own outcome, {_share(near)} are confirmed"
+    if far is not near:
+        out += (f"; where none up to the largest probe does, {_share(far)}" if float(far["distance"]) == float("inf") else
+                f"; at distance {_distance(far['distance'])}, {_share(far)}")
+    return out + "."
+
+
 def _joint_cell(iv: dict) -> str:
     """The joined interventions' labels: "with compliance: slip (removes)"; "-" where none ran."""
     return "; ".join(f"with {r['with']}: " + _mark([r]) for r in iv.get("joint") or []) or "-"
@@ -224,7 +280,8 @@ def finding(data: Path) -> list:
                     f"({100 * share:.0f} %) removed by their own cause's intervention on {name} itself; {other} removed by another cause's "
                     f"instead, {summary.get('jointly', 0)} only jointly with another cause's (overdetermined), {none} by none; {summary.get('removed_by_any', '-')} of {summary.get('n', '-')} removed by some intervention"
                     + (f"; above eq. p {summary['by_p']['p_band']:g} along the theory's slip {_share(summary['by_p']['above'])}, in that band "
-                       f"{_share(summary['by_p']['in_band'])}" if summary.get("by_p") else ""), "confirmed" if share >= CONFIRMED_SHARE else "partly confirmed", data.name,
+                       f"{_share(summary['by_p']['in_band'])}" if summary.get("by_p") else "") + _by_distance_sentence(summary).rstrip(".").replace(" Where", "; where", 1),
+                    "confirmed" if share >= CONFIRMED_SHARE else "partly confirmed", data.name,
                     why=f"confirmed when at least {100 * CONFIRMED_SHARE:.0f} % are removed by one of their own cause's interventions")]
 
 

@@ -15,6 +15,7 @@ from crosscheck.state import SlipState
 from crosscheck.studies.comparison import LAG_TAU
 from crosscheck.theory.jam_lag import P_FLOOR
 from crosscheck.studies.interventions import intervene, summarise
+from crosscheck.studies.ladder import run_ladder
 from crosscheck.theory.slipping import slip_until_event
 
 LADDERED = [s.name for s in engines.specs() if s.ladder is not None and s.report is not None]
@@ -212,15 +213,41 @@ def test_summary_counts_a_disagreement_removed_only_jointly_apart_from_confirmed
 OVERDETERMINED_JAM = (SlipState(theta=1.0125, varphi=-1.9, Theta=-0.125, Psi=1.7, eta=1.0), 1.4)
 
 
-def test_an_overdetermined_jam_is_removed_only_by_the_thinner_capsule_and_the_stiffer_contact_together():
+def test_an_overdetermined_jam_is_removed_only_by_the_thinner_capsule_and_the_stiffer_contact_together_as_the_ladder_predicts():
+    """The ladder names geometry (the rigid capsule jams); its compliant rod with the capsule as thin as the geometry
+    intervention makes it jams too, so the ladder itself says the softness alone also gives the jam: the pair, which
+    the two interventions together confirm on Drake (neither alone removes it)."""
     state, mu = OVERDETERMINED_JAM
-    r = intervene("drake_continuous", state, mu, causes=("geometry", "compliance"), named="geometry")
+    assert run_ladder("drake_continuous", state, mu).cause == "geometry"
+    r = intervene("drake_continuous", state, mu, causes=("geometry", "compliance"), named="geometry", reference="JAM")
     assert r["theory"] == "SLIP"
     assert not any(x["removes"] for x in r["causes"]["geometry"]) and not any(x["removes"] for x in r["causes"]["compliance"])
     # (the compliance rows: x 10, x 100, x 1000 at a tenth of the step, and that again at the slip's closest approach to p = 0)
     assert [x["outcome"] for x in r["causes"]["geometry"] + r["causes"]["compliance"]] == ["JAM"] * 6
     (joint,) = r["joint"]
     assert joint["with"] == "compliance" and joint["removes"] and joint["options"]["radius"] < 0.001 and joint["options"]["stiffness"] > 1e6
+    thin = r["without_offset"]
+    assert thin["radius"] == r["causes"]["geometry"][-1]["options"]["radius"] and thin["also"] == "compliance"
+    assert thin["rungs"] == [{"cause": "compliance", "label": "JAM"}]
+    s = summarise([{"cause": "geometry", "interventions": r}])
+    assert (s["confirmed"], s["jointly"], s["per_cause"]["geometry"]["overdetermined"]) == (1, 0, {"compliance": 1})
+
+
+def test_summary_confirms_a_pair_only_where_the_ladder_named_it_and_the_two_interventions_together_remove_it():
+    no, yes = (False, False), (False, True)
+
+    def start(also, fixes, joint_removes):
+        r = _result("geometry", fixes)
+        r["interventions"]["without_offset"] = {"radius": 0.001, "rungs": [], "also": also}
+        r["interventions"]["joint"] = [{"with": "compliance", "removes": joint_removes}]
+        return r
+
+    s = summarise([start("compliance", {"geometry": no, "compliance": no}, True),  # the ladder's pair, removed together
+                   start(None, {"geometry": no, "compliance": no}, True),  # the ladder saw no pair: only jointly
+                   start("friction law", {"geometry": no, "compliance": no}, True),  # the ladder's pair is another one
+                   start("compliance", {"geometry": yes, "compliance": no}, False)])  # the offset alone after all
+    g = s["per_cause"]["geometry"]
+    assert (s["confirmed"], g["overdetermined"], s["jointly"], g["jointly"]) == (2, {"compliance": 1}, 2, {"compliance": 2})
 
 
 #: A start of the full report's theta-Theta map where MuJoCo's slip stops at once (JAM at t = 0) while the theory lifts

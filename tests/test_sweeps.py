@@ -163,7 +163,8 @@ def test_a_damaged_manifest_or_chunk_record_is_named_or_recomputed(tmp_path, cap
     sweeps.run(spec, out, workers=1, progress=False)
     ref = results(sweeps.load(out))
     (out / "chunks" / "chunk-000001.json").write_text("[1, 2]\n")
-    s = sweeps.run(spec, out, workers=1, progress=False)
+    with pytest.warns(UserWarning, match=r"chunk 1 of .* has a damaged record chunk-000001.json \(a JSON list, expected an object\); it will be recomputed"):
+        s = sweeps.run(spec, out, workers=1, progress=False)
     assert s.computed == [1]
     pd.testing.assert_frame_equal(results(sweeps.load(out)), ref)
     (out / "manifest.json").write_text("42\n")

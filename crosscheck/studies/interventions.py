@@ -53,7 +53,7 @@ def causes_with_interventions(engine: str) -> list[str]:
 
 
 def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, horizon: float = 2.0, thresholds: Thresholds | None = None,
-              causes=None, named: str | None = None, **options) -> dict:
+              causes=None, named: str | None = None, reference=None, **options) -> dict:
     """``state`` through every intervention ``engine`` declares (or those of ``causes``), at the run's ``options``.
 
     Returns a dict: ``theory`` (rung 1's label), ``theory_time``, what the theory's slip looks like to the run
@@ -68,6 +68,11 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
     the two differences produces on its own (``summarise``).  Not only the later causes: near p = 0 a difference whose
     rung did not give the engine's outcome alone (a friction skewed off the slip, with the capsule's offset) still
     gives it in the engine, where every other difference is present.
+
+    ``reference``: the engine's label the ladder judged (an ``Outcome`` or its name).  With ``named`` geometry,
+    ``without_offset`` holds the ladder's later models rerun with the thin capsule
+    (``crosscheck.studies.ladder.without_capsule_offset``): its ``also`` is the cause that gives the engine's outcome
+    without the capsule's offset, the ladder's own prediction that the disagreement is overdetermined.
     """
     spec = engines.get(engine)
     if not isinstance(state, SlipState):
@@ -99,6 +104,11 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
 
     for cause in (causes if causes is not None else causes_with_interventions(engine)):
         out["causes"][cause] = [attempt(iv.text, iv.options) for iv in spec.interventions_for(cause, base, p_min=out["theory_p_min"])]
+    if named == "geometry" and reference is not None:
+        from crosscheck.studies.ladder import without_capsule_offset
+
+        ref = Outcome[reference] if isinstance(reference, str) else Outcome(int(reference))
+        out["without_offset"] = without_capsule_offset(engine, state, mu, ref, alpha=alpha, horizon=horizon, thresholds=th, **given)
     own = out["causes"].get(named) or []
     if own and not any(_fixes(out, c) for c in out["causes"]):  # (one that another cause removes alone is a misattribution)
         # an overdetermined disagreement: the named difference and another one each produce the engine's outcome alone
@@ -152,6 +162,11 @@ def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
     outcome, so that neither intervention alone can remove it; not counted as confirmed), how many none does; and over
     all of them (``removed_by_any``) how many some cause's intervention removes, whatever the ladder named.
 
+    Where the ladder itself finds the disagreement overdetermined (geometry named, and its later models without the
+    capsule's offset still giving the engine's outcome through a cause ``also``: ``intervene``'s ``without_offset``),
+    the ladder's cause is the pair, and it is confirmed when the two interventions together remove the disagreement
+    and neither alone does: counted as confirmed, and apart in ``overdetermined`` (also -> count).
+
     ``by_p``: the attributed disagreements and those confirmed, apart for the starts whose theory slip enters the band
     eq. p <= ``p_band`` (default: the classifier's ``Thresholds.jam_p_eff``, where a slip stop under a force beyond
     the slipping -b/p_eff reads as a JAM) and for those whose slip keeps above it.  In the band the rigid normal force
@@ -184,8 +199,10 @@ def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
         joint = _jointly(iv)
         removed += bool(fixing or joint)
         side = by_p["in_band" if iv.get("theory_p_min", math.inf) <= band else "above"]
-        row = per.setdefault(cause, {"n": 0, "confirmed": 0, "not_at_strongest": 0, "by_other": {}, "jointly": {}, "none": 0,
-                                     "no_intervention": 0, "by_intervention": {}, "tried": {}})
+        row = per.setdefault(cause, {"n": 0, "confirmed": 0, "not_at_strongest": 0, "overdetermined": {}, "by_other": {}, "jointly": {},
+                                     "none": 0, "no_intervention": 0, "by_intervention": {}, "tried": {}})
+        also = (iv.get("without_offset") or {}).get("also")
+        both = bool(also) and not fixing and also in joint  # the ladder's overdetermined pair, removed by the two together
         row["n"] += 1
         for x in iv["causes"].get(cause) or []:  # what, of the cause's own interventions, removes it: which part of the cause acts
             row["by_intervention"][x["text"]] = row["by_intervention"].get(x["text"], 0) + bool(x["removes"])
@@ -199,9 +216,11 @@ def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
                 near["attributed"] += 1
             if cause not in iv["causes"]:
                 row["no_intervention"] += 1
-            elif _fixes(iv, cause):
+            elif _fixes(iv, cause) or both:
                 row["confirmed"] += 1
                 row["not_at_strongest"] += _not_at_strongest(iv, cause)
+                if both:
+                    row["overdetermined"][also] = row["overdetermined"].get(also, 0) + 1
                 confirmed += 1
                 side["confirmed"] += 1
                 if near is not None:
@@ -209,7 +228,9 @@ def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
         if cause not in fixing:
             for c in fixing:
                 row["by_other"][c] = row["by_other"].get(c, 0) + 1
-            if not fixing and joint:
+            if both:
+                pass
+            elif not fixing and joint:
                 row["jointly"][joint[0]] = row["jointly"].get(joint[0], 0) + 1
                 jointly += 1
             elif not fixing:

@@ -26,6 +26,16 @@ stretch could not run.  MuJoCo's own ladder (``crosscheck.engines.mujoco.studies
 is this ladder with its rungs written out, the Kelvin-Voigt match of its
 impedance among them.
 
+A ladder is one order of adding the differences, so it names the first
+that gives the engine's outcome and cannot see a later one that gives it
+alone.  The capsule's offset is the one difference every model rung can
+drop (its radius): ``without_capsule_offset`` reruns the models after
+geometry with the capsule as thin as the engine's strongest geometry
+intervention makes it.  Where they still give the engine's outcome, the
+disagreement is overdetermined, and the ladder's cause is the pair
+(``crosscheck.studies.interventions`` confirms it by the two
+interventions together).
+
 Scaled units (section 2.1).
 """
 
@@ -48,7 +58,7 @@ from crosscheck.studies.agreement import DEFAULT_HORIZON
 from crosscheck.studies.comparison import RATED, compared_label, run_comparison_window, run_stick_from, window_margin
 from crosscheck.theory.slipping import slip_until_event
 
-__all__ = ["Rung", "EngineLadder", "rungs_of", "run_ladder", "final_stretch_cause", "detour", "CAUSES"]
+__all__ = ["Rung", "EngineLadder", "rungs_of", "run_ladder", "without_capsule_offset", "final_stretch_cause", "detour", "CAUSES"]
 
 #: Every cause a start can get (as MuJoCo's ladder): the four rungs' causes, "unexplained", "undetermined",
 #: "agree" (rung 1 already equals the engine) and "not rated" (rung 1 is GB or DIVERGED).
@@ -163,6 +173,44 @@ def run_ladder(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, 
     else:
         ref = rungs[-1].label if rungs[-1].ok else None
     return EngineLadder(engine, state, mu, until, lag, tuple(rungs), ref, _cause(rungs, ref))
+
+
+def without_capsule_offset(engine: str, state: SlipState, mu: float, reference: Outcome | int, *, alpha: float = 3.0,
+                           horizon: float = DEFAULT_HORIZON, thresholds: Thresholds | None = None, **options) -> dict | None:
+    """The ladder's models after geometry rerun with the capsule as thin as the engine's strongest geometry intervention makes it.
+
+    The capsule's offset is the one difference every model rung can drop (its radius).  Where the ladder names
+    geometry, the rung that first gives the engine's outcome is the rigid capsule; if the later models still give the
+    engine's outcome without the offset, another difference produces it on its own: the disagreement is
+    overdetermined, and removing the offset alone leaves it.  ``also`` is then the cause of that stretch (the first
+    of the final stretch of these rungs equal to ``reference``, as ``final_stretch_cause``), None where the last of
+    them leaves the engine's outcome (the offset is needed) or one could not run.
+
+    Returns None when the engine has no geometry intervention or no model rung after geometry; else
+    {"radius": the thin radius, "rungs": [{cause, label}], "also": cause or None}.  ``options`` as ``run_ladder``.
+    """
+    spec = engines.get(engine)
+    thin = spec.interventions_for("geometry", spec.options(**options))
+    later = [(c, r) for c, r in rungs_of(engine) if c != "geometry" and r not in ("capsule", "engine")]
+    if not thin or not later:
+        return None
+    opts = spec.options(**{**options, **thin[-1].options})
+    th = thresholds or Thresholds()
+    rod = Rod.scaled(alpha)
+    first = slip_until_event(state, mu, alpha, t_max=horizon)
+    until, lag, run_until = run_comparison_window(first, horizon, mu, alpha, opts)
+    since = run_stick_from(first, until, th, opts)
+    rungs = []
+    for k, (cause, rung) in enumerate(later, start=2):
+        try:
+            o, t = _run(rung, spec=spec, rod=rod, state=state, mu=mu, alpha=alpha, opts=opts, th=th, t_analytic=run_until,
+                        t_engine=run_until + window_margin(th, opts.timestep))
+            rungs.append(Rung(k, rung.rpartition(":")[2], cause, "ok", o, t, compared_label(o, t, until + lag, since)))
+        except Exception as e:  # noqa: BLE001 - a rung that fails leaves the question open
+            rungs.append(Rung(k, rung.rpartition(":")[2], cause, "failed", detail=f"{type(e).__name__}: {e}"))
+    also = final_stretch_cause(rungs, Outcome(int(reference)), lambda r: r.cause)
+    return {"radius": opts.radius, "rungs": [{"cause": r.cause, "label": None if r.label is None else r.label.name} for r in rungs],
+            "also": also if also in LADDER_CAUSES else None}
 
 
 def _cause(rungs, reference: Outcome | None) -> str:

@@ -84,7 +84,7 @@ def run(ctx: RunContext) -> None:
     written = time.monotonic()
     for st in ctx.progress(starts, desc=f"{P['engine']} interventions"):
         iv = intervene(P["engine"], SlipState(**st["state"]), st["mu"], alpha=at["alpha"], horizon=at["horizon"], named=st["cause"],
-                       **at["options"])
+                       reference=st["reference"], **at["options"])
         results.append({**st, "interventions": iv})
         if time.monotonic() - written >= SAVE_EVERY:  # the starts so far, for a reader of a long run; not at every start:
             ctx.store.write_json("interventions", results)  # the whole file each time (0.4 s at MuJoCo's 291 starts)
@@ -117,7 +117,9 @@ def _figure(ctx: RenderContext, name: str, summary: dict):
     import matplotlib.pyplot as plt
 
     causes = list(summary["per_cause"])
-    parts = [("confirmed by its own intervention", [summary["per_cause"][c]["confirmed"] for c in causes], "#2a9d4b"),
+    over = [sum((summary["per_cause"][c].get("overdetermined") or {}).values()) for c in causes]
+    parts = [("confirmed by its own intervention", [summary["per_cause"][c]["confirmed"] - k for c, k in zip(causes, over)], "#2a9d4b"),
+             ("confirmed overdetermined (the ladder's pair, by both together)", over, "#8fd19e"),
              ("removed by another cause's instead", [sum(summary["per_cause"][c]["by_other"].values()) for c in causes], "#e9a23b"),
              ("removed only jointly with another cause's", [sum(summary["per_cause"][c].get("jointly", {}).values()) for c in causes], "#6c8ebf"),
              ("removed by none", [summary["per_cause"][c]["none"] for c in causes], "#c0392b")]
@@ -131,8 +133,9 @@ def _figure(ctx: RenderContext, name: str, summary: dict):
     ax.xaxis.get_major_locator().set_params(integer=True)
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=2, fontsize=8, frameon=False)
     return ctx.figure("interventions", fig, f"{name}: per cause the ladder named, its disagreements removed by the cause's own "
-                                         "intervention on the engine, by another cause's, only by the cause's and another cause's together "
-                                         "(overdetermined), or by none.", ["summary.json"])
+                                         "intervention on the engine; where the ladder found them overdetermined, by its pair's two "
+                                         "interventions together; by another cause's; only by the cause's and another cause's together "
+                                         "where the ladder did not find that; or by none.", ["summary.json"])
 
 
 def render(ctx: RenderContext) -> list:
@@ -154,8 +157,10 @@ def render(ctx: RenderContext) -> list:
     for cause, r in summary["per_cause"].items():
         other = ", ".join(f"{c} {n}" for c, n in sorted(r["by_other"].items())) or "-"
         joint = ", ".join(f"with {c} {n}" for c, n in sorted((r.get("jointly") or {}).items())) or "-"
-        rows.append([cause, str(r["n"]), (f"{r['confirmed']} ({r['not_at_strongest']} removed at a weaker step but not at the strongest)" if r["not_at_strongest"] else
-                                          str(r["confirmed"])) if cause in summary["causes"] else "no intervention", other, joint, str(r["none"])])
+        notes = [f"{r['not_at_strongest']} removed at a weaker step but not at the strongest"] if r["not_at_strongest"] else []
+        notes += [f"{k} overdetermined with {c}, by both together" for c, k in sorted((r.get("overdetermined") or {}).items())]
+        rows.append([cause, str(r["n"]), (f"{r['confirmed']} ({'; '.join(notes)})" if notes else str(r["confirmed"]))
+                     if cause in summary["causes"] else "no intervention", other, joint, str(r["none"])])
     if summary["per_cause"]:
         blocks.append(_figure(ctx, name, summary))
     share = summary["confirmed_share"]
@@ -164,9 +169,15 @@ def render(ctx: RenderContext) -> list:
     if summary.get("n"):
         head += (f" Whatever the ladder named, {summary['removed_by_any']} of the {summary['n']} laddered disagreements are removed by some "
                  "cause's intervention on the engine.")
+    over = sum(sum((r.get("overdetermined") or {}).values()) for r in summary["per_cause"].values())
+    if over:
+        head += (f" Of the confirmed, {over} the ladder found overdetermined: it named geometry, and its later models with the capsule "
+                 "as thin as the geometry intervention makes it still give the engine's outcome through another cause; the two "
+                 "causes' interventions together remove them, neither alone does.")
     if summary.get("jointly"):
         head += (f" {summary['jointly']} more are removed only by the cause's strongest intervention joined to another cause's, neither "
-                 "removing it alone: overdetermined, each difference giving the engine's outcome on its own (not counted as confirmed).")
+                 "removing it alone: overdetermined, each difference giving the engine's outcome on its own, where the ladder did "
+                 "not find that (not counted as confirmed).")
     head += _by_p_sentence(summary)
     head += _by_distance_sentence(summary)
     blocks.append(Table(caption=f"{name}: {head} Per cause named by the ladder: starts, confirmed by its own intervention, removed by "
@@ -196,7 +207,7 @@ def render(ctx: RenderContext) -> list:
         for r in results:
             s = r["state"]
             detail.append([r["map"], f"theta {s['theta']:.3g}, varphi {s['varphi']:.3g}, Theta {s['Theta']:.3g}, Psi {s['Psi']:.3g}",
-                           f"{r['mu']:.3g}", r["interventions"]["theory"].lower(), str(r["reference"]).lower(), r["cause"],
+                           f"{r['mu']:.3g}", r["interventions"]["theory"].lower(), str(r["reference"]).lower(), _cause_cell(r),
                            *[_mark(r["interventions"]["causes"].get(c, [])) for c in causes], _joint_cell(r["interventions"]),
                            _floor_cell(r["interventions"]),
                            _fmt(r["interventions"].get("theory_p_min"))])
@@ -228,6 +239,12 @@ def _by_p_sentence(summary: dict) -> str:
             f"it enters the band, {_share(by_p['in_band'])}. In the band the rigid normal force -b/p is at least |b| / {band:g} and "
             "each of the engine's differences (the capsule's offset, a friction skewed off the slip, a force built over a contact "
             "time) moves its own p across 0, so that removing one leaves another to jam or lift off.")
+
+
+def _cause_cell(r: dict) -> str:
+    """The ladder's cause, with the cause its models give without the capsule's offset where they still give the engine's outcome."""
+    also = (r["interventions"].get("without_offset") or {}).get("also")
+    return f"{r['cause']} (and {also} without the offset)" if also else r["cause"]
 
 
 def _distance(d) -> str:
@@ -276,13 +293,16 @@ def finding(data: Path) -> list:
     name, share = engine_label(summary["engine"]), summary["confirmed_share"]
     none = sum(r["none"] for r in summary["per_cause"].values())
     other = sum(sum(r["by_other"].values()) for r in summary["per_cause"].values())
+    over = sum(sum((r.get("overdetermined") or {}).values()) for r in summary["per_cause"].values())
+    pairs = f" ({over} of them overdetermined pairs the ladder named, removed by both causes' interventions together)" if over else ""
     return [Finding(f"{name}: causes confirmed on the engine", f"{summary['confirmed']} of {summary['attributed']} attributed disagreements "
-                    f"({100 * share:.0f} %) removed by their own cause's intervention on {name} itself; {other} removed by another cause's "
-                    f"instead, {summary.get('jointly', 0)} only jointly with another cause's (overdetermined), {none} by none; {summary.get('removed_by_any', '-')} of {summary.get('n', '-')} removed by some intervention"
+                    f"({100 * share:.0f} %) removed by their own cause's intervention on {name} itself{pairs}; {other} removed by another cause's "
+                    f"instead, {summary.get('jointly', 0)} only jointly with another cause's (overdetermined, not found by the ladder), {none} by none; {summary.get('removed_by_any', '-')} of {summary.get('n', '-')} removed by some intervention"
                     + (f"; above eq. p {summary['by_p']['p_band']:g} along the theory's slip {_share(summary['by_p']['above'])}, in that band "
                        f"{_share(summary['by_p']['in_band'])}" if summary.get("by_p") else "") + _by_distance_sentence(summary).rstrip(".").replace(" Where", "; where", 1),
                     "confirmed" if share >= CONFIRMED_SHARE else "partly confirmed", data.name,
-                    why=f"confirmed when at least {100 * CONFIRMED_SHARE:.0f} % are removed by one of their own cause's interventions")]
+                    why=f"confirmed when at least {100 * CONFIRMED_SHARE:.0f} % are removed by one of their own cause's interventions "
+                        "(both causes' together where the ladder named an overdetermined pair)")]
 
 
 def section(spec, ladder: Section) -> Section:

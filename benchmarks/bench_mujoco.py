@@ -12,13 +12,16 @@ states, the scaled ``Record`` of every row, classification, summaries).  Each me
 and the best is kept, since other processes share the 2 cores; the CPU time of the process (all its threads) is
 printed beside the wall time, as it moves less with their load.  Target: sweep / bare >= 0.9 in wall time.
 
-Measured with the defaults while other processes kept the load at 4-6 on the 2 cores: 0.89-1.08 in five runs
-(0.60-0.79 before the sweep overlapped the next chunk's rollout with the reading of the last one, in blocks of
-states that stay in cache).  On an idle machine the bare rollout is faster and the ratio lower: 0.78-0.83 at the
-default 64 states (CPU time 0.89), 0.98 at ``--states 256`` (CPU 0.99); a full-report map has 1024 starts, a quick one 100.  At 64
-states the last chunk's reading, which no rollout overlaps, and the model and start setup (~50 ms) are what is left.
+Measured on an idle machine (best of 5): 0.85 at 64 states (CPU time 0.93), 0.88-0.94 at 100 (a quick-report map),
+1.08-1.12 at 1024 (a full-report map, where the bare rollout's own output of states and sensors is the larger);
+0.89-1.08 at 64 while other processes kept the load at 4-6 (0.60-0.79 before the sweep overlapped the next
+chunk's rollout with the reading of the last one, in blocks of states that stay in cache).  What is left at 64
+states, from a timeline of one sweep (270 ms against the bare 229 ms): the reading of a chunk of 16 states
+(Record, classifier, summaries: 8.8 ms alone, 12 ms beside two rollout threads on two cores) takes its CPU from
+the next chunk's rollout, which lasts 63-67 ms against 57 ms for the first; the last chunk's reading, which no
+rollout overlaps, 10.5 ms; the setup before the first rollout, 4 ms.
 
-    python benchmarks/bench_mujoco.py [--states 64] [--horizon 1.0] [--repeat 5] [--loop-states 4]
+    python benchmarks/bench_mujoco.py [--states 64 100 1024] [--horizon 1.0] [--repeat 5] [--loop-states 4]
 """
 
 from __future__ import annotations
@@ -38,24 +41,31 @@ from crosscheck.engines.mujoco.model import build_model, initial_state
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--states", type=int, default=64)
+    ap.add_argument("--states", type=int, nargs="+", default=[64, 100, 1024],
+                    help="batch sizes, each measured apart (100: a quick-report map, 1024: a full-report map)")
     ap.add_argument("--horizon", type=float, default=1.0, help="scaled time per state")
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--loop-states", type=int, default=4, help="states for the (slow) Python loop; 0 leaves it out")
     args = ap.parse_args()
 
+    for n in args.states:
+        measure(n, args)
+
+
+def measure(n_states: int, args) -> None:
+    """The three runs at one batch size, interleaved ``args.repeat`` times; prints the best of each."""
     rod = Rod(mass=1.0, length=1.0, inertia=1.0 / 3.0, gravity=9.81)
     mu = 0.8
     rng = np.random.default_rng(0)
     states = [
         SlipState(theta=rng.uniform(0.2, 1.3), varphi=-rng.uniform(0.1, 3.0), Theta=0.7 * rng.normal(), Psi=rng.normal(), eta=rng.uniform(0.2, 3))
-        for _ in range(args.states)
+        for _ in range(n_states)
     ]
     opts = Options()
     model = build_model(rod, mu, opts)
     nstep = n_steps(args.horizon, opts.timestep)
     x0 = np.stack([initial_state(model, rod, s, opts.radius) for s in states])
-    total = args.states * nstep
+    total = n_states * nstep
 
     def bare() -> float:
         datas = [mujoco.MjData(model) for _ in range(2)]
@@ -85,7 +95,7 @@ def main() -> None:
                     fn += force[0]
                 out[k, 0] = fn
                 out[k, 1:] = data.site_xpos[tip]
-        return (time.perf_counter() - t0) * args.states / args.loop_states
+        return (time.perf_counter() - t0) * n_states / args.loop_states
 
     runs = {"bare": bare, "sweep": swept, **({"loop": loop} if args.loop_states else {})}
     best = {k: np.inf for k in runs}
@@ -96,7 +106,7 @@ def main() -> None:
             best[k] = min(best[k], f())
             cpu[k] = min(cpu[k], time.process_time() - c)
     rate = {k: total / v for k, v in best.items()}
-    print(f"{args.states} states x {nstep} steps (horizon {args.horizon}, timestep {opts.timestep} scaled), mujoco {mujoco.__version__}, "
+    print(f"{n_states} states x {nstep} steps (horizon {args.horizon}, timestep {opts.timestep} scaled), mujoco {mujoco.__version__}, "
           f"best of {args.repeat}")
     print(f"bare rollout (2 threads): {rate['bare']:12,.0f} steps/s   CPU {cpu['bare']:.3f} s")
     print(f"sweep (2 threads):        {rate['sweep']:12,.0f} steps/s   CPU {cpu['sweep']:.3f} s   ratio to bare rollout {rate['sweep'] / rate['bare']:.2f} "

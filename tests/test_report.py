@@ -425,6 +425,28 @@ def test_compare_data_allows_only_the_machine_dependent_bits(tmp_path):
     assert differ["mujoco_trajectories/analytic_jam.csv"] and len(differ["maps.json"]) == 2
 
 
+def test_findings_sum_the_causes_confirmed_over_every_engine_against_the_goal(tmp_path):
+    """The line over all engines adds their summaries' counts and is 'confirmed' from 80 % on, the goal of the interventions."""
+    from crosscheck.report.findings import findings
+
+    def summary(slug, attributed, confirmed, pairs, jointly):
+        (tmp_path / slug).mkdir()
+        per = {"geometry": {"overdetermined": {"compliance": pairs}, "by_other": {}, "none": 0}}
+        (tmp_path / slug / "summary.json").write_text(json.dumps({"engine": "mujoco", "attributed": attributed, "confirmed": confirmed,
+                                                                  "confirmed_share": confirmed / attributed, "jointly": jointly, "per_cause": per}))
+
+    summary("a_interventions", 10, 8, 1, 0)
+    summary("b_interventions", 10, 8, 0, 2)
+    (line,) = [f for f in findings(tmp_path) if f.leg.startswith("every engine")]
+    assert line.verdict == "confirmed" and line.why == "80.0 % >= 80 %"
+    assert line.text.startswith("16 of 20 attributed disagreements (80.0 %) over 2 engines") and "(1 of them overdetermined pairs" in line.text
+    assert "; 2 more only jointly" in line.text
+    (tmp_path / "b_interventions" / "summary.json").write_text(json.dumps({"engine": "mujoco", "attributed": 10, "confirmed": 7,
+                                                                           "confirmed_share": 0.7, "jointly": 0, "per_cause": {}}))
+    (line,) = [f for f in findings(tmp_path) if f.leg.startswith("every engine")]
+    assert line.verdict == "partly confirmed" and line.why == "75.0 % < 80 %"
+
+
 def test_findings_name_the_causes_of_disagreement_and_the_compliant_limit(tmp_path):
     """The ladder's line counts what its summary counts, and says 'partly explained' below 90 % attributed; the compliant
     limit's line fails when one of its physics checks does (regression guards do not count)."""

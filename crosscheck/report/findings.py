@@ -231,9 +231,31 @@ def findings(data: Path) -> list[Finding]:
     for section in all_sections():  # the lines an engine's own sections give (dynamics terms, friction skew, ...)
         if section.finding is not None and (data / section.slug).is_dir():
             out.extend(section.finding(data / section.slug))
+    out.extend(_interventions_overall(data))
     known = [(p.parent.name, c) for p in sorted(data.glob("*/checks.json")) for c in json.loads(p.read_text()) if c.get("known_discrepancy")]
     if known:
         where = sorted({s for s, _ in known})
         out.append(Finding("the paper", f"{len(known)} known discrepancies between what the paper prints and its own model (misprints, a caption "
                            f"that does not fit its figure's numbers), shown in {', '.join(where)}", "known", known[0][0]))
     return out
+
+
+def _interventions_overall(data: Path) -> list[Finding]:
+    """One line over every engine's interventions section: the attributed disagreements their own cause's intervention
+    removes, all engines together (each engine's own line comes from its section)."""
+    from crosscheck.report.sections.engine_interventions import CONFIRMED_SHARE
+
+    summaries = [(p.parent.name, read_json(p)) for p in sorted(data.glob("*_interventions/summary.json"))]
+    summaries = [(slug, s) for slug, s in summaries if s and s.get("attributed")]
+    if len(summaries) < 2:
+        return []
+    n, k = sum(s["attributed"] for _, s in summaries), sum(s["confirmed"] for _, s in summaries)
+    pairs = sum(sum((r.get("overdetermined") or {}).values()) for _, s in summaries for r in s["per_cause"].values())
+    jointly = sum(s.get("jointly", 0) for _, s in summaries)
+    share = k / n
+    return [Finding("every engine: causes confirmed on the engine", f"{k} of {n} attributed disagreements ({100 * share:.1f} %) over "
+                    f"{len(summaries)} engines removed by their own cause's intervention on the engine"
+                    + (f" ({pairs} of them overdetermined pairs the ladder named, removed by both interventions together)" if pairs else "")
+                    + (f"; {jointly} more only jointly with another cause's, not found by the ladder" if jointly else ""),
+                    "confirmed" if share >= CONFIRMED_SHARE else "partly confirmed", summaries[0][0],
+                    why=f"{100 * share:.1f} % {'>=' if share >= CONFIRMED_SHARE else '<'} {100 * CONFIRMED_SHARE:.0f} %")]

@@ -228,9 +228,11 @@ def test_an_overdetermined_jam_is_removed_only_by_the_thinner_capsule_and_the_st
     assert joint["with"] == "compliance" and joint["removes"] and joint["options"]["radius"] < 0.001 and joint["options"]["stiffness"] > 1e6
     thin = r["without_offset"]
     assert thin["radius"] == r["causes"]["geometry"][-1]["options"]["radius"] and thin["also"] == "compliance"
-    assert thin["rungs"] == [{"cause": "compliance", "label": "JAM"}]
+    # the rigid capsule that thin slips on as the theory does (the intervention is thin enough), the compliant rod jams
+    assert thin["rungs"] == [{"cause": "geometry", "label": "SLIP"}, {"cause": "compliance", "label": "JAM"}]
     s = summarise([{"cause": "geometry", "interventions": r}])
     assert (s["confirmed"], s["jointly"], s["per_cause"]["geometry"]["overdetermined"]) == (1, 0, {"compliance": 1})
+    assert s["pairs"] == {"predicted": 1, "confirmed": 1, "geometry alone": 0, "another alone": 0, "joint failed": 0}
 
 
 def test_summary_confirms_a_pair_only_where_the_ladder_named_it_and_the_two_interventions_together_remove_it():
@@ -238,16 +240,30 @@ def test_summary_confirms_a_pair_only_where_the_ladder_named_it_and_the_two_inte
 
     def start(also, fixes, joint_removes):
         r = _result("geometry", fixes)
-        r["interventions"]["without_offset"] = {"radius": 0.001, "rungs": [], "also": also}
+        rungs = [{"cause": "geometry", "label": "SLIP"}, *({"cause": c, "label": "JAM"} for c in ("compliance", "friction law")[:1 + (also == "friction law")])]
+        r["interventions"]["without_offset"] = {"radius": 0.001, "rungs": rungs, "also": also}
         r["interventions"]["joint"] = [{"with": "compliance", "removes": joint_removes}]
         return r
 
     s = summarise([start("compliance", {"geometry": no, "compliance": no}, True),  # the ladder's pair, removed together
                    start(None, {"geometry": no, "compliance": no}, True),  # the ladder saw no pair: only jointly
                    start("friction law", {"geometry": no, "compliance": no}, True),  # the ladder's pair is another one
-                   start("compliance", {"geometry": yes, "compliance": no}, False)])  # the offset alone after all
+                   start("compliance", {"geometry": yes, "compliance": no}, False),  # the offset alone after all
+                   start("compliance", {"geometry": no, "compliance": no}, False)])  # the two together fail
     g = s["per_cause"]["geometry"]
-    assert (s["confirmed"], g["overdetermined"], s["jointly"], g["jointly"]) == (2, {"compliance": 1}, 2, {"compliance": 2})
+    assert (s["confirmed"], g["overdetermined"], s["jointly"], g["jointly"], g["none"]) == (2, {"compliance": 1}, 2, {"compliance": 2}, 1)
+    assert s["pairs"] == {"predicted": 4, "confirmed": 1, "geometry alone": 1, "another alone": 0, "joint failed": 2}
+
+
+def test_a_cause_with_two_families_is_removed_at_the_strongest_when_the_last_of_either_removes_it():
+    """MuJoCo's feed-forward lowered on every row or with the friction rows kept: removed by the strongest of the first
+    family is not 'removed at a weaker step but not at the strongest', though the second family's last comes after it."""
+    rows = [{"text": "a 0.1", "removes": False, "family": "a"}, {"text": "a 0.01", "removes": True, "family": "a"},
+            {"text": "b 0.5", "removes": True, "family": "b"}, {"text": "b 0.01", "removes": False, "family": "b"}]
+    r = {"cause": "feed-forward", "interventions": {"theory": "SLIP", "causes": {"feed-forward": rows}}}
+    assert summarise([r])["per_cause"]["feed-forward"]["not_at_strongest"] == 0
+    rows[1]["removes"] = False
+    assert summarise([r])["per_cause"]["feed-forward"]["not_at_strongest"] == 1
 
 
 #: A start of the full report's theta-Theta map where MuJoCo's slip stops at once (JAM at t = 0) while the theory lifts
@@ -344,3 +360,17 @@ def test_summary_splits_the_confirmed_by_the_start_s_distance_to_the_theory_s_ev
     assert s["by_distance"] == [{"distance": 0.01, "attributed": 2, "confirmed": 1}, {"distance": 0.3, "attributed": 1, "confirmed": 1},
                                 {"distance": math.inf, "attributed": 1, "confirmed": 1}]
     assert summarise(results[-1:])["by_distance"] == []
+
+
+def test_each_start_gets_the_boundary_distance_of_its_own_row_of_its_map():
+    from crosscheck.report.sections.engine_interventions import boundary_distances
+
+    state = {"theta": 1.0125, "varphi": -1.9, "Theta": -0.125, "Psi": 1.7, "eta": 1.0}
+    table = {**{k: [v, v, v] for k, v in state.items()}, "mu": [1.4, 1.5, 1.6], "boundary_distance": [0.03, math.inf, math.nan]}
+    starts = [{"map": "m", "state": state, "mu": mu} for mu in (1.4, 1.5, 1.6, 1.7)] + [{"map": "other", "state": state, "mu": 1.4}]
+    boundary_distances(starts, {"m": table})
+    assert [st["boundary_distance"] for st in starts] == [0.03, math.inf, None, None, None]  # NaN: not probed; no row; no table
+    boundary_distances(starts[:1], {"m": {**table, "mu": [1.4, 1.4, 1.6]}})  # two rows of that start: not one, so none
+    assert starts[0]["boundary_distance"] is None
+    boundary_distances(starts[:1], {"m": {k: v for k, v in table.items() if k != "boundary_distance"}})
+    assert starts[0]["boundary_distance"] is None

@@ -438,13 +438,14 @@ def test_findings_sum_the_causes_confirmed_over_every_engine_against_the_goal(tm
     summary("a_interventions", 10, 8, 1, 0)
     summary("b_interventions", 10, 8, 0, 2)
     (line,) = [f for f in findings(tmp_path) if f.leg.startswith("every engine")]
-    assert line.verdict == "confirmed" and line.why == "80.0 % >= 80 %"
+    assert line.verdict == "confirmed" and line.why == "16 of 20 >= 80 % of 20 = 16"
     assert line.text.startswith("16 of 20 attributed disagreements (80.0 %) over 2 engines") and "(1 of them overdetermined pairs" in line.text
-    assert "; 2 more only jointly" in line.text
-    (tmp_path / "b_interventions" / "summary.json").write_text(json.dumps({"engine": "mujoco", "attributed": 10, "confirmed": 7,
+    assert "; 2 more only jointly" in line.text and line.text.endswith("; lowest MuJoCo, 8 of 10 (80 %)")
+    (tmp_path / "b_interventions" / "summary.json").write_text(json.dumps({"engine": "bullet", "attributed": 10, "confirmed": 7,
                                                                            "confirmed_share": 0.7, "jointly": 0, "per_cause": {}}))
     (line,) = [f for f in findings(tmp_path) if f.leg.startswith("every engine")]
-    assert line.verdict == "partly confirmed" and line.why == "75.0 % < 80 %"
+    assert line.verdict == "partly confirmed" and line.why == "15 of 20 < 80 % of 20 = 16" and line.slug == "b_interventions"
+    assert line.text.endswith("; lowest Bullet, 7 of 10 (70 %)")
 
 
 def test_findings_name_the_causes_of_disagreement_and_the_compliant_limit(tmp_path):

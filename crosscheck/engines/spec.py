@@ -50,10 +50,13 @@ class Intervention:
     Attributes:
       text: what it does, for tables ("capsule radius 0.01 -> 0.000625").
       options: the engine's options to set over the run's (scaled units), e.g. ``{"radius": 6.25e-4}``.
+      family: which way of the cause it takes, where a cause has two ("impratio", "friction time constant"): each
+        family runs weakest first, and its last is its strongest; "" for a cause with one way.
     """
 
     text: str
     options: Mapping[str, Any]
+    family: str = ""
 
 
 @dataclass(frozen=True)

@@ -177,22 +177,24 @@ def run_ladder(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, 
 
 def without_capsule_offset(engine: str, state: SlipState, mu: float, reference: Outcome | int, *, alpha: float = 3.0,
                            horizon: float = DEFAULT_HORIZON, thresholds: Thresholds | None = None, **options) -> dict | None:
-    """The ladder's models after geometry rerun with the capsule as thin as the engine's strongest geometry intervention makes it.
+    """The ladder's models rerun with the capsule as thin as the engine's strongest geometry intervention makes it.
 
     The capsule's offset is the one difference every model rung can drop (its radius).  Where the ladder names
     geometry, the rung that first gives the engine's outcome is the rigid capsule; if the later models still give the
     engine's outcome without the offset, another difference produces it on its own: the disagreement is
-    overdetermined, and removing the offset alone leaves it.  ``also`` is then the cause of that stretch (the first
-    of the final stretch of these rungs equal to ``reference``, as ``final_stretch_cause``), None where the last of
-    them leaves the engine's outcome (the offset is needed) or one could not run.
+    overdetermined, and removing the offset alone leaves it.  The thin rigid capsule runs first: where it still gives
+    the engine's outcome the intervention is not thin enough to tell, and nothing is predicted.  ``also`` is the cause
+    of the final stretch of these rungs equal to ``reference`` (``final_stretch_cause``) when that is a later cause;
+    None where the stretch starts at the thin capsule, where the last model leaves the engine's outcome (the offset
+    is needed), or where a rung that decides it could not run ("undetermined").
 
     Returns None when the engine has no geometry intervention or no model rung after geometry; else
     {"radius": the thin radius, "rungs": [{cause, label}], "also": cause or None}.  ``options`` as ``run_ladder``.
     """
     spec = engines.get(engine)
     thin = spec.interventions_for("geometry", spec.options(**options))
-    later = [(c, r) for c, r in rungs_of(engine) if c != "geometry" and r not in ("capsule", "engine")]
-    if not thin or not later:
+    models = [(c, r) for c, r in rungs_of(engine) if r != "engine"]
+    if not thin or not any(c != "geometry" for c, _ in models) or models[0] != ("geometry", "capsule"):
         return None
     opts = spec.options(**{**options, **thin[-1].options})
     th = thresholds or Thresholds()
@@ -201,7 +203,7 @@ def without_capsule_offset(engine: str, state: SlipState, mu: float, reference: 
     until, lag, run_until = run_comparison_window(first, horizon, mu, alpha, opts)
     since = run_stick_from(first, until, th, opts)
     rungs = []
-    for k, (cause, rung) in enumerate(later, start=2):
+    for k, (cause, rung) in enumerate(models, start=2):
         try:
             o, t = _run(rung, spec=spec, rod=rod, state=state, mu=mu, alpha=alpha, opts=opts, th=th, t_analytic=run_until,
                         t_engine=run_until + window_margin(th, opts.timestep))
@@ -210,7 +212,7 @@ def without_capsule_offset(engine: str, state: SlipState, mu: float, reference: 
             rungs.append(Rung(k, rung.rpartition(":")[2], cause, "failed", detail=f"{type(e).__name__}: {e}"))
     also = final_stretch_cause(rungs, Outcome(int(reference)), lambda r: r.cause)
     return {"radius": opts.radius, "rungs": [{"cause": r.cause, "label": None if r.label is None else r.label.name} for r in rungs],
-            "also": also if also in LADDER_CAUSES else None}
+            "also": also if also in LADDER_CAUSES and also != "geometry" else None}
 
 
 def _cause(rungs, reference: Outcome | None) -> str:

@@ -35,12 +35,12 @@ weakest first (``crosscheck.studies.interventions`` runs them):
   the friction rows' damping 2 / (dmax tau_f) still grows as dmax falls.)
   Neither is the feed-forward alone, so both run: first d lowered on every
   row as MuJoCo has it (0.1, 0.01; R_t then grows with R_n and the friction
-  softens with the normal force), then with R_t kept (0.5, 0.1, 0.01, the
-  strongest last).  Measured on the full report's 157 feed-forward starts:
-  lowering d alone removes 87, 119 and 125 at 0.5, 0.1, 0.01; with R_t kept
-  86, 118, 129; on a later full report's 94, d alone at 0.1 or 0.01 removes
-  2 that R_t kept does not, and none the other way round.
-  What it cannot remove: near p = 0 (the theory's least p below ~0.05)
+  softens with the normal force), then with R_t kept (0.5, 0.1, 0.01; its
+  strongest, the last of all, is the one joined to other causes').  Measured
+  on the full report's 157 feed-forward starts: lowering d alone removes 87,
+  119 and 125 at 0.5, 0.1, 0.01; with R_t kept 86, 118, 129; on a later full
+  report's 94, d alone at 0.1 or 0.01 removes 2 that R_t kept does not, and
+  none the other way round.  What the R_t-kept family cannot remove: near p = 0 (the theory's least p below ~0.05)
   MuJoCo jams in its first steps where the theory lifts off, the capsule's
   offset and the friction's skew each putting MuJoCo's own p_eff at or
   below 0 (the rigid rod at C jams at t = 0 too).  Lowering d then makes the
@@ -86,8 +86,8 @@ def compliance(o):
 def friction_law(o):
     now = o.timeconst if o.friction_timeconst is None else o.friction_timeconst
     steps = [max(2 * o.timestep, now / k) for k in (6, 30)]
-    shorter = tuple(Intervention(f"friction time constant {now:g} -> {tf:g}", {"friction_timeconst": tf}) for tf in steps)
-    softer = tuple(Intervention(f"impratio {o.impratio:g} -> {r:g}", {"impratio": r}) for r in (0.1 * o.impratio, 0.01 * o.impratio))
+    shorter = tuple(Intervention(f"friction time constant {now:g} -> {tf:g}", {"friction_timeconst": tf}, "friction time constant") for tf in steps)
+    softer = tuple(Intervention(f"impratio {o.impratio:g} -> {r:g}", {"impratio": r}, "impratio") for r in (0.1 * o.impratio, 0.01 * o.impratio))
     return shorter + softer
 
 
@@ -95,12 +95,12 @@ def feed_forward(o):
     d0, dmax, width, mid, power = o.solimp
     # lowered on every row as MuJoCo does it, the friction rows' R_t = R_n / impratio growing with R_n ...
     out = [Intervention(f"impedance {dmax:g} -> {d:g} on every row (impratio {o.impratio:g} kept)",
-                        {"solimp": (min(d0, d), min(dmax, d), width, mid, power)}) for d in (0.1, 0.01)]
+                        {"solimp": (min(d0, d), min(dmax, d), width, mid, power)}, "every row") for d in (0.1, 0.01)]
     for d in (0.5, 0.1, 0.01):  # ... then as the ladder's rung has it, the friction rows' R_t kept
         # R = (1 - d) / d w on every row: impratio scaled by the normal row's growth keeps the friction rows' R_t = R_n / impratio
         k = ((1.0 - d) / d) / ((1.0 - dmax) / dmax)
         out.append(Intervention(f"impedance {dmax:g} -> {d:g} (friction rows' regulariser kept: impratio {o.impratio:g} -> {o.impratio * k:.3g})",
-                                {"solimp": (min(d0, d), min(dmax, d), width, mid, power), "impratio": o.impratio * k}))
+                                {"solimp": (min(d0, d), min(dmax, d), width, mid, power), "impratio": o.impratio * k}, "friction rows kept"))
     return tuple(out)
 
 

@@ -43,34 +43,41 @@ def _laddered(ctx: RunContext) -> tuple[list[dict], dict]:
     starts = [{"map": ld["map"], "state": {k: ld["state"][k] for k in ("theta", "varphi", "Theta", "Psi", "eta")}, "mu": ld["mu"],
                "cause": ld["cause"], "reference": ld["reference"]}
               for ld in store.read_json("ladders") if ld["cause"] not in ("agree", "not rated")]
-    _with_boundary_distance(ctx, starts, lp["maps"] if isinstance(lp.get("maps"), str) else lp.get("reuse"))
+    _with_boundary_distance(ctx, starts, lp["maps"] if isinstance(lp.get("maps"), str) else lp.get("reuse"), lp)
     return starts, {"options": lp["options"], "alpha": lp["alpha"], "horizon": lp["horizon"]}
 
 
-def _with_boundary_distance(ctx: RunContext, starts: list[dict], maps: str | None) -> None:
+def _with_boundary_distance(ctx: RunContext, starts: list[dict], maps: str | None, ladder: dict) -> None:
     """Each start's distance to the theory's event boundary as the engine's map section probed it (``boundary_distance``:
-    "inf" beyond the largest probe; None where that section did not probe, as in the quick report, or is not there)."""
-    import math
-
+    "inf" beyond the largest probe; None where that section did not probe, as in the quick report, is not there, ran
+    at another alpha, horizon or options than the ladder's, or holds no such start)."""
     found = ctx.finished(maps) if maps else None
+    if found is not None and any(found[0].get("params", {}).get(k) != ladder.get(k) for k in ("alpha", "horizon", "options")):
+        found = None  # (the ladder then ran a study of its own: these are not its starts' distances)
     tables = {}
+    if found is not None:
+        for name in {st["map"] for st in starts}:
+            try:
+                tables[name] = found[1].read_table(f"events_{name}", text=("analytic_reason",))
+            except (OSError, ValueError):
+                pass
+    boundary_distances(starts, tables)
+
+
+def boundary_distances(starts: list[dict], tables: dict) -> None:
+    """Set each start's ``boundary_distance`` from its map's events table (map name -> columns): the row with the
+    start's very state and mu (the ladder took its starts from these tables), None without one such row, without the
+    column or where it is NaN (not probed)."""
     for st in starts:
         st["boundary_distance"] = None
-        if found is None:
-            continue
-        if st["map"] not in tables:
-            try:
-                tables[st["map"]] = found[1].read_table(f"events_{st['map']}", text=("analytic_reason",))
-            except (OSError, ValueError):
-                tables[st["map"]] = None
-        t = tables[st["map"]]
+        t = tables.get(st["map"])
         if t is None or "boundary_distance" not in t:
             continue
         at = np.ones(len(t["theta"]), bool)
         for k, v in (*st["state"].items(), ("mu", st["mu"])):
-            at &= np.asarray(t[k], float) == v  # the ladder took its starts from these very tables
+            at &= np.asarray(t[k], float) == v
         d = np.asarray(t["boundary_distance"], float)[at]
-        if len(d) == 1 and not math.isnan(d[0]):
+        if len(d) == 1 and not np.isnan(d[0]):
             st["boundary_distance"] = float(d[0])
 
 
@@ -120,7 +127,7 @@ def _figure(ctx: RenderContext, name: str, summary: dict):
     over = [sum((summary["per_cause"][c].get("overdetermined") or {}).values()) for c in causes]
     parts = [("confirmed by its own intervention", [summary["per_cause"][c]["confirmed"] - k for c, k in zip(causes, over)], "#2a9d4b"),
              ("confirmed overdetermined (the ladder's pair, by both together)", over, "#8fd19e"),
-             ("removed by another cause's instead", [sum(summary["per_cause"][c]["by_other"].values()) for c in causes], "#e9a23b"),
+             ("removed by another cause's instead", [_other_starts(summary["per_cause"][c]) for c in causes], "#e9a23b"),
              ("removed only jointly with another cause's", [sum(summary["per_cause"][c].get("jointly", {}).values()) for c in causes], "#6c8ebf"),
              ("removed by none", [summary["per_cause"][c]["none"] for c in causes], "#c0392b")]
     fig, ax = plt.subplots(figsize=(7.0, 0.9 + 0.55 * len(causes)), layout="constrained")
@@ -169,11 +176,13 @@ def render(ctx: RenderContext) -> list:
     if summary.get("n"):
         head += (f" Whatever the ladder named, {summary['removed_by_any']} of the {summary['n']} laddered disagreements are removed by some "
                  "cause's intervention on the engine.")
-    over = sum(sum((r.get("overdetermined") or {}).values()) for r in summary["per_cause"].values())
-    if over:
-        head += (f" Of the confirmed, {over} the ladder found overdetermined: it named geometry, and its later models with the capsule "
-                 "as thin as the geometry intervention makes it still give the engine's outcome through another cause; the two "
-                 "causes' interventions together remove them, neither alone does.")
+    pairs = summary.get("pairs") or {}
+    if pairs.get("predicted"):
+        head += (f" Where the ladder named geometry, it reran its models with the capsule as thin as the geometry intervention makes it: "
+                 f"for {pairs['predicted']} the thin rigid capsule left the engine's outcome and a later model still gave it, an "
+                 f"overdetermined pair; {pairs['confirmed']} confirmed (the two causes' interventions together remove it, neither "
+                 f"alone does, counted as confirmed), {pairs['geometry alone']} removed by the thinner capsule alone after all, "
+                 f"{pairs['another alone']} by another cause's alone, {pairs['joint failed']} by neither together.")
     if summary.get("jointly"):
         head += (f" {summary['jointly']} more are removed only by the cause's strongest intervention joined to another cause's, neither "
                  "removing it alone: overdetermined, each difference giving the engine's outcome on its own, where the ladder did "
@@ -188,9 +197,11 @@ def render(ctx: RenderContext) -> list:
                         rows=rows or [["(no laddered disagreement)", "0", "0", "-", "-", "0"]], data=ctx.data("summary.json")))
     if summary.get("by_distance"):
         blocks.append(Table(caption=f"{name}: the attributed disagreements and those confirmed, by the start's distance to the theory's own "
-                                    "event boundary (the smallest random perturbation of (theta, varphi, Theta, Psi, eta) that changes the "
-                                    "theory's outcome, as the map section probed it). Where a perturbation as small as the capsule's radius "
-                                    "turns the theory's outcome, each of the engine's differences may turn it, and removing one leaves the others.",
+                                    "event boundary as the map section probed it: the first probe radius (scaled, in (theta, varphi, Theta, Psi, "
+                                    "eta); a few random directions at each) at which a perturbed start's theory outcome differs, an upper bound "
+                                    "on the distance. Where a perturbation of 0.01 turns the theory's outcome, each of the engine's differences "
+                                    "may turn it, and removing one leaves the others." + (f" {summary['unprobed']} attributed starts have no "
+                                    "probed distance." if summary.get("unprobed") else ""),
                             header=["distance to the theory's boundary", "attributed", "confirmed"],
                             rows=[[_distance(b["distance"]), str(b["attributed"]), _share({"attributed": b["attributed"], "confirmed": b["confirmed"]})]
                                   for b in summary["by_distance"]], data=ctx.data("summary.json")))
@@ -241,6 +252,11 @@ def _by_p_sentence(summary: dict) -> str:
             "time) moves its own p across 0, so that removing one leaves another to jam or lift off.")
 
 
+def _other_starts(row: dict) -> int:
+    """The starts another cause's intervention removes, each once (summaries saved before the count: one per cause)."""
+    return row["by_other_starts"] if "by_other_starts" in row else sum(row["by_other"].values())
+
+
 def _cause_cell(r: dict) -> str:
     """The ladder's cause, with the cause its models give without the capsule's offset where they still give the engine's outcome."""
     also = (r["interventions"].get("without_offset") or {}).get("also")
@@ -257,7 +273,9 @@ def _by_distance_sentence(summary: dict) -> str:
     if not rows:
         return ""
     near, far = rows[0], rows[-1]
-    out = f" Where a perturbation of {_distance(near['distance'])} turns the theory's own outcome, {_share(near)} are confirmed"
+    if float(near["distance"]) == float("inf"):
+        return f" Where no probe up to the largest turns the theory's own outcome, {_share(near)} are confirmed."
+    out = f" Where a probe of {_distance(near['distance'])} turns the theory's own outcome, {_share(near)} are confirmed"
     if far is not near:
         out += (f"; where none up to the largest probe does, {_share(far)}" if float(far["distance"]) == float("inf") else
                 f"; at distance {_distance(far['distance'])}, {_share(far)}")
@@ -292,7 +310,7 @@ def finding(data: Path) -> list:
         return []
     name, share = engine_label(summary["engine"]), summary["confirmed_share"]
     none = sum(r["none"] for r in summary["per_cause"].values())
-    other = sum(sum(r["by_other"].values()) for r in summary["per_cause"].values())
+    other = sum(_other_starts(r) for r in summary["per_cause"].values())
     over = sum(sum((r.get("overdetermined") or {}).values()) for r in summary["per_cause"].values())
     pairs = f" ({over} of them overdetermined pairs the ladder named, removed by both causes' interventions together)" if over else ""
     return [Finding(f"{name}: causes confirmed on the engine", f"{summary['confirmed']} of {summary['attributed']} attributed disagreements "
@@ -309,4 +327,5 @@ def section(spec, ladder: Section) -> Section:
     """The interventions section ``<slug>_interventions`` of the engine ``spec`` on the starts of its ladder section ``ladder``."""
     return Section(slug=f"{spec.slug}_interventions", title=f"{spec.label}: each cause confirmed by an intervention on the engine itself",
                    paper="sections 2, 4", params=lambda quick: params(quick, spec.name, ladder), run=run, render=render,
-                   requires=("crosscheck.studies.interventions", spec.module or "crosscheck.engines"), finding=finding, after=(ladder.slug,))
+                   requires=("crosscheck.studies.interventions", spec.module or "crosscheck.engines"), finding=finding,
+                   after=(ladder.slug, *((f"{spec.slug}_maps",) if spec.report and spec.report.maps else ())))

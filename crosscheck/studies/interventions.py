@@ -183,7 +183,7 @@ def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
     -b/p is at least |b| / p_band and grows without bound toward p = 0, and each difference of an engine (the capsule's
     offset r below the tip, a friction skewed off the slip, a force that builds up over a contact time) moves its own
     p_eff by as much as the theory's p is away from 0: removing one difference leaves another to jam or lift off.
-    Measured on the full report: 127 of 137 (93 %) confirmed above the band, 179 of 242 (74 %) in it.
+    Measured on the full report: 127 of 137 (93 %) confirmed above the band, 178 of 242 (74 %) in it.
 
     ``by_distance``: the same two counts by the start's distance to the theory's own event boundary as the engine's map
     section probed it (``crosscheck.studies.analytic_events.boundary_distance``: the first probe radius, of a few
@@ -194,32 +194,6 @@ def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
     engine's rod by some distance of its own; where the theory's outcome turns within 0.01 of the start, any of them
     may turn it, and removing one leaves the others.  Measured on the full report: 25 of 43 confirmed at 0.01, 50 of
     51 where no probe up to 0.3 changes the outcome.
-
-    Where the ladder itself finds the disagreement overdetermined (geometry named, and its later models without the
-    capsule's offset still giving the engine's outcome through a cause ``also``: ``intervene``'s ``without_offset``),
-    the ladder's cause is the pair, and it is confirmed when the two interventions together remove the disagreement
-    and neither alone does: counted as confirmed, and apart in ``overdetermined`` (also -> count).  ``pairs`` says how
-    every such prediction fared: confirmed; refuted by the capsule's offset removing it alone (then geometry is
-    confirmed as before), by another cause's intervention alone, or by the two together failing.  ``by_other`` counts
-    per cause that removes a start instead (a start may count under several), ``by_other_starts`` and
-    ``misattributed`` each such start once.
-
-    ``by_p``: the attributed disagreements and those confirmed, apart for the starts whose theory slip enters the band
-    eq. p <= ``p_band`` (default: the classifier's ``Thresholds.jam_p_eff``, where a slip stop under a force beyond
-    the slipping -b/p_eff reads as a JAM) and for those whose slip keeps above it.  In the band the rigid normal force
-    -b/p is at least |b| / p_band and grows without bound toward p = 0, and each difference of an engine (the capsule's
-    offset r below the tip, a friction skewed off the slip, a force that builds up over a contact time) moves its own
-    p_eff by as much as the theory's p is away from 0: removing one difference leaves another to jam or lift off.
-    Measured on the full report: 127 of 137 (93 %) confirmed above the band, 179 of 242 (74 %) in it.
-
-    ``by_distance``: the same two counts by the start's distance to the theory's own event boundary, the smallest
-    perturbation of the start that changes the theory's outcome (``crosscheck.studies.analytic_events.boundary_distance``,
-    probed by the engine's map section; a start's ``boundary_distance``, "inf" where no probe up to the largest radius
-    changed it, None where not probed, as in the quick report): a list of {distance, attributed, confirmed} in
-    increasing distance, empty when no start was probed.  Each engine difference moves the engine's rod by some
-    distance of its own; where the theory's outcome turns within 0.01 of the start (the capsule's radius r / l), any
-    of them may turn it, and removing one leaves the others.  Measured on the full report: 25 of 43 confirmed at 0.01,
-    50 of 51 where no probe up to 0.3 changes the outcome.
 
     ``results``: one dict per laddered disagreement with ``cause`` (the ladder's), ``interventions``
     (``intervene``'s result, with ``theory_p_min``) and optionally ``boundary_distance``.  Only the causes of

@@ -425,6 +425,21 @@ def test_compare_data_allows_only_the_machine_dependent_bits(tmp_path):
     assert differ["mujoco_trajectories/analytic_jam.csv"] and len(differ["maps.json"]) == 2
 
 
+def test_the_causes_confirmed_on_every_engine_are_drawn_beside_the_engine_table_from_their_summaries(quick):
+    """Each engine's bar is its interventions summary split into bins that hold each attributed start once."""
+    out, _ = quick
+    rows = json.loads((out / "data" / "causes_confirmed.json").read_text())
+    assert {r["section"] for r in rows} == {p.parent.name for p in (out / "data").glob("*_interventions/summary.json")
+                                             if json.loads(p.read_text())["attributed"]}
+    for r in rows:
+        s = json.loads((out / "data" / r["section"] / "summary.json").read_text())
+        assert r["confirmed"] + r["pairs"] == s["confirmed"]
+        assert r["confirmed"] + r["pairs"] + r["other"] + r["jointly"] + r["none"] + r["no_intervention"] == r["attributed"] == s["attributed"]
+    assert (out / "figures" / "overview" / "causes_confirmed.png").is_file() and (out / "figures" / "overview" / "causes_confirmed.svg").is_file()
+    md = (out / "report.md").read_text()
+    assert md.index("## Findings") < md.index("(figures/overview/causes_confirmed.png)") < md.index("- **", md.index("## Findings"))
+
+
 def test_findings_sum_the_causes_confirmed_over_every_engine_against_the_goal(tmp_path):
     """The line over all engines adds their summaries' counts and is 'confirmed' from 80 % on, the goal of the interventions."""
     from crosscheck.report.findings import findings

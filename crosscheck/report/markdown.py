@@ -99,7 +99,7 @@ def write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, fail
     m = ["# crosscheck report: contact engines against the rigid theory of the 3D Painlevé rod", "",
          "Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painlevé paradox*. Every figure is recomputed "
          f"from the project's model; beside each figure and table is the data behind it. {_NUMBERING} HTML version: [index.html](index.html).", "",
-         "## Findings", "", *([_md_block(table)] if table is not None else []),
+         "## Findings", "", *[_md_block(b) for b in table],
          *(f"- **{f.leg}**: {f.text}. *{f.verdict}*" + (f" ({f.why})" if f.why else "") + f" ({f.slug})" for f in found), "",
          f"[data: {_FINDINGS}](data/{_FINDINGS})", "",
          f"**{_RULES_TITLE}**", "", *(f"- *{k}*: {r}" for k, r in RULES), "",

@@ -333,7 +333,7 @@ def _checks_cell(checks: list[dict]) -> str:
     return "; ".join(out)
 
 
-def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list, table: Table | None) -> Path:
+def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list, table: list) -> Path:
     h = ['<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crosscheck report</title>',
          f"<style>{_CSS}</style></head><body>",
          "<h1>crosscheck report: contact engines against the rigid theory of the 3D Painlevé rod</h1>",
@@ -343,7 +343,7 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
          'Markdown twin: <a href="report.md">report.md</a>.</p>',
          _toc(views),
          _h2("findings", "Findings"),
-         *([_html_block(table)] if table is not None else []),
+         *[_html_block(b) for b in table],
          "<ul>" + "".join(f'<li><b>{html.escape(f.leg)}</b>: {html.escape(f.text)}. <span class="v-{f.verdict.replace(" ", "")}">{html.escape(f.verdict)}</span>'
                           + (f' <span class="why">({html.escape(f.why)})</span>' if f.why else "")
                           + f' (<a href="#{f.slug}">{html.escape(f.slug)}</a>)</li>' for f in found) + "</ul>",
@@ -472,7 +472,10 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
     from crosscheck.report.engine_table import table_block
     from crosscheck.report.markdown import write_md
 
-    table = table_block(out)  # read from the saved results once, for both pages
+    from crosscheck.report.confirmed_overview import confirmed_block
+
+    # the engine table and the causes confirmed on the engines, read from the saved results once, for both pages
+    table = [b for b in (table_block(out), confirmed_block(out)) if b is not None]
     _write_html(out, views, prov, summary_rows, failures, found, table)
     write_md(out, views, prov, summary_rows, failures, found, table)
     return summary

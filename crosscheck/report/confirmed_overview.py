@@ -26,6 +26,7 @@ def overview(data: Path) -> list[dict]:
     the files' names)."""
     from crosscheck.engines.base import engine_label
     from crosscheck.engines.spec import LADDER_CAUSES
+    from crosscheck.report.sections.engine_interventions import other_starts, pairs_confirmed
 
     rows = []
     for path in sorted(Path(data).glob("*_interventions/summary.json")):
@@ -33,8 +34,8 @@ def overview(data: Path) -> list[dict]:
         if not s.get("attributed"):
             continue
         per = [r for c, r in s["per_cause"].items() if c in LADDER_CAUSES]  # the attributed ones only
-        pairs = sum(sum((r.get("overdetermined") or {}).values()) for r in per)
-        other = sum(r["by_other_starts"] if "by_other_starts" in r else sum(r["by_other"].values()) for r in per)
+        pairs = sum(pairs_confirmed(r) for r in per)
+        other = sum(other_starts(r) for r in per)
         rows.append({"engine": s["engine"], "label": engine_label(s["engine"]), "section": path.parent.name, "attributed": s["attributed"],
                      "confirmed": s["confirmed"] - pairs, "pairs": pairs, "other": other, "jointly": sum(sum(r["jointly"].values()) for r in per),
                      "none": sum(r["none"] for r in per), "no_intervention": sum(r.get("no_intervention", 0) for r in per),
@@ -64,45 +65,42 @@ def _figure(rows: list[dict]):
     left.set_xlim(0, 1)
     left.set_xlabel("share of the engine's attributed disagreements")
     left.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=2, fontsize=7.5, frameon=False)
-    probed = any(r["by_distance"] for r in rows)
-    if probed:
-        keys = sorted({float(b["distance"]) for r in rows for b in r["by_distance"]})
-        x = np.arange(len(keys))
-        for j, r in enumerate(rows):  # each engine's share as a dot, its area the disagreements behind it (few for Drake)
-            got = {float(b["distance"]): b for b in r["by_distance"]}
-            n = np.array([got[k]["attributed"] if k in got else 0 for k in keys])
-            y = np.array([got[k]["confirmed"] / got[k]["attributed"] if k in got and got[k]["attributed"] else np.nan for k in keys])
-            right.scatter(x + 0.05 * (j - (len(rows) - 1) / 2), y, s=6 + 4 * n, alpha=0.55, label=r["label"])
-        at = [[b for r in rows for b in r["by_distance"] if float(b["distance"]) == k] for k in keys]
-        pooled = [(sum(b["confirmed"] for b in bs), sum(b["attributed"] for b in bs)) for bs in at]
-        lo_hi = np.array([wilson_interval(k, n) for k, n in pooled])
-        share = np.array([k / n for k, n in pooled])
-        right.errorbar(x, share, yerr=[share - lo_hi[:, 0], lo_hi[:, 1] - share], color="k", lw=2, capsize=3, label="all engines (95 %)")
-        right.set_xticks(x, ["beyond" if k == float("inf") else f"{k:g}" for k in keys])
-        right.set_xlabel("distance to the theory's event boundary (probe radius)")
-    else:
-        sides = ("in_band", "above")
-        for j, r in enumerate(rows):
-            n = np.array([r["by_p"][s]["attributed"] if r["by_p"] else 0 for s in sides])
-            y = np.array([r["by_p"][s]["confirmed"] / r["by_p"][s]["attributed"] if r["by_p"] and r["by_p"][s]["attributed"] else np.nan
-                          for s in sides])
-            right.scatter(np.arange(2) + 0.05 * (j - (len(rows) - 1) / 2), y, s=6 + 4 * n, alpha=0.55, label=r["label"])
-        pooled = [(sum(r["by_p"][s]["confirmed"] for r in rows if r["by_p"]), sum(r["by_p"][s]["attributed"] for r in rows if r["by_p"]))
-                  for s in sides]
-        x, pooled = zip(*[(i, kn) for i, kn in enumerate(pooled) if kn[1]]) if any(n for _, n in pooled) else ((), ())
-        if x:
-            lo_hi = np.array([wilson_interval(k, n) for k, n in pooled])
-            share = np.array([k / n for k, n in pooled])
-            right.errorbar(x, share, yerr=[share - lo_hi[:, 0], lo_hi[:, 1] - share], color="k", lw=2, capsize=3, label="all engines (95 %)")
-        band = next((r["by_p"]["p_band"] for r in rows if r["by_p"]), 0.2)
-        right.set_xticks([0, 1], [f"enters p <= {band:g}", f"keeps p > {band:g}"])
-        right.set_xlim(-0.5, 1.5)
-        right.set_xlabel("the theory's slip (no boundary distances probed)")
+    ticks, counts, xlabel = _bins(rows)
+    x = np.arange(len(ticks))
+    for j, (r, kn) in enumerate(zip(rows, counts)):  # each engine's share as a dot, its area the disagreements behind it (few for Drake)
+        n = np.array([n for _, n in kn])
+        y = np.array([k / n if n else np.nan for k, n in kn])
+        right.scatter(x + 0.05 * (j - (len(rows) - 1) / 2), y, s=6 + 4 * n, alpha=0.55, label=r["label"])
+    pooled = [(i, sum(kn[i][0] for kn in counts), sum(kn[i][1] for kn in counts)) for i in range(len(ticks))]
+    pooled = [(i, k, n) for i, k, n in pooled if n]
+    if pooled:
+        at, k, n = (np.array(c) for c in zip(*pooled))
+        lo_hi = np.array([wilson_interval(a, b) for a, b in zip(k, n)])
+        share = k / n
+        right.errorbar(at, share, yerr=[share - lo_hi[:, 0], lo_hi[:, 1] - share], color="k", lw=2, capsize=3, label="all engines (95 %)")
+    right.set_xticks(x, ticks)
+    right.set_xlim(-0.5, len(ticks) - 0.5)
+    right.set_xlabel(xlabel)
     right.axhline(0.8, color="0.2", lw=0.8, ls="--")
     right.set_ylim(0, 1.02)
     right.set_ylabel("share confirmed")
     right.legend(fontsize=7, frameon=False, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, markerscale=0.6)
     return fig
+
+
+def _bins(rows: list[dict]) -> tuple[list[str], list[list[tuple[int, int]]], str]:
+    """(tick labels, per engine the (confirmed, attributed) of each bin, axis label): by boundary distance where any engine
+    has probed distances, else by the theory slip's closest approach to p = 0."""
+    if any(r["by_distance"] for r in rows):
+        keys = sorted({float(b["distance"]) for r in rows for b in r["by_distance"]})
+        got = [{float(b["distance"]): (b["confirmed"], b["attributed"]) for b in r["by_distance"]} for r in rows]
+        return ([("beyond" if k == float("inf") else f"{k:g}") for k in keys], [[g.get(k, (0, 0)) for k in keys] for g in got],
+                "distance to the theory's event boundary (probe radius)")
+    band = next((r["by_p"]["p_band"] for r in rows if r["by_p"]), 0.2)
+    sides = ("in_band", "above")
+    return ([f"enters p <= {band:g}", f"keeps p > {band:g}"],
+            [[(r["by_p"][s]["confirmed"], r["by_p"][s]["attributed"]) if r["by_p"] else (0, 0) for s in sides] for r in rows],
+            "the theory's slip (no boundary distances probed)")
 
 
 def confirmed_block(out: Path):

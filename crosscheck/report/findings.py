@@ -244,13 +244,14 @@ def _interventions_overall(data: Path) -> list[Finding]:
     """One line over every engine's interventions section: the attributed disagreements their own cause's intervention
     removes, all engines together, and the engine with the lowest share (each engine's own line comes from its section)."""
     from crosscheck.engines.base import engine_label
+    from crosscheck.report.sections.engine_interventions import pairs_confirmed
 
     summaries = [(p.parent.name, read_json(p)) for p in sorted(data.glob("*_interventions/summary.json"))]
     summaries = [(slug, s) for slug, s in summaries if s and s.get("attributed")]
     if len(summaries) < 2:
         return []
     n, k = sum(s["attributed"] for _, s in summaries), sum(s["confirmed"] for _, s in summaries)
-    pairs = sum(sum((r.get("overdetermined") or {}).values()) for _, s in summaries for r in s["per_cause"].values())
+    pairs = sum(pairs_confirmed(r) for _, s in summaries for r in s["per_cause"].values())
     jointly = sum(s.get("jointly", 0) for _, s in summaries)
     low_slug, low = min(summaries, key=lambda x: x[1]["confirmed"] / x[1]["attributed"])
     met = k >= CONFIRMED_SHARE * n  # (counts, not a rounded share)

@@ -223,25 +223,23 @@ def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
             row["by_intervention"][x["text"]] = row["by_intervention"].get(x["text"], 0) + bool(x["removes"])
             row["tried"][x["text"]] = row["tried"].get(x["text"], 0) + 1  # (a step some starts get, as at p near 0: fewer than n)
         if cause in LADDER_CAUSES:
-            attributed += 1
-            side["attributed"] += 1
             d = r.get("boundary_distance")
-            near = None if d is None or float(d) != float(d) else by_distance.setdefault(float(d), {"distance": float(d), "attributed": 0, "confirmed": 0})
-            if near is not None:
-                near["attributed"] += 1
-            else:
-                unprobed += 1
+            probed = d is not None and float(d) == float(d)  # (None: not probed; NaN likewise)
+            unprobed += not probed
+            tallies = [side, *([by_distance.setdefault(float(d), {"distance": float(d), "attributed": 0, "confirmed": 0})] if probed else [])]
+            ok = cause in iv["causes"] and (_fixes(iv, cause) or both)
+            for tally in tallies:
+                tally["attributed"] += 1
+                tally["confirmed"] += ok
+            attributed += 1
+            confirmed += ok
             if cause not in iv["causes"]:
                 row["no_intervention"] += 1
-            elif _fixes(iv, cause) or both:
+            elif ok:
                 row["confirmed"] += 1
                 row["not_at_strongest"] += _not_at_strongest(iv, cause)
                 if both:
                     row["overdetermined"][also] = row["overdetermined"].get(also, 0) + 1
-                confirmed += 1
-                side["confirmed"] += 1
-                if near is not None:
-                    near["confirmed"] += 1
         if cause not in fixing:
             for c in fixing:
                 row["by_other"][c] = row["by_other"].get(c, 0) + 1

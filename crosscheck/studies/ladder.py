@@ -147,27 +147,7 @@ def run_ladder(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, 
     state.check_start()
     mu, alpha = float(check("mu", mu, MU)), float(check("alpha", alpha, ALPHA))
     horizon = float(check("horizon", horizon, HORIZON))
-    opts = spec.options(**options)
-    th = thresholds or Thresholds()
-    rod = Rod.scaled(alpha)
-    first = slip_until_event(state, mu, alpha, t_max=horizon)
-    o1, t1 = Outcome(int(first.outcome)), float(first.time)
-    until, lag, run_until = run_comparison_window(first, horizon, mu, alpha, opts)
-    # a STICK the classifier cannot tell from the theory's slip (``crosscheck.studies.comparison.stick_from``)
-    since = run_stick_from(first, until, th, opts)
-
-    def label(o: Outcome, t: float) -> Outcome:
-        return compared_label(o, t, until + lag, since)
-
-    rungs = [Rung(1, "tip", None, "ok", o1, t1, label(o1, t1))]
-    for k, (cause, rung) in enumerate(ladder, start=2):
-        t0 = time.perf_counter()
-        try:
-            o, t = _run(rung, spec=spec, rod=rod, state=state, mu=mu, alpha=alpha, opts=opts, th=th, t_analytic=run_until,
-                        t_engine=run_until + window_margin(th, opts.timestep))
-            rungs.append(Rung(k, rung.rpartition(":")[2], cause, "ok", o, t, label(o, t), wall_time=time.perf_counter() - t0))
-        except Exception as e:  # noqa: BLE001 - a failing rung is reported, the ladder goes on
-            rungs.append(Rung(k, rung.rpartition(":")[2], cause, "failed", detail=f"{type(e).__name__}: {e}", wall_time=time.perf_counter() - t0))
+    until, lag, rungs = _climb(spec, ladder, state, mu, alpha, horizon, spec.options(**options), thresholds or Thresholds())
     if reference is not None:
         ref = Outcome(int(reference))
     else:
@@ -197,22 +177,36 @@ def without_capsule_offset(engine: str, state: SlipState, mu: float, reference: 
     if not thin or not any(c != "geometry" for c, _ in models) or models[0] != ("geometry", "capsule"):
         return None
     opts = spec.options(**{**options, **thin[-1].options})
-    th = thresholds or Thresholds()
-    rod = Rod.scaled(alpha)
-    first = slip_until_event(state, mu, alpha, t_max=horizon)
-    until, lag, run_until = run_comparison_window(first, horizon, mu, alpha, opts)
-    since = run_stick_from(first, until, th, opts)
-    rungs = []
-    for k, (cause, rung) in enumerate(models, start=2):
-        try:
-            o, t = _run(rung, spec=spec, rod=rod, state=state, mu=mu, alpha=alpha, opts=opts, th=th, t_analytic=run_until,
-                        t_engine=run_until + window_margin(th, opts.timestep))
-            rungs.append(Rung(k, rung.rpartition(":")[2], cause, "ok", o, t, compared_label(o, t, until + lag, since)))
-        except Exception as e:  # noqa: BLE001 - a rung that fails leaves the question open
-            rungs.append(Rung(k, rung.rpartition(":")[2], cause, "failed", detail=f"{type(e).__name__}: {e}"))
+    _, _, rungs = _climb(spec, models, state, mu, alpha, horizon, opts, thresholds or Thresholds())
+    rungs = rungs[1:]  # (rung 1, the paper's rod, has no cause)
     also = final_stretch_cause(rungs, Outcome(int(reference)), lambda r: r.cause)
     return {"radius": opts.radius, "rungs": [{"cause": r.cause, "label": None if r.label is None else r.label.name} for r in rungs],
             "also": also if also in LADDER_CAUSES and also != "geometry" else None}
+
+
+def _climb(spec, ladder, state: SlipState, mu: float, alpha: float, horizon: float, opts, th: Thresholds) -> tuple[float, float, list]:
+    """(comparison time, lag, rungs) of ``state`` up ``ladder`` ((cause, rung) pairs, rungs 2, 3, ...) at ``opts``: rung 1
+    the paper's rod, each label the agreement study's; a rung that raises is "failed" and the climb goes on."""
+    rod = Rod.scaled(alpha)
+    first = slip_until_event(state, mu, alpha, t_max=horizon)
+    o1, t1 = Outcome(int(first.outcome)), float(first.time)
+    until, lag, run_until = run_comparison_window(first, horizon, mu, alpha, opts)
+    # a STICK the classifier cannot tell from the theory's slip (``crosscheck.studies.comparison.stick_from``)
+    since = run_stick_from(first, until, th, opts)
+
+    def label(o: Outcome, t: float) -> Outcome:
+        return compared_label(o, t, until + lag, since)
+
+    rungs = [Rung(1, "tip", None, "ok", o1, t1, label(o1, t1))]
+    for k, (cause, rung) in enumerate(ladder, start=2):
+        t0 = time.perf_counter()
+        try:
+            o, t = _run(rung, spec=spec, rod=rod, state=state, mu=mu, alpha=alpha, opts=opts, th=th, t_analytic=run_until,
+                        t_engine=run_until + window_margin(th, opts.timestep))
+            rungs.append(Rung(k, rung.rpartition(":")[2], cause, "ok", o, t, label(o, t), wall_time=time.perf_counter() - t0))
+        except Exception as e:  # noqa: BLE001 - a failing rung is reported, the ladder goes on
+            rungs.append(Rung(k, rung.rpartition(":")[2], cause, "failed", detail=f"{type(e).__name__}: {e}", wall_time=time.perf_counter() - t0))
+    return until, lag, rungs
 
 
 def _cause(rungs, reference: Outcome | None) -> str:

@@ -124,10 +124,10 @@ def _figure(ctx: RenderContext, name: str, summary: dict):
     import matplotlib.pyplot as plt
 
     causes = list(summary["per_cause"])
-    over = [sum((summary["per_cause"][c].get("overdetermined") or {}).values()) for c in causes]
+    over = [pairs_confirmed(summary["per_cause"][c]) for c in causes]
     parts = [("confirmed by its own intervention", [summary["per_cause"][c]["confirmed"] - k for c, k in zip(causes, over)], "#2a9d4b"),
              ("confirmed overdetermined (the ladder's pair, by both together)", over, "#8fd19e"),
-             ("removed by another cause's instead", [_other_starts(summary["per_cause"][c]) for c in causes], "#e9a23b"),
+             ("removed by another cause's instead", [other_starts(summary["per_cause"][c]) for c in causes], "#e9a23b"),
              ("removed only jointly with another cause's", [sum(summary["per_cause"][c].get("jointly", {}).values()) for c in causes], "#6c8ebf"),
              ("removed by none", [summary["per_cause"][c]["none"] for c in causes], "#c0392b")]
     fig, ax = plt.subplots(figsize=(7.0, 0.9 + 0.55 * len(causes)), layout="constrained")
@@ -188,7 +188,8 @@ def render(ctx: RenderContext) -> list:
                  "removing it alone: overdetermined, each difference giving the engine's outcome on its own, where the ladder did "
                  "not find that (not counted as confirmed).")
     head += _by_p_sentence(summary)
-    head += _by_distance_sentence(summary)
+    clause = _by_distance_clause(summary)
+    head += f" {clause[:1].upper()}{clause[1:]}." if clause else ""
     blocks.append(Table(caption=f"{name}: {head} Per cause named by the ladder: starts, confirmed by its own intervention, removed by "
                                 "another cause's interventions instead (a misattribution to look into), removed only jointly with "
                                 "another cause of the ladder, removed by none.",
@@ -252,9 +253,15 @@ def _by_p_sentence(summary: dict) -> str:
             "time) moves its own p across 0, so that removing one leaves another to jam or lift off.")
 
 
-def _other_starts(row: dict) -> int:
-    """The starts another cause's intervention removes, each once (summaries saved before the count: one per cause)."""
+def other_starts(row: dict) -> int:
+    """A summary's per-cause row: the starts another cause's intervention removes, each once (summaries saved before the
+    count: one per cause)."""
     return row["by_other_starts"] if "by_other_starts" in row else sum(row["by_other"].values())
+
+
+def pairs_confirmed(row: dict) -> int:
+    """A summary's per-cause row: its starts confirmed as an overdetermined pair the ladder named (by both together)."""
+    return sum((row.get("overdetermined") or {}).values())
 
 
 def _cause_cell(r: dict) -> str:
@@ -267,19 +274,20 @@ def _distance(d) -> str:
     return "beyond the largest probe" if float(d) == float("inf") else f"{float(d):g}"
 
 
-def _by_distance_sentence(summary: dict) -> str:
-    """The confirmed share at the smallest probed distance to the theory's event boundary and beyond the largest probe."""
+def _by_distance_clause(summary: dict) -> str:
+    """The confirmed share at the smallest probed distance to the theory's event boundary and beyond the largest probe
+    ("where ...", no full stop; "" when no start was probed)."""
     rows = summary.get("by_distance") or []
     if not rows:
         return ""
     near, far = rows[0], rows[-1]
     if float(near["distance"]) == float("inf"):
-        return f" Where no probe up to the largest turns the theory's own outcome, {_share(near)} are confirmed."
-    out = f" Where a probe of {_distance(near['distance'])} turns the theory's own outcome, {_share(near)} are confirmed"
+        return f"where no probe up to the largest turns the theory's own outcome, {_share(near)} are confirmed"
+    out = f"where a probe of {_distance(near['distance'])} turns the theory's own outcome, {_share(near)} are confirmed"
     if far is not near:
         out += (f"; where none up to the largest probe does, {_share(far)}" if float(far["distance"]) == float("inf") else
                 f"; at distance {_distance(far['distance'])}, {_share(far)}")
-    return out + "."
+    return out
 
 
 def _joint_cell(iv: dict) -> str:
@@ -310,14 +318,15 @@ def finding(data: Path) -> list:
         return []
     name, share = engine_label(summary["engine"]), summary["confirmed_share"]
     none = sum(r["none"] for r in summary["per_cause"].values())
-    other = sum(_other_starts(r) for r in summary["per_cause"].values())
-    over = sum(sum((r.get("overdetermined") or {}).values()) for r in summary["per_cause"].values())
+    other = sum(other_starts(r) for r in summary["per_cause"].values())
+    over = sum(pairs_confirmed(r) for r in summary["per_cause"].values())
     pairs = f" ({over} of them overdetermined pairs the ladder named, removed by both causes' interventions together)" if over else ""
+    clause = _by_distance_clause(summary)
     return [Finding(f"{name}: causes confirmed on the engine", f"{summary['confirmed']} of {summary['attributed']} attributed disagreements "
                     f"({100 * share:.0f} %) removed by their own cause's intervention on {name} itself{pairs}; {other} removed by another cause's "
                     f"instead, {summary.get('jointly', 0)} only jointly with another cause's (overdetermined, not found by the ladder), {none} by none; {summary.get('removed_by_any', '-')} of {summary.get('n', '-')} removed by some intervention"
                     + (f"; above eq. p {summary['by_p']['p_band']:g} along the theory's slip {_share(summary['by_p']['above'])}, in that band "
-                       f"{_share(summary['by_p']['in_band'])}" if summary.get("by_p") else "") + _by_distance_sentence(summary).rstrip(".").replace(" Where", "; where", 1),
+                       f"{_share(summary['by_p']['in_band'])}" if summary.get("by_p") else "") + (f"; {clause}" if clause else ""),
                     "confirmed" if share >= CONFIRMED_SHARE else "partly confirmed", data.name,
                     why=f"confirmed when at least {100 * CONFIRMED_SHARE:.0f} % are removed by one of their own cause's interventions "
                         "(both causes' together where the ladder named an overdetermined pair)")]

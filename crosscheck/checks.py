@@ -31,6 +31,10 @@ class Interval:
         right = ")" if self.hi_open else "]"
         return f"{left}{self.lo:g}, {self.hi:g}{right}"
 
+    def contains_number(self, x: float) -> bool:
+        """``contains`` for one Python float."""
+        return (x > self.lo if self.lo_open else x >= self.lo) and (x < self.hi if self.hi_open else x <= self.hi)
+
     def contains(self, x: np.ndarray) -> np.ndarray:
         lo_ok = x > self.lo if self.lo_open else x >= self.lo
         hi_ok = x < self.hi if self.hi_open else x <= self.hi
@@ -71,6 +75,10 @@ FINITE = Interval(-math.inf, math.inf, lo_open=True, hi_open=True, text="(-inf, 
 BOUNDED = Interval(-1e100, 1e100, lo_open=False, hi_open=False)
 
 
+#: Exact types ``check`` tests as one Python float (bool, a subclass of int, is not one of them: ``real`` refuses it).
+NUMBERS = frozenset((float, int, np.float64))
+
+
 def check(name: str, value, interval: Interval = FINITE) -> np.ndarray:
     """Return ``value`` as a float array after checking it lies in ``interval``.
 
@@ -78,11 +86,20 @@ def check(name: str, value, interval: Interval = FINITE) -> np.ndarray:
     open at infinity).  Arrays are accepted; the message quotes the first
     offending element.
     """
+    if type(value) in NUMBERS:
+        # one plain number, most calls (a state's component, each right-hand side of a flow): the same test without
+        # numpy's array machinery, which cost 20 times as much; anything it refuses gets the general path's message
+        try:
+            v = float(value)
+        except OverflowError:  # an int beyond any float
+            raise ValueError(f"{name} must be in {interval}; got an integer of {len(str(abs(value)))} digits") from None
+        if math.isfinite(v) and interval.contains_number(v):
+            return np.asarray(v)
     if value is None:
         raise ValueError(f"{name} is required and must be in {interval}")
     try:
         x = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond any float
         raise ValueError(f"{name} must be a number in {interval}; got {value!r}") from None
     bad = ~(np.isfinite(x) & interval.contains(x))
     if np.any(bad):

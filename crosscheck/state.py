@@ -6,7 +6,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from crosscheck.checks import AZIMUTH, ETA, FINITE, NONNEGATIVE, RATE, THETA, VARPHI, Interval, check
+from crosscheck.checks import AZIMUTH, ETA, FINITE, NONNEGATIVE, NUMBERS, RATE, THETA, VARPHI, Interval, check
 
 __all__ = ["SlipState", "real", "real_scalar", "same_shape", "MIN_TIMESTEP", "check_timestep"]
 
@@ -19,7 +19,7 @@ MIN_TIMESTEP = 1e-12
 def real(name: str, value, interval: Interval = FINITE) -> np.ndarray:
     """``check`` for values that must be real numbers: a complex number (whose imaginary part ``float`` would drop),
     a bool, bytes or an object array is refused with one line naming ``name``, as a value out of range is."""
-    if value is None:
+    if value is None or type(value) in NUMBERS:  # None: check's message; a plain float or int is real
         return check(name, value, interval)
     x = np.asarray(value) if not isinstance(value, (str, bytes, bytearray)) else None
     if (isinstance(value, (bool, np.bool_, bytes, bytearray)) or (x is not None and (x.dtype.kind in "cbSUVO" and x.size)

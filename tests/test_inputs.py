@@ -42,6 +42,38 @@ def test_bad_input_message(call, message):
     assert str(err.value).startswith(message)
 
 
+@pytest.mark.parametrize("interval", ["THETA", "VARPHI", "MU", "ETA", "HORIZON", "FINITE"])
+def test_a_plain_number_is_checked_as_the_same_number_in_an_array(interval):
+    # check tests a float or int without numpy; both paths must accept and refuse exactly the same values
+    from crosscheck import checks
+
+    iv = getattr(checks, interval)
+    edges = [iv.lo, iv.hi, math.nextafter(iv.lo, math.inf), math.nextafter(iv.hi, -math.inf), math.nextafter(iv.lo, -math.inf),
+             math.nextafter(iv.hi, math.inf), 0.0, -0.0, 1.0, -1.0, 0, 1, -1, math.nan, math.inf, -math.inf]
+    for v in edges + [np.float64(e) for e in edges]:
+        try:
+            got = ("ok", float(checks.check("x", v, iv)))
+        except ValueError as e:
+            got = ("refused", str(e))
+        try:
+            want = ("ok", float(checks.check("x", np.array([v], float), iv)[0]))
+        except ValueError as e:
+            want = ("refused", str(e))
+        assert got == want, (interval, v)
+        assert got[0] == "refused" or checks.check("x", v, iv).shape == ()
+
+
+def test_an_integer_beyond_every_float_is_refused_naming_the_parameter():
+    from crosscheck.checks import MU, check
+
+    with pytest.raises(ValueError, match="^mu must be in "):
+        check("mu", 10**400, MU)
+    with pytest.raises(ValueError, match="^mu must be a number in "):
+        check("mu", [10**400], MU)
+    with pytest.raises(ValueError, match="^eta must be in "):
+        SlipState(theta=1.0, varphi=-1, Theta=0, Psi=0, eta=10**400)
+
+
 def test_rod_scaled_units():
     rod = Rod.scaled(4.0)
     assert (rod.mass, rod.length, rod.gravity, rod.alpha, rod.omega) == (1.0, 1.0, 1.0, 4.0, 1.0)

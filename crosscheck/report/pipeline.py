@@ -165,9 +165,10 @@ def _preload(sections: Sequence[Section]) -> None:
                 importlib.import_module(name)
             except Exception:  # noqa: BLE001 - the section's own run says what is wrong
                 pass
-    from crosscheck.sweeps.store import versions
+    from crosscheck.sweeps.store import import_libraries, versions
 
     versions()  # the installed versions every sweep store stamps, read once here (they are cached per process)
+    import_libraries()
 
 
 def _order(todo: list[Section], out: Path) -> list[Section]:

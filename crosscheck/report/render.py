@@ -411,8 +411,13 @@ def _view_by_index(i: int) -> SectionView:
     return view
 
 
-def _views(sections: list[Section], out: Path, *, jobs: int, progress: bool) -> list[SectionView]:
-    """Render every section, in ``jobs`` forked processes when there is more than one (figures are CPU-bound)."""
+def _views(sections: list[Section], out: Path, *, jobs: int, progress: bool, meanwhile=lambda: None) -> tuple[list[SectionView], object]:
+    """Render every section, in ``jobs`` forked processes when there is more than one (figures are CPU-bound), and
+    call ``meanwhile()`` in this process while they draw.  Returns (the views, what ``meanwhile`` returned).
+
+    ``meanwhile`` is the page's own work (findings, the engine table and its figure): done here while the pool draws,
+    it no longer runs alone on one core after the last section.
+    """
     global _JOB
 
     def bar(it, n):
@@ -423,18 +428,22 @@ def _views(sections: list[Section], out: Path, *, jobs: int, progress: bool) -> 
         return tqdm(it, total=n, desc="render", leave=True)
 
     if jobs <= 1 or len(sections) < 2 or "fork" not in multiprocessing.get_all_start_methods():
-        return [_view(s, out) for s in bar(sections, len(sections))]
+        views = [_view(s, out) for s in bar(sections, len(sections))]
+        return views, meanwhile()
     _JOB = (sections, out)
+    from crosscheck.report import plotting  # noqa: F401 - imported once here, not once per forked worker
     from crosscheck.workers import process_pool
 
     try:
         with process_pool(jobs) as pool:
-            views = list(bar(pool.imap(_view_by_index, range(len(sections)), chunksize=1), len(sections)))
+            drawing = pool.imap(_view_by_index, range(len(sections)), chunksize=1)
+            extra = meanwhile()
+            views = list(bar(drawing, len(sections)))
     finally:
         _JOB = None
     for v, s in zip(views, sections):
         v.section = s
-    return views
+    return views, extra
 
 
 def render(out: Path | str, sections: Sequence[Section], *, progress: bool = False, jobs: int | None = None) -> RenderSummary:
@@ -455,10 +464,17 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
     prov = {**prov, "rendered": {"date": _provenance.now(), "git": _provenance.git_revision()}}
     if jobs is None:
         jobs = min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1), 4)
-    views = _views(list(sections), out, jobs=jobs, progress=progress)
-    from crosscheck.report.findings import findings
+    def page_blocks():
+        # from the saved results alone, like every section's blocks: built while the sections draw
+        from crosscheck.report.confirmed_overview import confirmed_block
+        from crosscheck.report.engine_table import table_block
+        from crosscheck.report.findings import findings
 
-    found = findings(out / "data")  # from the saved results alone, like every block
+        found = findings(out / "data")
+        # the engine table and the causes confirmed on the engines, read from the saved results once, for both pages
+        return found, [b for b in (table_block(out), confirmed_block(out)) if b is not None]
+
+    views, (found, table) = _views(list(sections), out, jobs=jobs, progress=progress, meanwhile=page_blocks)
     summary_rows = []
     for v in views:
         nf = len(v.failed_checks)
@@ -469,13 +485,8 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
     failures = summary.failures
     _write_references(out)
     (out / "data" / _FINDINGS).write_text(json.dumps({"findings": [dataclasses.asdict(f) for f in found], "rules": dict(RULES)}, indent=1) + "\n")
-    from crosscheck.report.engine_table import table_block
     from crosscheck.report.markdown import write_md
 
-    from crosscheck.report.confirmed_overview import confirmed_block
-
-    # the engine table and the causes confirmed on the engines, read from the saved results once, for both pages
-    table = [b for b in (table_block(out), confirmed_block(out)) if b is not None]
     _write_html(out, views, prov, summary_rows, failures, found, table)
     write_md(out, views, prov, summary_rows, failures, found, table)
     return summary

@@ -138,20 +138,23 @@ class Batch:
         overlap = self.nthread > 1
         cut = max(-(-B // MIN_CHUNKS), -(-MIN_CHUNK_STEPS // self.nstep)) if overlap else B
         chunk = int(max(self.nthread, min(B, CHUNK_BYTES // (2 if overlap else 1) // per_state, cut)))
-        firsts = range(0, B, chunk)
-        overlap = overlap and len(firsts) > 1
+        cuts = list(range(0, B, chunk)) + [B]
+        overlap = overlap and len(cuts) > 2
+        if overlap and cuts[-1] - cuts[-2] >= 2 * self.nthread:
+            # the last chunk's reading has no rollout beside it: in two halves, only the second half's reading is alone
+            cuts.insert(-1, (cuts[-2] + cuts[-1]) // 2)
         with _lent_data(first, self.nthread + 1) as lent:
-            yield from self._rolled_out(lent, firsts, chunk, overlap, progress, desc)
+            yield from self._rolled_out(lent, [slice(a, b) for a, b in zip(cuts, cuts[1:])], chunk, overlap, progress, desc)
 
-    def _rolled_out(self, lent: list, firsts: range, chunk: int, overlap: bool, progress, desc: str):
-        """``chunks``' rollouts in the lent ``MjData``: one per rollout thread, and the last one to place the starts in."""
+    def _rolled_out(self, lent: list, slices: list, chunk: int, overlap: bool, progress, desc: str):
+        """``chunks``' rollouts of the states of each of ``slices`` (at most ``chunk`` each) in the lent ``MjData``: one per
+        rollout thread, and the last one to place the starts in."""
         B, nsensor = len(self.mu), next(iter(self.models.values())).nsensordata
         data, scratch = lent[:-1], lent[-1]
         buffers = [np.empty((min(chunk, B), self.nstep, nsensor)) for _ in range(2 if overlap else 1)]
 
         def run(k: int):
-            a = firsts[k]
-            sl = slice(a, min(a + chunk, B))
+            sl = slices[k]
             sd = buffers[k % len(buffers)][: sl.stop - sl.start]
             pool.rollout(
                 [self.models[m] for m in self.mu[sl]],
@@ -167,13 +170,13 @@ class Batch:
         with rollout.Rollout(nthread=self.nthread if self.nthread > 1 else 0) as pool, ThreadPoolExecutor(1) as ahead:
             pending = {0: ahead.submit(run, 0)} if overlap else {}
             try:
-                for k in bar(range(len(firsts)), progress=progress, desc=desc, unit="chunk"):
+                for k in bar(range(len(slices)), progress=progress, desc=desc, unit="chunk"):
                     if not overlap:
                         yield run(k)
                         continue
                     # chunk k + 1 goes into the buffer of chunk k - 1, which the caller has finished with: queued now, it
                     # rolls out straight after chunk k, with no wait for this thread to wake in between
-                    if k + 1 < len(firsts):
+                    if k + 1 < len(slices):
                         pending[k + 1] = ahead.submit(run, k + 1)
                     yield pending.pop(k).result()
             finally:

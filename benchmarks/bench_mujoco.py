@@ -12,14 +12,17 @@ states, the scaled ``Record`` of every row, classification, summaries).  Each me
 and the best is kept, since other processes share the 2 cores; the CPU time of the process (all its threads) is
 printed beside the wall time, as it moves less with their load.  Target: sweep / bare >= 0.9 in wall time.
 
-Measured on an idle machine (best of 5): 0.85 at 64 states (CPU time 0.93), 0.88-0.94 at 100 (a quick-report map),
-1.08-1.12 at 1024 (a full-report map, where the bare rollout's own output of states and sensors is the larger);
-0.89-1.08 at 64 while other processes kept the load at 4-6 (0.60-0.79 before the sweep overlapped the next
-chunk's rollout with the reading of the last one, in blocks of states that stay in cache).  What is left at 64
+Measured on an idle machine (best of 7): 0.88 at 64 states (CPU time 0.94), 0.91 at 100 (a quick-report map);
+1.08-1.12 at 1024 (best of 5, a full-report map, where the bare rollout's own output of states and sensors is the
+larger); 0.89-1.08 at 64 while other processes kept the load at 4-6 (0.60-0.79 before the sweep overlapped the
+next chunk's rollout with the reading of the last one, in blocks of states that stay in cache).  What is left at 64
 states, from a timeline of one sweep (270 ms against the bare 229 ms): the reading of a chunk of 16 states
 (Record, classifier, summaries: 8.8 ms alone, 12 ms beside two rollout threads on two cores) takes its CPU from
 the next chunk's rollout, which lasts 63-67 ms against 57 ms for the first; the last chunk's reading, which no
-rollout overlaps, 10.5 ms; the setup before the first rollout, 4 ms.
+rollout overlaps (10.5 ms, now halved: the last chunk rolls out in two halves, which moved 64 states from 0.86 to
+0.88 and 100 from 0.89 to 0.91 against the code before, run one after the other in one session); the setup before the first
+rollout, 4 ms.  With both cores busy the wall time cannot fall below (rollout CPU + reading CPU) / 2, about 0.93
+of the bare rollout at 64 states: only a cheaper reading moves it further.
 
     python benchmarks/bench_mujoco.py [--states 64 100 1024] [--horizon 1.0] [--repeat 5] [--loop-states 4]
 """

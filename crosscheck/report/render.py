@@ -464,6 +464,7 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
     prov = {**prov, "rendered": {"date": _provenance.now(), "git": _provenance.git_revision()}}
     if jobs is None:
         jobs = min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1), 4)
+
     def page_blocks():
         # from the saved results alone, like every section's blocks: built while the sections draw
         from crosscheck.report.confirmed_overview import confirmed_block

@@ -85,22 +85,28 @@ plt.rcParams.update(
 )
 
 
-def _share_mathtext_parses(size: int = 2048) -> None:
-    """Parse each mathtext label ($\\theta$, $\\Psi_L$, a log axis's $10^{-3}$) once per output kind, dpi and font.
+def _share_mathtext_parses(size: int = 2048):
+    """Parse each mathtext label ($\\theta$, $\\Psi_L$, a log axis's $10^{-3}$) once per output kind, dpi and font;
+    returns the shared cache (None where it could not be installed).
 
     Matplotlib caches parses per renderer, and every savefig makes a new renderer: the report's ~110 figures
     parsed their ~230 distinct labels 1254 times, a tenth of the render's CPU (measured on the quick report).  A
     parse depends on the parser only through its output kind (raster for Agg, vector for SVG), so one cache keyed
     by that kind returns what each renderer's own parse would: the figures are byte for byte the same.  Where a
     matplotlib release no longer has this private method the renderers keep their own caches.
+
+    A forked process starts with the cache empty, as matplotlib empties its font cache: a vector parse holds its
+    fonts, and a FreeType font read in two processes shares one file offset, so a glyph or table read in one
+    process can return the bytes the other sought (the render's workers are forked while this process draws).
     """
     import functools
+    import os
 
     from matplotlib.mathtext import MathTextParser
 
     parse = getattr(getattr(MathTextParser, "_parse_cached", None), "__wrapped__", None)
-    if parse is None or getattr(MathTextParser, "_crosscheck_shared", False):
-        return
+    if parse is None or getattr(MathTextParser, "_crosscheck_shared", None) is not None:
+        return getattr(MathTextParser, "_crosscheck_shared", None)
     parser_of: dict[str, MathTextParser] = {}
 
     @functools.lru_cache(size)
@@ -111,11 +117,16 @@ def _share_mathtext_parses(size: int = 2048) -> None:
         parser_of.setdefault(self._output_type, self)
         return shared(self._output_type, s, dpi, prop, antialiased, load_glyph_flags)
 
+    shared.matplotlib_parse = parse  # the parse itself, as each renderer's cache calls it
+    if hasattr(os, "register_at_fork"):
+        os.register_at_fork(after_in_child=shared.cache_clear)
     MathTextParser._parse_cached = _parse_cached
-    MathTextParser._crosscheck_shared = True
+    MathTextParser._crosscheck_shared = shared
+    return shared
 
 
-_share_mathtext_parses()
+#: The cache of mathtext parses every figure of this process shares (``_share_mathtext_parses``).
+MATHTEXT_PARSES = _share_mathtext_parses()
 
 
 #: Fig. 17's colours for the type of a GB point (md1 stable node, md2 saddle, md3 unstable node,

@@ -31,10 +31,6 @@ class Interval:
         right = ")" if self.hi_open else "]"
         return f"{left}{self.lo:g}, {self.hi:g}{right}"
 
-    def contains_number(self, x: float) -> bool:
-        """``contains`` for one Python float."""
-        return (x > self.lo if self.lo_open else x >= self.lo) and (x < self.hi if self.hi_open else x <= self.hi)
-
     def contains(self, x: np.ndarray) -> np.ndarray:
         lo_ok = x > self.lo if self.lo_open else x >= self.lo
         hi_ok = x < self.hi if self.hi_open else x <= self.hi
@@ -93,7 +89,7 @@ def check(name: str, value, interval: Interval = FINITE) -> np.ndarray:
             v = float(value)
         except OverflowError:  # an int beyond any float
             raise ValueError(f"{name} must be in {interval}; got an integer of {len(str(abs(value)))} digits") from None
-        if math.isfinite(v) and interval.contains_number(v):
+        if math.isfinite(v) and interval.contains(v):
             return np.asarray(v)
     if value is None:
         raise ValueError(f"{name} is required and must be in {interval}")

@@ -144,14 +144,15 @@ class Batch:
             # the last chunk's reading has no rollout beside it: in two halves, only the second half's reading is alone
             cuts.insert(-1, (cuts[-2] + cuts[-1]) // 2)
         with _lent_data(first, self.nthread + 1) as lent:
-            yield from self._rolled_out(lent, [slice(a, b) for a, b in zip(cuts, cuts[1:])], chunk, overlap, progress, desc)
+            yield from self._rolled_out(lent, [slice(a, b) for a, b in zip(cuts, cuts[1:])], overlap, progress, desc)
 
-    def _rolled_out(self, lent: list, slices: list, chunk: int, overlap: bool, progress, desc: str):
-        """``chunks``' rollouts of the states of each of ``slices`` (at most ``chunk`` each) in the lent ``MjData``: one per
-        rollout thread, and the last one to place the starts in."""
-        B, nsensor = len(self.mu), next(iter(self.models.values())).nsensordata
+    def _rolled_out(self, lent: list, slices: list, overlap: bool, progress, desc: str):
+        """``chunks``' rollouts of the states of each of ``slices`` in the lent ``MjData``: one per rollout thread, and the
+        last one to place the starts in."""
+        nsensor = next(iter(self.models.values())).nsensordata
         data, scratch = lent[:-1], lent[-1]
-        buffers = [np.empty((min(chunk, B), self.nstep, nsensor)) for _ in range(2 if overlap else 1)]
+        most = max((sl.stop - sl.start for sl in slices), default=0)
+        buffers = [np.empty((most, self.nstep, nsensor)) for _ in range(2 if overlap else 1)]
 
         def run(k: int):
             sl = slices[k]

@@ -202,6 +202,46 @@ def test_run_horizons_are_the_smallest_halving_of_the_horizon_past_the_compariso
     assert h.tolist() == [0.125, 0.125, 0.125, 0.25, 1.0, 1.0, 2.0, 2.0, 2.0]
 
 
+def _events_equal(a, b) -> None:
+    from dataclasses import fields
+
+    for f in fields(a):
+        np.testing.assert_array_equal(getattr(a, f.name), getattr(b, f.name), err_msg=f.name)
+        assert getattr(a, f.name).dtype == getattr(b, f.name).dtype, f.name
+
+
+def test_analytic_events_kept_in_a_file_are_read_back_and_a_foreign_or_damaged_file_is_replaced(tmp_path):
+    """Engines mapping one grid share its analytic events through ``kept``: the file returns exactly what the integration
+    gave; a file of another grid (its b0, p0 differ), a damaged one or one lacking a field is integrated again and replaced."""
+    from crosscheck.studies.analytic_events import analytic_events
+
+    pts = EventGrid(theta=(0.3, 0.9), varphi=(-math.pi / 2, -2.5), Theta=(0.0, 1.2), Psi=(-1.0, 1.0), mu=(0.6, 1.4)).points()
+    other = EventGrid(theta=(0.4, 1.0), varphi=(-math.pi / 2, -2.5), Theta=(0.0, 1.2), Psi=(-1.0, 1.0), mu=(0.6, 1.4)).points()
+    kept = tmp_path / "analytic_events" / "grid.npz"
+    plain = analytic_events(pts, alpha=ALPHA, horizon=2.0)
+    assert len(set(plain.outcome.tolist())) > 1  # the grid is not one outcome throughout
+    _events_equal(analytic_events(pts, alpha=ALPHA, horizon=2.0, kept=kept), plain)
+    assert kept.exists()
+    _events_equal(analytic_events(pts, alpha=ALPHA, horizon=2.0, kept=kept), plain)
+    # the file is what is read: a time changed in it comes back
+    with np.load(kept) as z:
+        fields_ = dict(z)
+    np.savez(kept, **{**fields_, "time": fields_["time"] + 1.0})
+    np.testing.assert_array_equal(analytic_events(pts, alpha=ALPHA, horizon=2.0, kept=kept).time, plain.time + 1.0)
+    # another grid's events under the name: integrated again, and the file now holds this grid's
+    _events_equal(analytic_events(other, alpha=ALPHA, horizon=2.0, kept=kept), analytic_events(other, alpha=ALPHA, horizon=2.0))
+    _events_equal(analytic_events(pts, alpha=ALPHA, horizon=2.0, kept=kept), plain)
+    for damaged in (b"not a numpy file", b"PK\x03\x04 truncated"):
+        kept.write_bytes(damaged)
+        _events_equal(analytic_events(pts, alpha=ALPHA, horizon=2.0, kept=kept), plain)
+        _events_equal(analytic_events(pts, alpha=ALPHA, horizon=2.0, kept=kept), plain)  # rewritten whole
+    np.savez(kept, **{k: v for k, v in fields_.items() if k != "reason"})
+    _events_equal(analytic_events(pts, alpha=ALPHA, horizon=2.0, kept=kept), plain)
+    np.save(tmp_path / "bare.npy", plain.time)
+    (tmp_path / "bare.npy").rename(kept)  # a bare array under the name
+    _events_equal(analytic_events(pts, alpha=ALPHA, horizon=2.0, kept=kept), plain)
+
+
 def test_boundary_distances_kept_in_a_file_are_read_back_and_a_damaged_file_is_replaced(tmp_path):
     """Two studies of one grid with the same probe stream share the distances through ``boundary_cache``: the second reads
     the file (a different stream then changes nothing); a file of another length or damaged is computed again."""

@@ -145,6 +145,21 @@ class RunContext:
             return None
         return status, SectionStore(out / "data" / slug)
 
+    def shared(self, kind: str, name: str, key: dict, suffix: str) -> tuple[Path | None, str]:
+        """(file, digest): where sections that compute the same thing from ``key`` keep it once for all of them, under the
+        report's sweeps directory (``<out>/sweeps/<kind>/<name>-<digest><suffix>``, the digest a sha256 of ``key``), and
+        that digest; the file is None when the section runs its engines without a sweeps store.
+
+        Such a file is a cache, as the sweeps' chunks are: what reads it checks it and computes again what it cannot
+        trust (``crosscheck.studies.analytic_events``), and ``--fresh`` deletes it with the sweeps."""
+        import hashlib
+        import json
+
+        digest = hashlib.sha256(json.dumps(key, sort_keys=True, default=str).encode()).hexdigest()[:16]
+        if self.sweeps is None:
+            return None, digest
+        return Path(self.sweeps["store"]).parent / kind / f"{name}-{digest}{suffix}", digest
+
     def check(self, name: str, passed: bool, *, value: Any = None, allowance: Any = None, detail: str = "", known: str = "",
               guard: bool = False) -> bool:
         """Record a check and save the list at once (a later failure keeps it).

@@ -378,7 +378,8 @@ def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresho
 def agreement_study(grid: EventGrid | dict, *, engine: str = engines.DEFAULT, settings: Sequence[Mapping] = ({},), alpha: float = 3.0,
                     horizon: float = DEFAULT_HORIZON, rng: np.random.Generator | None = None, thresholds: Thresholds | None = None,
                     boundary_radii: Sequence[float] = BOUNDARY_RADII, boundary_directions: int = 6, progress: bool = False,
-                    store=None, scheduler: str | None = None, workers: int | None = None, boundary_cache=None, **options) -> AgreementResult:
+                    store=None, scheduler: str | None = None, workers: int | None = None, boundary_cache=None, analytic_cache=None,
+                    **options) -> AgreementResult:
     """Event agreement, analytic vs an engine, over ``grid`` at one or more settings of the engine's options.
 
     Args:
@@ -404,6 +405,9 @@ def agreement_study(grid: EventGrid | dict, *, engine: str = engines.DEFAULT, se
         points, ``rng`` and probe settings: read if it holds them, written
         otherwise (the caller keys the name by what the distances depend on;
         a file of another shape is computed again and replaced).
+      analytic_cache: a file (.npz) keeping the analytic first events of these
+        points, alpha and horizon, as ``boundary_cache`` (``analytic_events``'s
+        ``kept``).
       **options: engine options shared by every setting (radius, ...).
 
     Returns:
@@ -428,7 +432,7 @@ def agreement_study(grid: EventGrid | dict, *, engine: str = engines.DEFAULT, se
         if len({v.size for v in points.values()}) != 1:
             raise ValueError("points must be (N,) arrays of one length N")
         grid = None
-    a = analytic_events(points, alpha=alpha, horizon=horizon, progress=progress)
+    a = analytic_events(points, alpha=alpha, horizon=horizon, progress=progress, kept=analytic_cache)
     idx = np.flatnonzero(a.slipping)
     if idx.size == 0:
         raise ValueError("the grid has no slipping state (b < 0 < p at t = 0)")

@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import io
 import math
+import zipfile
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numpy as np
@@ -58,12 +59,22 @@ class AnalyticEvents:
     jam_scale: np.ndarray
 
 
-def analytic_events(points: dict, *, alpha: float, horizon: float, progress: bool = False) -> AnalyticEvents:
-    """``slip_until_event`` (t_max = horizon) at every point of ``points`` (dict of (N,) arrays, keys ``AXES``)."""
+def analytic_events(points: dict, *, alpha: float, horizon: float, progress: bool = False, kept=None) -> AnalyticEvents:
+    """``slip_until_event`` (t_max = horizon) at every point of ``points`` (dict of (N,) arrays, keys ``AXES``).
+
+    ``kept``: a .npz file keeping the events of these points, alpha and horizon (None: not kept), as
+    ``boundary_distance``'s: read when it holds every field for N points and its b0, p0 are those of these points,
+    else computed and written whole (a damaged or foreign file is computed again and replaced, never trusted).  The
+    caller names the file by what the events depend on; engines mapping one grid then integrate the theory once.
+    """
     alpha = float(check("alpha", alpha, ALPHA))
     horizon = float(check("horizon", horizon, POSITIVE))
     n = len(points["theta"])
     b0, p0 = initial_b_p(points, alpha)
+    if kept is not None:
+        read = _read_kept(Path(kept), n, b0, p0)
+        if read is not None:
+            return read
     outcome = np.empty(n, np.int8)
     t = np.empty(n)
     reason = np.empty(n, dtype=object)
@@ -75,7 +86,35 @@ def analytic_events(points: dict, *, alpha: float, horizon: float, progress: boo
         outcome[i], t[i], reason[i], eta_min[i] = int(r.outcome), r.time, r.reason, float(np.min(r.x[:, 0]))
         scale[i] = theory_jam_scale(r, points["mu"][i], alpha)
     until = np.where(outcome == Outcome.SLIP, np.minimum(t, horizon), np.where(np.isin(outcome, EVENTS), t, horizon))
-    return AnalyticEvents(outcome, t, reason.astype(str), b0, p0, (b0 < 0) & (p0 > 0), until, eta_min, scale)
+    a = AnalyticEvents(outcome, t, reason.astype(str), b0, p0, (b0 < 0) & (p0 > 0), until, eta_min, scale)
+    if kept is not None:
+        buf = io.BytesIO()
+        np.savez(buf, **{f.name: getattr(a, f.name) for f in fields(AnalyticEvents)})
+        Path(kept).parent.mkdir(parents=True, exist_ok=True)
+        write_atomic(Path(kept), buf.getvalue())
+    return a
+
+
+#: The dtype kind of each kept field (``_read_kept``): int8 outcomes, unicode reasons, a bool mask, floats.
+_KINDS = {"outcome": "i", "reason": "U", "slipping": "b"}
+
+
+def _read_kept(path: Path, n: int, b0: np.ndarray, p0: np.ndarray) -> AnalyticEvents | None:
+    """The ``AnalyticEvents`` kept in ``path`` if it holds all of them for n points whose b0 and p0 are these, else None."""
+    try:
+        z = np.load(path, allow_pickle=False)
+        if not isinstance(z, np.lib.npyio.NpzFile):  # a bare array: not a kept file
+            return None
+        with z:
+            got = {f.name: z[f.name] for f in fields(AnalyticEvents)}
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile):
+        return None
+    for k, v in got.items():
+        if v.shape != (n,) or v.dtype.kind != _KINDS.get(k, "f"):
+            return None
+    if not (np.array_equal(got["b0"], b0) and np.array_equal(got["p0"], p0)):
+        return None  # another grid's events under this name
+    return AnalyticEvents(**got)
 
 
 def floor_times(points: dict, index, a: AnalyticEvents, floor: float, *, alpha: float, horizon: float) -> np.ndarray:

@@ -34,8 +34,10 @@ def run(ctx: RunContext) -> None:
     g = P["grid"]
     grid = EventGrid(theta=tuple(cell_centres(*g["theta"])), varphi=tuple(g["varphi"]), Theta=tuple(cell_centres(*g["Theta"])), Psi=tuple(g["Psi"]),
                      mu=tuple(g["mu"]), eta=tuple(g["eta"]))
+    # the theory's events of this grid, which every engine's convergence section shares (``RunContext.shared``)
+    events, _ = ctx.shared("analytic_events", "convergence", {"grid": g, "alpha": P["alpha"], "horizon": P["horizon"]}, ".npz")
     res = agreement_study(grid, engine=P["engine"], settings=P["settings"], alpha=P["alpha"], horizon=P["horizon"], rng=ctx.rng,
-                          boundary_directions=0, progress=ctx.show_progress, **(ctx.sweeps or {}))
+                          boundary_directions=0, progress=ctx.show_progress, analytic_cache=events, **(ctx.sweeps or {}))
     (ctx.store.root / "study.json").write_text(res.to_json() + "\n")
     rows = convergence_table(res)
     ctx.store.write_table("convergence", {k: [r[k] for r in rows] for k in rows[0]})

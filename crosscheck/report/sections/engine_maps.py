@@ -21,10 +21,6 @@ Event-time errors: t_engine - t_analytic where both report the same event.
 
 from __future__ import annotations
 
-import hashlib
-import json
-from pathlib import Path
-
 import numpy as np
 
 from crosscheck.report.grids import cell_centres
@@ -67,15 +63,19 @@ def _sweeps(ctx: RunContext, name: str) -> dict:
 
 
 def _probes(ctx: RunContext, m: dict, P: dict) -> dict:
-    """The analytic boundary probes of map ``m``: a stream seeded by the report's seed and the map itself, so every engine
-    that maps the same grid (MuJoCo's and the rigid engine's 32 x 32, Drake's five 12 x 12) gets the same distances, kept
-    once under the report's sweeps directory (``agreement_study``'s ``boundary_cache``) and read by the others."""
-    key = json.dumps({"map": m, "alpha": P["alpha"], "horizon": P["horizon"], "directions": P["boundary_directions"], "seed": ctx.seed},
-                     sort_keys=True, default=str)
-    digest = hashlib.sha256(key.encode()).hexdigest()[:16]
+    """The theory's side of map ``m``, which every engine that maps the same grid shares (the engines' quick maps, and
+    MuJoCo's and the rigid engine's 32 x 32 and Drake's five 12 x 12 in the full report), kept once under the report's
+    sweeps directory and read by the others (``RunContext.shared``):
+
+    * the analytic first events (``agreement_study``'s ``analytic_cache``): eight engines map the quick report's grids;
+    * the boundary probes (``boundary_cache``): a stream seeded by the report's seed and the map itself, so every
+      engine gets the same distances.
+    """
+    theory = {"map": m, "alpha": P["alpha"], "horizon": P["horizon"]}
+    events, _ = ctx.shared("analytic_events", m["name"], theory, ".npz")
+    cache, digest = ctx.shared("boundary_distance", m["name"], {**theory, "directions": P["boundary_directions"], "seed": ctx.seed}, ".npy")
     rng = np.random.default_rng([ctx.seed, int(digest, 16) & 0xFFFFFFFF])
-    cache = None if ctx.sweeps is None else Path(ctx.sweeps["store"]).parent / "boundary_distance" / f"{m['name']}-{digest}.npy"
-    return {"rng": rng, "boundary_cache": cache}
+    return {"rng": rng, "boundary_cache": cache, "analytic_cache": events}
 
 
 def _floors(maps: list) -> str:

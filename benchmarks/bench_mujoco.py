@@ -12,17 +12,16 @@ states, the scaled ``Record`` of every row, classification, summaries).  Each me
 and the best is kept, since other processes share the 2 cores; the CPU time of the process (all its threads) is
 printed beside the wall time, as it moves less with their load.  Target: sweep / bare >= 0.9 in wall time.
 
-Measured on an idle machine (best of 7): 0.88 at 64 states (CPU time 0.94), 0.91 at 100 (a quick-report map);
-1.08-1.12 at 1024 (best of 5, a full-report map, where the bare rollout's own output of states and sensors is the
-larger); 0.89-1.08 at 64 while other processes kept the load at 4-6 (0.60-0.79 before the sweep overlapped the
-next chunk's rollout with the reading of the last one, in blocks of states that stay in cache).  What is left at 64
-states, from a timeline of one sweep (270 ms against the bare 229 ms): the reading of a chunk of 16 states
-(Record, classifier, summaries: 8.8 ms alone, 12 ms beside two rollout threads on two cores) takes its CPU from
-the next chunk's rollout, which lasts 63-67 ms against 57 ms for the first; the last chunk's reading, which no
-rollout overlaps (10.5 ms, now halved: the last chunk rolls out in two halves, which moved 64 states from 0.86 to
-0.88 and 100 from 0.89 to 0.91 against the code before, run one after the other in one session); the setup before the first
-rollout, 4 ms.  With both cores busy the wall time cannot fall below (rollout CPU + reading CPU) / 2, about 0.93
-of the bare rollout at 64 states: only a cheaper reading moves it further.
+Measured (best of 7, this code and the code before it run in turn four times): 0.90-0.93 at 64 states (CPU time
+0.92-0.94) against 0.85-0.88 before, 0.90-0.92 at 100 (a quick-report map) against 0.90-0.91; 1.11 at 1024 (best
+of 3, a full-report map, where the bare rollout's own output of states and sensors is the larger).  What moved 64
+states: a sweep's rollouts were chunks of 16 states, each one ``rollout`` call on both threads, read while the next
+rolled out; every call ended at a barrier, its last state (~8 ms) on one thread while the other waited, five times
+per sweep.  Now each thread runs its own single-threaded rollouts of 3-state chunks and takes the next one as it
+finishes (``crosscheck.engines.mujoco.rollouts``): the threads wait on each other once, at the end.  What is left:
+with both cores busy the wall time cannot fall below (rollout CPU + reading CPU) / 2, about 0.94 of the bare
+rollout at 64 states, and the reading (Record, classifier, summaries: ~0.3 ms per chunk and ~0.4 ms per state of
+3334 rows) is a little dearer in 3-state chunks than it was in 5-state blocks.
 
     python benchmarks/bench_mujoco.py [--states 64 100 1024] [--horizon 1.0] [--repeat 5] [--loop-states 4]
 """

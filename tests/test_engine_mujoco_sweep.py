@@ -49,17 +49,20 @@ def test_sweep_equals_simulate_exactly():
     assert 200 <= n < 400 and all(v.shape == (len(MIXED), n) for v in result.series.values())
 
 
-def test_a_sweep_cut_into_chunks_with_its_last_chunk_halved_equals_simulate_exactly(monkeypatch):
-    # every chunk boundary, the halved last chunk included, must leave each state's run as it is alone
+@pytest.mark.parametrize("chunk_steps, sizes", [(1, [1] * 16), (3 * 667, [3] * 5 + [1])], ids=["one state", "three states"])
+def test_a_sweep_rolled_out_by_threads_chunk_by_chunk_equals_simulate_exactly(monkeypatch, chunk_steps, sizes):
+    # each thread takes the next chunk as it finishes, in its own MjData: every chunk boundary and every thread must
+    # leave each state's run as it is alone
     from crosscheck.engines.mujoco import engine as mj
 
-    monkeypatch.setattr(mj, "MIN_CHUNK_STEPS", 1)  # 16 states: four chunks of 4, the last one cut in two halves
+    monkeypatch.setattr(mj, "THREAD_CHUNK_STEPS", chunk_steps)  # 667 steps per state at horizon 0.2
     rng = np.random.default_rng(11)
     states = [SlipState(theta=rng.uniform(0.3, 1.3), varphi=-rng.uniform(0.2, 3.0), Theta=0.5 * rng.normal(), Psi=rng.normal(), eta=rng.uniform(0.3, 2.0))
               for _ in range(16)]
     mu = rng.uniform(0.3, 2.0, 16)
     batch = mj.Batch.build(ROD, states, mu, horizon=0.2, options=mj.Options(), nthread=2)
-    assert [sl.stop - sl.start for sl, _ in batch.chunks(progress=False)] == [4, 4, 4, 2, 2]
+    assert batch.nstep == 667
+    assert [sl.stop - sl.start for sl, _ in batch.chunks(progress=False)] == sizes
     result = sweep(ROD, states, mu, horizon=0.2, progress=False)
     single = [simulate(ROD, s, m, horizon=0.2) for s, m in zip(states, mu)]
     np.testing.assert_array_equal(result.outcome, [r.outcome for r in single])

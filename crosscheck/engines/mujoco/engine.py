@@ -1,12 +1,13 @@
 """The MuJoCo engine: the capsule rod of ``models/rod.xml`` stepped by MuJoCo, one state or a batch.
 
-``simulate`` runs one slipping state, ``sweep`` a batch through a persistent
-``mujoco.rollout.Rollout`` thread pool (``nthread`` threads, one ``MjData``
-each) over chunks of states sized to a memory budget; only sensors are
-recorded (``skip_checks=True`` so MuJoCo does not also copy the full state of
-every step).  With more than one thread the next chunk rolls out while the
-last one is turned into records and classified, which goes in blocks of a few
-states whose arrays stay in the CPU's cache (``BLOCK_BYTES``).  Both go through ``Batch``, so a state gives the same numbers
+``simulate`` runs one slipping state, ``sweep`` a batch through
+``mujoco.rollout`` over chunks of states sized to a memory budget; only
+sensors are recorded (``skip_checks=True`` so MuJoCo does not also copy the
+full state of every step).  With more than one thread each thread rolls out
+small chunks on its own, taking the next one as it finishes
+(``crosscheck.engines.mujoco.rollouts``), while this thread turns the chunks
+into records and classifies them in order, in blocks of a few states whose
+arrays stay in the CPU's cache (``BLOCK_BYTES``).  Both go through ``Batch``, so a state gives the same numbers
 either way (tests assert equality), and both classify with the one classifier
 ``crosscheck.engines.classifier``, with the STICK threshold following the run's
 friction time constant.  The model, its start and its sensors are in
@@ -23,7 +24,7 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Sequence
-from concurrent.futures import ThreadPoolExecutor
+import contextlib
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -35,6 +36,7 @@ from crosscheck.progress import bar
 from crosscheck.checks import MU, POSITIVE
 from crosscheck.engines.base import (SERIES, STATE_KEYS, SUMMARY, Run, SweepResult, check_states, n_steps_within_memory, summaries)
 from crosscheck.engines.classifier import Thresholds, classify
+from crosscheck.engines.mujoco import rollouts
 from crosscheck.engines.mujoco import warning_counts as mujoco_warnings
 from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import SensorLayout, initial_state, model, record_from_sensordata
@@ -49,15 +51,14 @@ NAME = "mujoco"
 # MuJoCo's warnings are counted, not printed (nor logged to MUJOCO_LOG.TXT in the user's directory).
 mujoco_warnings.install()
 
-#: Memory for the sensordata of the chunks in flight (two when they overlap: one rolling out, one read); sets the chunk size.
+#: Memory for the sensordata of the chunks in flight (nthread + 2 on several threads: one filling per thread, one read, one
+#: filled ahead); sets the chunk size.
 CHUNK_BYTES = 48 * 2**20
 
-#: A sweep of fewer chunks is cut into this many, so that the rollout of one overlaps the reading of another ...
-MIN_CHUNKS = 4
-
-#: ... but a chunk keeps at least this many steps (~40 ms of rollout on 2 threads): a chunk's handoff between
-#: threads costs milliseconds on a loaded machine, more than overlapping a small chunk's reading saves.
-MIN_CHUNK_STEPS = 50_000
+#: Steps per chunk of a sweep on several rollout threads (``rollouts.in_order``; fewer when ``CHUNK_BYTES`` says so):
+#: the threads wait on each other at the batch's end for at most one chunk, and each chunk costs its handoff to the
+#: reader and a reading of its own (~0.2 ms of the classifier's fixed cost).
+THREAD_CHUNK_STEPS = 10_000
 
 #: Sensordata of the states read together (record, classifier, summaries): their arrays then stay in the
 #: cache, where the elementwise passes over a whole 48 MiB chunk ran from memory (64 states x 3334 rows: 140 ms
@@ -106,8 +107,10 @@ class Batch:
         if mu.ndim > 1 or mu.ndim == 1 and len(mu) not in (1, B):
             raise ValueError(f"mu must be one number or one per state ({B}); got an array of shape {mu.shape}")
         mu = np.broadcast_to(mu, (B,)).astype(float)
-        # a chunk holds at least nthread states' whole time series: refuse what cannot fit before allocating it
-        nstep = n_steps_within_memory(horizon, options.timestep, ROW_BYTES, copies=nthread, what="records", context=f" with nthread = {nthread}")
+        # refuse what cannot fit before allocating it: with several threads, nthread + 2 chunks of a state or more
+        # are in flight (``chunks``)
+        nstep = n_steps_within_memory(horizon, options.timestep, ROW_BYTES, copies=1 if nthread == 1 else nthread + 2, what="records",
+                                      context=f" with nthread = {nthread}")
         models = {m: model(rod, m, options) for m in np.unique(mu)}  # compiled once per setting (``model``'s cache)
         first = next(iter(models.values()))
         return cls(models, SensorLayout.from_model(first), mu, rod, states, nstep, nthread, options.radius)
@@ -124,65 +127,61 @@ class Batch:
         return np.stack([initial_state(first, self.rod, s, self.radius, data=scratch) for s in self.states[sl]])
 
     def chunks(self, *, progress: bool | None, desc: str = "mujoco sweep"):
-        """Run the batch; yield (slice of states, (n, nstep, nsensordata) sensordata) per chunk.
+        """Run the batch; yield (slice of states, (n, nstep, nsensordata) sensordata) per chunk, in order.
 
-        The next chunk rolls out in a background thread (MuJoCo releases the GIL) while the caller reads this
-        one, into the other of two buffers: use a chunk's sensordata before asking for the next one.
+        With more than one rollout thread and more than one chunk, each thread rolls out its own chunks and takes the
+        next one as it finishes (``rollouts.in_order``) while the caller reads the chunks in order: use a chunk's
+        sensordata before asking for the next one, whose buffer may be the one it lent.
         """
         first = next(iter(self.models.values()))
-        B, nsensor = len(self.mu), first.nsensordata
-        per_state = self.nstep * nsensor * 8
-        # With one rollout thread the batch keeps to one core (the sweeps layer runs one such process per core): no
-        # overlap.  One chunk (simulate, a small sweep) has nothing to overlap: it runs here, as a thread's start and
-        # handoff cost ~10 ms on a loaded machine (simulate at horizon 0.01: 5 ms inline, 18 ms through the thread).
-        overlap = self.nthread > 1
-        cut = max(-(-B // MIN_CHUNKS), -(-MIN_CHUNK_STEPS // self.nstep)) if overlap else B
-        chunk = int(max(self.nthread, min(B, CHUNK_BYTES // (2 if overlap else 1) // per_state, cut)))
-        cuts = list(range(0, B, chunk)) + [B]
-        overlap = overlap and len(cuts) > 2
-        if overlap and cuts[-1] - cuts[-2] >= 2 * self.nthread:
-            # the last chunk's reading has no rollout beside it: in two halves, only the second half's reading is alone
-            cuts.insert(-1, (cuts[-2] + cuts[-1]) // 2)
-        with _lent_data(first, self.nthread + 1) as lent:
-            yield from self._rolled_out(lent, [slice(a, b) for a, b in zip(cuts, cuts[1:])], overlap, progress, desc)
+        B = len(self.mu)
+        per_state = self.nstep * first.nsensordata * 8
+        threads = self.nthread > 1
+        if threads:
+            # small chunks: the threads wait on each other only at the batch's end, for at most one chunk
+            chunk = max(1, min(-(-THREAD_CHUNK_STEPS // self.nstep), CHUNK_BYTES // (self.nthread + 2) // per_state))
+        else:
+            chunk = max(1, min(B, CHUNK_BYTES // per_state))
+        slices = [slice(a, min(a + chunk, B)) for a in range(0, B, chunk)]
+        # With one rollout thread the batch keeps to one core (the sweeps layer runs one such process per core).  One
+        # chunk (simulate, a small sweep) has nothing to overlap: it runs here, on the rollout's own threads, as a thread's
+        # start and handoff cost ~10 ms on a loaded machine (simulate at horizon 0.01: 5 ms inline, 18 ms through a thread).
+        if not threads or len(slices) < 2:
+            with _lent_data(first, self.nthread + 1) as lent:
+                yield from _counted(self._inline(lent, slices), len(slices), progress, desc)
+            return
+        with _lent_data(first, 2 * self.nthread) as lent, contextlib.ExitStack() as pools:
+            most = max(sl.stop - sl.start for sl in slices)
+            buffers = [np.empty((most, self.nstep, first.nsensordata)) for _ in range(min(len(slices), self.nthread + 2))]
+            workers = [self._worker(pools.enter_context(rollout.Rollout(nthread=0)), lent[2 * i], lent[2 * i + 1]) for i in range(self.nthread)]
+            yield from _counted(rollouts.in_order(slices, buffers, workers), len(slices), progress, desc)
 
-    def _rolled_out(self, lent: list, slices: list, overlap: bool, progress, desc: str):
-        """``chunks``' rollouts of the states of each of ``slices`` in the lent ``MjData``: one per rollout thread, and the
-        last one to place the starts in."""
+    def _rollout(self, pool, data: list, sl: slice, sd: np.ndarray, scratch: mujoco.MjData) -> None:
+        """The states of ``sl`` rolled out by ``pool`` in ``data`` (one ``MjData`` per pool thread), their sensors into ``sd``."""
+        pool.rollout(
+            [self.models[m] for m in self.mu[sl]],
+            data,
+            self.starts(sl, scratch),
+            skip_checks=True,
+            nstep=self.nstep,
+            sensordata=sd,
+            control_spec=mujoco.mjtState.mjSTATE_CTRL.value,
+        )
+
+    def _worker(self, pool, data: mujoco.MjData, scratch: mujoco.MjData):
+        """A rollout thread's fill(sl, sd): its own single-threaded pool, ``MjData`` and ``MjData`` to place starts in."""
+        return lambda sl, sd: self._rollout(pool, [data], sl, sd, scratch)
+
+    def _inline(self, lent: list, slices: list):
+        """Each of ``slices`` rolled out here in turn, by the rollout's own ``nthread`` threads, into one buffer."""
         nsensor = next(iter(self.models.values())).nsensordata
         data, scratch = lent[:-1], lent[-1]
-        most = max((sl.stop - sl.start for sl in slices), default=0)
-        buffers = [np.empty((most, self.nstep, nsensor)) for _ in range(2 if overlap else 1)]
-
-        def run(k: int):
-            sl = slices[k]
-            sd = buffers[k % len(buffers)][: sl.stop - sl.start]
-            pool.rollout(
-                [self.models[m] for m in self.mu[sl]],
-                data,
-                self.starts(sl, scratch),
-                skip_checks=True,
-                nstep=self.nstep,
-                sensordata=sd,
-                control_spec=mujoco.mjtState.mjSTATE_CTRL.value,
-            )
-            return sl, sd
-
-        with rollout.Rollout(nthread=self.nthread if self.nthread > 1 else 0) as pool, ThreadPoolExecutor(1) as ahead:
-            pending = {0: ahead.submit(run, 0)} if overlap else {}
-            try:
-                for k in bar(range(len(slices)), progress=progress, desc=desc, unit="chunk"):
-                    if not overlap:
-                        yield run(k)
-                        continue
-                    # chunk k + 1 goes into the buffer of chunk k - 1, which the caller has finished with: queued now, it
-                    # rolls out straight after chunk k, with no wait for this thread to wake in between
-                    if k + 1 < len(slices):
-                        pending[k + 1] = ahead.submit(run, k + 1)
-                    yield pending.pop(k).result()
-            finally:
-                for f in pending.values():  # the caller stopped early: drop the queued rollout
-                    f.cancel()
+        sd = np.empty((max(sl.stop - sl.start for sl in slices), self.nstep, nsensor))
+        with rollout.Rollout(nthread=self.nthread if self.nthread > 1 else 0) as pool:
+            for sl in slices:
+                rows = sd[: sl.stop - sl.start]
+                self._rollout(pool, data, sl, rows, scratch)
+                yield sl, rows
 
     def records(self, rod: Rod, *, progress: bool | None, desc: str = "mujoco sweep"):
         """Run the batch; yield (slice of states, ``Record`` of those states) per block of states (``BLOCK_BYTES``)."""
@@ -190,6 +189,16 @@ class Batch:
         for sl, sd in self.chunks(progress=progress, desc=desc):
             for a in range(0, len(sd), block):
                 yield slice(sl.start + a, min(sl.start + a + block, sl.stop)), record_from_sensordata(sd[a:a + block], self.layout, rod, self.radius)
+
+
+def _counted(chunks, n: int, progress, desc: str):
+    """Yield from ``chunks`` (n of them) under a progress bar, and close it here when the caller stops early (its
+    ``finally`` then runs now, not whenever the generator is collected)."""
+    try:
+        for _ in bar(range(n), progress=progress, desc=desc, unit="chunk"):
+            yield next(chunks)
+    finally:
+        chunks.close()
 
 
 #: Spare ``MjData`` kept per model layout (``_lent_data``).

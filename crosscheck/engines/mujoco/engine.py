@@ -21,10 +21,10 @@ omega dt, ``radius`` is r / l, ...).  ``Rod`` supplies m, l, I0, g.
 
 from __future__ import annotations
 
+import contextlib
 import threading
 import time
 from collections.abc import Sequence
-import contextlib
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -57,7 +57,7 @@ CHUNK_BYTES = 48 * 2**20
 
 #: Steps per chunk of a sweep on several rollout threads (``rollouts.in_order``; fewer when ``CHUNK_BYTES`` says so):
 #: the threads wait on each other at the batch's end for at most one chunk, and each chunk costs its handoff to the
-#: reader and a reading of its own (~0.2 ms of the classifier's fixed cost).
+#: reader and a reading of its own (~0.3 ms that the Record, the classifier and the summaries cost at any size).
 THREAD_CHUNK_STEPS = 10_000
 
 #: Sensordata of the states read together (record, classifier, summaries): their arrays then stay in the

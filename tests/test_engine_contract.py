@@ -120,3 +120,31 @@ def test_declaration_is_complete_and_its_libraries_are_in_provenance(name):
                 spec.options(**plan.maps[which])
             for setting in (plan.convergence or {}).get(which, []):
                 spec.options(**setting)
+
+
+#: Engines whose ``simulate`` can stop a run once its first event is judged (``EngineSpec.stops_at_event``).
+STOPPING = [n for n in ENGINES if engines.get(n).stops_at_event]
+
+
+def test_the_time_stepping_engines_declare_that_they_stop_at_their_first_event():
+    assert {n for n in STOPPING} == {n for n in ENGINES if n.startswith("drake_")} | {"bullet"}
+
+
+@pytest.mark.parametrize("name", STOPPING)
+def test_first_event_stops_early_with_the_whole_runs_outcome_and_event_time(name, rod):
+    """The ladders' and interventions' run (``EngineSpec.first_event``) stops where the engine declares it can, and
+    gives what the whole run gives."""
+    spec = engines.get(name)
+    state = SlipState(theta=1.2, varphi=-1.9, Theta=0.9, Psi=0.0, eta=1.0)  # lifts off at once at mu 1.4
+    whole = spec.simulate(rod, state, 1.4, horizon=0.6)
+    cut = spec.simulate(rod, state, 1.4, horizon=0.6, until_event=True)
+    assert np.isfinite(whole.event_time) and np.isfinite(cut.record.t).sum() < len(whole.record)  # it stopped early
+    assert spec.first_event(rod, state, 1.4, horizon=0.6) == (Outcome(int(whole.outcome)), float(whole.event_time))
+
+
+def test_stops_at_event_must_be_a_bool():
+    from crosscheck.engines.spec import EngineSpec
+
+    for bad in (1, "yes", None):
+        with pytest.raises(ValueError, match=r"^engine 'toy' stops_at_event must be True or False; got "):
+            EngineSpec(name="toy", module="crosscheck.engines.bullet.engine", stops_at_event=bad)

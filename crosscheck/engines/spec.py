@@ -146,6 +146,9 @@ class EngineSpec:
         (``crosscheck.studies.agreement_store``); None: the study's default.  Larger for an engine whose
         ``sweep`` steps a chunk as one batch and gets cheaper per step the larger the batch (a killed
         run loses at most one chunk of finished work).
+      stops_at_event: its ``simulate`` takes ``until_event=True`` and then stops a run once its first event is
+        judged (``crosscheck.engines.classifier.first_event_final``), with the whole run's outcome and event
+        time; ``first_event`` uses it.
     """
 
     def __init__(self, *, name: str, module: str | None = None, Options: type | None = None, simulate: Callable | None = None,
@@ -154,7 +157,7 @@ class EngineSpec:
                  one_core: Mapping[str, Any] | None = None, solver_columns: Sequence[str] = (), tolerances: Mapping[str, Any] | None = None,
                  tags: Iterable[str] = (), ladder: Mapping[str, Any] | None = None, checks: Callable | None = None,
                  dynamics: str | None = None, report: ReportPlan | None = None, interventions: Mapping[str, str] | None = None,
-                 sweep_chunk: int | None = None) -> None:
+                 sweep_chunk: int | None = None, stops_at_event: bool = False) -> None:
         if not (isinstance(name, str) and name.isidentifier()):
             raise ValueError(f"engine name must be an identifier; got {name!r}")
         given = {k: v for k, v in (("Options", Options), ("simulate", simulate), ("sweep", sweep)) if v is not None}
@@ -178,12 +181,15 @@ class EngineSpec:
                 raise ValueError(f"engine {name!r} tolerance profile lacks {missing[0]!r} (needs {', '.join(EVENT_TOLERANCE_KEYS)})")
         if sweep_chunk is not None and not (isinstance(sweep_chunk, int) and not isinstance(sweep_chunk, bool) and 1 <= sweep_chunk <= 1_000_000):
             raise ValueError(f"engine {name!r} sweep_chunk must be an integer in [1, 1000000] or None; got {sweep_chunk!r}")
+        if not isinstance(stops_at_event, bool):
+            raise ValueError(f"engine {name!r} stops_at_event must be True or False; got {stops_at_event!r}")
         d = self.__dict__
         d.update(name=name, module=module, label=label or name, slug=slug or name, libraries=tuple(libraries),
                  defaults=dict(defaults or {}), one_core=dict(one_core or {}),
                  solver_columns=tuple(solver_columns), tolerances=None if tolerances is None else dict(tolerances), tags=tags,
                  ladder=None if ladder is None else dict(ladder), checks=checks, dynamics=dynamics, report=report,
-                 interventions=None if interventions is None else dict(interventions), sweep_chunk=sweep_chunk, _given=given)
+                 interventions=None if interventions is None else dict(interventions), sweep_chunk=sweep_chunk,
+                 stops_at_event=stops_at_event, _given=given)
 
     def __setattr__(self, key, value):
         raise AttributeError(f"EngineSpec is read-only; cannot set {key!r}")
@@ -210,6 +216,15 @@ class EngineSpec:
         """The engine's ``simulate`` with its ``defaults`` (see ``crosscheck.engines.base.Engine``)."""
         _check_rod_and_thresholds(rod, thresholds)
         return self._part("simulate")(rod, state, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options})
+
+    def first_event(self, rod, state, mu, *, horizon, thresholds=None, **options):
+        """(outcome, event time) of ``simulate``'s run, stopped once its first event is judged where the engine can
+        (``stops_at_event``): nothing the run does after that changes them (the ladders and interventions read no more)."""
+        from crosscheck.outcome import Outcome
+
+        stop = {"until_event": True} if self.stops_at_event else {}
+        run = self.simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, **options, **stop)
+        return Outcome(int(run.outcome)), float(run.event_time)
 
     def sweep(self, rod, states, mu, *, horizon, thresholds=None, **options):
         """The engine's ``sweep`` with its ``defaults`` (see ``crosscheck.engines.base.Engine``)."""

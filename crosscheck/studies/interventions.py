@@ -93,8 +93,7 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
             until, lag, run_until = run_comparison_window(first, horizon, mu, alpha, opts)
             # a STICK the classifier cannot tell from the theory's slip, at the intervened run's own STICK floor
             since = run_stick_from(first, until, th, opts)
-            run = spec.simulate(rod, state, mu, horizon=run_until + window_margin(th, opts.timestep), thresholds=th, **opts_kw)
-            o, t = Outcome(int(run.outcome)), float(run.event_time)
+            o, t = spec.first_event(rod, state, mu, horizon=run_until + window_margin(th, opts.timestep), thresholds=th, **opts_kw)
             theory, label = compared_label(o1, t1, until + lag), compared_label(o, t, until + lag, since)
             return {"text": text, "options": dict(changed), "status": "ok", "outcome": o.name, "time": t, "label": label.name,
                     "removes": label == theory and theory in RATED, "wall_time": time.perf_counter() - t0}

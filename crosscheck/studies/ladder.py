@@ -126,10 +126,9 @@ def _run(rung: str, *, spec, rod: Rod, state: SlipState, mu: float, alpha: float
         return Outcome(int(r.outcome)), float(r.time)
     if rung == "engine":
         given = {k: getattr(opts, k) for k in opts.__dataclass_fields__}
-        run = spec.simulate(rod, state, mu, horizon=t_engine, thresholds=th, **given)
-    else:
-        module, _, attr = rung.partition(":")
-        run = getattr(importlib.import_module(module), attr)(rod, state, mu, horizon=t_engine, thresholds=th, options=opts)
+        return spec.first_event(rod, state, mu, horizon=t_engine, thresholds=th, **given)
+    module, _, attr = rung.partition(":")
+    run = getattr(importlib.import_module(module), attr)(rod, state, mu, horizon=t_engine, thresholds=th, options=opts)
     return Outcome(int(run.outcome)), float(run.event_time)
 
 

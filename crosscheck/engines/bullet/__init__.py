@@ -45,5 +45,6 @@ ENGINES = (
                           # 24 x 24 full maps: its 32 x 32 took 90 s in the full report beside five Drake engines
                           maps_n={"quick": 10, "full": 24},
                           ladder=True, order=50, sections=_sections),
+        stops_at_event=True,
     ),
 )

@@ -102,6 +102,7 @@ ENGINES = tuple(
         interventions={c: f"crosscheck.engines.drake.interventions:{c.replace(' ', '_')}"
                        for c in (_LADDER_CONTINUOUS if a == "continuous" else _LADDER_RELAXED if "relaxed" in _TAGS[a] else _LADDER)},
         report=ReportPlan(maps=_MAPS[a], convergence=_CONVERGENCE[a], maps_n=_MAPS_N, convergence_n=_CONVERGENCE_N, ladder=True, order=40 + i),
+        stops_at_event=True,
     )
     for i, a in enumerate(("sap", "continuous", "similar", "lagged", "tamsi"))
 )

@@ -115,6 +115,28 @@ def test_quick_report_succeeds_and_every_section_ran(quick):
             assert "full report only" in st["reason"]
 
 
+def test_engines_mapping_one_grid_share_one_kept_theory_and_read_the_same_analytic_events(quick):
+    """Each map grid's analytic events are integrated once and kept under the sweeps directory (``RunContext.shared``):
+    one file per grid, and every engine's events table of that grid holds the same analytic columns, bit for bit."""
+    import csv
+
+    out, _ = quick
+    kept = sorted((out / "sweeps" / "analytic_events").glob("*.npz"))
+    maps = sorted(p for p in (out / "data").glob("*_maps") if (p / "maps.json").is_file())
+    grids: dict = {}
+    for m in maps:
+        for mp in json.loads((m / "maps.json").read_text()):
+            rows = list(csv.DictReader((m / f"events_{mp['name']}.csv").open()))
+            cols = [(r["theta"], r["Theta"], r["Psi"], r["mu"], r["analytic_outcome"], r["analytic_time"], r["analytic_reason"]) for r in rows]
+            grids.setdefault(json.dumps([mp["name"], mp["x"], mp["y"], mp["fixed"]], sort_keys=True), []).append((m.name, cols))
+    shared = [g for g in grids.values() if len(g) > 1]
+    assert len(maps) >= 8 and shared  # eight engines map the quick grids
+    for g in shared:
+        assert all(cols == g[0][1] for _, cols in g[1:]), [name for name, _ in g]
+    # one kept file per distinct grid (its axes' values in the key above), however many engines map it
+    assert len([p for p in kept if not p.name.startswith("convergence-")]) == len(grids) < sum(len(g) for g in grids.values())
+
+
 @pytest.mark.parametrize("section", report.SECTIONS, ids=lambda s: s.slug)
 def test_every_figure_and_table_has_its_files(quick, views, section):
     out, _ = quick

@@ -53,6 +53,7 @@ import numpy as np
 import pinocchio as pin
 from scipy.optimize import minimize_scalar
 
+from crosscheck.engines.pinocchio import spd
 from crosscheck.theory import analytic
 from crosscheck.theory.analytic import _force_components  # same check and message as the reference
 from crosscheck.checks import ALPHA, MU, check
@@ -146,20 +147,23 @@ class RodTerms:
 
     @cached_property
     def _solved(self) -> tuple[np.ndarray, np.ndarray]:
-        # One batched solve for M^-1 J^T (N, 5, 3) and M^-1 (C v + g) (N, 5), shared by the methods below.
-        rhs = np.concatenate((np.swapaxes(self.J, 1, 2), self.bias[..., None]), axis=2)
-        x = np.linalg.solve(self.M, rhs)
-        return x[..., :3], x[..., 3]
+        # With M = L L^T (Cholesky; M is symmetric positive definite): W = L^-1 J^T (5, 3, N) and z = L^-1 (C v + g)
+        # (5, N), one forward substitution for both, so that G = W^T W and J M^-1 (C v + g) = W^T z (no backward one).
+        rhs = np.empty((5, 4, self.M.shape[0]))
+        rhs[:, :3] = self.J.transpose(2, 1, 0)
+        rhs[:, 3] = self.bias.T
+        w = spd.forward_solve(spd.cholesky_columns(self.M), rhs)
+        return w[:, :3], w[:, 3]
 
     @cached_property
     def _delassus(self) -> np.ndarray:
-        minv_jt, _ = self._solved
-        return _read_only(self.J @ minv_jt)
+        w, _ = self._solved
+        return _read_only(np.einsum("kin,kjn->nij", w, w))
 
     @cached_property
     def _free(self) -> np.ndarray:
-        _, minv_h = self._solved
-        return _read_only(np.einsum("nij,nj->ni", self.dJ, self.v) - np.einsum("nij,nj->ni", self.J, minv_h))
+        w, z = self._solved
+        return _read_only(np.einsum("nij,nj->ni", self.dJ, self.v) - np.einsum("kin,kn->ni", w, z))
 
     def delassus(self) -> np.ndarray:
         """G = J M^-1 J^T, (N, 3, 3) [m/s^2 per N]: tip acceleration per unit tip force (read-only, computed once)."""

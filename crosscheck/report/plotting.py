@@ -213,14 +213,25 @@ def save_figure(fig, stem: Path) -> None:
     """
     stem = Path(stem)
     stem.parent.mkdir(parents=True, exist_ok=True)
-    # not with_suffix: a stem may contain a dot ("mu1.4")
-    fig.savefig(stem.parent / f"{stem.name}.png", metadata={"Software": None})
-    # No layout engine at all for the SVG: set_layout_engine("none") leaves a placeholder engine, and savefig
-    # draws a figure with any engine twice (once to lay it out): 4.4 of the 37 s of the quick report's figures.
+    # The layout as savefig would compute it for the PNG (at its dpi: text is measured at the size it is drawn), then
+    # no layout engine at all for either file.  savefig draws a figure that has an engine twice, once with its drawing
+    # turned off to lay it out (a seventh of the quick report's render); set_layout_engine("none") would leave a
+    # placeholder engine that savefig counts as one.  The rc context keeps it off: savefig puts back the figure's
+    # engine with set_layout_engine, which would make a new constrained one from the rc parameters.
+    engine = fig.get_layout_engine()
+    if engine is not None:
+        shown, saved = fig.dpi, plt.rcParams["savefig.dpi"]
+        fig.dpi = shown if saved == "figure" else saved
+        try:
+            engine.execute(fig)
+        finally:
+            fig.dpi = shown
     with plt.rc_context({"figure.constrained_layout.use": False, "figure.autolayout": False}):
         fig.set_layout_engine(None)
-    _rasterize_heavy(fig)
-    fig.savefig(stem.parent / f"{stem.name}.svg", metadata={"Date": None, "Creator": None})
+        # not with_suffix: a stem may contain a dot ("mu1.4")
+        fig.savefig(stem.parent / f"{stem.name}.png", metadata={"Software": None})
+        _rasterize_heavy(fig)
+        fig.savefig(stem.parent / f"{stem.name}.svg", metadata={"Date": None, "Creator": None})
     plt.close(fig)
 
 

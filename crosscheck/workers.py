@@ -11,12 +11,27 @@ that a run killed by SIGKILL never leaves workers behind:
   (``crosscheck.locking.HELD``): a forked child shares the parent's open
   files, and with them its ``flock``, which would otherwise outlive the parent
   for as long as the child runs.
+
+Each worker also puts every object it inherited out of the cyclic garbage
+collector's reach (``gc.freeze``).  A forked child shares its parent's memory
+pages until it writes to one, which copies it; a collection of the oldest
+generation writes to the header of every object it scans, so a child that
+collected once copied most of the parent's heap (its numpy, Drake, MuJoCo,
+Pinocchio and matplotlib objects).  Reference counting still frees what a
+worker drops; only a reference cycle among the inherited objects that a
+worker lets go stays in it until it exits.  On the quick report (83 section
+processes and the figures' workers; ``/usr/bin/time``, three runs each in
+turn): 40.1, 40.0 and 39.0 s instead of 43.0, 43.8 and 42.1; 72.4, 72.2 and
+70.7 s of user CPU instead of 77.3, 78.7 and 76.1; 850 000-870 000 page faults
+instead of 957 000-970 000.  The Python documentation of ``gc.freeze``
+describes this use.
 """
 
 from __future__ import annotations
 
 import ctypes
 import ctypes.util
+import gc
 import multiprocessing
 import os
 import signal
@@ -35,7 +50,8 @@ def default_workers() -> int:
 
 
 def adopt(parent: int) -> None:
-    """Run first in a forked worker of ``parent``: die with it, and drop its locks."""
+    """Run first in a forked worker of ``parent``: die with it, drop its locks, and leave its objects to it (``gc.freeze``)."""
+    gc.freeze()
     for fd in list(locking.HELD):
         try:
             os.close(fd)

@@ -99,7 +99,7 @@ def _section_slugs() -> list[str]:
 def register(sub) -> None:
     r = sub.add_parser("report", help="run every comparison and write an HTML + Markdown report with figures and data")
     r.add_argument("--out", default=None, help="report directory (default: reports/latest; the committed reference is written only with --out reports/quick)")
-    r.add_argument("--quick", action="store_true", help="small grids and short horizons (45 s to 1 minute on 2 cores)")
+    r.add_argument("--quick", action="store_true", help="small grids and short horizons (about 40 s on 2 cores)")
     r.add_argument("--from-results", action="store_true", help="rebuild the report from DIR/data without running anything")
     r.add_argument("--seed", type=ascii_number, default="0", help="master seed of numpy.random.default_rng, >= 0 (each section derives its own; default 0)")
     r.add_argument("--only", action="append", metavar="SECTION",

@@ -10,8 +10,9 @@ getFrameJacobianTimeVariation, aba, forwardKinematics,
 getFrameClassicalAcceleration) with nothing stored and no reference.  The
 ratio validation time / bare time is what the rest (conversions, the
 analytic reference, the batched linear algebra, the error statistics and
-mu_P) costs on top of Pinocchio.  Best of ``--repeat`` runs, by wall clock and by this process's
-CPU time (the steadier of the two when other processes share the cores).
+mu_P) costs on top of Pinocchio.  Best of ``--repeat`` rounds, each running the bare loop and then the
+validation, by wall clock and by this process's CPU time (the steadier of the two when other processes share the
+cores).
 """
 
 from __future__ import annotations
@@ -57,15 +58,17 @@ def bare_loop(model, data, tip, q, v, tau) -> None:
 
 
 
-def best_of_wall_and_cpu(repeat: int, f) -> tuple[float, float]:
-    """(shortest wall-clock time, shortest CPU time of this process) of ``repeat`` runs of ``f()`` [s]."""
-    wall, cpu = [], []
+def best_of_wall_and_cpu(repeat: int, *fs) -> list[tuple[float, float]]:
+    """(shortest wall-clock time, shortest CPU time of this process) [s] of each of ``fs`` over ``repeat`` rounds, each
+    round running every one of them in turn: a machine that speeds up or slows down during the run moves them alike."""
+    wall, cpu = [[] for _ in fs], [[] for _ in fs]
     for _ in range(repeat):
-        t, c = time.perf_counter(), time.process_time()
-        f()
-        wall.append(time.perf_counter() - t)
-        cpu.append(time.process_time() - c)
-    return min(wall), min(cpu)
+        for k, f in enumerate(fs):
+            t, c = time.perf_counter(), time.process_time()
+            f()
+            wall[k].append(time.perf_counter() - t)
+            cpu[k].append(time.process_time() - c)
+    return [(min(w), min(c)) for w, c in zip(wall, cpu)]
 
 
 def main() -> None:
@@ -76,14 +79,13 @@ def main() -> None:
     args = parser.parse_args()
     n = args.states
     inputs = bare_inputs(n, args.seed)
-    t_bare, c_bare = best_of_wall_and_cpu(args.repeat, lambda: bare_loop(*inputs))
     result = None
 
     def run():
         nonlocal result
         result = dynamics_terms.validate(n, np.random.default_rng(args.seed), progress=False)
 
-    t_val, c_val = best_of_wall_and_cpu(args.repeat, run)
+    (t_bare, c_bare), (t_val, c_val) = best_of_wall_and_cpu(args.repeat, lambda: bare_loop(*inputs), run)
     print(f"pin {pin.__version__}, numpy {np.__version__}, {os.cpu_count()} cpus, {n} states, best of {args.repeat}")
     print(f"{'':28} {'wall':>24}  {'CPU of this process':>28}")
     print(f"{'bare Pinocchio loop':<28} {n / t_bare:>12,.0f} states/s  {t_bare:7.3f} s  {n / c_bare:>12,.0f} states/s  {c_bare:7.3f} s")

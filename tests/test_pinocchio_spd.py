@@ -86,3 +86,21 @@ def test_pinocchios_delassus_matrix_is_symmetric_and_equals_j_minv_jt_by_lu():
     lu = terms.J @ np.linalg.solve(terms.M, np.swapaxes(terms.J, 1, 2))
     kappa = 1.0 / np.cos(theta) ** 2
     assert (np.abs(G - lu).max(axis=(1, 2)) <= 50 * EPS * kappa * np.abs(lu).max(axis=(1, 2))).all()
+
+
+def test_a_states_delassus_matrix_and_free_acceleration_do_not_depend_on_the_batch_it_is_in():
+    # one numpy operation per entry acts on each state alone: a state gives the same bits alone, in any slice of a
+    # batch and in the whole batch (chunked validations and sweeps then equal unchunked ones)
+    rng = np.random.default_rng(15)
+    n = 300
+    q = np.zeros((n, 5))
+    q[:, :3] = rng.standard_normal((n, 3))
+    q[:, 3] = rng.uniform(-3, 3, n)
+    q[:, 4] = rng.uniform(0.01, 1.55, n)
+    v = rng.standard_normal((n, 5))
+    rod_engine = pinrod.engine(Rod.scaled(3.0))
+    whole = rod_engine.terms(q, v)
+    for a, b in ((0, 1), (7, 8), (299, 300), (0, 2), (5, 64), (100, 300)):
+        part = rod_engine.terms(q[a:b], v[a:b])
+        assert np.array_equal(part.delassus(), whole.delassus()[a:b])
+        assert np.array_equal(part.free_acceleration(), whole.free_acceleration()[a:b])

@@ -7,6 +7,7 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
+import math
 import re
 import shutil
 import subprocess
@@ -20,6 +21,7 @@ from crosscheck import engines, report
 from crosscheck.cli import main
 from crosscheck.theory.paper import PRINTED
 from crosscheck.report.section import Figure, Section, Table
+from crosscheck.report.store import SectionStore
 from crosscheck.tolerances import all_tolerances
 
 #: Every figure the report must contain (stem under figures/<section>/), by paper figure.
@@ -232,6 +234,15 @@ def test_printed_numbers_table_flags_every_known_misprint_and_nothing_else(quick
         assert row.startswith(f"| {pv.name} |") and f"| {pv.printed} |" in row
         assert ("KNOWN MISPRINT" in row) == bool(pv.known_discrepancy), row
         assert ("| agrees |" in row) == pv.agrees()
+
+
+def test_the_pinocchio_validations_worst_states_are_saved_inside_the_papers_domain(quick):
+    # the worst state of a quantity through M^-1 is often a near-horizontal rod (theta down to 1e-8): saved with too few
+    # digits its theta read 0, a state the paper's equations exclude
+    out, _ = quick
+    t = SectionStore(out / "data" / "pinocchio").read_table("errors_per_quantity", text=("quantity", "passed", "worst_state"))
+    thetas = [json.loads(w)["theta"] for w, q in zip(t["worst_state"], t["quantity"]) if q != "mu_P from p"]
+    assert thetas and all(0.0 < th < math.pi / 2 for th in thetas), thetas
 
 
 def _toy_sections(tmp_marker: Path):

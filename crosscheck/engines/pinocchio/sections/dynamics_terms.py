@@ -48,7 +48,8 @@ def run(ctx: RunContext) -> None:
         "quantity": [s.quantity for s in result.stats], "n": [s.n for s in result.stats], "max_abs": [s.max_abs for s in result.stats],
         "max_rel": [s.max_rel for s in result.stats], "max_over_tolerance": [s.max_ratio for s in result.stats],
         "passed": [s.passed for s in result.stats],
-        "worst_state": [json.dumps({k: round(v, 6) if isinstance(v, float) else v for k, v in s.worst_state.items()}) for s in result.stats]})
+        # six significant digits, not six decimals: the near-horizontal rods' theta (down to 1e-8) would read 0, outside (0, pi/2)
+        "worst_state": [json.dumps({k: float(f"{v:.6g}") if isinstance(v, float) else v for k, v in s.worst_state.items()}) for s in result.stats]})
     for s in result.stats:
         ctx.check(f"Pinocchio {s.quantity} within tolerance ({s.n} states)", s.passed, value=s.max_ratio, allowance=1.0,
                   detail=f"max abs {s.max_abs:.2e}, max rel {s.max_rel:.2e} (ratio to allowance)")

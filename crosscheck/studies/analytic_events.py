@@ -88,11 +88,17 @@ def analytic_events(points: dict, *, alpha: float, horizon: float, progress: boo
     until = np.where(outcome == Outcome.SLIP, np.minimum(t, horizon), np.where(np.isin(outcome, EVENTS), t, horizon))
     a = AnalyticEvents(outcome, t, reason.astype(str), b0, p0, (b0 < 0) & (p0 > 0), until, eta_min, scale)
     if kept is not None:
-        buf = io.BytesIO()
-        np.savez(buf, **{f.name: getattr(a, f.name) for f in fields(AnalyticEvents)})
-        Path(kept).parent.mkdir(parents=True, exist_ok=True)
-        write_atomic(Path(kept), buf.getvalue())
+        _keep(kept, np.savez, **{f.name: getattr(a, f.name) for f in fields(AnalyticEvents)})
     return a
+
+
+def _keep(path, save, *args, **kwargs) -> None:
+    """Write what ``save`` (``np.save`` or ``np.savez``) makes of its arguments to ``path`` whole (``write_atomic``): a
+    reader of a kept file never meets half of one."""
+    buf = io.BytesIO()
+    save(buf, *args, **kwargs)
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    write_atomic(Path(path), buf.getvalue())
 
 
 #: The dtype kind of each kept field (``_read_kept``): int8 outcomes, unicode reasons, a bool mask, floats.
@@ -188,8 +194,5 @@ def boundary_distance(points: dict, outcome: np.ndarray, *, alpha: float, horizo
                 out[i] = r
                 break
     if kept is not None:
-        buf = io.BytesIO()
-        np.save(buf, out, allow_pickle=False)
-        Path(kept).parent.mkdir(parents=True, exist_ok=True)
-        write_atomic(Path(kept), buf.getvalue())
+        _keep(kept, np.save, out, allow_pickle=False)
     return out

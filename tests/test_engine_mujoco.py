@@ -137,6 +137,34 @@ def test_slip_velocity_formula_matches_mujoco_contact_velocity():
     np.testing.assert_allclose(world[:, :2] / (ROD.length * ROD.omega), want, rtol=0, atol=1e-12)
 
 
+def test_a_batch_record_is_the_record_of_each_of_its_rows():
+    """``record_from_sensordata`` of a (2, 3, N) batch equals, bit for bit, the record of each of its rows alone.
+
+    The batch's sensor columns are transposed in blocks of ``COPY_ROWS`` rows; N = 2 COPY_ROWS + 7 puts block
+    boundaries inside every run and across runs, so a block copied to the wrong place shows as a row that differs.
+    """
+    from crosscheck.engines.mujoco.model import COPY_ROWS
+    from crosscheck.engines.record import FIELDS
+
+    model = build_model(ROD, 0.3, Options(radius=0.05))
+    layout = SensorLayout.from_model(model)
+    states = random_slip_states(np.random.default_rng(5), 6)
+    n = 2 * COPY_ROWS + 7
+    x0 = np.stack([initial_state(model, ROD, s, 0.05) for s in states])
+    _, sd = rollout.rollout(model, mujoco.MjData(model), x0, nstep=n)
+    sd = sd.reshape(2, 3, n, -1)
+    batch = record_from_sensordata(sd, layout, ROD, 0.05)
+    assert np.ptp(batch.psi) > 0 and np.any(batch.active)  # rows that differ, with a contact: a misplaced block shows
+    for i, j, k in [(0, 0, 0), (0, 2, COPY_ROWS - 1), (1, 0, COPY_ROWS), (1, 1, 2 * COPY_ROWS + 6), (1, 2, 777)]:
+        one = record_from_sensordata(sd[i, j, k], layout, ROD, 0.05)
+        for name in FIELDS:
+            got = getattr(batch, name)[i, j, k]
+            assert np.array_equal(got, getattr(one, name)), (name, i, j, k)
+    rows = record_from_sensordata(sd[1, 2], layout, ROD, 0.05)  # the last run alone: the same arrays as its place in the batch
+    for name in FIELDS:
+        assert np.array_equal(getattr(batch, name)[1, 2], getattr(rows, name)), name
+
+
 @pytest.mark.parametrize("dPsi, outcome", [(-1e-4, Outcome.SLIP), (1e-4, Outcome.LIFTOFF)], ids=["below", "above"])
 def test_liftoff_threshold_at_theta_L(dPsi, outcome):
     """At theta_L, Theta = 0, varphi = -pi/2: lift-off at t = 0 iff Psi > Psi_L (eq. psil)."""

@@ -21,7 +21,10 @@ per sweep.  Now each thread runs its own single-threaded rollouts of 3-state chu
 finishes (``crosscheck.engines.mujoco.rollouts``): the threads wait on each other once, at the end.  What is left:
 with both cores busy the wall time cannot fall below (rollout CPU + reading CPU) / 2, about 0.94 of the bare
 rollout at 64 states, and the reading (Record, classifier, summaries: ~0.3 ms per chunk and ~0.4 ms per state of
-3334 rows) is a little dearer in 3-state chunks than it was in 5-state blocks.
+3334 rows) is a little dearer in 3-state chunks than it was in 5-state blocks.  The reading thread's own CPU is
+printed: 39-42 ms at 64 states while the rollouts run (records 13, classifier 21, summaries 3.5), against 33-36 ms
+on an idle core, as the chunks come from the other core's cache.  Transposing the sensor columns before the record's
+arithmetic (``crosscheck.engines.mujoco.model``) took 1.5 ms of it off; since, 0.91-0.95 in 17 runs at 64 and 100 states.
 
     python benchmarks/bench_mujoco.py [--states 64 100 1024] [--horizon 1.0] [--repeat 5] [--loop-states 4]
 """
@@ -76,10 +79,14 @@ def measure(n_states: int, args) -> None:
             pool.rollout(model, datas, x0, nstep=nstep)
             return time.perf_counter() - t0
 
+    reading = [np.inf]  # CPU of this thread in a sweep: the records, the classifier, the summaries (the rollouts run in others)
+
     def swept() -> float:
-        t0 = time.perf_counter()
+        c0, t0 = time.thread_time(), time.perf_counter()
         get("mujoco").sweep(rod, states, mu, horizon=args.horizon, progress=False)
-        return time.perf_counter() - t0
+        wall = time.perf_counter() - t0
+        reading[0] = min(reading[0], time.thread_time() - c0)
+        return wall
 
     def loop() -> float:
         data = mujoco.MjData(model)
@@ -113,6 +120,8 @@ def measure(n_states: int, args) -> None:
     print(f"bare rollout (2 threads): {rate['bare']:12,.0f} steps/s   CPU {cpu['bare']:.3f} s")
     print(f"sweep (2 threads):        {rate['sweep']:12,.0f} steps/s   CPU {cpu['sweep']:.3f} s   ratio to bare rollout {rate['sweep'] / rate['bare']:.2f} "
           f"(target >= 0.9), in CPU time {cpu['bare'] / cpu['sweep']:.2f}")
+    print(f"  of which the reading thread (records, classifier, summaries): CPU {reading[0]:.3f} s; with both cores busy the "
+          f"sweep's wall time cannot fall below (its CPU) / 2 = {cpu['sweep'] / 2:.3f} s, the bare rollout's {cpu['bare'] / 2:.3f} s")
     if "loop" in rate:
         print(f"python mj_step loop:      {rate['loop']:12,.0f} steps/s   sweep / loop {rate['sweep'] / rate['loop']:.1f}x (1 thread, reads contacts)")
 

@@ -241,6 +241,25 @@ def test_faults_in_a_clean_slip_record_are_diverged_at_the_faulty_row(fault):
     assert c.diverged_time == pytest.approx(run.record.t[k] if fault != "stalled_clock" else run.record.t[k - 1])
 
 
+def test_a_run_with_no_finite_force_is_diverged_with_nan_maxima_and_no_warning():
+    """A record whose forces are NaN from its first row (a run that blew up at once): DIVERGED at row 0, its largest
+    forces NaN, and no numpy warning on the user's terminal (nanmax warns on an all-NaN row); a batch keeps the other
+    run's maxima."""
+    import warnings
+
+    from crosscheck.engines.record import FIELDS
+
+    R = slipping_record(n=120)
+    bad = with_rows(R, 0, normal_force=np.nan, force=np.nan, tip_vel=np.nan)
+    batch = Record(**{name: np.stack([getattr(R, name), getattr(bad, name)]) for name in FIELDS})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        c = classify(batch, mu=0.5, alpha=ALPHA, timestep=1e-3)
+    assert list(c.outcome) == [Outcome.SLIP, Outcome.DIVERGED] and c.event_row[1] == 0
+    assert c.max_normal_force[0] == 0.5 and c.max_window_force[0] == pytest.approx(0.5, rel=1e-12)
+    assert np.isnan(c.max_normal_force[1]) and np.isnan(c.max_window_force[1])
+
+
 @pytest.mark.parametrize("kwargs, message", [
     ({"diverged_speed": math.nan}, r"diverged_speed must be in \(0, inf\); got nan"),
     ({"window": -0.05}, r"window must be in \(0, inf\); got -0.05"),

@@ -379,8 +379,9 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
             diverged_time=at(t, k_div, has_div),
             jam_p_eff=at(p_eff, k_jam, outcome == Outcome.JAM),
             jam_impulse=at(sF * timestep, k_jam, outcome == Outcome.JAM),
-            max_normal_force=np.nanmax(np.where(np.isfinite(Fn), Fn, np.nan), axis=-1) if n else np.nan,
-            max_window_force=np.nanmax(window_sum(Fn, w) / w, axis=-1) if n >= w else np.full(has_div.shape, np.nan),
+            # fmax skips NaN as nanmax does, without nanmax's RuntimeWarning for a run with no finite row (diverged at once)
+            max_normal_force=np.fmax.reduce(np.where(np.isfinite(Fn), Fn, np.nan), axis=-1) if n else np.nan,
+            max_window_force=np.fmax.reduce(window_sum(Fn, w) / w, axis=-1) if n >= w else np.full(has_div.shape, np.nan),
             active_fraction=(np.asarray(R.active, dtype=bool) & computed).sum(axis=-1) / np.maximum(computed.sum(axis=-1), 1),
             max_gap=np.max(np.where(computed, R.gap, -np.inf), axis=-1),
         )

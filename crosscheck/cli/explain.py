@@ -1,4 +1,4 @@
-"""``crosscheck explain --theta ... --mu ...``: one start through the ladder, and the cause of a MuJoCo-theory disagreement."""
+"""``crosscheck explain --theta ... --mu ...``: one start through an engine's ladder, and the cause of its disagreement with the theory."""
 
 from __future__ import annotations
 
@@ -118,13 +118,11 @@ def _explain_declared(args) -> int:
 
         options["radius"] = _num("radius", args.radius, RADIUS)
     ld = run_ladder(args.engine, state, mu, alpha=alpha, horizon=horizon, **options)
-    from crosscheck.engines.base import engine_label as _label
-
-    _plot(args, ld, _label(args.engine), state, mu, alpha)
+    name = engine_label(args.engine)
+    _plot(args, ld, name, state, mu, alpha)
     if args.json:
         print(json.dumps(ld.as_dict(), indent=2, allow_nan=False))
         return 0
-    name = engine_label(args.engine)
     print(f"start: theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; mu {mu:g}, alpha {alpha:g}")
     print(f"compared up to t = {ld.until + ld.lag:.6g} (comparison time {ld.until:.6g} + lag {ld.lag:.6g})")
     width = max(11, *(len(r.name) for r in ld.rungs))  # the rung names in one column
@@ -141,12 +139,13 @@ def _explain_declared(args) -> int:
 
 
 def register(sub) -> None:
-    s = sub.add_parser("explain", help="run one start through the ladder (tip, capsule, compliant, MuJoCo's law, MuJoCo) and name the "
-                                       "cause of a MuJoCo-theory disagreement")
+    s = sub.add_parser("explain", help="run one start through an engine's ladder (the models between the theory and the engine, one "
+                                       "cause apart) and name the cause of a disagreement with the theory")
     add_state(s)
     add_alpha(s)
     s.add_argument("--engine", default="mujoco", help="the engine whose ladder to climb (engines that declare one; default mujoco)")
-    s.add_argument("--timestep", type=ascii_number, default=None, metavar="DT", help="MuJoCo's scaled timestep, in (0, 0.03] (at most half its time constant 0.06; default 3e-4)")
+    s.add_argument("--timestep", type=ascii_number, default=None, metavar="DT", help="the engine's scaled timestep (default: the engine's own); MuJoCo's in (0, 0.03], at most half its "
+                   "time constant 0.06 (default 3e-4)")
     s.add_argument("--radius", type=ascii_number, default=None, metavar="R", help="capsule radius r / l, in (0, 0.5) (default 0.01)")
     s.add_argument("--horizon", type=ascii_number, default="2", help="scaled comparison horizon, in (0, 10000] (default 2, the agreement study's)")
     s.add_argument("--json", action="store_true", help="print the ladder as JSON")

@@ -22,8 +22,8 @@ finishes (``crosscheck.engines.mujoco.rollouts``): the threads wait on each othe
 with both cores busy the wall time cannot fall below (rollout CPU + reading CPU) / 2, about 0.94 of the bare
 rollout at 64 states, and the reading (Record, classifier, summaries: ~0.3 ms per chunk and ~0.4 ms per state of
 3334 rows) is a little dearer in 3-state chunks than it was in 5-state blocks.  The reading thread's own CPU is
-printed: 39-42 ms at 64 states while the rollouts run (records 13, classifier 21, summaries 3.5), against 33-36 ms
-on an idle core, as the chunks come from the other core's cache.  Transposing the sensor columns before the record's
+printed: 35-44 ms at 64 states while the rollouts run (records 13, classifier 21, summaries 3.5), against 33-36 ms
+on an idle core (probably as the chunks come from the other core's cache, which the rollouts share).  Transposing the sensor columns before the record's
 arithmetic (``crosscheck.engines.mujoco.model``) took 1.5 ms of it off; since, 0.91-0.95 in 17 runs at 64 and 100 states.
 
     python benchmarks/bench_mujoco.py [--states 64 100 1024] [--horizon 1.0] [--repeat 5] [--loop-states 4]

@@ -8,6 +8,7 @@ import signal
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -140,6 +141,37 @@ def test_another_spec_into_the_same_store_is_refused_unless_fresh(tmp_path):
         sweeps.run(other, out, workers=1, progress=False)
     sweeps.run(other, out, workers=1, progress=False, fresh=True)
     assert sorted(set(sweeps.load(out).mu)) == [0.5, 1.5]
+
+
+def test_a_store_computed_with_other_versions_is_refused_unless_fresh(tmp_path, monkeypatch, capsys):
+    """Resuming a store under other versions of what computes it (an upgrade between two runs) would mix two versions'
+    results: one line naming the package and both versions, exit 2 on the command line; --fresh recomputes it.  A chunk
+    kept through a rebuilt manifest is recomputed when its own record names other versions."""
+    import crosscheck.sweeps.store as store_module
+
+    spec, out = write(tmp_path, small("analytic")), tmp_path / "store"
+    sweeps.run(spec, out, workers=1, progress=False)
+    ref = results(sweeps.load(out))
+    real = store_module.versions
+    monkeypatch.setattr(store_module, "versions", lambda engine=None: {**real(engine), "numpy": "0.0.1"})
+    with pytest.raises(StoreError) as e:
+        sweeps.run(spec, out, workers=1, progress=False)
+    assert str(e.value).startswith(f"out {str(out)!r} holds 6 chunks computed with numpy {np.__version__} (now 0.0.1); ")
+    assert str(e.value).endswith("use --fresh to recompute it, or finish it with the versions it was started with")
+    assert main(["sweep", str(spec), "--out", str(out), "--no-progress"]) == 2
+    assert capsys.readouterr().err.count("\n") == 1
+    assert len(sweeps.run(spec, out, workers=1, progress=False, fresh=True).computed) == 6
+    pd.testing.assert_frame_equal(results(sweeps.load(out)), ref)
+    # back to the real versions, through a manifest rebuilt from the spec: every chunk names numpy 0.0.1, so none is kept
+    monkeypatch.undo()
+    (out / "manifest.json").unlink()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        s = sweeps.run(spec, out, workers=1, progress=False)
+    said = [str(w.message) for w in caught]
+    assert sum(f"(computed with numpy 0.0.1 (now {np.__version__})); it will be recomputed" in m for m in said) == 6, said
+    assert s.computed == list(range(6))
+    pd.testing.assert_frame_equal(results(sweeps.load(out)), ref)
 
 
 def test_a_damaged_chunk_is_detected_by_its_checksum_and_recomputed(tmp_path):

@@ -120,8 +120,9 @@ class EngineSpec:
         (module-level, so that the record pickles into worker processes).
       label: how tables and messages name it ("MuJoCo", "Drake SAP"); the name if empty.
       slug: the prefix of its report sections (``<slug>_maps``); the name if empty.
-      libraries: PyPI distributions whose versions go into provenance and into the key
-        of a result store (a new library version invalidates stored results).
+      libraries: PyPI distributions whose versions go into provenance and into a result
+        store's record of what computed it (a store is not resumed under other versions:
+        ``crosscheck.sweeps.store``).
       defaults: options that differ from ``Options()``'s in every run the harness makes
         of it (e.g. the approximation of one of Drake's registered names).
       one_core: keyword arguments of ``sweep`` that keep it on one core (a sweep's

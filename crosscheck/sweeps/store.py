@@ -4,7 +4,7 @@ Layout of a store directory::
 
     manifest.json                the spec (as read), its sha256, the versions (written once)
     chunks/chunk-000123.parquet  a finished chunk's table
-    chunks/chunk-000123.json     its record: file, row count, sha256, seconds
+    chunks/chunk-000123.json     its record: file, row count, sha256, seconds, the versions that computed it
     chunks/chunk-000123.failed.json   the error of a chunk that raised
     .lock                        held (flock) by the one process writing
 
@@ -26,6 +26,13 @@ table holds exactly its chunk's runs.  A damaged or missing manifest is
 rebuilt by re-running the same sweep, which keeps every chunk whose record
 proves it belongs to that spec.  Files in ``chunks`` that are not the store's
 (``chunk-1.json``) are named and left alone.
+
+Nothing computed by other versions is mixed in.  The manifest records the
+versions of what computes the sweep (crosscheck, numpy, scipy, the engine's
+libraries); a store with finished chunks resumed under other versions is one
+``StoreError`` naming each package and both versions (``--fresh`` recomputes
+it).  Each chunk record carries its versions too, so a chunk kept through a
+rebuilt manifest is recomputed if other versions computed it.
 """
 
 from __future__ import annotations
@@ -46,7 +53,7 @@ import numpy as np
 
 from crosscheck.files import NO_SPACE, exclusive, no_space, sha256_file, write_atomic
 
-__all__ = ["Store", "StoreError", "versions", "FORMATS"]
+__all__ = ["Store", "StoreError", "versions", "computing_versions", "FORMATS"]
 
 #: The manifest's format: 2 seals the manifest with its own sha256 and records the spec's sha256 in each chunk
 #: record; 1 (neither) is still read.
@@ -114,6 +121,26 @@ def versions(engine: str | None = None) -> dict:
 
     libs = engines.get(engine).libraries if engine in engines.names() else ()
     return package_versions(("crosscheck", "numpy", "scipy", *libs, "pyarrow", "dask", "distributed"))
+
+
+#: Packages of ``versions`` that only store or schedule a sweep: another version of one cannot move a result.
+_STORING = ("pyarrow", "dask", "distributed")
+
+
+def computing_versions(recorded) -> dict | None:
+    """The versions among ``recorded`` (a ``versions`` dict) that a sweep's numbers depend on; None if it is not one."""
+    if not isinstance(recorded, dict):
+        return None
+    return {k: v for k, v in recorded.items() if k not in _STORING}
+
+
+def _version_change(recorded, now: dict) -> str:
+    """How the computing versions ``recorded`` with a store's chunks differ from ``now`` ("" if they do not)."""
+    before, after = computing_versions(recorded), computing_versions(now)
+    if before is None:
+        return "versions that its manifest does not record"
+    return ", ".join(f"{k} {before.get(k) or 'absent'} (now {after.get(k) or 'absent'})" for k in sorted(set(before) | set(after))
+                     if before.get(k) != after.get(k))
 
 
 def import_libraries() -> None:
@@ -225,6 +252,10 @@ class Store:
             return f"{rec.get('rows')!r} rows, chunk {cid} has {rows}"
         if "spec_sha256" in rec and rec["spec_sha256"] != m["spec_sha256"]:
             return "written for another sweep (its spec sha256 differs)"
+        if "computed_with" in rec:
+            other = _version_change(rec["computed_with"], m.get("versions") or {})
+            if other:
+                return f"computed with {other}"
         return rec
 
     def _write_manifest(self, m: dict) -> None:
@@ -283,7 +314,17 @@ class Store:
             self.chunks.mkdir(parents=True, exist_ok=True)
         except OSError as e:
             raise StoreError(_os_error(self.root, e, 4096)) from None
-        m["versions_resumed"] = versions(spec.engine) if m.get("chunks") else None
+        now = versions(spec.engine)
+        if m.get("chunks"):
+            # chunks of other versions mixed with new ones would be a sweep that no one set of versions computes
+            other = _version_change(m.get("versions"), now)
+            if other:
+                raise StoreError(f"out {str(self.root)!r} holds {len(m['chunks'])} chunks computed with {other}; finishing the sweep "
+                                 "would mix the results of two versions: use --fresh to recompute it, or finish it with the versions "
+                                 "it was started with")
+        else:
+            m["versions"] = now  # nothing computed yet: the sweep is this installation's
+        m["versions_resumed"] = now if m.get("chunks") else None
         self._write_manifest(m)
         return m
 
@@ -351,7 +392,7 @@ class Store:
         data = buf.getvalue().to_pybytes()  # hashed as written: no second read of the file
         _write_atomic(self.chunks / name, data)
         rec = {"file": name, "rows": table.num_rows, "sha256": hashlib.sha256(data).hexdigest(), "spec_sha256": m["spec_sha256"], "seconds": seconds,
-               "warnings": dict(warnings or {})}
+               "warnings": dict(warnings or {}), "computed_with": computing_versions(m["versions"])}
         _write_atomic(self.chunks / f"chunk-{chunk_id:06d}.json", json.dumps(rec).encode())
         (self.chunks / f"chunk-{chunk_id:06d}.failed.json").unlink(missing_ok=True)
         m["chunks"][str(chunk_id)] = rec

@@ -357,6 +357,32 @@ def test_a_rerun_keeps_finished_sections_and_redoes_an_interrupted_one(tmp_path,
     assert not any(v.get("resumed") for v in res.values())
 
 
+def test_sweeps_computed_by_other_code_are_deleted_before_any_section_reads_them(tmp_path, monkeypatch):
+    """``<out>/sweeps`` (the engine sweeps' stores and the theory the sections share) is kept for the same code, so a
+    killed run resumes its chunks, and deleted when other code reruns the report: a section recomputed after an edit or
+    an upgrade never reads a chunk of the old code."""
+    from conftest import small
+
+    from crosscheck import sweeps
+    from crosscheck.report import pipeline
+    from crosscheck.report.sections import p_region
+
+    out = tmp_path / "r"
+    pipeline.run(out, [p_region.SECTION], quick=True, resume=True)
+    spec = tmp_path / "spec.toml"
+    spec.write_text(small("analytic"))
+    store = out / "sweeps" / "p_region" / "analytic"
+    first = sweeps.run(spec, store, workers=1, progress=False)
+    assert len(first.computed) == 6
+    pipeline.run(out, [p_region.SECTION], quick=True, resume=True)
+    assert sweeps.run(spec, store, workers=1, progress=False).computed == []  # same code: every chunk kept
+    monkeypatch.setattr(pipeline, "code_digest", lambda: "0" * 64)
+    pipeline.run(out, [p_region.SECTION], quick=True, resume=True)
+    assert not store.exists()
+    assert json.loads((out / "sweeps" / "computed_by.json").read_text())["code_sha256"] == "0" * 64
+    assert len(sweeps.run(spec, store, workers=1, progress=False).computed) == 6
+
+
 def test_findings_come_first_with_a_line_per_engine(quick):
     """The Findings block: one first-event line per engine with maps, its counts those of the saved confusion matrices."""
     from crosscheck.report.findings import findings

@@ -4,7 +4,8 @@ Runs every section of the report and saves its results under ``DIR/data``,
 then renders ``DIR/index.html`` and ``DIR/report.md`` from the saved results.
 A rerun into the same DIR resumes: sections finished by the same code with
 the same parameters are kept, and the engine sweeps of the others resume
-their finished chunks (``DIR/sweeps``); ``--fresh`` recomputes everything,
+their finished chunks (``DIR/sweeps``, kept only for the same code and library
+versions); ``--fresh`` recomputes everything,
 ``--only`` recomputes the sections named.  ``--scheduler`` sends the engine
 sweeps to a Dask cluster ("local" starts one for the run).
 ``--from-results`` skips the run stage (rebuilds the report without

@@ -13,7 +13,11 @@ sha256 of crosscheck's own source files and the versions of numpy, scipy,
 MuJoCo and Pinocchio, so an edited work tree or an upgrade recomputes), is
 kept as it is.  The sweep-heavy sections keep their engine runs in resumable stores
 under ``<out>/sweeps/<section>`` (``crosscheck.sweeps``), so a section
-killed half-way keeps its finished chunks too.
+killed half-way keeps its finished chunks too.  Those stores, and the theory
+the sections share there (``RunContext.shared``), are kept for the same code
+only: ``<out>/sweeps/computed_by.json`` names the code that computed them, and
+other code deletes them before any section runs (``_sweeps_of``), so that a
+section recomputed after an edit or an upgrade never reads a chunk of the old.
 """
 
 from __future__ import annotations
@@ -108,6 +112,32 @@ def code_digest() -> str:
             h.update(str(p.relative_to(root)).encode())
             h.update(p.read_bytes())
     return h.hexdigest()
+
+
+def _sweeps_of(out: Path, computed_by: dict, say: bool) -> None:
+    """Keep ``<out>/sweeps`` only if the code ``computed_by`` (its sha256 and crosscheck's version) computed it: the
+    engine sweeps' chunks and the shared theory there would otherwise be read by sections recomputed with other code.
+    ``say``: one line on stderr when they are deleted."""
+    import shutil
+
+    from crosscheck.files import write_atomic
+
+    root = out / "sweeps"
+    stamp = root / "computed_by.json"
+    if root.exists():
+        try:
+            same = json.loads(stamp.read_bytes().decode()) == computed_by
+        except (OSError, UnicodeDecodeError, ValueError):
+            same = False  # an older report, or a damaged stamp: nothing proves what computed them
+        if not same:
+            if say:
+                sys.stderr.write(f"report: {root} was computed by other code or library versions; its sweeps are recomputed\n")
+            if root.is_dir():
+                shutil.rmtree(root)
+            else:
+                root.unlink()
+    root.mkdir(parents=True, exist_ok=True)
+    write_atomic(stamp, (json.dumps(computed_by, sort_keys=True) + "\n").encode())
 
 
 def _compute(s: Section, out: Path, status: dict, ctx: RunContext, log: bool) -> dict:
@@ -287,6 +317,7 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
     results: dict[str, dict] = {}
     t_all = time.perf_counter()
     version, code = provenance.package_versions(("crosscheck",))["crosscheck"], code_digest()
+    _sweeps_of(out, {"code_sha256": code, "crosscheck_version": version}, say=log or progress)
     todo: list[Section] = []
     for s in sections:
         try:

@@ -69,6 +69,10 @@ def cli_cases(tmp: Path) -> list:
     # explain: every value is refused before any rung of the ladder runs
     cases += _number_cases("explain", ["explain"], {**STATE, "mu": "1.4", "alpha": "3", "timestep": "3e-4", "radius": "0.01", "horizon": "2"},
                            {"horizon": ["0", "-1", "1e308", "1e5"], "timestep": ["0", "-1", "1e-300", "0.1", "5e-324"], "radius": ["0", "-0.1", "0.5", "1"]})
+    # an engine's declared ladder (Drake's, Bullet's): a timestep past the horizon, as every engine's simulate refuses it
+    for engine in ("drake_sap", "bullet"):
+        cases += _number_cases(f"explain --engine {engine}", ["explain", "--engine", engine], {**STATE, "mu": "1.4", "timestep": "1e-3", "horizon": "2"},
+                               {"timestep": ["0", "-1", "2.5", "5"]}, only=["timestep"])
     cases.append(("simulate --engine=nonexistent", _argv(["simulate", "--engine", "nonexistent"], {**STATE, "mu": "1.4"}, "", ""), "engine"))
     for engine in ("mujoco", "pinocchio"):
         for v in ["0", "-1", "1e3", "2.5", "1e9", "abc", ""]:
@@ -299,6 +303,10 @@ def api_cases() -> list:
             kw = {"mu": 1.4, k: v}
             return ladder.run_ladder(s, kw.pop("mu"), **kw)
         add(f"ladder.run_ladder({k}={v!r})", call, k)
+    from crosscheck.studies import ladder as declared
+
+    for k, v in [("mu", -1.0), ("alpha", 0.0), ("horizon", 0.0), ("timestep", 5.0), ("timestep", 0.0), ("radius", 0.7), ("bogus_option", 1.0)]:
+        add(f"studies.ladder.run_ladder('drake_sap', {k}={v!r})", lambda k=k, v=v: declared.run_ladder("drake_sap", s, **{"mu": 1.4, "horizon": 2.0, k: v}), k)
     for k, v in [("alpha", 0.0), ("timeconst", -1.0), ("dampratio", math.nan)]:
         add(f"kelvin_voigt.mujoco_equivalent({k}={v!r})", lambda k=k, v=v: kelvin_voigt.mujoco_equivalent(s, **{"alpha": 3.0, "timeconst": 0.06, "dampratio": 1.0,
                                                                                                 "solimp": (0.9, 0.95, 0.001, 0.5, 2.0), k: v}), k)

@@ -146,7 +146,10 @@ def run_ladder(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, 
     state.check_start()
     mu, alpha = float(check("mu", mu, MU)), float(check("alpha", alpha, ALPHA))
     horizon = float(check("horizon", horizon, HORIZON))
-    until, lag, rungs = _climb(spec, ladder, state, mu, alpha, horizon, spec.options(**options), thresholds or Thresholds())
+    opts = spec.options(**options)
+    if opts.timestep > horizon:  # as every engine's simulate: a step past the horizon compares nothing
+        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
+    until, lag, rungs = _climb(spec, ladder, state, mu, alpha, horizon, opts, thresholds or Thresholds())
     if reference is not None:
         ref = Outcome(int(reference))
     else:

@@ -69,6 +69,8 @@ def cli_cases(tmp: Path) -> list:
     # explain: every value is refused before any rung of the ladder runs
     cases += _number_cases("explain", ["explain"], {**STATE, "mu": "1.4", "alpha": "3", "timestep": "3e-4", "radius": "0.01", "horizon": "2"},
                            {"horizon": ["0", "-1", "1e308", "1e5"], "timestep": ["0", "-1", "1e-300", "0.1", "5e-324"], "radius": ["0", "-0.1", "0.5", "1"]})
+    cases.append(("explain --timestep=0.03 past --horizon=0.01", _argv(["explain"], {**STATE, "mu": "1.4", "timestep": "0.03", "horizon": "0.01"}, "", ""),
+                  "timestep"))
     # an engine's declared ladder (Drake's, Bullet's): a timestep past the horizon, as every engine's simulate refuses it
     for engine in ("drake_sap", "bullet"):
         cases += _number_cases(f"explain --engine {engine}", ["explain", "--engine", engine], {**STATE, "mu": "1.4", "timestep": "1e-3", "horizon": "2"},
@@ -303,6 +305,7 @@ def api_cases() -> list:
             kw = {"mu": 1.4, k: v}
             return ladder.run_ladder(s, kw.pop("mu"), **kw)
         add(f"ladder.run_ladder({k}={v!r})", call, k)
+    add("ladder.run_ladder(timestep=0.03 past horizon=0.01)", lambda: ladder.run_ladder(s, 1.4, horizon=0.01, timestep=0.03), "timestep")
     from crosscheck.studies import ladder as declared
 
     for k, v in [("mu", -1.0), ("alpha", 0.0), ("horizon", 0.0), ("timestep", 5.0), ("timestep", 0.0), ("radius", 0.7), ("bogus_option", 1.0)]:

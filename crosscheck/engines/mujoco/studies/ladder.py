@@ -376,6 +376,8 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
     if unknown:
         raise ValueError(f"rungs must each be one of {', '.join(RUNGS)}; got {unknown[0]!r}")
     opts = Options.from_kwargs(options)
+    if opts.timestep > horizon:  # as every engine's simulate: a step past the horizon compares nothing
+        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
     th = thresholds or Thresholds()
     margin = window_margin(th, opts.timestep)
     # refuse a record no engine rung can hold before anything runs (a rung would only fail one by one)

@@ -309,6 +309,24 @@ def test_simulate_plots_and_tabulates_a_run_of_every_engine(engine, tmp_path, ca
     assert float(theory[0]["eta"]) == pytest.approx(2.0) and float(theory[-1]["t"]) == pytest.approx(0.0165399, rel=1e-4)  # its lift-off
 
 
+def test_a_slip_says_how_much_of_its_end_the_classifier_cannot_judge(capsys):
+    """SLIP is "no event judged", and the JAM and LAUNCH rules judge no row whose window passes the end: ``simulate``
+    names that tail (the classifier's window at the run's timestep), and a run shorter than the window says so."""
+    from crosscheck.cli import main
+    from crosscheck.engines.thresholds import Thresholds
+
+    dt = _engines.get("mujoco").options().timestep
+    below_mu_P = [*IC2[:-2], "--mu", "0.5"]  # IC2 at mu 0.5 slips through 0.3 in MuJoCo
+    assert main(["simulate", "--engine", "mujoco", *below_mu_P, "--horizon", "0.3", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    tail = Thresholds().window_rows(dt) * dt
+    assert out["outcome"] == "SLIP" and out["unjudged_tail"] == pytest.approx(tail, rel=1e-12)
+    assert main(["simulate", "--engine", "mujoco", *below_mu_P, "--horizon", "0.3"]) == 0
+    assert f"an event in its last {tail:.3g} can be missed (the classifier's window)" in capsys.readouterr().out
+    assert main(["simulate", "--engine", "drake_sap", *IC2, "--horizon", "2", "--timestep", "1"]) == 0
+    assert capsys.readouterr().out.strip() == "drake_sap: SLIP  (horizon 2, 2 steps; shorter than the classifier's window: any event can be missed)"
+
+
 def test_explain_plots_every_rung(tmp_path, capsys):
     from crosscheck.cli import main
 

@@ -23,16 +23,29 @@ def _simulate(args) -> int:
     fin = lambda x: x if math.isfinite(x) else None  # noqa: E731
     out = {"engine": run.engine, **state.as_dict(), "mu": mu, "alpha": alpha, "horizon": run.horizon, "outcome": run.outcome.name,
            "event_time": fin(run.event_time), "exit_time": fin(run.exit_time), "diverged_time": fin(run.diverged_time),
-           "jam_p_eff": fin(run.jam_p_eff), "nstep": run.nstep}
+           "jam_p_eff": fin(run.jam_p_eff), "nstep": run.nstep, "unjudged_tail": _unjudged_tail(run)}
     written = _write_outputs(run, args)
     if args.json:
         print(json.dumps({**out, **({"files": written} if written else {})}, indent=2))
     else:
         when = "" if math.isnan(run.event_time) else f" at t = {run.event_time:.6g}"
-        print(f"{run.engine}: {run.outcome.name}{when}  (horizon {run.horizon:g}, {run.nstep} steps)")
+        tail = out["unjudged_tail"]
+        if tail >= run.horizon:
+            caveat = "; shorter than the classifier's window: any event can be missed"
+        else:
+            caveat = f"; an event in its last {tail:.3g} can be missed (the classifier's window)" if run.outcome.name == "SLIP" else ""
+        print(f"{run.engine}: {run.outcome.name}{when}  (horizon {run.horizon:g}, {run.nstep} steps{caveat})")
         for f in written:
             print(f"wrote {f}")
     return 0
+
+
+def _unjudged_tail(run) -> float:
+    """The scaled time at the end of ``run`` in which an event can be missed: the JAM and LAUNCH rules read the window
+    after a row (``Thresholds.window_rows`` at the run's timestep) and judge no row whose window passes the end, so a
+    SLIP says less of that tail (the whole run when it is shorter than the window)."""
+    dt = run.options.timestep
+    return float(min(run.horizon, run.thresholds.window_rows(dt) * dt))
 
 
 def _write_outputs(run, args) -> list[str]:

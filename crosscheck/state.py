@@ -8,7 +8,7 @@ import numpy as np
 
 from crosscheck.checks import AZIMUTH, ETA, FINITE, NONNEGATIVE, NUMBERS, RATE, THETA, VARPHI, Interval, check
 
-__all__ = ["SlipState", "real", "real_scalar", "same_shape", "MIN_TIMESTEP", "check_timestep"]
+__all__ = ["SlipState", "real", "real_scalar", "same_shape", "MIN_TIMESTEP", "check_timestep", "check_timestep_within"]
 
 #: The smallest scaled timestep of any engine: the longest horizon (``crosscheck.checks.HORIZON_MAX`` = 1e4)
 #: resolves times only to 1e4 x 2.2e-16 ~ 2e-12, so a smaller step is lost in the rounding of the time it
@@ -42,6 +42,13 @@ def check_timestep(value) -> float:
     if dt < MIN_TIMESTEP:
         raise ValueError(f"timestep must be at least {MIN_TIMESTEP:g} (below it a step is lost in the rounding of the time); got {dt!r}")
     return dt
+
+
+def check_timestep_within(timestep: float, horizon: float) -> None:
+    """A run's (checked) timestep not past its (checked) horizon: a step past the horizon records nothing to judge
+    (ValueError naming timestep and the horizon)."""
+    if timestep > horizon:
+        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {timestep!r}")
 
 
 def same_shape(**arrays) -> tuple:

@@ -28,7 +28,7 @@ from crosscheck.engines.classifier import Classification, Thresholds, classify
 from crosscheck.engines.record import Record
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState, real, real_scalar
+from crosscheck.state import SlipState, check_timestep_within, real, real_scalar
 
 __all__ = ["Engine", "Run", "SweepResult", "SERIES", "SUMMARY", "STATE_KEYS", "MAX_RECORD_BYTES", "n_steps", "n_steps_within_memory", "options_from_kwargs", "run_inputs", "check_states", "sweep_mu_workers",
            "summaries", "sweep_by_simulate"]
@@ -128,8 +128,7 @@ def run_inputs(state, mu, horizon, options: dict, Options: type) -> tuple[float,
     state.check_start()
     horizon = real_scalar("horizon", horizon, POSITIVE)
     opts = Options.from_kwargs(options)
-    if opts.timestep > horizon:
-        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
+    check_timestep_within(opts.timestep, horizon)
     return real_scalar("mu", mu, MU), horizon, opts
 
 

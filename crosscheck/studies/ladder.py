@@ -53,7 +53,7 @@ from crosscheck.engines.classifier import Thresholds
 from crosscheck.engines.spec import LADDER_CAUSES
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState
+from crosscheck.state import SlipState, check_timestep_within
 from crosscheck.studies.agreement import DEFAULT_HORIZON
 from crosscheck.studies.comparison import RATED, compared_label, run_comparison_window, run_stick_from, window_margin
 from crosscheck.theory.slipping import slip_until_event
@@ -147,8 +147,7 @@ def run_ladder(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, 
     mu, alpha = float(check("mu", mu, MU)), float(check("alpha", alpha, ALPHA))
     horizon = float(check("horizon", horizon, HORIZON))
     opts = spec.options(**options)
-    if opts.timestep > horizon:  # as every engine's simulate: a step past the horizon compares nothing
-        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
+    check_timestep_within(opts.timestep, horizon)  # as every engine's simulate
     until, lag, rungs = _climb(spec, ladder, state, mu, alpha, horizon, opts, thresholds or Thresholds())
     if reference is not None:
         ref = Outcome(int(reference))

@@ -52,7 +52,7 @@ from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, opt
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState
+from crosscheck.state import SlipState, check_timestep_within
 from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION
 __all__ = ["Options", "SolverStats", "simulate", "sweep", "record_of", "NAME"]
 
@@ -206,8 +206,7 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: floa
     state.check_start()
     horizon = float(check("horizon", horizon, HORIZON))
     opts = Options.from_kwargs(dict(options, eps=eps, xi=xi, radius=radius, law=law))
-    if opts.timestep > horizon:
-        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
+    check_timestep_within(opts.timestep, horizon)
     th = thresholds or Thresholds()
     n = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES)
     times = opts.timestep * np.arange(n)

@@ -95,7 +95,7 @@ from crosscheck.engines.mujoco.studies.kelvin_voigt import KelvinVoigtMatch, muj
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.theory.slipping import slip_until_event
-from crosscheck.state import SlipState
+from crosscheck.state import SlipState, check_timestep_within
 from crosscheck.studies.agreement import DEFAULT_HORIZON
 from crosscheck.studies.ladder import detour, final_stretch_cause
 from crosscheck.studies.comparison import RATED, compared_label, run_comparison_window, run_stick_from, window_margin
@@ -376,8 +376,7 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
     if unknown:
         raise ValueError(f"rungs must each be one of {', '.join(RUNGS)}; got {unknown[0]!r}")
     opts = Options.from_kwargs(options)
-    if opts.timestep > horizon:  # as every engine's simulate: a step past the horizon compares nothing
-        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {opts.timestep!r}")
+    check_timestep_within(opts.timestep, horizon)  # as every engine's simulate
     th = thresholds or Thresholds()
     margin = window_margin(th, opts.timestep)
     # refuse a record no engine rung can hold before anything runs (a rung would only fail one by one)

@@ -15,6 +15,8 @@ import timeit
 import numpy as np
 
 from crosscheck.theory import analytic
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=1_000_000)
@@ -36,7 +38,9 @@ def main() -> None:
         return 1.0 + alpha + alpha * s * (mu * np.cos(theta) * np.sin(varphi) - s)
 
     bb, pp = bare_b(), bare_p()
-    assert np.array_equal(analytic.b(Psi, Theta, theta), bb) and np.array_equal(analytic.p(theta, varphi, mu, alpha), pp)
+    assert np.array_equal(analytic.b(Psi, Theta, theta), bb) and np.array_equal(
+        analytic.p(theta, varphi, mu, alpha), pp
+    )
 
     def best(f):
         return min(timeit.repeat(f, number=1, repeat=args.repeat))
@@ -44,7 +48,11 @@ def main() -> None:
     rows = [
         ("b", best(lambda: analytic.b(Psi, Theta, theta)), best(bare_b)),
         ("p", best(lambda: analytic.p(theta, varphi, mu, alpha)), best(bare_p)),
-        ("mode", best(lambda: analytic.mode(bb, pp)), best(lambda: np.where(pp > 0, np.where(bb <= 0, 0, 1), np.where(bb < 0, 2, 3)))),
+        (
+            "mode",
+            best(lambda: analytic.mode(bb, pp)),
+            best(lambda: np.where(pp > 0, np.where(bb <= 0, 0, 1), np.where(bb < 0, 2, 3))),
+        ),
     ]
     print(f"{n} points, best of {args.repeat}")
     print(f"{'function':<8} {'crosscheck [ms]':>16} {'bare numpy [ms]':>16} {'ratio':>7}")

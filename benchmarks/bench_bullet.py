@@ -50,13 +50,23 @@ def main() -> None:
     args = ap.parse_args()
 
     spec = ENGINES[0]
-    if "bullet" not in engines.names():  # until the package is in crosscheck.engines.BUILTIN (the sweep needs the registry)
+    if (
+        "bullet" not in engines.names()
+    ):  # until the package is in crosscheck.engines.BUILTIN (the sweep needs the registry)
         engines.register(spec)
     rod = Rod.scaled(3.0)
     mu = 0.5
     rng = np.random.default_rng(0)
-    states = [SlipState(theta=rng.uniform(0.2, 1.3), varphi=-rng.uniform(0.1, 3.0), Theta=0.7 * rng.normal(), Psi=rng.normal(), eta=rng.uniform(0.2, 3))
-              for _ in range(args.states)]
+    states = [
+        SlipState(
+            theta=rng.uniform(0.2, 1.3),
+            varphi=-rng.uniform(0.1, 3.0),
+            Theta=0.7 * rng.normal(),
+            Psi=rng.normal(),
+            eta=rng.uniform(0.2, 3),
+        )
+        for _ in range(args.states)
+    ]
     opts = Options(timestep=args.timestep)
     nstep = n_steps(args.horizon, opts.timestep)
     total = len(states) * nstep
@@ -64,17 +74,32 @@ def main() -> None:
     t_step = best_of(args.repeat, lambda: [bare(rod, s, mu, opts, nstep, False) for s in states])
     t_reads = best_of(args.repeat, lambda: [bare(rod, s, mu, opts, nstep, True) for s in states])
     runs = []
-    t_engine = best_of(args.repeat, lambda: runs.append([spec.simulate(rod, s, mu, horizon=args.horizon, timestep=opts.timestep) for s in states]))
+    t_engine = best_of(
+        args.repeat,
+        lambda: runs.append([spec.simulate(rod, s, mu, horizon=args.horizon, timestep=opts.timestep) for s in states]),
+    )
     contact = np.mean([r.solver.contact_steps / r.nstep for r in runs[-1]])
-    t_sweep1 = best_of(args.repeat, lambda: spec.sweep(rod, states, mu, horizon=args.horizon, progress=False, workers=1, timestep=opts.timestep))
-    t_sweep2 = best_of(args.repeat, lambda: spec.sweep(rod, states, mu, horizon=args.horizon, progress=False, workers=2, timestep=opts.timestep))
-    print(f"{len(states)} states x {nstep} steps (timestep {opts.timestep:g}, mu {mu:g}, contact in {contact:.0%} of the steps), best of {args.repeat}")
+    t_sweep1 = best_of(
+        args.repeat,
+        lambda: spec.sweep(rod, states, mu, horizon=args.horizon, progress=False, workers=1, timestep=opts.timestep),
+    )
+    t_sweep2 = best_of(
+        args.repeat,
+        lambda: spec.sweep(rod, states, mu, horizon=args.horizon, progress=False, workers=2, timestep=opts.timestep),
+    )
+    print(
+        f"{len(states)} states x {nstep} steps (timestep {opts.timestep:g}, mu {mu:g}, contact in {contact:.0%} of the steps), best of {args.repeat}"
+    )
     print(f"stepSimulation alone:            {total / t_step:10.0f} steps/s  ({1e6 * t_step / total:.1f} us/step)")
     print(f"stepSimulation + the row reads:  {total / t_reads:10.0f} steps/s  ({1e6 * t_reads / total:.1f} us/step)")
-    print(f"engine simulate:                 {total / t_engine:10.0f} steps/s  ({1e6 * t_engine / total:.1f} us/step)  "
-          f"ratio to the reads loop {t_reads / t_engine:.2f};  {t_engine / len(states):.3f} s per run to horizon {args.horizon:g}")
+    print(
+        f"engine simulate:                 {total / t_engine:10.0f} steps/s  ({1e6 * t_engine / total:.1f} us/step)  "
+        f"ratio to the reads loop {t_reads / t_engine:.2f};  {t_engine / len(states):.3f} s per run to horizon {args.horizon:g}"
+    )
     print(f"engine sweep, 1 process:         {total / t_sweep1:10.0f} steps/s")
-    print(f"engine sweep, 2 processes:       {total / t_sweep2:10.0f} steps/s  parallel efficiency {t_sweep1 / (2 * t_sweep2):.2f}")
+    print(
+        f"engine sweep, 2 processes:       {total / t_sweep2:10.0f} steps/s  parallel efficiency {t_sweep1 / (2 * t_sweep2):.2f}"
+    )
 
 
 if __name__ == "__main__":

@@ -75,8 +75,16 @@ def bare_segments(traj, options: Options) -> None:
     for seg in traj.segments:
         if seg.t1 > seg.t0:
             m, d = seg.mode, seg.direction
-            scipy.integrate.solve_ivp(lambda t, y: dyn.rhs(y, m, d), (seg.t0, seg.t1), seg.y0, method=options.method, rtol=options.rtol,
-                                      atol=atol, jac=lambda t, y: dyn.jac(y, m, d), dense_output=True)
+            scipy.integrate.solve_ivp(
+                lambda t, y: dyn.rhs(y, m, d),
+                (seg.t0, seg.t1),
+                seg.y0,
+                method=options.method,
+                rtol=options.rtol,
+                atol=atol,
+                jac=lambda t, y: dyn.jac(y, m, d),
+                dense_output=True,
+            )
 
 
 def engine_overhead(rod: Rod, states: list[SlipState], mu: float, horizon: float, repeat: int) -> None:
@@ -90,10 +98,14 @@ def engine_overhead(rod: Rod, states: list[SlipState], mu: float, horizon: float
         t_engine = min(t_engine, _timed(lambda: [engine.simulate(rod, s, mu, horizon=horizon) for s in states])[1])
         t_bare = min(t_bare, _timed(lambda: [bare_segments(tr, options) for tr in trajs])[1])
     segments = sum(len(tr.segments) for tr in trajs)
-    print(f"{len(states)} slipping states, mu = {mu}, horizon {horizon} ({round(horizon / options.timestep)} record rows each), "
-          f"eps = {options.eps:g}, {options.method}; {segments} mode segments; CPU time, best of {repeat}")
+    print(
+        f"{len(states)} slipping states, mu = {mu}, horizon {horizon} ({round(horizon / options.timestep)} record rows each), "
+        f"eps = {options.eps:g}, {options.method}; {segments} mode segments; CPU time, best of {repeat}"
+    )
     print(f"bare solve_ivp of the segments: {t_bare / len(states) * 1e3:7.1f} ms per state")
-    print(f"compliant engine (simulate):    {t_engine / len(states) * 1e3:7.1f} ms per state   ratio bare / engine {t_bare / t_engine:.2f}")
+    print(
+        f"compliant engine (simulate):    {t_engine / len(states) * 1e3:7.1f} ms per state   ratio bare / engine {t_bare / t_engine:.2f}"
+    )
 
 
 def main() -> None:
@@ -118,7 +130,9 @@ def main() -> None:
         rigid.append(min(_timed(lambda: slip_until_event(s, args.mu, args.alpha, t_max=2.0))[1] for _ in range(3)))
         horizons.append(max(r.time, 1e-3))
     rigid = np.array(rigid) * 1e3
-    print(f"{len(states)} slipping states, mu = {args.mu}, horizons (rigid first event, <= 2): median {np.median(horizons):.3f}")
+    print(
+        f"{len(states)} slipping states, mu = {args.mu}, horizons (rigid first event, <= 2): median {np.median(horizons):.3f}"
+    )
     print(f"slip_until_event: median {np.median(rigid):.2f} ms per state")
 
     # 1. cost per state at each eps
@@ -129,12 +143,16 @@ def main() -> None:
             cost.append(dt)
             steps.append(len(tr.t))
         cost = np.array(cost) * 1e3
-        print(f"integrate eps={eps:g}: median {np.median(cost):.1f} ms (max {cost.max():.1f}), median steps {np.median(steps):.0f}; "
-              f"ratio to slip_until_event (medians): {np.median(cost) / np.median(rigid):.0f}")
+        print(
+            f"integrate eps={eps:g}: median {np.median(cost):.1f} ms (max {cost.max():.1f}), median steps {np.median(steps):.0f}; "
+            f"ratio to slip_until_event (medians): {np.median(cost) / np.median(rigid):.0f}"
+        )
 
     # 2. Radau against BDF, and 3. analytic against finite-difference Jacobian, at the middle eps
     eps = args.eps[len(args.eps) // 2]
-    refs = [integrate(rod, s, args.mu, horizon=h, eps=eps, xi=1.0, rtol=1e-11, atol=1e-13) for s, h in zip(states, horizons)]
+    refs = [
+        integrate(rod, s, args.mu, horizon=h, eps=eps, xi=1.0, rtol=1e-11, atol=1e-13) for s, h in zip(states, horizons)
+    ]
 
     def err(tr, ref, h):
         a, b = tr.state_at(h), ref.state_at(h)
@@ -147,8 +165,10 @@ def main() -> None:
             costs.append(dt)
             errs.append(err(tr, ref, h))
         costs = np.array(costs) * 1e3
-        print(f"  {label}: median {np.median(costs):.1f} ms, total {costs.sum():.0f} ms; error of the slow variables: "
-              f"median {np.median(errs):.1e}, largest {max(errs):.1e}")
+        print(
+            f"  {label}: median {np.median(costs):.1f} ms, total {costs.sum():.0f} ms; error of the slow variables: "
+            f"median {np.median(errs):.1e}, largest {max(errs):.1e}"
+        )
         return costs.sum()
 
     print(f"solver choices at eps = {eps:g} (errors against Radau at rtol 1e-11, atol 1e-13):")
@@ -166,8 +186,10 @@ def main() -> None:
         fd = run("Radau, scipy's finite-difference Jacobian")
     finally:
         _trajectory.solve_ivp = original
-    print(f"  BDF / Radau time: {bdf / radau:.2f} at the same tolerances, {bdf_tight / radau:.2f} at 100x tighter ones; "
-          f"finite-difference / analytic Jacobian time: {fd / radau:.2f}")
+    print(
+        f"  BDF / Radau time: {bdf / radau:.2f} at the same tolerances, {bdf_tight / radau:.2f} at 100x tighter ones; "
+        f"finite-difference / analytic Jacobian time: {fd / radau:.2f}"
+    )
     assert scipy.integrate.solve_ivp is original
 
 

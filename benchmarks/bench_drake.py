@@ -80,15 +80,26 @@ def main() -> None:
         for s, mu in starts:
             run = spec.simulate(rod, s, mu, horizon=args.horizon, **opts)
             done = run.solver.steps if o.discrete else int(np.isfinite(run.record.theta).sum())
-            cases.append((s, mu, model(rod, mu, o), np.concatenate(to_generalized(rod, s, tip=(0.0, 0.0, o.radius))), done, run.nstep))
+            cases.append(
+                (
+                    s,
+                    mu,
+                    model(rod, mu, o),
+                    np.concatenate(to_generalized(rod, s, tip=(0.0, 0.0, o.radius))),
+                    done,
+                    run.nstep,
+                )
+            )
         secs, bare = np.full(len(cases), np.inf), np.full(len(cases), np.inf)
         for _ in range(args.repeat):
             for i, (s, mu, m, x0, done, _) in enumerate(cases):
                 secs[i] = min(secs[i], cpu_time(lambda: spec.simulate(rod, s, mu, horizon=args.horizon, **opts)))
                 bare[i] = min(bare[i], cpu_time(lambda: bare_advance(m, x0, done, dt)))
         steps = sum(c[4] for c in cases)
-        print(f"{name:18s} {opts}: run median {np.median(secs):.3f} s, max {secs.max():.3f} s; engine {1e6 * secs.sum() / steps:6.1f} us/step, "
-              f"bare {1e6 * bare.sum() / steps:6.1f}, bare / engine {bare.sum() / secs.sum():.2f}; quick map section ~{300 * slipping * secs.mean():.1f} s")
+        print(
+            f"{name:18s} {opts}: run median {np.median(secs):.3f} s, max {secs.max():.3f} s; engine {1e6 * secs.sum() / steps:6.1f} us/step, "
+            f"bare {1e6 * bare.sum() / steps:6.1f}, bare / engine {bare.sum() / secs.sum():.2f}; quick map section ~{300 * slipping * secs.mean():.1f} s"
+        )
 
 
 if __name__ == "__main__":

@@ -66,7 +66,9 @@ def cpu_time(f) -> float:
     return time.process_time() - t
 
 
-def compare(rod: Rod, spec, cases: list[tuple[SlipState, float]], *, horizon: float, repeat: int, options: dict | None = None) -> dict:
+def compare(
+    rod: Rod, spec, cases: list[tuple[SlipState, float]], *, horizon: float, repeat: int, options: dict | None = None
+) -> dict:
     """Bare, raw and engine CPU seconds of one approximation over ``cases`` (start, mu), each a sum over the starts of
     the least of ``repeat`` timings, with the steps timed and whether bare and engine reach the same states."""
     given = dict(spec.report.maps["quick"] if options is None else options)
@@ -118,8 +120,10 @@ def main() -> None:
     for name in args.engines.split(","):
         r = compare(rod, engines.get(name), cases, horizon=HORIZON, repeat=args.repeat)
         us = 1e6 / r["steps"]
-        print(f"{name:16s} {r['runs']} runs, {r['steps']} steps: bare {r['bare'] * us:6.1f} us/step, raw {r['raw'] * us:6.1f}, "
-              f"engine {r['engine'] * us:6.1f};  bare / engine {r['bare'] / r['engine']:.2f}; same states: {'yes' if r['same'] else 'NO'}")
+        print(
+            f"{name:16s} {r['runs']} runs, {r['steps']} steps: bare {r['bare'] * us:6.1f} us/step, raw {r['raw'] * us:6.1f}, "
+            f"engine {r['engine'] * us:6.1f};  bare / engine {r['bare'] / r['engine']:.2f}; same states: {'yes' if r['same'] else 'NO'}"
+        )
 
 
 if __name__ == "__main__":

@@ -46,8 +46,13 @@ from crosscheck.engines.mujoco.model import build_model, initial_state
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--states", type=int, nargs="+", default=[64, 100, 1024],
-                    help="batch sizes, each measured apart (100: a quick-report map, 1024: a full-report map)")
+    ap.add_argument(
+        "--states",
+        type=int,
+        nargs="+",
+        default=[64, 100, 1024],
+        help="batch sizes, each measured apart (100: a quick-report map, 1024: a full-report map)",
+    )
     ap.add_argument("--horizon", type=float, default=1.0, help="scaled time per state")
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--loop-states", type=int, default=4, help="states for the (slow) Python loop; 0 leaves it out")
@@ -63,7 +68,13 @@ def measure(n_states: int, args) -> None:
     mu = 0.8
     rng = np.random.default_rng(0)
     states = [
-        SlipState(theta=rng.uniform(0.2, 1.3), varphi=-rng.uniform(0.1, 3.0), Theta=0.7 * rng.normal(), Psi=rng.normal(), eta=rng.uniform(0.2, 3))
+        SlipState(
+            theta=rng.uniform(0.2, 1.3),
+            varphi=-rng.uniform(0.1, 3.0),
+            Theta=0.7 * rng.normal(),
+            Psi=rng.normal(),
+            eta=rng.uniform(0.2, 3),
+        )
         for _ in range(n_states)
     ]
     opts = Options()
@@ -79,7 +90,9 @@ def measure(n_states: int, args) -> None:
             pool.rollout(model, datas, x0, nstep=nstep)
             return time.perf_counter() - t0
 
-    reading = [np.inf]  # CPU of this thread in a sweep: the records, the classifier, the summaries (the rollouts run in others)
+    reading = [
+        np.inf
+    ]  # CPU of this thread in a sweep: the records, the classifier, the summaries (the rollouts run in others)
 
     def swept() -> float:
         c0, t0 = time.thread_time(), time.perf_counter()
@@ -115,15 +128,23 @@ def measure(n_states: int, args) -> None:
             best[k] = min(best[k], f())
             cpu[k] = min(cpu[k], time.process_time() - c)
     rate = {k: total / v for k, v in best.items()}
-    print(f"{n_states} states x {nstep} steps (horizon {args.horizon}, timestep {opts.timestep} scaled), mujoco {mujoco.__version__}, "
-          f"best of {args.repeat}")
+    print(
+        f"{n_states} states x {nstep} steps (horizon {args.horizon}, timestep {opts.timestep} scaled), mujoco {mujoco.__version__}, "
+        f"best of {args.repeat}"
+    )
     print(f"bare rollout (2 threads): {rate['bare']:12,.0f} steps/s   CPU {cpu['bare']:.3f} s")
-    print(f"sweep (2 threads):        {rate['sweep']:12,.0f} steps/s   CPU {cpu['sweep']:.3f} s   ratio to bare rollout {rate['sweep'] / rate['bare']:.2f} "
-          f"(target >= 0.9), in CPU time {cpu['bare'] / cpu['sweep']:.2f}")
-    print(f"  of which the reading thread (records, classifier, summaries): CPU {reading[0]:.3f} s; with both cores busy the "
-          f"sweep's wall time cannot fall below (its CPU) / 2 = {cpu['sweep'] / 2:.3f} s, the bare rollout's {cpu['bare'] / 2:.3f} s")
+    print(
+        f"sweep (2 threads):        {rate['sweep']:12,.0f} steps/s   CPU {cpu['sweep']:.3f} s   ratio to bare rollout {rate['sweep'] / rate['bare']:.2f} "
+        f"(target >= 0.9), in CPU time {cpu['bare'] / cpu['sweep']:.2f}"
+    )
+    print(
+        f"  of which the reading thread (records, classifier, summaries): CPU {reading[0]:.3f} s; with both cores busy the "
+        f"sweep's wall time cannot fall below (its CPU) / 2 = {cpu['sweep'] / 2:.3f} s, the bare rollout's {cpu['bare'] / 2:.3f} s"
+    )
     if "loop" in rate:
-        print(f"python mj_step loop:      {rate['loop']:12,.0f} steps/s   sweep / loop {rate['sweep'] / rate['loop']:.1f}x (1 thread, reads contacts)")
+        print(
+            f"python mj_step loop:      {rate['loop']:12,.0f} steps/s   sweep / loop {rate['sweep'] / rate['loop']:.1f}x (1 thread, reads contacts)"
+        )
 
 
 if __name__ == "__main__":

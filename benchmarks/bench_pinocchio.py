@@ -57,7 +57,6 @@ def bare_loop(model, data, tip, q, v, tau) -> None:
         pin.getFrameClassicalAcceleration(model, data, tip, lwa)
 
 
-
 def best_of_wall_and_cpu(repeat: int, *fs) -> list[tuple[float, float]]:
     """(shortest wall-clock time, shortest CPU time of this process) [s] of each of ``fs`` over ``repeat`` rounds, each
     round running every one of them in turn: a machine that speeds up or slows down during the run moves them alike."""
@@ -88,11 +87,17 @@ def main() -> None:
     (t_bare, c_bare), (t_val, c_val) = best_of_wall_and_cpu(args.repeat, lambda: bare_loop(*inputs), run)
     print(f"pin {pin.__version__}, numpy {np.__version__}, {os.cpu_count()} cpus, {n} states, best of {args.repeat}")
     print(f"{'':28} {'wall':>24}  {'CPU of this process':>28}")
-    print(f"{'bare Pinocchio loop':<28} {n / t_bare:>12,.0f} states/s  {t_bare:7.3f} s  {n / c_bare:>12,.0f} states/s  {c_bare:7.3f} s")
-    print(f"{'validate pinocchio':<28} {n / t_val:>12,.0f} states/s  {t_val:7.3f} s  {n / c_val:>12,.0f} states/s  {c_val:7.3f} s  "
-          f"({'passed' if result.passed else 'FAILED'})")
-    print(f"ratio validate / bare time: {t_val / t_bare:.2f} (CPU {c_val / c_bare:.2f}); "
-          f"bare / validate: {t_bare / t_val:.2f} (CPU {c_bare / c_val:.2f}) (target >= 0.7)")
+    print(
+        f"{'bare Pinocchio loop':<28} {n / t_bare:>12,.0f} states/s  {t_bare:7.3f} s  {n / c_bare:>12,.0f} states/s  {c_bare:7.3f} s"
+    )
+    print(
+        f"{'validate pinocchio':<28} {n / t_val:>12,.0f} states/s  {t_val:7.3f} s  {n / c_val:>12,.0f} states/s  {c_val:7.3f} s  "
+        f"({'passed' if result.passed else 'FAILED'})"
+    )
+    print(
+        f"ratio validate / bare time: {t_val / t_bare:.2f} (CPU {c_val / c_bare:.2f}); "
+        f"bare / validate: {t_bare / t_val:.2f} (CPU {c_bare / c_val:.2f}) (target >= 0.7)"
+    )
 
 
 if __name__ == "__main__":

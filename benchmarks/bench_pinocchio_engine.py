@@ -88,24 +88,35 @@ def bare(rod: Rod, state: SlipState, mu: float, opts: Options, nstep: int) -> No
         q = q + dt * v
 
 
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--states", type=int, default=128)
     ap.add_argument("--horizon", type=float, default=1.0, help="scaled time per state")
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--mu", type=float, default=0.5, help="friction (0.5: below mu_P, every step an ordinary slip, stick or flight)")
+    ap.add_argument(
+        "--mu", type=float, default=0.5, help="friction (0.5: below mu_P, every step an ordinary slip, stick or flight)"
+    )
     args = ap.parse_args()
 
     rod = Rod.scaled(3.0)
     mu = args.mu
     rng = np.random.default_rng(0)
-    states = [SlipState(theta=rng.uniform(0.2, 1.3), varphi=-rng.uniform(0.1, 3.0), Theta=0.7 * rng.normal(), Psi=rng.normal(), eta=rng.uniform(0.2, 3))
-              for _ in range(args.states)]
+    states = [
+        SlipState(
+            theta=rng.uniform(0.2, 1.3),
+            varphi=-rng.uniform(0.1, 3.0),
+            Theta=0.7 * rng.normal(),
+            Psi=rng.normal(),
+            eta=rng.uniform(0.2, 3),
+        )
+        for _ in range(args.states)
+    ]
     opts = Options()
     nstep = n_steps(args.horizon, opts.timestep)
     engine = get("pinocchio")
-    few = states[:8]  # the PGS loops take ~30 us a step: 8 states keep them short; their steps/s does not depend on the count
+    few = states[
+        :8
+    ]  # the PGS loops take ~30 us a step: 8 states keep them short; their steps/s does not depend on the count
 
     def rates(n_states: int, f) -> tuple[float, float]:
         """(wall, CPU) steps/s of ``f``, each the best of ``--repeat``."""
@@ -121,16 +132,35 @@ def main() -> None:
     sizes = sorted({STORE_CHUNK, report_chunk, len(states)})
     runs = {
         "bare loop of the Pinocchio calls (PGS)": rates(len(few), lambda: [bare(rod, s, mu, opts, nstep) for s in few]),
-        "engine simulate, PGS": rates(len(few), lambda: [engine.simulate(rod, s, mu, horizon=args.horizon, solver="pgs") for s in few]),
-        **{f"engine sweep, closed form, {n} states{' (report chunk)' if n == report_chunk else ''}": rates(n, lambda n=n: engine.sweep(
-            rod, [states[i % len(states)] for i in range(n)], mu, horizon=args.horizon, progress=False, workers=1, solver="closed_form"))
-           for n in sizes},
-        "engine sweep, PGS, 1 process": rates(len(few), lambda: engine.sweep(rod, few, mu, horizon=args.horizon, progress=False, workers=1,
-                                                                             solver="pgs")),
-        "engine sweep, PGS, 2 processes": rates(len(few), lambda: engine.sweep(rod, few, mu, horizon=args.horizon, progress=False,
-                                                                               workers=2, solver="pgs")),
+        "engine simulate, PGS": rates(
+            len(few), lambda: [engine.simulate(rod, s, mu, horizon=args.horizon, solver="pgs") for s in few]
+        ),
+        **{
+            f"engine sweep, closed form, {n} states{' (report chunk)' if n == report_chunk else ''}": rates(
+                n,
+                lambda n=n: engine.sweep(
+                    rod,
+                    [states[i % len(states)] for i in range(n)],
+                    mu,
+                    horizon=args.horizon,
+                    progress=False,
+                    workers=1,
+                    solver="closed_form",
+                ),
+            )
+            for n in sizes
+        },
+        "engine sweep, PGS, 1 process": rates(
+            len(few), lambda: engine.sweep(rod, few, mu, horizon=args.horizon, progress=False, workers=1, solver="pgs")
+        ),
+        "engine sweep, PGS, 2 processes": rates(
+            len(few), lambda: engine.sweep(rod, few, mu, horizon=args.horizon, progress=False, workers=2, solver="pgs")
+        ),
     }
-    runs["engine sweep, PGS, 2 processes"] = (runs["engine sweep, PGS, 2 processes"][0], float("nan"))  # the workers' CPU is not ours
+    runs["engine sweep, PGS, 2 processes"] = (
+        runs["engine sweep, PGS, 2 processes"][0],
+        float("nan"),
+    )  # the workers' CPU is not ours
     bare_wall, bare_cpu = runs["bare loop of the Pinocchio calls (PGS)"]
     print(f"timestep {opts.timestep:g}, mu {mu:g}, {nstep} steps per state, best of {args.repeat}")
     print(f"{'':52s} {'steps/s (wall)':>15s} {'ratio':>6s} {'steps/s (CPU)':>15s} {'ratio':>6s}")
@@ -138,6 +168,7 @@ def main() -> None:
         print(f"{name:52s} {wall:15.0f} {wall / bare_wall:6.2f} {cpu:15.0f} {cpu / bare_cpu:6.2f}")
     w1, w2 = runs["engine sweep, PGS, 1 process"][0], runs["engine sweep, PGS, 2 processes"][0]
     print(f"PGS sweep parallel efficiency on 2 processes: {w2 / (2 * w1):.2f}")
+
 
 if __name__ == "__main__":
     main()

@@ -45,8 +45,12 @@ def run(variant: str, out: Path) -> dict:
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if done.returncode != 0:
         raise SystemExit(f"the {variant} report failed ({done.returncode}):\n{done.stdout}{done.stderr}")
-    return {"wall": wall, "user": after.ru_utime - before.ru_utime, "sys": after.ru_stime - before.ru_stime,
-            "faults": after.ru_minflt - before.ru_minflt}
+    return {
+        "wall": wall,
+        "user": after.ru_utime - before.ru_utime,
+        "sys": after.ru_stime - before.ru_stime,
+        "faults": after.ru_minflt - before.ru_minflt,
+    }
 
 
 def main() -> None:
@@ -60,8 +64,11 @@ def main() -> None:
         for variant in runs:
             r = run(variant, root / variant)
             runs[variant].append(r)
-            print(f"round {k + 1} {variant:9} wall {r['wall']:6.1f} s  user {r['user']:6.1f} s  sys {r['sys']:5.1f} s  "
-                  f"minor faults {r['faults']:>9,}", flush=True)
+            print(
+                f"round {k + 1} {variant:9} wall {r['wall']:6.1f} s  user {r['user']:6.1f} s  sys {r['sys']:5.1f} s  "
+                f"minor faults {r['faults']:>9,}",
+                flush=True,
+            )
     from crosscheck.report.compare_data import compare
 
     differ = {k: v for k, v in compare(root / "baseline" / "data", root / "shipped" / "data").items() if v}

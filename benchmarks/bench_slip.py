@@ -46,8 +46,15 @@ def baseline(state, mu, alpha, t_end):
 
     ev = lambda t, y: analytic._b(y[8], y[9], y[4])  # noqa: E731
     ev.terminal, ev.direction = True, 1
-    solve_ivp(rhs, (0, max(t_end, 1e-9)), y0, method="DOP853", rtol=SLIP_INTEGRATION.rtol,
-              atol=SLIP_INTEGRATION.atol, events=[ev])
+    solve_ivp(
+        rhs,
+        (0, max(t_end, 1e-9)),
+        y0,
+        method="DOP853",
+        rtol=SLIP_INTEGRATION.rtol,
+        atol=SLIP_INTEGRATION.atol,
+        events=[ev],
+    )
 
 
 def main() -> None:
@@ -67,7 +74,9 @@ def main() -> None:
         baseline(s, args.mu, args.alpha, r.time)
         base.append(time.perf_counter() - t0)
     times, base = np.array(times) * 1e3, np.array(base) * 1e3
-    print(f"slip_until_event: median {np.median(times):.2f} ms, p90 {np.percentile(times, 90):.2f} ms, max {times.max():.2f} ms")
+    print(
+        f"slip_until_event: median {np.median(times):.2f} ms, p90 {np.percentile(times, 90):.2f} ms, max {times.max():.2f} ms"
+    )
     print(f"real-time baseline to the same time: median {np.median(base):.2f} ms")
     print(f"ratio (median) slip_until_event / baseline: {np.median(times) / np.median(base):.2f}")
     print("outcomes:", dict(reasons))

@@ -51,7 +51,6 @@ timestep = 1e-3
 """
 
 
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--states", type=int, default=256)
@@ -61,20 +60,37 @@ def main() -> None:
     args = ap.parse_args()
     spec = sweeps.parse_spec(tomllib.loads(SPEC.format(**vars(args))))
     cols = spec.runs()
-    states = [SlipState(theta=cols["theta"][i], varphi=cols["varphi"][i], Theta=cols["Theta"][i], Psi=cols["Psi"][i], eta=cols["eta"][i])
-              for i in range(spec.n_runs)]
+    states = [
+        SlipState(
+            theta=cols["theta"][i],
+            varphi=cols["varphi"][i],
+            Theta=cols["Theta"][i],
+            Psi=cols["Psi"][i],
+            eta=cols["eta"][i],
+        )
+        for i in range(spec.n_runs)
+    ]
     n = spec.n_runs
     tmp = Path(tempfile.mkdtemp(prefix="bench_sweeps_"))
 
     def layer(workers, scheduler=None):
         k = len(list(tmp.iterdir()))
-        return lambda: sweeps.run(spec, tmp / f"s{k}-{time.perf_counter_ns()}", workers=workers, scheduler=scheduler, progress=False)
+        return lambda: sweeps.run(
+            spec, tmp / f"s{k}-{time.perf_counter_ns()}", workers=workers, scheduler=scheduler, progress=False
+        )
 
     # warm up (imports of pyarrow and the engine, MuJoCo's first compile): a one-time cost, not per sweep
     warm = sweeps.parse_spec(tomllib.loads(SPEC.format(states=2, chunk=2, horizon=0.01)))
     sweeps.run(warm, tmp / "warm", workers=1, progress=False)
-    base = lambda: get("mujoco").sweep(Rod.scaled(3.0), states, cols["mu"], horizon=spec.horizon, timestep=1e-3, nthread=1,  # noqa: E731
-                                       progress=False)
+    base = lambda: get("mujoco").sweep(
+        Rod.scaled(3.0),
+        states,
+        cols["mu"],
+        horizon=spec.horizon,
+        timestep=1e-3,
+        nthread=1,  # noqa: E731
+        progress=False,
+    )
     # interleaved repetitions (baseline, 1 worker, 2 workers, ...): the machine's speed drifts by 20 % and more
     # between minutes (measured: the same rollout took 1.4 s and 2.0 s), which best-of blocks would attribute to the layer
     times = {"base": [], "1": [], "2": []}
@@ -93,16 +109,24 @@ def main() -> None:
         t_dask = best_of(args.repeat, layer(2, cluster.scheduler_address))
     finally:
         cluster.close()
-    print(f"{n} MuJoCo runs (horizon {spec.horizon:g}, timestep 1e-3) in {spec.n_chunks} chunks of {spec.chunk}, best of {args.repeat}")
+    print(
+        f"{n} MuJoCo runs (horizon {spec.horizon:g}, timestep 1e-3) in {spec.n_chunks} chunks of {spec.chunk}, best of {args.repeat}"
+    )
     print(f"engine sweep, one process:     {n / t_base:8.1f} runs/s")
     print(f"sweeps layer, 1 worker:        {n / t_1:8.1f} runs/s   ratio {t_base / t_1:.2f} (target >= 0.9)")
-    print(f"sweeps layer, 2 workers:       {n / t_2:8.1f} runs/s   parallel efficiency {t_1 / (2 * t_2):.2f} (target >= 0.8)")
-    print(f"sweeps layer, Dask 2 workers:  {n / t_dask:8.1f} runs/s   overhead vs the pool {1e3 * (t_dask - t_2) / spec.n_chunks:+.1f} ms per chunk"
-          f" (cluster start-up {t_start:.1f} s, not included)")
+    print(
+        f"sweeps layer, 2 workers:       {n / t_2:8.1f} runs/s   parallel efficiency {t_1 / (2 * t_2):.2f} (target >= 0.8)"
+    )
+    print(
+        f"sweeps layer, Dask 2 workers:  {n / t_dask:8.1f} runs/s   overhead vs the pool {1e3 * (t_dask - t_2) / spec.n_chunks:+.1f} ms per chunk"
+        f" (cluster start-up {t_start:.1f} s, not included)"
+    )
     rate1, eff = n / t_1, t_1 / (2 * t_2)
     for cores in (2, 64):
         secs = 1e6 / (rate1 * (1 if cores == 1 else cores * eff))
-        print(f"1e6 runs of horizon {spec.horizon:g}: {secs / 3600:.2f} h on {cores} cores (measured 1-worker rate x cores x 2-worker efficiency)")
+        print(
+            f"1e6 runs of horizon {spec.horizon:g}: {secs / 3600:.2f} h on {cores} cores (measured 1-worker rate x cores x 2-worker efficiency)"
+        )
 
 
 if __name__ == "__main__":

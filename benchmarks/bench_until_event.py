@@ -23,9 +23,15 @@ FIELDS = ("outcome", "event_time", "jam_p_eff", "jam_impulse")
 
 
 def starts(thetas: int, rng: np.random.Generator) -> list[tuple[SlipState, float]]:
-    out = [(SlipState(theta=float(th), varphi=-1.9, Theta=Th, Psi=float(rng.choice([0.0, 1.7])), eta=1.0), 1.4)
-           for th in np.linspace(0.3, 1.4, thetas) for Th in (-0.6, 0.0, 0.6)]
-    out += [(SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=float(p), eta=1.0), float(rng.uniform(0.3, 1.5))) for p in np.linspace(0, 1.9, 8)]
+    out = [
+        (SlipState(theta=float(th), varphi=-1.9, Theta=Th, Psi=float(rng.choice([0.0, 1.7])), eta=1.0), 1.4)
+        for th in np.linspace(0.3, 1.4, thetas)
+        for Th in (-0.6, 0.0, 0.6)
+    ]
+    out += [
+        (SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=float(p), eta=1.0), float(rng.uniform(0.3, 1.5)))
+        for p in np.linspace(0, 1.9, 8)
+    ]
     return out
 
 

@@ -38,7 +38,9 @@ def source_revision(root: Path | str) -> dict | None:
     if not Path(root).is_dir():
         return None
     top = git("rev-parse", "--show-toplevel")
-    if top is None or Path(top).resolve() != Path(root).resolve():  # a tree inside some other repository is not this source
+    if (
+        top is None or Path(top).resolve() != Path(root).resolve()
+    ):  # a tree inside some other repository is not this source
         return None
     rev = git("rev-parse", "HEAD")
     if rev is None:
@@ -60,7 +62,12 @@ def write_build_info(package_dir: Path | str, root: Path | str) -> Path | None:
         return None
     built = _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
     path = Path(package_dir) / BUILD_INFO
-    path.write_text(json.dumps({**rev, "built": built, "source": "recorded when the package was built from a git checkout"}, indent=1) + "\n")
+    path.write_text(
+        json.dumps(
+            {**rev, "built": built, "source": "recorded when the package was built from a git checkout"}, indent=1
+        )
+        + "\n"
+    )
     return path
 
 

@@ -12,8 +12,25 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Interval", "check", "number", "integer", "THETA", "VARPHI", "MU", "ALPHA", "ETA", "RATE", "AZIMUTH", "UNIT", "HORIZON", "POSITIVE",
-           "NONNEGATIVE", "FINITE", "BOUNDED"]
+__all__ = [
+    "Interval",
+    "check",
+    "number",
+    "integer",
+    "THETA",
+    "VARPHI",
+    "MU",
+    "ALPHA",
+    "ETA",
+    "RATE",
+    "AZIMUTH",
+    "UNIT",
+    "HORIZON",
+    "POSITIVE",
+    "NONNEGATIVE",
+    "FINITE",
+    "BOUNDED",
+]
 
 
 class Interval:
@@ -140,5 +157,7 @@ def writable_directory(name: str, value) -> Path:
         with tempfile.TemporaryFile(dir=path):
             pass
     except OSError as e:  # a file created in it is the test: permission bits, ACLs, read-only mounts, /proc alike
-        raise ValueError(f"{name} must be a writable directory; cannot write in {str(path)!r}: {e.strerror or e}") from None
+        raise ValueError(
+            f"{name} must be a writable directory; cannot write in {str(path)!r}: {e.strerror or e}"
+        ) from None
     return path

@@ -91,7 +91,12 @@ class ValidationResult:
 
     def to_json(self) -> str:
         """Standard JSON: non-finite floats (NaN, inf) become null."""
-        doc = {"engine": self.engine, "passed": self.passed, "stats": [asdict(s) for s in self.stats], "extra": self.extra}
+        doc = {
+            "engine": self.engine,
+            "passed": self.passed,
+            "stats": [asdict(s) for s in self.stats],
+            "extra": self.extra,
+        }
         return json.dumps(as_json(doc), indent=2, allow_nan=False)
 
     def to_table(self) -> str:

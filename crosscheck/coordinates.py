@@ -19,7 +19,16 @@ from crosscheck.checks import FINITE, NONNEGATIVE, THETA
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState, real, same_shape
 
-__all__ = ["GENERALIZED", "tip_position", "tip_velocity", "paper_to_qv", "qv_of", "qv_to_paper", "to_generalized", "from_generalized"]
+__all__ = [
+    "GENERALIZED",
+    "tip_position",
+    "tip_velocity",
+    "paper_to_qv",
+    "qv_of",
+    "qv_to_paper",
+    "to_generalized",
+    "from_generalized",
+]
 
 #: Names of the generalised coordinates, in order.
 GENERALIZED = ("X", "Y", "Z", "psi", "theta")
@@ -35,7 +44,9 @@ def _qv(q, v) -> tuple[np.ndarray, np.ndarray]:
     """q and v as real (..., 5) arrays of one shape (ValueError naming them otherwise)."""
     q, v = real("q", q, FINITE), real("v", v, FINITE)
     if q.shape[-1:] != (5,) or q.shape != v.shape:
-        raise ValueError(f"q and v must have one shape (..., 5) ({', '.join(GENERALIZED)}); got {q.shape} and {v.shape}")
+        raise ValueError(
+            f"q and v must have one shape (..., 5) ({', '.join(GENERALIZED)}); got {q.shape} and {v.shape}"
+        )
     return q, v
 
 
@@ -44,7 +55,9 @@ def tip_position(rod: Rod, q) -> np.ndarray:
     q = np.asarray(q, dtype=float)
     X, Y, Z, psi, theta = np.moveaxis(q, -1, 0)
     l = rod.length
-    return np.stack((X + l * np.cos(theta) * np.sin(psi), Y - l * np.cos(theta) * np.cos(psi), Z - l * np.sin(theta)), -1)
+    return np.stack(
+        (X + l * np.cos(theta) * np.sin(psi), Y - l * np.cos(theta) * np.cos(psi), Z - l * np.sin(theta)), -1
+    )
 
 
 def tip_velocity(rod: Rod, q, v) -> np.ndarray:
@@ -79,8 +92,12 @@ def paper_to_qv(rod: Rod, theta, varphi, Theta, Psi, eta, psi=0.0, *, tip=(0.0, 
     _rod(rod)
     theta = real("theta", theta, THETA)
     eta = real("eta", eta, NONNEGATIVE)
-    varphi, Theta, Psi, psi, w = (real(n, x, FINITE) for n, x in (("varphi", varphi), ("Theta", Theta), ("Psi", Psi), ("psi", psi), ("w", w)))
-    theta, varphi, Theta, Psi, eta, psi, w = same_shape(theta=theta, varphi=varphi, Theta=Theta, Psi=Psi, eta=eta, psi=psi, w=w)
+    varphi, Theta, Psi, psi, w = (
+        real(n, x, FINITE) for n, x in (("varphi", varphi), ("Theta", Theta), ("Psi", Psi), ("psi", psi), ("w", w))
+    )
+    theta, varphi, Theta, Psi, eta, psi, w = same_shape(
+        theta=theta, varphi=varphi, Theta=Theta, Psi=Psi, eta=eta, psi=psi, w=w
+    )
     tip = real("tip", tip, FINITE)
     if tip.shape[-1:] != (3,):
         raise ValueError(f"tip must have shape (..., 3) (x, y, z in units of l); got {tip.shape}")

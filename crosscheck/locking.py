@@ -97,7 +97,11 @@ def _refusal_text(path: Path, text: str) -> str:
     if pid is None or _alive(pid):
         return text or "unknown"
     others = holders(path)
-    held = f"; still held by its surviving processes {', '.join(map(str, others))} (kill them to free it)" if others else ""
+    held = (
+        f"; still held by its surviving processes {', '.join(map(str, others))} (kill them to free it)"
+        if others
+        else ""
+    )
     return f"{text} (no longer running{held})"
 
 
@@ -129,7 +133,9 @@ def exclusive(path: Path | str, holder: str, refuse: Callable[[str], Exception])
         previous = os.pread(fd, 4096, 0).decode("utf-8", "replace").strip()
         pid = _pid_of(previous)
         if pid is not None and pid != os.getpid() and not _alive(pid):
-            sys.stderr.write(f"note: took over the lock {str(path)!r} left by a writer that is no longer running ({previous})\n")
+            sys.stderr.write(
+                f"note: took over the lock {str(path)!r} left by a writer that is no longer running ({previous})\n"
+            )
         os.ftruncate(fd, 0)
         try:
             os.pwrite(fd, holder.encode(), 0)

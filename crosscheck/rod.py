@@ -39,8 +39,10 @@ class Rod:
         # alpha = m l^2 / I0 in logarithms: the product may overflow or underflow where the ratio does not
         log_alpha = math.log(self.mass) + 2.0 * math.log(self.length) - math.log(self.inertia)
         if not math.log(ALPHA.lo) <= log_alpha <= math.log(ALPHA.hi):
-            raise ValueError(f"alpha = mass length^2 / inertia must be in {ALPHA}; got mass={self.mass:g}, length={self.length:g}, "
-                             f"inertia={self.inertia:g} (alpha = 10^{log_alpha / math.log(10):.4g})")
+            raise ValueError(
+                f"alpha = mass length^2 / inertia must be in {ALPHA}; got mass={self.mass:g}, length={self.length:g}, "
+                f"inertia={self.inertia:g} (alpha = 10^{log_alpha / math.log(10):.4g})"
+            )
 
     @classmethod
     def scaled(cls, alpha: float = 3.0) -> "Rod":

@@ -22,8 +22,9 @@ def real(name: str, value, interval: Interval = FINITE) -> np.ndarray:
     if value is None or type(value) in NUMBERS:  # None: check's message; a plain float or int is real
         return check(name, value, interval)
     x = np.asarray(value) if not isinstance(value, (str, bytes, bytearray)) else None
-    if (isinstance(value, (bool, np.bool_, bytes, bytearray)) or (x is not None and (x.dtype.kind in "cbSUVO" and x.size)
-                                                                   and not (x.dtype.kind == "U" and x.ndim == 0))):
+    if isinstance(value, (bool, np.bool_, bytes, bytearray)) or (
+        x is not None and (x.dtype.kind in "cbSUVO" and x.size) and not (x.dtype.kind == "U" and x.ndim == 0)
+    ):
         raise ValueError(f"{name} must be a real number in {interval}; got {value!r}"[:300])
     return check(name, value, interval)
 
@@ -40,7 +41,9 @@ def check_timestep(value) -> float:
     """A timestep: one real number > 0 and at least ``MIN_TIMESTEP`` (ValueError naming timestep)."""
     dt = real_scalar("timestep", value, Interval(0.0, np.inf, lo_open=True, hi_open=True, text="(0, inf)"))
     if dt < MIN_TIMESTEP:
-        raise ValueError(f"timestep must be at least {MIN_TIMESTEP:g} (below it a step is lost in the rounding of the time); got {dt!r}")
+        raise ValueError(
+            f"timestep must be at least {MIN_TIMESTEP:g} (below it a step is lost in the rounding of the time); got {dt!r}"
+        )
     return dt
 
 
@@ -57,7 +60,9 @@ def same_shape(**arrays) -> tuple:
         return np.broadcast_arrays(*arrays.values())
     except ValueError:
         shapes = ", ".join(f"{k} {np.shape(v)}" for k, v in arrays.items())
-        raise ValueError(f"{', '.join(arrays)} must have shapes that broadcast (equal, or 1 where they differ); got {shapes}") from None
+        raise ValueError(
+            f"{', '.join(arrays)} must have shapes that broadcast (equal, or 1 where they differ); got {shapes}"
+        ) from None
 
 
 @dataclass(frozen=True)

@@ -70,7 +70,9 @@ def adopt(parent: int) -> None:
 
 def pool(workers: int) -> ProcessPoolExecutor:
     """A ``ProcessPoolExecutor`` of ``workers`` forked processes that die with this one (module docstring)."""
-    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork"), initializer=adopt, initargs=(os.getpid(),))
+    return ProcessPoolExecutor(
+        workers, mp_context=multiprocessing.get_context("fork"), initializer=adopt, initargs=(os.getpid(),)
+    )
 
 
 def process_pool(workers: int):

@@ -31,8 +31,11 @@ __all__ = ["Verdict", "judge_message", "judge_cli", "judge_api", "run_cli", "VER
 VERDICTS = ("clean", "vague", "traceback", "accepted", "hang")
 
 # A message states a range when it shows an interval, a set, or a bound.
-_RANGE = re.compile(r"[\[(][^\])]*[\])]|one of|choose from|at most|at least|>=|<=|\bin \{|must be (a |an )?(number|integer|file|directory|readable|writable|True)"
-                    r"|must be an? [A-Z]\w+|must be '[^']+' or|cannot write", re.IGNORECASE)
+_RANGE = re.compile(
+    r"[\[(][^\])]*[\])]|one of|choose from|at most|at least|>=|<=|\bin \{|must be (a |an )?(number|integer|file|directory|readable|writable|True)"
+    r"|must be an? [A-Z]\w+|must be '[^']+' or|cannot write",
+    re.IGNORECASE,
+)
 
 
 @dataclass

@@ -15,9 +15,11 @@ from crosscheck.studies.agreement import agreement_study, boundary_distance, com
 from crosscheck.studies.grids import AXES, EventGrid
 from crosscheck.studies.jams import jam_check
 from crosscheck.engines.mujoco.tolerances import MUJOCO_EVENT_DISAGREEMENT
+
 ALPHA = 3.0
 ROD = Rod.scaled(ALPHA)
 COARSE = {"timestep": 1e-3, "timeconst": 0.1}  # ~0.3 ms and 32 ms for a 1 m rod: fast, still resolved
+
 
 def test_grid_points_follow_the_axes_in_c_order():
     g = EventGrid(theta=(0.3, 0.9), varphi=(-1.0,), Theta=(0.0, 0.5), Psi=(1.0, 2.0, 3.0), mu=(0.5,), eta=(1.0, 2.0))
@@ -30,12 +32,22 @@ def test_grid_points_follow_the_axes_in_c_order():
     assert set(pts) == set(AXES)
 
 
-@pytest.mark.parametrize("axis, value, message", [("theta", 2.0, "theta must be in (0, pi/2)"), ("varphi", 0.5, "varphi must be in (-pi, 0]"),
-                                                  ("mu", -1.0, "mu must be in [0, 1000]"), ("Psi", (), "Psi must be a non-empty")], ids=str)
+@pytest.mark.parametrize(
+    "axis, value, message",
+    [
+        ("theta", 2.0, "theta must be in (0, pi/2)"),
+        ("varphi", 0.5, "varphi must be in (-pi, 0]"),
+        ("mu", -1.0, "mu must be in [0, 1000]"),
+        ("Psi", (), "Psi must be a non-empty"),
+    ],
+    ids=str,
+)
 def test_grid_rejects_values_outside_the_paper(axis, value, message):
     kw = {"theta": (0.5,), "varphi": (-1.0,), "Theta": (0.0,), "Psi": (0.0,), "mu": (1.0,)}
     kw[axis] = value
-    with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)").replace("[", r"\[").replace("]", r"\]")):
+    with pytest.raises(
+        ValueError, match=message.replace("(", r"\(").replace(")", r"\)").replace("[", r"\[").replace("]", r"\]")
+    ):
         EventGrid(**kw)
 
 
@@ -63,14 +75,18 @@ def test_a_stick_the_classifier_cannot_tell_from_the_theorys_slip_is_compared_as
     engine = np.array([T, T, T, T, T], np.int8)
     t = np.array([0.775, 0.70, 1.9, 0.45, 0.79])
     assert comparison_labels(engine, t, until, since).tolist() == [S, T, T, T, T]
-    assert comparison_labels(np.array([L], np.int8), np.array([0.775]), np.array([0.8]), since[:1]).tolist() == [L]  # only a STICK
+    assert comparison_labels(np.array([L], np.int8), np.array([0.775]), np.array([0.8]), since[:1]).tolist() == [
+        L
+    ]  # only a STICK
 
 
 def test_mirror_symmetry_used_by_the_default_grid():
     """(varphi, Psi) -> (-pi - varphi, -Psi) maps analytic runs onto each other (mirror in the rod's plane)."""
     rng = np.random.default_rng(5)
     for _ in range(6):
-        s = SlipState(theta=rng.uniform(0.1, 1.4), varphi=-rng.uniform(0.1, 3.0), Theta=rng.normal(), Psi=rng.normal(), eta=1.0)
+        s = SlipState(
+            theta=rng.uniform(0.1, 1.4), varphi=-rng.uniform(0.1, 3.0), Theta=rng.normal(), Psi=rng.normal(), eta=1.0
+        )
         m = SlipState(theta=s.theta, varphi=-math.pi - s.varphi, Theta=s.Theta, Psi=-s.Psi, eta=1.0)
         a, b = slip_until_event(s, 1.7, ALPHA, t_max=2.0), slip_until_event(m, 1.7, ALPHA, t_max=2.0)
         assert a.outcome == b.outcome
@@ -78,7 +94,9 @@ def test_mirror_symmetry_used_by_the_default_grid():
 
 
 def test_boundary_distance_is_small_at_the_liftoff_boundary_and_large_far_from_it():
-    s_near = SlipState(theta=0.6, varphi=-math.pi / 2, Theta=0.0, Psi=float(Psi_on_b0(0.6)) - 0.002, eta=1.0)  # b = -0.003: b = 0 is next
+    s_near = SlipState(
+        theta=0.6, varphi=-math.pi / 2, Theta=0.0, Psi=float(Psi_on_b0(0.6)) - 0.002, eta=1.0
+    )  # b = -0.003: b = 0 is next
     s_far = SlipState(theta=0.3, varphi=-math.pi / 2, Theta=0.0, Psi=0.0, eta=1.0)  # b = -0.70 at mu 0.5
     pts = {k: np.array([getattr(s_near, k), getattr(s_far, k)]) for k in ("theta", "varphi", "Theta", "Psi", "eta")}
     pts["mu"] = np.array([0.5, 0.5])
@@ -89,13 +107,18 @@ def test_boundary_distance_is_small_at_the_liftoff_boundary_and_large_far_from_i
 
 
 def test_agreement_study_on_a_small_grid():
-    g = EventGrid(theta=(0.3, 0.9), varphi=(-math.pi / 2, -math.pi / 4), Theta=(0.0,), Psi=(-1.0, 0.0, 1.0), mu=(0.6, 1.4, 4.0))
+    g = EventGrid(
+        theta=(0.3, 0.9), varphi=(-math.pi / 2, -math.pi / 4), Theta=(0.0,), Psi=(-1.0, 0.0, 1.0), mu=(0.6, 1.4, 4.0)
+    )
     res = agreement_study(g, settings=(COARSE,), rng=np.random.default_rng(0))
     a = res.analytic
     assert np.all((a.b0[res.index] < 0) & (a.p0[res.index] > 0))
     assert res.index.size == int(a.slipping.sum()) < len(g)
-    eff, = res.runs
-    assert res.engine == eff.engine == "mujoco" and (eff.timestep, eff.timeconst) == (COARSE["timestep"], COARSE["timeconst"])
+    (eff,) = res.runs
+    assert res.engine == eff.engine == "mujoco" and (eff.timestep, eff.timeconst) == (
+        COARSE["timestep"],
+        COARSE["timeconst"],
+    )
     for run in res.runs:
         rated = np.isin(a.outcome[res.index], [Outcome.SLIP, Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM])
         assert run.confusion.sum() == res.index.size and run.n_rated == rated.sum()
@@ -118,7 +141,9 @@ def test_agreement_study_on_a_small_grid():
 
 def test_event_agreement_detects_a_wrong_analytic_reference(monkeypatch):
     """The study is not blind: with the right reference all 36 states agree; with 3x the friction, 22 do not."""
-    g = EventGrid(theta=(0.3, 0.9), varphi=(-math.pi / 2, -math.pi / 4), Theta=(0.0,), Psi=(-1.0, 0.0, 1.0), mu=(0.3, 0.6, 1.0))
+    g = EventGrid(
+        theta=(0.3, 0.9), varphi=(-math.pi / 2, -math.pi / 4), Theta=(0.0,), Psi=(-1.0, 0.0, 1.0), mu=(0.3, 0.6, 1.0)
+    )
     run = dict(settings=(COARSE,), boundary_directions=0)
     assert agreement_study(g, **run).runs[0].agreement_jam_as_stop == 1.0
     from crosscheck.studies import analytic_events
@@ -179,7 +204,9 @@ def test_runs_cut_at_each_states_comparison_label_every_state_as_runs_to_the_hor
     from crosscheck.studies import agreement_store
 
     # slips, lift-offs, sticks and jams, early and late
-    grid = EventGrid(theta=(0.5, 0.9, 1.0, 1.2), varphi=(-1.9, -math.pi / 2), Theta=(-0.7, 0.0, 0.9), Psi=(0.0, 1.7), mu=(0.6, 1.4))
+    grid = EventGrid(
+        theta=(0.5, 0.9, 1.0, 1.2), varphi=(-1.9, -math.pi / 2), Theta=(-0.7, 0.0, 0.9), Psi=(0.0, 1.7), mu=(0.6, 1.4)
+    )
     kw = dict(engine=engine, settings=[options], boundary_directions=0, horizon=2.0)
     cut = agreement_study(grid, **kw)
     runs_to = agreement_store.run_horizons(cut.analytic.until[cut.index], 2.0)
@@ -215,8 +242,12 @@ def test_analytic_events_kept_in_a_file_are_read_back_and_a_foreign_or_damaged_f
     gave; a file of another grid (its b0, p0 differ), a damaged one or one lacking a field is integrated again and replaced."""
     from crosscheck.studies.analytic_events import analytic_events
 
-    pts = EventGrid(theta=(0.3, 0.9), varphi=(-math.pi / 2, -2.5), Theta=(0.0, 1.2), Psi=(-1.0, 1.0), mu=(0.6, 1.4)).points()
-    other = EventGrid(theta=(0.4, 1.0), varphi=(-math.pi / 2, -2.5), Theta=(0.0, 1.2), Psi=(-1.0, 1.0), mu=(0.6, 1.4)).points()
+    pts = EventGrid(
+        theta=(0.3, 0.9), varphi=(-math.pi / 2, -2.5), Theta=(0.0, 1.2), Psi=(-1.0, 1.0), mu=(0.6, 1.4)
+    ).points()
+    other = EventGrid(
+        theta=(0.4, 1.0), varphi=(-math.pi / 2, -2.5), Theta=(0.0, 1.2), Psi=(-1.0, 1.0), mu=(0.6, 1.4)
+    ).points()
     kept = tmp_path / "analytic_events" / "grid.npz"
     plain = analytic_events(pts, alpha=ALPHA, horizon=2.0)
     assert len(set(plain.outcome.tolist())) > 1  # the grid is not one outcome throughout
@@ -229,7 +260,9 @@ def test_analytic_events_kept_in_a_file_are_read_back_and_a_foreign_or_damaged_f
     np.savez(kept, **{**fields_, "time": fields_["time"] + 1.0})
     np.testing.assert_array_equal(analytic_events(pts, alpha=ALPHA, horizon=2.0, kept=kept).time, plain.time + 1.0)
     # another grid's events under the name: integrated again, and the file now holds this grid's
-    _events_equal(analytic_events(other, alpha=ALPHA, horizon=2.0, kept=kept), analytic_events(other, alpha=ALPHA, horizon=2.0))
+    _events_equal(
+        analytic_events(other, alpha=ALPHA, horizon=2.0, kept=kept), analytic_events(other, alpha=ALPHA, horizon=2.0)
+    )
     _events_equal(analytic_events(pts, alpha=ALPHA, horizon=2.0, kept=kept), plain)
     for damaged in (b"not a numpy file", b"PK\x03\x04 truncated"):
         kept.write_bytes(damaged)
@@ -252,9 +285,13 @@ def test_boundary_distances_kept_in_a_file_are_read_back_and_a_damaged_file_is_r
     assert cache.exists() and np.load(cache).shape == (len(g),)
     again = agreement_study(g, rng=np.random.default_rng(99), boundary_cache=cache, **run)
     np.testing.assert_array_equal(again.distance, first.distance)
-    fresh = agreement_study(g, rng=np.random.default_rng(5), **run)  # the same stream without the file: the same distances
+    fresh = agreement_study(
+        g, rng=np.random.default_rng(5), **run
+    )  # the same stream without the file: the same distances
     np.testing.assert_array_equal(fresh.distance, first.distance)
-    assert not np.array_equal(agreement_study(g, rng=np.random.default_rng(99), **run).distance, first.distance)  # the file was read
+    assert not np.array_equal(
+        agreement_study(g, rng=np.random.default_rng(99), **run).distance, first.distance
+    )  # the file was read
     cache.write_bytes(b"not a numpy file")
     redone = agreement_study(g, rng=np.random.default_rng(5), boundary_cache=cache, **run)
     np.testing.assert_array_equal(redone.distance, first.distance)

@@ -63,7 +63,16 @@ _COMMANDS = {
     "critical": {"mu": "1.4", "alpha": "3"},
     "classify": {"theta": "1.1031", "varphi": "-1.9233", "Theta": "0.9", "Psi": "0", "mu": "1.4", "alpha": "3"},
     "gb": {"mu": "1.7", "alpha": "3", "Psi": "0", "eta": "2", "samples": "3"},
-    "slip": {"theta": "1.1031", "varphi": "-1.9233", "Theta": "0.9", "Psi": "0", "eta": "2", "mu": "1.4", "alpha": "3", "t-max": "0.5"},
+    "slip": {
+        "theta": "1.1031",
+        "varphi": "-1.9233",
+        "Theta": "0.9",
+        "Psi": "0",
+        "eta": "2",
+        "mu": "1.4",
+        "alpha": "3",
+        "t-max": "0.5",
+    },
 }
 _NON_NUMBER = re.compile(r"\b(nan|inf|infinity)\b", re.IGNORECASE)
 
@@ -128,8 +137,14 @@ def _api_functions():
 
     return {
         "analytic.b": (lambda kw: analytic.b(kw["Psi"], kw["Theta"], kw["theta"]), ("Psi", "Theta", "theta")),
-        "analytic.p": (lambda kw: analytic.p(kw["theta"], kw["varphi"], kw["mu"], kw["alpha"]), ("theta", "varphi", "mu", "alpha")),
-        "kinematic_case": (lambda kw: critical.kinematic_case(kw["mu"], kw["Psi"], kw["alpha"]), ("mu", "Psi", "alpha")),
+        "analytic.p": (
+            lambda kw: analytic.p(kw["theta"], kw["varphi"], kw["mu"], kw["alpha"]),
+            ("theta", "varphi", "mu", "alpha"),
+        ),
+        "kinematic_case": (
+            lambda kw: critical.kinematic_case(kw["mu"], kw["Psi"], kw["alpha"]),
+            ("mu", "Psi", "alpha"),
+        ),
         "slip_until_event": (lambda kw: slip_until_event(state(kw), kw["mu"], kw["alpha"], t_max=0.5), tuple(ok)),
         "hybrid.run": (lambda kw: hybrid.run(state(kw), kw["mu"], kw["alpha"], horizon=0.5), tuple(ok)),
     }, ok

@@ -26,24 +26,41 @@ def test_the_friction_opposes_the_slip_scaled_by_the_inverse_diagonal_of_pinocch
     rng = np.random.default_rng(7)
     rod = Rod.scaled(3.0)
     for _ in range(20):
-        s = SlipState(theta=rng.uniform(0.05, 1.5), varphi=-rng.uniform(0.0, math.pi), Theta=rng.normal(), Psi=rng.normal(), eta=1.0,
-                      psi=rng.uniform(-math.pi, math.pi))
+        s = SlipState(
+            theta=rng.uniform(0.05, 1.5),
+            varphi=-rng.uniform(0.0, math.pi),
+            Theta=rng.normal(),
+            Psi=rng.normal(),
+            eta=1.0,
+            psi=rng.uniform(-math.pi, math.pi),
+        )
         q, v = to_generalized(rod, s)
         G = pinrod.engine(rod).terms(q[None], v[None]).delassus()[0]
         u = tip_velocity(rod, q, v)[:2]
         w = -np.array((u[0] / G[0, 0], u[1] / G[1, 1]))
         ci, si = math.cos(s.psi), math.sin(s.psi)  # i = (cos psi, sin psi), j = (-sin psi, cos psi)
         want = math.atan2(-si * w[0] + ci * w[1], ci * w[0] + si * w[1])  # the friction's angle in (i, j) ...
-        got = friction_angle(s.varphi, s.psi, s.theta, 3.0, 0.0) + math.pi  # ... is varphi_f + pi (friction -(cos, sin))
+        got = (
+            friction_angle(s.varphi, s.psi, s.theta, 3.0, 0.0) + math.pi
+        )  # ... is varphi_f + pi (friction -(cos, sin))
         assert abs(math.remainder(got - want, 2 * math.pi)) < 1e-12, (s, got, want)
 
 
 def test_with_the_rows_along_the_slip_the_law_is_the_capsule_theory_to_the_last_bit():
     rng = np.random.default_rng(11)
     for _ in range(6):
-        s = SlipState(theta=rng.uniform(0.2, 1.3), varphi=-rng.uniform(0.1, 3.0), Theta=rng.normal(), Psi=rng.normal(), eta=1.0,
-                      psi=rng.uniform(-math.pi, math.pi))
-        a, b = slip_until_event(s, MU, 3.0, radius=0.01, axes="slip", t_max=2.0), capsule.slip_until_event(s, MU, 3.0, radius=0.01, t_max=2.0)
+        s = SlipState(
+            theta=rng.uniform(0.2, 1.3),
+            varphi=-rng.uniform(0.1, 3.0),
+            Theta=rng.normal(),
+            Psi=rng.normal(),
+            eta=1.0,
+            psi=rng.uniform(-math.pi, math.pi),
+        )
+        a, b = (
+            slip_until_event(s, MU, 3.0, radius=0.01, axes="slip", t_max=2.0),
+            capsule.slip_until_event(s, MU, 3.0, radius=0.01, t_max=2.0),
+        )
         assert (a.outcome, a.time, a.reason) == (b.outcome, b.time, b.reason)
 
 
@@ -58,7 +75,10 @@ def test_bullet_converges_to_its_friction_law_not_to_the_theory_whatever_the_rod
     assert run.outcome.name == law.outcome.name == "LIFTOFF"
     assert abs(run.event_time - law.time) <= 2 * dt, (run.event_time, law.time)
     theory = capsule.slip_until_event(s, MU, 3.0, radius=0.01)
-    if psi in (0.0, 3 * math.pi / 8):  # where the rows' scaling turns the friction most: the law is not the theory there
+    if psi in (
+        0.0,
+        3 * math.pi / 8,
+    ):  # where the rows' scaling turns the friction most: the law is not the theory there
         assert abs(law.time - theory.time) > 50 * dt
     along = engines.get("bullet").simulate(Rod.scaled(3.0), s, MU, horizon=0.3, timestep=dt, friction_axes="slip")
     assert abs(along.event_time - theory.time) <= 2 * dt, (along.event_time, theory.time)

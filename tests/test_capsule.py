@@ -35,8 +35,14 @@ _K_CROSS = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])  # [K]
 
 
 def _random_state(rng: np.random.Generator) -> SlipState:
-    return SlipState(theta=rng.uniform(0.05, 1.5), varphi=-rng.uniform(0.0, 0.999 * math.pi), Theta=rng.uniform(-5, 5),
-                     Psi=rng.uniform(-5, 5), eta=rng.uniform(0.2, 3.0), psi=rng.uniform(-3, 3))
+    return SlipState(
+        theta=rng.uniform(0.05, 1.5),
+        varphi=-rng.uniform(0.0, 0.999 * math.pi),
+        Theta=rng.uniform(-5, 5),
+        Psi=rng.uniform(-5, 5),
+        eta=rng.uniform(0.2, 3.0),
+        psi=rng.uniform(-3, 3),
+    )
 
 
 def _pinocchio_at_C(rod: Rod, state: SlipState, mu: float, r: float) -> dict:
@@ -94,7 +100,9 @@ def test_closed_forms_against_pinocchio_at_C(r):
         assert CAPSULE_PIN_VELOCITY.ok(u / pin_C["v1"], pin_C["u"] / pin_C["v1"])
         scale = (1 + alpha) * (1 + mu) * (1 + r) * (1 + pin_C["v1"] / eta_C)
         assert CAPSULE_PIN_SLIP.ok(capsule.p(state.theta, varphi_C, mu, alpha, r) / scale, pin_C["p"] / scale)
-        assert CAPSULE_PIN_SLIP.ok(capsule.b(state.Psi, state.Theta, state.theta) / pin_C["v1"] ** 2, pin_C["b"] / pin_C["v1"] ** 2)
+        assert CAPSULE_PIN_SLIP.ok(
+            capsule.b(state.Psi, state.Theta, state.theta) / pin_C["v1"] ** 2, pin_C["b"] / pin_C["v1"] ** 2
+        )
         # the slipping field at C in real time: f / (eta_C p_C)
         x = [eta_C, varphi_C, state.psi, state.Psi, state.theta, state.Theta]
         f = slipping.slip_rhs(x, mu, alpha, radius=r)
@@ -111,8 +119,14 @@ def test_r_zero_reproduces_slipping():
     rng = np.random.default_rng(20)
     outcomes = set()
     for _ in range(60):
-        state = SlipState(theta=rng.uniform(0.1, 1.45), varphi=-rng.uniform(0.05, 3.1), Theta=rng.normal(), Psi=rng.normal(),
-                          eta=rng.uniform(0.05, 2), psi=rng.uniform(-3, 3))
+        state = SlipState(
+            theta=rng.uniform(0.1, 1.45),
+            varphi=-rng.uniform(0.05, 3.1),
+            Theta=rng.normal(),
+            Psi=rng.normal(),
+            eta=rng.uniform(0.05, 2),
+            psi=rng.uniform(-3, 3),
+        )
         mu = rng.uniform(0, 2)
         want = slipping.slip_until_event(state, mu, 3.0)
         got = capsule.slip_until_event(state, mu, 3.0, radius=0.0)
@@ -140,8 +154,11 @@ def _first_order_shift(state: SlipState, mu, alpha, r):
     return alpha * mu * r * c * (math.sin(state.varphi) + s * state.Theta * math.cos(state.varphi) ** 2 / state.eta)
 
 
-@pytest.mark.parametrize("delta, eta, at_A, at_C", [(0.003, 1.0, Outcome.LIFTOFF, Outcome.JAM), (-0.003, 0.1, Outcome.JAM, Outcome.LIFTOFF)],
-                         ids=["slips-at-A-jams-at-C", "jams-at-A-lifts-at-C"])
+@pytest.mark.parametrize(
+    "delta, eta, at_A, at_C",
+    [(0.003, 1.0, Outcome.LIFTOFF, Outcome.JAM), (-0.003, 0.1, Outcome.JAM, Outcome.LIFTOFF)],
+    ids=["slips-at-A-jams-at-C", "jams-at-A-lifts-at-C"],
+)
 def test_radius_changes_the_outcome_near_p_zero(delta, eta, at_A, at_C):
     mu, alpha, r = 1.6, 3.0, 0.01
     state = _near_boundary(delta, eta)
@@ -161,8 +178,13 @@ def test_radius_changes_the_outcome_near_p_zero(delta, eta, at_A, at_C):
 
 
 def test_jam_time_converges_with_the_integrator_tolerance():
-    state = SlipState(theta=0.558491807212282, varphi=-2.1265159074397824, Theta=0.926342075423221, Psi=-0.31659380758977446,
-                      eta=1.4916615350187519)
+    state = SlipState(
+        theta=0.558491807212282,
+        varphi=-2.1265159074397824,
+        Theta=0.926342075423221,
+        Psi=-0.31659380758977446,
+        eta=1.4916615350187519,
+    )
     kw = dict(mu=1.6, alpha=3.0, radius=0.01)
     ref = capsule.slip_until_event(state, rtol=1e-13, atol=1e-15, **kw)
     assert ref.outcome is Outcome.JAM and ref.reason == "p=0" and ref.time > 0.2
@@ -195,7 +217,9 @@ def test_start_rules_judged_at_C():
     across = SlipState(theta=0.7, varphi=varphi, Theta=Theta, Psi=0.3, eta=eta)
     eta_C, varphi_C = capsule.contact_slip(across, radius=r)
     u_i, u_j = eta * math.cos(varphi), eta * math.sin(varphi) + r * Theta  # v_C = v_A + r Theta j
-    assert CLOSED_FORM.ok([eta_C, varphi_C], [math.hypot(u_i, u_j), math.atan2(u_j, u_i)]) and 0 < varphi_C < math.pi / 2
+    assert (
+        CLOSED_FORM.ok([eta_C, varphi_C], [math.hypot(u_i, u_j), math.atan2(u_j, u_i)]) and 0 < varphi_C < math.pi / 2
+    )
     got = capsule.slip_until_event(across, 0.5, 3.0, radius=r)
     assert (got.outcome, got.time, got.reason) == (Outcome.SLIP, 0.0, "varphi=0")
     # and tip_slip inverts contact_slip
@@ -204,8 +228,13 @@ def test_start_rules_judged_at_C():
 
 
 def test_normal_force_along_a_run_is_eq_FZ_at_C():
-    state = SlipState(theta=0.558491807212282, varphi=-2.1265159074397824, Theta=0.926342075423221, Psi=-0.31659380758977446,
-                      eta=1.4916615350187519)
+    state = SlipState(
+        theta=0.558491807212282,
+        varphi=-2.1265159074397824,
+        Theta=0.926342075423221,
+        Psi=-0.31659380758977446,
+        eta=1.4916615350187519,
+    )
     got = capsule.slip_until_event(state, 1.6, 3.0, radius=0.01)
     x = got.x
     with np.errstate(divide="ignore"):  # p_C = 0 at the JAM itself
@@ -216,7 +245,9 @@ def test_normal_force_along_a_run_is_eq_FZ_at_C():
     # F_z ~ (t_jam - t)^(-1/2): p_C dp_C/dt = (dp_C/ds) / eta_C = -k at the jam, so F_z sqrt(t_jam - t) -> -b / sqrt(2 k)
     eta_C, varphi_C, theta = got.state.eta, got.state.varphi, got.state.theta
     dp_dvarphi = 3.0 * 1.6 * math.cos(theta) * (math.sin(theta) + 0.01) * math.cos(varphi_C)  # d p_C / d varphi_C
-    k = -dp_dvarphi * slipping.slip_rhs(x[-1], 1.6, 3.0, radius=0.01)[1] / eta_C  # d theta/ds = eta_C p_C Theta = 0 there
+    k = (
+        -dp_dvarphi * slipping.slip_rhs(x[-1], 1.6, 3.0, radius=0.01)[1] / eta_C
+    )  # d theta/ds = eta_C p_C Theta = 0 there
     limit = -got.b / math.sqrt(2 * k)
     lag = got.time - got.t[:-1]
     near = lag < 5e-3

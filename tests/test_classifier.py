@@ -22,21 +22,49 @@ MUJOCO = get("mujoco")
 #: A hopping (chattering) tip at mu = 1.3 < mu_P whose landing at t = 0.62 has a window-mean force of
 #: 1.5-1.7 m g > 3 (-b/p) and a slip loss > 20 %: a JAM for a rule that compares the force with -b/p,
 #: although MuJoCo's own p_eff there is 0.45.
-HOPPING_BELOW_MU_P = (SlipState(theta=0.6113389398285725, varphi=-0.77475770919191, Theta=0.45376828769404165, Psi=0.3126466205827283, eta=2.343864226276094), 1.3)
+HOPPING_BELOW_MU_P = (
+    SlipState(
+        theta=0.6113389398285725,
+        varphi=-0.77475770919191,
+        Theta=0.45376828769404165,
+        Psi=0.3126466205827283,
+        eta=2.343864226276094,
+    ),
+    1.3,
+)
 
 #: A slip at mu = 1.3 < mu_P in near-continuous contact with p ~0.05 (eq. p; p >= 0.04 at mu = 1.3):
 #: MuJoCo's force is the slipping -b/p_eff of 15-20 m g and b reaches 0 (lift-off, analytic at t =
 #: 0.066) inside the first window.  With the window mean of b (not of max(0, -b)) the lift-off's b > 0
 #: rows cancelled the slipping force and the JAM rule fired at t = 0.006 (full report, seed 0).
-NEAR_JAM_SLIP_BELOW_MU_P = (SlipState(theta=1.061401264098454, varphi=-1.5792227104861805, Theta=0.4796557348275663, Psi=0.5291082563291338,
-                                      eta=2.039633923548985), 1.3)
+NEAR_JAM_SLIP_BELOW_MU_P = (
+    SlipState(
+        theta=1.061401264098454,
+        varphi=-1.5792227104861805,
+        Theta=0.4796557348275663,
+        Psi=0.5291082563291338,
+        eta=2.039633923548985,
+    ),
+    1.3,
+)
 
 #: A Corollary 4.2 state (mu = 1.7 > mu_P): analytic JAM at t = 0.460 with b < 0, off the planar
 #: section; MuJoCo delivers an impulse there (window force ~7 m g, p_eff ~0.09) and the tip lifts off.
-COROLLARY_JAM = (SlipState(theta=0.4493666453680196, varphi=-0.8058921019999438, Theta=0.7483528201200262, Psi=0.766434722261458, eta=2.753242890054462), 1.7)
+COROLLARY_JAM = (
+    SlipState(
+        theta=0.4493666453680196,
+        varphi=-0.8058921019999438,
+        Theta=0.7483528201200262,
+        Psi=0.766434722261458,
+        eta=2.753242890054462,
+    ),
+    1.7,
+)
 
 
-def slipping_record(n: int = 400, dt: float = 1e-3, *, force: float = 0.5, eta: float = 1.0, theta: float = 0.6) -> Record:
+def slipping_record(
+    n: int = 400, dt: float = 1e-3, *, force: float = 0.5, eta: float = 1.0, theta: float = 0.6
+) -> Record:
     """A rod slipping along x (varphi = -pi/2 at psi = pi/2: the rod lies along y) with a steady normal force."""
     t = dt * np.arange(n)
     z3 = np.zeros((n, 3))
@@ -47,9 +75,21 @@ def slipping_record(n: int = 400, dt: float = 1e-3, *, force: float = 0.5, eta: 
     F[:, 0] = -0.5 * force  # mu = 0.5 opposite the slip
     acc = z3.copy()
     acc[:, 2] = 0.0
-    return Record(t=t, tip_pos=z3.copy(), tip_vel=vel, tip_acc=acc, force=F, normal_force=F[:, 2].copy(), active=np.ones(n, bool),
-                  gap=np.zeros(n), slip_vel=np.column_stack([vel[:, :2], np.zeros(n)]), psi=np.full(n, math.pi / 2),
-                  theta=np.full(n, theta), Psi=np.zeros(n), Theta=np.zeros(n))
+    return Record(
+        t=t,
+        tip_pos=z3.copy(),
+        tip_vel=vel,
+        tip_acc=acc,
+        force=F,
+        normal_force=F[:, 2].copy(),
+        active=np.ones(n, bool),
+        gap=np.zeros(n),
+        slip_vel=np.column_stack([vel[:, :2], np.zeros(n)]),
+        psi=np.full(n, math.pi / 2),
+        theta=np.full(n, theta),
+        Psi=np.zeros(n),
+        Theta=np.zeros(n),
+    )
 
 
 def with_rows(R: Record, k: int, **fields) -> Record:
@@ -114,10 +154,12 @@ def test_an_impulse_at_the_engines_own_p_zero_with_a_slip_loss_is_a_jam():
     R = slipping_record(force=0.5)
     k = 200
     F, vel = R.force.copy(), R.tip_vel.copy()
-    F[k:k + 5, 2] = 40.0
-    F[k:k + 5, 0] = -2.5 * 40.0  # mu F_z opposite the slip along +x
-    vel[k + 5:, 0] = 0.05
-    R = replace(R, force=F, normal_force=F[:, 2].copy(), tip_vel=vel, slip_vel=np.column_stack([vel[:, :2], np.zeros(len(R))]))
+    F[k : k + 5, 2] = 40.0
+    F[k : k + 5, 0] = -2.5 * 40.0  # mu F_z opposite the slip along +x
+    vel[k + 5 :, 0] = 0.05
+    R = replace(
+        R, force=F, normal_force=F[:, 2].copy(), tip_vel=vel, slip_vel=np.column_stack([vel[:, :2], np.zeros(len(R))])
+    )
     c = classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3)
     assert c.outcome == Outcome.JAM
     assert k - Thresholds().window_rows(1e-3) < c.event_row <= k
@@ -129,10 +171,12 @@ def test_the_same_impulse_with_friction_along_the_rod_axis_is_no_jam():
     R = slipping_record(force=0.5)
     k = 200
     F, vel = R.force.copy(), R.tip_vel.copy()
-    F[k:k + 5, 2] = 40.0
-    F[k:k + 5, 0] = 0.0  # no component along e = (-sin psi, cos psi) = (-1, 0)
-    vel[k + 5:, 0] = 0.05
-    R = replace(R, force=F, normal_force=F[:, 2].copy(), tip_vel=vel, slip_vel=np.column_stack([vel[:, :2], np.zeros(len(R))]))
+    F[k : k + 5, 2] = 40.0
+    F[k : k + 5, 0] = 0.0  # no component along e = (-sin psi, cos psi) = (-1, 0)
+    vel[k + 5 :, 0] = 0.05
+    R = replace(
+        R, force=F, normal_force=F[:, 2].copy(), tip_vel=vel, slip_vel=np.column_stack([vel[:, :2], np.zeros(len(R))])
+    )
     c = classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3)
     assert c.outcome != Outcome.JAM
 
@@ -149,10 +193,12 @@ def compliant_stop_record(*, slip_friction: float, k: int = 0, slip_rows: int = 
     slip, stuck = slice(k, k + slip_rows), slice(k + slip_rows, k + slip_rows + stuck_rows)
     F[slip, 2], F[slip, 0] = 40.0, -slip_friction * 40.0
     F[stuck, 2], F[stuck, 0] = 40.0, 0.0
-    F[k + slip_rows + stuck_rows:, 0] = 0.0
+    F[k + slip_rows + stuck_rows :, 0] = 0.0
     vel[slip, 0] = np.linspace(1.0, 0.0, slip_rows + 1)[:-1]
-    vel[k + slip_rows:, 0] = 0.0
-    return replace(R, force=F, normal_force=F[:, 2].copy(), tip_vel=vel, slip_vel=np.column_stack([vel[:, :2], np.zeros(len(R))]))
+    vel[k + slip_rows :, 0] = 0.0
+    return replace(
+        R, force=F, normal_force=F[:, 2].copy(), tip_vel=vel, slip_vel=np.column_stack([vel[:, :2], np.zeros(len(R))])
+    )
 
 
 def test_a_fast_slip_stop_at_the_engines_own_p_below_zero_is_a_jam_given_the_contact_time():
@@ -187,8 +233,13 @@ def test_the_slip_stop_reads_p_at_the_capsules_contact_point():
     R = compliant_stop_record(slip_friction=f)
     tip = classify(R, mu=2.5, alpha=ALPHA, timestep=dt, contact_time=5e-3)
     at_C = classify(R, mu=2.5, alpha=ALPHA, timestep=dt, contact_time=5e-3, radius=r)
-    p_tip, p_C = 1 + ALPHA - ALPHA * st * st - ALPHA * st * ct * f, 1 + ALPHA - ALPHA * st * st - ALPHA * (st + r) * ct * f
-    assert 0 < p_tip < Thresholds().jam_p_eff and 1.0 / p_tip > 40.0 / Thresholds().jam_ratio and p_C < 0  # the case described
+    p_tip, p_C = (
+        1 + ALPHA - ALPHA * st * st - ALPHA * st * ct * f,
+        1 + ALPHA - ALPHA * st * st - ALPHA * (st + r) * ct * f,
+    )
+    assert (
+        0 < p_tip < Thresholds().jam_p_eff and 1.0 / p_tip > 40.0 / Thresholds().jam_ratio and p_C < 0
+    )  # the case described
     assert Outcome(int(tip.outcome)) == Outcome.STICK
     assert Outcome(int(at_C.outcome)) == Outcome.JAM and at_C.event_row == tip.event_row
     assert at_C.jam_p_eff == pytest.approx(p_C)
@@ -215,7 +266,10 @@ def test_a_rigid_engine_or_a_missing_contact_time_keeps_the_window_rule():
     a = classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3, rigid=True)
     b = classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3, rigid=True, contact_time=5e-3)
     assert (a.outcome, a.event_row) == (b.outcome, b.event_row)
-    assert classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3, contact_time=0.0).outcome == classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3).outcome
+    assert (
+        classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3, contact_time=0.0).outcome
+        == classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3).outcome
+    )
     with pytest.raises(ValueError, match=r"contact_time must be in \[0, inf\); got -0.001"):
         classify(R, mu=2.5, alpha=ALPHA, timestep=1e-3, contact_time=-1e-3)
 
@@ -260,14 +314,25 @@ def test_a_run_with_no_finite_force_is_diverged_with_nan_maxima_and_no_warning()
     assert np.isnan(c.max_normal_force[1]) and np.isnan(c.max_window_force[1])
 
 
-@pytest.mark.parametrize("kwargs, message", [
-    ({"diverged_speed": math.nan}, r"diverged_speed must be in \(0, inf\); got nan"),
-    ({"window": -0.05}, r"window must be in \(0, inf\); got -0.05"),
-    ({"window_steps": 0}, "window_steps must be an integer >= 1; got 0"),
-    ({"lift_steps": 2.5}, "lift_steps must be an integer >= 1; got 2.5"),
-    ({"jam_p_eff": -0.1}, r"jam_p_eff must be in \[0, inf\); got -0.1"),
-    ({"jam_contact_times": -3.0}, r"jam_contact_times must be in \[0, inf\); got -3.0"),
-], ids=["nan_speed", "negative_window", "zero_window_steps", "fractional_lift_steps", "negative_p_eff", "negative_contact_times"])
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"diverged_speed": math.nan}, r"diverged_speed must be in \(0, inf\); got nan"),
+        ({"window": -0.05}, r"window must be in \(0, inf\); got -0.05"),
+        ({"window_steps": 0}, "window_steps must be an integer >= 1; got 0"),
+        ({"lift_steps": 2.5}, "lift_steps must be an integer >= 1; got 2.5"),
+        ({"jam_p_eff": -0.1}, r"jam_p_eff must be in \[0, inf\); got -0.1"),
+        ({"jam_contact_times": -3.0}, r"jam_contact_times must be in \[0, inf\); got -3.0"),
+    ],
+    ids=[
+        "nan_speed",
+        "negative_window",
+        "zero_window_steps",
+        "fractional_lift_steps",
+        "negative_p_eff",
+        "negative_contact_times",
+    ],
+)
 def test_bad_thresholds_are_named(kwargs, message):
     with pytest.raises(ValueError, match=message):
         Thresholds(**kwargs)
@@ -279,14 +344,30 @@ def test_bad_thresholds_are_named(kwargs, message):
 def test_engine_outcome_is_the_classifier_on_its_record():
     """Each MuJoCo run's outcome and event time are exactly ``classify`` of its own record."""
     rng = np.random.default_rng(3)
-    states = [SlipState(theta=rng.uniform(0.2, 1.3), varphi=-rng.uniform(0.1, 3.0), Theta=0.5 * rng.normal(), Psi=rng.normal(), eta=rng.uniform(0.3, 2))
-              for _ in range(6)]
+    states = [
+        SlipState(
+            theta=rng.uniform(0.2, 1.3),
+            varphi=-rng.uniform(0.1, 3.0),
+            Theta=0.5 * rng.normal(),
+            Psi=rng.normal(),
+            eta=rng.uniform(0.3, 2),
+        )
+        for _ in range(6)
+    ]
     mu = [0.5, 1.0, 1.7, 3.0, 0.8, 6.0]
     kinds = set()
     for s, m in zip(states, mu):
         run = MUJOCO.simulate(SCALED, s, m, horizon=1.0, timestep=1e-3, timeconst=0.1)
         o = run.options  # the engine's own rules: its contact time (the slip stop's look-back) and its capsule radius
-        c = classify(run.record, mu=m, alpha=ALPHA, timestep=1e-3, friction_timeconst=0.1, contact_time=o.contact_time, radius=o.radius)
+        c = classify(
+            run.record,
+            mu=m,
+            alpha=ALPHA,
+            timestep=1e-3,
+            friction_timeconst=0.1,
+            contact_time=o.contact_time,
+            radius=o.radius,
+        )
         assert (run.outcome, run.event_time if run.outcome else 0.0) == (c.outcome, c.event_time if c.outcome else 0.0)
         kinds.add(run.outcome)
     assert len(kinds) >= 2
@@ -337,7 +418,13 @@ def test_a_divergence_after_the_domain_exit_is_still_the_outcome():
     from crosscheck import Rod, SlipState
     from crosscheck.engines import get
 
-    s = SlipState(theta=0.4915311379637795, varphi=-1.3440367621732925, Theta=-0.9155531610879961, Psi=0.24270625937538748, eta=1.9393780355886552)
+    s = SlipState(
+        theta=0.4915311379637795,
+        varphi=-1.3440367621732925,
+        Theta=-0.9155531610879961,
+        Psi=0.24270625937538748,
+        eta=1.9393780355886552,
+    )
     r = get("pinocchio").simulate(Rod.scaled(3.0), s, 1.3, horizon=2.0)
     assert r.outcome == Outcome.DIVERGED and 0.4 < r.exit_time < 0.5 and r.diverged_time == r.event_time > 1.0
 
@@ -347,7 +434,7 @@ def _launched(speed: float, *, at: int = 100, theta: float = 0.6, dt: float = 1e
     R = slipping_record(dt=dt, theta=theta)
     n = len(R)
     vel = R.tip_vel.copy()
-    vel[at + 1:, 2] = speed  # the flight's rise (its fall under b does not matter within the window)
+    vel[at + 1 :, 2] = speed  # the flight's rise (its fall under b does not matter within the window)
     free = np.arange(n) > at
     F = np.where(free[:, None], 0.0, R.force)
     return replace(R, tip_vel=vel, force=F, normal_force=F[:, 2].copy(), active=~free)
@@ -366,12 +453,22 @@ def test_launch_is_a_contact_step_that_throws_the_tip_up_while_b_is_negative():
     F, vel = R.force.copy(), R.tip_vel.copy()
     F[130:] = slipping_record().force[130:]
     vel[131:, 2] = 0.0
-    hop = classify(replace(R, force=F, normal_force=F[:, 2].copy(), tip_vel=vel), mu=0.5, alpha=ALPHA, timestep=1e-3, rigid=True, thresholds=th)
+    hop = classify(
+        replace(R, force=F, normal_force=F[:, 2].copy(), tip_vel=vel),
+        mu=0.5,
+        alpha=ALPHA,
+        timestep=1e-3,
+        rigid=True,
+        thresholds=th,
+    )
     assert Outcome(int(hop.outcome)) != Outcome.LAUNCH
     # and with b > 0 (theta such that the free acceleration points up) leaving the plane is the paper's lift-off, not a launch
     up = _launched(0.45)
     up = replace(up, Psi=np.full(len(up), 3.0))  # b = Psi^2 cos^2 theta sin theta - 1 > 0 at theta = 0.6
-    assert Outcome(int(classify(up, mu=0.5, alpha=ALPHA, timestep=1e-3, rigid=True, thresholds=th).outcome)) != Outcome.LAUNCH
+    assert (
+        Outcome(int(classify(up, mu=0.5, alpha=ALPHA, timestep=1e-3, rigid=True, thresholds=th).outcome))
+        != Outcome.LAUNCH
+    )
 
 
 # ------------------------------------------------------------ records cut after the first event ---
@@ -380,7 +477,20 @@ def test_launch_is_a_contact_step_that_throws_the_tip_up_while_b_is_negative():
 def _cut(R: Record, k: int) -> Record:
     """R with rows k.. not computed (NaN everywhere, time too; ``active`` False), as an engine that stopped there leaves them."""
     out = {}
-    for f in ("t", "tip_pos", "tip_vel", "tip_acc", "force", "normal_force", "gap", "slip_vel", "psi", "theta", "Psi", "Theta"):
+    for f in (
+        "t",
+        "tip_pos",
+        "tip_vel",
+        "tip_acc",
+        "force",
+        "normal_force",
+        "gap",
+        "slip_vel",
+        "psi",
+        "theta",
+        "Psi",
+        "Theta",
+    ):
         x = np.array(getattr(R, f), dtype=float)
         x[k:] = np.nan
         out[f] = x
@@ -398,8 +508,11 @@ def test_a_run_cut_once_its_first_event_is_judged_keeps_that_event_and_nothing_a
     th, dt = Thresholds(), 1e-3
     w = th.window_rows(dt)
     seen = set()
-    starts = (COROLLARY_JAM, (SlipState(theta=1.2, varphi=-1.9, Theta=0.9, Psi=0.0, eta=1.0), 1.4),  # JAM at 0.40, LIFTOFF at 0.087
-              (SlipState(theta=1.1, varphi=-1.9, Theta=-0.6, Psi=0.0, eta=1.0), 1.4))  # STICK at 0.11
+    starts = (
+        COROLLARY_JAM,
+        (SlipState(theta=1.2, varphi=-1.9, Theta=0.9, Psi=0.0, eta=1.0), 1.4),  # JAM at 0.40, LIFTOFF at 0.087
+        (SlipState(theta=1.1, varphi=-1.9, Theta=-0.6, Psi=0.0, eta=1.0), 1.4),
+    )  # STICK at 0.11
     for s, m in starts:
         R = MUJOCO.simulate(SCALED, s, m, horizon=1.0, timestep=dt, timeconst=0.1).record
         kw = dict(mu=m, alpha=ALPHA, timestep=dt, friction_timeconst=0.1, contact_time=0.1)
@@ -408,7 +521,9 @@ def test_a_run_cut_once_its_first_event_is_judged_keeps_that_event_and_nothing_a
         seen.add(int(whole.outcome))
         k = int(whole.event_row) + w + max(2, th.lift_steps)  # the fewest rows that settle it
         head = classify(R.rows(slice(0, k)), **kw)
-        assert first_event_final(head, k, th, dt) and not first_event_final(classify(R.rows(slice(0, k - 1)), **kw), k - 1, th, dt)
+        assert first_event_final(head, k, th, dt) and not first_event_final(
+            classify(R.rows(slice(0, k - 1)), **kw), k - 1, th, dt
+        )
         cut = classify(_cut(R, k), **kw)
         for f in ("outcome", "event_time", "event_row", "jam_p_eff", "jam_impulse"):
             np.testing.assert_array_equal(getattr(cut, f), getattr(whole, f), err_msg=f)

@@ -9,7 +9,21 @@ from crosscheck import SlipState
 from crosscheck.theory import gb
 from crosscheck.cli import main
 
-SLIP_ARGS = ["slip", "--theta", "1.1031", "--varphi", "-1.9233", "--Theta", "0.9", "--Psi", "0", "--eta", "2", "--mu", "1.4"]
+SLIP_ARGS = [
+    "slip",
+    "--theta",
+    "1.1031",
+    "--varphi",
+    "-1.9233",
+    "--Theta",
+    "0.9",
+    "--Psi",
+    "0",
+    "--eta",
+    "2",
+    "--mu",
+    "1.4",
+]
 
 
 def test_gb_json_matches_the_api(capsys):
@@ -52,7 +66,10 @@ def test_slip_text(capsys):
         (["gb"], "the following arguments are required: --mu (--mu: friction coefficient, in [0, 1000])"),
         (["slip", "--theta", "2"] + SLIP_ARGS[3:], "theta must be in (0, pi/2); got 2.0"),
         (SLIP_ARGS[:3] + ["--varphi", "0.5"] + SLIP_ARGS[5:], "varphi must be in (-pi, 0]; got 0.5"),
-        (SLIP_ARGS[:-4] + ["--mu", "1.4"], "the following arguments are required: --eta (--eta: scaled slip speed of the tip, in [0, 100])"),
+        (
+            SLIP_ARGS[:-4] + ["--mu", "1.4"],
+            "the following arguments are required: --eta (--eta: scaled slip speed of the tip, in [0, 100])",
+        ),
         (SLIP_ARGS + ["--t-max", "0"], "t_max must be in (0, 10000]; got 0.0"),
     ],
 )
@@ -66,6 +83,7 @@ def test_gb_samples_are_on_the_manifold(capsys):
     got = json.loads(capsys.readouterr().out)
     assert len(got["curves"]) == 2 and all(c["crosses_Theta_0"] for c in got["curves"])
     from crosscheck.theory import analytic
+
     for c in got["curves"]:
         th = np.array([s["theta"] for s in c["samples"]])
         vp = np.array([s["varphi"] for s in c["samples"]])
@@ -91,12 +109,28 @@ def test_a_start_on_p_0_at_mu_P_is_on_the_boundary_and_does_not_jam(capsys):
     classify names the boundary and the modes either side of it; the run does not jam at t = 0: F_z = -b/p is
     unbounded there, so the slip stops at once (STICK at t = 0, as MuJoCo's rod sticks)."""
     from crosscheck.theory import critical
+
     th, mu = critical.theta_P(3.0), critical.mu_P(3.0)
-    state = ["--theta", repr(float(th)), "--varphi", repr(-np.pi / 2), "--Theta", "0", "--Psi", "0", "--mu", repr(float(mu))]
+    state = [
+        "--theta",
+        repr(float(th)),
+        "--varphi",
+        repr(-np.pi / 2),
+        "--Theta",
+        "0",
+        "--Psi",
+        "0",
+        "--mu",
+        repr(float(mu)),
+    ]
     assert main(["classify", *state, "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert abs(doc["p"]) <= doc["p_rounding"] and doc["p"] != 0.0
-    assert doc["mode"] == "BOUNDARY" and doc["boundary"] == "p = 0" and doc["modes_either_side"] == ["INCONSISTENT", "SLIP"]
+    assert (
+        doc["mode"] == "BOUNDARY"
+        and doc["boundary"] == "p = 0"
+        and doc["modes_either_side"] == ["INCONSISTENT", "SLIP"]
+    )
     assert doc["F_z"] is None
     assert main(["slip", *state, "--eta", "1", "--json"]) == 0
     r = json.loads(capsys.readouterr().out)
@@ -117,8 +151,21 @@ def test_a_start_slower_than_the_stick_speed_is_stuck():
         assert r.outcome.name == "STICK" and r.time == 0.0 and r.reason == "start"
 
 
-GLOCKER_ARGS = ["slip", "--theta", repr(float(np.radians(31.0))), "--varphi", repr(-np.pi / 2), "--Theta", "0", "--Psi", "0", "--eta", repr(30 / 10**0.5),
-                "--mu", repr(5 / 3)]
+GLOCKER_ARGS = [
+    "slip",
+    "--theta",
+    repr(float(np.radians(31.0))),
+    "--varphi",
+    repr(-np.pi / 2),
+    "--Theta",
+    "0",
+    "--Psi",
+    "0",
+    "--eta",
+    repr(30 / 10**0.5),
+    "--mu",
+    repr(5 / 3),
+]
 
 
 def test_slip_continue_goes_through_the_gb_point(capsys):
@@ -126,13 +173,32 @@ def test_slip_continue_goes_through_the_gb_point(capsys):
     assert main(GLOCKER_ARGS + ["--continue"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert out[0].startswith("slip from t = 0 to 2.57583219: GB (gb)")
-    assert out[1].startswith("  impact without collision: P = 1.10677, tangential (") and "slip to P = 1.10677, stick to P = 1.10677" in out[1]
+    assert (
+        out[1].startswith("  impact without collision: P = 1.10677, tangential (")
+        and "slip to P = 1.10677, stick to P = 1.10677" in out[1]
+    )
     assert out[2].startswith("  after: Theta = 2.754417  Psi = -0.000000  eta = 0")
     assert out[-1] == "LIFTOFF at t = 2.57583219 (impact: at rest with b > 0 (sticking would need F_n < 0))"
 
 
 def test_slip_continue_sticks_and_slips_again(capsys):
-    args = ["slip", "--theta", "1.2", "--varphi", repr(-np.pi / 2), "--Theta", "-0.3", "--Psi", "0.5", "--psi", "0.4", "--eta", "0", "--mu", "0.3"]
+    args = [
+        "slip",
+        "--theta",
+        "1.2",
+        "--varphi",
+        repr(-np.pi / 2),
+        "--Theta",
+        "-0.3",
+        "--Psi",
+        "0.5",
+        "--psi",
+        "0.4",
+        "--eta",
+        "0",
+        "--mu",
+        "0.3",
+    ]
     assert main(args + ["--t-max", "1", "--continue"]) == 0
     assert capsys.readouterr().out.splitlines() == [
         "slip from t = 0 to 0: STICK (start); b = -0.886, p = 1.09",
@@ -142,5 +208,7 @@ def test_slip_continue_sticks_and_slips_again(capsys):
     ]
     assert main(args + ["--t-max", "1", "--continue", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
-    assert [s["mode"] for s in doc["segments"]] == ["slip", "stick", "slip"] and doc["segments"][1]["slip_varphi"] == -np.pi / 2
+    assert [s["mode"] for s in doc["segments"]] == ["slip", "stick", "slip"] and doc["segments"][1][
+        "slip_varphi"
+    ] == -np.pi / 2
     assert doc["segments"][1]["start"]["varphi"] is None

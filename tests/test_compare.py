@@ -17,7 +17,9 @@ def test_error_stat_finds_the_worst_state_and_fails_beyond_tolerance():
     got[2, 1] += 1e-7  # within atol at a structural zero
     s = error_stat("x", got, want, TOL, {"theta": np.array([0.1, 0.2, 0.3])})
     assert not s.passed and s.worst_state == {"theta": 0.2, "index": 1}
-    assert s.max_abs == abs(got[1, 0] - 2.0) and s.max_rel == abs(got[1, 0] - 2.0) / 2.0  # relative only where want != 0
+    assert (
+        s.max_abs == abs(got[1, 0] - 2.0) and s.max_rel == abs(got[1, 0] - 2.0) / 2.0
+    )  # relative only where want != 0
     assert 4.9 < s.max_ratio < 5.0
     ok = error_stat("x", want + 1e-7, want, TOL, {"theta": np.zeros(3)})
     assert ok.passed and ok.max_ratio < 1

@@ -24,13 +24,21 @@ from crosscheck.rod import Rod
 from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
 from crosscheck.tolerances import CLOSED_FORM
-from crosscheck.engines.compliant.tolerances import (COMPLIANT_ENERGY, COMPLIANT_INTEGRATION, COMPLIANT_KINEMATICS, COMPLIANT_ORDER,
-                                                    COMPLIANT_RESTART)
+from crosscheck.engines.compliant.tolerances import (
+    COMPLIANT_ENERGY,
+    COMPLIANT_INTEGRATION,
+    COMPLIANT_KINEMATICS,
+    COMPLIANT_ORDER,
+    COMPLIANT_RESTART,
+)
 
 ALPHA = 3.0
 ROD = Rod.scaled(ALPHA)
 #: Two slipping states (b < 0 < p) that slip without an event over t in [0, 1]; the second well out of the plane varphi = -pi/2.
-SLIPPING = (SlipState(theta=0.6, varphi=-1.0, Theta=0.3, Psi=0.5, eta=1.0), SlipState(theta=0.9, varphi=-2.0, Theta=-0.5, Psi=1.0, eta=1.5))
+SLIPPING = (
+    SlipState(theta=0.6, varphi=-1.0, Theta=0.3, Psi=0.5, eta=1.0),
+    SlipState(theta=0.9, varphi=-2.0, Theta=-0.5, Psi=1.0, eta=1.5),
+)
 MUS = (0.3, 0.5)
 KEYS = ("eta", "varphi", "Psi", "theta", "Theta")
 
@@ -41,7 +49,9 @@ def _slow_error(state: SlipState, mu: float, eps: float, law: str, horizon: floa
     assert rigid.reason == "t_max"
     want = dict(zip(("eta", "varphi", "psi", "Psi", "theta", "Theta"), rigid.x[-1]))
     gap, gap_rate = slow_manifold(ROD, state, mu, eps=eps, xi=1.0, law=law)
-    got = integrate(ROD, state, mu, horizon=horizon, eps=eps, xi=1.0, gap=gap, gap_rate=gap_rate, law=law).state_at(horizon)
+    got = integrate(ROD, state, mu, horizon=horizon, eps=eps, xi=1.0, gap=gap, gap_rate=gap_rate, law=law).state_at(
+        horizon
+    )
     return max(abs(got[k] - want[k]) for k in KEYS)
 
 
@@ -65,8 +75,15 @@ def test_the_slip_stop_converges_to_the_rigid_stick_at_second_order():
     rigid = slip_until_event(state, 1.0, ALPHA, t_max=1.0)
     assert rigid.outcome == Outcome.STICK
     eps = np.array([0.04, 0.02, 0.01])
-    err = np.array([abs(integrate(ROD, state, 1.0, horizon=1.0, eps=e, xi=1.0, stop_at={"slip_stop"}).slip_stop_time - rigid.time)
-                    for e in eps])
+    err = np.array(
+        [
+            abs(
+                integrate(ROD, state, 1.0, horizon=1.0, eps=e, xi=1.0, stop_at={"slip_stop"}).slip_stop_time
+                - rigid.time
+            )
+            for e in eps
+        ]
+    )
     order = np.polyfit(np.log(eps), np.log(err), 1)[0]
     assert COMPLIANT_ORDER.ok(order, 2.0), (order, err)
 
@@ -109,8 +126,14 @@ def test_a_rod_at_rest_sticks_or_slips_by_the_closed_form_cone_edge(side):
     theta = 0.8
     s, c = math.sin(theta), math.cos(theta)
     mu_edge = ALPHA * s * c / (1 + ALPHA * s * s)
-    traj = integrate(ROD, SlipState(theta=theta, varphi=-1.0, Theta=0.0, Psi=0.0, eta=0.0), mu_edge * (1 + 0.02 * side), horizon=0.05,
-                     eps=1e-2, xi=1.0)
+    traj = integrate(
+        ROD,
+        SlipState(theta=theta, varphi=-1.0, Theta=0.0, Psi=0.0, eta=0.0),
+        mu_edge * (1 + 0.02 * side),
+        horizon=0.05,
+        eps=1e-2,
+        xi=1.0,
+    )
     if side > 0:
         assert traj.segments[0].mode == STICK and not traj.events
     else:
@@ -126,7 +149,9 @@ def test_at_the_cone_edge_the_slip_restarts_with_continuous_friction_along_it():
     direction is -F_t/|F_t| at lambda = 0) up to the removal of the stick phase's residual slip; C's tangential acceleration is zero there, so the slip grows as
     tau^2 and along the friction's opposite (COMPLIANT_RESTART).
     """
-    traj = integrate(ROD, SlipState(theta=0.83, varphi=-2.0, Theta=-0.2, Psi=0.8, eta=0.1), 0.57, horizon=0.6, eps=1e-2, xi=1.0)
+    traj = integrate(
+        ROD, SlipState(theta=0.83, varphi=-2.0, Theta=-0.2, Psi=0.8, eta=0.1), 0.57, horizon=0.6, eps=1e-2, xi=1.0
+    )
     assert [e.kind for e in traj.events] == ["slip_stop", "stick_break"]
     dyn, tb = traj.dynamics, traj.events[1].time
     stuck = next(s for s in traj.segments if s.mode == STICK)
@@ -150,8 +175,13 @@ def test_at_the_cone_edge_the_slip_restarts_with_continuous_friction_along_it():
 
 
 #: A Corollary 4.2 state at mu = 6 (b < 0 < p, slipping into p = 0) whose slip stops fast (|ds/dt| ~ 400 at the stop).
-JAM_STATE = SlipState(theta=0.28608144662606594, varphi=-2.8900580018074526, Theta=-0.04555998322800074, Psi=-1.8305718794815617,
-                      eta=3.4509638878123847)
+JAM_STATE = SlipState(
+    theta=0.28608144662606594,
+    varphi=-2.8900580018074526,
+    Theta=-0.04555998322800074,
+    Psi=-1.8305718794815617,
+    eta=3.4509638878123847,
+)
 
 
 def test_a_fast_slip_stop_is_located_and_tends_to_the_rigid_jam():
@@ -169,7 +199,10 @@ def test_a_fast_slip_stop_is_located_and_tends_to_the_rigid_jam():
     lags = []
     for eps in (3e-3, 1e-3, 3e-4):
         traj = integrate(ROD, JAM_STATE, mu, horizon=rigid.time + 0.3, eps=eps, xi=1.0, stop_at={"slip_stop"})
-        assert [e.kind for e in traj.events][:1] == ["slip_stop"], (eps, [(e.kind, e.time, e.reason) for e in traj.events])
+        assert [e.kind for e in traj.events][:1] == ["slip_stop"], (
+            eps,
+            [(e.kind, e.time, e.reason) for e in traj.events],
+        )
         lags.append(traj.slip_stop_time - rigid.time)
     assert 0.0 < lags[2] < lags[1] < lags[0], lags
 
@@ -240,7 +273,10 @@ def test_the_contact_points_gap_and_slip_velocity_agree_with_the_material_point_
             return (pt(qq + h * vv) - pt(qq - h * vv)) / (2 * h)
 
         h2 = 1e-3
-        acc = (c_velocity(q + h2 * v + 0.5 * h2 * h2 * a, v + h2 * a) - c_velocity(q - h2 * v + 0.5 * h2 * h2 * a, v - h2 * a)) / (2 * h2)
+        acc = (
+            c_velocity(q + h2 * v + 0.5 * h2 * h2 * a, v + h2 * a)
+            - c_velocity(q - h2 * v + 0.5 * h2 * h2 * a, v - h2 * a)
+        ) / (2 * h2)
         Minv, Q, J, dJv, qd, G, a_free, MJt = dyn.terms(y)
         # outer step 1e-3: truncation h2^2 |third derivative| ~ 1e-6 x O(100), inner error 2e-9 / h2 = 2e-6
         np.testing.assert_allclose(J @ a + dJv, acc, rtol=0, atol=1e-4)
@@ -279,9 +315,17 @@ def test_a_run_starts_where_the_mujoco_engine_starts(radius):
 
 ENERGY_RUNS = {
     # a landing: C hits the plane at 1 l omega, bounces (light damping) and flies
-    "impact": dict(state=SlipState(theta=0.6, varphi=-1.0, Theta=0.3, Psi=0.5, eta=0.5), mu=0.8, xi=0.3, gap_rate=-1.0, radius=0.1),
+    "impact": dict(
+        state=SlipState(theta=0.6, varphi=-1.0, Theta=0.3, Psi=0.5, eta=0.5), mu=0.8, xi=0.3, gap_rate=-1.0, radius=0.1
+    ),
     # slip, stop, stick, stick break, slip again
-    "stick-slip": dict(state=SlipState(theta=0.83, varphi=-2.0, Theta=-0.2, Psi=0.8, eta=0.1), mu=0.57, xi=1.0, gap_rate=0.0, radius=0.0),
+    "stick-slip": dict(
+        state=SlipState(theta=0.83, varphi=-2.0, Theta=-0.2, Psi=0.8, eta=0.1),
+        mu=0.57,
+        xi=1.0,
+        gap_rate=0.0,
+        radius=0.0,
+    ),
 }
 
 
@@ -293,7 +337,9 @@ def test_the_energy_never_increases_with_damping_and_friction(case):
     and at the steps; the run must dissipate (a test that could not fail on a conservative bug otherwise).
     """
     kw = ENERGY_RUNS[case]
-    traj = integrate(ROD, kw["state"], kw["mu"], horizon=0.6, eps=1e-2, xi=kw["xi"], gap_rate=kw["gap_rate"], radius=kw["radius"])
+    traj = integrate(
+        ROD, kw["state"], kw["mu"], horizon=0.6, eps=1e-2, xi=kw["xi"], gap_rate=kw["gap_rate"], radius=kw["radius"]
+    )
     dyn = traj.dynamics
     E = np.array([dyn.energy(traj.y_at(t)[0]) for t in np.linspace(0.0, traj.t[-1], 400)])
     assert np.max(np.diff(E)) <= COMPLIANT_ENERGY.atol
@@ -304,7 +350,15 @@ def test_the_energy_never_increases_with_damping_and_friction(case):
 def test_without_damping_and_friction_the_energy_is_conserved():
     """mu = 0, xi = 0: the rod's Lagrangian dynamics with a conservative spring conserve E (to the solver's error), through
     the landing, the bounce and the flight: a wrong Coriolis or gravity term, or a wrong generalised force, would not."""
-    traj = integrate(ROD, SlipState(theta=0.6, varphi=-1.0, Theta=0.3, Psi=0.5, eta=0.5), 0.0, horizon=0.4, eps=1e-2, xi=0.0, gap_rate=-1.0)
+    traj = integrate(
+        ROD,
+        SlipState(theta=0.6, varphi=-1.0, Theta=0.3, Psi=0.5, eta=0.5),
+        0.0,
+        horizon=0.4,
+        eps=1e-2,
+        xi=0.0,
+        gap_rate=-1.0,
+    )
     assert "contact_end" in [e.kind for e in traj.events]
     E = traj.energy()
     assert np.max(np.abs(E - E[0])) <= len(traj.t) * COMPLIANT_ENERGY.atol
@@ -317,7 +371,15 @@ def test_the_engines_record_has_the_free_tip_acceleration_b_and_classifies_each_
     """simulate's Record through the one classifier: a slow rod is STICK no later than its exact slip stop (the
     classifier's floor 1e-2 on eta is reached first), a slipping rod SLIP with the contact active in every row, and a
     rod with b > 0 LIFTOFF, whose force-free rows record the tip acceleration eq. b (the record's own b, CLOSED_FORM)."""
-    stick = simulate(ROD, SlipState(theta=0.6, varphi=-1.0, Theta=0.3, Psi=0.5, eta=0.2), 1.0, horizon=0.5, eps=1e-2, xi=1.0, timestep=2e-3)
+    stick = simulate(
+        ROD,
+        SlipState(theta=0.6, varphi=-1.0, Theta=0.3, Psi=0.5, eta=0.2),
+        1.0,
+        horizon=0.5,
+        eps=1e-2,
+        xi=1.0,
+        timestep=2e-3,
+    )
     assert stick.outcome == Outcome.STICK and stick.event_time <= stick.solver.slip_stop_time + 2e-3
     slipping = simulate(ROD, SLIPPING[0], MUS[0], horizon=0.3, eps=1e-2, xi=1.0, timestep=2e-3)
     assert slipping.outcome == Outcome.SLIP and slipping.record.active.all()
@@ -332,10 +394,16 @@ def test_the_engines_record_has_the_free_tip_acceleration_b_and_classifies_each_
 def test_the_engine_is_registered_and_sweeps_as_it_simulates():
     """engines.get("compliant") satisfies the Engine protocol; its sweep gives each state the outcome of its own simulate."""
     engine = engines.get("compliant")
-    assert isinstance(engine, engines.Engine) and engine.Options().friction_time == 0.0 and engine.Options(eps=0.02).contact_time == 0.02
+    assert (
+        isinstance(engine, engines.Engine)
+        and engine.Options().friction_time == 0.0
+        and engine.Options(eps=0.02).contact_time == 0.02
+    )
     states = [SLIPPING[0], SlipState(theta=0.6, varphi=-1.0, Theta=0.3, Psi=0.5, eta=0.2)]
     res = engine.sweep(ROD, states, [MUS[0], 1.0], horizon=0.4, progress=False, eps=1e-2, xi=1.0, timestep=2e-3)
-    one = [engine.simulate(ROD, s, m, horizon=0.4, eps=1e-2, xi=1.0, timestep=2e-3) for s, m in zip(states, [MUS[0], 1.0])]
+    one = [
+        engine.simulate(ROD, s, m, horizon=0.4, eps=1e-2, xi=1.0, timestep=2e-3) for s, m in zip(states, [MUS[0], 1.0])
+    ]
     assert list(res.outcome) == [int(Outcome.SLIP), int(Outcome.STICK)] == [int(r.outcome) for r in one]
     assert res.solver["slip_stops"].tolist() == [0, 1]
 
@@ -353,8 +421,11 @@ BAD = {
     "huge eps": (dict(eps=1e300, xi=1.0), "eps must be in [1e-07, 1]; got 1e+300"),
     "huge xi": (dict(eps=1e-2, xi=1e300), "xi must be in [0, 1000]; got 1e+300"),
     "gap rate": (dict(eps=1e-2, xi=1.0, gap_rate=1e308), "gap_rate must be in [-100, 100]; got 1e+308"),
-    "stop_at": (dict(eps=1e-2, xi=1.0, stop_at={"bang"}), "stop_at must be event kinds, each one of contact_start, contact_end, slip_stop, "
-                "slip_restart, stick_break, domain_exit, segments, solver_failure; got 'bang'"),
+    "stop_at": (
+        dict(eps=1e-2, xi=1.0, stop_at={"bang"}),
+        "stop_at must be event kinds, each one of contact_start, contact_end, slip_stop, "
+        "slip_restart, stick_break, domain_exit, segments, solver_failure; got 'bang'",
+    ),
     "method": (dict(eps=1e-2, xi=1.0, method="RK45"), "method must be one of Radau, BDF; got 'RK45'"),
     "horizon": (dict(eps=1e-2, xi=1.0, horizon=0.0), "horizon must be in (0, 10000]; got 0.0"),
 }
@@ -379,7 +450,10 @@ def test_bad_inputs_are_named_literally(case):
 def test_bad_engine_options_are_named_literally():
     with pytest.raises(ValueError) as e:
         simulate(ROD, SLIPPING[0], 0.3, horizon=0.1, stiffness=3.0)
-    assert str(e.value) == "unknown compliant option 'stiffness': options must be one of atol, eps, law, method, radius, rtol, timestep, xi"
+    assert (
+        str(e.value)
+        == "unknown compliant option 'stiffness': options must be one of atol, eps, law, method, radius, rtol, timestep, xi"
+    )
     with pytest.raises(ValueError) as e:
         simulate(ROD, SLIPPING[0], 0.3, horizon=0.1, timestep=0.2)
     assert str(e.value) == "timestep must be in (0, horizon = 0.1]; got 0.2"

@@ -42,20 +42,32 @@ LADDER_JAM = (SlipState(theta=1.175, varphi=-1.9, Theta=0.25, Psi=0.0, eta=1.0),
 
 def _classify(run, mu, *, contact_time):
     o = run.options
-    return classify(run.record, mu=mu, alpha=ALPHA, timestep=o.timestep, friction_timeconst=o.friction_time, contact_time=contact_time)
+    return classify(
+        run.record,
+        mu=mu,
+        alpha=ALPHA,
+        timestep=o.timestep,
+        friction_timeconst=o.friction_time,
+        contact_time=contact_time,
+    )
 
 
 @pytest.fixture(scope="module")
 def inconsistent_runs():
     state, mu = INCONSISTENT
-    return {eps: COMPLIANT.simulate(SCALED, state, mu, horizon=0.15, eps=eps, xi=1.0, timestep=eps / ROWS_PER_EPS) for eps in EPS}
+    return {
+        eps: COMPLIANT.simulate(SCALED, state, mu, horizon=0.15, eps=eps, xi=1.0, timestep=eps / ROWS_PER_EPS)
+        for eps in EPS
+    }
 
 
 @pytest.mark.parametrize("eps", EPS, ids=str)
 def test_the_inconsistent_start_jams_at_its_first_slip_stop(inconsistent_runs, eps):
     """JAM at the first slip stop (within one row of the integration's exact stop), where the window rule read STICK."""
     state, mu = INCONSISTENT
-    assert an.p(state.theta, state.varphi, mu, ALPHA) == pytest.approx(-0.5) and an.b(state.Psi, state.Theta, state.theta) == pytest.approx(-1.0)
+    assert an.p(state.theta, state.varphi, mu, ALPHA) == pytest.approx(-0.5) and an.b(
+        state.Psi, state.Theta, state.theta
+    ) == pytest.approx(-1.0)
     run = inconsistent_runs[eps]
     dt = run.options.timestep
     assert run.options.contact_time == eps
@@ -88,7 +100,12 @@ def test_the_jam_time_tends_to_the_rigid_jam_as_eps_ln_one_over_eps(inconsistent
         T = float(c.event_time) / eps
         correction = C1 * eps * T + C2 * eps * T * T
         remainder = T - (fast.coefficient * math.log(1.0 / eps) + fast.offset) - correction
-        assert abs(remainder) <= COMPLIANT_LIMIT_SLIP_TIME.allowance(correction) + 1.0 / ROWS_PER_EPS, (eps, T, remainder, correction)
+        assert abs(remainder) <= COMPLIANT_LIMIT_SLIP_TIME.allowance(correction) + 1.0 / ROWS_PER_EPS, (
+            eps,
+            T,
+            remainder,
+            correction,
+        )
         times.append(float(c.event_time))
     assert times[0] > times[1] > times[2] > 0.0
 
@@ -103,7 +120,9 @@ def test_a_slow_stop_under_the_slipping_force_stays_a_stick(eps):
     window_only = _classify(run, mu, contact_time=None)
     assert Outcome(int(c.outcome)) == Outcome(int(window_only.outcome)) == Outcome.STICK
     assert c.event_row == window_only.event_row
-    assert abs(c.event_time - run.solver.slip_stop_time) < 0.05  # the stop itself, read early by the stick speed / |eta'|
+    assert (
+        abs(c.event_time - run.solver.slip_stop_time) < 0.05
+    )  # the stop itself, read early by the stick speed / |eta'|
     assert run.record.normal_force.max() < 1.0  # no impulse: the force stays near the slipping -b/p ~ 0.6 m g
 
 

@@ -24,7 +24,13 @@ from crosscheck.theory import compliant_limit as asymptotics
 from crosscheck.theory.jam_lag import inner_scale, jam_stiffness, spring_jam_lag
 from crosscheck.engines.pinocchio.studies.rigid import planar_impasse
 from crosscheck.tolerances import CLOSED_FORM
-from crosscheck.engines.compliant.tolerances import COMPLIANT_LIMIT_FAST, COMPLIANT_LIMIT_JAM_LAG_ORDER, COMPLIANT_LIMIT_LARGE_XI, COMPLIANT_LIMIT_POST_ORDER, COMPLIANT_LIMIT_SLIP_TIME
+from crosscheck.engines.compliant.tolerances import (
+    COMPLIANT_LIMIT_FAST,
+    COMPLIANT_LIMIT_JAM_LAG_ORDER,
+    COMPLIANT_LIMIT_LARGE_XI,
+    COMPLIANT_LIMIT_POST_ORDER,
+    COMPLIANT_LIMIT_SLIP_TIME,
+)
 
 ALPHA = 3.0
 EPS = (1e-2, 1e-3, 1e-4, 1e-5)
@@ -73,7 +79,10 @@ def test_restitution_falls_to_zero_as_xi_grows():
 
 @pytest.fixture(scope="module")
 def inconsistent_runs():
-    return {name: cl.inconsistent_study(state, mu, ALPHA, xi=1.0, eps_values=EPS) for name, (state, mu) in INCONSISTENT.items()}
+    return {
+        name: cl.inconsistent_study(state, mu, ALPHA, xi=1.0, eps_values=EPS)
+        for name, (state, mu) in INCONSISTENT.items()
+    }
 
 
 @pytest.mark.parametrize("name", list(INCONSISTENT))
@@ -81,9 +90,15 @@ def test_slip_stop_time_follows_eps_ln_law(inconsistent_runs, name):
     """t_stop/eps = ln(1/eps)/lambda + C + C1 eps T + C2 eps T^2 + O(eps), over three decades of eps."""
     d = inconsistent_runs[name]
     rows = d["rows"]
-    assert all(r["kinds"][0] == "slip_stop" for r in rows)  # the slip stops before any contact end: an impact, no lift-off
+    assert all(
+        r["kinds"][0] == "slip_stop" for r in rows
+    )  # the slip stops before any contact end: an impact, no lift-off
     for r in rows:
-        assert COMPLIANT_LIMIT_SLIP_TIME.ok(r["T"] - r["predicted"], r["correction"]), (r["eps"], r["T"] - r["predicted"], r["correction"])
+        assert COMPLIANT_LIMIT_SLIP_TIME.ok(r["T"] - r["predicted"], r["correction"]), (
+            r["eps"],
+            r["T"] - r["predicted"],
+            r["correction"],
+        )
     # the fitted slope against 1/lambda: each point may be off the leading law by its correction and allowance,
     # which moves a least-squares slope by at most sum |w_i| (|correction_i| + allowance_i)
     bound = cl.slope_bound(EPS, [r["correction"] for r in rows], COMPLIANT_LIMIT_SLIP_TIME)
@@ -123,10 +138,19 @@ def test_indeterminate_boundary_separates_liftoff_from_impact():
     """Two starts each side of the stable manifold of D* = b/|p| (2% and 5% of the boundary's gap rate) go the predicted ways."""
     mu = 2.0
     state = SlipState(theta=0.9, varphi=-1.2, Theta=1.3, Psi=0.8, eta=1.0)
-    p, b = float(analytic.p(state.theta, state.varphi, mu, ALPHA)), float(analytic.b(state.Psi, state.Theta, state.theta))
+    p, b = (
+        float(analytic.p(state.theta, state.varphi, mu, ALPHA)),
+        float(analytic.b(state.Psi, state.Theta, state.theta)),
+    )
     assert p < 0 < b
-    d = cl.indeterminate_study(state, mu, ALPHA, xi=1.0, eps=1e-4, D0=2.0, offsets=(-0.05, -0.02, 0.02, 0.05), horizon=0.05)
-    assert [r["outcome"] for r in d["rows"]] == [r["predicted"] for r in d["rows"]] == ["impact", "impact", "liftoff", "liftoff"]
+    d = cl.indeterminate_study(
+        state, mu, ALPHA, xi=1.0, eps=1e-4, D0=2.0, offsets=(-0.05, -0.02, 0.02, 0.05), horizon=0.05
+    )
+    assert (
+        [r["outcome"] for r in d["rows"]]
+        == [r["predicted"] for r in d["rows"]]
+        == ["impact", "impact", "liftoff", "liftoff"]
+    )
     with pytest.raises(ValueError, match="state must be indeterminate"):
         asymptotics.indeterminate_boundary(INCONSISTENT["3d"][0], mu, ALPHA, xi=1.0, eps=1e-3, D0=1.0)
 

@@ -14,7 +14,9 @@ from crosscheck.studies.contact_quality import contact_quality, row_metrics
 ALPHA = 3.0
 
 
-def sliding(n: int = 200, *, mu: float = 0.5, fn: float = 0.7, skew_deg: float = 0.0, over: float = 1.0, vz: float = 0.0) -> Record:
+def sliding(
+    n: int = 200, *, mu: float = 0.5, fn: float = 0.7, skew_deg: float = 0.0, over: float = 1.0, vz: float = 0.0
+) -> Record:
     """A contact point sliding along +x at eta = 1 with normal force ``fn``, friction ``over`` x mu fn turned ``skew_deg`` off -slip."""
     z3 = np.zeros((n, 3))
     u = z3.copy()
@@ -24,9 +26,21 @@ def sliding(n: int = 200, *, mu: float = 0.5, fn: float = 0.7, skew_deg: float =
     F[:, 0], F[:, 1], F[:, 2] = -over * mu * fn * math.cos(a), over * mu * fn * math.sin(a), fn
     vel = u.copy()
     vel[:, 2] = vz
-    return Record(t=1e-3 * np.arange(n), tip_pos=z3.copy(), tip_vel=vel, tip_acc=z3.copy(), force=F, normal_force=F[:, 2].copy(),
-                  active=np.ones(n, bool), gap=np.zeros(n), slip_vel=u, psi=np.full(n, math.pi / 2), theta=np.full(n, 0.6),
-                  Psi=np.zeros(n), Theta=np.zeros(n))
+    return Record(
+        t=1e-3 * np.arange(n),
+        tip_pos=z3.copy(),
+        tip_vel=vel,
+        tip_acc=z3.copy(),
+        force=F,
+        normal_force=F[:, 2].copy(),
+        active=np.ones(n, bool),
+        gap=np.zeros(n),
+        slip_vel=u,
+        psi=np.full(n, math.pi / 2),
+        theta=np.full(n, 0.6),
+        Psi=np.zeros(n),
+        Theta=np.zeros(n),
+    )
 
 
 def _metrics(record: Record, mu: float = 0.5) -> dict:
@@ -43,7 +57,9 @@ def test_an_exact_coulomb_slip_has_no_violation_unit_dissipation_and_no_skew():
 def test_each_metric_sees_its_own_fault():
     assert np.allclose(_metrics(sliding(skew_deg=10.0))["skew_deg"], 10.0, atol=1e-9)
     over = _metrics(sliding(over=1.2))
-    assert np.allclose(over["cone_violation"], 0.2 * 0.5 * 0.7, rtol=1e-12) and np.allclose(over["dissipation_ratio"], 1.2, rtol=1e-12)
+    assert np.allclose(over["cone_violation"], 0.2 * 0.5 * 0.7, rtol=1e-12) and np.allclose(
+        over["dissipation_ratio"], 1.2, rtol=1e-12
+    )
     assert np.allclose(_metrics(sliding(vz=0.1))["signorini"], 0.07, rtol=1e-12)  # lambda_n v_n = 0.7 x 0.1
     # a stuck contact point (slip below the floor) is not sliding: no row counts
     stuck = sliding()

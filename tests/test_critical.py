@@ -137,7 +137,11 @@ def _case_grid():
     cases = []
     for mu in (0.5, 1.2, 1.4, 1.7, 2.0, 2.5, 6.0):
         cv = cr.critical_values(mu, alpha)
-        edges = [0.0, cr.Psi_L] + ([] if math.isnan(cv.Psi_1) else [cv.Psi_1, cv.Psi_2]) + [1.5 * max(cr.Psi_L, np.nan_to_num(cv.Psi_2))]
+        edges = (
+            [0.0, cr.Psi_L]
+            + ([] if math.isnan(cv.Psi_1) else [cv.Psi_1, cv.Psi_2])
+            + [1.5 * max(cr.Psi_L, np.nan_to_num(cv.Psi_2))]
+        )
         for lo, hi in zip(edges[:-1], edges[1:]):
             for Psi in (lo + 0.2 * (hi - lo), 0.5 * (lo + hi), lo + 0.8 * (hi - lo)):
                 cases.append((mu, Psi, alpha))
@@ -171,7 +175,9 @@ def test_mode_sign_rules_on_a_grid():
     m = an.mode(b, p)
     assert m.dtype == np.int8
     off = (b != 0) & (p != 0)
-    want = np.where(p > 0, np.where(b < 0, Mode.SLIP, Mode.LIFTOFF), np.where(b < 0, Mode.INCONSISTENT, Mode.INDETERMINATE))
+    want = np.where(
+        p > 0, np.where(b < 0, Mode.SLIP, Mode.LIFTOFF), np.where(b < 0, Mode.INCONSISTENT, Mode.INDETERMINATE)
+    )
     np.testing.assert_array_equal(m[off], want[off])
 
 

@@ -97,7 +97,12 @@ def _perturbed_reference_terms(original):
 
 
 WRONG_REFERENCES = {
-    "linode2-I0-coefficient": (analytic, "rod_factors", _perturbed_inertia, {"tip acc, aba", "tip acc, G F + free", "Delassus G"}),
+    "linode2-I0-coefficient": (
+        analytic,
+        "rod_factors",
+        _perturbed_inertia,
+        {"tip acc, aba", "tip acc, G F + free", "Delassus G"},
+    ),
     "p-coefficient": (analytic, "_p", _perturbed_p, {"p"}),
     "b-coefficient": (analytic, "_b", _perturbed_b, {"b"}),
     "M-psipsi": (dynamics_terms, "reference_terms", _perturbed_reference_terms, {"M (crba)"}),

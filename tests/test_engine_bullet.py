@@ -82,8 +82,11 @@ def rollout(rod: Rod, q0, v0, nstep: int, mu: float = 0.5, **options):
 
 def kinetic_plus_potential(rod: Rod, q, v) -> np.ndarray:
     """m |v_S|^2 / 2 + I0 (theta'^2 + psi'^2 cos^2 theta) / 2 + m g Z (zero axial inertia, eq. inertia)."""
-    return (0.5 * rod.mass * (v[:, :3] ** 2).sum(1) + 0.5 * rod.inertia * (v[:, 4] ** 2 + (v[:, 3] * np.cos(q[:, 4])) ** 2)
-            + rod.mass * rod.gravity * q[:, 2])
+    return (
+        0.5 * rod.mass * (v[:, :3] ** 2).sum(1)
+        + 0.5 * rod.inertia * (v[:, 4] ** 2 + (v[:, 3] * np.cos(q[:, 4])) ** 2)
+        + rod.mass * rod.gravity * q[:, 2]
+    )
 
 
 def first_step(state: SlipState, mu: float, **options):
@@ -102,7 +105,9 @@ def first_step(state: SlipState, mu: float, **options):
     p_eff = 1 + ALPHA * math.cos(th) ** 2 - ALPHA * math.cos(th) * (math.sin(th) + r) * (F[:2] @ e) / F[2]
     # the tangential Delassus diagonal at C in Bullet's world rows: (1 + alpha) along i, 1 + alpha (sin theta + r)^2 along j
     d_i, d_j = 1 + ALPHA, 1 + ALPHA * (math.sin(th) + r) ** 2
-    D = np.array([d_i * math.cos(psi) ** 2 + d_j * math.sin(psi) ** 2, d_i * math.sin(psi) ** 2 + d_j * math.cos(psi) ** 2])
+    D = np.array(
+        [d_i * math.cos(psi) ** 2 + d_j * math.sin(psi) ** 2, d_i * math.sin(psi) ** 2 + d_j * math.cos(psi) ** 2]
+    )
     return F, u, b, kappa, p_eff, D, rec
 
 
@@ -116,11 +121,15 @@ def angle(a, b) -> float:
 def test_the_spec_declares_bullet_and_importing_it_does_not_import_pybullet(registered):
     assert registered is SPEC and SPEC.name == "bullet" and SPEC.label == "Bullet" and SPEC.libraries == ("pybullet",)
     assert SPEC.tags == {"rigid", "time_stepping"} and SPEC.one_core == {"workers": 1} and SPEC.tolerances is None
-    assert set(SPEC.solver_columns) <= {f for f in BulletHealth.__dataclass_fields__ if BulletHealth.__dataclass_fields__[f].type == "int"}
+    assert set(SPEC.solver_columns) <= {
+        f for f in BulletHealth.__dataclass_fields__ if BulletHealth.__dataclass_fields__[f].type == "int"
+    }
     assert SPEC.report.order == 50 and set(SPEC.report.maps) == set(SPEC.report.convergence) == {"quick", "full"}
     assert SPEC.report.beside == "rigid_maps"
-    code = ("import sys, crosscheck.engines.bullet as b, crosscheck.engines.bullet.options as o; o.Options(); b.ENGINES[0].label; "
-            "assert 'pybullet' not in sys.modules, 'pybullet was imported'")
+    code = (
+        "import sys, crosscheck.engines.bullet as b, crosscheck.engines.bullet.options as o; o.Options(); b.ENGINES[0].label; "
+        "assert 'pybullet' not in sys.modules, 'pybullet was imported'"
+    )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
     assert done.returncode == 0, done.stderr
     assert SPEC.options().contact_time == 0.0 and SPEC.options().friction_time == 0.0  # the classifier's rigid rules
@@ -135,8 +144,14 @@ def test_free_step_is_the_rods_exact_acceleration_with_semi_implicit_euler():
     rng = np.random.default_rng(0)
     dt = 1e-3 / rod.omega
     for _ in range(20):
-        s = SlipState(theta=rng.uniform(0.05, 1.5), varphi=-rng.uniform(0, 3), Theta=rng.normal(), Psi=2 * rng.normal(),
-                      eta=rng.uniform(0, 2), psi=rng.uniform(-3, 3))
+        s = SlipState(
+            theta=rng.uniform(0.05, 1.5),
+            varphi=-rng.uniform(0, 3),
+            Theta=rng.normal(),
+            Psi=2 * rng.normal(),
+            eta=rng.uniform(0, 2),
+            psi=rng.uniform(-3, 3),
+        )
         q0, v0 = to_generalized(rod, s, tip=(0.0, 0.0, 0.5))
         raw, rec = rollout(rod, q0, v0, 1)
         assert raw.points[0] == 0 and not rec.active[0] and np.all(rec.force == 0.0)
@@ -207,7 +222,9 @@ def test_after_two_steps_the_slipping_force_is_minus_b_over_p_eff_to_first_order
         p_eff = 1 + ALPHA * ct**2 - ALPHA * ct * (st + r) * Fj / R.normal_force
         assert np.all(R.active) and np.all(R.normal_force > 0)  # slipping all along
         err[dt] = np.abs(R.normal_force / (-R.b / p_eff) - 1)[2:].max()
-        np.testing.assert_allclose(R.gap[1:], st[1:] * (dt * R.Theta[1:]) ** 2 / 2, rtol=0.02, atol=0)  # the gap it keeps
+        np.testing.assert_allclose(
+            R.gap[1:], st[1:] * (dt * R.Theta[1:]) ** 2 / 2, rtol=0.02, atol=0
+        )  # the gap it keeps
     assert err[1e-3] < 1e-2 and FIRST_ORDER[0] <= err[1e-3] / err[1e-4] <= FIRST_ORDER[1], err
 
 
@@ -217,7 +234,11 @@ def test_the_first_step_decides_liftoff_on_b_minus_theta_dot_squared_sin_theta()
     late = SlipState(theta=1.0, varphi=-1.9, Theta=1.2, Psi=0.0, eta=1.0)  # b = 0.21, b - kappa = -1.0
     at_once = SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=2.2, eta=1.0)  # b = 0.19, kappa = 0
     a = SPEC.simulate(ROD, late, 0.5, horizon=0.1)
-    assert analytic.b(late.Psi, late.Theta, late.theta) > 0 and a.record.normal_force[0] > 0.1 and a.record.normal_force[1] == 0
+    assert (
+        analytic.b(late.Psi, late.Theta, late.theta) > 0
+        and a.record.normal_force[0] > 0.1
+        and a.record.normal_force[1] == 0
+    )
     assert a.outcome == Outcome.LIFTOFF and a.event_time == pytest.approx(a.options.timestep, abs=1e-15)
     c = SPEC.simulate(ROD, at_once, 0.5, horizon=0.1)
     assert analytic.b(at_once.Psi, at_once.Theta, at_once.theta) > 0 and c.record.normal_force[0] == 0
@@ -236,7 +257,9 @@ def test_row_k_holds_state_k_and_the_force_of_step_k():
     allowance = MOMENTUM_ROUNDING * EPS * (1 + np.abs(raw.v).max()) / dt
     assert np.abs(balance - rec.force).max() <= allowance and np.all(rec.normal_force > 0)
     np.testing.assert_array_equal(rec.tip_pos[:, 2], tip_position(ROD, raw.q[:-1])[:, 2])
-    np.testing.assert_allclose(rec.tip_acc, np.diff(tip_velocity(ROD, raw.q, raw.v), axis=0) / dt, rtol=0, atol=1e-15 / dt)
+    np.testing.assert_allclose(
+        rec.tip_acc, np.diff(tip_velocity(ROD, raw.q, raw.v), axis=0) / dt, rtol=0, atol=1e-15 / dt
+    )
 
 
 # ---------------------------------------------------------------- the runs
@@ -245,8 +268,11 @@ def test_row_k_holds_state_k_and_the_force_of_step_k():
 def test_simulate_equals_its_sweep_row_whatever_ran_before(registered):
     """A run depends on its state, mu and options only: the sweep (mu changing between states, so the world is rebuilt),
     simulate afterwards, simulate after another state in the same world, and two worker processes give the same numbers."""
-    states = [SlipState(theta=0.6, varphi=-1.2, Theta=0.3, Psi=0.5, eta=1.0), SLIPPING_TURNING,
-              SlipState(theta=1.2, varphi=-2.5, Theta=-0.4, Psi=-0.8, eta=0.4, psi=2.0)]
+    states = [
+        SlipState(theta=0.6, varphi=-1.2, Theta=0.3, Psi=0.5, eta=1.0),
+        SLIPPING_TURNING,
+        SlipState(theta=1.2, varphi=-2.5, Theta=-0.4, Psi=-0.8, eta=0.4, psi=2.0),
+    ]
     mus = np.array([0.5, 1.2, 0.5])
     horizon = 0.4
     sw = registered.sweep(ROD, states, mus, horizon=horizon, progress=False)
@@ -281,7 +307,11 @@ def test_solver_health_counts_steps_short_of_pgs_fixed_point():
     assert ok.solver.max_residual <= Options().solver_tolerance
     assert 1 < ok.solver.max_iterations < Options().solver_iterations
     starved = SPEC.simulate(ROD, SLIPPING_TURNING, 0.5, horizon=0.05, solver_iterations=5)
-    assert starved.solver.unconverged_steps == starved.nstep and starved.solver.max_iterations == 5 and starved.solver.max_residual > 0
+    assert (
+        starved.solver.unconverged_steps == starved.nstep
+        and starved.solver.max_iterations == 5
+        and starved.solver.max_residual > 0
+    )
 
 
 def test_solver_health_shows_pgs_cycling_at_high_mu():
@@ -289,8 +319,13 @@ def test_solver_health_shows_pgs_cycling_at_high_mu():
     (0.02 and 11 m g normal at row 399) so more sweeps do not help, and the cap's parity picks the impulse.  The health
     columns must show it: steps missing the tolerance at 50 and at 1000 sweeps, a residual of O(0.1) l omega, and the
     capsule sinking (2.2e-4 l) on the even cap; a run that reaches its fixed point has none of these."""
-    s = SlipState(theta=1.1907200661442665, varphi=-2.92145649557482, Theta=-0.16186553664387748, Psi=-0.27737646445869313,
-                  eta=1.5399713354017732)
+    s = SlipState(
+        theta=1.1907200661442665,
+        varphi=-2.92145649557482,
+        Theta=-0.16186553664387748,
+        Psi=-0.27737646445869313,
+        eta=1.5399713354017732,
+    )
     runs = {n: SPEC.simulate(ROD, s, 2.4390655192837145, horizon=0.4, solver_iterations=n) for n in (50, 51, 1000)}
     for n, run in runs.items():
         assert run.solver.unconverged_steps > 0 and run.solver.max_residual > 1e-3, (n, run.solver)
@@ -308,8 +343,11 @@ def test_scaled_units_and_the_start_on_the_plane():
     assert R.t[0] == 0.0 and len(R) == 250 and base.nstep == 250
     assert abs(R.tip_pos[0, 2] - 0.02) <= 4 * EPS and abs(R.gap[0]) <= 4 * EPS and R.active[0] and R.normal_force[0] > 0
     assert base.outcome == Outcome.SLIP and np.all(R.normal_force > 0)  # slipping throughout: the contact is exercised
-    rods = {"uniform_1m": Rod.uniform(1.0, 1.0), "uniform_1cm": Rod.uniform(0.2, 0.01),
-            "heavy_short": Rod(mass=50.0, length=0.3, inertia=1.5, gravity=9.81)}
+    rods = {
+        "uniform_1m": Rod.uniform(1.0, 1.0),
+        "uniform_1cm": Rod.uniform(0.2, 0.01),
+        "heavy_short": Rod(mass=50.0, length=0.3, inertia=1.5, gravity=9.81),
+    }
     for name, rod in rods.items():
         other = SPEC.simulate(rod, s, 0.4, horizon=0.5, radius=0.02, timestep=2e-3)
         for f in FIELDS:
@@ -321,30 +359,53 @@ def test_scaled_units_and_the_start_on_the_plane():
 # ---------------------------------------------------------------- bad input
 
 
-@pytest.mark.parametrize("options, message", [
-    ({"timestep": 0.0}, "timestep must be in (0, inf); got 0.0"),
-    ({"timestep": 0.5}, "timestep must be in (0, horizon = 0.1]; got 0.5"),
-    ({"radius": 0.5}, "radius must be in (0, 0.5); got 0.5"),
-    ({"solver_iterations": 0}, "solver_iterations must be an integer in [1, 100000]; got 0"),
-    ({"solver_iterations": 2.0}, "solver_iterations must be an integer in [1, 100000]; got 2.0"),
-    ({"solver_tolerance": -1e-9}, "solver_tolerance must be in [0, inf); got -1e-09"),
-    ({"contact_erp": 1.5}, "contact_erp must be in [0, 1]; got 1.5"),
-    ({"contact_margin": math.inf}, "contact_margin must be in (0, inf); got inf"),
-    ({"cone": "yes"}, "cone must be True or False; got 'yes'"),
-    ({"stiffness": 1.0}, ("unknown Bullet option 'stiffness': options must be one of cone, contact_erp, contact_margin, friction_axes, radius, "
-                          "solver_iterations, solver_tolerance, timestep")),
-], ids=["timestep", "timestep_above_horizon", "radius", "iterations", "iterations_float", "tolerance", "erp", "margin", "cone",
-        "unknown"])
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        ({"timestep": 0.0}, "timestep must be in (0, inf); got 0.0"),
+        ({"timestep": 0.5}, "timestep must be in (0, horizon = 0.1]; got 0.5"),
+        ({"radius": 0.5}, "radius must be in (0, 0.5); got 0.5"),
+        ({"solver_iterations": 0}, "solver_iterations must be an integer in [1, 100000]; got 0"),
+        ({"solver_iterations": 2.0}, "solver_iterations must be an integer in [1, 100000]; got 2.0"),
+        ({"solver_tolerance": -1e-9}, "solver_tolerance must be in [0, inf); got -1e-09"),
+        ({"contact_erp": 1.5}, "contact_erp must be in [0, 1]; got 1.5"),
+        ({"contact_margin": math.inf}, "contact_margin must be in (0, inf); got inf"),
+        ({"cone": "yes"}, "cone must be True or False; got 'yes'"),
+        (
+            {"stiffness": 1.0},
+            (
+                "unknown Bullet option 'stiffness': options must be one of cone, contact_erp, contact_margin, friction_axes, radius, "
+                "solver_iterations, solver_tolerance, timestep"
+            ),
+        ),
+    ],
+    ids=[
+        "timestep",
+        "timestep_above_horizon",
+        "radius",
+        "iterations",
+        "iterations_float",
+        "tolerance",
+        "erp",
+        "margin",
+        "cone",
+        "unknown",
+    ],
+)
 def test_bad_options_raise_one_line_naming_option_value_and_range(options, message):
     with pytest.raises(ValueError) as e:
         SPEC.simulate(ROD, SLIPPING, 0.5, horizon=0.1, **options)
     assert str(e.value) == message and "\n" not in str(e.value)
 
 
-@pytest.mark.parametrize("mu, message", [
-    (11.0, "mu must be in [0, 10] for Bullet (it clamps the combined friction to 10); got 11.0"),
-    (-1.0, "mu must be in [0, 1000]; got -1.0"),
-], ids=["above_bullets_clamp", "negative"])
+@pytest.mark.parametrize(
+    "mu, message",
+    [
+        (11.0, "mu must be in [0, 10] for Bullet (it clamps the combined friction to 10); got 11.0"),
+        (-1.0, "mu must be in [0, 1000]; got -1.0"),
+    ],
+    ids=["above_bullets_clamp", "negative"],
+)
 def test_bad_mu_is_named(mu, message):
     with pytest.raises(ValueError) as e:
         SPEC.simulate(ROD, SLIPPING, mu, horizon=0.1)

@@ -26,7 +26,10 @@ ENGINES = engines.names()
 
 #: A slipping start (b < 0 < p at mu = 0.5: it keeps slipping for the horizon below) and a second, off the
 #: planar section with a rate, so a two-state sweep has two different rows.
-STATES = (SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=0.0, eta=1.0), SlipState(theta=0.8, varphi=-1.2, Theta=0.3, Psi=0.5, eta=1.5, psi=0.4))
+STATES = (
+    SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=0.0, eta=1.0),
+    SlipState(theta=0.8, varphi=-1.2, Theta=0.3, Psi=0.5, eta=1.5, psi=0.4),
+)
 MU = 0.5
 
 #: Scaled time simulated: a few windows of the classifier is more than the record's promises need, and short

@@ -57,11 +57,21 @@ def capsule_tip_acceleration(rod, rec, offset):
 
 
 def test_one_record_per_approximation_and_no_pydrake_at_import():
-    assert [s.name for s in ENGINES] == ["drake_sap", "drake_continuous", "drake_similar", "drake_lagged", "drake_tamsi"]
+    assert [s.name for s in ENGINES] == [
+        "drake_sap",
+        "drake_continuous",
+        "drake_similar",
+        "drake_lagged",
+        "drake_tamsi",
+    ]
     for s in ENGINES:
         a = s.defaults["approximation"]
         assert s.name == f"drake_{a}" and s.options().approximation == a and s.libraries == ("drake",)
-        assert s.has("compliant") and s.has("continuous") == (a == "continuous") and s.has("relaxed") == (a in ("sap", "similar", "lagged"))
+        assert (
+            s.has("compliant")
+            and s.has("continuous") == (a == "continuous")
+            and s.has("relaxed") == (a in ("sap", "similar", "lagged"))
+        )
         assert engines.get(s.name) is s  # registered through BUILTIN
     assert set(APPROXIMATIONS) == {s.defaults["approximation"] for s in ENGINES}
     code = "import sys, crosscheck.engines.drake, crosscheck.engines.drake.options; assert 'pydrake' not in sys.modules"
@@ -71,23 +81,39 @@ def test_one_record_per_approximation_and_no_pydrake_at_import():
 # --------------------------------------------------------------------------------------------- bad options ---
 
 
-@pytest.mark.parametrize("options, message", [
-    ({"approximation": "rigid"}, "approximation must be one of continuous, sap, similar, lagged, tamsi; got 'rigid'"),
-    ({"stiffness": 10.0}, "stiffness must be in [100, 1e+10]; got 10.0"),
-    ({"dissipation": -1.0}, "dissipation must be in [0, 1e+06]; got -1.0"),
-    ({"relaxation_time": 2.0}, "relaxation_time must be in [0, 1]; got 2.0"),
-    ({"stiction_tolerance": 0.0}, "stiction_tolerance must be in (0, 0.01]; got 0.0"),
-    ({"accuracy": 1.0}, "accuracy must be in [1e-12, 0.1]; got 1.0"),
-    ({"integrator": "explicit_euler"}, ("integrator must be one of runge_kutta3, runge_kutta5, bogacki_shampine3, radau1, radau3, "
-                                        "implicit_euler, velocity_implicit_euler; got 'explicit_euler'")),
-    ({"radius": 0.5}, "radius must be in (0, 0.5); got 0.5"),
-    ({"timestep": -1e-3}, "timestep must be in (0, inf); got -0.001"),
-    ({"near_rigid_threshold": -1.0}, "near_rigid_threshold must be in [0, 10]; got -1.0"),
-    ({"timestep": 0.1}, "timestep must be in (0, horizon = 0.05]; got 0.1"),
-    ({"penetration_allowance": 1e-3}, ("unknown Drake SAP option 'penetration_allowance': options must be one of accuracy, approximation, "
-                                       "dissipation, integrator, near_rigid_threshold, radius, relaxation_time, stiction_tolerance, "
-                                       "stiffness, timestep")),
-])
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        (
+            {"approximation": "rigid"},
+            "approximation must be one of continuous, sap, similar, lagged, tamsi; got 'rigid'",
+        ),
+        ({"stiffness": 10.0}, "stiffness must be in [100, 1e+10]; got 10.0"),
+        ({"dissipation": -1.0}, "dissipation must be in [0, 1e+06]; got -1.0"),
+        ({"relaxation_time": 2.0}, "relaxation_time must be in [0, 1]; got 2.0"),
+        ({"stiction_tolerance": 0.0}, "stiction_tolerance must be in (0, 0.01]; got 0.0"),
+        ({"accuracy": 1.0}, "accuracy must be in [1e-12, 0.1]; got 1.0"),
+        (
+            {"integrator": "explicit_euler"},
+            (
+                "integrator must be one of runge_kutta3, runge_kutta5, bogacki_shampine3, radau1, radau3, "
+                "implicit_euler, velocity_implicit_euler; got 'explicit_euler'"
+            ),
+        ),
+        ({"radius": 0.5}, "radius must be in (0, 0.5); got 0.5"),
+        ({"timestep": -1e-3}, "timestep must be in (0, inf); got -0.001"),
+        ({"near_rigid_threshold": -1.0}, "near_rigid_threshold must be in [0, 10]; got -1.0"),
+        ({"timestep": 0.1}, "timestep must be in (0, horizon = 0.05]; got 0.1"),
+        (
+            {"penetration_allowance": 1e-3},
+            (
+                "unknown Drake SAP option 'penetration_allowance': options must be one of accuracy, approximation, "
+                "dissipation, integrator, near_rigid_threshold, radius, relaxation_time, stiction_tolerance, "
+                "stiffness, timestep"
+            ),
+        ),
+    ],
+)
 def test_bad_options_are_one_line_errors_naming_option_value_and_range(options, message):
     with pytest.raises(ValueError) as e:
         SPEC["drake_sap"].simulate(ROD, SLIP, SLIP_MU, horizon=0.05, **options)
@@ -108,7 +134,9 @@ def test_the_record_is_in_scaled_units_whatever_the_rod():
     beta = OFFPLANE.psi + OFFPLANE.varphi
     assert a.tip_vel[0] == pytest.approx([math.cos(beta), math.sin(beta), 0.0], abs=1e-14)  # eta = 1 at A
     j = [-math.sin(OFFPLANE.psi), math.cos(OFFPLANE.psi), 0.0]
-    assert a.slip_vel[0] == pytest.approx(a.tip_vel[0] * [1, 1, 0] + R * OFFPLANE.Theta * np.array(j), abs=1e-14)  # C: v_A + r Theta j
+    assert a.slip_vel[0] == pytest.approx(
+        a.tip_vel[0] * [1, 1, 0] + R * OFFPLANE.Theta * np.array(j), abs=1e-14
+    )  # C: v_A + r Theta j
     # TAMSI solves its step to a relative tolerance, so the two rods agree to the solver's 1e-6 (Drake's default), not
     # to rounding: measured 3e-9 in the force (m g), 1e-12 in the states.
     for name in ("tip_pos", "tip_vel", "theta", "Psi", "Theta"):
@@ -153,7 +181,13 @@ def test_a_rod_with_b_above_zero_lifts_off_and_flies_freely(name):
 #: Similar, SAP: their iterative solvers stop at a relative tolerance of ~1e-6 (measured 4e-10, 5e-9, 5e-7).
 #: Lagged: its reported force misses its own step by 2e-5 .. 9e-4 of the term scale in every contact row (measured on
 #: OFFPLANE; not explained here): a regression guard, not a bound.
-STEP_CONSISTENCY = {"drake_continuous": 1e-10, "drake_tamsi": 1e-6, "drake_similar": 1e-6, "drake_sap": 3e-6, "drake_lagged": 3e-3}
+STEP_CONSISTENCY = {
+    "drake_continuous": 1e-10,
+    "drake_tamsi": 1e-6,
+    "drake_similar": 1e-6,
+    "drake_sap": 3e-6,
+    "drake_lagged": 3e-3,
+}
 
 
 @pytest.mark.parametrize("name", sorted(STEP_CONSISTENCY))
@@ -214,7 +248,7 @@ def test_a_runaway_is_cut_at_its_first_fast_step_whatever_the_steps_between_spee
     (a, b), k = runs, runs[0].solver.steps
     assert a.solver == b.solver and a.solver.message == "runaway speed" and 0 < k % chunk0
     # row k is the state the fast step started from; its force and everything after it are NaN
-    assert np.isfinite(a.record.theta[:k + 1]).all() and np.isnan(a.record.theta[k + 1:]).all()
+    assert np.isfinite(a.record.theta[: k + 1]).all() and np.isnan(a.record.theta[k + 1 :]).all()
     assert np.isfinite(a.record.force[:k]).all() and np.isnan(a.record.force[k:]).all()
     for f in ("tip_pos", "tip_vel", "tip_acc", "force", "active", "theta", "Theta", "Psi"):
         assert getattr(a.record, f).tobytes() == getattr(b.record, f).tobytes(), f
@@ -227,8 +261,17 @@ def test_contact_forces_summed_after_the_run_are_the_per_row_sums_bit_for_bit():
 
     rng = np.random.default_rng(7)
     f = [np.array([0.0, -0.0, 1.5]), np.array([-0.0, 0.0, -2.0]), *rng.normal(size=(5, 3))]
-    pairs = [(0, True, f[0]), (0, False, f[1]), (2, False, f[0]), (3, True, f[1]), (3, True, f[2]), (3, False, f[3]),
-             (5, False, f[4]), (6, True, f[5]), (6, False, f[6])]
+    pairs = [
+        (0, True, f[0]),
+        (0, False, f[1]),
+        (2, False, f[0]),
+        (3, True, f[1]),
+        (3, True, f[2]),
+        (3, False, f[3]),
+        (5, False, f[4]),
+        (6, True, f[5]),
+        (6, False, f[6]),
+    ]
     want, want_active = np.zeros((7, 3)), np.zeros(7, bool)
     for k, on_b, fk in pairs:
         want_active[k] = True
@@ -276,7 +319,9 @@ def test_continuous_slipping_force_is_the_rigid_force_and_tends_to_it_as_the_con
     Ft = np.hypot(rec.force[on, 0], rec.force[on, 1])
     assert np.abs(Ft / (SLIP_MU * rec.normal_force[on]) - 1).max() < 1e-12
     u, f = rec.slip_vel[on], rec.force[on]
-    angle = np.arctan2(np.abs(f[:, 0] * u[:, 1] - f[:, 1] * u[:, 0]), -(f[:, 0] * u[:, 0] + f[:, 1] * u[:, 1]))  # F_t against -u
+    angle = np.arctan2(
+        np.abs(f[:, 0] * u[:, 1] - f[:, 1] * u[:, 0]), -(f[:, 0] * u[:, 0] + f[:, 1] * u[:, 1])
+    )  # F_t against -u
     allowed = np.abs(rec.Theta[on] * rec.gap[on]) / (2 * rec.eta[on]) + 1e-12
     assert (angle <= allowed).all()
 
@@ -285,7 +330,12 @@ def test_continuous_slipping_force_is_the_rigid_force_and_tends_to_it_as_the_con
 #: = 1 at the start (module docstring of crosscheck.engines.drake.engine): G = 0.83 and 1.30 at tau_d = 0, 0.89 and
 #: 1.19 at k dt = 1.  Measured: below 1 every row after the first is in contact and the gap never opens (<= 1e-17);
 #: above it the tip leaves the plane (active 0.76 .. 0.93 of the rows, gaps 2e-7 .. 1e-5 l).
-GLIDING = [((1e4, 1.4e-4, 0.0), False), ((1e4, 2.2e-4, 0.0), True), ((1e3, 1e-3, 5e-4), False), ((1e3, 1e-3, 1e-3), True)]
+GLIDING = [
+    ((1e4, 1.4e-4, 0.0), False),
+    ((1e4, 2.2e-4, 0.0), True),
+    ((1e3, 1e-3, 5e-4), False),
+    ((1e3, 1e-3, 1e-3), True),
+]
 
 
 @pytest.mark.parametrize("setting, hops", GLIDING, ids=lambda x: str(x))
@@ -309,11 +359,21 @@ def test_sap_lifts_a_slipping_tip_when_its_gliding_force_beats_the_rigid_force(s
         assert window_errors(run, SLIP_MU) < 2.5 * run.options.contact_time
     on = rec.normal_force > 0
     Ft = np.hypot(rec.force[on, 0], rec.force[on, 1])
-    assert np.abs(Ft / (SLIP_MU * rec.normal_force[on]) - 1).max() < 1e-6  # SAP's sliding projection: on the cone's surface
+    assert (
+        np.abs(Ft / (SLIP_MU * rec.normal_force[on]) - 1).max() < 1e-6
+    )  # SAP's sliding projection: on the cone's surface
 
 
-@pytest.mark.parametrize("name, glides", [("drake_sap", True), ("drake_similar", True), ("drake_lagged", False), ("drake_tamsi", False),
-                                           ("drake_continuous", False)])
+@pytest.mark.parametrize(
+    "name, glides",
+    [
+        ("drake_sap", True),
+        ("drake_similar", True),
+        ("drake_lagged", False),
+        ("drake_tamsi", False),
+        ("drake_continuous", False),
+    ],
+)
 def test_at_their_defaults_the_convex_relaxations_launch_a_slipping_tip_and_the_others_keep_it(name, glides):
     """At the defaults G = mu eta k (dt + tau_d) / (-b/p_C) is 130 for SAP (tau_d = 2/sqrt(k), critical damping) and the
     excess mu eta k dt (1 + d mu eta) / (-b/p_C) is 630 for Similar (d = 2 sqrt(k)): the first contact step throws the
@@ -353,7 +413,9 @@ def test_sweep_rows_are_simulate_runs_exactly():
         for i, run in enumerate(runs):
             assert res.outcome[i] == run.outcome
             np.testing.assert_array_equal([res.event_time[i], res.exit_time[i]], [run.event_time, run.exit_time])
-            c = classify(run.record, mu=mus[i], alpha=ALPHA, timestep=2e-3, friction_timeconst=run.options.friction_time)
+            c = classify(
+                run.record, mu=mus[i], alpha=ALPHA, timestep=2e-3, friction_timeconst=run.options.friction_time
+            )
             for key in ("max_normal_force", "max_window_force", "active_fraction", "max_gap"):
                 assert res.summary[key][i] == getattr(c, key), key
             assert res.solver["contact_rows"][i] == run.solver.contact_rows
@@ -376,7 +438,12 @@ def test_a_run_drake_aborts_is_diverged_from_where_it_stopped():
     rec = run.record
     assert run.outcome == Outcome.DIVERGED and run.solver.failed == 1 and "did not converge" in run.solver.message
     k = int(round(run.diverged_time / 1e-2))
-    assert k >= 1 and np.isfinite(rec.force[:k]).all() and np.isnan(rec.force[k:]).all() and np.isfinite(rec.theta[:k]).all()
+    assert (
+        k >= 1
+        and np.isfinite(rec.force[:k]).all()
+        and np.isnan(rec.force[k:]).all()
+        and np.isfinite(rec.theta[:k]).all()
+    )
 
 
 def test_contact_and_friction_times_follow_the_options():
@@ -412,5 +479,14 @@ def test_tamsi_stiffened_toward_the_rigid_limit_jams_where_its_capsule_does():
     assert t_capsule < run.event_time < t_tip
     assert Outcome(int(run.outcome)) == Outcome.JAM and run.jam_p_eff < 0.0
     o = run.options
-    tip_arm = classify(run.record, mu=mu, alpha=ALPHA, timestep=o.timestep, friction_timeconst=o.friction_time, contact_time=o.contact_time)
-    assert Outcome(int(tip_arm.outcome)) == Outcome.STICK and tip_arm.event_row == int(round(run.event_time / o.timestep))
+    tip_arm = classify(
+        run.record,
+        mu=mu,
+        alpha=ALPHA,
+        timestep=o.timestep,
+        friction_timeconst=o.friction_time,
+        contact_time=o.contact_time,
+    )
+    assert Outcome(int(tip_arm.outcome)) == Outcome.STICK and tip_arm.event_row == int(
+        round(run.event_time / o.timestep)
+    )

@@ -38,8 +38,14 @@ def boom(rod, state, mu, *, horizon, thresholds, options):
 
 def test_a_failing_rung_is_reported_and_leaves_the_cause_undetermined():
     spec = engines.get("bullet")
-    broken = EngineSpec(name="bullet_broken", module=spec.module, label="Bullet (broken ladder)", defaults=spec.defaults, tags=spec.tags,
-                        ladder={"compliance": "test_engine_ladder:boom", "discretisation": "engine"})
+    broken = EngineSpec(
+        name="bullet_broken",
+        module=spec.module,
+        label="Bullet (broken ladder)",
+        defaults=spec.defaults,
+        tags=spec.tags,
+        ladder={"compliance": "test_engine_ladder:boom", "discretisation": "engine"},
+    )
     engines.register(broken)
     try:
         ld = run_ladder("bullet_broken", IC2, 1.4)
@@ -50,10 +56,26 @@ def test_a_failing_rung_is_reported_and_leaves_the_cause_undetermined():
 
 
 def test_explain_runs_a_declared_ladder_and_refuses_an_engine_without_one(capsys):
-    args = ["explain", "--theta", "1.1031", "--varphi", "-1.9233", "--Theta", "0.9", "--Psi", "0", "--eta", "2", "--mu", "1.4"]
+    args = [
+        "explain",
+        "--theta",
+        "1.1031",
+        "--varphi",
+        "-1.9233",
+        "--Theta",
+        "0.9",
+        "--Psi",
+        "0",
+        "--eta",
+        "2",
+        "--mu",
+        "1.4",
+    ]
     assert main([*args, "--engine", "drake_tamsi"]) == 0
     out = capsys.readouterr().out
-    assert "2 capsule     geometry        JAM" in out and out.rstrip().endswith("cause: geometry (Drake TAMSI JAM, theory LIFTOFF)")
+    assert "2 capsule     geometry        JAM" in out and out.rstrip().endswith(
+        "cause: geometry (Drake TAMSI JAM, theory LIFTOFF)"
+    )
     assert main([*args, "--engine", "pinocchio"]) == 2
     assert "engine must be one of" in capsys.readouterr().err
 

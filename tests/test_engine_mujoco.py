@@ -15,13 +15,25 @@ from crosscheck.coordinates import GENERALIZED, tip_position, to_generalized
 from crosscheck.theory.critical import Psi_L, theta_L
 from crosscheck.engines import get
 from crosscheck.engines.mujoco.engine import Batch, Options
-from crosscheck.engines.mujoco.model import ModelFileError, SensorLayout, build_model, initial_state, model_path, record_from_sensordata, START_GAP
+from crosscheck.engines.mujoco.model import (
+    ModelFileError,
+    SensorLayout,
+    build_model,
+    initial_state,
+    model_path,
+    record_from_sensordata,
+    START_GAP,
+)
 from crosscheck.engines.mujoco.tolerances import MUJOCO_FREE_ACCELERATION
 from conftest import random_slip_states
 
 ROD = Rod(mass=1.0, length=1.0, inertia=1.0 / 3.0, gravity=9.81)
 simulate = get("mujoco").simulate
-RODS = {"uniform_1m": ROD, "scaled_alpha5": Rod.scaled(5.0), "heavy_short": Rod(mass=2.5, length=0.3, inertia=0.05, gravity=9.81)}
+RODS = {
+    "uniform_1m": ROD,
+    "scaled_alpha5": Rod.scaled(5.0),
+    "heavy_short": Rod(mass=2.5, length=0.3, inertia=0.05, gravity=9.81),
+}
 
 
 def test_packaged_file_loads_and_steps_as_it_is():
@@ -47,7 +59,9 @@ def test_joint_order_gives_the_coordinates_of_crosscheck(name, rng=np.random.def
         q = np.concatenate([rng.normal(size=3), rng.uniform(-math.pi, math.pi, 1), rng.uniform(0.01, 1.56, 1)])
         data.qpos[:] = q
         mujoco.mj_kinematics(model, data)
-        np.testing.assert_allclose(data.site("tip").xpos, tip_position(rod, q), rtol=0, atol=1e-14 * (1 + np.abs(q[:3]).max()))
+        np.testing.assert_allclose(
+            data.site("tip").xpos, tip_position(rod, q), rtol=0, atol=1e-14 * (1 + np.abs(q[:3]).max())
+        )
 
 
 @pytest.mark.parametrize("name", RODS, ids=str)
@@ -66,7 +80,10 @@ def test_free_tip_acceleration_is_linode2_and_b(name):
         got.append(record_from_sensordata(data.sensordata, layout, rod, 0.01).tip_acc)
     got = np.array(got)
     S = {k: np.array([getattr(s, k) for s in states]) for k in ("psi", "theta", "Psi", "Theta")}
-    want = an.tip_acceleration(rod, S["psi"], S["theta"], S["Psi"] * rod.omega, S["Theta"] * rod.omega, np.zeros(3)) / rod.gravity
+    want = (
+        an.tip_acceleration(rod, S["psi"], S["theta"], S["Psi"] * rod.omega, S["Theta"] * rod.omega, np.zeros(3))
+        / rod.gravity
+    )
     assert MUJOCO_FREE_ACCELERATION.ok(got, want), np.max(MUJOCO_FREE_ACCELERATION.ratio(got, want))
     assert MUJOCO_FREE_ACCELERATION.ok(got[:, 2], an.b(S["Psi"], S["Theta"], S["theta"]))
 
@@ -104,7 +121,9 @@ def test_no_start_has_a_contact_in_its_first_row_and_every_falling_start_has_one
     dist, found, force = sd[:, 0, L.dist], sd[:, 0, L.found] > 0, sd[:, 0, L.force.start]
     assert not np.any(found) and np.all(force == 0.0)
     gap = sd[:, 0, L.tip_pos.start + 2] - Options().radius * ROD.length
-    assert np.all(np.abs(gap - START_GAP * ROD.length) < 1e-15) and np.all(dist == 0.0)  # no contact: the sensor reads 0
+    assert np.all(np.abs(gap - START_GAP * ROD.length) < 1e-15) and np.all(
+        dist == 0.0
+    )  # no contact: the sensor reads 0
     b = np.array([an.b(s.Psi, s.Theta, s.theta) for s in states])
     down = b < 0
     assert 0 < down.sum() < len(b)  # both kinds of start occur
@@ -160,7 +179,9 @@ def test_a_batch_record_is_the_record_of_each_of_its_rows():
         for name in FIELDS:
             got = getattr(batch, name)[i, j, k]
             assert np.array_equal(got, getattr(one, name)), (name, i, j, k)
-    rows = record_from_sensordata(sd[1, 2], layout, ROD, 0.05)  # the last run alone: the same arrays as its place in the batch
+    rows = record_from_sensordata(
+        sd[1, 2], layout, ROD, 0.05
+    )  # the last run alone: the same arrays as its place in the batch
     for name in FIELDS:
         assert np.array_equal(getattr(batch, name)[1, 2], getattr(rows, name)), name
 
@@ -195,7 +216,10 @@ def test_state_must_be_a_slipstate_in_range():
     [
         ({"horizon": 0.0}, r"horizon must be in \(0, inf\); got 0.0"),
         ({"horizon": 0.1, "timestep": -1.0}, r"timestep must be in \(0, inf\); got -1.0"),
-        ({"horizon": 0.1, "timeconst": 1e-4}, r"timeconst must be >= 2 timestep = 0.0006 \(MuJoCo's refsafe\); got 0.0001"),
+        (
+            {"horizon": 0.1, "timeconst": 1e-4},
+            r"timeconst must be >= 2 timestep = 0.0006 \(MuJoCo's refsafe\); got 0.0001",
+        ),
         ({"horizon": 0.1, "solimp": (0.9, 0.95)}, "solimp must have 5 numbers"),
     ],
     ids=["horizon", "timestep", "timeconst", "solimp"],
@@ -230,10 +254,17 @@ def test_model_file_without_the_rod_is_named(tmp_path):
         simulate(ROD, SlipState(0.5, -1.0, 0.0, 0.0, 1.0), 0.5, horizon=0.1, model_file=path)
 
 
-@pytest.mark.parametrize("horizon, message", [
-    (1e5, r"horizon / timestep must be at most 5592405 steps with nthread = 1 \(records of 4 GiB\); got 100000 / 0.0003 = 333333334 steps"),
-    (1e308, r"horizon / timestep must be at most 1e15 steps; got 1e\+308 / 0.0003 = inf"),
-], ids=["27-GiB", "overflow"])
+@pytest.mark.parametrize(
+    "horizon, message",
+    [
+        (
+            1e5,
+            r"horizon / timestep must be at most 5592405 steps with nthread = 1 \(records of 4 GiB\); got 100000 / 0.0003 = 333333334 steps",
+        ),
+        (1e308, r"horizon / timestep must be at most 1e15 steps; got 1e\+308 / 0.0003 = inf"),
+    ],
+    ids=["27-GiB", "overflow"],
+)
 def test_a_run_too_long_to_record_is_refused_before_allocating(horizon, message):
     from crosscheck import Rod, SlipState
     from crosscheck.engines import get
@@ -255,8 +286,12 @@ def test_a_setting_compiles_once_and_an_edited_model_file_anew(tmp_path):
     path = tmp_path / "rod.xml"
     shutil.copy(model_path(), path)
     before = simulate(ROD, state, 0.6, horizon=0.05, model_file=path)
-    fresh = simulate(ROD, state, 0.6, horizon=0.05, model_file=path)  # the cached model: the same numbers as the first compile
-    assert np.array_equal(before.record.force, fresh.record.force) and np.array_equal(before.record.tip_pos, fresh.record.tip_pos)
+    fresh = simulate(
+        ROD, state, 0.6, horizon=0.05, model_file=path
+    )  # the cached model: the same numbers as the first compile
+    assert np.array_equal(before.record.force, fresh.record.force) and np.array_equal(
+        before.record.tip_pos, fresh.record.tip_pos
+    )
     # the same file edited (gravity switched off: build_model sets its value, not the flag), same path
     text = path.read_text()
     assert '<flag autoreset="disable"/>' in text
@@ -273,7 +308,9 @@ def test_a_run_in_used_data_is_the_run_in_fresh_data():
     state, other = SlipState(0.9, -1.7, 0.3, 0.5, 1.0), SlipState(1.3, -2.4, -0.8, 1.6, 0.7)
     engine._spare.clear()
     fresh = simulate(ROD, state, 0.8, horizon=0.3)
-    simulate(ROD, other, 1.9, horizon=0.4, timeconst=0.02)  # another setting of the same layout: leaves its data to the next
+    simulate(
+        ROD, other, 1.9, horizon=0.4, timeconst=0.02
+    )  # another setting of the same layout: leaves its data to the next
     simulate(ROD, other, 0.8, horizon=0.4)
     assert any(engine._spare.values())
     used = simulate(ROD, state, 0.8, horizon=0.3)

@@ -19,6 +19,7 @@ from crosscheck.engines.pinocchio.stepper import Options, Stepper
 from crosscheck.studies.onset import liftoff_onset
 from crosscheck.engines.pinocchio.studies.rigid import slip_order, slipping_states
 from crosscheck.engines.pinocchio.tolerances import RIGID_LIFTOFF_ONSET, RIGID_SLIP_ORDER, RIGID_STEP_FORCE
+
 ALPHA = 3.0
 ROD = Rod.scaled(ALPHA)
 ENGINE = get("pinocchio")
@@ -72,7 +73,9 @@ def test_the_convex_relaxation_launches_a_slipping_tip_and_the_engine_does_not_u
 @pytest.mark.parametrize("mu", [0.5, 1.4], ids=lambda m: f"mu={m}")
 @pytest.mark.parametrize("dt", [3e-3, 1e-3, 3e-4, 1e-4], ids=lambda d: f"dt={d:g}")
 def test_liftoff_onset_is_Psi_L_at_every_timestep(mu, dt):
-    onset, res = liftoff_onset(ROD, mu, engine="pinocchio", timestep=dt, rounds=6, n=33, half_width=1e-3, horizon=12 * dt)
+    onset, res = liftoff_onset(
+        ROD, mu, engine="pinocchio", timestep=dt, rounds=6, n=33, half_width=1e-3, horizon=12 * dt
+    )
     assert res < 1e-10
     assert abs(onset - float(Psi_L)) <= RIGID_LIFTOFF_ONSET.atol + res
 
@@ -99,18 +102,26 @@ def test_corollary_states_jam_with_an_impulse_near_the_analytic_jam():
 def test_solver_health_is_recorded_and_unconverged_steps_counted():
     s = SlipState(theta=0.6, varphi=-1.2, Theta=0.3, Psi=0.5, eta=1.0)
     ok = ENGINE.simulate(ROD, s, 0.5, horizon=0.05)
-    assert ok.solver.contact_steps == ok.nstep and ok.solver.unconverged_steps == 0 and 1 <= ok.solver.max_iterations < 1000
+    assert (
+        ok.solver.contact_steps == ok.nstep
+        and ok.solver.unconverged_steps == 0
+        and 1 <= ok.solver.max_iterations < 1000
+    )
     starved = ENGINE.simulate(ROD, s, 0.5, horizon=0.05, max_iterations=1, max_iterations_limit=1)
     assert starved.solver.unconverged_steps > 0
 
 
-@pytest.mark.parametrize("kwargs, message", [
-    ({"timestep": 0.0}, r"timestep must be in \(0, inf\); got 0.0"),
-    ({"timestep": 0.5}, r"timestep must be in \(0, horizon = 0.1\]; got 0.5"),
-    ({"solver": "lemke"}, "solver must be one of auto, closed_form, pgs, admm; got 'lemke'"),
-    ({"max_iterations": 0}, "max_iterations must be an integer >= 1; got 0"),
-    ({"stiffness": 1.0}, "unknown Pinocchio option 'stiffness'"),
-], ids=["timestep", "timestep_above_horizon", "solver", "iterations", "unknown"])
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"timestep": 0.0}, r"timestep must be in \(0, inf\); got 0.0"),
+        ({"timestep": 0.5}, r"timestep must be in \(0, horizon = 0.1\]; got 0.5"),
+        ({"solver": "lemke"}, "solver must be one of auto, closed_form, pgs, admm; got 'lemke'"),
+        ({"max_iterations": 0}, "max_iterations must be an integer >= 1; got 0"),
+        ({"stiffness": 1.0}, "unknown Pinocchio option 'stiffness'"),
+    ],
+    ids=["timestep", "timestep_above_horizon", "solver", "iterations", "unknown"],
+)
 def test_bad_options_are_named(kwargs, message):
     with pytest.raises(ValueError, match=message):
         ENGINE.simulate(ROD, SlipState(0.5, -1.0, 0.0, 0.0, 1.0), 0.5, horizon=0.1, **kwargs)
@@ -123,7 +134,10 @@ def test_bad_mu_is_named():
 
 
 def test_a_run_too_long_to_record_is_refused_before_allocating():
-    with pytest.raises(ValueError, match=r"horizon / timestep must be at most 2796202 steps \(a record of 4 GiB\); got 100000 / 0.001 = 100000000 steps"):
+    with pytest.raises(
+        ValueError,
+        match=r"horizon / timestep must be at most 2796202 steps \(a record of 4 GiB\); got 100000 / 0.001 = 100000000 steps",
+    ):
         ENGINE.simulate(ROD, SlipState(0.5, -1.0, 0.0, 0.0, 1.0), 0.5, horizon=1e5)
 
 
@@ -132,8 +146,14 @@ def test_above_mu_P_near_p_0_the_step_may_stick_the_tip_instead_of_slipping():
     sticking one here (p = 0.085, mu = 1.79): an impulse, not eq. FZ.  Such states are outside the one-step check."""
     from crosscheck.engines.pinocchio.studies.rigid import one_step, sticking_admissible
 
-    s = SlipState(theta=1.0209058092047891, varphi=-2.3322266822458038, Theta=0.05795417383545341, Psi=-0.5873795214394222,
-                  eta=0.9898204260155745, psi=-2.0166827712132678)
+    s = SlipState(
+        theta=1.0209058092047891,
+        varphi=-2.3322266822458038,
+        Theta=0.05795417383545341,
+        Psi=-0.5873795214394222,
+        eta=0.9898204260155745,
+        psi=-2.0166827712132678,
+    )
     mu = 1.793
     assert 0 < analytic.p(s.theta, s.varphi, mu, ALPHA) < 0.1 and sticking_admissible(s, mu, ALPHA)
     c = one_step(ROD, s, mu)

@@ -56,14 +56,18 @@ def test_closed_form_terms_are_pinocchios():
         M = np.triu(M) + np.triu(M, 1).T
         kappa = 1.0 / math.cos(q[i, 4]) ** 2
         scale = 1.0 + np.abs(v[i]).sum()
-        plain = {"pos": (data.oMf[tip].translation, T.pos[i], 1.0 + np.abs(q[i]).sum()),
-                 "vel": (pin.getFrameVelocity(model, data, tip, LWA).linear, vel[i], scale),
-                 "dJv": (pin.getFrameClassicalAcceleration(model, data, tip, LWA).linear, T.dJv[i], scale**2),
-                 "v_free": (v[i] + dt * a, vf[i], scale**2)}
+        plain = {
+            "pos": (data.oMf[tip].translation, T.pos[i], 1.0 + np.abs(q[i]).sum()),
+            "vel": (pin.getFrameVelocity(model, data, tip, LWA).linear, vel[i], scale),
+            "dJv": (pin.getFrameClassicalAcceleration(model, data, tip, LWA).linear, T.dJv[i], scale**2),
+            "v_free": (v[i] + dt * a, vf[i], scale**2),
+        }
         for name, (want, got, s) in plain.items():
             assert np.abs(got - want).max() <= PIN_MATRICES.atol * s, (name, i)
-        through = {"G": (J @ np.linalg.solve(M, J.T), T.G[i], 1.0 + ALPHA),
-                   "M^-1 J^T lambda": (np.linalg.solve(M, J.T @ lam[i]), dv[i], (1.0 + ALPHA) * (1.0 + np.abs(lam[i]).sum()))}
+        through = {
+            "G": (J @ np.linalg.solve(M, J.T), T.G[i], 1.0 + ALPHA),
+            "M^-1 J^T lambda": (np.linalg.solve(M, J.T @ lam[i]), dv[i], (1.0 + ALPHA) * (1.0 + np.abs(lam[i]).sum())),
+        }
         for name, (want, got, s) in through.items():
             assert np.abs(got - want).max() <= PIN_THROUGH_MINV.atol * kappa * s, (name, i)
 
@@ -126,13 +130,24 @@ def test_each_step_is_pgs_step(name, state, mu, steps, dt):
         n_handed += handed
         if info.converged:
             dlam = np.abs(row[0, 9:12] - info.impulse).max() / max(scale, np.abs(info.impulse).max())
-            dv = np.abs(bv[0] - v1).max() / (1.0 + np.abs(v1).max())  # relative to the velocity's size (units of l omega ~ 1)
+            dv = np.abs(bv[0] - v1).max() / (
+                1.0 + np.abs(v1).max()
+            )  # relative to the velocity's size (units of l omega ~ 1)
             assert dlam <= RIGID_BATCH_STEP.rtol and dv <= RIGID_BATCH_STEP.rtol, (name, dlam, dv)
         if handed:
             assert np.array_equal(row[0, 9:12], info.impulse) and np.array_equal(bv[0], v1)
         lam = info.impulse
-        seen.add("free" if not info.active else "none" if lam[2] == 0 else "handed" if handed
-                 else "stick" if math.hypot(lam[0], lam[1]) < mu * lam[2] * (1 - 1e-6) else "slip")
+        seen.add(
+            "free"
+            if not info.active
+            else "none"
+            if lam[2] == 0
+            else "handed"
+            if handed
+            else "stick"
+            if math.hypot(lam[0], lam[1]) < mu * lam[2] * (1 - 1e-6)
+            else "slip"
+        )
         q, v = q1, v1
     # each start exercises what it is named for
     want = {"slip": {"slip"}, "liftoff": {"none", "free"}, "stick": {"slip", "stick"}}.get(name, {"slip"})
@@ -160,8 +175,16 @@ def test_outcomes_over_random_states_are_pgs_outcomes():
     """A seeded random set across mu_P (mu in [0.1, 3]): every outcome and event time equal to the PGS engine's (event
     times are row times, so equal means the same row)."""
     rng = np.random.default_rng(2024)
-    states = [SlipState(theta=rng.uniform(0.2, 1.3), varphi=-rng.uniform(0.1, 3.0), Theta=0.7 * rng.normal(), Psi=rng.normal(),
-                        eta=rng.uniform(0.2, 3)) for _ in range(24)]
+    states = [
+        SlipState(
+            theta=rng.uniform(0.2, 1.3),
+            varphi=-rng.uniform(0.1, 3.0),
+            Theta=0.7 * rng.normal(),
+            Psi=rng.normal(),
+            eta=rng.uniform(0.2, 3),
+        )
+        for _ in range(24)
+    ]
     mu = rng.uniform(0.1, 3.0, 24)
     a = ENGINE.sweep(ROD, states, mu, horizon=1.0, timestep=3e-3, solver="closed_form", workers=1)
     b = ENGINE.sweep(ROD, states, mu, horizon=1.0, timestep=3e-3, solver="pgs", workers=1)
@@ -174,8 +197,14 @@ def test_simulate_is_a_batch_of_one():
     """``simulate`` with the closed form steps one state through the same code as a sweep: the same record rows."""
     s = SlipState(theta=0.6, varphi=-1.2, Theta=0.3, Psi=0.5, eta=1.0)
     run = ENGINE.simulate(ROD, s, 0.5, horizon=0.3, solver="closed_form")
-    sw = ENGINE.sweep(ROD, [s, SlipState(theta=1.0, varphi=-2.0, Theta=0.0, Psi=1.0, eta=0.5)], 0.5, horizon=0.3, solver="closed_form",
-                      workers=1)
+    sw = ENGINE.sweep(
+        ROD,
+        [s, SlipState(theta=1.0, varphi=-2.0, Theta=0.0, Psi=1.0, eta=0.5)],
+        0.5,
+        horizon=0.3,
+        solver="closed_form",
+        workers=1,
+    )
     assert run.outcome == sw.outcome[0] and run.solver.contact_steps == sw.solver["contact_steps"][0]
     pgs = ENGINE.simulate(ROD, s, 0.5, horizon=0.3, solver="pgs")
     np.testing.assert_allclose(run.record.theta, pgs.record.theta, rtol=0, atol=1e-12)
@@ -187,11 +216,23 @@ def test_auto_steps_every_sweep_in_closed_form_whatever_its_size_and_single_runs
     solution), so a state's outcome does not depend on the states swept with it: the first two of 16 states alone give the
     same outcomes, times and rows' solver counts; ``simulate`` goes through PGS (>= 1 iteration per contact step)."""
     rng = np.random.default_rng(3)
-    states = [SlipState(theta=rng.uniform(0.3, 1.2), varphi=-rng.uniform(0.5, 2.5), Theta=0.3 * rng.normal(), Psi=0.5 * rng.normal(),
-                        eta=rng.uniform(0.5, 2)) for _ in range(16)]
+    states = [
+        SlipState(
+            theta=rng.uniform(0.3, 1.2),
+            varphi=-rng.uniform(0.5, 2.5),
+            Theta=0.3 * rng.normal(),
+            Psi=0.5 * rng.normal(),
+            eta=rng.uniform(0.5, 2),
+        )
+        for _ in range(16)
+    ]
     assert Options().solver == "auto"
     big = ENGINE.sweep(ROD, states, 0.5, horizon=0.1, workers=1)
-    assert big.options.solver == "auto" and np.all(big.solver["max_iterations"] == 0) and np.all(big.solver["contact_steps"] > 0)
+    assert (
+        big.options.solver == "auto"
+        and np.all(big.solver["max_iterations"] == 0)
+        and np.all(big.solver["contact_steps"] > 0)
+    )
     small = ENGINE.sweep(ROD, states[:2], 0.5, horizon=0.1, workers=1)
     assert np.all(small.solver["max_iterations"] == 0)
     np.testing.assert_array_equal(small.outcome, big.outcome[:2])
@@ -253,7 +294,10 @@ def test_agreement_cuts_the_rigid_engines_store_in_its_own_chunks_and_a_rerun_re
     assert {p: p.stat().st_mtime_ns for p in (store / "chunks").iterdir()} == stamps
     np.testing.assert_array_equal(halves.outcome, run.outcome)  # every chunk in the same closed form
     doc = json.loads((other / "manifest.json").read_text())["spec"]
-    with pytest.raises(ValueError, match=r"^out .* holds a different sweep \(spec sha256 [0-9a-f]{12}, this one [0-9a-f]{12}\); use --fresh"):
+    with pytest.raises(
+        ValueError,
+        match=r"^out .* holds a different sweep \(spec sha256 [0-9a-f]{12}, this one [0-9a-f]{12}\); use --fresh",
+    ):
         sweeps.run(sweeps.parse_spec(doc), store, workers=1, progress=False)
 
 
@@ -261,5 +305,7 @@ def test_sweep_chunk_out_of_range_is_one_line_naming_it():
     from crosscheck.engines.spec import EngineSpec
 
     for bad in (0, 2.5, True, "128"):
-        with pytest.raises(ValueError, match=r"^engine 'toy' sweep_chunk must be an integer in \[1, 1000000\] or None; got "):
+        with pytest.raises(
+            ValueError, match=r"^engine 'toy' sweep_chunk must be an integer in \[1, 1000000\] or None; got "
+        ):
             EngineSpec(name="toy", module=ENGINE.module, sweep_chunk=bad)

@@ -41,7 +41,9 @@ class ToyOptions:
         return 0.0
 
 
-def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
+def simulate(
+    rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options
+) -> Run:
     """The rigid slipping rod of the paper as an engine: slip with F_z = -b/p, then what the first event says."""
     opts = options_from_kwargs(ToyOptions, options, "toy")
     horizon = float(check("horizon", horizon, POSITIVE))
@@ -65,21 +67,55 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
         acc[~before, 2] = 1e-3
     if a.outcome == Outcome.STICK:  # stuck: the plane carries the weight
         F[~before] = (0.0, 0.0, 1.0)
-    record = Record(t=t, tip_pos=np.zeros((n, 3)), tip_vel=u.copy(), tip_acc=acc, force=F, normal_force=F[:, 2].copy(),
-                    active=F[:, 2] > 0, gap=np.zeros(n), slip_vel=u, psi=psi, theta=theta, Psi=Psi, Theta=Theta)
-    cl = classify(record, mu=mu, alpha=alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=True, thresholds=th)
-    return Run.from_classification("toy", cl, record, state=state, mu=mu, alpha=alpha, options=opts, thresholds=th,
-                                   horizon=horizon, nstep=n)
+    record = Record(
+        t=t,
+        tip_pos=np.zeros((n, 3)),
+        tip_vel=u.copy(),
+        tip_acc=acc,
+        force=F,
+        normal_force=F[:, 2].copy(),
+        active=F[:, 2] > 0,
+        gap=np.zeros(n),
+        slip_vel=u,
+        psi=psi,
+        theta=theta,
+        Psi=Psi,
+        Theta=Theta,
+    )
+    cl = classify(
+        record,
+        mu=mu,
+        alpha=alpha,
+        timestep=opts.timestep,
+        friction_timeconst=opts.friction_time,
+        rigid=True,
+        thresholds=th,
+    )
+    return Run.from_classification(
+        "toy", cl, record, state=state, mu=mu, alpha=alpha, options=opts, thresholds=th, horizon=horizon, nstep=n
+    )
+
 
 def sweep(rod, states, mu, *, horizon, thresholds=None, progress=True, **options):
-    return sweep_by_simulate(engines.get("toy"), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
+    return sweep_by_simulate(
+        engines.get("toy"), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options
+    )
 
 
 #: The toy engine's whole declaration: what it is, its tolerance profile (it is the theory: no event may differ
 #: beyond its first-row rounding) and a map section at a coarse timestep.
-TOY = EngineSpec(name="toy", Options=ToyOptions, simulate=simulate, sweep=sweep, label="analytic flow (toy)", tags={"rigid", "continuous"},
-                 tolerances={k: Tolerance(atol=1e-12, rtol=0.0, why="the toy engine is the theory itself") for k in EVENT_TOLERANCE_KEYS},
-                 report=ReportPlan(maps={"quick": {"timestep": 1e-2}, "full": {"timestep": 1e-3}}))
+TOY = EngineSpec(
+    name="toy",
+    Options=ToyOptions,
+    simulate=simulate,
+    sweep=sweep,
+    label="analytic flow (toy)",
+    tags={"rigid", "continuous"},
+    tolerances={
+        k: Tolerance(atol=1e-12, rtol=0.0, why="the toy engine is the theory itself") for k in EVENT_TOLERANCE_KEYS
+    },
+    report=ReportPlan(maps={"quick": {"timestep": 1e-2}, "full": {"timestep": 1e-3}}),
+)
 
 
 @pytest.fixture
@@ -103,7 +139,13 @@ def test_registry_lists_and_refuses():
     with pytest.raises(ValueError, match="engine 'x' tags must be among .*; got 'soft'"):
         EngineSpec(name="x", Options=ToyOptions, simulate=simulate, sweep=sweep, tags={"soft"})
     with pytest.raises(ValueError, match="engine 'x' tolerance profile lacks 'event_time'"):
-        EngineSpec(name="x", Options=ToyOptions, simulate=simulate, sweep=sweep, tolerances={"liftoff_onset": None, "event_disagreement": None})
+        EngineSpec(
+            name="x",
+            Options=ToyOptions,
+            simulate=simulate,
+            sweep=sweep,
+            tolerances={"liftoff_onset": None, "event_disagreement": None},
+        )
     with pytest.raises(ValueError, match="engine 'x' needs a module or all of Options, simulate and sweep"):
         EngineSpec(name="x", Options=ToyOptions)
     with pytest.raises(ValueError, match="no registered engine named 'mujoco'"):
@@ -113,7 +155,12 @@ def test_registry_lists_and_refuses():
 def test_a_registered_engine_is_available_by_name(toy):
     builtin = {e.name for package in engines.BUILTIN for e in __import__(package, fromlist=["ENGINES"]).ENGINES}
     assert engines.names() == sorted(builtin | {"toy"}) and engines.get("toy") is toy and engines.specs()[-1] is toy
-    run = toy.simulate(Rod.scaled(3.0), SlipState(theta=0.6154797087, varphi=-math.pi / 2, Theta=0.0, Psi=1.7, eta=1.0), 0.5, horizon=0.2)
+    run = toy.simulate(
+        Rod.scaled(3.0),
+        SlipState(theta=0.6154797087, varphi=-math.pi / 2, Theta=0.0, Psi=1.7, eta=1.0),
+        0.5,
+        horizon=0.2,
+    )
     assert run.engine == "toy" and run.outcome == Outcome.LIFTOFF and run.event_time == 0.0
 
 
@@ -125,9 +172,18 @@ def test_the_agreement_study_runs_on_a_toy_engine_and_finds_it_agrees(toy):
     round as eta -> 0 (the analytic run leaves the domain through varphi = 0 or -pi, censored as SLIP)
     read as STICK first (29 of 216 here).
     """
-    g = EventGrid(theta=(0.3, 0.7, 1.1), varphi=(-math.pi / 2, -1.2), Theta=(-0.4, 0.0, 0.4), Psi=(-1.5, 0.0, 1.0), mu=(0.3, 1.0), eta=(0.05, 1.0))
-    res = agreement_study(g, engine="toy", horizon=1.0, boundary_directions=0, thresholds=Thresholds(rigid_stick_steps=1e-3))
-    run, = res.runs
+    g = EventGrid(
+        theta=(0.3, 0.7, 1.1),
+        varphi=(-math.pi / 2, -1.2),
+        Theta=(-0.4, 0.0, 0.4),
+        Psi=(-1.5, 0.0, 1.0),
+        mu=(0.3, 1.0),
+        eta=(0.05, 1.0),
+    )
+    res = agreement_study(
+        g, engine="toy", horizon=1.0, boundary_directions=0, thresholds=Thresholds(rigid_stick_steps=1e-3)
+    )
+    (run,) = res.runs
     ao = res.analytic.outcome[res.index]
     assert res.engine == run.engine == "toy" and not np.any(ao == Outcome.JAM)
     assert {Outcome.SLIP, Outcome.LIFTOFF, Outcome.STICK} <= set(ao.tolist())
@@ -160,16 +216,21 @@ def test_a_registered_engine_gets_its_own_map_section_in_a_report(toy, tmp_path)
     assert "analytic flow (toy) vs analytic" in (tmp_path / "r" / "report.md").read_text()
 
 
-@pytest.mark.parametrize("promise", ["test_record_has_the_promised_shapes_units_and_finite_values",
-                                     "test_simulate_equals_the_matching_row_of_sweep_and_repeats_exactly",
-                                     "test_a_bad_option_gets_one_line_naming_it",
-                                     "test_declaration_is_complete_and_its_libraries_are_in_provenance"])
+@pytest.mark.parametrize(
+    "promise",
+    [
+        "test_record_has_the_promised_shapes_units_and_finite_values",
+        "test_simulate_equals_the_matching_row_of_sweep_and_repeats_exactly",
+        "test_a_bad_option_gets_one_line_naming_it",
+        "test_declaration_is_complete_and_its_libraries_are_in_provenance",
+    ],
+)
 def test_the_toy_engine_keeps_the_engine_contract(toy, rod, promise):
     """The contract every built-in engine keeps (tests/test_engine_contract.py), kept by the toy from its record alone."""
     import test_engine_contract as contract
 
     fn = getattr(contract, promise)
-    fn("toy", rod) if "rod" in fn.__code__.co_varnames[:fn.__code__.co_argcount] else fn("toy")
+    fn("toy", rod) if "rod" in fn.__code__.co_varnames[: fn.__code__.co_argcount] else fn("toy")
 
 
 def test_kept_models_are_built_once_per_key_and_the_least_recently_used_dropped():
@@ -177,7 +238,7 @@ def test_kept_models_are_built_once_per_key_and_the_least_recently_used_dropped(
 
     built = []
     kept = Kept(2)
-    make = lambda k: (lambda: built.append(k) or f"model {k}")  # noqa: E731 - a builder that records its calls
+    make = lambda k: lambda: built.append(k) or f"model {k}"  # noqa: E731 - a builder that records its calls
     assert kept.get("a", make("a")) == "model a" and kept.get("a", make("a")) == "model a" and built == ["a"]
     kept.get("b", make("b"))
     kept.get("a", make("a"))  # a is now the most recently used: b goes first

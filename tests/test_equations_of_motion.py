@@ -49,7 +49,12 @@ def lagrangian_model():
 
 def random_cases(rng: np.random.Generator, n: int):
     for k in range(n):
-        rod = Rod(mass=rng.uniform(0.1, 10), length=rng.uniform(0.05, 3), inertia=rng.uniform(0.01, 5), gravity=rng.uniform(1, 30))
+        rod = Rod(
+            mass=rng.uniform(0.1, 10),
+            length=rng.uniform(0.05, 3),
+            inertia=rng.uniform(0.01, 5),
+            gravity=rng.uniform(1, 30),
+        )
         if k % 4 == 0:
             theta = rng.uniform(1e-6, 1e-2)  # rod nearly flat
         elif k % 4 == 1:
@@ -106,7 +111,12 @@ def test_tip_acceleration_broadcasts():
 def test_scaled_system_equals_scaled_dimensional_equations():
     rng = np.random.default_rng(11)
     for _ in range(300):
-        rod = Rod(mass=rng.uniform(0.1, 10), length=rng.uniform(0.05, 3), inertia=rng.uniform(0.01, 5), gravity=rng.uniform(1, 30))
+        rod = Rod(
+            mass=rng.uniform(0.1, 10),
+            length=rng.uniform(0.05, 3),
+            inertia=rng.uniform(0.01, 5),
+            gravity=rng.uniform(1, 30),
+        )
         mu = rng.uniform(0, 5)
         theta = rng.uniform(0.01, math.pi / 2 - 0.01)
         varphi = rng.uniform(-math.pi, 0)
@@ -130,9 +140,13 @@ def test_scaled_system_equals_scaled_dimensional_equations():
         state = np.array([0.3, -0.2, 0.0, psi, theta, eta, varphi, 0.0, Psi, Theta])
         rhs = dict(zip(an.SCALED_STATE, an.scaled_rhs(state, Fz, mu, rod.alpha)))
         for k, w in want.items():
-            assert rhs[k] == pytest.approx(w, rel=1e-10, abs=1e-10 * (1 + abs(Fz) * (1 + mu) * (1 + rod.alpha) + Psi**2 + Theta**2)), k
+            assert rhs[k] == pytest.approx(
+                w, rel=1e-10, abs=1e-10 * (1 + abs(Fz) * (1 + mu) * (1 + rod.alpha) + Psi**2 + Theta**2)
+            ), k
         assert rhs["x"] == pytest.approx(eta * math.cos(beta), rel=1e-14)
-        assert rhs["w"] == pytest.approx(an.p(theta, varphi, mu, rod.alpha) * Fz + an.b(Psi, Theta, theta), rel=1e-12, abs=1e-12)
+        assert rhs["w"] == pytest.approx(
+            an.p(theta, varphi, mu, rod.alpha) * Fz + an.b(Psi, Theta, theta), rel=1e-12, abs=1e-12
+        )
 
 
 def _slipping_rhs(mu, alpha):

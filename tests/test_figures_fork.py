@@ -25,7 +25,9 @@ def _figure_bytes(tmp_path, name: str) -> tuple[bytes, bytes]:
 
 
 def test_a_shared_parse_draws_every_figure_byte_for_byte_as_matplotlibs_own_caches(tmp_path, monkeypatch):
-    assert MATHTEXT_PARSES is not None, "matplotlib no longer has MathTextParser._parse_cached: the report's figures parse per renderer"
+    assert MATHTEXT_PARSES is not None, (
+        "matplotlib no longer has MathTextParser._parse_cached: the report's figures parse per renderer"
+    )
     with monkeypatch.context() as m:  # matplotlib's own: one cache per renderer (each savefig makes a new one)
         m.setattr(MathTextParser, "_parse_cached", functools.lru_cache(50)(MATHTEXT_PARSES.matplotlib_parse))
         own = _figure_bytes(tmp_path, "own")

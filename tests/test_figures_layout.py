@@ -41,8 +41,15 @@ def test_the_svg_keeps_the_pngs_layout_instead_of_laying_out_again_at_its_own_dp
     save_figure(fig, tmp_path / "ours")
     svg = (tmp_path / "ours.svg").read_text()
     # the first axes' background patch: M x0 y_bottom L x1 y_bottom L x1 y_top L x0 y_top, y down from the top
-    frame = re.search(r'<g id="axes_1">\s*<g id="patch_2">\s*<path d="M ([-\d.]+) ([-\d.]+)\s*L ([-\d.]+) [-\d.]+\s*L [-\d.]+ ([-\d.]+)', svg)
+    frame = re.search(
+        r'<g id="axes_1">\s*<g id="patch_2">\s*<path d="M ([-\d.]+) ([-\d.]+)\s*L ([-\d.]+) [-\d.]+\s*L [-\d.]+ ([-\d.]+)',
+        svg,
+    )
     x0, y_bottom, x1, y_top = (float(v) for v in frame.groups())
     # the SVG writes 6 decimals: 1e-6 pt; a layout at 72 dpi moves the frame by tenths of a point
-    assert np.allclose([x0, x1, y_top, y_bottom], [want.x0 * width, want.x1 * width, (1 - want.y1) * height, (1 - want.y0) * height],
-                       rtol=0, atol=1e-5)
+    assert np.allclose(
+        [x0, x1, y_top, y_bottom],
+        [want.x0 * width, want.x1 * width, (1 - want.y1) * height, (1 - want.y0) * height],
+        rtol=0,
+        atol=1e-5,
+    )

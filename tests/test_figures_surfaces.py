@@ -22,7 +22,9 @@ MU, ALPHA, TMAX = 1.4, 3.0, 2.2
 
 def _run(section, tmp_path):
     store = SectionStore(tmp_path / section.slug)
-    ctx = RunContext(slug=section.slug, params=section.params(True), quick=True, rng=section_rng(0, section.slug), store=store)
+    ctx = RunContext(
+        slug=section.slug, params=section.params(True), quick=True, rng=section_rng(0, section.slug), store=store
+    )
     section.run(ctx)
     return ctx
 
@@ -38,7 +40,7 @@ def bifs(tmp_path_factory):
 
 
 def test_b0_below_Psi_L_is_one_piece_clipped_where_Theta_reaches_its_top():
-    (lo, hi), = ks.b0_pieces(0.0, TMAX)
+    ((lo, hi),) = ks.b0_pieces(0.0, TMAX)
     # at Psi = 0, Theta^2 = 1/sin theta on b = 0: the top Theta_max is reached at sin theta = 1/Theta_max^2
     assert abs(lo - math.asin(1 / TMAX**2)) <= CLOSED_FORM.allowance(lo)
     assert hi == pytest.approx(math.pi / 2, abs=1e-3)
@@ -98,12 +100,21 @@ def test_bifurcation_section_checks_pass(bifs):
 @pytest.mark.parametrize("name", list(bifurcations.POINTS))
 def test_codim2_points_are_zeros_of_each_curve_function_and_a_step_off_is_not(name):
     pm, pP, through = bifurcations.POINTS[name]
-    c = {"mu_P": float(critical.mu_P(ALPHA)), "mu_L": float(critical.mu_L(ALPHA)), "Psi_L": critical.Psi_L, "Psi_P": float(critical.Psi_P(ALPHA))}
+    c = {
+        "mu_P": float(critical.mu_P(ALPHA)),
+        "mu_L": float(critical.mu_L(ALPHA)),
+        "Psi_L": critical.Psi_L,
+        "Psi_P": float(critical.Psi_P(ALPHA)),
+    }
     mu, Psi = c[pm], c[pP]
     for kind in {bifurcations.CURVES[cid][1] for cid in through}:
         assert abs(bifurcations.defining_function(kind, mu, Psi, ALPHA)) <= CLOSED_FORM.allowance(1 + Psi**2)
         # a relative step of 1e-6 off the point (in the coordinate the function depends on) leaves the curve by far more than rounding
-        off = bifurcations.defining_function(kind, mu * (1 + 1e-6), Psi, ALPHA) if kind == "P" else bifurcations.defining_function(kind, mu, Psi * (1 + 1e-6), ALPHA)
+        off = (
+            bifurcations.defining_function(kind, mu * (1 + 1e-6), Psi, ALPHA)
+            if kind == "P"
+            else bifurcations.defining_function(kind, mu, Psi * (1 + 1e-6), ALPHA)
+        )
         assert abs(off) > 1e3 * CLOSED_FORM.allowance(1 + Psi**2)
 
 
@@ -115,11 +126,18 @@ def test_every_case_boundary_of_fig_9a_is_one_of_the_curves():
     Psi = np.linspace(0.0025, 5.9975, 1200)
     M, S = np.meshgrid(mu, Psi)
     cases = critical.kinematic_case(M, S, ALPHA)
-    corners = [(float(critical.mu_P(ALPHA)), critical.Psi_L), (float(critical.mu_P(ALPHA)), float(critical.Psi_P(ALPHA))), (float(critical.mu_L(ALPHA)), critical.Psi_L)]
+    corners = [
+        (float(critical.mu_P(ALPHA)), critical.Psi_L),
+        (float(critical.mu_P(ALPHA)), float(critical.Psi_P(ALPHA))),
+        (float(critical.mu_L(ALPHA)), critical.Psi_L),
+    ]
     far = np.all([(np.abs(M - m) > 0.3) | (np.abs(S - p) > 0.3) for m, p in corners], axis=0)
     pairs = {tuple(sorted(v[4])) for v in bifurcations.CURVES.values()}
     seen = set()
-    for a, b, keep in ((cases[:, :-1], cases[:, 1:], far[:, :-1] & far[:, 1:]), (cases[:-1, :], cases[1:, :], far[:-1, :] & far[1:, :])):
+    for a, b, keep in (
+        (cases[:, :-1], cases[:, 1:], far[:, :-1] & far[:, 1:]),
+        (cases[:-1, :], cases[1:, :], far[:-1, :] & far[1:, :]),
+    ):
         diff = (a != b) & keep
         seen |= {tuple(sorted((int(x), int(y)))) for x, y in zip(a[diff], b[diff])}
     assert seen <= pairs, seen - pairs
@@ -134,7 +152,9 @@ def test_surface_meshes_below_mu_P_have_no_cylinder_and_at_mu_P_a_segment():
     assert len(_meshes(1.0, 0.0)["p0"]["theta"]) == 0 and len(_meshes(1.0, 0.0)["gb"]["theta"]) == 0
     m = _meshes(float(critical.mu_P(ALPHA)), 0.0)
     # at mu_P, p = 0 only at theta_P, varphi = -pi/2 (eqs. thetap, theta12): the cylinder is a segment
-    assert np.ptp(m["p0"]["theta"]) == 0 and m["p0"]["theta"][0] == pytest.approx(float(critical.theta_P(ALPHA)), abs=1e-12)
+    assert np.ptp(m["p0"]["theta"]) == 0 and m["p0"]["theta"][0] == pytest.approx(
+        float(critical.theta_P(ALPHA)), abs=1e-12
+    )
     assert np.allclose(m["p0"]["varphi"], -np.pi / 2, atol=1e-12)
 
 
@@ -155,16 +175,38 @@ def test_surface_meshes_cut_the_cylinder_at_b_zero_and_find_the_Psi_2_tangency_p
 def test_interactive_page_is_self_contained_with_one_tooltip_per_start():
     from crosscheck.report.interactive import GridMap, Panel, engine_line, outcome_maps_page, start_tooltip
 
-    t = {"theta": np.array([1.0, 1.1]), "varphi": np.array([-1.9, -1.9]), "Theta": np.array([0.0, 0.5]), "Psi": np.array([0.0, 0.0]),
-         "mu": np.array([1.4, 1.4]), "eta": np.array([1.0, 1.0]), "b0": np.array([-0.5, 0.2]), "p0": np.array([0.3, 0.3]),
-         "slipping": np.array([1, 0]), "analytic_outcome": np.array([1, 0]), "analytic_time": np.array([0.25, np.nan]),
-         "analytic_reason": np.array(["b=0", ""]), "comparison_time": np.array([0.25, 0.0]), "mujoco": np.array([1, -2]), "mujoco_time": np.array([0.26, np.nan])}
-    tips = [[start_tooltip(t, 0) + "\n" + engine_line(t, 0, "mujoco", "MuJoCo"), start_tooltip(t, 1) + "\n" + engine_line(t, 1, "mujoco", "MuJoCo")]]
+    t = {
+        "theta": np.array([1.0, 1.1]),
+        "varphi": np.array([-1.9, -1.9]),
+        "Theta": np.array([0.0, 0.5]),
+        "Psi": np.array([0.0, 0.0]),
+        "mu": np.array([1.4, 1.4]),
+        "eta": np.array([1.0, 1.0]),
+        "b0": np.array([-0.5, 0.2]),
+        "p0": np.array([0.3, 0.3]),
+        "slipping": np.array([1, 0]),
+        "analytic_outcome": np.array([1, 0]),
+        "analytic_time": np.array([0.25, np.nan]),
+        "analytic_reason": np.array(["b=0", ""]),
+        "comparison_time": np.array([0.25, 0.0]),
+        "mujoco": np.array([1, -2]),
+        "mujoco_time": np.array([0.26, np.nan]),
+    }
+    tips = [
+        [
+            start_tooltip(t, 0) + "\n" + engine_line(t, 0, "mujoco", "MuJoCo"),
+            start_tooltip(t, 1) + "\n" + engine_line(t, 1, "mujoco", "MuJoCo"),
+        ]
+    ]
     assert "analytic: liftoff at t = 0.25 (b=0)" in tips[0][0] and "MuJoCo: liftoff at t = 0.26" in tips[0][0]
     assert "not compared" in tips[0][1] and "b >= 0" in tips[0][1]
     codes = np.array([[1.0, np.nan]])  # a cell with no start is not drawn
-    page = outcome_maps_page("t", [GridMap("m", "theta", "Theta", np.array([1.0, 1.1]), np.array([0.0]), [Panel("a", codes)], tips)],
-                             colors={1: (1, 0.5, 0), -2: (0.8, 0.8, 0.8)}, names={1: "liftoff", -2: "not compared"})
+    page = outcome_maps_page(
+        "t",
+        [GridMap("m", "theta", "Theta", np.array([1.0, 1.1]), np.array([0.0]), [Panel("a", codes)], tips)],
+        colors={1: (1, 0.5, 0), -2: (0.8, 0.8, 0.8)},
+        names={1: "liftoff", -2: "not compared"},
+    )
     assert page.count("<title>") == 2  # the page's own and one cell's
     assert "b &gt;= 0" not in page.split("<title>", 2)[2]  # only the drawn cell carries a tooltip
     assert "<script" not in page and " src=" not in page and "<link" not in page

@@ -35,8 +35,16 @@ def with_eta(x, eta):
 
 
 def random_gb_points(rng, n):
-    return np.column_stack([rng.uniform(0.2, 3, n), rng.uniform(-3, 0, n), rng.uniform(-1, 1, n),
-                            rng.uniform(-2, 2, n), rng.uniform(0.2, 1.4, n), rng.uniform(-2, 2, n)])
+    return np.column_stack(
+        [
+            rng.uniform(0.2, 3, n),
+            rng.uniform(-3, 0, n),
+            rng.uniform(-1, 1, n),
+            rng.uniform(-2, 2, n),
+            rng.uniform(0.2, 1.4, n),
+            rng.uniform(-2, 2, n),
+        ]
+    )
 
 
 # ------------------------------------------------------------- f, J, A, B, K ---
@@ -103,8 +111,16 @@ def test_lemma_eigenvalues_of_J_are_those_of_K_and_four_zeros(mu, Psi):
 
 def test_K_symmetry_eq_group():
     rng = np.random.default_rng(3)
-    theta, varphi, Psi, Theta, eta = rng.uniform(0.2, 1.4, 30), rng.uniform(-3, 0, 30), rng.normal(size=30), rng.normal(size=30), 2.0
-    assert CLOSED_FORM.ok(gb.K(theta, varphi, Psi, Theta, eta, 1.7, ALPHA), gb.K(theta, -math.pi - varphi, -Psi, Theta, eta, 1.7, ALPHA))
+    theta, varphi, Psi, Theta, eta = (
+        rng.uniform(0.2, 1.4, 30),
+        rng.uniform(-3, 0, 30),
+        rng.normal(size=30),
+        rng.normal(size=30),
+        2.0,
+    )
+    assert CLOSED_FORM.ok(
+        gb.K(theta, varphi, Psi, Theta, eta, 1.7, ALPHA), gb.K(theta, -math.pi - varphi, -Psi, Theta, eta, 1.7, ALPHA)
+    )
 
 
 # ------------------------------------------------------------------- det K ---
@@ -112,7 +128,13 @@ def test_K_symmetry_eq_group():
 
 def test_det_K_identity_and_the_printed_prefactor():
     rng = np.random.default_rng(4)
-    args = (rng.uniform(0.2, 1.4, 50), rng.uniform(-3, 0, 50), rng.normal(size=50), rng.normal(size=50), rng.uniform(0.1, 5, 50))
+    args = (
+        rng.uniform(0.2, 1.4, 50),
+        rng.uniform(-3, 0, 50),
+        rng.normal(size=50),
+        rng.normal(size=50),
+        rng.uniform(0.1, 5, 50),
+    )
     for mu in (1.0, 1.4, 6.0):
         Km = gb.K(*args, mu, ALPHA)
         want = Km[..., 0, 0] * Km[..., 1, 1] - Km[..., 0, 1] * Km[..., 1, 0]
@@ -124,7 +146,13 @@ def test_det_K_identity_and_the_printed_prefactor():
 def test_det_K_is_a_multiple_of_the_conic_eq_detK0():
     # det K = (eta cos^5 theta / sin theta) (A Psi^2 + B Psi Theta + Gamma Psi - Delta Theta^2 - E Theta)
     rng = np.random.default_rng(5)
-    theta, varphi, Psi, Theta, eta = rng.uniform(0.2, 1.4, 50), rng.uniform(-3, 0, 50), rng.normal(size=50), rng.normal(size=50), rng.uniform(0.1, 5, 50)
+    theta, varphi, Psi, Theta, eta = (
+        rng.uniform(0.2, 1.4, 50),
+        rng.uniform(-3, 0, 50),
+        rng.normal(size=50),
+        rng.normal(size=50),
+        rng.uniform(0.1, 5, 50),
+    )
     for mu in (1.4, 6.0):
         factor = eta * np.cos(theta) ** 5 / np.sin(theta)
         got = factor * gb.detK0_residual(theta, varphi, Psi, Theta, eta, mu, ALPHA)
@@ -139,7 +167,9 @@ def test_b0_ellipse_eq_B():
     assert CLOSED_FORM.ok(analytic.b(Psi, Theta, theta), (M * Psi**2 + Theta**2 - N) * np.sin(theta))
 
 
-@pytest.mark.parametrize("mu, Psi, eta", [(1.7, 1.062, 10.0), (1.4, 1.78, 1.0), (6.0, 1.8997, 1.0), (1.4, 0.0, 1.0)], ids=str)
+@pytest.mark.parametrize(
+    "mu, Psi, eta", [(1.7, 1.062, 10.0), (1.4, 1.78, 1.0), (6.0, 1.8997, 1.0), (1.4, 0.0, 1.0)], ids=str
+)
 def test_quartic_roots_are_the_det_K_zeros_along_the_manifold(mu, Psi, eta):
     # zeros of det K found by bisection along each GB curve are roots of eq. Psiquartic at their (theta, varphi)
     found = 0
@@ -190,10 +220,16 @@ def test_ghastly_locates_the_zeros_of_det_K_at_Psi_0(mu, eta):
 
 @pytest.mark.parametrize(
     "Km, want",
-    [([[-1, 0], [0, -2]], GBType.STABLE_NODE), ([[1, 0], [0, 2]], GBType.UNSTABLE_NODE),
-     ([[1, 0], [0, -2]], GBType.SADDLE), ([[-1, -2], [2, -1]], GBType.STABLE_FOCUS),
-     ([[1, -2], [2, 1]], GBType.UNSTABLE_FOCUS), ([[0, 1], [0, -1]], GBType.DEGENERATE),
-     ([[0, -1], [1, 0]], GBType.DEGENERATE), ([[-1, 0], [1, -1]], GBType.STABLE_NODE)],
+    [
+        ([[-1, 0], [0, -2]], GBType.STABLE_NODE),
+        ([[1, 0], [0, 2]], GBType.UNSTABLE_NODE),
+        ([[1, 0], [0, -2]], GBType.SADDLE),
+        ([[-1, -2], [2, -1]], GBType.STABLE_FOCUS),
+        ([[1, -2], [2, 1]], GBType.UNSTABLE_FOCUS),
+        ([[0, 1], [0, -1]], GBType.DEGENERATE),
+        ([[0, -1], [1, 0]], GBType.DEGENERATE),
+        ([[-1, 0], [1, -1]], GBType.STABLE_NODE),
+    ],
     ids=["snode", "unode", "saddle", "sfocus", "ufocus", "zero-eig", "centre", "jordan"],
 )
 def test_classify_known_matrices(Km, want):
@@ -263,8 +299,18 @@ def _off_planar_points(sign):
         for c in gb.gb_manifold(mu, Psi, ALPHA, n=41):
             keep = (sign * c.Theta > 1e-4) & (np.abs(np.cos(c.varphi)) > 1e-3)
             for eta in ETAS:
-                out.append(np.column_stack([c.theta[keep], c.varphi[keep], 0 * c.theta[keep] + Psi, c.Theta[keep],
-                                            0 * c.theta[keep] + eta, 0 * c.theta[keep] + mu]))
+                out.append(
+                    np.column_stack(
+                        [
+                            c.theta[keep],
+                            c.varphi[keep],
+                            0 * c.theta[keep] + Psi,
+                            c.Theta[keep],
+                            0 * c.theta[keep] + eta,
+                            0 * c.theta[keep] + mu,
+                        ]
+                    )
+                )
     return np.concatenate(out)
 
 
@@ -341,14 +387,26 @@ def test_manifold_thresholds_are_the_critical_values():
 
 @pytest.mark.parametrize(
     "mu, theta, varphi",
-    [(1.4, 0.9702, -HALF_PI), (1.4, 1.0094, -1.7832), (1.4, 1.0953, -1.8793), (1.4, 1.1872, -1.7978), (1.4, 1.2209, -HALF_PI),
-     (1.7, 0.7692, -HALF_PI), (1.7, 0.8517, -1.9969), (1.7, 1.0227, -2.2143), (1.7, 1.2562, -2.1107), (1.7, 1.3333, -HALF_PI)],
+    [
+        (1.4, 0.9702, -HALF_PI),
+        (1.4, 1.0094, -1.7832),
+        (1.4, 1.0953, -1.8793),
+        (1.4, 1.1872, -1.7978),
+        (1.4, 1.2209, -HALF_PI),
+        (1.7, 0.7692, -HALF_PI),
+        (1.7, 0.8517, -1.9969),
+        (1.7, 1.0227, -2.2143),
+        (1.7, 1.2562, -2.1107),
+        (1.7, 1.3333, -HALF_PI),
+    ],
     ids=str,
 )
 def test_printed_GB_points_of_figs_8_9_lie_on_p_0(mu, theta, varphi):
     # to printed precision: |p| <= |grad p| * 5e-5 (half a unit in the 4th decimal of theta and varphi)
-    p_theta = ALPHA * (math.cos(theta) * (mu * math.cos(theta) * math.sin(varphi) - math.sin(theta))
-                       + math.sin(theta) * (-mu * math.sin(theta) * math.sin(varphi) - math.cos(theta)))
+    p_theta = ALPHA * (
+        math.cos(theta) * (mu * math.cos(theta) * math.sin(varphi) - math.sin(theta))
+        + math.sin(theta) * (-mu * math.sin(theta) * math.sin(varphi) - math.cos(theta))
+    )
     p_varphi = ALPHA * mu * math.sin(theta) * math.cos(theta) * math.cos(varphi)
     assert abs(analytic.p(theta, varphi, mu, ALPHA)) <= 5e-5 * (abs(p_theta) + abs(p_varphi))
 

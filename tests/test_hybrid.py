@@ -33,13 +33,30 @@ def test_a_corollary_jam_goes_through_the_impact_that_iwc_computes():
     # e = 0: the slip stops inside the cone; at rest the tip would need a pull (b > 0): it leaves the plane at once, as the
     # rigid engine's tip does (tests/test_theory_sticking.py)
     assert seg.impact.eta == 0.0 and abs(seg.impact.w) < 1e-12
-    assert (h.outcome, h.reason) == (Outcome.LIFTOFF, "impact: at rest with b > 0 (sticking would need F_n < 0)") and h.time == pytest.approx(t_jam)
+    assert (h.outcome, h.reason) == (
+        Outcome.LIFTOFF,
+        "impact: at rest with b > 0 (sticking would need F_n < 0)",
+    ) and h.time == pytest.approx(t_jam)
     # a restitution > 0 makes the tip rebound: lift-off at the jam
     assert run(s, 1.7, ALPHA, horizon=2.0, restitution=0.5).reason == "impact: rebound (w > 0)"
 
 
 def test_cli_continue_prints_the_impact_and_bad_restitution_is_named(capsys):
-    args = ["slip", "--theta", "1.1067", "--varphi", "-1.8913", "--Theta", "0.9", "--Psi", "-0.1027", "--eta", "2.1307", "--mu", "1.4"]
+    args = [
+        "slip",
+        "--theta",
+        "1.1067",
+        "--varphi",
+        "-1.8913",
+        "--Theta",
+        "0.9",
+        "--Psi",
+        "-0.1027",
+        "--eta",
+        "2.1307",
+        "--mu",
+        "1.4",
+    ]
     assert main(args + ["--continue"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert out[0].startswith("slip from t = 0 to 0.000434") and "impact without collision: P = 0.5712" in out[1]

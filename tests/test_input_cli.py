@@ -51,7 +51,11 @@ def _one_line(capsys) -> str:
     return err
 
 
-@pytest.mark.parametrize("out", ["", "/proc/x/y", "FILE/sub", "n" * 300, "DIR/"], ids=["empty", "proc", "under-a-file", "too-long", "a-directory"])
+@pytest.mark.parametrize(
+    "out",
+    ["", "/proc/x/y", "FILE/sub", "n" * 300, "DIR/"],
+    ids=["empty", "proc", "under-a-file", "too-long", "a-directory"],
+)
 def test_compare_out_is_checked_as_every_out(stores, out, capsys):
     out = out.replace("FILE", str(stores / "spec.toml")).replace("DIR", str(stores))
     if out.startswith("n"):
@@ -63,7 +67,11 @@ def test_compare_out_is_checked_as_every_out(stores, out, capsys):
 def test_compare_stores_whose_names_are_too_long(stores, capsys):
     assert main(["compare", str(stores / ("n" * 300)), str(stores / "b")]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and err.startswith("crosscheck: error: DIR_A must be a sweep store") and "File name too long" in err
+    assert (
+        err.count("\n") == 1
+        and err.startswith("crosscheck: error: DIR_A must be a sweep store")
+        and "File name too long" in err
+    )
 
 
 def test_compare_out_on_a_read_only_mount(stores, read_only, capsys):
@@ -80,10 +88,15 @@ def test_compare_writes_where_it_is_told(stores, capsys):
 
 def test_a_too_long_out_in_python_is_one_store_error(tmp_path):
     with pytest.raises(sweeps.StoreError, match="File name too long"):
-        sweeps.run(sweeps.parse_spec(__import__("tomllib").loads(SPEC)), tmp_path / ("n" * 300), workers=1, progress=False)
+        sweeps.run(
+            sweeps.parse_spec(__import__("tomllib").loads(SPEC)), tmp_path / ("n" * 300), workers=1, progress=False
+        )
 
 
-@pytest.mark.parametrize("address", ["tcp://[::1]:8786", "[::1]:8786", "tcp://127.0.0.1:8786", "localhost:8786", "tcp://scheduler.example.org:1"])
+@pytest.mark.parametrize(
+    "address",
+    ["tcp://[::1]:8786", "[::1]:8786", "tcp://127.0.0.1:8786", "localhost:8786", "tcp://scheduler.example.org:1"],
+)
 def test_scheduler_addresses_dask_takes_are_taken(address):
     from crosscheck.sweeps.runner import check_scheduler
 
@@ -100,7 +113,10 @@ def test_an_ipv6_scheduler_is_reached():
     with server:
         port = server.getsockname()[1]
         assert check_reachable(f"tcp://[::1]:{port}", timeout=2) == f"tcp://[::1]:{port}"
-    with pytest.raises(ValueError, match=r"scheduler must be a reachable Dask scheduler; nothing accepts connections at 'tcp://\[::1\]:\d+'"):
+    with pytest.raises(
+        ValueError,
+        match=r"scheduler must be a reachable Dask scheduler; nothing accepts connections at 'tcp://\[::1\]:\d+'",
+    ):
         check_reachable(f"tcp://[::1]:{port}", timeout=2)
 
 
@@ -114,11 +130,18 @@ def test_ascii_numbers_are_read_as_written(text, capsys):
 def test_other_digits_underscores_and_long_text_are_refused_naming_the_option(text, capsys):
     assert main(["critical", "--mu", text, "--alpha", "3"]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("crosscheck: error: argument --mu: must be a number written with ASCII digits (sign, point, exponent; no underscores), "
-                          "at most 100 characters; got ") and err.count("\n") == 1
+    assert (
+        err.startswith(
+            "crosscheck: error: argument --mu: must be a number written with ASCII digits (sign, point, exponent; no underscores), "
+            "at most 100 characters; got "
+        )
+        and err.count("\n") == 1
+    )
 
 
 def test_the_rule_is_documented_where_it_is_applied():
     from crosscheck.cli import options
 
-    assert "ASCII" in options.__doc__ and "underscores" in options.__doc__ and Path(options.__file__).name == "options.py"
+    assert (
+        "ASCII" in options.__doc__ and "underscores" in options.__doc__ and Path(options.__file__).name == "options.py"
+    )

@@ -9,7 +9,9 @@ from crosscheck.cli import main
 SPEC = '[sweep]\nengine = "analytic"\nhorizon = 0.5\n[states]\nfile = "states.csv"\n[parameters]\nmu = 0.5\n'
 
 
-@pytest.mark.parametrize("cell", ["\u0661", "1_0", "\uff11", "\u00b2"], ids=["arabic-indic", "underscore", "full-width", "superscript"])
+@pytest.mark.parametrize(
+    "cell", ["\u0661", "1_0", "\uff11", "\u00b2"], ids=["arabic-indic", "underscore", "full-width", "superscript"]
+)
 def test_a_states_cell_in_other_digits_is_named(tmp_path, capsys, cell):
     (tmp_path / "states.csv").write_text(f"theta,varphi,Theta,Psi,eta\n1.0,-1.5,0,0,{cell}\n", encoding="utf-8")
     (tmp_path / "spec.toml").write_text(SPEC)

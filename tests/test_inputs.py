@@ -29,10 +29,19 @@ from crosscheck.coordinates import from_generalized, paper_to_qv, qv_to_paper, t
         (lambda: Rod.scaled(alpha=0), "alpha must be in [0.001, 1000]; got 0.0"),
         (lambda: SlipState(theta=2.0, varphi=-1, Theta=0, Psi=0, eta=1), "theta must be in (0, pi/2); got 2.0"),
         (lambda: SlipState(theta=1.0, varphi=0.5, Theta=0, Psi=0, eta=1), "varphi must be in (-pi, 0]; got 0.5"),
-        (lambda: SlipState(theta=1.0, varphi=-math.pi, Theta=0, Psi=0, eta=1), f"varphi must be in (-pi, 0]; got {-math.pi!r}"),
+        (
+            lambda: SlipState(theta=1.0, varphi=-math.pi, Theta=0, Psi=0, eta=1),
+            f"varphi must be in (-pi, 0]; got {-math.pi!r}",
+        ),
         (lambda: SlipState(theta=1.0, varphi=-1, Theta=0, Psi=0, eta=-1), "eta must be in [0, inf); got -1.0"),
-        (lambda: SlipState(theta=1.0, varphi=-1, Theta=math.nan, Psi=0, eta=1), "Theta must be in (-inf, inf); got nan"),
-        (lambda: analytic.tip_acceleration(Rod(), 0, 1, 0, 0, [1, 2]), "force must have shape (..., 3) (Fx, Fy, Fz in the world frame); got (2,)"),
+        (
+            lambda: SlipState(theta=1.0, varphi=-1, Theta=math.nan, Psi=0, eta=1),
+            "Theta must be in (-inf, inf); got nan",
+        ),
+        (
+            lambda: analytic.tip_acceleration(Rod(), 0, 1, 0, 0, [1, 2]),
+            "force must have shape (..., 3) (Fx, Fy, Fz in the world frame); got (2,)",
+        ),
         (lambda: analytic.scaled_rhs(np.zeros(9), 0, 1, 3), "state must have shape (..., 10) ordered as"),
     ],
 )
@@ -48,8 +57,24 @@ def test_a_plain_number_is_checked_as_the_same_number_in_an_array(interval):
     from crosscheck import checks
 
     iv = getattr(checks, interval)
-    edges = [iv.lo, iv.hi, math.nextafter(iv.lo, math.inf), math.nextafter(iv.hi, -math.inf), math.nextafter(iv.lo, -math.inf),
-             math.nextafter(iv.hi, math.inf), 0.0, -0.0, 1.0, -1.0, 0, 1, -1, math.nan, math.inf, -math.inf]
+    edges = [
+        iv.lo,
+        iv.hi,
+        math.nextafter(iv.lo, math.inf),
+        math.nextafter(iv.hi, -math.inf),
+        math.nextafter(iv.lo, -math.inf),
+        math.nextafter(iv.hi, math.inf),
+        0.0,
+        -0.0,
+        1.0,
+        -1.0,
+        0,
+        1,
+        -1,
+        math.nan,
+        math.inf,
+        -math.inf,
+    ]
     for v in edges + [np.float64(e) for e in edges]:
         try:
             got = ("ok", float(checks.check("x", v, iv)))
@@ -84,7 +109,14 @@ def test_coordinates_round_trip():
     rng = np.random.default_rng(3)
     rod = Rod(mass=2.0, length=0.7, inertia=0.2, gravity=9.81)
     for _ in range(100):
-        s = SlipState(theta=rng.uniform(0.01, 1.56), varphi=rng.uniform(-3.14, 0), Theta=rng.normal(), Psi=rng.normal(), eta=rng.uniform(0.01, 3), psi=rng.uniform(-3, 3))
+        s = SlipState(
+            theta=rng.uniform(0.01, 1.56),
+            varphi=rng.uniform(-3.14, 0),
+            Theta=rng.normal(),
+            Psi=rng.normal(),
+            eta=rng.uniform(0.01, 3),
+            psi=rng.uniform(-3, 3),
+        )
         q, v = to_generalized(rod, s, tip=(0.5, -0.2, 0.0))
         d = qv_to_paper(rod, q, v)
         assert d["z"] == pytest.approx(0.0, abs=1e-15) and d["w"] == pytest.approx(0.0, abs=1e-14)
@@ -101,14 +133,24 @@ def test_coordinates_vectorise():
     np.testing.assert_allclose(qv_to_paper(rod, q, v)["Psi"], np.linspace(-1, 1, 5), rtol=1e-15)
 
 
-@pytest.mark.parametrize("argv, message", [
-    (["validate", "pinocchio", "--states", "1e3"], "states must be an integer in [1, 1000000]; got '1e3'"),
-    (["validate", "mujoco", "--states", "0"], "states must be an integer in [1, 1000000]; got '0'"),
-    (["validate", "mujoco", "--seed", "-1"], "seed must be an integer in [0, 9223372036854775807]; got '-1'"),
-    (["report", "--seed", "1.5", "--out", "unused"], "seed must be an integer in [0, 9223372036854775807]; got '1.5'"),
-    (["report", "--workers", "0", "--out", "unused"], "workers must be an integer in [1, 1024]; got '0'"),
-    (["sweep", "examples/sweep.toml", "--out", "unused", "--workers", "abc"], "workers must be an integer in [1, 1024]; got 'abc'"),
-], ids=["states-float", "states-zero", "seed-negative", "report-seed", "report-workers", "sweep-workers"])
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["validate", "pinocchio", "--states", "1e3"], "states must be an integer in [1, 1000000]; got '1e3'"),
+        (["validate", "mujoco", "--states", "0"], "states must be an integer in [1, 1000000]; got '0'"),
+        (["validate", "mujoco", "--seed", "-1"], "seed must be an integer in [0, 9223372036854775807]; got '-1'"),
+        (
+            ["report", "--seed", "1.5", "--out", "unused"],
+            "seed must be an integer in [0, 9223372036854775807]; got '1.5'",
+        ),
+        (["report", "--workers", "0", "--out", "unused"], "workers must be an integer in [1, 1024]; got '0'"),
+        (
+            ["sweep", "examples/sweep.toml", "--out", "unused", "--workers", "abc"],
+            "workers must be an integer in [1, 1024]; got 'abc'",
+        ),
+    ],
+    ids=["states-float", "states-zero", "seed-negative", "report-seed", "report-workers", "sweep-workers"],
+)
 def test_integer_options_name_their_range(argv, message, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(Path(__file__).parents[1])
     from crosscheck.cli import main

@@ -33,7 +33,9 @@ def _settings(spec):
 def test_every_laddered_cause_has_an_intervention_the_engine_accepts(name):
     spec = engines.get(name)
     rungs = [c for c in LADDER_CAUSES if c in spec.ladder]
-    assert set(spec.interventions or ()) == set(rungs), f"{name}: interventions for {sorted(spec.interventions or ())}, ladder {rungs}"
+    assert set(spec.interventions or ()) == set(rungs), (
+        f"{name}: interventions for {sorted(spec.interventions or ())}, ladder {rungs}"
+    )
     for base in _settings(spec):
         given = {k: getattr(base, k) for k in base.__dataclass_fields__}
         for cause in rungs:
@@ -43,17 +45,26 @@ def test_every_laddered_cause_has_an_intervention_the_engine_accepts(name):
                 spec.options(**{**given, **iv.options})  # valid options of the engine (ValueError otherwise)
 
 
-@pytest.mark.parametrize("p_min", [None, 0.01, 2.0], ids=["start unknown", "slip close to p = 0", "slip far from p = 0"])
+@pytest.mark.parametrize(
+    "p_min", [None, 0.01, 2.0], ids=["start unknown", "slip close to p = 0", "slip far from p = 0"]
+)
 @pytest.mark.parametrize("name", LADDERED, ids=str)
 def test_each_intervention_moves_the_engine_the_way_its_cause_names(name, p_min):
     """Geometry: a thinner capsule; compliance: a shorter contact time; discretisation: a shorter step; weakest first."""
     spec = engines.get(name)
     for base in _settings(spec):
-        for cause, attr, smaller in (("geometry", "radius", True), ("compliance", "contact_time", True), ("discretisation", "timestep", True)):
+        for cause, attr, smaller in (
+            ("geometry", "radius", True),
+            ("compliance", "contact_time", True),
+            ("discretisation", "timestep", True),
+        ):
             if cause not in (spec.interventions or {}):
                 continue
             given = {k: getattr(base, k) for k in base.__dataclass_fields__}
-            values = [getattr(spec.options(**{**given, **iv.options}), attr) for iv in spec.interventions_for(cause, base, p_min=p_min)]
+            values = [
+                getattr(spec.options(**{**given, **iv.options}), attr)
+                for iv in spec.interventions_for(cause, base, p_min=p_min)
+            ]
             now = getattr(base, attr)
             assert all(v < now for v in values) and values == sorted(values, reverse=True), (cause, now, values)
 
@@ -68,14 +79,27 @@ def test_a_spring_contact_gets_its_strongest_stiffening_again_at_the_closest_app
         assert [iv.options for iv in given] == [iv.options for iv in spec.interventions_for("compliance", base)]
         assert math.isclose(closest.options["stiffness"], strongest["stiffness"] * slower**2, rel_tol=1e-12)
         assert math.isclose(closest.options["timestep"], strongest["timestep"] / slower, rel_tol=1e-12)
-    for p_min in (1.0, 3.5, math.nan, 0.0, -0.2):  # far from p = 0, unknown, or a slip that reaches it (a jam: its own lag)
+    for p_min in (
+        1.0,
+        3.5,
+        math.nan,
+        0.0,
+        -0.2,
+    ):  # far from p = 0, unknown, or a slip that reaches it (a jam: its own lag)
         assert spec.interventions_for("compliance", base, p_min=p_min) == spec.interventions_for("compliance", base)
 
 
 def test_an_intervention_outside_the_ladder_is_refused():
-    with pytest.raises(ValueError, match=r"^engine 'toy' intervention causes must be among its ladder's \(geometry\); got 'compliance'$"):
-        EngineSpec(name="toy", module="crosscheck.engines.bullet.engine", ladder={"geometry": "capsule"},
-                   interventions={"compliance": "x:y"})
+    with pytest.raises(
+        ValueError,
+        match=r"^engine 'toy' intervention causes must be among its ladder's \(geometry\); got 'compliance'$",
+    ):
+        EngineSpec(
+            name="toy",
+            module="crosscheck.engines.bullet.engine",
+            ladder={"geometry": "capsule"},
+            interventions={"compliance": "x:y"},
+        )
 
 
 #: A start where Drake SAP launches the tip off the plane while the theory slips (the quick report's SAP ladder: rung 5,
@@ -135,19 +159,32 @@ def test_a_stick_where_the_theory_slips_slower_than_the_stick_floor_is_compared_
     assert r["theory"] == "SLIP" and r["theory_eta_min"] < r["stick_floor"] and r["theory_below_floor_time"] < raw.time
     run = engines.get("pinocchio").simulate(Rod.scaled(3.0), state, mu, horizon=raw.time + 0.05)
     assert run.outcome == Outcome.STICK and abs(run.event_time - r["theory_below_floor_time"]) <= 2 * opts.timestep
-    since = float(stick_from(Outcome.SLIP, raw.time, r["theory_below_floor_time"], event_lag(opts.contact_time, opts.timestep)))
+    since = float(
+        stick_from(Outcome.SLIP, raw.time, r["theory_below_floor_time"], event_lag(opts.contact_time, opts.timestep))
+    )
     assert compared_label(run.outcome, run.event_time, raw.time, since) == Outcome.SLIP
     assert compared_label(Outcome.STICK, run.event_time - 0.1, raw.time, since) == Outcome.STICK
     # a slip whose speed stays above the floor (eta >= 0.18 to its chart exit at 0.42) has no such STICK
-    other = intervene("mujoco", SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=1.453125, eta=1.0), 1.359375, causes=())
-    assert other["theory"] == "SLIP" and other["theory_eta_min"] > other["stick_floor"] and other["theory_below_floor_time"] != other["theory_below_floor_time"]
+    other = intervene(
+        "mujoco", SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=1.453125, eta=1.0), 1.359375, causes=()
+    )
+    assert (
+        other["theory"] == "SLIP"
+        and other["theory_eta_min"] > other["stick_floor"]
+        and other["theory_below_floor_time"] != other["theory_below_floor_time"]
+    )
 
 
 def test_a_refused_intervention_is_reported_not_raised():
     state, mu = SAP_LAUNCH
     spec = engines.get("drake_sap")
-    toy = EngineSpec(name="toy_bad_intervention", module=spec.module, defaults=spec.defaults, ladder={"geometry": "capsule"},
-                     interventions={"geometry": f"{__name__}:_bad"})
+    toy = EngineSpec(
+        name="toy_bad_intervention",
+        module=spec.module,
+        defaults=spec.defaults,
+        ladder={"geometry": "capsule"},
+        interventions={"geometry": f"{__name__}:_bad"},
+    )
     engines.register(toy)
     try:
         r = intervene("toy_bad_intervention", state, mu)
@@ -163,18 +200,28 @@ def _bad(options):
 
 def _result(cause, fixes: dict):
     """fixes: cause -> (removes at the weaker step, removes at the stronger)."""
-    return {"cause": cause, "interventions": {"theory": "SLIP", "causes": {c: [{"text": f"{c} weaker", "removes": w}, {"text": f"{c} stronger", "removes": s}]
-                                                                       for c, (w, s) in fixes.items()}}}
+    return {
+        "cause": cause,
+        "interventions": {
+            "theory": "SLIP",
+            "causes": {
+                c: [{"text": f"{c} weaker", "removes": w}, {"text": f"{c} stronger", "removes": s}]
+                for c, (w, s) in fixes.items()
+            },
+        },
+    }
 
 
 def test_summary_counts_confirmed_misattributed_and_unremoved():
     no, yes, weak = (False, False), (False, True), (True, False)
-    results = [_result("geometry", {"geometry": yes, "compliance": no}),
-               _result("geometry", {"geometry": weak, "compliance": no}),
-               _result("geometry", {"geometry": no, "compliance": yes}),
-               _result("compliance", {"geometry": no, "compliance": no}),
-               _result("unexplained", {"geometry": yes, "compliance": no}),
-               _result("friction law", {"geometry": no, "compliance": no})]
+    results = [
+        _result("geometry", {"geometry": yes, "compliance": no}),
+        _result("geometry", {"geometry": weak, "compliance": no}),
+        _result("geometry", {"geometry": no, "compliance": yes}),
+        _result("compliance", {"geometry": no, "compliance": no}),
+        _result("unexplained", {"geometry": yes, "compliance": no}),
+        _result("friction law", {"geometry": no, "compliance": no}),
+    ]
     s = summarise(results)
     assert s["attributed"] == 5 and s["confirmed"] == 2 and math.isclose(s["confirmed_share"], 0.4)
     g = s["per_cause"]["geometry"]
@@ -182,17 +229,28 @@ def test_summary_counts_confirmed_misattributed_and_unremoved():
     assert s["per_cause"]["compliance"]["none"] == 1
     assert s["per_cause"]["unexplained"]["by_other"] == {"geometry": 1}
     assert s["per_cause"]["friction law"]["no_intervention"] == 1
-    assert (s["n"], s["removed_by_any"]) == (6, 4)  # all but the compliance and friction-law starts no intervention removes
-    assert g["by_intervention"] == {"geometry weaker": 1, "geometry stronger": 1}  # each of the cause's own, over its starts
+    assert (s["n"], s["removed_by_any"]) == (
+        6,
+        4,
+    )  # all but the compliance and friction-law starts no intervention removes
+    assert g["by_intervention"] == {
+        "geometry weaker": 1,
+        "geometry stronger": 1,
+    }  # each of the cause's own, over its starts
     assert g["tried"] == {"geometry weaker": 3, "geometry stronger": 3}
 
 
 def test_summary_counts_a_step_only_some_starts_get_out_of_those_starts():
     near = _result("compliance", {"compliance": (False, False)})
-    near["interventions"]["causes"]["compliance"].append({"text": "compliance at the closest approach", "removes": True})
+    near["interventions"]["causes"]["compliance"].append(
+        {"text": "compliance at the closest approach", "removes": True}
+    )
     far = _result("compliance", {"compliance": (False, True)})
     row = summarise([near, far])["per_cause"]["compliance"]
-    assert row["by_intervention"]["compliance at the closest approach"] == 1 and row["tried"]["compliance at the closest approach"] == 1
+    assert (
+        row["by_intervention"]["compliance at the closest approach"] == 1
+        and row["tried"]["compliance at the closest approach"] == 1
+    )
     assert row["tried"]["compliance stronger"] == 2 and row["confirmed"] == 2
 
 
@@ -204,7 +262,13 @@ def test_summary_counts_a_disagreement_removed_only_jointly_apart_from_confirmed
     still["interventions"]["joint"] = [{"with": "compliance", "removes": False}]
     s = summarise([joint, still])
     g = s["per_cause"]["geometry"]
-    assert (s["confirmed"], s["jointly"], g["jointly"], g["none"], s["removed_by_any"]) == (0, 1, {"compliance": 1}, 1, 1)
+    assert (s["confirmed"], s["jointly"], g["jointly"], g["none"], s["removed_by_any"]) == (
+        0,
+        1,
+        {"compliance": 1},
+        1,
+        1,
+    )
 
 
 #: A start of the full report's Drake continuous theta-Theta map (Psi 1.7) where the theory slips on (p down to 0.026)
@@ -221,11 +285,18 @@ def test_an_overdetermined_jam_is_removed_only_by_the_thinner_capsule_and_the_st
     assert run_ladder("drake_continuous", state, mu).cause == "geometry"
     r = intervene("drake_continuous", state, mu, causes=("geometry", "compliance"), named="geometry", reference="JAM")
     assert r["theory"] == "SLIP"
-    assert not any(x["removes"] for x in r["causes"]["geometry"]) and not any(x["removes"] for x in r["causes"]["compliance"])
+    assert not any(x["removes"] for x in r["causes"]["geometry"]) and not any(
+        x["removes"] for x in r["causes"]["compliance"]
+    )
     # (the compliance rows: x 10, x 100, x 1000 at a tenth of the step, and that again at the slip's closest approach to p = 0)
     assert [x["outcome"] for x in r["causes"]["geometry"] + r["causes"]["compliance"]] == ["JAM"] * 6
     (joint,) = r["joint"]
-    assert joint["with"] == "compliance" and joint["removes"] and joint["options"]["radius"] < 0.001 and joint["options"]["stiffness"] > 1e6
+    assert (
+        joint["with"] == "compliance"
+        and joint["removes"]
+        and joint["options"]["radius"] < 0.001
+        and joint["options"]["stiffness"] > 1e6
+    )
     thin = r["without_offset"]
     assert thin["radius"] == r["causes"]["geometry"][-1]["options"]["radius"] and thin["also"] == "compliance"
     # the rigid capsule that thin slips on as the theory does (the intervention is thin enough), the compliant rod jams
@@ -240,26 +311,43 @@ def test_summary_confirms_a_pair_only_where_the_ladder_named_it_and_the_two_inte
 
     def start(also, fixes, joint_removes):
         r = _result("geometry", fixes)
-        rungs = [{"cause": "geometry", "label": "SLIP"}, *({"cause": c, "label": "JAM"} for c in ("compliance", "friction law")[:1 + (also == "friction law")])]
+        rungs = [
+            {"cause": "geometry", "label": "SLIP"},
+            *({"cause": c, "label": "JAM"} for c in ("compliance", "friction law")[: 1 + (also == "friction law")]),
+        ]
         r["interventions"]["without_offset"] = {"radius": 0.001, "rungs": rungs, "also": also}
         r["interventions"]["joint"] = [{"with": "compliance", "removes": joint_removes}]
         return r
 
-    s = summarise([start("compliance", {"geometry": no, "compliance": no}, True),  # the ladder's pair, removed together
-                   start(None, {"geometry": no, "compliance": no}, True),  # the ladder saw no pair: only jointly
-                   start("friction law", {"geometry": no, "compliance": no}, True),  # the ladder's pair is another one
-                   start("compliance", {"geometry": yes, "compliance": no}, False),  # the offset alone after all
-                   start("compliance", {"geometry": no, "compliance": no}, False)])  # the two together fail
+    s = summarise(
+        [
+            start("compliance", {"geometry": no, "compliance": no}, True),  # the ladder's pair, removed together
+            start(None, {"geometry": no, "compliance": no}, True),  # the ladder saw no pair: only jointly
+            start("friction law", {"geometry": no, "compliance": no}, True),  # the ladder's pair is another one
+            start("compliance", {"geometry": yes, "compliance": no}, False),  # the offset alone after all
+            start("compliance", {"geometry": no, "compliance": no}, False),
+        ]
+    )  # the two together fail
     g = s["per_cause"]["geometry"]
-    assert (s["confirmed"], g["overdetermined"], s["jointly"], g["jointly"], g["none"]) == (2, {"compliance": 1}, 2, {"compliance": 2}, 1)
+    assert (s["confirmed"], g["overdetermined"], s["jointly"], g["jointly"], g["none"]) == (
+        2,
+        {"compliance": 1},
+        2,
+        {"compliance": 2},
+        1,
+    )
     assert s["pairs"] == {"predicted": 4, "confirmed": 1, "geometry alone": 1, "another alone": 0, "joint failed": 2}
 
 
 def test_a_cause_with_two_families_is_removed_at_the_strongest_when_the_last_of_either_removes_it():
     """MuJoCo's feed-forward lowered on every row or with the friction rows kept: removed by the strongest of the first
     family is not 'removed at a weaker step but not at the strongest', though the second family's last comes after it."""
-    rows = [{"text": "a 0.1", "removes": False, "family": "a"}, {"text": "a 0.01", "removes": True, "family": "a"},
-            {"text": "b 0.5", "removes": True, "family": "b"}, {"text": "b 0.01", "removes": False, "family": "b"}]
+    rows = [
+        {"text": "a 0.1", "removes": False, "family": "a"},
+        {"text": "a 0.01", "removes": True, "family": "a"},
+        {"text": "b 0.5", "removes": True, "family": "b"},
+        {"text": "b 0.01", "removes": False, "family": "b"},
+    ]
     r = {"cause": "feed-forward", "interventions": {"theory": "SLIP", "causes": {"feed-forward": rows}}}
     assert summarise([r])["per_cause"]["feed-forward"]["not_at_strongest"] == 0
     rows[1]["removes"] = False
@@ -330,7 +418,9 @@ def test_mujoco_feed_forward_near_p_zero_is_removed_with_the_friction_rows_softe
     r = intervene("mujoco", state, mu, causes=("feed-forward",), timestep=3e-4)
     assert r["theory"] == "SLIP" and 0 < r["theory_p_min"] < Thresholds().jam_p_eff
     fed = {x["text"].split(" (")[0]: x for x in r["causes"]["feed-forward"]}
-    assert fed["impedance 0.95 -> 0.1 on every row"]["removes"] and fed["impedance 0.95 -> 0.01 on every row"]["removes"]
+    assert (
+        fed["impedance 0.95 -> 0.1 on every row"]["removes"] and fed["impedance 0.95 -> 0.01 on every row"]["removes"]
+    )
     assert "impratio" not in fed["impedance 0.95 -> 0.1 on every row"]["options"]
     kept = [fed[f"impedance 0.95 -> {d}"] for d in ("0.5", "0.1", "0.01")]
     assert [x["label"] for x in kept[:2]] == ["JAM", "JAM"] and not any(x["removes"] for x in kept)
@@ -338,27 +428,48 @@ def test_mujoco_feed_forward_near_p_zero_is_removed_with_the_friction_rows_softe
 
 def test_summary_splits_the_confirmed_by_how_close_the_theory_slip_comes_to_p_zero():
     no, yes = (False, False), (False, True)
-    results = [_result("geometry", {"geometry": yes}), _result("geometry", {"geometry": no}), _result("geometry", {"geometry": yes}),
-               _result("unexplained", {"geometry": yes})]
+    results = [
+        _result("geometry", {"geometry": yes}),
+        _result("geometry", {"geometry": no}),
+        _result("geometry", {"geometry": yes}),
+        _result("unexplained", {"geometry": yes}),
+    ]
     for r, p_min in zip(results, (0.05, 0.15, 0.6, 0.01)):
         r["interventions"]["theory_p_min"] = p_min
-    s = summarise(results)  # the band is the classifier's jam_p_eff, 0.2: the first two starts and the unattributed one in it
+    s = summarise(
+        results
+    )  # the band is the classifier's jam_p_eff, 0.2: the first two starts and the unattributed one in it
     assert s["by_p"]["p_band"] == Thresholds().jam_p_eff
-    assert s["by_p"]["in_band"] == {"attributed": 2, "confirmed": 1} and s["by_p"]["above"] == {"attributed": 1, "confirmed": 1}
+    assert s["by_p"]["in_band"] == {"attributed": 2, "confirmed": 1} and s["by_p"]["above"] == {
+        "attributed": 1,
+        "confirmed": 1,
+    }
     narrow = summarise(results, p_band=0.1)
-    assert narrow["by_p"]["in_band"] == {"attributed": 1, "confirmed": 1} and narrow["by_p"]["above"] == {"attributed": 2, "confirmed": 1}
+    assert narrow["by_p"]["in_band"] == {"attributed": 1, "confirmed": 1} and narrow["by_p"]["above"] == {
+        "attributed": 2,
+        "confirmed": 1,
+    }
 
 
 def test_summary_splits_the_confirmed_by_the_start_s_distance_to_the_theory_s_event_boundary():
     no, yes = (False, False), (False, True)
-    results = [_result("geometry", {"geometry": yes}), _result("geometry", {"geometry": no}), _result("compliance", {"compliance": yes}),
-               _result("geometry", {"geometry": yes}), _result("unexplained", {"geometry": yes}), _result("geometry", {"geometry": no})]
+    results = [
+        _result("geometry", {"geometry": yes}),
+        _result("geometry", {"geometry": no}),
+        _result("compliance", {"compliance": yes}),
+        _result("geometry", {"geometry": yes}),
+        _result("unexplained", {"geometry": yes}),
+        _result("geometry", {"geometry": no}),
+    ]
     # as saved: "inf" beyond the largest probe (JSON has no inf), None where the map section did not probe
     for r, d in zip(results, (0.01, 0.01, "inf", 0.3, 0.01, None)):
         r["boundary_distance"] = d
     s = summarise(results)
-    assert s["by_distance"] == [{"distance": 0.01, "attributed": 2, "confirmed": 1}, {"distance": 0.3, "attributed": 1, "confirmed": 1},
-                                {"distance": math.inf, "attributed": 1, "confirmed": 1}]
+    assert s["by_distance"] == [
+        {"distance": 0.01, "attributed": 2, "confirmed": 1},
+        {"distance": 0.3, "attributed": 1, "confirmed": 1},
+        {"distance": math.inf, "attributed": 1, "confirmed": 1},
+    ]
     assert summarise(results[-1:])["by_distance"] == []
 
 
@@ -366,10 +477,22 @@ def test_each_start_gets_the_boundary_distance_of_its_own_row_of_its_map():
     from crosscheck.report.sections.engine_interventions import boundary_distances
 
     state = {"theta": 1.0125, "varphi": -1.9, "Theta": -0.125, "Psi": 1.7, "eta": 1.0}
-    table = {**{k: [v, v, v] for k, v in state.items()}, "mu": [1.4, 1.5, 1.6], "boundary_distance": [0.03, math.inf, math.nan]}
-    starts = [{"map": "m", "state": state, "mu": mu} for mu in (1.4, 1.5, 1.6, 1.7)] + [{"map": "other", "state": state, "mu": 1.4}]
+    table = {
+        **{k: [v, v, v] for k, v in state.items()},
+        "mu": [1.4, 1.5, 1.6],
+        "boundary_distance": [0.03, math.inf, math.nan],
+    }
+    starts = [{"map": "m", "state": state, "mu": mu} for mu in (1.4, 1.5, 1.6, 1.7)] + [
+        {"map": "other", "state": state, "mu": 1.4}
+    ]
     boundary_distances(starts, {"m": table})
-    assert [st["boundary_distance"] for st in starts] == [0.03, math.inf, None, None, None]  # NaN: not probed; no row; no table
+    assert [st["boundary_distance"] for st in starts] == [
+        0.03,
+        math.inf,
+        None,
+        None,
+        None,
+    ]  # NaN: not probed; no row; no table
     boundary_distances(starts[:1], {"m": {**table, "mu": [1.4, 1.4, 1.6]}})  # two rows of that start: not one, so none
     assert starts[0]["boundary_distance"] is None
     boundary_distances(starts[:1], {"m": {k: v for k, v in table.items() if k != "boundary_distance"}})

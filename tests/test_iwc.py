@@ -54,7 +54,14 @@ def test_delassus_equals_pinocchios():
     rod = Rod.scaled(ALPHA)
     rng = np.random.default_rng(1)
     for _ in range(10):
-        s = SlipState(theta=rng.uniform(0.1, 1.4), varphi=-rng.uniform(0.1, 3.0), Theta=rng.normal(), Psi=rng.normal(), eta=1.0, psi=rng.uniform(-3, 3))
+        s = SlipState(
+            theta=rng.uniform(0.1, 1.4),
+            varphi=-rng.uniform(0.1, 3.0),
+            Theta=rng.normal(),
+            Psi=rng.normal(),
+            eta=1.0,
+            psi=rng.uniform(-3, 3),
+        )
         st = Stepper(rod, 1.0, Options())
         q, _ = to_generalized(rod, s)
         import pinocchio as pin
@@ -63,7 +70,9 @@ def test_delassus_equals_pinocchios():
         pin.crba(st.model, st.data, q)
         st.constraint.calc(st.model, st.data, st.datas[0])
         st.cholesky.compute(st.model, st.data, st.models, st.datas, 0.0)
-        np.testing.assert_allclose(st.cholesky.getDelassusOperatorCholeskyExpression().matrix(), delassus(s, ALPHA), atol=1e-13)
+        np.testing.assert_allclose(
+            st.cholesky.getDelassusOperatorCholeskyExpression().matrix(), delassus(s, ALPHA), atol=1e-13
+        )
 
 
 def test_energy_is_lost_never_gained_and_restitution_rebounds():
@@ -71,7 +80,14 @@ def test_energy_is_lost_never_gained_and_restitution_rebounds():
     n = 0
     while n < 30:
         mu = rng.uniform(1.4, 6.0)
-        s = SlipState(theta=rng.uniform(0.2, 1.3), varphi=-rng.uniform(0.1, 3.0), Theta=rng.uniform(-2, 2), Psi=rng.uniform(-2, 2), eta=rng.uniform(0.1, 3), psi=rng.uniform(-3, 3))
+        s = SlipState(
+            theta=rng.uniform(0.2, 1.3),
+            varphi=-rng.uniform(0.1, 3.0),
+            Theta=rng.uniform(-2, 2),
+            Psi=rng.uniform(-2, 2),
+            eta=rng.uniform(0.1, 3),
+            psi=rng.uniform(-3, 3),
+        )
         if not (analytic.p(s.theta, s.varphi, mu, ALPHA) < 0 and analytic.b(s.Psi, s.Theta, s.theta) < 0):
             continue
         n += 1
@@ -79,7 +95,9 @@ def test_energy_is_lost_never_gained_and_restitution_rebounds():
         r1 = impact(s, mu, ALPHA, restitution=1.0)
         assert r0.energy_lost >= 0.0 and r1.energy_lost >= -1e-12 * (1 + r1.energy_lost)
         assert abs(r0.w) < 1e-10 and r0.normal_impulse > 0
-        assert r1.normal_impulse == pytest.approx(2 * r1.compression_impulse, rel=1e-12) and r1.w > 0  # the tip rebounds
+        assert (
+            r1.normal_impulse == pytest.approx(2 * r1.compression_impulse, rel=1e-12) and r1.w > 0
+        )  # the tip rebounds
         assert r1.compression_impulse == pytest.approx(r0.compression_impulse, rel=1e-9)
 
 
@@ -98,7 +116,9 @@ def test_rigid_engine_after_the_jam_converges_to_the_impulse_at_first_order():
     assert rate == pytest.approx(1.0, abs=0.1) and errs[-1] < 1e-3
 
 
-@pytest.mark.parametrize("mu, Theta", [(1.4, 0.5), (1.4, -0.3), (2.0, 0.5)], ids=["mu=1.4 lifts", "mu=1.4 sticks", "mu=2"])
+@pytest.mark.parametrize(
+    "mu, Theta", [(1.4, 0.5), (1.4, -0.3), (2.0, 0.5)], ids=["mu=1.4 lifts", "mu=1.4 sticks", "mu=2"]
+)
 def test_rigid_engine_from_a_planar_impasse_converges_to_keller_at_first_order(mu, Theta):
     """Planar state with p < 0, b < 0 (Painleve's impasse): the time-stepper's first step is the IWC.
 
@@ -114,16 +134,27 @@ def test_rigid_engine_from_a_planar_impasse_converges_to_keller_at_first_order(m
         run = get("pinocchio").simulate(rod, s, mu, horizon=10 * dt, timestep=dt)
         assert run.outcome.name == "JAM" and run.event_time == 0.0
         R = run.record
-        errs.append(max(abs(R.Theta[1] - r.Theta), abs(R.Psi[1] - r.Psi), abs(R.eta[1] - r.eta), abs(run.jam_impulse - r.normal_impulse)))
+        errs.append(
+            max(
+                abs(R.Theta[1] - r.Theta),
+                abs(R.Psi[1] - r.Psi),
+                abs(R.eta[1] - r.eta),
+                abs(run.jam_impulse - r.normal_impulse),
+            )
+        )
     rate = np.polyfit(np.log(dts), np.log(errs), 1)[0]
     assert rate == pytest.approx(1.0, abs=0.05) and errs[-1] < 1e-3, (rate, errs)
 
 
-@pytest.mark.parametrize("kwargs, message", [
-    ({"restitution": 1.5}, r"restitution must be in \[0, 1\]; got 1.5"),
-    ({"mu": -1.0}, r"mu must be in \[0, 1000\]; got -1.0"),
-    ({"alpha": 0.0}, r"alpha must be in \[0.001, 1000\]; got 0.0"),
-], ids=["restitution", "mu", "alpha"])
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"restitution": 1.5}, r"restitution must be in \[0, 1\]; got 1.5"),
+        ({"mu": -1.0}, r"mu must be in \[0, 1000\]; got -1.0"),
+        ({"alpha": 0.0}, r"alpha must be in \[0.001, 1000\]; got 0.0"),
+    ],
+    ids=["restitution", "mu", "alpha"],
+)
 def test_bad_input_is_named(kwargs, message):
     args = {"state": planar_impasse(1.4, 0.5, ALPHA), "mu": 1.4, "alpha": ALPHA, **kwargs}
     with pytest.raises(ValueError, match=message):
@@ -134,4 +165,8 @@ def test_no_impulse_where_the_rod_can_slip_or_does_not_slip():
     with pytest.raises(ValueError, match=r"p must be <= 1e-12 .*; got p = "):
         impact(SlipState(theta=0.5, varphi=-math.pi / 2, Theta=0.0, Psi=0.0, eta=1.0), 0.5, ALPHA)
     with pytest.raises(ValueError, match=r"eta must be in \(0, inf\) for an impact without collision"):
-        impact(SlipState(theta=planar_impasse(1.4, 0.5, ALPHA).theta, varphi=-math.pi / 2, Theta=0.5, Psi=0.0, eta=0.0), 1.4, ALPHA)
+        impact(
+            SlipState(theta=planar_impasse(1.4, 0.5, ALPHA).theta, varphi=-math.pi / 2, Theta=0.5, Psi=0.0, eta=0.0),
+            1.4,
+            ALPHA,
+        )

@@ -31,11 +31,18 @@ def test_jam_stiffness_is_minus_dp_dP_along_the_impulse():
     """k against a finite difference of eq. p along the slip direction's turn d varphi / dP (darboux_keller's rate)."""
     rng = np.random.default_rng(3)
     for _ in range(20):
-        theta, varphi, eta, mu = rng.uniform(0.2, 1.4), rng.uniform(-3.0, -0.1), rng.uniform(0.2, 3.0), rng.uniform(0.5, 3.0)
+        theta, varphi, eta, mu = (
+            rng.uniform(0.2, 1.4),
+            rng.uniform(-3.0, -0.1),
+            rng.uniform(0.2, 3.0),
+            rng.uniform(0.5, 3.0),
+        )
         s, c = math.sin(theta), math.cos(theta)
         turn = ALPHA * c * math.cos(varphi) * (mu * c * math.sin(varphi) - s) / eta  # d varphi / dP
         h = 1e-6
-        dp = (analytic.p(theta, varphi + h * turn, mu, ALPHA) - analytic.p(theta, varphi - h * turn, mu, ALPHA)) / (2 * h)
+        dp = (analytic.p(theta, varphi + h * turn, mu, ALPHA) - analytic.p(theta, varphi - h * turn, mu, ALPHA)) / (
+            2 * h
+        )
         assert jam_stiffness(theta, varphi, eta, mu, ALPHA) == pytest.approx(-dp, rel=1e-6, abs=1e-9)
 
 
@@ -54,11 +61,19 @@ def test_a_jam_gives_a_spring_contact_its_lag_and_mujoco_none():
     drake = engines.get("drake_continuous").options(stiffness=1e7)
     lag = jam_lag(drake, scale)
     assert lag == pytest.approx(inner_pole() * scale * drake.contact_time**0.8) and lag > LAG_TAU * drake.contact_time
-    _, window, _ = comparison_window(Outcome.JAM, first.time, 2.0, contact_time=drake.contact_time, timestep=drake.timestep, spring_jam=lag)
+    _, window, _ = comparison_window(
+        Outcome.JAM, first.time, 2.0, contact_time=drake.contact_time, timestep=drake.timestep, spring_jam=lag
+    )
     assert window == lag
     # other events keep LAG_TAU contact times; MuJoCo's impedance feeds the rigid force forward: no spring lag
-    _, window, _ = comparison_window(Outcome.LIFTOFF, first.time, 2.0, contact_time=drake.contact_time, timestep=drake.timestep, spring_jam=lag)
-    assert window == event_lag(drake.contact_time, drake.timestep) == max(LAG_TAU * drake.contact_time, LAG_STEPS * drake.timestep)
+    _, window, _ = comparison_window(
+        Outcome.LIFTOFF, first.time, 2.0, contact_time=drake.contact_time, timestep=drake.timestep, spring_jam=lag
+    )
+    assert (
+        window
+        == event_lag(drake.contact_time, drake.timestep)
+        == max(LAG_TAU * drake.contact_time, LAG_STEPS * drake.timestep)
+    )
     assert jam_lag(engines.get("mujoco").options(), scale) == 0.0
     assert np.array_equal(jam_lag(drake, np.array([scale, np.nan])), [lag, 0.0])
 
@@ -69,8 +84,14 @@ def test_the_maps_analytic_events_carry_each_jams_inner_scale_and_nan_elsewhere(
     from crosscheck.studies.analytic_events import analytic_events
 
     theta = np.array([1.1208333333333333, 1.0125, 0.4, 1.2])
-    points = {"theta": theta, "varphi": np.full(4, -1.9), "Theta": np.array([-0.375, -0.375, 0.3, 0.9]), "Psi": np.zeros(4),
-              "eta": np.ones(4), "mu": np.array([1.4, 1.4, 0.5, 1.4])}
+    points = {
+        "theta": theta,
+        "varphi": np.full(4, -1.9),
+        "Theta": np.array([-0.375, -0.375, 0.3, 0.9]),
+        "Psi": np.zeros(4),
+        "eta": np.ones(4),
+        "mu": np.array([1.4, 1.4, 0.5, 1.4]),
+    }
     a = analytic_events(points, alpha=ALPHA, horizon=2.0)
     assert (a.outcome == Outcome.JAM).sum() >= 2 and (a.outcome != Outcome.JAM).any()
     for i in range(4):
@@ -91,8 +112,15 @@ def test_an_undamped_spring_contact_rings_with_period_two_pi_eps_over_root_p(p):
     low = minimize_scalar(lambda t: analytic.p(t, -math.pi / 2, mu, alpha), bounds=(0.1, 1.5), method="bounded").x
     theta = brentq(lambda t: analytic.p(t, -math.pi / 2, mu, alpha) - p, 0.05, low)
     want = 2 * math.pi * eps * contact_time_at(p)
-    tr = integrate(Rod.scaled(alpha), SlipState(theta=theta, varphi=-math.pi / 2, Theta=0.0, Psi=0.0, eta=1.0), mu, horizon=3 * want,
-                   eps=eps, xi=0.0, max_step=eps / 20)
+    tr = integrate(
+        Rod.scaled(alpha),
+        SlipState(theta=theta, varphi=-math.pi / 2, Theta=0.0, Psi=0.0, eta=1.0),
+        mu,
+        horizon=3 * want,
+        eps=eps,
+        xi=0.0,
+        max_step=eps / 20,
+    )
     t = np.linspace(0.0, 3 * want, 20001)
     F = np.interp(t, tr.t, tr.normal_force)
     peaks = t[1:-1][(F[1:-1] > F[:-2]) & (F[1:-1] >= F[2:])]

@@ -73,15 +73,20 @@ def _kill_when(proc: subprocess.Popen, predicate, what: str) -> list[int]:
 
 
 def _no_orphans(workers: list[int]):
-    _wait_until(lambda: not any(_alive(w) for w in workers), ORPHAN_GRACE, f"workers {workers} to die with their parent")
+    _wait_until(
+        lambda: not any(_alive(w) for w in workers), ORPHAN_GRACE, f"workers {workers} to die with their parent"
+    )
 
 
 def test_a_killed_multi_worker_sweep_leaves_no_workers_and_reruns_at_once(tmp_path):
     spec = tmp_path / "spec.toml"
     spec.write_text(SPEC)
     out = tmp_path / "store"
-    proc = subprocess.Popen([sys.executable, "-m", "crosscheck", "sweep", str(spec), "--out", str(out), "--workers", "2", "--no-progress"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "crosscheck", "sweep", str(spec), "--out", str(out), "--workers", "2", "--no-progress"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     store = Store(out)
 
     def some_chunks():
@@ -90,12 +95,18 @@ def test_a_killed_multi_worker_sweep_leaves_no_workers_and_reruns_at_once(tmp_pa
 
     # kill once the manifest is there and the pool's workers run: the manifest is written before the pool forks, so on a
     # fast engine "a manifest" alone could be met with no worker yet to orphan
-    workers = _kill_when(proc, lambda: some_chunks() and len(_children(proc.pid)) >= 2, "a manifest and the pool's workers")
+    workers = _kill_when(
+        proc, lambda: some_chunks() and len(_children(proc.pid)) >= 2, "a manifest and the pool's workers"
+    )
     assert len(workers) >= 2, f"the sweep ran {len(workers)} workers; this test needs a pool"
     _no_orphans(workers)
     assert not holders(out / ".lock")
-    rerun = subprocess.run([sys.executable, "-m", "crosscheck", "sweep", str(spec), "--out", str(out), "--workers", "2", "--no-progress"],
-                           capture_output=True, text=True, timeout=300)
+    rerun = subprocess.run(
+        [sys.executable, "-m", "crosscheck", "sweep", str(spec), "--out", str(out), "--workers", "2", "--no-progress"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert rerun.returncode == 0, rerun.stderr
     assert "reused" in rerun.stdout + rerun.stderr
     assert len(sweeps.load(out)) == 24
@@ -104,7 +115,20 @@ def test_a_killed_multi_worker_sweep_leaves_no_workers_and_reruns_at_once(tmp_pa
 
 def test_a_killed_report_leaves_no_workers_and_reruns_at_once(tmp_path):
     out = tmp_path / "report"
-    cmd = [sys.executable, "-m", "crosscheck", "report", "--quick", "--only", "drake_sap_maps", "--out", str(out), "--workers", "2", "--no-progress"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "crosscheck",
+        "report",
+        "--quick",
+        "--only",
+        "drake_sap_maps",
+        "--out",
+        str(out),
+        "--workers",
+        "2",
+        "--no-progress",
+    ]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     stores = out / "sweeps" / "drake_sap_maps"
 
@@ -119,13 +143,17 @@ def test_a_killed_report_leaves_no_workers_and_reruns_at_once(tmp_path):
 
 
 def test_a_lock_left_by_a_dead_writer_is_taken_over_with_a_note(tmp_path, capfd):
-    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True).stdout.strip()
+    dead = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True
+    ).stdout.strip()
     lock = tmp_path / ".lock"
     lock.write_text(f"pid {dead} on somewhere: crosscheck sweep spec.toml")
     with exclusive(lock, "pid 1 here", lambda text: ValueError(text)):
         assert lock.read_text() == "pid 1 here"
     err = capfd.readouterr().err
-    assert f"took over the lock {str(lock)!r} left by a writer that is no longer running (pid {dead} on somewhere" in err
+    assert (
+        f"took over the lock {str(lock)!r} left by a writer that is no longer running (pid {dead} on somewhere" in err
+    )
     assert not lock.exists()
 
 
@@ -144,13 +172,17 @@ def test_a_lock_held_by_a_dead_writers_child_names_the_child(tmp_path):
             print(child, flush=True)
             os._exit(0)
     """)
-    child = int(subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60).stdout.strip())
+    child = int(
+        subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60).stdout.strip()
+    )
     try:
         with pytest.raises(ValueError) as e:
             with exclusive(lock, "pid 2 here", lambda text: ValueError(f"being written by {text}")):
                 pass
         msg = str(e.value)
-        assert "no longer running" in msg and f"still held by its surviving processes {child}" in msg and "\n" not in msg
+        assert (
+            "no longer running" in msg and f"still held by its surviving processes {child}" in msg and "\n" not in msg
+        )
     finally:
         os.kill(child, signal.SIGKILL)
     _wait_until(lambda: not _alive(child), 5, "the child to die")
@@ -175,7 +207,10 @@ def test_a_lock_on_a_full_disk_is_one_line_and_leaves_no_file(tmp_path):
 
     with tmpfs(tmp_path / "full", "size=64k") as mnt:
         subprocess.run(["dd", "if=/dev/zero", f"of={mnt / 'fill'}", "bs=4k", "count=100"], capture_output=True)
-        with pytest.raises(StoreError, match=rf"^out {str(mnt)!r} has no room left \(No space left on device\): writing \d+ bytes needs"):
+        with pytest.raises(
+            StoreError,
+            match=rf"^out {str(mnt)!r} has no room left \(No space left on device\): writing \d+ bytes needs",
+        ):
             with exclusive(mnt / ".lock", "pid 4 on host: crosscheck report", ValueError):
                 pass
         assert not (mnt / ".lock").exists()

@@ -24,6 +24,7 @@ from crosscheck.engines.mujoco.studies import ladder_study as LS
 from crosscheck.studies.agreement import comparison_labels
 from crosscheck.tolerances import CLOSED_FORM, EVENT_TIME
 from crosscheck.engines.mujoco.tolerances import LADDER_QUOTED_TIME
+
 IC2 = SlipState(**FIG20_INITIAL_CONDITIONS[1])
 #: A start of the quick report's (theta, Theta) map at which the rigid rod jams at A and at C, MuJoCo sticks.
 STICKS = SlipState(theta=1.175, varphi=-1.9, Theta=0.25, Psi=0.0, eta=1.0)
@@ -41,7 +42,9 @@ def test_mujoco_equivalent_matches_mujocos_own_normal_row():
     rod = Rod.scaled(alpha)
     model = build_model(rod, 0.0, opts)
     data = mujoco.MjData(model)
-    mujoco.mj_setState(model, data, initial_state(model, rod, IC2, opts.radius, data=data), mujoco.mjtState.mjSTATE_FULLPHYSICS)
+    mujoco.mj_setState(
+        model, data, initial_state(model, rod, IC2, opts.radius, data=data), mujoco.mjtState.mjSTATE_FULLPHYSICS
+    )
     vel = -0.3  # the gap closing: a damping term of either sign would show
     data.qpos[2] -= m.penetration + START_GAP * rod.length  # C sinks from its start to the operating penetration
     data.qvel[:] = 0.0
@@ -57,12 +60,14 @@ def test_mujoco_equivalent_matches_mujocos_own_normal_row():
     mujoco.mj_solveM(model, data, x, J[None, :])
     assert CLOSED_FORM.ok(J @ x[0], m.A_nn) and CLOSED_FORM.ok(m.A_nn, 1 + alpha * math.cos(IC2.theta) ** 2)
     # the impedance-weighted reference acceleration d aref = -d B v - d^2 K r is what the spring-damper's force does to the gap
-    kv = -pos / m.eps ** 2 - (m.xi / m.eps) * v
+    kv = -pos / m.eps**2 - (m.xi / m.eps) * v
     assert CLOSED_FORM.ok(m.A_nn * kv, d * data.efc_aref[0])
     # the operating penetration is MuJoCo's static balance of the normal row: (1 - d) |b| = d^2 K |r|
     assert CLOSED_FORM.ok((1 - d) * -m.b, d * d * K * m.penetration)
     # and both gaps ring at d / (dmax tau zeta) with damping ratio zeta
-    assert CLOSED_FORM.ok(math.sqrt(m.A_nn) / m.eps, m.frequency) and CLOSED_FORM.ok(m.xi * math.sqrt(m.A_nn) / 2, opts.dampratio)
+    assert CLOSED_FORM.ok(math.sqrt(m.A_nn) / m.eps, m.frequency) and CLOSED_FORM.ok(
+        m.xi * math.sqrt(m.A_nn) / 2, opts.dampratio
+    )
 
 
 def test_impedance_is_mujocos_sigmoid_at_its_ends_and_midpoint():
@@ -81,12 +86,17 @@ def test_ic2_rungs(ic2):
     assert EVENT_TIME.ok(one.time, slip_until_event(IC2, 1.4, 3.0, t_max=2.0).time)
     # geometry by construction: the same rigid rod at r = 0 lifts off like rung 1, at MuJoCo's r = 0.01 it jams
     from crosscheck.theory import capsule
+
     assert capsule.slip_until_event(IC2, 1.4, 3.0, radius=0.0, t_max=2.0).outcome == Outcome.LIFTOFF
     assert two.outcome == Outcome.JAM and two.time < one.time
     # rung 5 is MuJoCo's own label as the agreement study compares it: rerun over the study's whole horizon (2 + two windows)
     opts = Options()
-    full = engines.get("mujoco").simulate(Rod.scaled(3.0), IC2, 1.4, horizon=2.0 + 2 * Thresholds().window_rows(opts.timestep) * opts.timestep)
-    study_label = comparison_labels(np.array([int(full.outcome)]), np.array([full.event_time]), np.array([ic2.until + ic2.lag]))[0]
+    full = engines.get("mujoco").simulate(
+        Rod.scaled(3.0), IC2, 1.4, horizon=2.0 + 2 * Thresholds().window_rows(opts.timestep) * opts.timestep
+    )
+    study_label = comparison_labels(
+        np.array([int(full.outcome)]), np.array([full.event_time]), np.array([ic2.until + ic2.lag])
+    )[0]
     assert five.label == Outcome(int(study_label)) == Outcome.JAM and five.time == full.event_time == 0.0
     three, spring, law = ic2.rung("compliant"), ic2.rung("spring_law"), ic2.rung("mujoco_law")
     assert three.label == spring.label == Outcome.SLIP and law.label == Outcome.JAM
@@ -119,8 +129,16 @@ def test_every_rung_is_relabelled_by_the_studys_comparison_time():
 
 def test_discretisation_by_construction():
     """A start MuJoCo gets right at its default timestep (it slips on, as every other rung) but sticks at dt = 0.02: "discretisation"."""
-    s, mu = SlipState(theta=0.8630037871702823, varphi=-0.4238407591851616, Theta=-0.7116807745607325, Psi=1.3459483414117317,
-                      eta=0.7612966136188739), 1.2313181877396664
+    s, mu = (
+        SlipState(
+            theta=0.8630037871702823,
+            varphi=-0.4238407591851616,
+            Theta=-0.7116807745607325,
+            Psi=1.3459483414117317,
+            eta=0.7612966136188739,
+        ),
+        1.2313181877396664,
+    )
     fine = L.run_ladder(s, mu, rungs=("mujoco",))
     assert fine.rung("tip").label == fine.rung("mujoco").label == Outcome.SLIP and fine.cause == "agree"
     coarse = L.run_ladder(s, mu, timestep=0.02)
@@ -135,22 +153,25 @@ def _rung(k, label, status="ok"):
 J, S, T, L_ = Outcome.JAM, Outcome.SLIP, Outcome.STICK, Outcome.LIFTOFF
 
 
-@pytest.mark.parametrize("labels, reference, cause", [
-    ((L_, J, J, J, J, J), J, "geometry"),
-    ((L_, J, S, J, J, J), J, "friction law"),  # rung 3 undoes rung 2's match
-    ((L_, J, S, S, J, J), J, "feed-forward"),  # and rung 4 keeps rung 3's detour
-    ((S, S, T, T, T, T), T, "compliance"),
-    ((S, S, T, S, S, T), T, "discretisation"),
-    ((J, J, J, T, T, T), T, "friction law"),
-    ((J, J, J, J, T, T), T, "feed-forward"),
-    ((J, J, J, J, J, T), T, "discretisation"),
-    ((J, J, J, J, J, J), T, "unexplained"),
-    ((J, J, None, T, T, T), T, "undetermined"),
-    ((J, T, None, J, J, J), T, "unexplained"),  # a given reference rung 6 misses
-    ((J, J, J, None, T, T), T, "undetermined"),
-    ((T, J, J, J, J, T), T, "agree"),
-    ((Outcome.GB, J, J, J, J, T), T, "not rated"),
-])
+@pytest.mark.parametrize(
+    "labels, reference, cause",
+    [
+        ((L_, J, J, J, J, J), J, "geometry"),
+        ((L_, J, S, J, J, J), J, "friction law"),  # rung 3 undoes rung 2's match
+        ((L_, J, S, S, J, J), J, "feed-forward"),  # and rung 4 keeps rung 3's detour
+        ((S, S, T, T, T, T), T, "compliance"),
+        ((S, S, T, S, S, T), T, "discretisation"),
+        ((J, J, J, T, T, T), T, "friction law"),
+        ((J, J, J, J, T, T), T, "feed-forward"),
+        ((J, J, J, J, J, T), T, "discretisation"),
+        ((J, J, J, J, J, J), T, "unexplained"),
+        ((J, J, None, T, T, T), T, "undetermined"),
+        ((J, T, None, J, J, J), T, "unexplained"),  # a given reference rung 6 misses
+        ((J, J, J, None, T, T), T, "undetermined"),
+        ((T, J, J, J, J, T), T, "agree"),
+        ((Outcome.GB, J, J, J, J, T), T, "not rated"),
+    ],
+)
 def test_cause_is_the_first_rung_of_the_final_stretch_matching_mujoco(labels, reference, cause):
     rungs = [_rung(k, lab, "ok" if lab is not None else "not available") for k, lab in enumerate(labels, start=1)]
     disagree, got, _ = L._cause(rungs, reference)
@@ -172,26 +193,63 @@ def test_disagreements_are_the_rated_starts_where_mujoco_differs():
 
 
 def test_explain_prints_each_rung_and_the_cause(ic2, capsys):
-    argv = ["explain", "--theta", "1.1031", "--varphi", "-1.9233", "--Theta", "0.9", "--Psi", "0", "--eta", "2", "--mu", "1.4"]
+    argv = [
+        "explain",
+        "--theta",
+        "1.1031",
+        "--varphi",
+        "-1.9233",
+        "--Theta",
+        "0.9",
+        "--Psi",
+        "0",
+        "--eta",
+        "2",
+        "--mu",
+        "1.4",
+    ]
     assert main(argv) == 0
     out = capsys.readouterr().out.splitlines()
     rungs = [line for line in out if line[:2] in ("1 ", "2 ", "3 ", "4 ", "5 ", "6 ")]
     assert [line.split()[1] for line in rungs] == list(L.RUNGS)
-    assert rungs[0].endswith(f"LIFTOFF at t = {ic2.rung('tip').time:.6g}") and rungs[1].endswith(f"JAM at t = {ic2.rung('capsule').time:.6g}")
+    assert rungs[0].endswith(f"LIFTOFF at t = {ic2.rung('tip').time:.6g}") and rungs[1].endswith(
+        f"JAM at t = {ic2.rung('capsule').time:.6g}"
+    )
     assert out[-1] == "cause: feed-forward (MuJoCo JAM, theory LIFTOFF)"
     assert main(argv + ["--json"]) == 0
     got = json.loads(capsys.readouterr().out)
-    assert got["cause"] == "feed-forward" and got["detour"] == [3, 5] and [r["label"] for r in got["rungs"]] == [r.label.name for r in ic2.rungs]
+    assert (
+        got["cause"] == "feed-forward"
+        and got["detour"] == [3, 5]
+        and [r["label"] for r in got["rungs"]] == [r.label.name for r in ic2.rungs]
+    )
     assert got["match"]["eps"] == pytest.approx(ic2.match.eps, rel=1e-15)
 
 
-@pytest.mark.parametrize("extra, message", [
-    (["--radius", "0.7"], "radius must be in (0, 0.5); got 0.7"),
-    (["--timestep", "0.1"], "timestep must be in (0, 0.03]; got 0.1"),
-    (["--mu", "-1"], "mu must be in [0, 1000]; got -1.0"),
-])
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (["--radius", "0.7"], "radius must be in (0, 0.5); got 0.7"),
+        (["--timestep", "0.1"], "timestep must be in (0, 0.03]; got 0.1"),
+        (["--mu", "-1"], "mu must be in [0, 1000]; got -1.0"),
+    ],
+)
 def test_explain_bad_input_is_one_line(extra, message, capsys):
-    argv = ["explain", "--theta", "1.1031", "--varphi", "-1.9233", "--Theta", "0.9", "--Psi", "0", "--eta", "2", "--mu", "1.4"] + extra
+    argv = [
+        "explain",
+        "--theta",
+        "1.1031",
+        "--varphi",
+        "-1.9233",
+        "--Theta",
+        "0.9",
+        "--Psi",
+        "0",
+        "--eta",
+        "2",
+        "--mu",
+        "1.4",
+    ] + extra
     assert main(argv) == 2
     assert capsys.readouterr().err == f"crosscheck: error: {message}\n"
 
@@ -219,22 +277,33 @@ def test_the_cause_is_the_first_rung_of_the_final_stretch_of_matches():
     J, L, S = Outcome.JAM, Outcome.LIFTOFF, Outcome.SLIP
     ok = lambda lab, c: R(ok=True, label=lab, cause=c)  # noqa: E731
     cause = lambda rungs: final_stretch_cause(rungs, J, lambda r: r.cause)  # noqa: E731
-    assert cause([ok(J, "g"), ok(S, "c"), ok(J, "f"), ok(J, "d")]) == "f"  # IC2's pattern: rung 2's jam is undone by rung 3
+    assert (
+        cause([ok(J, "g"), ok(S, "c"), ok(J, "f"), ok(J, "d")]) == "f"
+    )  # IC2's pattern: rung 2's jam is undone by rung 3
     assert cause([ok(J, "g"), ok(J, "c"), ok(J, "f"), ok(J, "d")]) == "g"  # monotone: the first match
-    assert cause([ok(S, "g"), ok(J, "c"), ok(L, "f"), ok(J, "d")]) == "d"  # the law in continuous time does not jam, the steps do
-    assert cause([ok(J, "g"), ok(J, "c"), ok(J, "f"), ok(L, "d")]) == "unexplained"  # the last rung differs (a given reference)
+    assert (
+        cause([ok(S, "g"), ok(J, "c"), ok(L, "f"), ok(J, "d")]) == "d"
+    )  # the law in continuous time does not jam, the steps do
+    assert (
+        cause([ok(J, "g"), ok(J, "c"), ok(J, "f"), ok(L, "d")]) == "unexplained"
+    )  # the last rung differs (a given reference)
     assert cause([ok(S, "g"), R(ok=False, label=None, cause="c"), ok(J, "f"), ok(J, "d")]) == "undetermined"
-    assert cause([R(ok=False, label=None, cause="g"), ok(S, "c"), ok(J, "f"), ok(J, "d")]) == "f"  # the failure is before a rung that differs
+    assert (
+        cause([R(ok=False, label=None, cause="g"), ok(S, "c"), ok(J, "f"), ok(J, "d")]) == "f"
+    )  # the failure is before a rung that differs
 
 
-@pytest.mark.parametrize("labels, reference, want", [
-    ((J, J, S, S, T, T), T, (2, 4)),  # the spring's slip, ended by the feed-forward's stick
-    ((L_, J, S, J, J, J), J, (2, 3)),
-    ((J, J, J, T, T, T), T, None),  # monotone
-    ((J, T, J, T), T, None),  # back and forth between the theory's and the engine's: no third outcome
-    ((J, S, S, S), T, (1, None)),  # never back
-    ((J, None, S, None, T), T, (2, 4)),  # rungs that did not run are passed over
-])
+@pytest.mark.parametrize(
+    "labels, reference, want",
+    [
+        ((J, J, S, S, T, T), T, (2, 4)),  # the spring's slip, ended by the feed-forward's stick
+        ((L_, J, S, J, J, J), J, (2, 3)),
+        ((J, J, J, T, T, T), T, None),  # monotone
+        ((J, T, J, T), T, None),  # back and forth between the theory's and the engine's: no third outcome
+        ((J, S, S, S), T, (1, None)),  # never back
+        ((J, None, S, None, T), T, (2, 4)),  # rungs that did not run are passed over
+    ],
+)
 def test_a_detour_is_a_stretch_of_rungs_on_neither_the_theorys_nor_the_engines_outcome(labels, reference, want):
     from crosscheck.studies.ladder import detour
 

@@ -15,7 +15,13 @@ from crosscheck.engines import Thresholds, get
 from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import SensorLayout, build_model, initial_state, record_from_sensordata
 from crosscheck.engines.mujoco.studies.contact import capsule_tip_acceleration, friction_skew
-from crosscheck.engines.mujoco.tolerances import MUJOCO_CONTACT_ACCELERATION, MUJOCO_DJV_KAPPA, MUJOCO_LIFTOFF_ONSET, MUJOCO_LIFTOFF_ONSET_COARSE
+from crosscheck.engines.mujoco.tolerances import (
+    MUJOCO_CONTACT_ACCELERATION,
+    MUJOCO_DJV_KAPPA,
+    MUJOCO_LIFTOFF_ONSET,
+    MUJOCO_LIFTOFF_ONSET_COARSE,
+)
+
 ROD = Rod(mass=1.0, length=1.0, inertia=1.0 / 3.0, gravity=9.81)
 MS = 1e-3 * ROD.omega  # 1 ms in scaled time
 DT = Options().timestep  # the default, 3e-4 (~0.1 ms)
@@ -30,12 +36,27 @@ def _contact_rows(radius: float, n: int, seed: int):
     rng = np.random.default_rng(seed)
     rows = []
     for _ in range(n):
-        s = SlipState(theta=rng.uniform(0.1, 1.45), varphi=-rng.uniform(0.05, 3.1), Theta=0.7 * rng.normal(), Psi=rng.normal(), eta=rng.uniform(0.2, 3), psi=rng.uniform(-3, 3))
+        s = SlipState(
+            theta=rng.uniform(0.1, 1.45),
+            varphi=-rng.uniform(0.05, 3.1),
+            Theta=0.7 * rng.normal(),
+            Psi=rng.normal(),
+            eta=rng.uniform(0.2, 3),
+            psi=rng.uniform(-3, 3),
+        )
         mujoco.mj_setState(model, data, initial_state(model, ROD, s, radius), mujoco.mjtState.mjSTATE_FULLPHYSICS)
         data.qpos[2] -= 1e-4 * ROD.length
         mujoco.mj_forward(model, data)
         rec = record_from_sensordata(data.sensordata, layout, ROD, radius)
-        rows.append((rec.force * ROD.force_scale, rec.tip_acc * ROD.gravity, data.qpos[3:].copy(), data.qvel[3:].copy(), data.sensordata[layout.dist]))
+        rows.append(
+            (
+                rec.force * ROD.force_scale,
+                rec.tip_acc * ROD.gravity,
+                data.qpos[3:].copy(),
+                data.qvel[3:].copy(),
+                data.sensordata[layout.dist],
+            )
+        )
     F, a, q, v, dist = (np.array(x) for x in zip(*rows))
     assert np.all(np.abs(F[:, 2]) > 0)  # every row has a contact force
     return F, a, q, v, dist
@@ -82,7 +103,9 @@ def _onset_psi(theta, Theta, mu, timestep, lo, hi, rounds=5, n=33):
 
 
 @pytest.mark.parametrize("mu", [0.3, 1.0, 2.0], ids=lambda m: f"mu={m}")
-@pytest.mark.parametrize("timestep, tol", [(DT, MUJOCO_LIFTOFF_ONSET), (MS, MUJOCO_LIFTOFF_ONSET_COARSE)], ids=["dt=default", "dt=1ms"])
+@pytest.mark.parametrize(
+    "timestep, tol", [(DT, MUJOCO_LIFTOFF_ONSET), (MS, MUJOCO_LIFTOFF_ONSET_COARSE)], ids=["dt=default", "dt=1ms"]
+)
 def test_liftoff_onset_is_Psi_L(mu, timestep, tol):
     """At theta_L, Theta = 0, varphi = -pi/2 MuJoCo lifts off from Psi_L on (eq. psil)."""
     psi, res = _onset_psi(theta_L, 0.0, mu, timestep, Psi_L - 1e-3, Psi_L + 1e-3)

@@ -12,14 +12,28 @@ from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get
 from crosscheck.engines.mujoco.options import Options
 from crosscheck.tolerances import CLOSED_FORM
-from crosscheck.engines.mujoco.law import (NO_FEED_FORWARD_IMPEDANCE, Parameters, accelerations, contact_force, contact_problem, inverse_weight,
-                                          skew_angle, solve_cone)
+from crosscheck.engines.mujoco.law import (
+    NO_FEED_FORWARD_IMPEDANCE,
+    Parameters,
+    accelerations,
+    contact_force,
+    contact_problem,
+    inverse_weight,
+    skew_angle,
+    solve_cone,
+)
 from crosscheck.engines.mujoco.ode import integrate
 from crosscheck.engines.mujoco.studies import friction_skew as fs
 from crosscheck.engines.mujoco.studies.law_check import convergence_order, random_contact
 from crosscheck.engines.mujoco.studies.contact import friction_skew
-from crosscheck.engines.mujoco.tolerances import (MUJOCO_LAW_FORCE, MUJOCO_LAW_KKT, MUJOCO_LAW_ORDER, MUJOCO_LAW_PIECES, MUJOCO_LAW_SKEW,
-                                               MUJOCO_LAW_SKEW_IDENTITY)
+from crosscheck.engines.mujoco.tolerances import (
+    MUJOCO_LAW_FORCE,
+    MUJOCO_LAW_KKT,
+    MUJOCO_LAW_ORDER,
+    MUJOCO_LAW_PIECES,
+    MUJOCO_LAW_SKEW,
+    MUJOCO_LAW_SKEW_IDENTITY,
+)
 
 
 def test_force_R_aref_equal_mujoco_solver_arrays():
@@ -35,7 +49,9 @@ def test_force_R_aref_equal_mujoco_solver_arrays():
         assert MUJOCO_LAW_PIECES.ok(pb.frame.ravel(), data.contact[0].frame)
         assert MUJOCO_LAW_PIECES.ok(pb.R, data.efc_R)
         # aref = -B v - K imp dist: its normal row is a near-cancelling difference, so the allowance is on the terms' size
-        terms = np.abs(data.efc_KBIP[:, 1] * data.efc_vel) + np.abs(data.efc_KBIP[:, 0] * data.efc_KBIP[:, 2] * data.efc_pos)
+        terms = np.abs(data.efc_KBIP[:, 1] * data.efc_vel) + np.abs(
+            data.efc_KBIP[:, 0] * data.efc_KBIP[:, 2] * data.efc_pos
+        )
         assert np.all(np.abs(pb.aref - data.efc_aref) <= MUJOCO_LAW_PIECES.allowance(terms))
         assert MUJOCO_LAW_PIECES.ok(pb.imp, data.efc_KBIP[0, 2])
         assert MUJOCO_LAW_PIECES.ok(pb.B, data.efc_KBIP[:, 1])
@@ -45,7 +61,9 @@ def test_force_R_aref_equal_mujoco_solver_arrays():
         worst = max(worst, np.abs(f - data.efc_force).max() / scale)
         # the public world force in m g is the same force
         world = contact_force(rod, data.qpos, data.qvel, mu, opts, impratio=impratio) * rod.force_scale
-        assert np.abs(world - data.contact[0].frame.reshape(3, 3).T @ data.efc_force).max() <= MUJOCO_LAW_FORCE.allowance(scale)
+        assert np.abs(
+            world - data.contact[0].frame.reshape(3, 3).T @ data.efc_force
+        ).max() <= MUJOCO_LAW_FORCE.allowance(scale)
     assert worst > 0.0  # the comparison saw two independent computations
 
 
@@ -59,7 +77,9 @@ def test_cone_solution_satisfies_the_optimality_conditions():
         y = H @ f + g
         size = np.abs(g).max() + np.abs(H).max() * np.abs(f).max()
         assert f[0] >= -MUJOCO_LAW_KKT.atol * size and math.hypot(f[1], f[2]) <= mu * f[0] + MUJOCO_LAW_KKT.atol * size
-        if mu > 0:  # y in the dual cone {y_n >= mu |y_t|} (for mu = 0 the tangential rows are free of force: y_t unconstrained)
+        if (
+            mu > 0
+        ):  # y in the dual cone {y_n >= mu |y_t|} (for mu = 0 the tangential rows are free of force: y_t unconstrained)
             assert y[0] >= mu * math.hypot(y[1], y[2]) - MUJOCO_LAW_KKT.atol * size
         else:
             assert y[0] >= -MUJOCO_LAW_KKT.atol * size
@@ -80,7 +100,9 @@ def test_friction_opposes_slip_extrapolated_over_one_over_B_and_anisotropy_of_A_
     assert MUJOCO_LAW_SKEW_IDENTITY.ok(np.angle(np.exp(1j * solved)), skew_angle(pb.vel[1:], at[1:], pb.B[1]))
     a = fs.ablation(rod, off, 1.7)
     assert abs(a["law"]) > 0.3  # ~25 degrees, as mujoco_contact's test measures in MuJoCo
-    assert abs(a["neither"]) <= MUJOCO_LAW_SKEW_IDENTITY.atol  # isotropic, decoupled A and no free tangential acceleration: none
+    assert (
+        abs(a["neither"]) <= MUJOCO_LAW_SKEW_IDENTITY.atol
+    )  # isotropic, decoupled A and no free tangential acceleration: none
     assert abs(a["isotropic"]) < 0.2 * abs(a["law"])  # the anisotropy and coupling of A carry it
 
 
@@ -92,20 +114,29 @@ def test_predicted_skew_equals_measured_and_measured_is_friction_skew():
     assert np.array_equal(mine["skew"], theirs["skew"], equal_nan=True)
     law = fs.predicted(states, mu, duration=0.1)
     on = np.isfinite(mine["skew"])
-    assert np.array_equal(on, np.isfinite(law["skew"])) and on.sum() >= 2  # no force in either only where the start lifts off
+    assert (
+        np.array_equal(on, np.isfinite(law["skew"])) and on.sum() >= 2
+    )  # no force in either only where the start lifts off
     assert MUJOCO_LAW_SKEW.ok(law["skew"][on], mine["skew"][on])
     assert MUJOCO_LAW_SKEW_IDENTITY.ok(law["closed"][on], law["solved"][on])
 
 
 def test_mujoco_approaches_the_continuous_law_at_first_order():
-    c = convergence_order(Rod.scaled(3.0), SlipState(theta=0.8, varphi=-1.2, Theta=0.3, Psi=1.0, eta=1.0), 0.3, timesteps=(2e-4, 1e-4, 5e-5))
+    c = convergence_order(
+        Rod.scaled(3.0),
+        SlipState(theta=0.8, varphi=-1.2, Theta=0.3, Psi=1.0, eta=1.0),
+        0.3,
+        timesteps=(2e-4, 1e-4, 5e-5),
+    )
     assert MUJOCO_LAW_ORDER.ok(c["order"], 1.0)
     assert c["rms"][-1] < 1e-4  # and close: ~1e-5 l at dt = 5e-5
 
 
 def test_sliding_mode_holds_the_capsule_on_the_plane_with_a_fraction_of_the_force():
     rod, opts, mu = Rod.scaled(3.0), Options(timestep=1e-2), 0.3
-    q0, v0 = to_generalized(rod, SlipState(theta=0.8, varphi=-1.2, Theta=0.3, Psi=1.0, eta=1.0), tip=(0.0, 0.0, opts.radius))
+    q0, v0 = to_generalized(
+        rod, SlipState(theta=0.8, varphi=-1.2, Theta=0.3, Psi=1.0, eta=1.0), tip=(0.0, 0.0, opts.radius)
+    )
     traj = integrate(rod, q0, v0, mu, opts, times=np.arange(30) * 1e-2)
     assert traj.events == []  # it slides on dist = 0 from the start to the end
     dist = traj.q[:, 2] - np.sin(traj.q[:, 4]) - opts.radius
@@ -127,7 +158,11 @@ def test_the_law_without_its_feed_forward_is_solrefs_spring_damper_on_the_normal
         par = Parameters.of(rod, opts, impratio=impratio, feed_forward=False)
         pb = contact_problem(rod, data.qpos, data.qvel, mu, opts, parameters=par)
         # the friction rows and everything but the normal row's K, B, R are MuJoCo's
-        assert np.array_equal(pb.R[1:], with_ff.R[1:]) and np.array_equal(pb.aref[1:], with_ff.aref[1:]) and np.array_equal(pb.B[1:], with_ff.B[1:])
+        assert (
+            np.array_equal(pb.R[1:], with_ff.R[1:])
+            and np.array_equal(pb.aref[1:], with_ff.aref[1:])
+            and np.array_equal(pb.B[1:], with_ff.B[1:])
+        )
         assert np.array_equal(pb.A, with_ff.A) and np.array_equal(pb.a0, with_ff.a0) and pb.imp == with_ff.imp
         w, tau, zeta = inverse_weight(rod), par.timeconst, par.dampratio
         s = -(2.0 / tau) * pb.vel[0] - pb.dist / (tau * tau * zeta * zeta)
@@ -184,7 +219,9 @@ def test_delassus_operator_closed_forms_at_the_contact_point():
     # (1 + alpha (sin theta + offset/l)^2)/m with offset = r + dist/2: the anisotropy behind the skew
     for alpha, theta in ((3.0, 0.3), (1.5, 1.2)):
         rod, opts = Rod.scaled(alpha), Options()
-        q, v = to_generalized(rod, SlipState(theta=theta, varphi=-1.0, Theta=0.2, Psi=0.5, eta=1.0), tip=(0.0, 0.0, opts.radius))
+        q, v = to_generalized(
+            rod, SlipState(theta=theta, varphi=-1.0, Theta=0.2, Psi=0.5, eta=1.0), tip=(0.0, 0.0, opts.radius)
+        )
         q[2] -= 1e-6
         pb = contact_problem(rod, q, v, 1.0, opts)
         off = opts.radius + pb.dist / 2
@@ -198,8 +235,15 @@ def test_one_point_paths_give_the_array_paths_numbers_bit_for_bit():
     from crosscheck.engines.mujoco.law import _cone_direction, impedance, smooth_accelerations
 
     rng = np.random.default_rng(11)
-    for solimp in ((0.9, 0.95, 1e-3, 0.5, 2.0), (0.9, 0.95, 1e-3, 0.3, 1.0), (0.5, 0.5, 1e-3, 0.5, 2.0), (0.2, 0.99, 0.01, 0.7, 3.5)):
-        dist = np.concatenate((rng.uniform(-2e-3, 2e-3, 200), -solimp[2] * rng.uniform(0, 1, 50), [0.0, -solimp[2], solimp[2]]))
+    for solimp in (
+        (0.9, 0.95, 1e-3, 0.5, 2.0),
+        (0.9, 0.95, 1e-3, 0.3, 1.0),
+        (0.5, 0.5, 1e-3, 0.5, 2.0),
+        (0.2, 0.99, 0.01, 0.7, 3.5),
+    ):
+        dist = np.concatenate(
+            (rng.uniform(-2e-3, 2e-3, 200), -solimp[2] * rng.uniform(0, 1, 50), [0.0, -solimp[2], solimp[2]])
+        )
         whole = impedance(solimp, dist)
         assert np.array_equal([float(impedance(solimp, float(d))) for d in dist], whole)
         assert np.array_equal([float(impedance(solimp, np.float64(d))) for d in dist], whole)
@@ -220,4 +264,6 @@ def test_the_continuous_law_run_does_not_depend_on_the_runs_before_it():
     for mu in (0.2, 1.7):
         get("mujoco_law").simulate(rod, state, mu, horizon=0.05)
     again = get("mujoco_law").simulate(rod, state, 0.9, horizon=0.05)
-    assert np.array_equal(first.record.force, again.record.force) and np.array_equal(first.record.tip_acc, again.record.tip_acc)
+    assert np.array_equal(first.record.force, again.record.force) and np.array_equal(
+        first.record.tip_acc, again.record.tip_acc
+    )

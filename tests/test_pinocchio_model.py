@@ -64,7 +64,9 @@ def assert_within(got, want, tolerance, scale, what: str) -> None:
     allowed = tolerance.atol * scale + tolerance.rtol * np.abs(want)
     ratio = np.abs(got - want) / allowed
     worst = np.unravel_index(np.argmax(ratio), ratio.shape)
-    assert ratio.max() <= 1.0, f"{what}: error {ratio.max():.3g} x allowance at {worst}: got {got[worst]!r}, want {want[worst]!r}"
+    assert ratio.max() <= 1.0, (
+        f"{what}: error {ratio.max():.3g} x allowance at {worst}: got {got[worst]!r}, want {want[worst]!r}"
+    )
 
 
 # --------------------------------------------------------------------------
@@ -78,7 +80,13 @@ def test_model_is_the_chain_of_single_axis_joints_with_the_singular_inertia(name
     model = pinrod.build_model(rod)
     assert (model.nq, model.nv, model.njoints) == (5, 5, 6)
     assert tuple(model.names[1:]) == GENERALIZED
-    assert [model.joints[i].shortname() for i in range(1, 6)] == ["JointModelPX", "JointModelPY", "JointModelPZ", "JointModelRZ", "JointModelRX"]
+    assert [model.joints[i].shortname() for i in range(1, 6)] == [
+        "JointModelPX",
+        "JointModelPY",
+        "JointModelPZ",
+        "JointModelRZ",
+        "JointModelRX",
+    ]
     body = model.inertias[5]
     assert body.mass == rod.mass
     np.testing.assert_array_equal(body.lever, np.zeros(3))
@@ -95,9 +103,13 @@ def test_model_is_the_chain_of_single_axis_joints_with_the_singular_inertia(name
 def test_tip_frame_is_at_A_of_eq_tipfromcentre():
     rng = np.random.default_rng(1)
     rod = RODS["heavy-short"]
-    q = np.column_stack((rng.uniform(-2, 2, (200, 3)), rng.uniform(-math.pi, math.pi, 200), rng.uniform(0, math.pi / 2, 200)))
+    q = np.column_stack(
+        (rng.uniform(-2, 2, (200, 3)), rng.uniform(-math.pi, math.pi, 200), rng.uniform(0, math.pi / 2, 200))
+    )
     got = pinrod.engine(rod).tip_position(q)
-    assert_within(got, tip_position(rod, q), pinocchio_tol.PIN_MATRICES, rod.length + np.abs(q[:, :3]).sum(1), "tip position")
+    assert_within(
+        got, tip_position(rod, q), pinocchio_tol.PIN_MATRICES, rod.length + np.abs(q[:, :3]).sum(1), "tip position"
+    )
 
 
 def test_body_rotation_is_Rz_psi_Rx_theta_eq_rotmatrix():
@@ -149,7 +161,13 @@ def test_tip_acceleration_by_delassus_equals_eq_linode2(name):
     # 1e-12 of the term scale holds where the condition number 1/cos^2 theta of M allows it.
     ok = cos >= 0.02
     assert ok.sum() > 300
-    assert_within(got[ok], want[ok], tol.Tolerance(1e-12, 0.0, "required 1e-12 of the term scale"), A[ok], "G F + free, 1e-12, cos >= 0.02")
+    assert_within(
+        got[ok],
+        want[ok],
+        tol.Tolerance(1e-12, 0.0, "required 1e-12 of the term scale"),
+        A[ok],
+        "G F + free, 1e-12, cos >= 0.02",
+    )
 
 
 @pytest.mark.parametrize("route", pinrod.ROUTES, ids=str)
@@ -283,13 +301,20 @@ def test_coriolis_identities(name):
     # (only M_psipsi = I0 cos^2 theta varies); C's own rounding eps (m + I0)|v| is far below.
     fd_bound = EPS * (rod.mass + rod.inertia) / h + h**2 / 6 * 4 * rod.inertia * np.abs(v[:, 4]) ** 3
     assert_within(N + np.swapaxes(N, 1, 2), 0.0 * N, pinocchio_tol.PIN_FINITE_DIFFERENCE, 2 * fd_bound, "M' - 2C skew")
-    assert_within(Mdot, terms.C + np.swapaxes(terms.C, 1, 2), pinocchio_tol.PIN_FINITE_DIFFERENCE, fd_bound, "M' = C + C^T")
+    assert_within(
+        Mdot, terms.C + np.swapaxes(terms.C, 1, 2), pinocchio_tol.PIN_FINITE_DIFFERENCE, fd_bound, "M' = C + C^T"
+    )
     # The check has teeth: a C with the same C v but the psi row lumped into C[psi, psi] is not skew.
     wrong = terms.C.copy()
     wrong[:, 3, 3] = 2 * terms.C[:, 3, 3]
     wrong[:, 3, 4] = 0.0
     Nw = Mdot - 2 * wrong
-    np.testing.assert_allclose(np.einsum("nij,nj->ni", wrong, v), np.einsum("nij,nj->ni", terms.C, v), rtol=0, atol=1e-12 * rod.inertia * (np.abs(v[:, 3:]).sum(1) ** 2).max())
+    np.testing.assert_allclose(
+        np.einsum("nij,nj->ni", wrong, v),
+        np.einsum("nij,nj->ni", terms.C, v),
+        rtol=0,
+        atol=1e-12 * rod.inertia * (np.abs(v[:, 3:]).sum(1) ** 2).max(),
+    )
     assert np.abs(Nw + np.swapaxes(Nw, 1, 2)).max() > 1e3 * pinocchio_tol.PIN_FINITE_DIFFERENCE.atol * fd_bound.max()
 
 
@@ -319,8 +344,12 @@ def test_tip_jacobian_and_its_time_variation_against_finite_differences(name):
     assert_within(fd_dJ, terms.dJ, pinocchio_tol.PIN_FINITE_DIFFERENCE, bound_dJ, "dJ vs finite differences")
     # The tip velocity J v is the derivative of eq. tipfromcentre: slip heading beta = psi + varphi, speed eta.
     tip_v = np.einsum("nij,nj->ni", terms.J, v) / (l * rod.omega)
-    np.testing.assert_allclose(tip_v[:, 0], s["eta"] * np.cos(s["psi"] + s["varphi"]), rtol=0, atol=1e-12 * (1 + np.abs(v).sum(1).max()))
-    np.testing.assert_allclose(tip_v[:, 1], s["eta"] * np.sin(s["psi"] + s["varphi"]), rtol=0, atol=1e-12 * (1 + np.abs(v).sum(1).max()))
+    np.testing.assert_allclose(
+        tip_v[:, 0], s["eta"] * np.cos(s["psi"] + s["varphi"]), rtol=0, atol=1e-12 * (1 + np.abs(v).sum(1).max())
+    )
+    np.testing.assert_allclose(
+        tip_v[:, 1], s["eta"] * np.sin(s["psi"] + s["varphi"]), rtol=0, atol=1e-12 * (1 + np.abs(v).sum(1).max())
+    )
     np.testing.assert_allclose(tip_v[:, 2], 0.0, rtol=0, atol=1e-12 * (1 + np.abs(v).sum(1).max()))
 
 
@@ -346,7 +375,9 @@ def test_b_equals_eq_b():
     rng = np.random.default_rng(60)
     s = random_states(rng, 900)
     got = pinrod.b(s["Psi"], s["Theta"], s["theta"])
-    V = (3 + 3 * (np.abs(s["Psi"]) + np.abs(s["Theta"]))) ** 2  # (1 + |v_s|_1)^2 at eta = 1: |v_s|_1 <= 2 + 3(|Psi| + |Theta|)
+    V = (
+        3 + 3 * (np.abs(s["Psi"]) + np.abs(s["Theta"]))
+    ) ** 2  # (1 + |v_s|_1)^2 at eta = 1: |v_s|_1 <= 2 + 3(|Psi| + |Theta|)
     assert_within(got, analytic.b(s["Psi"], s["Theta"], s["theta"]), pinocchio_tol.PIN_SLIP, V, "b")
 
 
@@ -355,7 +386,13 @@ def test_p_equals_eq_p():
     s = random_states(rng, 900)
     alpha = rng.choice([0.5, 1.0, 3.0, 7.0, 20.0], 900)
     got = pinrod.p(s["theta"], s["varphi"], s["mu"], alpha)
-    assert_within(got, analytic.p(s["theta"], s["varphi"], s["mu"], alpha), pinocchio_tol.PIN_SLIP, (1 + alpha) * (1 + s["mu"]), "p")
+    assert_within(
+        got,
+        analytic.p(s["theta"], s["varphi"], s["mu"], alpha),
+        pinocchio_tol.PIN_SLIP,
+        (1 + alpha) * (1 + s["mu"]),
+        "p",
+    )
     assert got.shape == (900,) and np.ndim(pinrod.p(0.5, -1.0, 1.0, 3.0)) == 0
 
 
@@ -369,7 +406,13 @@ def test_b_and_p_of_physical_rods_do_not_depend_on_m_l_I0_g_or_psi(name):
     bb, pp = pinrod.slip_coefficients(rod, pinrod.engine(rod).terms(q, v), s["psi"] + s["varphi"], s["mu"])
     V = (1 + 2 * s["eta"] + 3 * (np.abs(s["Psi"]) + np.abs(s["Theta"]))) ** 2
     assert_within(bb, analytic.b(s["Psi"], s["Theta"], s["theta"]), pinocchio_tol.PIN_SLIP, V, "b")
-    assert_within(pp, analytic.p(s["theta"], s["varphi"], s["mu"], rod.alpha), pinocchio_tol.PIN_SLIP, (1 + rod.alpha) * (1 + s["mu"]), "p")
+    assert_within(
+        pp,
+        analytic.p(s["theta"], s["varphi"], s["mu"], rod.alpha),
+        pinocchio_tol.PIN_SLIP,
+        (1 + rod.alpha) * (1 + s["mu"]),
+        "p",
+    )
 
 
 def test_normal_force_equals_eq_FZ():
@@ -398,7 +441,10 @@ def test_mode_agrees_on_10000_random_states():
     want = analytic.mode(want_b, want_p)
     # No state of this seed lies on a mode boundary (within the allowance of b or p), so every mode must match.
     V = (3 + 3 * (np.abs(Psi) + np.abs(Theta))) ** 2
-    assert not np.any((np.abs(want_b) <= pinocchio_tol.PIN_SLIP.atol * V) | (np.abs(want_p) <= pinocchio_tol.PIN_SLIP.atol * (1 + alpha) * (1 + mu)))
+    assert not np.any(
+        (np.abs(want_b) <= pinocchio_tol.PIN_SLIP.atol * V)
+        | (np.abs(want_p) <= pinocchio_tol.PIN_SLIP.atol * (1 + alpha) * (1 + mu))
+    )
     np.testing.assert_array_equal(got, want)
     assert set(np.unique(want)) == {int(m) for m in analytic.Mode}  # all four modes are exercised
 
@@ -423,11 +469,19 @@ def test_mu_P_searches_the_modules_own_p_to_the_last_bit():
         return p0 / (p0 - p1) if p0 > p1 else math.inf
 
     got = pinrod.mu_P(alpha)
-    assert got == float(minimize_scalar(ratio, bounds=(0.0, math.pi / 2), method="bounded", options={"xatol": 1e-10}).fun)
+    assert got == float(
+        minimize_scalar(ratio, bounds=(0.0, math.pi / 2), method="bounded", options={"xatol": 1e-10}).fun
+    )
 
     def min_p(mu):
-        return float(minimize_scalar(lambda theta: float(pinrod.p(theta, -math.pi / 2, mu, alpha)), bounds=(0.0, math.pi / 2),
-                                     method="bounded", options={"xatol": 1e-10}).fun)
+        return float(
+            minimize_scalar(
+                lambda theta: float(pinrod.p(theta, -math.pi / 2, mu, alpha)),
+                bounds=(0.0, math.pi / 2),
+                method="bounded",
+                options={"xatol": 1e-10},
+            ).fun
+        )
 
     # 1e-9 relative: the required accuracy of mu_P (PIN_MU_P); min p moves by ~|dp/dmu| 1e-9 ~ 1e-9, far above rounding
     assert min_p(got * (1 - 1e-9)) > 0.0 > min_p(got * (1 + 1e-9))

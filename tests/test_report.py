@@ -54,7 +54,13 @@ EXPECTED_FIGURES = {
 for _spec in engines.specs():
     _plan = _spec.report
     if _plan is not None and _plan.maps is not None:
-        EXPECTED_FIGURES[f"{_spec.slug}_maps"] = ["map_Psi_mu", "map_theta_Theta_0", "map_theta_Theta_1", "confusion", "event_time_errors"]
+        EXPECTED_FIGURES[f"{_spec.slug}_maps"] = [
+            "map_Psi_mu",
+            "map_theta_Theta_0",
+            "map_theta_Theta_1",
+            "confusion",
+            "event_time_errors",
+        ]
         EXPECTED_FIGURES[f"{_spec.slug}_contact"] = ["contact_quality"]
         EXPECTED_FIGURES[f"{_spec.slug}_ic"] = ["ic"]
         if _plan.onset:
@@ -73,7 +79,9 @@ FULL_ONLY = {"mujoco_validate"}
 
 
 def _head() -> str:
-    return subprocess.run(["git", "rev-parse", "HEAD"], cwd=Path(report.__file__).parents[2], capture_output=True, text=True).stdout.strip()
+    return subprocess.run(
+        ["git", "rev-parse", "HEAD"], cwd=Path(report.__file__).parents[2], capture_output=True, text=True
+    ).stdout.strip()
 
 
 #: HEAD just before the quick report ran (the work tree is shared: a commit may land during the run).
@@ -98,7 +106,11 @@ def views(quick):
 
 
 def _digest(root: Path) -> dict[str, str]:
-    return {str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(root.rglob("*")) if p.is_file()}
+    return {
+        str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest()
+        for p in sorted(root.rglob("*"))
+        if p.is_file()
+    }
 
 
 def test_every_section_is_listed_in_the_expected_figures():
@@ -129,14 +141,31 @@ def test_engines_mapping_one_grid_share_one_kept_theory_and_read_the_same_analyt
     for m in maps:
         for mp in json.loads((m / "maps.json").read_text()):
             rows = list(csv.DictReader((m / f"events_{mp['name']}.csv").open()))
-            cols = [(r["theta"], r["Theta"], r["Psi"], r["mu"], r["analytic_outcome"], r["analytic_time"], r["analytic_reason"]) for r in rows]
-            grids.setdefault(json.dumps([mp["name"], mp["x"], mp["y"], mp["fixed"]], sort_keys=True), []).append((m.name, cols))
+            cols = [
+                (
+                    r["theta"],
+                    r["Theta"],
+                    r["Psi"],
+                    r["mu"],
+                    r["analytic_outcome"],
+                    r["analytic_time"],
+                    r["analytic_reason"],
+                )
+                for r in rows
+            ]
+            grids.setdefault(json.dumps([mp["name"], mp["x"], mp["y"], mp["fixed"]], sort_keys=True), []).append(
+                (m.name, cols)
+            )
     shared = [g for g in grids.values() if len(g) > 1]
     assert len(maps) >= 8 and shared  # eight engines map the quick grids
     for g in shared:
         assert all(cols == g[0][1] for _, cols in g[1:]), [name for name, _ in g]
     # one kept file per distinct grid (its axes' values in the key above), however many engines map it
-    assert len([p for p in kept if not p.name.startswith("convergence-")]) == len(grids) < sum(len(g) for g in grids.values())
+    assert (
+        len([p for p in kept if not p.name.startswith("convergence-")])
+        == len(grids)
+        < sum(len(g) for g in grids.values())
+    )
 
 
 @pytest.mark.parametrize("section", report.SECTIONS, ids=lambda s: s.slug)
@@ -159,7 +188,9 @@ def test_every_figure_and_table_has_its_files(quick, views, section):
         if p.suffix == ".json":
             json.loads(p.read_text())
         # data files, and the outcome maps' hover page (crosscheck.report.interactive): self-contained, no script
-        assert p.suffix in (".csv", ".json") or (p.suffix == ".html" and "<script" not in p.read_text() and " src=" not in p.read_text()), path
+        assert p.suffix in (".csv", ".json") or (
+            p.suffix == ".html" and "<script" not in p.read_text() and " src=" not in p.read_text()
+        ), path
     # the HTML and the Markdown twin link every figure and data file
     html, md = (out / "index.html").read_text(), (out / "report.md").read_text()
     for f in figures:
@@ -220,13 +251,17 @@ def test_provenance_records_versions_revision_machine_parameters_tolerances_seed
     assert prov["tolerances"] == json.loads(json.dumps(all_tolerances()))
     assert prov["parameters"] == json.loads(json.dumps({s.slug: s.params(True) for s in report.SECTIONS}))
     md = (out / "report.md").read_text()
-    assert head in md and f"| version: mujoco | {metadata.version('mujoco')} |" in md and f"| version: pin | {metadata.version('pin')} |" in md
+    assert (
+        head in md
+        and f"| version: mujoco | {metadata.version('mujoco')} |" in md
+        and f"| version: pin | {metadata.version('pin')} |" in md
+    )
 
 
 def test_printed_numbers_table_flags_every_known_misprint_and_nothing_else(quick):
     out, _ = quick
     md = (out / "report.md").read_text()
-    section = md[md.index("## Every number the paper prints"):]
+    section = md[md.index("## Every number the paper prints") :]
     table = section[: section.index("[data: printed_values.csv]")]
     rows = [r for r in table.splitlines() if r.startswith("| ") and not r.startswith("| quantity")]
     assert len(rows) == len(PRINTED)
@@ -240,7 +275,9 @@ def test_the_pinocchio_validations_worst_states_are_saved_inside_the_papers_doma
     # the worst state of a quantity through M^-1 is often a near-horizontal rod (theta down to 1e-8): saved with too few
     # digits its theta read 0, a state the paper's equations exclude
     out, _ = quick
-    t = SectionStore(out / "data" / "pinocchio").read_table("errors_per_quantity", text=("quantity", "passed", "worst_state"))
+    t = SectionStore(out / "data" / "pinocchio").read_table(
+        "errors_per_quantity", text=("quantity", "passed", "worst_state")
+    )
     thetas = [json.loads(w)["theta"] for w, q in zip(t["worst_state"], t["quantity"]) if q != "mu_P from p"]
     assert thetas and all(0.0 < th < math.pi / 2 for th in thetas), thetas
 
@@ -248,12 +285,20 @@ def test_the_pinocchio_validations_worst_states_are_saved_inside_the_papers_doma
 def _toy_sections(tmp_marker: Path):
     """A section that works and one that fails after saving part of its results; the failing one touches ``tmp_marker``
     (a file: each section runs in its own process)."""
+
     def run_ok(ctx):
         ctx.store.write_table("values", {"x": np.arange(3.0)})
         ctx.check("toy check", True, value=0.0, allowance=1.0)
 
     def render_ok(ctx):
-        return [Table(caption="values", header=["x"], rows=[[f"{v:g}"] for v in ctx.store.read_table("values")["x"]], data=ctx.data("values.csv"))]
+        return [
+            Table(
+                caption="values",
+                header=["x"],
+                rows=[[f"{v:g}"] for v in ctx.store.read_table("values")["x"]],
+                data=ctx.data("values.csv"),
+            )
+        ]
 
     def run_bad(ctx):
         ctx.store.write_table("partial", {"y": [1.0, 2.0]})  # finished work before the failure
@@ -261,12 +306,19 @@ def _toy_sections(tmp_marker: Path):
         raise RuntimeError("boom: the engine diverged")
 
     def render_bad(ctx):
-        return [Table(caption="partial", header=["y"], rows=[[str(v)] for v in ctx.store.read_table("missing")["y"]], data=[])]
+        return [
+            Table(
+                caption="partial", header=["y"], rows=[[str(v)] for v in ctx.store.read_table("missing")["y"]], data=[]
+            )
+        ]
 
     def params(quick):
         return {"n": 3}
 
-    return (Section("toy_ok", "Toy ok", "", params, run_ok, render_ok), Section("toy_bad", "Toy bad", "", params, run_bad, render_bad, requires=("crosscheck.nowhere",)))
+    return (
+        Section("toy_ok", "Toy ok", "", params, run_ok, render_ok),
+        Section("toy_bad", "Toy bad", "", params, run_bad, render_bad, requires=("crosscheck.nowhere",)),
+    )
 
 
 def test_failing_section_is_shown_keeps_partial_results_and_exits_nonzero(tmp_path, monkeypatch):
@@ -284,7 +336,12 @@ def test_failing_section_is_shown_keeps_partial_results_and_exits_nonzero(tmp_pa
     assert (out / "data" / "toy_bad" / "partial.csv").read_text() == "y\n1.0\n2.0\n"
     html, md = (out / "index.html").read_text(), (out / "report.md").read_text()
     for doc in (html, md):
-        assert "boom: the engine diverged" in doc and "FAILED" in doc and "crosscheck.nowhere" in doc and "partial.csv" in doc
+        assert (
+            "boom: the engine diverged" in doc
+            and "FAILED" in doc
+            and "crosscheck.nowhere" in doc
+            and "partial.csv" in doc
+        )
     assert "toy_ok: " not in md.split("## Provenance")[0]  # the good section is not among the failures
 
 
@@ -301,8 +358,10 @@ def test_failed_check_makes_the_report_fail(tmp_path, monkeypatch):
 
 def test_from_results_without_results_is_a_one_line_error(tmp_path, capsys):
     assert main(["report", "--from-results", "--out", str(tmp_path / "none")]) == 2
-    assert capsys.readouterr().err == (f"crosscheck: error: out must hold saved results with --from-results; {str(tmp_path / 'none' / 'data')!r} has none "
-                                       f"(run `crosscheck report --out {tmp_path / 'none'}` without --from-results first)\n")
+    assert capsys.readouterr().err == (
+        f"crosscheck: error: out must hold saved results with --from-results; {str(tmp_path / 'none' / 'data')!r} has none "
+        f"(run `crosscheck report --out {tmp_path / 'none'}` without --from-results first)\n"
+    )
 
 
 def test_unknown_section_is_a_one_line_error(tmp_path, capsys):
@@ -318,7 +377,11 @@ def test_sweep_heavy_sections_keep_their_engine_runs_in_finished_stores(quick):
     from crosscheck.sweeps import Store
 
     heavy = [(f"{e.slug}_maps", 3) for e in engines.specs() if e.report and e.report.maps]
-    heavy += [(f"{e.slug}_convergence", len(e.report.convergence["quick"])) for e in engines.specs() if e.report and e.report.convergence]
+    heavy += [
+        (f"{e.slug}_convergence", len(e.report.convergence["quick"]))
+        for e in engines.specs()
+        if e.report and e.report.convergence
+    ]
     assert ("mujoco_convergence", 4) in heavy and ("rigid_convergence", 3) in heavy
     for slug, n_settings in heavy:
         manifests = sorted((out / "sweeps" / slug).rglob("manifest.json"))
@@ -393,7 +456,9 @@ def test_findings_come_first_with_a_line_per_engine(quick):
     assert set(first) == {f"{e.slug}_maps" for e in engines.specs() if e.report and e.report.maps}
     assert first["rigid_maps"].leg.startswith("Pinocchio (rigid engine)")
     for slug, f in first.items():
-        conf = sum(np.asarray(mp["runs"][0]["confusion"]) for mp in json.loads((out / "data" / slug / "maps.json").read_text()))
+        conf = sum(
+            np.asarray(mp["runs"][0]["confusion"]) for mp in json.loads((out / "data" / slug / "maps.json").read_text())
+        )
         k, n = int(np.trace(conf[:4, :4])), int(conf[:4].sum())
         assert f"{k} of {n} rated" in f.text and f.verdict in ("agrees", "disagrees", "inconclusive")
     md = (out / "report.md").read_text()
@@ -416,14 +481,20 @@ def test_the_engine_table_heads_the_findings_with_a_row_per_engine_and_setting(q
         row = next(r for r in records if r["setting"].endswith("(maps)") and r["engine"].startswith(e.label))
         k, n = (int(x) for x in re.search(r"in (\d+) of (\d+) rated", first[f"{e.slug}_maps"].text).groups())
         assert row["agreement (95 % CI)"].startswith(f"{100 * k / n:.0f} %")
-        conf = sum(np.asarray(mp["runs"][0]["confusion"]) for mp in json.loads((out / "data" / f"{e.slug}_maps" / "maps.json").read_text()))
+        conf = sum(
+            np.asarray(mp["runs"][0]["confusion"])
+            for mp in json.loads((out / "data" / f"{e.slug}_maps" / "maps.json").read_text())
+        )
         launch = int(conf[:4, 6].sum())
         assert row["LAUNCH"] == (f"{100 * launch / n:.0f} % ({launch}/{n})" if n else "-")
         iv = out / "data" / f"{e.slug}_interventions" / "summary.json"
         if iv.exists() and json.loads(iv.read_text())["attributed"]:
             s = json.loads(iv.read_text())
             joint = f", {s['jointly']} more jointly" if s["jointly"] else ""
-            assert row["causes confirmed (intervention)"] == f"{100 * s['confirmed_share']:.0f} % ({s['confirmed']}/{s['attributed']}{joint})"
+            assert (
+                row["causes confirmed (intervention)"]
+                == f"{100 * s['confirmed_share']:.0f} % ({s['confirmed']}/{s['attributed']}{joint})"
+            )
         rounding = json.loads((out / "data" / f"{e.slug}_rounding" / "summary.json").read_text())
         assert row["outcome moves within 2 ulp"] == f"{rounding['changed']} of {rounding['n']}"
     md = (out / "report.md").read_text()
@@ -448,7 +519,9 @@ def test_provenance_outside_a_checkout_names_the_installed_version(tmp_path):
 
     git = provenance.git_revision(tmp_path)
     assert git == {"revision": None, "dirty": None, "describe": "not a git checkout"}
-    assert _revision(git, {"versions": {"crosscheck": "0.1.0"}}) == "installed package, version 0.1.0 (not a git checkout)"
+    assert (
+        _revision(git, {"versions": {"crosscheck": "0.1.0"}}) == "installed package, version 0.1.0 (not a git checkout)"
+    )
     here = provenance.git_revision()
     assert here["revision"] and _revision(here, {}).startswith(here["revision"])
 
@@ -457,13 +530,23 @@ def test_findings_read_a_validate_ratio_as_a_ratio(tmp_path):
     """An onset check recorded as a ratio to its tolerance (allowance 1) is reported as a ratio, not as |onset - Psi_L|."""
     from crosscheck.report.findings import findings
 
-    for slug, check in (("toy_ratio", {"name": "MuJoCo lift-off onset Psi within tolerance", "passed": True, "value": 1.1e-4, "allowance": 1.0}),
-                        ("toy_abs", {"name": "mu = 0.3, timestep 0.0003: onset = Psi_L", "passed": True, "value": 6e-11, "allowance": 5.5e-7})):
+    for slug, check in (
+        (
+            "toy_ratio",
+            {"name": "MuJoCo lift-off onset Psi within tolerance", "passed": True, "value": 1.1e-4, "allowance": 1.0},
+        ),
+        (
+            "toy_abs",
+            {"name": "mu = 0.3, timestep 0.0003: onset = Psi_L", "passed": True, "value": 6e-11, "allowance": 5.5e-7},
+        ),
+    ):
         (tmp_path / slug).mkdir()
         (tmp_path / slug / "checks.json").write_text(json.dumps([check]))
     text = {f.slug: f.text for f in findings(tmp_path)}
     assert text["toy_ratio"].endswith("worst at 0.00011 of its tolerance")
-    assert text["toy_abs"].endswith("worst |onset - Psi_L| = 6e-11 against its allowance 5.5e-07 (mu = 0.3, timestep 0.0003)")
+    assert text["toy_abs"].endswith(
+        "worst |onset - Psi_L| = 6e-11 against its allowance 5.5e-07 (mu = 0.3, timestep 0.0003)"
+    )
 
 
 def test_compare_data_allows_only_the_machine_dependent_bits(tmp_path):
@@ -475,7 +558,9 @@ def test_compare_data_allows_only_the_machine_dependent_bits(tmp_path):
     def tree(root, t, unconverged, other):
         (root / "mujoco_trajectories").mkdir(parents=True)
         (root / "mujoco_trajectories" / "analytic_jam.csv").write_text(f"t,Psi\n{t!r},1.0\n")
-        (root / "maps.json").write_text(json.dumps({"solver_health": {"unconverged_steps": unconverged}, "agreement": other}))
+        (root / "maps.json").write_text(
+            json.dumps({"solver_health": {"unconverged_steps": unconverged}, "agreement": other})
+        )
         return root
 
     old = tree(tmp_path / "old", 0.5, 250, 0.8)
@@ -488,15 +573,28 @@ def test_the_causes_confirmed_on_every_engine_are_drawn_beside_the_engine_table_
     """Each engine's bar is its interventions summary split into bins that hold each attributed start once."""
     out, _ = quick
     rows = json.loads((out / "data" / "causes_confirmed.json").read_text())
-    assert {r["section"] for r in rows} == {p.parent.name for p in (out / "data").glob("*_interventions/summary.json")
-                                             if json.loads(p.read_text())["attributed"]}
+    assert {r["section"] for r in rows} == {
+        p.parent.name
+        for p in (out / "data").glob("*_interventions/summary.json")
+        if json.loads(p.read_text())["attributed"]
+    }
     for r in rows:
         s = json.loads((out / "data" / r["section"] / "summary.json").read_text())
         assert r["confirmed"] + r["pairs"] == s["confirmed"]
-        assert r["confirmed"] + r["pairs"] + r["other"] + r["jointly"] + r["none"] + r["no_intervention"] == r["attributed"] == s["attributed"]
-    assert (out / "figures" / "overview" / "causes_confirmed.png").is_file() and (out / "figures" / "overview" / "causes_confirmed.svg").is_file()
+        assert (
+            r["confirmed"] + r["pairs"] + r["other"] + r["jointly"] + r["none"] + r["no_intervention"]
+            == r["attributed"]
+            == s["attributed"]
+        )
+    assert (out / "figures" / "overview" / "causes_confirmed.png").is_file() and (
+        out / "figures" / "overview" / "causes_confirmed.svg"
+    ).is_file()
     md = (out / "report.md").read_text()
-    assert md.index("## Findings") < md.index("(figures/overview/causes_confirmed.png)") < md.index("- **", md.index("## Findings"))
+    assert (
+        md.index("## Findings")
+        < md.index("(figures/overview/causes_confirmed.png)")
+        < md.index("- **", md.index("## Findings"))
+    )
 
 
 def test_findings_sum_the_causes_confirmed_over_every_engine_against_the_goal(tmp_path):
@@ -506,19 +604,46 @@ def test_findings_sum_the_causes_confirmed_over_every_engine_against_the_goal(tm
     def summary(slug, attributed, confirmed, pairs, jointly):
         (tmp_path / slug).mkdir()
         per = {"geometry": {"overdetermined": {"compliance": pairs}, "by_other": {}, "none": 0}}
-        (tmp_path / slug / "summary.json").write_text(json.dumps({"engine": "mujoco", "attributed": attributed, "confirmed": confirmed,
-                                                                  "confirmed_share": confirmed / attributed, "jointly": jointly, "per_cause": per}))
+        (tmp_path / slug / "summary.json").write_text(
+            json.dumps(
+                {
+                    "engine": "mujoco",
+                    "attributed": attributed,
+                    "confirmed": confirmed,
+                    "confirmed_share": confirmed / attributed,
+                    "jointly": jointly,
+                    "per_cause": per,
+                }
+            )
+        )
 
     summary("a_interventions", 10, 8, 1, 0)
     summary("b_interventions", 10, 8, 0, 2)
     (line,) = [f for f in findings(tmp_path) if f.leg.startswith("every engine")]
     assert line.verdict == "confirmed" and line.why == "16 of 20 >= 80 % of 20 = 16"
-    assert line.text.startswith("16 of 20 attributed disagreements (80.0 %) over 2 engines") and "(1 of them overdetermined pairs" in line.text
+    assert (
+        line.text.startswith("16 of 20 attributed disagreements (80.0 %) over 2 engines")
+        and "(1 of them overdetermined pairs" in line.text
+    )
     assert "; 2 more only jointly" in line.text and line.text.endswith("; lowest MuJoCo, 8 of 10 (80 %)")
-    (tmp_path / "b_interventions" / "summary.json").write_text(json.dumps({"engine": "bullet", "attributed": 10, "confirmed": 7,
-                                                                           "confirmed_share": 0.7, "jointly": 0, "per_cause": {}}))
+    (tmp_path / "b_interventions" / "summary.json").write_text(
+        json.dumps(
+            {
+                "engine": "bullet",
+                "attributed": 10,
+                "confirmed": 7,
+                "confirmed_share": 0.7,
+                "jointly": 0,
+                "per_cause": {},
+            }
+        )
+    )
     (line,) = [f for f in findings(tmp_path) if f.leg.startswith("every engine")]
-    assert line.verdict == "partly confirmed" and line.why == "15 of 20 < 80 % of 20 = 16" and line.slug == "b_interventions"
+    assert (
+        line.verdict == "partly confirmed"
+        and line.why == "15 of 20 < 80 % of 20 = 16"
+        and line.slug == "b_interventions"
+    )
     assert line.text.endswith("; lowest Bullet, 7 of 10 (70 %)")
 
 
@@ -528,12 +653,23 @@ def test_findings_name_the_causes_of_disagreement_and_the_compliant_limit(tmp_pa
     from crosscheck.report.findings import findings
 
     (tmp_path / "ladder").mkdir()
-    counts = {"geometry": 1, "compliance": 0, "friction law": 2, "discretisation": 0, "unexplained": 2, "undetermined": 0}
-    (tmp_path / "ladder" / "summary.json").write_text(json.dumps({"n_disagree": 5, "attributed": 0.6, "counts": counts}))
+    counts = {
+        "geometry": 1,
+        "compliance": 0,
+        "friction law": 2,
+        "discretisation": 0,
+        "unexplained": 2,
+        "undetermined": 0,
+    }
+    (tmp_path / "ladder" / "summary.json").write_text(
+        json.dumps({"n_disagree": 5, "attributed": 0.6, "counts": counts})
+    )
     (tmp_path / "compliant_limit").mkdir()
-    checks = [{"name": "inconsistent starts: fitted slope", "passed": True, "value": [[0.70, 0.69]], "kind": "physics"},
-              {"name": "indeterminate starts", "passed": False, "value": "3 of 4", "kind": "physics"},
-              {"name": "some guard", "passed": False, "value": 1, "kind": "regression guard"}]
+    checks = [
+        {"name": "inconsistent starts: fitted slope", "passed": True, "value": [[0.70, 0.69]], "kind": "physics"},
+        {"name": "indeterminate starts", "passed": False, "value": "3 of 4", "kind": "physics"},
+        {"name": "some guard", "passed": False, "value": 1, "kind": "regression guard"},
+    ]
     (tmp_path / "compliant_limit" / "checks.json").write_text(json.dumps(checks))
     by_slug = {f.slug: f for f in findings(tmp_path)}
     ladder = by_slug["ladder"]

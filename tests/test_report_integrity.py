@@ -34,7 +34,14 @@ def _render(ctx):
     t = ctx.store.read_table("values")
     ctx.store.read_json("summary")
     ctx.store.read_grid("field")
-    return [Table(caption="values", header=["x", "y"], rows=[[f"{a:g}", f"{b:g}"] for a, b in zip(t["x"], t["y"])], data=ctx.data("values.csv"))]
+    return [
+        Table(
+            caption="values",
+            header=["x", "y"],
+            rows=[[f"{a:g}", f"{b:g}"] for a, b in zip(t["x"], t["y"])],
+            data=ctx.data("values.csv"),
+        )
+    ]
 
 
 TOY = Section("toy", "Toy", "", lambda quick: {"n": 3}, _run, _render)
@@ -72,21 +79,39 @@ DAMAGE = [
     ("toy/extra.csv", lambda p: p.write_text("x\n1\n"), "not written by the run"),
     ("toy/status.json", lambda p: p.write_text("42\n"), "a JSON int, expected an object"),
     ("toy/status.json", _truncate, "not readable JSON"),
-    ("toy/status.json", lambda p: p.write_text(json.dumps({**json.loads(p.read_text()), "files": None})), "no manifest"),
-    ("toy/status.json", lambda p: p.write_text(json.dumps({**json.loads(p.read_text()), "status": "done"})), "status 'done'"),
+    (
+        "toy/status.json",
+        lambda p: p.write_text(json.dumps({**json.loads(p.read_text()), "files": None})),
+        "no manifest",
+    ),
+    (
+        "toy/status.json",
+        lambda p: p.write_text(json.dumps({**json.loads(p.read_text()), "status": "done"})),
+        "status 'done'",
+    ),
     ("provenance.json", _truncate, "not readable JSON"),
     ("provenance.json", lambda p: p.write_text('{"date": 1}'), "not the provenance"),
     ("provenance.json", lambda p: p.write_text("[]"), "a JSON list"),
     # one bit flipped, the shape kept: only the seal beside the file can tell
-    ("provenance.json", lambda p: p.write_bytes(p.read_bytes().replace(b'"date": "2', b'"date": "3', 1)), "sha256 differs"),
+    (
+        "provenance.json",
+        lambda p: p.write_bytes(p.read_bytes().replace(b'"date": "2', b'"date": "3', 1)),
+        "sha256 differs",
+    ),
     ("provenance.json", lambda p: p.with_name(p.name + ".sha256").unlink(), "has no seal provenance.json.sha256"),
     ("provenance.json", lambda p: p.write_bytes(p.read_bytes() + b" "), "bytes, the run wrote"),
-    ("toy/status.json", lambda p: p.write_bytes(p.read_bytes().replace(b'"seed": 0', b'"seed": 1', 1)), "sha256 differs"),
+    (
+        "toy/status.json",
+        lambda p: p.write_bytes(p.read_bytes().replace(b'"seed": 0', b'"seed": 1', 1)),
+        "sha256 differs",
+    ),
     ("toy/status.json", lambda p: p.with_name(p.name + ".sha256").write_text("{}"), "is not one (no bytes and sha256)"),
 ]
 
 
-@pytest.mark.parametrize("name, damage, phrase", DAMAGE, ids=[f"{n}:{getattr(d, '__name__', 'edit')}:{p or 'changed'}" for n, d, p in DAMAGE])
+@pytest.mark.parametrize(
+    "name, damage, phrase", DAMAGE, ids=[f"{n}:{getattr(d, '__name__', 'edit')}:{p or 'changed'}" for n, d, p in DAMAGE]
+)
 def test_from_results_refuses_a_damaged_file_with_one_line_naming_it(saved, name, damage, phrase, capsys):
     path = saved / "data" / name
     damage(path)
@@ -114,13 +139,15 @@ def test_a_second_writer_is_refused_with_one_line(saved, capsys):
         capsys.readouterr()
         assert main(["report", "--out", str(saved), "--no-progress"]) == 2
         err = capsys.readouterr().err
-        assert err == (f"crosscheck: error: out must be a report directory no other process is writing; {str(saved)!r} is being written "
-                       f"by {owner_text()} (wait for it, or choose another --out)\n")
+        assert err == (
+            f"crosscheck: error: out must be a report directory no other process is writing; {str(saved)!r} is being written "
+            f"by {owner_text()} (wait for it, or choose another --out)\n"
+        )
         assert f"pid {os.getpid()} on " in err  # the holder: its pid, host and command
     assert main(["report", "--out", str(saved), "--no-progress"]) == 0  # released with its holder
 
 
-_KILLED_RUN = textwrap.dedent('''
+_KILLED_RUN = textwrap.dedent("""
     import sys, time
     import numpy as np
     from crosscheck import report
@@ -136,14 +163,16 @@ _KILLED_RUN = textwrap.dedent('''
     report.SECTIONS = (Section("toy_slow", "Slow toy", "", lambda q: {}, run, lambda ctx: []),)
     extra = ["--from-results"] if sys.argv[2] == "render" else []
     sys.exit(main(["report", "--out", sys.argv[1], "--no-progress", *extra]))
-''')
+""")
 
 
 def test_a_section_killed_by_sigkill_is_shown_unfinished_and_the_next_run_completes_it(tmp_path):
     out = tmp_path / "r"
     script = tmp_path / "killed.py"
     script.write_text(_KILLED_RUN)
-    proc = subprocess.Popen([sys.executable, str(script), str(out), "slow"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(
+        [sys.executable, str(script), str(out), "slow"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+    )
     half = out / "data" / "toy_slow" / "half.csv"
     deadline = time.monotonic() + 120
     while not half.exists() and time.monotonic() < deadline and proc.poll() is None:
@@ -173,10 +202,14 @@ def test_a_full_disk_is_one_line_naming_the_directory_and_leaves_the_section_unf
         def big(ctx):
             ctx.store.write_table("values", {"x": np.arange(4000.0)})
 
-        monkeypatch.setattr(report, "SECTIONS", (Section("toy", "Toy", "", lambda quick: {"n": 3}, big, lambda ctx: []),))
+        monkeypatch.setattr(
+            report, "SECTIONS", (Section("toy", "Toy", "", lambda quick: {"n": 3}, big, lambda ctx: []),)
+        )
         assert main(["report", "--out", str(mnt / "r"), "--no-progress"]) == 2
         err = capsys.readouterr().err
-        assert err.count("\n") == 1 and err.startswith(f"crosscheck: error: out {str(mnt / 'r' / 'data')!r} has no room left (No space left on device): writing ")
+        assert err.count("\n") == 1 and err.startswith(
+            f"crosscheck: error: out {str(mnt / 'r' / 'data')!r} has no room left (No space left on device): writing "
+        )
         assert "bytes needs at least that much free space" in err
         assert not list((mnt / "r").rglob(".*.tmp-*"))  # nothing half-written left ...
         status = mnt / "r" / "data" / "toy" / "status.json"
@@ -190,6 +223,7 @@ def test_a_full_disk_is_one_line_naming_the_directory_and_leaves_the_section_unf
 def test_a_disk_that_fills_during_the_render_is_one_line(tmp_path, monkeypatch, capsys):
     """A real 1 MiB tmpfs that fills while the pages are written (a filler written by the section's render)."""
     with tmpfs(tmp_path / "disk") as mnt:
+
         def fill(ctx):
             st = os.statvfs(mnt)
             (mnt / "filler").write_bytes(b"\0" * (st.f_bavail * st.f_frsize))
@@ -198,4 +232,8 @@ def test_a_disk_that_fills_during_the_render_is_one_line(tmp_path, monkeypatch, 
         monkeypatch.setattr(report, "SECTIONS", (Section("toy", "Toy", "", lambda quick: {"n": 3}, _run, fill),))
         assert main(["report", "--out", str(mnt / "r"), "--no-progress"]) == 2
         err = capsys.readouterr().err
-        assert err.count("\n") == 1 and err.startswith(f"crosscheck: error: out {str(mnt / 'r')!r}") and "has no room left (No space left on device)" in err
+        assert (
+            err.count("\n") == 1
+            and err.startswith(f"crosscheck: error: out {str(mnt / 'r')!r}")
+            and "has no room left (No space left on device)" in err
+        )

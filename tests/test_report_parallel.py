@@ -18,7 +18,15 @@ RENDEZVOUS = 30.0
 
 
 def _section(slug: str, run, after=()) -> Section:
-    return Section(slug=slug, title=slug, paper="", params=lambda quick: {"n": 3}, run=run, render=lambda ctx: [], after=tuple(after))
+    return Section(
+        slug=slug,
+        title=slug,
+        paper="",
+        params=lambda quick: {"n": 3},
+        run=run,
+        render=lambda ctx: [],
+        after=tuple(after),
+    )
 
 
 def _draws(ctx):
@@ -39,9 +47,12 @@ def test_two_sections_run_at_the_same_time(tmp_path):
                     raise RuntimeError(f"{other} never started while {me} ran")
                 time.sleep(0.01)
             ctx.store.write_json("met", {"pid": os.getpid()})
+
         return run
 
-    res = pipeline.run(tmp_path / "r", [_section("a", meet("a", "b")), _section("b", meet("b", "a"))], quick=True, jobs=2)
+    res = pipeline.run(
+        tmp_path / "r", [_section("a", meet("a", "b")), _section("b", meet("b", "a"))], quick=True, jobs=2
+    )
     assert {k: v["status"] for k, v in res.items()} == {"a": "ok", "b": "ok"}, res
     pids = {json.loads((tmp_path / "r" / "data" / s / "met.json").read_text())["pid"] for s in "ab"}
     assert len(pids) == 2 and os.getpid() not in pids
@@ -56,7 +67,11 @@ def test_a_section_starts_after_the_sections_it_reads(tmp_path):
         saved = tmp_path / "r" / "data" / "writer" / "value.json"
         ctx.store.write_json("read", json.loads(saved.read_text()))
 
-    sections = [_section("reader", reader, after=("writer",)), _section("writer", slow_writer), _section("other", _draws)]
+    sections = [
+        _section("reader", reader, after=("writer",)),
+        _section("writer", slow_writer),
+        _section("other", _draws),
+    ]
     res = pipeline.run(tmp_path / "r", sections, quick=True, jobs=2)
     assert all(v["status"] == "ok" for v in res.values()), res
     assert list(res) == ["reader", "writer", "other"]  # reported in the declared order, whatever finished first
@@ -70,7 +85,10 @@ def test_results_do_not_depend_on_how_many_sections_run_at_once(tmp_path):
     for i in range(4):
         one, two = (json.loads((tmp_path / d / "data" / f"s{i}" / "draws.json").read_text()) for d in ("one", "two"))
         np.testing.assert_array_equal(one, two)
-    assert len({tuple(json.loads((tmp_path / "two" / "data" / f"s{i}" / "draws.json").read_text())) for i in range(4)}) == 4
+    assert (
+        len({tuple(json.loads((tmp_path / "two" / "data" / f"s{i}" / "draws.json").read_text())) for i in range(4)})
+        == 4
+    )
 
 
 def test_a_section_whose_process_dies_is_failed_and_the_others_finish(tmp_path):

@@ -33,8 +33,14 @@ def _convergence_dir(root: Path, engine: str, rows: list[tuple[float, float, flo
 
 
 # The full report's MuJoCo settings: three timesteps at time constant 0.06, then the time constant shrinks at the finest timestep.
-MUJOCO_FULL = [(0.003, 0.06, 0.827), (0.001, 0.06, 0.849), (0.0003, 0.06, 0.864), (0.0003, 0.02, 0.84), (0.0001, 0.02, 0.87),
-               (0.0001, 0.006, 0.83)]
+MUJOCO_FULL = [
+    (0.003, 0.06, 0.827),
+    (0.001, 0.06, 0.849),
+    (0.0003, 0.06, 0.864),
+    (0.0003, 0.02, 0.84),
+    (0.0001, 0.02, 0.87),
+    (0.0001, 0.006, 0.83),
+]
 
 
 def test_convergence_is_read_one_parameter_at_a_time(tmp_path):
@@ -48,16 +54,24 @@ def test_convergence_is_read_one_parameter_at_a_time(tmp_path):
     assert set(trends) == {"timestep", "timeconst"}
     assert [float(r["timestep"]) for r in trends["timestep"].rows] == [0.003, 0.001, 0.0003]
     assert trends["timestep"].fixed == {"timeconst": 0.06}
-    assert [float(r["timeconst"]) for r in trends["timeconst"].rows] == [0.02, 0.006]  # at timestep 1e-4 (ties: the finest)
+    assert [float(r["timeconst"]) for r in trends["timeconst"].rows] == [
+        0.02,
+        0.006,
+    ]  # at timestep 1e-4 (ties: the finest)
     assert trends["timeconst"].fixed == {"timestep": 0.0001}
     conv = [f for f in findings(tmp_path) if "convergence" in f.leg]
-    assert [f.leg for f in conv] == ["MuJoCo: convergence in timestep (contact time constant 0.06)",
-                                     "MuJoCo: convergence in contact time constant (timestep 0.0001)"]
+    assert [f.leg for f in conv] == [
+        "MuJoCo: convergence in timestep (contact time constant 0.06)",
+        "MuJoCo: convergence in contact time constant (timestep 0.0001)",
+    ]
     ts, tc = conv
     assert "rises 82.7 % -> 84.9 % -> 86.4 % as the timestep goes 0.003 -> 0.001 -> 0.0003" in ts.text
     assert "the timestep's limit is the compliant model, not the rigid theory" in ts.text
     assert ts.verdict == "does not converge" and ts.why.startswith("finest 86.4 % < 95 %")
-    assert "falls 87.0 % -> 83.0 % as the contact time constant goes 0.02 -> 0.006" in tc.text and tc.verdict == "does not converge"
+    assert (
+        "falls 87.0 % -> 83.0 % as the contact time constant goes 0.02 -> 0.006" in tc.text
+        and tc.verdict == "does not converge"
+    )
 
 
 def test_a_rigid_engine_has_one_trend_in_the_timestep_and_no_compliant_limit(tmp_path):
@@ -129,7 +143,9 @@ def test_the_rules_behind_the_verdicts_are_in_the_report(rendered):
         assert f"<dt>{html.escape(name)}</dt>" in page
     assert "lower end" in md and ".v-explained" in page and ".v-inconclusive" in page
     saved = json.loads((rendered / "data" / "findings.json").read_text())  # the findings' data beside them
-    assert saved["rules"] == dict(RULES) and all(f["verdict"] and f["text"] in " ".join(md.split()) for f in saved["findings"])
+    assert saved["rules"] == dict(RULES) and all(
+        f["verdict"] and f["text"] in " ".join(md.split()) for f in saved["findings"]
+    )
     assert "](data/findings.json)" in md
 
 
@@ -144,7 +160,7 @@ def test_no_line_of_the_markdown_is_over_400_characters(rendered):
 
 def test_the_summary_names_no_latex_label_and_separates_ran_from_agrees(rendered):
     md = (rendered / "report.md").read_text()
-    summary = md[md.index("## Summary"):md.index("## The paper's figures")]
+    summary = md[md.index("## Summary") : md.index("## The paper's figures")]
     assert "fig:" not in summary and "ghastly" not in summary
     assert "| section | paper | ran | run time | checks | finding |" in summary
     row = next(line for line in summary.splitlines() if line.startswith("| MuJoCo vs analytic: outcome maps"))
@@ -159,7 +175,10 @@ def test_paper_references_keep_numbers_and_drop_labels():
 
     ref = "Figs. 11 (fig:GBs_bif3) and 17 (fig:stabilty_on_GB); eq. K, Theorem 4.1"
     assert paper_reference(ref) == "Figs. 11 and 17; Theorem 4.1; 1 equation"
-    assert paper_reference("eqs. thetal, psil (section 3.3)", labels=True) == "section 3.3; equations, by their labels in the paper's source: thetal, psil"
+    assert (
+        paper_reference("eqs. thetal, psil (section 3.3)", labels=True)
+        == "section 3.3; equations, by their labels in the paper's source: thetal, psil"
+    )
     assert unlabel("four critical points (fig:pandora: (d), (h))") == "four critical points (Fig. 19: (d), (h))"
     assert unlabel("(sec. 3.5, Fig. GBs_bif3 text); Fig. 13(a)") == "(sec. 3.5, Fig. 11 text); Fig. 13(a)"
 
@@ -170,17 +189,28 @@ def test_a_regression_guard_holds_it_does_not_pass_and_a_listed_check_is_not_tab
     from crosscheck.report.render import SectionView, _checks_note, _checks_shown, _checks_table
     from crosscheck.report.section import Table
 
-    checks = [{"name": "MuJoCo contact acc within tolerance", "passed": True, "kind": "physics"},
-              {"name": "MuJoCo event disagreement within tolerance", "passed": True, "kind": "regression guard"}]
+    checks = [
+        {"name": "MuJoCo contact acc within tolerance", "passed": True, "kind": "physics"},
+        {"name": "MuJoCo event disagreement within tolerance", "passed": True, "kind": "regression guard"},
+    ]
     own = Table(caption="the checks", header=["check"], rows=[["contact acc"], ["event disagreement"]], data=["x.csv"])
     view = SectionView(section=None, status={"status": "ok"}, blocks=[own], checks=checks)
     assert _checks_shown(view)
     note = _checks_note(checks).text
-    assert "physics 1/1 passed; regression guards 1/1 held" in note and "MuJoCo event disagreement within tolerance: held" in note
-    assert not _checks_shown(SectionView(section=None, status={"status": "ok"}, blocks=[own], checks=checks + [{"name": "other", "passed": True}]))
+    assert (
+        "physics 1/1 passed; regression guards 1/1 held" in note
+        and "MuJoCo event disagreement within tolerance: held" in note
+    )
+    assert not _checks_shown(
+        SectionView(
+            section=None, status={"status": "ok"}, blocks=[own], checks=checks + [{"name": "other", "passed": True}]
+        )
+    )
     results = {r[0]: r[4] for r in _checks_table(checks).rows}
-    assert results == {"MuJoCo contact acc within tolerance": "passed",
-                       "MuJoCo event disagreement within tolerance": "held (no change; not a physics check)"}
+    assert results == {
+        "MuJoCo contact acc within tolerance": "passed",
+        "MuJoCo event disagreement within tolerance": "held (no change; not a physics check)",
+    }
 
 
 def test_interactive_maps_tick_round_values_where_they_fall():
@@ -207,12 +237,19 @@ def test_the_build_records_the_checkouts_revision(tmp_path):
 
     from crosscheck import _build
 
-    head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True, check=True).stdout.strip()
+    head = subprocess.run(
+        ["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True, check=True
+    ).stdout.strip()
     rev = _build.source_revision(ROOT)
     assert rev["revision"] == head and isinstance(rev["dirty"], bool) and rev["describe"].startswith(head[:12])
     assert _build.source_revision(tmp_path) is None and _build.write_build_info(tmp_path, tmp_path) is None
     assert not (tmp_path / _build.BUILD_INFO).exists()
-    subprocess.run([sys.executable, "setup.py", "-q", "build_py", "--build-lib", str(tmp_path / "lib")], cwd=ROOT, check=True, capture_output=True)
+    subprocess.run(
+        [sys.executable, "setup.py", "-q", "build_py", "--build-lib", str(tmp_path / "lib")],
+        cwd=ROOT,
+        check=True,
+        capture_output=True,
+    )
     built = _build.build_info(tmp_path / "lib" / "crosscheck")
     assert built["revision"] == head and built["dirty"] == rev["dirty"] and built["built"]
 
@@ -225,15 +262,27 @@ def test_an_installed_package_names_the_revision_it_was_built_from(tmp_path, mon
     package = tmp_path / "site-packages" / "crosscheck"
     package.mkdir(parents=True)
     read = _build.build_info
-    monkeypatch.setattr(provenance, "_repo_root", lambda: tmp_path / "site-packages")  # no pyproject.toml: not a checkout
+    monkeypatch.setattr(
+        provenance, "_repo_root", lambda: tmp_path / "site-packages"
+    )  # no pyproject.toml: not a checkout
     monkeypatch.setattr(_build, "build_info", lambda package_dir=None: read(package))
-    assert provenance.git_revision() == {"revision": None, "dirty": None, "describe": "not a git checkout"}  # built from an sdist
-    (package / _build.BUILD_INFO).write_text(json.dumps({"revision": "a" * 40, "dirty": False, "describe": "a" * 12,
-                                                         "built": "2026-01-01T00:00:00+00:00"}))
+    assert provenance.git_revision() == {
+        "revision": None,
+        "dirty": None,
+        "describe": "not a git checkout",
+    }  # built from an sdist
+    (package / _build.BUILD_INFO).write_text(
+        json.dumps({"revision": "a" * 40, "dirty": False, "describe": "a" * 12, "built": "2026-01-01T00:00:00+00:00"})
+    )
     git = provenance.git_revision()
     assert git["revision"] == "a" * 40 and git["dirty"] is False and git["source"] == "build"
-    assert _revision(git, {}) == "a" * 40 + " (clean; installed package, revision recorded when it was built on 2026-01-01T00:00:00+00:00)"
-    assert provenance.git_revision(tmp_path)["revision"] is None  # an explicit directory is asked itself, never the build record
+    assert (
+        _revision(git, {})
+        == "a" * 40 + " (clean; installed package, revision recorded when it was built on 2026-01-01T00:00:00+00:00)"
+    )
+    assert (
+        provenance.git_revision(tmp_path)["revision"] is None
+    )  # an explicit directory is asked itself, never the build record
 
 
 # --------------------------------------------------------------------- API ---
@@ -278,7 +327,9 @@ def test_a_sweep_is_a_labelled_data_frame():
     res = _sweep(False)
     df = res.to_pandas()
     assert list(df["outcome"].astype(str)) == [o.name for o in map(__import__("crosscheck").Outcome, res.outcome)]
-    assert list(df["mu"]) == [0.5, 1.0, 1.4] and {"theta", "varphi", "Theta", "Psi", "eta", "event_time"} <= set(df.columns)
+    assert list(df["mu"]) == [0.5, 1.0, 1.4] and {"theta", "varphi", "Theta", "Psi", "eta", "event_time"} <= set(
+        df.columns
+    )
     counts = df["outcome"].value_counts()
     assert counts["LAUNCH"] == 0 and counts.sum() == 3  # every outcome is a category, even one that did not occur
 
@@ -299,14 +350,32 @@ def test_simulate_plots_and_tabulates_a_run_of_every_engine(engine, tmp_path, ca
     from crosscheck.cli import main
 
     png = tmp_path / "run.png"
-    assert main(["simulate", "--engine", engine, *IC2, "--horizon", "0.05", "--plot", str(png), "--csv", str(tmp_path / "run_record.csv")]) == 0
+    assert (
+        main(
+            [
+                "simulate",
+                "--engine",
+                engine,
+                *IC2,
+                "--horizon",
+                "0.05",
+                "--plot",
+                str(png),
+                "--csv",
+                str(tmp_path / "run_record.csv"),
+            ]
+        )
+        == 0
+    )
     assert f"wrote {png}" in capsys.readouterr().out
     with Image.open(png) as im:
         assert im.format == "PNG" and im.size[0] > 1000
     rows = list(csv.DictReader((tmp_path / "run_record.csv").open()))
     assert float(rows[0]["theta"]) == pytest.approx(1.1031, abs=1e-9) and float(rows[-1]["t"]) <= 0.05 + 1e-6
     theory = list(csv.DictReader((tmp_path / "run_theory.csv").open()))
-    assert float(theory[0]["eta"]) == pytest.approx(2.0) and float(theory[-1]["t"]) == pytest.approx(0.0165399, rel=1e-4)  # its lift-off
+    assert float(theory[0]["eta"]) == pytest.approx(2.0) and float(theory[-1]["t"]) == pytest.approx(
+        0.0165399, rel=1e-4
+    )  # its lift-off
 
 
 def test_a_slip_says_how_much_of_its_end_the_classifier_cannot_judge(capsys):
@@ -324,7 +393,10 @@ def test_a_slip_says_how_much_of_its_end_the_classifier_cannot_judge(capsys):
     assert main(["simulate", "--engine", "mujoco", *below_mu_P, "--horizon", "0.3"]) == 0
     assert f"an event in its last {tail:.3g} can be missed (the classifier's window)" in capsys.readouterr().out
     assert main(["simulate", "--engine", "drake_sap", *IC2, "--horizon", "2", "--timestep", "1"]) == 0
-    assert capsys.readouterr().out.strip() == "drake_sap: SLIP  (horizon 2, 2 steps; shorter than the classifier's window: any event can be missed)"
+    assert (
+        capsys.readouterr().out.strip()
+        == "drake_sap: SLIP  (horizon 2, 2 steps; shorter than the classifier's window: any event can be missed)"
+    )
 
 
 def test_explain_plots_every_rung(tmp_path, capsys):
@@ -340,8 +412,10 @@ def test_the_validate_table_stays_aligned_and_prints_no_nan():
     """A quantity name longer than the old 28-character column and a count check (no relative error) keep every column in place."""
     from crosscheck.compare import ErrorStat, ValidationResult
 
-    stats = [ErrorStat("median |event time difference|", 300, 0.012, 0.5, 0.4, {"theta": 1.0}, {}, True),
-             ErrorStat("jams below mu_P", 300, 0.0, float("nan"), 0.0, {"theta": 0.5}, {}, True)]
+    stats = [
+        ErrorStat("median |event time difference|", 300, 0.012, 0.5, 0.4, {"theta": 1.0}, {}, True),
+        ErrorStat("jams below mu_P", 300, 0.0, float("nan"), 0.0, {"theta": 0.5}, {}, True),
+    ]
     lines = ValidationResult("mujoco", stats).to_table().splitlines()
     head, rows = lines[1], lines[3:5]
     assert "nan" not in "\n".join(lines)
@@ -359,10 +433,17 @@ def test_the_readme_counts_the_bad_inputs_the_audit_runs(tmp_path):
     sys.path.insert(0, str(ROOT / "tests"))
     import bad_inputs
 
-    n_cli, n_api = (int(x) for x in re.search(r"\((\d+) command lines and (\d+) API calls\)", " ".join((ROOT / "README.md").read_text().split())).groups())
+    n_cli, n_api = (
+        int(x)
+        for x in re.search(
+            r"\((\d+) command lines and (\d+) API calls\)", " ".join((ROOT / "README.md").read_text().split())
+        ).groups()
+    )
     assert (n_cli, n_api) == (len(list(bad_inputs.cli_cases(tmp_path))), len(list(bad_inputs.api_cases())))
 
 
 def test_the_readmes_first_lines_are_the_two_commands():
-    assert (ROOT / "README.md").read_text().splitlines()[:2] == ['python3 -m pip install . && crosscheck report',
-                                                                  'python3 -m pip install ".[test]" && python3 -m pytest -q']
+    assert (ROOT / "README.md").read_text().splitlines()[:2] == [
+        "python3 -m pip install . && crosscheck report",
+        'python3 -m pip install ".[test]" && python3 -m pytest -q',
+    ]

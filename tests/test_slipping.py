@@ -93,7 +93,11 @@ def _near_P_plus(mu, omegas, *, r=1e-2):
     out = []
     for w in omegas:
         dth = r * math.cos(w) / p_th
-        out.append(SlipState(theta=th1 + dth, varphi=-HALF_PI, Theta=Th + (r * math.sin(w) - b_th * dth) / b_Th, Psi=0.0, eta=1.0))
+        out.append(
+            SlipState(
+                theta=th1 + dth, varphi=-HALF_PI, Theta=Th + (r * math.sin(w) - b_th * dth) / b_Th, Psi=0.0, eta=1.0
+            )
+        )
     return out
 
 
@@ -185,9 +189,14 @@ def test_leaving_varphi_range_stops_with_slip_on_the_boundary():
     assert -math.pi < r.state.varphi < -math.pi + 1e-9
 
 
-@pytest.mark.parametrize("kw, message", [({"mu": -1.0}, "mu must be in [0, 1000]; got -1.0"),
-                                         ({"alpha": 0.0}, "alpha must be in [0.001, 1000]; got 0.0"),
-                                         ({"t_max": 0.0}, "t_max must be in (0, 10000]; got 0.0")])
+@pytest.mark.parametrize(
+    "kw, message",
+    [
+        ({"mu": -1.0}, "mu must be in [0, 1000]; got -1.0"),
+        ({"alpha": 0.0}, "alpha must be in [0.001, 1000]; got 0.0"),
+        ({"t_max": 0.0}, "t_max must be in (0, 10000]; got 0.0"),
+    ],
+)
 def test_bad_input_raises(kw, message):
     args = {"mu": 1.0, "alpha": 3.0, "t_max": 1.0} | kw
     state = SlipState(theta=0.5, varphi=-1.0, Theta=0.0, Psi=0.0, eta=1.0)
@@ -199,7 +208,9 @@ def test_a_start_on_b_0_with_b_decreasing_is_integrated():
     """b = 0 exactly (computed 0.0) with p > 0 and b decreasing: the start rule lifts off only for b > 0, so the run slips
     (the tip stays on the plane: b < 0 at once) until theta reaches 0.  A rule b >= 0 would call it LIFTOFF at t = 0."""
     state = SlipState(theta=0.2, varphi=-1.0, Theta=-2.2435439705234983, Psi=0.0, eta=1.0)
-    assert analytic.b(state.Psi, state.Theta, state.theta) == 0.0 and analytic.p(state.theta, state.varphi, 1.0, 3.0) > 0
+    assert (
+        analytic.b(state.Psi, state.Theta, state.theta) == 0.0 and analytic.p(state.theta, state.varphi, 1.0, 3.0) > 0
+    )
     r = slip_until_event(state, 1.0, 3.0)
     assert (r.outcome, r.reason) == (Outcome.SLIP, "theta=0") and r.time == pytest.approx(0.0887, abs=1e-4)
     assert r.t.size > 2 and np.all(r.x[1:, 0] > 0)  # integrated, not decided at the start

@@ -15,9 +15,18 @@ from crosscheck.cli import main
         (["critical", "--mu", "1", "--alpha", "0"], "alpha must be in [0.001, 1000]; got 0.0"),
         (["critical"], "the following arguments are required: --mu (--mu: friction coefficient, in [0, 1000])"),
         (["critical", "--mu", "abc"], "mu must be a number in [0, 1000]; got 'abc'"),
-        (["classify", "--theta", "2", "--varphi", "-1", "--Theta", "0", "--Psi", "0", "--mu", "1"], "theta must be in (0, pi/2); got 2.0"),
-        (["classify", "--theta", "1", "--varphi", "0.5", "--Theta", "0", "--Psi", "0", "--mu", "1"], "varphi must be in (-pi, 0]; got 0.5"),
-        (["classify", "--theta", "1", "--varphi", "-1", "--Psi", "0", "--mu", "1"], "the following arguments are required: --Theta (--Theta: scaled polar rate theta_dot / omega, in [-100, 100])"),
+        (
+            ["classify", "--theta", "2", "--varphi", "-1", "--Theta", "0", "--Psi", "0", "--mu", "1"],
+            "theta must be in (0, pi/2); got 2.0",
+        ),
+        (
+            ["classify", "--theta", "1", "--varphi", "0.5", "--Theta", "0", "--Psi", "0", "--mu", "1"],
+            "varphi must be in (-pi, 0]; got 0.5",
+        ),
+        (
+            ["classify", "--theta", "1", "--varphi", "-1", "--Psi", "0", "--mu", "1"],
+            "the following arguments are required: --Theta (--Theta: scaled polar rate theta_dot / omega, in [-100, 100])",
+        ),
     ],
 )
 def test_bad_arguments_exit_nonzero_with_one_line(argv, message, capsys):
@@ -42,7 +51,25 @@ def test_critical_json_below_mu_P_reports_null(capsys):
 
 
 def test_classify_json(capsys):
-    assert main(["classify", "--theta", "1.0", "--varphi", "-1.5707963267948966", "--Theta", "0", "--Psi", "0", "--mu", "1.4", "--json"]) == 0
+    assert (
+        main(
+            [
+                "classify",
+                "--theta",
+                "1.0",
+                "--varphi",
+                "-1.5707963267948966",
+                "--Theta",
+                "0",
+                "--Psi",
+                "0",
+                "--mu",
+                "1.4",
+                "--json",
+            ]
+        )
+        == 0
+    )
     got = json.loads(capsys.readouterr().out)
     # theta = 1 lies in (theta_1, theta_2) = (0.9702, 1.2209) at varphi = -pi/2, so p < 0; b = -1 (rod at rest)
     assert got["b"] == -1.0 and got["p"] < 0 and got["mode"] == "INCONSISTENT"

@@ -71,8 +71,11 @@ def same(out, ref):
 def test_a_copied_chunk_record_is_damaged_named_and_recomputed(store):
     spec, out, ref = store
     shutil.copy(out / "chunks" / "chunk-000001.json", out / "chunks" / "chunk-000002.json")
-    with pytest.raises(StoreError, match=r"chunk 2 of .* has a damaged record chunk-000002.json \(names the file 'chunk-000001.parquet', "
-                                         r"not 'chunk-000002.parquet' \(copied or edited\)\); re-run"):
+    with pytest.raises(
+        StoreError,
+        match=r"chunk 2 of .* has a damaged record chunk-000002.json \(names the file 'chunk-000001.parquet', "
+        r"not 'chunk-000002.parquet' \(copied or edited\)\); re-run",
+    ):
         sweeps.load(out)
     s = rerun(spec, out, "chunk 2 of", "damaged record chunk-000002.json")
     assert (s.reused, s.computed) == ([0, 1], [2])
@@ -96,8 +99,11 @@ def test_an_edited_manifest_is_named_and_rebuilt_by_a_rerun(store, n_chunks):
     m = json.loads((out / "manifest.json").read_text())
     m["n_chunks"] = n_chunks
     (out / "manifest.json").write_text(json.dumps(m))
-    with pytest.raises(StoreError, match=r"manifest .* is damaged \(its content differs from its sha256: edited after it was written\); "
-                                         r"re-run the same crosscheck sweep command to rebuild it \(its intact chunks are kept\)"):
+    with pytest.raises(
+        StoreError,
+        match=r"manifest .* is damaged \(its content differs from its sha256: edited after it was written\); "
+        r"re-run the same crosscheck sweep command to rebuild it \(its intact chunks are kept\)",
+    ):
         sweeps.load(out)
     s = rerun(spec, out, "rebuilt from the spec, keeping the 3 chunks recorded for it")
     assert (s.reused, s.computed) == ([0, 1, 2], [])
@@ -165,14 +171,17 @@ def test_chunks_replaced_by_a_file_is_one_line(store, capsys):
     shutil.rmtree(out / "chunks")
     (out / "chunks").write_text("x")
     assert main(["sweep", str(spec), "--out", str(out), "--no-progress", "--workers", "1"]) == 2
-    assert capsys.readouterr().err == (f"crosscheck: error: out {str(out)!r} is damaged: {str(out / 'chunks')!r} is not a directory; "
-                                       "use --fresh to start the sweep again\n")
+    assert capsys.readouterr().err == (
+        f"crosscheck: error: out {str(out)!r} is damaged: {str(out / 'chunks')!r} is not a directory; "
+        "use --fresh to start the sweep again\n"
+    )
     with pytest.raises(StoreError, match="is not a directory"):
         sweeps.load(out)
     assert main(["sweep", str(spec), "--out", str(out), "--no-progress", "--workers", "1", "--fresh"]) == 0
 
 
 # ------------------------------------------------------------------ a full disk ---
+
 
 @pytest.fixture
 def small_disk(tmp_path):
@@ -197,7 +206,11 @@ def test_a_full_disk_is_one_line_naming_the_directory_and_the_space(built, small
     out = small_disk / "out"
     assert main(["sweep", str(spec), "--out", str(out), "--no-progress", "--workers", "1"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and err.startswith("crosscheck: error: out ") and "has no room left (No space left on device): writing " in err
+    assert (
+        err.count("\n") == 1
+        and err.startswith("crosscheck: error: out ")
+        and "has no room left (No space left on device): writing " in err
+    )
     assert "bytes needs at least that much free space" in err and str(small_disk) in err
     if out.exists():
         assert not [p for p in out.rglob(".*tmp*")]  # nothing half-written left behind ...
@@ -212,10 +225,15 @@ def test_a_full_disk_is_one_line_naming_the_directory_and_the_space(built, small
 def test_option_combinations_are_checked_before_any_chunk_runs(tmp_path, capsys):
     """Each swept option is valid alone; one combination is not (MuJoCo's timeconst >= 2 timestep): refused before the store is touched."""
     spec = tmp_path / "combo.toml"
-    spec.write_text(SPEC.replace('engine = "analytic"', 'engine = "mujoco"') + "[options]\ntimestep = [1e-3, 0.02]\ntimeconst = [0.06, 0.03]\n")
+    spec.write_text(
+        SPEC.replace('engine = "analytic"', 'engine = "mujoco"')
+        + "[options]\ntimestep = [1e-3, 0.02]\ntimeconst = [0.06, 0.03]\n"
+    )
     assert main(["sweep", str(spec), "--out", str(tmp_path / "o"), "--no-progress"]) == 2
-    assert capsys.readouterr().err == ("crosscheck: error: options timestep = 0.02, timeconst = 0.03: timeconst must be >= 2 timestep = 0.04 "
-                                       "(MuJoCo's refsafe); got 0.03\n")
+    assert capsys.readouterr().err == (
+        "crosscheck: error: options timestep = 0.02, timeconst = 0.03: timeconst must be >= 2 timestep = 0.04 "
+        "(MuJoCo's refsafe); got 0.03\n"
+    )
     assert not (tmp_path / "o").exists()
 
 
@@ -225,6 +243,9 @@ def test_a_store_without_its_manifest_holding_another_sweep_is_not_rebuilt(store
     (out / "manifest.json").unlink()
     other = tmp_path / "other.toml"
     other.write_text(SPEC.replace("mu = 0.5", "mu = 0.6"))
-    with pytest.raises(StoreError, match=r"manifest .* is missing, and chunk record chunk-000000.json was not recorded for this spec; use --fresh"):
+    with pytest.raises(
+        StoreError,
+        match=r"manifest .* is missing, and chunk record chunk-000000.json was not recorded for this spec; use --fresh",
+    ):
         sweeps.run(other, out, workers=1, progress=False)
     assert len(list((out / "chunks").glob("*.parquet"))) == 3

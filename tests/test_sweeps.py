@@ -44,7 +44,11 @@ def test_the_example_spec_runs_as_written(tmp_path):
     assert np.all(cols["mu"][:2] == [0.5, 1.4]) and np.all(cols["theta"][:2] == 0.4)  # state-major, then mu
     s = sweeps.run(EXAMPLE, tmp_path / "example", workers=2, progress=False)
     df = sweeps.load(tmp_path / "example")
-    assert s.failed == {} and len(df) == 80 and {"theta", "varphi", "Theta", "Psi", "eta", "mu", "alpha", "outcome", "event_time"} <= set(df.columns)
+    assert (
+        s.failed == {}
+        and len(df) == 80
+        and {"theta", "varphi", "Theta", "Psi", "eta", "mu", "alpha", "outcome", "event_time"} <= set(df.columns)
+    )
     assert set(df.outcome) <= {"SLIP", "LIFTOFF", "STICK", "JAM", "DIVERGED"} and (df.timestep == 3e-4).all()
 
 
@@ -66,8 +70,14 @@ def test_serial_run_has_one_row_per_run_with_the_promised_columns(serial):
     # solver statistics: exactly the columns the engine declares (MuJoCo's solver reports none per run)
     from crosscheck.sweeps.chunk import result_columns
 
-    assert [c for c in df.columns if c.startswith("solver_")] == [c for c in result_columns("mujoco") if c.startswith("solver_")]
-    assert result_columns("pinocchio")[-5:-2] == ("solver_contact_steps", "solver_unconverged_steps", "solver_max_iterations")
+    assert [c for c in df.columns if c.startswith("solver_")] == [
+        c for c in result_columns("mujoco") if c.startswith("solver_")
+    ]
+    assert result_columns("pinocchio")[-5:-2] == (
+        "solver_contact_steps",
+        "solver_unconverged_steps",
+        "solver_max_iterations",
+    )
     assert set(df.outcome) <= {"SLIP", "LIFTOFF", "STICK", "JAM", "DIVERGED"} and list(df.run) == list(range(24))
     # the same runs through the engine directly give the same outcomes (the layer adds nothing to the physics)
     from crosscheck import Rod, SlipState
@@ -101,8 +111,11 @@ def test_kill_9_mid_sweep_then_resume_equals_an_uninterrupted_run(tmp_path):
     """A sweep killed after its first chunks: re-run computes only the rest, and the table equals an uninterrupted run's."""
     spec = write(tmp_path, small("pinocchio", horizon=0.6, chunk=2))
     out = tmp_path / "killed"
-    proc = subprocess.Popen([sys.executable, "-m", "crosscheck", "sweep", str(spec), "--out", str(out), "--workers", "1", "--no-progress"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "crosscheck", "sweep", str(spec), "--out", str(out), "--workers", "1", "--no-progress"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     store = Store(out)
     deadline = time.time() + 120
     while time.time() < deadline:
@@ -156,7 +169,9 @@ def test_a_store_computed_with_other_versions_is_refused_unless_fresh(tmp_path, 
     monkeypatch.setattr(store_module, "versions", lambda engine=None: {**real(engine), "numpy": "0.0.1"})
     with pytest.raises(StoreError) as e:
         sweeps.run(spec, out, workers=1, progress=False)
-    assert str(e.value).startswith(f"out {str(out)!r} holds 6 chunks computed with numpy {np.__version__} (now 0.0.1); ")
+    assert str(e.value).startswith(
+        f"out {str(out)!r} holds 6 chunks computed with numpy {np.__version__} (now 0.0.1); "
+    )
     assert str(e.value).endswith("use --fresh to recompute it, or finish it with the versions it was started with")
     assert main(["sweep", str(spec), "--out", str(out), "--no-progress"]) == 2
     assert capsys.readouterr().err.count("\n") == 1
@@ -169,7 +184,9 @@ def test_a_store_computed_with_other_versions_is_refused_unless_fresh(tmp_path, 
         warnings.simplefilter("always")
         s = sweeps.run(spec, out, workers=1, progress=False)
     said = [str(w.message) for w in caught]
-    assert sum(f"(computed with numpy 0.0.1 (now {np.__version__})); it will be recomputed" in m for m in said) == 6, said
+    assert sum(f"(computed with numpy 0.0.1 (now {np.__version__})); it will be recomputed" in m for m in said) == 6, (
+        said
+    )
     assert s.computed == list(range(6))
     pd.testing.assert_frame_equal(results(sweeps.load(out)), ref)
 
@@ -195,15 +212,20 @@ def test_a_damaged_manifest_or_chunk_record_is_named_or_recomputed(tmp_path, cap
     sweeps.run(spec, out, workers=1, progress=False)
     ref = results(sweeps.load(out))
     (out / "chunks" / "chunk-000001.json").write_text("[1, 2]\n")
-    with pytest.warns(UserWarning, match=r"chunk 1 of .* has a damaged record chunk-000001.json \(a JSON list, expected an object\); it will be recomputed"):
+    with pytest.warns(
+        UserWarning,
+        match=r"chunk 1 of .* has a damaged record chunk-000001.json \(a JSON list, expected an object\); it will be recomputed",
+    ):
         s = sweeps.run(spec, out, workers=1, progress=False)
     assert s.computed == [1]
     pd.testing.assert_frame_equal(results(sweeps.load(out)), ref)
     (out / "manifest.json").write_text("42\n")
     with pytest.raises(StoreError) as e:
         sweeps.load(out)
-    assert str(e.value) == (f"manifest {str(out / 'manifest.json')!r} is damaged (no format, spec, spec_sha256, n_chunks); "
-                            "re-run the same crosscheck sweep command to rebuild it (its intact chunks are kept)")
+    assert str(e.value) == (
+        f"manifest {str(out / 'manifest.json')!r} is damaged (no format, spec, spec_sha256, n_chunks); "
+        "re-run the same crosscheck sweep command to rebuild it (its intact chunks are kept)"
+    )
     with pytest.warns(UserWarning, match="is damaged .*; rebuilt from the spec, keeping the 6 chunks recorded for it"):
         assert main(["sweep", str(spec), "--out", str(out), "--no-progress"]) == 0
     assert "6 reused, 0 computed" in capsys.readouterr().out
@@ -226,17 +248,30 @@ def test_a_failing_chunk_is_recorded_and_the_sweep_goes_on(tmp_path, capsys):
 
 
 def test_a_timestep_above_the_horizon_is_refused_before_any_chunk_runs(tmp_path):
-    with pytest.raises(SpecError, match=r"^options timestep = 1\.0: timestep must be in \(0, sweep.horizon = 0.2\]; got 1\.0$"):
+    with pytest.raises(
+        SpecError, match=r"^options timestep = 1\.0: timestep must be in \(0, sweep.horizon = 0.2\]; got 1\.0$"
+    ):
         sweeps.load_spec(write(tmp_path, small("pinocchio", chunk=1, timestep=[1e-3, 1.0])))
 
 
 BAD = {
     "unknown table": ("[sweeep]\n", r"unknown table \[sweeep\]; tables are \[sweep\], \[states\]"),
-    "unknown key": ("[sweep]\nengine = 'mujoco'\nhorizon = 1\nspeed = 2\n[states]\n", r"unknown key 'speed' in \[sweep\]; keys are chunk, engine, horizon, seed"),
-    "horizon type": ("[sweep]\nengine = 'mujoco'\nhorizon = 'long'\n[states]\ntheta=1\n[parameters]\nmu=1\n", "sweep.horizon must be a number; got 'long'"),
-    "horizon nan": ("[sweep]\nengine = 'mujoco'\nhorizon = nan\n[states]\ntheta=1\n[parameters]\nmu=1\n", r"sweep.horizon must be in \(0, 10000\]; got nan"),
-    "engine": ("[sweep]\nengine = 'no_such_engine'\nhorizon = 1\n[states]\ntheta=1\n[parameters]\nmu=1\n",
-               f"sweep.engine must be one of {', '.join(sorted(['analytic', *engines.names()]))}; got 'no_such_engine'"),
+    "unknown key": (
+        "[sweep]\nengine = 'mujoco'\nhorizon = 1\nspeed = 2\n[states]\n",
+        r"unknown key 'speed' in \[sweep\]; keys are chunk, engine, horizon, seed",
+    ),
+    "horizon type": (
+        "[sweep]\nengine = 'mujoco'\nhorizon = 'long'\n[states]\ntheta=1\n[parameters]\nmu=1\n",
+        "sweep.horizon must be a number; got 'long'",
+    ),
+    "horizon nan": (
+        "[sweep]\nengine = 'mujoco'\nhorizon = nan\n[states]\ntheta=1\n[parameters]\nmu=1\n",
+        r"sweep.horizon must be in \(0, 10000\]; got nan",
+    ),
+    "engine": (
+        "[sweep]\nengine = 'no_such_engine'\nhorizon = 1\n[states]\ntheta=1\n[parameters]\nmu=1\n",
+        f"sweep.engine must be one of {', '.join(sorted(['analytic', *engines.names()]))}; got 'no_such_engine'",
+    ),
 }
 
 
@@ -247,23 +282,29 @@ def test_bad_spec_sections_are_named(case):
         parse_spec(__import__("tomllib").loads(text))
 
 
-@pytest.mark.parametrize("old, new, message", [
-    ("num = 3", "num = 0", r"states.theta.num must be in \[1, 1e\+07\]; got 0"),
-    ("Theta = [0.0, 0.6]", "Theta = []", "states.Theta must not be an empty list"),
-    ("Theta = [0.0, 0.6]", "Theta = nan", r"states.Theta must be in \[-100, 100\]; got nan"),
-    ("stop = 1.1", "stop = 1.7", r"states.theta must be in \(0, 1.5708\]; got 1.7"),
-    ("mu = [0.5, 1.4]", "mu = [-0.5]", r"parameters.mu must be in \[0, 1000\]; got -0.5"),
-    ("chunk = 4", "chunk = 0", r"sweep.chunk must be in \[1, inf\]; got 0"),
-    ("chunk = 4", "chunk = 2.5", "sweep.chunk must be an integer; got 2.5"),
-    ("eta = 1.0", "", r"\[states\] needs every axis theta, varphi, Theta, Psi, eta; missing eta"),
-], ids=["num", "empty", "nan", "theta-range", "mu", "chunk", "chunk-type", "missing-axis"])
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        ("num = 3", "num = 0", r"states.theta.num must be in \[1, 1e\+07\]; got 0"),
+        ("Theta = [0.0, 0.6]", "Theta = []", "states.Theta must not be an empty list"),
+        ("Theta = [0.0, 0.6]", "Theta = nan", r"states.Theta must be in \[-100, 100\]; got nan"),
+        ("stop = 1.1", "stop = 1.7", r"states.theta must be in \(0, 1.5708\]; got 1.7"),
+        ("mu = [0.5, 1.4]", "mu = [-0.5]", r"parameters.mu must be in \[0, 1000\]; got -0.5"),
+        ("chunk = 4", "chunk = 0", r"sweep.chunk must be in \[1, inf\]; got 0"),
+        ("chunk = 4", "chunk = 2.5", "sweep.chunk must be an integer; got 2.5"),
+        ("eta = 1.0", "", r"\[states\] needs every axis theta, varphi, Theta, Psi, eta; missing eta"),
+    ],
+    ids=["num", "empty", "nan", "theta-range", "mu", "chunk", "chunk-type", "missing-axis"],
+)
 def test_bad_spec_values_are_named(old, new, message):
     with pytest.raises(SpecError, match=message):
         parse_spec(__import__("tomllib").loads(small().replace(old, new)))
 
 
 def test_bad_options_are_named():
-    with pytest.raises(SpecError, match="unknown mujoco option 'stiffness' in \\[options\\]; known options: .*timestep"):
+    with pytest.raises(
+        SpecError, match="unknown mujoco option 'stiffness' in \\[options\\]; known options: .*timestep"
+    ):
         parse_spec(__import__("tomllib").loads(small(stiffness=1.0)))
     with pytest.raises(SpecError, match=r"options.timestep: timestep must be in \(0, inf\); got -0.001"):
         parse_spec(__import__("tomllib").loads(small(timestep=-1e-3)))
@@ -279,8 +320,12 @@ def test_cli_bad_spec_exits_2_with_one_line(tmp_path, capsys):
 
 
 def test_random_states_are_seeded_and_inside_their_ranges():
-    text = small().replace("theta = {start = 0.5, stop = 1.1, num = 3}", "random = 50\ntheta = {low = 0.2, high = 1.2}").replace(
-        "Theta = [0.0, 0.6]", "Theta = {low = -1.0, high = 1.0}").replace("Psi = [0.0, 1.5]", "Psi = 0.5")
+    text = (
+        small()
+        .replace("theta = {start = 0.5, stop = 1.1, num = 3}", "random = 50\ntheta = {low = 0.2, high = 1.2}")
+        .replace("Theta = [0.0, 0.6]", "Theta = {low = -1.0, high = 1.0}")
+        .replace("Psi = [0.0, 1.5]", "Psi = 0.5")
+    )
     a, b = (parse_spec(__import__("tomllib").loads(text)) for _ in range(2))
     assert a.digest == b.digest and a.n_states == 50
     assert a.states["theta"].min() >= 0.2 and a.states["theta"].max() <= 1.2 and np.all(a.states["Psi"] == 0.5)
@@ -303,15 +348,24 @@ def test_compare_two_stores(tmp_path, capsys):
 
 def test_wilson_interval():
     lo, hi = wilson_interval(8, 10)
-    assert lo == pytest.approx(0.4902, abs=1e-4) and hi == pytest.approx(0.9433, abs=1e-4)  # textbook values (Wilson 1927)
-    assert wilson_interval(10, 10)[1] == pytest.approx(1.0, abs=1e-15) and all(math.isnan(x) for x in wilson_interval(0, 0))
+    assert lo == pytest.approx(0.4902, abs=1e-4) and hi == pytest.approx(
+        0.9433, abs=1e-4
+    )  # textbook values (Wilson 1927)
+    assert wilson_interval(10, 10)[1] == pytest.approx(1.0, abs=1e-15) and all(
+        math.isnan(x) for x in wilson_interval(0, 0)
+    )
 
 
 def test_listed_states_with_their_own_mu():
-    doc = __import__("tomllib").loads(small().replace("theta = {start = 0.5, stop = 1.1, num = 3}", "zip = true\ntheta = [0.5, 0.9]\nmu = [0.3, 2.0]")
-                                      .replace("Theta = [0.0, 0.6]", "Theta = [0.0, 0.6]").replace("Psi = [0.0, 1.5]", "Psi = [1.0, 0.0]")
-                                      .replace("eta = 1.0", "eta = [1.0, 2.0]").replace("varphi = -1.5707963267948966", "varphi = [-1.0, -2.0]")
-                                      .replace("mu = [0.5, 1.4]\n", ""))
+    doc = __import__("tomllib").loads(
+        small()
+        .replace("theta = {start = 0.5, stop = 1.1, num = 3}", "zip = true\ntheta = [0.5, 0.9]\nmu = [0.3, 2.0]")
+        .replace("Theta = [0.0, 0.6]", "Theta = [0.0, 0.6]")
+        .replace("Psi = [0.0, 1.5]", "Psi = [1.0, 0.0]")
+        .replace("eta = 1.0", "eta = [1.0, 2.0]")
+        .replace("varphi = -1.5707963267948966", "varphi = [-1.0, -2.0]")
+        .replace("mu = [0.5, 1.4]\n", "")
+    )
     spec = parse_spec(doc)
     cols = spec.runs()
     assert spec.n_runs == 2 and list(cols["mu"]) == [0.3, 2.0] and list(cols["eta"]) == [1.0, 2.0]
@@ -320,14 +374,21 @@ def test_listed_states_with_their_own_mu():
         parse_spec(doc)
     doc["parameters"].pop("mu")
     doc["states"]["eta"] = [1.0]
-    with pytest.raises(SpecError, match="need lists of one length; got lengths theta 2, varphi 2, Theta 2, Psi 2, eta 1, mu 2"):
+    with pytest.raises(
+        SpecError, match="need lists of one length; got lengths theta 2, varphi 2, Theta 2, Psi 2, eta 1, mu 2"
+    ):
         parse_spec(doc)
 
 
 def test_without_a_terminal_progress_is_log_lines(tmp_path, capsys):
-    sweeps.run(write(tmp_path, small("analytic", chunk=2)), tmp_path / "s", workers=1)  # 12 chunks, stderr is not a terminal here
+    sweeps.run(
+        write(tmp_path, small("analytic", chunk=2)), tmp_path / "s", workers=1
+    )  # 12 chunks, stderr is not a terminal here
     lines = capsys.readouterr().err.strip().splitlines()
-    assert [line.split(",")[0] for line in lines] == ["sweep: 10/12 chunks", "sweep: 12/12 chunks"] and "runs/s, ETA" in lines[0]
+    assert [line.split(",")[0] for line in lines] == [
+        "sweep: 10/12 chunks",
+        "sweep: 12/12 chunks",
+    ] and "runs/s, ETA" in lines[0]
 
 
 def test_analytic_hybrid_option_goes_through_the_impact(tmp_path):

@@ -22,7 +22,10 @@ from crosscheck.tolerances import CLOSED_FORM, GB_REACHED
 
 ALPHA = 3.0
 #: Glocker's rod at the Genot-Brogliato point P+: alpha = 3, mu = 5/3, theta(0) = 31 deg, planar, slip 30/sqrt(10); b = p = 0 at theta = pi/4.
-GLOCKER = (SlipState(theta=math.radians(31.0), varphi=-math.pi / 2, Theta=0.0, Psi=0.0, eta=30.0 / math.sqrt(10.0)), 5.0 / 3.0)
+GLOCKER = (
+    SlipState(theta=math.radians(31.0), varphi=-math.pi / 2, Theta=0.0, Psi=0.0, eta=30.0 / math.sqrt(10.0)),
+    5.0 / 3.0,
+)
 #: The independent march's step in P and what it leaves: RK4, but the slip direction turns at a rate ~ 1/|u_t| as the slip
 #: stops, so the last steps set the error (measured over the nine states below: 2.2e-5 at h = 1e-4, 2.1e-6 at h = 2.5e-5).
 MARCH_STEP, MARCH_ERROR = 1e-4, 5e-5
@@ -45,7 +48,14 @@ def _random_impasses(n, seed, *, alphas=(1e-2, 1e3)):
         mu = mu_0 * float(rng.choice([1.0 + 1e-9, rng.uniform(1.0, 3.0)]))
         if mu > 1000:
             continue
-        state = SlipState(theta=theta, varphi=varphi, Theta=rng.uniform(-3, 3), Psi=rng.uniform(-3, 3), eta=rng.uniform(0.05, 5), psi=rng.uniform(-3, 3))
+        state = SlipState(
+            theta=theta,
+            varphi=varphi,
+            Theta=rng.uniform(-3, 3),
+            Psi=rng.uniform(-3, 3),
+            eta=rng.uniform(0.05, 5),
+            psi=rng.uniform(-3, 3),
+        )
         out.append((state, mu, alpha))
     return out
 
@@ -57,7 +67,9 @@ def test_a_stopped_slip_sticks_wherever_an_impulse_starts():
     for n, (state, mu, alpha) in enumerate(_random_impasses(400, 11)):
         G = delassus(state, alpha)
         psi = state.psi
-        R = np.array([[math.cos(psi), -math.sin(psi), 0], [math.sin(psi), math.cos(psi), 0], [0, 0, 1]])  # rod frame (i, j, n) -> world
+        R = np.array(
+            [[math.cos(psi), -math.sin(psi), 0], [math.sin(psi), math.cos(psi), 0], [0, 0, 1]]
+        )  # rod frame (i, j, n) -> world
         np.testing.assert_allclose(R.T @ G @ R, _rod_frame_delassus(state.theta, alpha), atol=1e-12 * (1 + alpha))
         f_s = -np.linalg.solve(G[:2, :2], G[:2, 2])
         assert np.linalg.norm(f_s) < mu * (1 - 1e-9)
@@ -114,7 +126,11 @@ def test_the_impulse_agrees_with_an_independent_march_in_impulse(seed):
 def test_poisson_restitution_after_a_stopped_slip(e, where):
     """Poisson: P_f = (1 + e) P_c, the restitution phase sticks and throws the tip off at w = S e P_c, and it gives back
     S (e P_c)^2 / 2 of the energy the plastic impact loses (the work of the normal impulse on u_n while stuck)."""
-    state, mu = (planar_impasse(1.4, 0.5, ALPHA), 1.4) if where == "planar" else (SlipState(theta=0.9, varphi=-1.2, Theta=0.3, Psi=0.8, eta=1.0), 2.0)
+    state, mu = (
+        (planar_impasse(1.4, 0.5, ALPHA), 1.4)
+        if where == "planar"
+        else (SlipState(theta=0.9, varphi=-1.2, Theta=0.3, Psi=0.8, eta=1.0), 2.0)
+    )
     r0, r = impact(state, mu, ALPHA), impact(state, mu, ALPHA, restitution=e)
     G = delassus(state, ALPHA)
     S = G[2, 2] - G[2, :2] @ np.linalg.solve(G[:2, :2], G[:2, 2])
@@ -131,7 +147,12 @@ def test_the_slip_angle_turns_towards_minus_pi_half_and_p_never_rises():
     cos^2 varphi / eta (the paper's K_12 / eta) on p = 0."""
     rng = np.random.default_rng(4)
     for _ in range(200):
-        theta, varphi, mu, eta = rng.uniform(0.05, 1.5), -rng.uniform(0.0, math.pi - 1e-3), rng.uniform(0.1, 10), rng.uniform(0.1, 5)
+        theta, varphi, mu, eta = (
+            rng.uniform(0.05, 1.5),
+            -rng.uniform(0.0, math.pi - 1e-3),
+            rng.uniform(0.1, 10),
+            rng.uniform(0.1, 5),
+        )
         state = SlipState(theta=theta, varphi=varphi, Theta=0.0, Psi=0.0, eta=eta, psi=rng.uniform(-3, 3))
         G = delassus(state, ALPHA)
         u_t = eta * np.array([math.cos(state.psi + varphi), math.sin(state.psi + varphi)])
@@ -145,7 +166,9 @@ def test_the_slip_angle_turns_towards_minus_pi_half_and_p_never_rises():
     state = SlipState(theta=theta, varphi=varphi, Theta=0.0, Psi=0.0, eta=1.3)
     assert abs(analytic.p(theta, varphi, mu, ALPHA)) <= P_TOLERANCE
     u_t = 1.3 * np.array([math.cos(varphi), math.sin(varphi)])
-    assert turning_rate(delassus(state, ALPHA), u_t, mu) == pytest.approx((1 + ALPHA) * ALPHA * mu * c * c * math.cos(varphi) ** 2 / 1.3, rel=1e-12)
+    assert turning_rate(delassus(state, ALPHA), u_t, mu) == pytest.approx(
+        (1 + ALPHA) * ALPHA * mu * c * c * math.cos(varphi) ** 2 / 1.3, rel=1e-12
+    )
 
 
 # ------------------------------------------------------------------------------------------------ the boundary p = 0 ---
@@ -155,14 +178,19 @@ def _at_P_plus(theta_shift=0.0):
     """Glocker's rod placed at P+ itself (theta_1 = pi/4, b = 0, its arrival slip speed), or moved in theta into the inconsistent region."""
     mu = GLOCKER[1]
     th1 = float(theta_12(mu, ALPHA)[0])
-    return SlipState(theta=th1 + theta_shift, varphi=-math.pi / 2, Theta=math.sqrt(1 / math.sin(th1)), Psi=0.0, eta=2.9513890040207), mu
+    return SlipState(
+        theta=th1 + theta_shift, varphi=-math.pi / 2, Theta=math.sqrt(1 / math.sin(th1)), Psi=0.0, eta=2.9513890040207
+    ), mu
 
 
 def test_at_the_planar_gb_point_the_tip_slides_along_p_0_until_its_slip_stops():
     """The limit on the planar section: P_c = P_s = eta / (mu (1 + alpha s^2) - alpha s c), L_t = mu P_s along the rod, the tip
     stuck and on the plane, Theta_after = Theta + alpha P_s (mu s - c) (eq. rotode integrated in impulse)."""
     state, mu = _at_P_plus()
-    assert abs(analytic.p(state.theta, state.varphi, mu, ALPHA)) <= P_TOLERANCE and abs(analytic.b(0.0, state.Theta, state.theta)) < 1e-15
+    assert (
+        abs(analytic.p(state.theta, state.varphi, mu, ALPHA)) <= P_TOLERANCE
+        and abs(analytic.b(0.0, state.Theta, state.theta)) < 1e-15
+    )
     s, c = math.sin(state.theta), math.cos(state.theta)
     P_s = state.eta / (mu * (1 + ALPHA * s * s) - ALPHA * s * c)
     r = impact(state, mu, ALPHA)
@@ -207,10 +235,15 @@ def test_a_gb_arrival_of_the_slipping_flow_gets_the_limit_when_told_and_is_refus
     with pytest.raises(ValueError, match=r"p must be <= 1e-12 .*: it can slip"):
         impact(a.state, mu, ALPHA)
     r, at = impact(a.state, mu, ALPHA, boundary=True), impact(_at_P_plus()[0], mu, ALPHA)
-    assert abs(r.Theta - at.Theta) < 10 * GB_REACHED.atol and abs(r.normal_impulse - at.normal_impulse) < 10 * GB_REACHED.atol
+    assert (
+        abs(r.Theta - at.Theta) < 10 * GB_REACHED.atol
+        and abs(r.normal_impulse - at.normal_impulse) < 10 * GB_REACHED.atol
+    )
     assert r.eta == 0.0 and abs(r.w) < 1e-14
     far = dataclasses.replace(a.state, theta=a.state.theta + 1e-5)
-    with pytest.raises(ValueError, match=r"p must be in \[-1e-07, 1e-07\] for an impact on the boundary p = 0; got p = "):
+    with pytest.raises(
+        ValueError, match=r"p must be in \[-1e-07, 1e-07\] for an impact on the boundary p = 0; got p = "
+    ):
         impact(far, mu, ALPHA, boundary=True)
 
 
@@ -231,7 +264,7 @@ def test_rigid_engine_through_the_gb_point_converges_to_the_limit_impulse():
         assert run.outcome.name == "JAM" and abs(run.event_time - a.time) <= dt
         R, k = run.record, int(round(run.event_time / dt)) + 1
         errs.append(max(abs(R.Theta[k] - r.Theta), abs(R.Psi[k] - r.Psi), abs(R.eta[k] - r.eta)))
-        assert R.gap[k + 5] > 0.0 and np.all(R.normal_force[k + 1:k + 6] == 0.0)
+        assert R.gap[k + 5] > 0.0 and np.all(R.normal_force[k + 1 : k + 6] == 0.0)
     assert order(GB_TIMESTEPS, errs) == pytest.approx(1.0, abs=0.1) and errs[-1] < 5 * GB_TIMESTEPS[-1], errs
 
 

@@ -35,8 +35,17 @@ def _world(F, psi):
 
 def _random_rest_states(n, seed):
     rng = np.random.default_rng(seed)
-    return [SlipState(theta=rng.uniform(0.05, 1.5), varphi=-math.pi / 2, Theta=rng.uniform(-2, 2), Psi=rng.uniform(-2, 2), eta=0.0,
-                      psi=rng.uniform(-3, 3)) for _ in range(n)]
+    return [
+        SlipState(
+            theta=rng.uniform(0.05, 1.5),
+            varphi=-math.pi / 2,
+            Theta=rng.uniform(-2, 2),
+            Psi=rng.uniform(-2, 2),
+            eta=0.0,
+            psi=rng.uniform(-3, 3),
+        )
+        for _ in range(n)
+    ]
 
 
 def test_the_sticking_force_holds_the_tip_and_gives_the_pivot_equations():
@@ -80,7 +89,11 @@ def test_a_stick_ends_in_slip_before_the_normal_force_vanishes():
         k = stick_until_event(s, mu, ALPHA, t_max=3.0)
         if k.reason == "cone":
             ends += 1
-            assert k.force[2] > 0 and abs(abs(k.force[1]) - mu * k.force[2]) < 1e-9 and k.varphi == math.copysign(math.pi / 2, -k.force[1])
+            assert (
+                k.force[2] > 0
+                and abs(abs(k.force[1]) - mu * k.force[2]) < 1e-9
+                and k.varphi == math.copysign(math.pi / 2, -k.force[1])
+            )
     assert ends > 20
 
 
@@ -117,7 +130,14 @@ def _engine_errors(state, mu, T):
         h = run(state, mu, ALPHA, horizon=float(R.t[k]))
         last = h.segments[-1]
         ref = last.stick.state if isinstance(last, StickSegment) else last.slip.state
-        errs.append(max(abs(R.theta[k] - ref.theta), abs(R.Theta[k] - ref.Theta), abs(R.Psi[k] - ref.Psi), abs(R.eta[k] - ref.eta)))
+        errs.append(
+            max(
+                abs(R.theta[k] - ref.theta),
+                abs(R.Theta[k] - ref.Theta),
+                abs(R.Psi[k] - ref.Psi),
+                abs(R.eta[k] - ref.eta),
+            )
+        )
     return errs
 
 
@@ -167,7 +187,7 @@ def test_rest_with_b_positive_lifts_off_as_the_rigid_engine_does():
         run_ = get("pinocchio").simulate(Rod.scaled(ALPHA), state, mu, horizon=h.time + 40 * dt, timestep=dt)
         R, k = run_.record, int(round(run_.event_time / dt)) + 1
         assert run_.outcome == Outcome.JAM and 0.0 <= run_.event_time <= h.time
-        assert np.all(R.normal_force[k + 1:] == 0.0) and np.all(np.diff(R.gap[k + 1:]) > 0)
+        assert np.all(R.normal_force[k + 1 :] == 0.0) and np.all(np.diff(R.gap[k + 1 :]) > 0)
         errs.append(max(abs(R.Theta[k] - imp.Theta), abs(R.Psi[k] - imp.Psi)))
     assert errs[0] > errs[1] > errs[2] and errs[-1] < 1e-3, errs
 
@@ -186,7 +206,9 @@ def test_the_delassus_matrix_in_the_rod_frame_is_the_closed_form():
         c, sn = math.cos(s.psi), math.sin(s.psi)
         R = np.array([[c, -sn, 0], [sn, c, 0], [0, 0, 1]])
         st, ct = math.sin(s.theta), math.cos(s.theta)
-        want = np.array([[1 + ALPHA, 0, 0], [0, 1 + ALPHA * st * st, -ALPHA * st * ct], [0, -ALPHA * st * ct, 1 + ALPHA * ct * ct]])
+        want = np.array(
+            [[1 + ALPHA, 0, 0], [0, 1 + ALPHA * st * st, -ALPHA * st * ct], [0, -ALPHA * st * ct, 1 + ALPHA * ct * ct]]
+        )
         np.testing.assert_allclose(R.T @ delassus(s, ALPHA) @ R, want, atol=1e-13)
 
 
@@ -225,4 +247,6 @@ def test_the_slip_onset_speed_moves_the_motion_by_its_own_size(monkeypatch):
         monkeypatch.setattr(continuation, "SLIP_ONSET_SPEED", eta0)
         ends.append(run(state, mu, ALPHA, horizon=T).segments[-1].slip.state)
     a, b = ends
-    assert max(abs(a.theta - b.theta), abs(a.Theta - b.Theta), abs(a.Psi - b.Psi), abs(a.eta - b.eta)) < SLIP_ONSET_SPEED
+    assert (
+        max(abs(a.theta - b.theta), abs(a.Theta - b.Theta), abs(a.Psi - b.Psi), abs(a.eta - b.eta)) < SLIP_ONSET_SPEED
+    )

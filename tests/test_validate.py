@@ -17,12 +17,26 @@ from crosscheck.studies import validate as validation
 from crosscheck.studies.grids import random_event_points
 from crosscheck.studies.onset import liftoff_onset
 from crosscheck.engines.mujoco.tolerances import MUJOCO_CONTACT_ACCELERATION
-RIGID_QUANTITIES = ["one-step normal impulse / dt vs -b/p", "slipping convergence order", "post-jam rates vs IWC order (planar impasse)",
-                    "lift-off onset Psi", "event disagreement", "median |event time difference|", "jams below mu_P",
-                    "Corollary 4.2 slip not ended"]
 
-QUANTITIES = ["tip acceleration with contact", "lift-off onset Psi", "event disagreement", "median |event time difference|",
-              "jams below mu_P", "Corollary 4.2 slip not ended"]
+RIGID_QUANTITIES = [
+    "one-step normal impulse / dt vs -b/p",
+    "slipping convergence order",
+    "post-jam rates vs IWC order (planar impasse)",
+    "lift-off onset Psi",
+    "event disagreement",
+    "median |event time difference|",
+    "jams below mu_P",
+    "Corollary 4.2 slip not ended",
+]
+
+QUANTITIES = [
+    "tip acceleration with contact",
+    "lift-off onset Psi",
+    "event disagreement",
+    "median |event time difference|",
+    "jams below mu_P",
+    "Corollary 4.2 slip not ended",
+]
 
 
 def test_cli_passes_and_writes_standard_json(capsys):
@@ -44,7 +58,13 @@ def test_cli_passes_and_writes_standard_json(capsys):
 
 def test_cli_exits_one_and_names_the_check_when_the_reference_is_wrong(monkeypatch, capsys):
     """The contact check with the force left at A instead of the capsule's contact point misses by O(r): FAILED, exit 1."""
-    monkeypatch.setattr(mujoco_contact, "capsule_tip_acceleration", lambda rod, psi, theta, psi_dot, theta_dot, F, offset: analytic.tip_acceleration(rod, psi, theta, psi_dot, theta_dot, F))
+    monkeypatch.setattr(
+        mujoco_contact,
+        "capsule_tip_acceleration",
+        lambda rod, psi, theta, psi_dot, theta_dot, F, offset: analytic.tip_acceleration(
+            rod, psi, theta, psi_dot, theta_dot, F
+        ),
+    )
     assert main(["validate", "mujoco", "--states", "20", "--seed", "2"]) == 1
     lines = capsys.readouterr().out.rstrip().splitlines()
     assert lines[-1] == "FAILED"
@@ -87,7 +107,10 @@ def test_bad_state_count_and_engine():
         validation.validate("mujoco", 10, np.random.default_rng(0), checks=("speed",))
     with pytest.raises(ValueError, match=r"checks must include a part mujoco has \(events\); got dynamics"):
         validation.validate("mujoco", 10, np.random.default_rng(0), checks=("dynamics",))
-    assert validation.default_states("mujoco") == validation.DEFAULT_STATES and validation.default_states("pinocchio") == 10_000
+    assert (
+        validation.default_states("mujoco") == validation.DEFAULT_STATES
+        and validation.default_states("pinocchio") == 10_000
+    )
 
 
 def test_rigid_engine_event_checks_pass():
@@ -95,4 +118,6 @@ def test_rigid_engine_event_checks_pass():
     out = validation.contact_events("pinocchio", 30, np.random.default_rng(1), jam_states=(10, 10))
     assert [s.quantity for s in out.stats] == RIGID_QUANTITIES and out.passed, out.to_table()
     assert out.extra["event_agreement"]["runs"][0]["solver_health"]["states"] == 30
-    assert out.extra["corollary_jam_fraction"] >= 0.5  # regression guard: measured 0.74 at seed 1 with 30 per mu (mu = 6: 0.57)
+    assert (
+        out.extra["corollary_jam_fraction"] >= 0.5
+    )  # regression guard: measured 0.74 at seed 1 with 30 per mu (mu = 6: 0.57)

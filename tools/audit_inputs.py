@@ -1,6 +1,6 @@
 """Run the bad-input audit (tests/bad_inputs.py) and print the count of each verdict, then every case that is not clean.
 
-    python tools/audit_inputs.py [--json FILE]
+python tools/audit_inputs.py [--json FILE]
 """
 
 from __future__ import annotations

@@ -34,7 +34,9 @@ def main(argv: list[str] | None = None) -> int:
             print(f"    {line}")
         if len(out) > 20:
             print(f"    ... {len(out) - 20} more")
-    print(f"{len(result) - len(differ)} files equal in every number, {len(differ)} differ (rtol {args.rtol:g}, atol {args.atol:g})")
+    print(
+        f"{len(result) - len(differ)} files equal in every number, {len(differ)} differ (rtol {args.rtol:g}, atol {args.atol:g})"
+    )
     return 1 if differ else 0
 
 

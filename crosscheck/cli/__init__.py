@@ -57,8 +57,11 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="crosscheck", description="Cross-validation of the 3D Painleve rod: the paper's analytic reference against contact engines "
-                                                         "(crosscheck simulate --help lists them).")
+    parser = _Parser(
+        prog="crosscheck",
+        description="Cross-validation of the 3D Painleve rod: the paper's analytic reference against contact engines "
+        "(crosscheck simulate --help lists them).",
+    )
     from crosscheck import __version__
 
     parser.add_argument("--version", action="version", version=f"crosscheck {__version__}")

@@ -34,8 +34,10 @@ def _critical(args) -> int:
         "varphi_1": "eq. varphi12",
         "varphi_2": "eq. varphi12",
     }
-    print(f"critical values for mu = {cv.mu:g}, alpha = {cv.alpha:g}  "
-          f"(mechanism {analytic.mechanism(cv.mu, cv.alpha).name})")
+    print(
+        f"critical values for mu = {cv.mu:g}, alpha = {cv.alpha:g}  "
+        f"(mechanism {analytic.mechanism(cv.mu, cv.alpha).name})"
+    )
     for k, note in notes.items():
         v = d[k]
         text = "n/a (mu < mu_P)" if math.isnan(v) else f"{v:.6f}"
@@ -59,17 +61,34 @@ def _classify(args) -> int:
     p_sides = (-1.0, 1.0) if "p" in on else (pp,)
     sides = sorted({analytic.mode(x, y).name for x in b_sides for y in p_sides})
     fz = -bb / pp if not on and pp != 0.0 else math.nan
-    out = {"theta": theta, "varphi": varphi, "Theta": Theta, "Psi": Psi, "mu": mu, "alpha": alpha,
-           "b": bb, "p": pp, "b_rounding": b_tol, "p_rounding": p_tol, "F_z": fz if math.isfinite(fz) else None,
-           "mode": "BOUNDARY" if on else sides[0], "boundary": on or None, "modes_either_side": sides if on else None,
-           "kinematic_case": analytic.kinematic_case(mu, Psi, alpha)}
+    out = {
+        "theta": theta,
+        "varphi": varphi,
+        "Theta": Theta,
+        "Psi": Psi,
+        "mu": mu,
+        "alpha": alpha,
+        "b": bb,
+        "p": pp,
+        "b_rounding": b_tol,
+        "p_rounding": p_tol,
+        "F_z": fz if math.isfinite(fz) else None,
+        "mode": "BOUNDARY" if on else sides[0],
+        "boundary": on or None,
+        "modes_either_side": sides if on else None,
+        "kinematic_case": analytic.kinematic_case(mu, Psi, alpha),
+    }
     if args.json:
         print(json.dumps(out, indent=2))
     elif on:
-        print(f"b = {bb:.6g}  p = {pp:.6g}  mode: on the boundary {on} (|b|, |p| within rounding {b_tol:.2g}, {p_tol:.2g}) "
-              f"between {' and '.join(sides)}; F_z = -b/p undefined  (kinematic case {out['kinematic_case']})")
+        print(
+            f"b = {bb:.6g}  p = {pp:.6g}  mode: on the boundary {on} (|b|, |p| within rounding {b_tol:.2g}, {p_tol:.2g}) "
+            f"between {' and '.join(sides)}; F_z = -b/p undefined  (kinematic case {out['kinematic_case']})"
+        )
     else:
-        print(f"b = {bb:.6g}  p = {pp:.6g}  F_z = -b/p = {fz:.6g}  mode = {out['mode']}  (kinematic case {out['kinematic_case']})")
+        print(
+            f"b = {bb:.6g}  p = {pp:.6g}  F_z = -b/p = {fz:.6g}  mode = {out['mode']}  (kinematic case {out['kinematic_case']})"
+        )
     return 0
 
 

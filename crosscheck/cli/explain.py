@@ -25,8 +25,13 @@ def _start(args):
     """(state, mu, alpha, horizon) of the command line, each checked (one line naming a bad one)."""
     from crosscheck.state import SlipState
 
-    state = SlipState(theta=_num("theta", args.theta, THETA), varphi=_num("varphi", args.varphi, VARPHI),
-                      Theta=_num("Theta", args.Theta, RATE), Psi=_num("Psi", args.Psi, RATE), eta=_num("eta", args.eta, ETA))
+    state = SlipState(
+        theta=_num("theta", args.theta, THETA),
+        varphi=_num("varphi", args.varphi, VARPHI),
+        Theta=_num("Theta", args.Theta, RATE),
+        Psi=_num("Psi", args.Psi, RATE),
+        eta=_num("eta", args.eta, ETA),
+    )
     return state, _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA), _num("horizon", args.horizon, HORIZON)
 
 
@@ -42,8 +47,10 @@ def _plot(args, ladder, name: str, state, mu: float, alpha: float) -> None:
     from crosscheck.report.trajectory_plot import plot_ladder
 
     path = Path(args.plot)
-    title = (f"{name}'s ladder from theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; "
-             f"mu {mu:g}, alpha {alpha:g}: cause {ladder.cause}")
+    title = (
+        f"{name}'s ladder from theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; "
+        f"mu {mu:g}, alpha {alpha:g}: cause {ladder.cause}"
+    )
     plt.close(plot_ladder(ladder, path=path, title=title))
     path.with_suffix(".json").write_text(json.dumps(ladder.as_dict(), indent=1, allow_nan=False) + "\n")
     print(f"wrote {path} and {path.with_suffix('.json')}", file=sys.stderr if args.json else sys.stdout)
@@ -53,7 +60,9 @@ def _explain(args) -> int:
     import warnings
 
     if args.engine not in _laddered():
-        raise ValueError(f"engine must be one of {', '.join(_laddered())} (engines that declare a ladder); got {args.engine!r}")
+        raise ValueError(
+            f"engine must be one of {', '.join(_laddered())} (engines that declare a ladder); got {args.engine!r}"
+        )
     from crosscheck import engines
 
     plan = engines.get(args.engine).report
@@ -69,7 +78,9 @@ def _explain(args) -> int:
     options = {}
     if args.timestep is not None:
         # MuJoCo's refsafe: its solref time constant must be at least two timesteps (Options refuses less)
-        options["timestep"] = _num("timestep", args.timestep, Interval(0.0, Options.timeconst / 2, lo_open=True, hi_open=False))
+        options["timestep"] = _num(
+            "timestep", args.timestep, Interval(0.0, Options.timeconst / 2, lo_open=True, hi_open=False)
+        )
     if args.radius is not None:
         options["radius"] = _num("radius", args.radius, RADIUS)
     with warnings.catch_warnings():
@@ -80,12 +91,18 @@ def _explain(args) -> int:
         print(json.dumps(ladder.as_dict(), indent=2, allow_nan=False))
         return 0
     m = ladder.match
-    print(f"start: theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; "
-          f"mu {mu:g}, alpha {alpha:g}")
+    print(
+        f"start: theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; "
+        f"mu {mu:g}, alpha {alpha:g}"
+    )
     o = ladder.options
-    print(f"MuJoCo: timestep {o['timestep']:g}, radius {o['radius']:g}, timeconst {o['timeconst']:g}, dampratio {o['dampratio']:g}; "
-          f"rung 3 at eps {m.eps:.4g}, xi {m.xi:.4g} (A_nn {m.A_nn:.4g}, impedance d {m.d:.4g})")
-    print(f"compared up to t = {ladder.until + ladder.lag:.6g} (comparison time {ladder.until:.6g} + lag {ladder.lag:.6g})")
+    print(
+        f"MuJoCo: timestep {o['timestep']:g}, radius {o['radius']:g}, timeconst {o['timeconst']:g}, dampratio {o['dampratio']:g}; "
+        f"rung 3 at eps {m.eps:.4g}, xi {m.xi:.4g} (A_nn {m.A_nn:.4g}, impedance d {m.d:.4g})"
+    )
+    print(
+        f"compared up to t = {ladder.until + ladder.lag:.6g} (comparison time {ladder.until:.6g} + lag {ladder.lag:.6g})"
+    )
     for r in ladder.rungs:
         head = f"{r.rung} {r.name:<11} {RUNG_TITLES[r.name]:<64}"
         if r.ok:
@@ -123,7 +140,9 @@ def _explain_declared(args) -> int:
     if args.json:
         print(json.dumps(ld.as_dict(), indent=2, allow_nan=False))
         return 0
-    print(f"start: theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; mu {mu:g}, alpha {alpha:g}")
+    print(
+        f"start: theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; mu {mu:g}, alpha {alpha:g}"
+    )
     print(f"compared up to t = {ld.until + ld.lag:.6g} (comparison time {ld.until:.6g} + lag {ld.lag:.6g})")
     width = max(11, *(len(r.name) for r in ld.rungs))  # the rung names in one column
     for r in ld.rungs:
@@ -139,16 +158,43 @@ def _explain_declared(args) -> int:
 
 
 def register(sub) -> None:
-    s = sub.add_parser("explain", help="run one start through an engine's ladder (the models between the theory and the engine, one "
-                                       "cause apart) and name the cause of a disagreement with the theory")
+    s = sub.add_parser(
+        "explain",
+        help="run one start through an engine's ladder (the models between the theory and the engine, one "
+        "cause apart) and name the cause of a disagreement with the theory",
+    )
     add_state(s)
     add_alpha(s)
-    s.add_argument("--engine", default="mujoco", help="the engine whose ladder to climb (engines that declare one; default mujoco)")
-    s.add_argument("--timestep", type=ascii_number, default=None, metavar="DT", help="the engine's scaled timestep (default: the engine's own); MuJoCo's in (0, 0.03], at most half its "
-                   "time constant 0.06 (default 3e-4)")
-    s.add_argument("--radius", type=ascii_number, default=None, metavar="R", help="capsule radius r / l, in (0, 0.5) (default 0.01)")
-    s.add_argument("--horizon", type=ascii_number, default="2", help="scaled comparison horizon, in (0, 10000] (default 2, the agreement study's)")
+    s.add_argument(
+        "--engine", default="mujoco", help="the engine whose ladder to climb (engines that declare one; default mujoco)"
+    )
+    s.add_argument(
+        "--timestep",
+        type=ascii_number,
+        default=None,
+        metavar="DT",
+        help="the engine's scaled timestep (default: the engine's own); MuJoCo's in (0, 0.03], at most half its "
+        "time constant 0.06 (default 3e-4)",
+    )
+    s.add_argument(
+        "--radius",
+        type=ascii_number,
+        default=None,
+        metavar="R",
+        help="capsule radius r / l, in (0, 0.5) (default 0.01)",
+    )
+    s.add_argument(
+        "--horizon",
+        type=ascii_number,
+        default="2",
+        help="scaled comparison horizon, in (0, 10000] (default 2, the agreement study's)",
+    )
     s.add_argument("--json", action="store_true", help="print the ladder as JSON")
-    s.add_argument("--plot", metavar="FILE", default=None, help="draw every rung (its outcome and event time against the comparison "
-                   "window) on one figure in FILE (.png, .svg or .pdf), with FILE's .json beside it")
+    s.add_argument(
+        "--plot",
+        metavar="FILE",
+        default=None,
+        help="draw every rung (its outcome and event time against the comparison "
+        "window) on one figure in FILE (.png, .svg or .pdf), with FILE's .json beside it",
+    )
     s.set_defaults(func=_explain)

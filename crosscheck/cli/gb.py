@@ -37,26 +37,50 @@ def _gb(args) -> int:
     # The curves (and the det K zeros bracketed along them) at a fixed resolution: what is found
     # must not depend on how many samples the user asks to see.
     curves = gb.gb_manifold(mu, Psi, alpha, n=max(RESOLUTION, n))
-    out = {"mu": mu, "alpha": alpha, "Psi": Psi, "eta": eta, "kinematic_case": kinematic_case(mu, Psi, alpha),
-           "Psi_L": cv.Psi_L, "Psi_1": None if math.isnan(cv.Psi_1) else cv.Psi_1,
-           "Psi_2": None if math.isnan(cv.Psi_2) else cv.Psi_2, "curves": []}
+    out = {
+        "mu": mu,
+        "alpha": alpha,
+        "Psi": Psi,
+        "eta": eta,
+        "kinematic_case": kinematic_case(mu, Psi, alpha),
+        "Psi_L": cv.Psi_L,
+        "Psi_1": None if math.isnan(cv.Psi_1) else cv.Psi_1,
+        "Psi_2": None if math.isnan(cv.Psi_2) else cv.Psi_2,
+        "curves": [],
+    }
     for c in curves:
         m = len(c.theta)
         idx = np.unique(np.linspace(0, m - 1, min(n, m)).round().astype(int))
         Kc = c.K(eta)[idx]
         lam, _ = gb.eigen(Kc)
         types = np.atleast_1d(gb.classify(Kc))
-        samples = [{"theta": float(c.theta[i]), "varphi": float(c.varphi[i]), "Theta": float(c.Theta[i]),
-                    "type": gb.GBType(int(t)).name, "lambda_plus": _complex(l_[0]), "lambda_minus": _complex(l_[1])}
-                   for i, t, l_ in zip(idx, types, lam)]
+        samples = [
+            {
+                "theta": float(c.theta[i]),
+                "varphi": float(c.varphi[i]),
+                "Theta": float(c.Theta[i]),
+                "type": gb.GBType(int(t)).name,
+                "lambda_plus": _complex(l_[0]),
+                "lambda_minus": _complex(l_[1]),
+            }
+            for i, t, l_ in zip(idx, types, lam)
+        ]
         zeros = gb.det_K_zeros(c, eta)
-        out["curves"].append({"Theta_sign": c.sign, "crosses_Theta_0": c.crosses_zero, "samples": samples,
-                              "det_K_zeros": [dict(zip(("theta", "varphi", "Theta"), map(float, z))) for z in zeros]})
+        out["curves"].append(
+            {
+                "Theta_sign": c.sign,
+                "crosses_Theta_0": c.crosses_zero,
+                "samples": samples,
+                "det_K_zeros": [dict(zip(("theta", "varphi", "Theta"), map(float, z))) for z in zeros],
+            }
+        )
     if args.json:
         print(json.dumps(out, indent=2))
         return 0
-    print(f"GB manifold b = p = 0 for mu = {mu:g}, alpha = {alpha:g}, Psi = {Psi:g}, eta = {eta:g}  "
-          f"(kinematic case {out['kinematic_case']}): {len(curves)} closed curve(s)")
+    print(
+        f"GB manifold b = p = 0 for mu = {mu:g}, alpha = {alpha:g}, Psi = {Psi:g}, eta = {eta:g}  "
+        f"(kinematic case {out['kinematic_case']}): {len(curves)} closed curve(s)"
+    )
     if not curves:
         print("  none: mu < mu_P (no paradox) or |Psi| > Psi_2 (eqs. mup2D, psi2)")
     for k, c in enumerate(out["curves"], 1):
@@ -75,9 +99,14 @@ def _slip(args) -> int:
     from crosscheck.theory.gb import slip_until_event
     from crosscheck.state import SlipState
 
-    state = SlipState(theta=_num("theta", args.theta, THETA), varphi=_num("varphi", args.varphi, VARPHI),
-                      Theta=_num("Theta", args.Theta, RATE), Psi=_num("Psi", args.Psi, RATE),
-                      eta=_num("eta", args.eta, ETA), psi=_num("psi", args.psi, AZIMUTH))
+    state = SlipState(
+        theta=_num("theta", args.theta, THETA),
+        varphi=_num("varphi", args.varphi, VARPHI),
+        Theta=_num("Theta", args.Theta, RATE),
+        Psi=_num("Psi", args.Psi, RATE),
+        eta=_num("eta", args.eta, ETA),
+        psi=_num("psi", args.psi, AZIMUTH),
+    )
     mu, alpha, t_max = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA), _num("t_max", args.t_max, HORIZON)
     if args.continue_:
         return _hybrid(state, mu, alpha, t_max, _num("restitution", args.restitution, UNIT), args.json)
@@ -87,13 +116,16 @@ def _slip(args) -> int:
         return 0
     s = r.state
     print(f"{r.outcome.name} at t = {r.time:.9g} ({r.reason}); b = {r.b:.3g}, p = {r.p:.3g}")
-    print(f"  theta = {s.theta:.6f}  varphi = {s.varphi:.6f}  Theta = {s.Theta:.6f}  Psi = {s.Psi:.6f}  "
-          f"eta = {s.eta:.6f}  psi = {s.psi:.6f}")
+    print(
+        f"  theta = {s.theta:.6f}  varphi = {s.varphi:.6f}  Theta = {s.Theta:.6f}  Psi = {s.Psi:.6f}  "
+        f"eta = {s.eta:.6f}  psi = {s.psi:.6f}"
+    )
     return 0
 
 
 def _hybrid(state, mu, alpha, t_max, restitution, as_json) -> int:
     from crosscheck.theory.impact import continuation as hybrid
+
     h = hybrid.run(state, mu, alpha, horizon=t_max, restitution=restitution)
     if as_json:
         print(json.dumps(h.as_dict(), indent=2))
@@ -102,15 +134,21 @@ def _hybrid(state, mu, alpha, t_max, restitution, as_json) -> int:
         if isinstance(seg, hybrid.StickSegment):
             k = seg.stick
             then = f"; slips at varphi = {k.varphi:.6f}" if k.varphi is not None else ""
-            print(f"stick from t = {seg.t0:.9g} to {seg.t1:.9g}: {k.outcome.name} ({k.reason}); F_j = {k.force[1]:.3g}, F_n = {k.force[2]:.3g}{then}")
+            print(
+                f"stick from t = {seg.t0:.9g} to {seg.t1:.9g}: {k.outcome.name} ({k.reason}); F_j = {k.force[1]:.3g}, F_n = {k.force[2]:.3g}{then}"
+            )
             continue
         r = seg.slip
-        print(f"slip from t = {seg.t0:.9g} to {seg.t1:.9g}: {r.outcome.name} ({r.reason}); b = {r.b:.3g}, p = {r.p:.3g}")
+        print(
+            f"slip from t = {seg.t0:.9g} to {seg.t1:.9g}: {r.outcome.name} ({r.reason}); b = {r.b:.3g}, p = {r.p:.3g}"
+        )
         if seg.impact is not None:
             i = seg.impact
             phases = ", ".join(f"{p.name} to P = {p.P_end:.6g}" for p in i.phases)
-            print(f"  impact without collision: P = {i.normal_impulse:.6g}, tangential ({i.tangential_impulse[0]:.6g}, {i.tangential_impulse[1]:.6g}); "
-                  f"{phases}; energy lost {i.energy_lost:.6g}")
+            print(
+                f"  impact without collision: P = {i.normal_impulse:.6g}, tangential ({i.tangential_impulse[0]:.6g}, {i.tangential_impulse[1]:.6g}); "
+                f"{phases}; energy lost {i.energy_lost:.6g}"
+            )
             print(f"  after: Theta = {i.Theta:.6f}  Psi = {i.Psi:.6f}  eta = {i.eta:.6g}  w = {i.w:.3g}")
     print(f"{h.outcome.name} at t = {h.time:.9g} ({h.reason})")
     return 0
@@ -120,9 +158,22 @@ def register(sub) -> None:
     g = sub.add_parser("gb", help="samples of the GB manifold b = p = 0 with their type (node, saddle, focus)")
     add_state(g, ("mu",))
     add_alpha(g)
-    g.add_argument("--Psi", type=str, default="0", metavar="PSI_DOT", help=f"scaled azimuthal rate, fixed along the manifold, in {RATE} (default 0)")
-    g.add_argument("--eta", type=str, default="1", metavar="ETA", help=f"scaled slip speed (K depends on it), in {ETA} (default 1)")
-    g.add_argument("--samples", type=ascii_number, default="9", help=f"samples printed per curve, an integer in [1, {MAX_PRINTED}] (default 9)")
+    g.add_argument(
+        "--Psi",
+        type=str,
+        default="0",
+        metavar="PSI_DOT",
+        help=f"scaled azimuthal rate, fixed along the manifold, in {RATE} (default 0)",
+    )
+    g.add_argument(
+        "--eta", type=str, default="1", metavar="ETA", help=f"scaled slip speed (K depends on it), in {ETA} (default 1)"
+    )
+    g.add_argument(
+        "--samples",
+        type=ascii_number,
+        default="9",
+        help=f"samples printed per curve, an integer in [1, {MAX_PRINTED}] (default 9)",
+    )
     g.add_argument("--json", action="store_true", help="print the result as JSON")
     g.set_defaults(func=_gb)
 
@@ -130,9 +181,24 @@ def register(sub) -> None:
     add_state(s)
     add_psi(s)
     add_alpha(s)
-    s.add_argument("--t-max", dest="t_max", type=ascii_number, default="10", help="horizon in scaled time, in (0, 1e4] (default 10)")
-    s.add_argument("--continue", dest="continue_", action="store_true",
-                   help="go on through impacts without collision (at a jam or a GB point), sticking and slipping again (the hybrid rigid model)")
-    s.add_argument("--restitution", type=ascii_number, default="0", help="Poisson restitution of the impact, in [0, 1] (with --continue)")
+    s.add_argument(
+        "--t-max",
+        dest="t_max",
+        type=ascii_number,
+        default="10",
+        help="horizon in scaled time, in (0, 1e4] (default 10)",
+    )
+    s.add_argument(
+        "--continue",
+        dest="continue_",
+        action="store_true",
+        help="go on through impacts without collision (at a jam or a GB point), sticking and slipping again (the hybrid rigid model)",
+    )
+    s.add_argument(
+        "--restitution",
+        type=ascii_number,
+        default="0",
+        help="Poisson restitution of the impact, in [0, 1] (with --continue)",
+    )
     s.add_argument("--json", action="store_true", help="print the result as JSON")
     s.set_defaults(func=_slip)

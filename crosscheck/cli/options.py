@@ -31,13 +31,16 @@ from crosscheck.checks import ALPHA, AZIMUTH, ETA, MU, RATE, THETA, VARPHI, writ
 #: with a message that names no option).
 MAX_TEXT = 100
 
+
 def ascii_number(text: str) -> str:
     """``text`` if it is a number written as the module docstring says (argparse ``type``); argparse names the option otherwise."""
     # ASCII text that is not a number ("abc", "1,5") is left to crosscheck.checks, whose message states the range
     if len(text) > MAX_TEXT or not text.isascii() or "_" in text:
         shown = repr(text) if len(text) <= 40 else f"{text[:20]!r}... ({len(text)} characters)"
-        raise argparse.ArgumentTypeError(f"must be a number written with ASCII digits (sign, point, exponent; no underscores), "
-                                         f"at most {MAX_TEXT} characters; got {shown}")
+        raise argparse.ArgumentTypeError(
+            f"must be a number written with ASCII digits (sign, point, exponent; no underscores), "
+            f"at most {MAX_TEXT} characters; got {shown}"
+        )
     return text
 
 
@@ -69,8 +72,16 @@ def add_state(parser, names=("theta", "varphi", "Theta", "Psi", "eta", "mu"), *,
 
 
 def add_alpha(parser) -> None:
-    parser.add_argument("--alpha", type=ascii_number, default="3", metavar="ALPHA", help=f"m l^2 / I0, in {ALPHA} (default 3: uniform rod)")
+    parser.add_argument(
+        "--alpha",
+        type=ascii_number,
+        default="3",
+        metavar="ALPHA",
+        help=f"m l^2 / I0, in {ALPHA} (default 3: uniform rod)",
+    )
 
 
 def add_psi(parser) -> None:
-    parser.add_argument("--psi", type=ascii_number, default="0", metavar="PSI", help=f"azimuth [rad], in {AZIMUTH} (default 0)")
+    parser.add_argument(
+        "--psi", type=ascii_number, default="0", metavar="PSI", help=f"azimuth [rad], in {AZIMUTH} (default 0)"
+    )

@@ -34,8 +34,10 @@ def _run(args) -> int:
         raise ValueError(f"out must be a writable directory path; got {args.out!r}")
     out = Path(args.out) if args.out is not None else report.default_out(args.quick)
     if args.from_results and not _saved(out):
-        raise ValueError(f"out must hold saved results with --from-results; {str(out / 'data')!r} has none "
-                         f"(run `crosscheck report --out {out}` without --from-results first)")
+        raise ValueError(
+            f"out must hold saved results with --from-results; {str(out / 'data')!r} has none "
+            f"(run `crosscheck report --out {out}` without --from-results first)"
+        )
     seed = integer("seed", args.seed, 0, 2**63 - 1)
     workers = None if args.workers is None else integer("workers", args.workers, 1, 1024)
     jobs = None if args.jobs is None else integer("jobs", args.jobs, 1, 1024)
@@ -71,9 +73,19 @@ def _locked(args, report, out: Path, sections, selected, seed: int, workers, sch
             import shutil
 
             shutil.rmtree(out / "sweeps")
-        results = report.run(out, selected, quick=args.quick, seed=seed, progress=progress, argv=["crosscheck", *sys.argv[1:]],
-                             resume=not (args.fresh or args.only), scheduler=scheduler, workers=workers, jobs=jobs,
-                             log=not args.no_progress and not sys.stderr.isatty())
+        results = report.run(
+            out,
+            selected,
+            quick=args.quick,
+            seed=seed,
+            progress=progress,
+            argv=["crosscheck", *sys.argv[1:]],
+            resume=not (args.fresh or args.only),
+            scheduler=scheduler,
+            workers=workers,
+            jobs=jobs,
+            log=not args.no_progress and not sys.stderr.isatty(),
+        )
         kept = [k for k, v in results.items() if v.get("resumed")]
         if kept:
             print(f"kept {len(kept)} finished sections ({', '.join(kept)}); --fresh recomputes them")
@@ -99,16 +111,51 @@ def _section_slugs() -> list[str]:
 
 def register(sub) -> None:
     r = sub.add_parser("report", help="run every comparison and write an HTML + Markdown report with figures and data")
-    r.add_argument("--out", default=None, help="report directory (default: reports/latest; the committed reference is written only with --out reports/quick)")
+    r.add_argument(
+        "--out",
+        default=None,
+        help="report directory (default: reports/latest; the committed reference is written only with --out reports/quick)",
+    )
     r.add_argument("--quick", action="store_true", help="small grids and short horizons (about 40 s on 2 cores)")
-    r.add_argument("--from-results", action="store_true", help="rebuild the report from DIR/data without running anything")
-    r.add_argument("--seed", type=ascii_number, default="0", help="master seed of numpy.random.default_rng, >= 0 (each section derives its own; default 0)")
-    r.add_argument("--only", action="append", metavar="SECTION",
-                   help=f"run only this section (repeatable); the others keep their saved results. SECTION is one of: {', '.join(_section_slugs())}")
-    r.add_argument("--no-progress", action="store_true", help="no progress bars (nor, when stderr is not a terminal, the log line per section)")
-    r.add_argument("--fresh", action="store_true", help="recompute every section (default: keep those finished by the same code)")
-    r.add_argument("--scheduler", default=None, help="run the engine sweeps on a Dask cluster: 'local' or a scheduler address tcp://host:8786")
-    r.add_argument("--workers", type=ascii_number, default=None, help="processes (or local Dask workers) for the engine sweeps; default: the usable cores")
-    r.add_argument("--jobs", type=ascii_number, default=None, help="sections computed at the same time, each in its own process; default: the usable cores "
-                   "(the results do not depend on it)")
+    r.add_argument(
+        "--from-results", action="store_true", help="rebuild the report from DIR/data without running anything"
+    )
+    r.add_argument(
+        "--seed",
+        type=ascii_number,
+        default="0",
+        help="master seed of numpy.random.default_rng, >= 0 (each section derives its own; default 0)",
+    )
+    r.add_argument(
+        "--only",
+        action="append",
+        metavar="SECTION",
+        help=f"run only this section (repeatable); the others keep their saved results. SECTION is one of: {', '.join(_section_slugs())}",
+    )
+    r.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress bars (nor, when stderr is not a terminal, the log line per section)",
+    )
+    r.add_argument(
+        "--fresh", action="store_true", help="recompute every section (default: keep those finished by the same code)"
+    )
+    r.add_argument(
+        "--scheduler",
+        default=None,
+        help="run the engine sweeps on a Dask cluster: 'local' or a scheduler address tcp://host:8786",
+    )
+    r.add_argument(
+        "--workers",
+        type=ascii_number,
+        default=None,
+        help="processes (or local Dask workers) for the engine sweeps; default: the usable cores",
+    )
+    r.add_argument(
+        "--jobs",
+        type=ascii_number,
+        default=None,
+        help="sections computed at the same time, each in its own process; default: the usable cores "
+        "(the results do not depend on it)",
+    )
     r.set_defaults(func=_run)

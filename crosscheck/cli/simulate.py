@@ -15,15 +15,31 @@ from crosscheck.state import SlipState
 
 def _simulate(args) -> int:
     engine = engines.get(args.engine)
-    state = SlipState(theta=_num("theta", args.theta, THETA), varphi=_num("varphi", args.varphi, VARPHI),
-                      Theta=_num("Theta", args.Theta, RATE), Psi=_num("Psi", args.Psi, RATE), eta=_num("eta", args.eta, ETA))
+    state = SlipState(
+        theta=_num("theta", args.theta, THETA),
+        varphi=_num("varphi", args.varphi, VARPHI),
+        Theta=_num("Theta", args.Theta, RATE),
+        Psi=_num("Psi", args.Psi, RATE),
+        eta=_num("eta", args.eta, ETA),
+    )
     mu, alpha = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA)
     options = {} if args.timestep is None else {"timestep": _num("timestep", args.timestep, POSITIVE)}
     run = engine.simulate(Rod.scaled(alpha), state, mu, horizon=_num("horizon", args.horizon, POSITIVE), **options)
     fin = lambda x: x if math.isfinite(x) else None  # noqa: E731
-    out = {"engine": run.engine, **state.as_dict(), "mu": mu, "alpha": alpha, "horizon": run.horizon, "outcome": run.outcome.name,
-           "event_time": fin(run.event_time), "exit_time": fin(run.exit_time), "diverged_time": fin(run.diverged_time),
-           "jam_p_eff": fin(run.jam_p_eff), "nstep": run.nstep, "unjudged_tail": _unjudged_tail(run)}
+    out = {
+        "engine": run.engine,
+        **state.as_dict(),
+        "mu": mu,
+        "alpha": alpha,
+        "horizon": run.horizon,
+        "outcome": run.outcome.name,
+        "event_time": fin(run.event_time),
+        "exit_time": fin(run.exit_time),
+        "diverged_time": fin(run.diverged_time),
+        "jam_p_eff": fin(run.jam_p_eff),
+        "nstep": run.nstep,
+        "unjudged_tail": _unjudged_tail(run),
+    }
     written = _write_outputs(run, args)
     if args.json:
         print(json.dumps({**out, **({"files": written} if written else {})}, indent=2))
@@ -33,7 +49,11 @@ def _simulate(args) -> int:
         if tail >= run.horizon:
             caveat = "; shorter than the classifier's window: any event can be missed"
         else:
-            caveat = f"; an event in its last {tail:.3g} can be missed (the classifier's window)" if run.outcome.name == "SLIP" else ""
+            caveat = (
+                f"; an event in its last {tail:.3g} can be missed (the classifier's window)"
+                if run.outcome.name == "SLIP"
+                else ""
+            )
         print(f"{run.engine}: {run.outcome.name}{when}  (horizon {run.horizon:g}, {run.nstep} steps{caveat})")
         for f in written:
             print(f"wrote {f}")
@@ -66,9 +86,24 @@ def _write_outputs(run, args) -> list[str]:
             written.append(str(plot))
             if not args.csv:
                 written.append(str(tp.write_csv(plot.with_suffix(".csv"), tp.run_columns(run))))
-            written.append(str(tp.write_csv(plot.with_name(plot.stem + "_theory.csv"),
-                                            {"t": th.t, "theta": th.theta, "Theta": th.Theta, "Psi": th.Psi, "eta": th.eta, "varphi": th.varphi,
-                                             "b": th.b, "p": th.p, "minus_b_over_p": th.normal_force})))
+            written.append(
+                str(
+                    tp.write_csv(
+                        plot.with_name(plot.stem + "_theory.csv"),
+                        {
+                            "t": th.t,
+                            "theta": th.theta,
+                            "Theta": th.Theta,
+                            "Psi": th.Psi,
+                            "eta": th.eta,
+                            "varphi": th.varphi,
+                            "b": th.b,
+                            "p": th.p,
+                            "minus_b_over_p": th.normal_force,
+                        },
+                    )
+                )
+            )
             import matplotlib.pyplot as plt
 
             plt.close(fig)
@@ -80,11 +115,26 @@ def register(sub) -> None:
     s.add_argument("--engine", default="mujoco", help=f"contact engine ({', '.join(engines.names())}; default mujoco)")
     add_state(s)
     add_alpha(s)
-    s.add_argument("--horizon", type=ascii_number, default="2", help="scaled time to simulate, > 0, at most what a record of 4 GiB holds (default 2)")
+    s.add_argument(
+        "--horizon",
+        type=ascii_number,
+        default="2",
+        help="scaled time to simulate, > 0, at most what a record of 4 GiB holds (default 2)",
+    )
     s.add_argument("--timestep", type=ascii_number, default=None, help="scaled timestep, > 0 (default: the engine's)")
     s.add_argument("--json", action="store_true", help="print the result as JSON")
-    s.add_argument("--plot", metavar="FILE", default=None, help="draw the run against the theory (theta, Theta, Psi, slip speed, contact "
-                   "height, normal force and -b/p, event times) to FILE (.png, .svg or .pdf), with FILE's .csv and _theory.csv beside it")
-    s.add_argument("--csv", metavar="FILE", default=None, help="write the run's record (t, theta, Theta, psi, Psi, eta, varphi, gap, "
-                   "normal_force, active, b, p, -b/p; scaled units) to FILE")
+    s.add_argument(
+        "--plot",
+        metavar="FILE",
+        default=None,
+        help="draw the run against the theory (theta, Theta, Psi, slip speed, contact "
+        "height, normal force and -b/p, event times) to FILE (.png, .svg or .pdf), with FILE's .csv and _theory.csv beside it",
+    )
+    s.add_argument(
+        "--csv",
+        metavar="FILE",
+        default=None,
+        help="write the run's record (t, theta, Theta, psi, Psi, eta, varphi, gap, "
+        "normal_force, active, b, p, -b/p; scaled units) to FILE",
+    )
     s.set_defaults(func=_simulate)

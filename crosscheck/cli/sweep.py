@@ -18,8 +18,14 @@ def _sweep(args) -> int:
     check_reachable(args.scheduler)  # before any chunk is computed
     spec = sweeps.load_spec(args.spec)  # before the store is touched: a bad spec leaves OUT as it was
     out = directory("out", args.out)
-    summary = sweeps.run(spec, out, workers=workers, scheduler=args.scheduler, fresh=args.fresh,
-                         progress=False if args.no_progress else None)
+    summary = sweeps.run(
+        spec,
+        out,
+        workers=workers,
+        scheduler=args.scheduler,
+        fresh=args.fresh,
+        progress=False if args.no_progress else None,
+    )
     print(summary)
     return 1 if summary.failed else 0
 
@@ -29,7 +35,9 @@ def _compare(args) -> int:
 
     if args.out is not None:
         if not args.out.strip() or args.out.endswith("/"):
-            raise ValueError(f"out must be a file name prefix (the JSON and CSV are <out>.json and <out>-disagreeing.csv); got {args.out!r}")
+            raise ValueError(
+                f"out must be a file name prefix (the JSON and CSV are <out>.json and <out>-disagreeing.csv); got {args.out!r}"
+            )
         directory("out", Path(args.out).parent)  # before the stores are read: the same checks as every --out
     c, files = compare_stores(args.DIR_A, args.DIR_B, out=args.out)
     print(c.table())
@@ -41,8 +49,17 @@ def register(sub) -> None:
     s = sub.add_parser("sweep", help="run (or resume) a sweep from a TOML spec into a result store")
     s.add_argument("spec", help="the sweep's TOML spec (examples/sweep.toml)")
     s.add_argument("--out", required=True, help="the store directory (resumed if it holds the same sweep)")
-    s.add_argument("--workers", type=ascii_number, default=None, help="processes (or Dask workers with --scheduler local); default: the usable cores")
-    s.add_argument("--scheduler", default=None, help="'local' (a Dask LocalCluster for this run) or a Dask scheduler address tcp://host:8786")
+    s.add_argument(
+        "--workers",
+        type=ascii_number,
+        default=None,
+        help="processes (or Dask workers with --scheduler local); default: the usable cores",
+    )
+    s.add_argument(
+        "--scheduler",
+        default=None,
+        help="'local' (a Dask LocalCluster for this run) or a Dask scheduler address tcp://host:8786",
+    )
     s.add_argument("--fresh", action="store_true", help="replace whatever sweep OUT holds")
     s.add_argument("--no-progress", action="store_true", help="no progress bar or log lines")
     s.set_defaults(func=_sweep)

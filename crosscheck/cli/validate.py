@@ -28,7 +28,9 @@ def _run(args) -> int:
     n = validation.default_states(args.engine) if args.states is None else integer("states", args.states, 1, MAX_STATES)
     seed = integer("seed", args.seed, 0, 2**63 - 1)
     checks = validation.PARTS if args.checks == "all" else (args.checks,)
-    result = validation.validate(args.engine, n, np.random.default_rng(seed), progress=not args.json and sys.stderr.isatty(), checks=checks)
+    result = validation.validate(
+        args.engine, n, np.random.default_rng(seed), progress=not args.json and sys.stderr.isatty(), checks=checks
+    )
     print(result.to_json() if args.json else result.to_table())
     return 0 if result.passed else 1
 
@@ -38,8 +40,20 @@ def register(sub) -> None:
     engines = v.add_subparsers(dest="engine", required=True, parser_class=type(v))
     for name in validation.names():
         e = engines.add_parser(name, help=f"{name} vs the analytic reference")
-        e.add_argument("--states", type=ascii_number, default=None, help=f"number of random states, 1 to {MAX_STATES} (default: the engine's)")
-        e.add_argument("--seed", type=ascii_number, default="0", help="seed of numpy.random.default_rng, >= 0 (default 0)")
+        e.add_argument(
+            "--states",
+            type=ascii_number,
+            default=None,
+            help=f"number of random states, 1 to {MAX_STATES} (default: the engine's)",
+        )
+        e.add_argument(
+            "--seed", type=ascii_number, default="0", help="seed of numpy.random.default_rng, >= 0 (default 0)"
+        )
         e.add_argument("--json", action="store_true", help="print the result as JSON")
-        e.add_argument("--checks", choices=["all", *validation.parts_of(name)], default="all", help="run only these checks (default: all the engine has)")
+        e.add_argument(
+            "--checks",
+            choices=["all", *validation.parts_of(name)],
+            default="all",
+            help="run only these checks (default: all the engine has)",
+        )
         e.set_defaults(func=_run)

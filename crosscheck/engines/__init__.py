@@ -27,8 +27,30 @@ from crosscheck.engines.classifier import Classification, Thresholds, classify
 from crosscheck.engines.record import Record
 from crosscheck.engines.spec import TAGS, EngineSpec, ReportPlan
 
-__all__ = ["DEFAULT", "names", "get", "specs", "libraries", "register", "unregister", "labels", "Engine", "EngineSpec", "ReportPlan", "TAGS", "Run", "SweepResult",
-           "Record", "Thresholds", "Classification", "classify", "n_steps", "sweep_by_simulate", "SERIES", "SUMMARY"]
+__all__ = [
+    "DEFAULT",
+    "names",
+    "get",
+    "specs",
+    "libraries",
+    "register",
+    "unregister",
+    "labels",
+    "Engine",
+    "EngineSpec",
+    "ReportPlan",
+    "TAGS",
+    "Run",
+    "SweepResult",
+    "Record",
+    "Thresholds",
+    "Classification",
+    "classify",
+    "n_steps",
+    "sweep_by_simulate",
+    "SERIES",
+    "SUMMARY",
+]
 
 #: The engine subpackages shipped with crosscheck, each with ``ENGINES``.
 BUILTIN = (
@@ -58,7 +80,9 @@ def _builtins() -> dict[str, EngineSpec]:
 
 def specs() -> list[EngineSpec]:
     """Every available engine's record: built-in ones by their report order, then registered ones in the order added."""
-    builtin = sorted(_builtins().values(), key=lambda s: (s.report.order if s.report else 1000, list(_builtins()).index(s.name)))
+    builtin = sorted(
+        _builtins().values(), key=lambda s: (s.report.order if s.report else 1000, list(_builtins()).index(s.name))
+    )
     return builtin + list(_registered.values())
 
 
@@ -69,7 +93,9 @@ def names() -> list[str]:
 
 def get(name: str) -> EngineSpec:
     """The engine called ``name`` (ValueError listing the available names otherwise)."""
-    if not isinstance(name, str):  # a list or None is not a name: the same one line, not a TypeError from the dict lookup
+    if not isinstance(
+        name, str
+    ):  # a list or None is not a name: the same one line, not a TypeError from the dict lookup
         raise ValueError(f"engine must be one of {', '.join(names())}; got {name!r}")
     if name in _registered:
         return _registered[name]

@@ -30,8 +30,23 @@ from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState, check_timestep_within, real, real_scalar
 
-__all__ = ["Engine", "Run", "SweepResult", "SERIES", "SUMMARY", "STATE_KEYS", "MAX_RECORD_BYTES", "n_steps", "n_steps_within_memory", "options_from_kwargs", "run_inputs", "check_states", "sweep_mu_workers",
-           "summaries", "sweep_by_simulate"]
+__all__ = [
+    "Engine",
+    "Run",
+    "SweepResult",
+    "SERIES",
+    "SUMMARY",
+    "STATE_KEYS",
+    "MAX_RECORD_BYTES",
+    "n_steps",
+    "n_steps_within_memory",
+    "options_from_kwargs",
+    "run_inputs",
+    "check_states",
+    "sweep_mu_workers",
+    "summaries",
+    "sweep_by_simulate",
+]
 
 #: Decimated time series kept per state by ``sweep`` (each (B, n_series)), scaled units:
 #: t, eta and varphi of the contact point, theta, Theta, Psi, gap of the contact
@@ -44,7 +59,21 @@ SERIES = ("t", "eta", "varphi", "theta", "Theta", "Psi", "gap", "normal_force")
 #: state; the engine's own p and the normal impulse of a JAM (NaN otherwise); over the run: the largest normal force in
 #: one row (the spikes), the largest window-mean normal force, the fraction of rows
 #: with a contact, the largest gap.
-SUMMARY = ("eta", "varphi", "theta", "Theta", "Psi", "b", "p", "jam_p_eff", "jam_impulse", "max_normal_force", "max_window_force", "active_fraction", "max_gap")
+SUMMARY = (
+    "eta",
+    "varphi",
+    "theta",
+    "Theta",
+    "Psi",
+    "b",
+    "p",
+    "jam_p_eff",
+    "jam_impulse",
+    "max_normal_force",
+    "max_window_force",
+    "active_fraction",
+    "max_gap",
+)
 
 #: The ``SlipState`` fields a ``SweepResult`` keeps per state.
 STATE_KEYS = ("theta", "varphi", "Theta", "Psi", "eta", "psi")
@@ -72,11 +101,21 @@ class Engine(Protocol):
     name: str
     Options: type
 
-    def simulate(self, rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None,
-                 **options) -> "Run": ...
+    def simulate(
+        self, rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options
+    ) -> "Run": ...
 
-    def sweep(self, rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None,
-              progress: bool | None = None, **options) -> "SweepResult": ...
+    def sweep(
+        self,
+        rod: Rod,
+        states: Sequence[SlipState],
+        mu,
+        *,
+        horizon: float,
+        thresholds: Thresholds | None = None,
+        progress: bool | None = None,
+        **options,
+    ) -> "SweepResult": ...
 
 
 def options_from_kwargs(cls: type, options: dict[str, Any], engine: str):
@@ -84,7 +123,9 @@ def options_from_kwargs(cls: type, options: dict[str, Any], engine: str):
     known = {f.name for f in fields(cls)}
     unknown = sorted(set(options) - known)
     if unknown:
-        raise ValueError(f"unknown {engine_label(engine)} option {unknown[0]!r}: options must be one of {', '.join(sorted(known))}")
+        raise ValueError(
+            f"unknown {engine_label(engine)} option {unknown[0]!r}: options must be one of {', '.join(sorted(known))}"
+        )
     return cls(**options)
 
 
@@ -107,15 +148,18 @@ def n_steps(horizon: float, timestep: float) -> int:
 MAX_RECORD_BYTES = 4 * 2**30
 
 
-def n_steps_within_memory(horizon: float, timestep: float, row_bytes: int, *, copies: int = 1, what: str = "a record",
-                          context: str = "") -> int:
+def n_steps_within_memory(
+    horizon: float, timestep: float, row_bytes: int, *, copies: int = 1, what: str = "a record", context: str = ""
+) -> int:
     """``n_steps``, refused with the step limit before anything is allocated when ``copies`` records of
     ``row_bytes`` per row would exceed ``MAX_RECORD_BYTES`` (each engine measures its own bytes per row)."""
     n = n_steps(horizon, timestep)
     need = copies * n * row_bytes
     if need > MAX_RECORD_BYTES:
-        raise ValueError(f"horizon / timestep must be at most {MAX_RECORD_BYTES // (copies * row_bytes)} steps{context} "
-                         f"({what} of {MAX_RECORD_BYTES / 2**30:g} GiB); got {horizon:g} / {timestep:g} = {n} steps ({need / 2**30:.3g} GiB)")
+        raise ValueError(
+            f"horizon / timestep must be at most {MAX_RECORD_BYTES // (copies * row_bytes)} steps{context} "
+            f"({what} of {MAX_RECORD_BYTES / 2**30:g} GiB); got {horizon:g} / {timestep:g} = {n} steps ({need / 2**30:.3g} GiB)"
+        )
     return n
 
 
@@ -187,8 +231,17 @@ class Run:
 
     @classmethod
     def from_classification(cls, engine: str, c: Classification, record: Record, **kw) -> "Run":
-        return cls(engine=engine, outcome=Outcome(int(c.outcome)), event_time=float(c.event_time), exit_time=float(c.exit_time),
-                   diverged_time=float(c.diverged_time), jam_p_eff=float(c.jam_p_eff), jam_impulse=float(c.jam_impulse), record=record, **kw)
+        return cls(
+            engine=engine,
+            outcome=Outcome(int(c.outcome)),
+            event_time=float(c.event_time),
+            exit_time=float(c.exit_time),
+            diverged_time=float(c.diverged_time),
+            jam_p_eff=float(c.jam_p_eff),
+            jam_impulse=float(c.jam_impulse),
+            record=record,
+            **kw,
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -245,7 +298,9 @@ class SweepResult:
         import pandas as pd
 
         names = [o.name for o in Outcome]
-        df = pd.DataFrame({**{k: np.asarray(v) for k, v in self.states.items()}, "mu": np.asarray(self.mu, dtype=float)})
+        df = pd.DataFrame(
+            {**{k: np.asarray(v) for k, v in self.states.items()}, "mu": np.asarray(self.mu, dtype=float)}
+        )
         df["outcome"] = pd.Categorical.from_codes(np.asarray(self.outcome, dtype=int), categories=names)
         for k in ("event_time", "exit_time", "diverged_time"):
             df[k] = np.asarray(getattr(self, k), dtype=float)
@@ -297,7 +352,9 @@ def summaries(record: Record, c: Classification, mu: np.ndarray, alpha: float, e
     return summary, series
 
 
-def _simulate_chunk(engine: Engine, rod: Rod, states: list, mu: list, horizon: float, thresholds: Thresholds, options: dict) -> list:
+def _simulate_chunk(
+    engine: Engine, rod: Rod, states: list, mu: list, horizon: float, thresholds: Thresholds, options: dict
+) -> list:
     return [engine.simulate(rod, s, m, horizon=horizon, thresholds=thresholds, **options) for s, m in zip(states, mu)]
 
 
@@ -311,9 +368,19 @@ def sweep_mu_workers(mu, n: int, workers) -> np.ndarray:
     return np.broadcast_to(mu, (n,)).astype(float)
 
 
-def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu, *, horizon: float,
-                      thresholds: Thresholds | None = None, n_series: int = 200, progress: bool | None = None, workers: int = 1,
-                      **options) -> SweepResult:
+def sweep_by_simulate(
+    engine: Engine,
+    rod: Rod,
+    states: Sequence[SlipState],
+    mu,
+    *,
+    horizon: float,
+    thresholds: Thresholds | None = None,
+    n_series: int = 200,
+    progress: bool | None = None,
+    workers: int = 1,
+    **options,
+) -> SweepResult:
     """An engine's ``sweep`` as one ``simulate`` per state (for engines without a batched path).
 
     Every state's record must have the same number of rows (a fixed timestep).
@@ -327,24 +394,44 @@ def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu,
     th = thresholds or Thresholds()
     t0 = time.perf_counter()
     if workers == 1 or B == 1:
-        runs = [engine.simulate(rod, s, float(m), horizon=horizon, thresholds=th, **options)
-                for s, m in bar(list(zip(states, mu)), progress=progress, desc=f"{engine.name} sweep", unit="state")]
+        runs = [
+            engine.simulate(rod, s, float(m), horizon=horizon, thresholds=th, **options)
+            for s, m in bar(list(zip(states, mu)), progress=progress, desc=f"{engine.name} sweep", unit="state")
+        ]
     else:
         from crosscheck.workers import pool as worker_pool
 
         size = max(1, math.ceil(B / (4 * workers)))  # a few chunks per worker keeps both busy to the end
-        chunks = [(states[a:a + size], [float(m) for m in mu[a:a + size]]) for a in range(0, B, size)]
+        chunks = [(states[a : a + size], [float(m) for m in mu[a : a + size]]) for a in range(0, B, size)]
         with worker_pool(workers) as pool:
-            futures = [pool.submit(_simulate_chunk, engine, rod, c_states, c_mu, horizon, th, options) for c_states, c_mu in chunks]
-            runs = [r for f in bar(futures, progress=progress, desc=f"{engine.name} sweep", unit="chunk") for r in f.result()]
+            futures = [
+                pool.submit(_simulate_chunk, engine, rod, c_states, c_mu, horizon, th, options)
+                for c_states, c_mu in chunks
+            ]
+            runs = [
+                r
+                for f in bar(futures, progress=progress, desc=f"{engine.name} sweep", unit="chunk")
+                for r in f.result()
+            ]
     lengths = {len(r.record) for r in runs}
     if len(lengths) != 1:
-        raise ValueError(f"{engine.name} records have different lengths {sorted(lengths)}; sweep_by_simulate needs a fixed timestep")
+        raise ValueError(
+            f"{engine.name} records have different lengths {sorted(lengths)}; sweep_by_simulate needs a fixed timestep"
+        )
     record = Record(**{f.name: np.stack([getattr(r.record, f.name) for r in runs]) for f in fields(Record)})
     opts = runs[0].options
     # the one classifier again on the stacked records: the same rule and numbers as each run's own
-    c = classify(record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time,
-                 rigid=opts.contact_time == 0.0, contact_time=opts.contact_time, radius=getattr(opts, "radius", 0.0), thresholds=th)
+    c = classify(
+        record,
+        mu=mu,
+        alpha=rod.alpha,
+        timestep=opts.timestep,
+        friction_timeconst=opts.friction_time,
+        rigid=opts.contact_time == 0.0,
+        contact_time=opts.contact_time,
+        radius=getattr(opts, "radius", 0.0),
+        thresholds=th,
+    )
     nstep = lengths.pop()
     summary, series = summaries(record, c, mu, rod.alpha, max(1, nstep // max(1, n_series)))
     solver = None
@@ -352,8 +439,21 @@ def sweep_by_simulate(engine: Engine, rod: Rod, states: Sequence[SlipState], mu,
         solver = {f.name: np.array([getattr(r.solver, f.name) for r in runs]) for f in fields(runs[0].solver)}
     wall = time.perf_counter() - t0
     return SweepResult(
-        engine=engine.name, outcome=c.outcome, event_time=c.event_time, exit_time=c.exit_time, diverged_time=c.diverged_time,
-        states={k: np.array([getattr(s, k) for s in states]) for k in STATE_KEYS}, mu=mu.copy(), summary=summary, series=series,
-        alpha=rod.alpha, horizon=horizon, nstep=nstep, options=opts, thresholds=th, wall_time=wall,
-        steps_per_second=B * nstep / wall, solver=solver,
+        engine=engine.name,
+        outcome=c.outcome,
+        event_time=c.event_time,
+        exit_time=c.exit_time,
+        diverged_time=c.diverged_time,
+        states={k: np.array([getattr(s, k) for s in states]) for k in STATE_KEYS},
+        mu=mu.copy(),
+        summary=summary,
+        series=series,
+        alpha=rod.alpha,
+        horizon=horizon,
+        nstep=nstep,
+        options=opts,
+        thresholds=th,
+        wall_time=wall,
+        steps_per_second=B * nstep / wall,
+        solver=solver,
     )

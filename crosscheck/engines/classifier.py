@@ -176,8 +176,18 @@ def first_event_final(c: Classification, rows: int, thresholds: Thresholds, time
     return k >= 0 and k + thresholds.window_rows(timestep) + max(2, thresholds.lift_steps) <= rows
 
 
-def classify(record: Record, *, mu, alpha: float, timestep: float, friction_timeconst: float = 0.0, rigid: bool = False,
-             contact_time: float | None = None, radius: float = 0.0, thresholds: Thresholds | None = None) -> Classification:
+def classify(
+    record: Record,
+    *,
+    mu,
+    alpha: float,
+    timestep: float,
+    friction_timeconst: float = 0.0,
+    rigid: bool = False,
+    contact_time: float | None = None,
+    radius: float = 0.0,
+    thresholds: Thresholds | None = None,
+) -> Classification:
     """Outcome and event time of recorded runs, for every engine.
 
     Args:
@@ -229,7 +239,12 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
         # event is judged, ``first_event_final``); they are neither judged nor read, as rows past a domain exit.
         computed = np.isfinite(t)
         speed2 = vel[..., 0] * vel[..., 0] + vel[..., 1] * vel[..., 1] + vel[..., 2] * vel[..., 2]
-        bad = ~(speed2 <= th.diverged_speed**2) | ~(np.abs(az + 1.0) < 1e9) | ~(np.abs(Fn) < np.inf) | ~(np.abs(theta) < np.inf)
+        bad = (
+            ~(speed2 <= th.diverged_speed**2)
+            | ~(np.abs(az + 1.0) < 1e9)
+            | ~(np.abs(Fn) < np.inf)
+            | ~(np.abs(theta) < np.inf)
+        )
         bad[..., 1:] |= ~(np.diff(t, axis=-1) > 0.0)
         has_div, k_div = _first(bad & computed)
 
@@ -258,7 +273,12 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
         eta_end = np.full(eta.shape, np.nan)
         if w <= n:
             eta_end[..., : n - w + 1] = eta[..., w - 1 :]
-        jam = (Fbar >= th.jam_force) & (Fbar >= th.jam_ratio * slipping_force) & (eta - eta_end >= th.jam_slip_loss * eta) & (p_eff <= th.jam_p_eff)
+        jam = (
+            (Fbar >= th.jam_force)
+            & (Fbar >= th.jam_ratio * slipping_force)
+            & (eta - eta_end >= th.jam_slip_loss * eta)
+            & (p_eff <= th.jam_p_eff)
+        )
         jam &= rows + w <= end
         if rigid:
             # One row's impulse: a rigid contact resolves the impact without collision within a step.
@@ -272,7 +292,9 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
                 after[..., : n - m] = eta[..., m:]
             # Where p <= 0 no slipping force exists (Corollary 4.2's impasse): any impulse beyond jam_force is the IWC.
             need = th.jam_ratio * np.maximum(th.jam_force, np.where(p_row > 0, np.maximum(0.0, -b) / p_row, 0.0))
-            impulse = (Fn >= need) & (p_row <= th.jam_p_eff) & (eta - after >= th.jam_slip_loss * eta) & (rows + m <= end)
+            impulse = (
+                (Fn >= need) & (p_row <= th.jam_p_eff) & (eta - after >= th.jam_slip_loss * eta) & (rows + m <= end)
+            )
             jam |= impulse
             p_eff = np.where(impulse, p_row, p_eff)
             sF = np.where(impulse, Fn, sF)
@@ -294,7 +316,9 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
         rising[..., :-1] = vz[..., 1:]
         in_contact, falling = Fn > 0.0, b < 0.0
         pushed = in_contact & falling
-        fast = (rising >= th.launch_ratio * eta) & (rising >= th.launch_speed) & (rising >= 0.5 * np.abs(b) * w * timestep)
+        fast = (
+            (rising >= th.launch_ratio * eta) & (rising >= th.launch_speed) & (rising >= 0.5 * np.abs(b) * w * timestep)
+        )
         ahead_free = np.full(Fn.shape, False)
         ahead_down = np.full(Fn.shape, False)
         if w + 1 <= n:
@@ -333,7 +357,14 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
                     continue
                 # the row's own p_eff (eq. linode2 with its force), only on the look-back: inf where it carries no load
                 st_a, ct_a, Fz_a = st[idx][a:j], ct[idx][a:j], Fz[idx][a:j]
-                p_row = np.where(Fz_a > 0.0, 1.0 + alpha - alpha * st_a * st_a - alpha * (st_a + r) * ct_a * Fe[idx][a:j] / np.where(Fz_a > 0.0, Fz_a, 1.0), np.inf)
+                p_row = np.where(
+                    Fz_a > 0.0,
+                    1.0
+                    + alpha
+                    - alpha * st_a * st_a
+                    - alpha * (st_a + r) * ct_a * Fe[idx][a:j] / np.where(Fz_a > 0.0, Fz_a, 1.0),
+                    np.inf,
+                )
                 pr = np.where(loaded, p_row, np.inf)
                 i = int(np.argmin(pr))
                 p_min = float(pr[i])
@@ -341,8 +372,11 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
                 Fn_rows = np.where(Fn[idx][a:j] > 0.0, Fn[idx][a:j], 0.0)
                 Fmean = float(Fn_rows.mean())
                 e0 = float(eta[idx][a])
-                if (p_min <= th.jam_p_eff and Fmean >= th.jam_ratio * max(th.jam_force, slipping_force)
-                        and e0 - float(eta[idx][j]) >= th.jam_slip_loss * e0):
+                if (
+                    p_min <= th.jam_p_eff
+                    and Fmean >= th.jam_ratio * max(th.jam_force, slipping_force)
+                    and e0 - float(eta[idx][j]) >= th.jam_slip_loss * e0
+                ):
                     stop_jam[idx + (j,)] = True
                     p_eff[idx + (j,)] = p_min
                     sF[idx + (j,)] = float(Fn_rows.sum())
@@ -381,7 +415,10 @@ def classify(record: Record, *, mu, alpha: float, timestep: float, friction_time
             jam_impulse=at(sF * timestep, k_jam, outcome == Outcome.JAM),
             # fmax skips NaN as nanmax does, without nanmax's RuntimeWarning for a run with no finite row (diverged at once)
             max_normal_force=np.fmax.reduce(np.where(np.isfinite(Fn), Fn, np.nan), axis=-1) if n else np.nan,
-            max_window_force=np.fmax.reduce(window_sum(Fn, w) / w, axis=-1) if n >= w else np.full(has_div.shape, np.nan),
-            active_fraction=(np.asarray(R.active, dtype=bool) & computed).sum(axis=-1) / np.maximum(computed.sum(axis=-1), 1),
+            max_window_force=np.fmax.reduce(window_sum(Fn, w) / w, axis=-1)
+            if n >= w
+            else np.full(has_div.shape, np.nan),
+            active_fraction=(np.asarray(R.active, dtype=bool) & computed).sum(axis=-1)
+            / np.maximum(computed.sum(axis=-1), 1),
             max_gap=np.max(np.where(computed, R.gap, -np.inf), axis=-1),
         )

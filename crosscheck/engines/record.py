@@ -9,7 +9,21 @@ import numpy as np
 __all__ = ["Record", "FIELDS", "row_times"]
 
 #: The fields of a ``Record``, in order.
-FIELDS = ("t", "tip_pos", "tip_vel", "tip_acc", "force", "normal_force", "active", "gap", "slip_vel", "psi", "theta", "Psi", "Theta")
+FIELDS = (
+    "t",
+    "tip_pos",
+    "tip_vel",
+    "tip_acc",
+    "force",
+    "normal_force",
+    "active",
+    "gap",
+    "slip_vel",
+    "psi",
+    "theta",
+    "Psi",
+    "Theta",
+)
 
 
 def row_times(n: int, timestep: float, computed: int | None = None) -> np.ndarray:

@@ -152,13 +152,30 @@ class EngineSpec:
         time; ``first_event`` uses it.
     """
 
-    def __init__(self, *, name: str, module: str | None = None, Options: type | None = None, simulate: Callable | None = None,
-                 sweep: Callable | None = None, label: str = "", slug: str = "", libraries: Sequence[str] = (),
-                 defaults: Mapping[str, Any] | None = None,
-                 one_core: Mapping[str, Any] | None = None, solver_columns: Sequence[str] = (), tolerances: Mapping[str, Any] | None = None,
-                 tags: Iterable[str] = (), ladder: Mapping[str, Any] | None = None, checks: Callable | None = None,
-                 dynamics: str | None = None, report: ReportPlan | None = None, interventions: Mapping[str, str] | None = None,
-                 sweep_chunk: int | None = None, stops_at_event: bool = False) -> None:
+    def __init__(
+        self,
+        *,
+        name: str,
+        module: str | None = None,
+        Options: type | None = None,
+        simulate: Callable | None = None,
+        sweep: Callable | None = None,
+        label: str = "",
+        slug: str = "",
+        libraries: Sequence[str] = (),
+        defaults: Mapping[str, Any] | None = None,
+        one_core: Mapping[str, Any] | None = None,
+        solver_columns: Sequence[str] = (),
+        tolerances: Mapping[str, Any] | None = None,
+        tags: Iterable[str] = (),
+        ladder: Mapping[str, Any] | None = None,
+        checks: Callable | None = None,
+        dynamics: str | None = None,
+        report: ReportPlan | None = None,
+        interventions: Mapping[str, str] | None = None,
+        sweep_chunk: int | None = None,
+        stops_at_event: bool = False,
+    ) -> None:
         if not (isinstance(name, str) and name.isidentifier()):
             raise ValueError(f"engine name must be an identifier; got {name!r}")
         given = {k: v for k, v in (("Options", Options), ("simulate", simulate), ("sweep", sweep)) if v is not None}
@@ -173,24 +190,46 @@ class EngineSpec:
             raise ValueError(f"engine {name!r} ladder causes must be among {', '.join(LADDER_CAUSES)}; got {bad!r}")
         if interventions is not None and set(interventions) - set(ladder or ()):
             bad = sorted(set(interventions) - set(ladder or ()))[0]
-            raise ValueError(f"engine {name!r} intervention causes must be among its ladder's ({', '.join(ladder or ())}); got {bad!r}")
+            raise ValueError(
+                f"engine {name!r} intervention causes must be among its ladder's ({', '.join(ladder or ())}); got {bad!r}"
+            )
         if tolerances is not None:
             from crosscheck.tolerances import EVENT_TOLERANCE_KEYS
 
             missing = [k for k in EVENT_TOLERANCE_KEYS if k not in tolerances]
             if missing:
-                raise ValueError(f"engine {name!r} tolerance profile lacks {missing[0]!r} (needs {', '.join(EVENT_TOLERANCE_KEYS)})")
-        if sweep_chunk is not None and not (isinstance(sweep_chunk, int) and not isinstance(sweep_chunk, bool) and 1 <= sweep_chunk <= 1_000_000):
-            raise ValueError(f"engine {name!r} sweep_chunk must be an integer in [1, 1000000] or None; got {sweep_chunk!r}")
+                raise ValueError(
+                    f"engine {name!r} tolerance profile lacks {missing[0]!r} (needs {', '.join(EVENT_TOLERANCE_KEYS)})"
+                )
+        if sweep_chunk is not None and not (
+            isinstance(sweep_chunk, int) and not isinstance(sweep_chunk, bool) and 1 <= sweep_chunk <= 1_000_000
+        ):
+            raise ValueError(
+                f"engine {name!r} sweep_chunk must be an integer in [1, 1000000] or None; got {sweep_chunk!r}"
+            )
         if not isinstance(stops_at_event, bool):
             raise ValueError(f"engine {name!r} stops_at_event must be True or False; got {stops_at_event!r}")
         d = self.__dict__
-        d.update(name=name, module=module, label=label or name, slug=slug or name, libraries=tuple(libraries),
-                 defaults=dict(defaults or {}), one_core=dict(one_core or {}),
-                 solver_columns=tuple(solver_columns), tolerances=None if tolerances is None else dict(tolerances), tags=tags,
-                 ladder=None if ladder is None else dict(ladder), checks=checks, dynamics=dynamics, report=report,
-                 interventions=None if interventions is None else dict(interventions), sweep_chunk=sweep_chunk,
-                 stops_at_event=stops_at_event, _given=given)
+        d.update(
+            name=name,
+            module=module,
+            label=label or name,
+            slug=slug or name,
+            libraries=tuple(libraries),
+            defaults=dict(defaults or {}),
+            one_core=dict(one_core or {}),
+            solver_columns=tuple(solver_columns),
+            tolerances=None if tolerances is None else dict(tolerances),
+            tags=tags,
+            ladder=None if ladder is None else dict(ladder),
+            checks=checks,
+            dynamics=dynamics,
+            report=report,
+            interventions=None if interventions is None else dict(interventions),
+            sweep_chunk=sweep_chunk,
+            stops_at_event=stops_at_event,
+            _given=given,
+        )
 
     def __setattr__(self, key, value):
         raise AttributeError(f"EngineSpec is read-only; cannot set {key!r}")
@@ -216,7 +255,9 @@ class EngineSpec:
     def simulate(self, rod, state, mu, *, horizon, thresholds=None, **options):
         """The engine's ``simulate`` with its ``defaults`` (see ``crosscheck.engines.base.Engine``)."""
         _check_rod_and_thresholds(rod, thresholds)
-        return self._part("simulate")(rod, state, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options})
+        return self._part("simulate")(
+            rod, state, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options}
+        )
 
     def first_event(self, rod, state, mu, *, horizon, thresholds=None, **options):
         """(outcome, event time) of ``simulate``'s run, stopped once its first event is judged where the engine can
@@ -230,7 +271,9 @@ class EngineSpec:
     def sweep(self, rod, states, mu, *, horizon, thresholds=None, **options):
         """The engine's ``sweep`` with its ``defaults`` (see ``crosscheck.engines.base.Engine``)."""
         _check_rod_and_thresholds(rod, thresholds)
-        return self._part("sweep")(rod, states, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options})
+        return self._part("sweep")(
+            rod, states, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options}
+        )
 
     def interventions_for(self, cause: str, options, *, p_min: float | None = None) -> tuple[Intervention, ...]:
         """The engine's interventions for ``cause`` from the run's ``options`` (weakest first); () if it declares none.

@@ -143,8 +143,17 @@ class Thresholds:
     def __post_init__(self) -> None:
         for name in ("window", "jam_ratio", "diverged_speed"):
             object.__setattr__(self, name, float(check(name, getattr(self, name), POSITIVE)))
-        for name in ("jam_force", "jam_slip_loss", "jam_p_eff", "stick_speed", "stick_creep", "rigid_stick_steps", "launch_ratio", "launch_speed",
-                     "jam_contact_times"):
+        for name in (
+            "jam_force",
+            "jam_slip_loss",
+            "jam_p_eff",
+            "stick_speed",
+            "stick_creep",
+            "rigid_stick_steps",
+            "launch_ratio",
+            "launch_speed",
+            "jam_contact_times",
+        ):
             object.__setattr__(self, name, float(check(name, getattr(self, name), NONNEGATIVE)))
         for name in ("window_steps", "lift_steps"):
             v = getattr(self, name)

@@ -36,12 +36,32 @@ RTOL, ATOL = 1e-9, 1e-12
 ACROSS_MACHINES = (
     # rows at the accepted steps of solve_ivp (rtol 1e-10): a last-bit change in sin/cos moves the steps;
     # measured 1.5e-6 in t and up to 2e-6 in the rates, 1e-4 of b where b ~ 1e-3 passes through 0
-    ("mujoco_trajectories/analytic_*.csv", 1e-5, 1e-6, "adaptive integrator steps follow the CPU's last bits (measured 2e-6)"),
-    ("rigid_engine/trajectory_analytic.csv", 1e-5, 1e-6, "adaptive integrator steps follow the CPU's last bits (measured 2e-6)"),
+    (
+        "mujoco_trajectories/analytic_*.csv",
+        1e-5,
+        1e-6,
+        "adaptive integrator steps follow the CPU's last bits (measured 2e-6)",
+    ),
+    (
+        "rigid_engine/trajectory_analytic.csv",
+        1e-5,
+        1e-6,
+        "adaptive integrator steps follow the CPU's last bits (measured 2e-6)",
+    ),
     # the same integration from the paper's two starts: OpenBLAS's Haswell kernel against its SkylakeX one, measured 1.8e-7 in the normal force
-    ("*_ic/analytic_ic*.csv", 1e-5, 1e-6, "adaptive integrator steps follow the BLAS kernel's last bits (measured 1.8e-7)"),
+    (
+        "*_ic/analytic_ic*.csv",
+        1e-5,
+        1e-6,
+        "adaptive integrator steps follow the BLAS kernel's last bits (measured 1.8e-7)",
+    ),
     # the NCP is solved to 1e-13 m g x dt, i.e. forces to ~1e-10 / dt: measured 3.6e-9 relative at dt 1e-3
-    ("rigid_engine/trajectory_*.csv", 1e-8, 1e-9, "NCP solved to 1e-13 m g dt: forces to ~1e-10 m g (measured 3.6e-9 relative)"),
+    (
+        "rigid_engine/trajectory_*.csv",
+        1e-8,
+        1e-9,
+        "NCP solved to 1e-13 m g dt: forces to ~1e-10 m g (measured 3.6e-9 relative)",
+    ),
     # a measured rounding error is itself the last bits (measured 1.7e-3 relative between the two CPUs)
     ("max_rel", 0.05, 0.0, "a measured rounding error is the CPU's last bits (measured 1.7e-3 relative)"),
     # PGS iterations and the steps that miss its tolerance, at the tolerance's edge (measured 255 vs 245)
@@ -50,24 +70,69 @@ ACROSS_MACHINES = (
     # MuJoCo's contact law against mj_forward: measured rounding errors (~1e-13) are the CPU's last bits; the law's runs are
     # solve_ivp DOP853 at rtol 1e-10 sampled on dense output, whose steps follow them (as the analytic trajectories above;
     # not measured across CPUs for this section)
-    ("friction_skew/law_check.json", 1.0, 1e-12, "measured rounding errors of the law against efc_force / efc_R / efc_aref (~1e-13)"),
+    (
+        "friction_skew/law_check.json",
+        1.0,
+        1e-12,
+        "measured rounding errors of the law against efc_force / efc_R / efc_aref (~1e-13)",
+    ),
     ("friction_skew/checks.json", 1e-5, 1e-12, "a rounding error (~1e-13) and the law's adaptive integrator steps"),
-    ("friction_skew/*", 1e-5, 1e-6, "adaptive integrator steps follow the CPU's last bits (as the analytic trajectories)"),
+    (
+        "friction_skew/*",
+        1e-5,
+        1e-6,
+        "adaptive integrator steps follow the CPU's last bits (as the analytic trajectories)",
+    ),
     # the compliant rod (Radau with events, rtol 1e-10) and the ladder's rungs (DOP853, Radau, MuJoCo's law) are adaptive
     # integrations too: the same allowance as the analytic trajectories (not yet measured across CPUs for these sections)
-    ("compliant_limit/*", 1e-5, 1e-6, "adaptive implicit integration with events follows the CPU's last bits (as the analytic trajectories)"),
-    ("ladder/*", 1e-5, 1e-6, "event times of adaptive integrations follow the CPU's last bits (as the analytic trajectories)"),
+    (
+        "compliant_limit/*",
+        1e-5,
+        1e-6,
+        "adaptive implicit integration with events follows the CPU's last bits (as the analytic trajectories)",
+    ),
+    (
+        "ladder/*",
+        1e-5,
+        1e-6,
+        "event times of adaptive integrations follow the CPU's last bits (as the analytic trajectories)",
+    ),
     # Drake's continuous plant: an error-controlled integrator whose accepted steps (and counts of steps, derivative
     # evaluations and step shrinkages) follow the CPU's last bits, as solve_ivp's; not yet measured across CPUs
-    ("drake_continuous_*/*", 1e-5, 1e-6, "error-controlled integration follows the CPU's last bits (as the analytic trajectories)"),
-    ("derivative_evaluations", 0.1, 0.0, "an error-controlled integrator's evaluation count follows the CPU's last bits"),
+    (
+        "drake_continuous_*/*",
+        1e-5,
+        1e-6,
+        "error-controlled integration follows the CPU's last bits (as the analytic trajectories)",
+    ),
+    (
+        "derivative_evaluations",
+        0.1,
+        0.0,
+        "an error-controlled integrator's evaluation count follows the CPU's last bits",
+    ),
     ("error_shrinkages", 0.1, 0.0, "an error-controlled integrator's rejected steps follow the CPU's last bits"),
 )
 
 #: Keys that hold timings or provenance, not results.
-IGNORED = {"wall_time", "steps_per_second", "seconds", "date", "git", "revision", "dirty", "describe", "requires", "machine",
-           "versions", "code_sha256", "crosscheck_version", "files",  # (files: the checksums, which change with the last digit)
-           "us/step", "runs/s"}  # the engine table's cost columns
+IGNORED = {
+    "wall_time",
+    "steps_per_second",
+    "seconds",
+    "date",
+    "git",
+    "revision",
+    "dirty",
+    "describe",
+    "requires",
+    "machine",
+    "versions",
+    "code_sha256",
+    "crosscheck_version",
+    "files",  # (files: the checksums, which change with the last digit)
+    "us/step",
+    "runs/s",
+}  # the engine table's cost columns
 
 
 def _number(x):
@@ -133,11 +198,15 @@ def _csv(path: Path, rename: dict) -> dict[str, list[str]]:
     return {h: [r[i] if i < len(r) else "<missing>" for r in rows[1:]] for i, h in enumerate(head)}
 
 
-def compare(old: Path, new: Path, *, rtol: float = RTOL, atol: float = ATOL, rename: dict | None = None) -> dict[str, list[str]]:
+def compare(
+    old: Path, new: Path, *, rtol: float = RTOL, atol: float = ATOL, rename: dict | None = None
+) -> dict[str, list[str]]:
     """{file: differences} of two data trees (files equal in every number map to []); provenance.json is skipped."""
     old, new, rename = Path(old), Path(new), rename or {}
-    files = sorted({p.relative_to(old) for p in old.rglob("*") if p.suffix in (".json", ".csv")}
-                   | {p.relative_to(new) for p in new.rglob("*") if p.suffix in (".json", ".csv")})
+    files = sorted(
+        {p.relative_to(old) for p in old.rglob("*") if p.suffix in (".json", ".csv")}
+        | {p.relative_to(new) for p in new.rglob("*") if p.suffix in (".json", ".csv")}
+    )
     result: dict[str, list[str]] = {}
     for rel in files:
         if rel.name == "provenance.json":
@@ -160,6 +229,8 @@ def compare(old: Path, new: Path, *, rtol: float = RTOL, atol: float = ATOL, ren
                     c_rtol, c_atol = _allowance(col, f_rtol, f_atol)
                     bad = [i for i, (x, y) in enumerate(zip(ca[col], cb[col])) if not _same(x, y, c_rtol, c_atol)]
                     if bad:
-                        out.append(f"column {col}: {len(bad)} rows differ, first row {bad[0]}: {ca[col][bad[0]]} (old) vs {cb[col][bad[0]]} (new)")
+                        out.append(
+                            f"column {col}: {len(bad)} rows differ, first row {bad[0]}: {ca[col][bad[0]]} (old) vs {cb[col][bad[0]]} (new)"
+                        )
         result[str(rel)] = out
     return result

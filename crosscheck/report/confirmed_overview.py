@@ -36,10 +36,22 @@ def overview(data: Path) -> list[dict]:
         per = [r for c, r in s["per_cause"].items() if c in LADDER_CAUSES]  # the attributed ones only
         pairs = sum(pairs_confirmed(r) for r in per)
         other = sum(other_starts(r) for r in per)
-        rows.append({"engine": s["engine"], "label": engine_label(s["engine"]), "section": path.parent.name, "attributed": s["attributed"],
-                     "confirmed": s["confirmed"] - pairs, "pairs": pairs, "other": other, "jointly": sum(sum(r["jointly"].values()) for r in per),
-                     "none": sum(r["none"] for r in per), "no_intervention": sum(r.get("no_intervention", 0) for r in per),
-                     "by_distance": s.get("by_distance") or [], "by_p": s.get("by_p")})
+        rows.append(
+            {
+                "engine": s["engine"],
+                "label": engine_label(s["engine"]),
+                "section": path.parent.name,
+                "attributed": s["attributed"],
+                "confirmed": s["confirmed"] - pairs,
+                "pairs": pairs,
+                "other": other,
+                "jointly": sum(sum(r["jointly"].values()) for r in per),
+                "none": sum(r["none"] for r in per),
+                "no_intervention": sum(r.get("no_intervention", 0) for r in per),
+                "by_distance": s.get("by_distance") or [],
+                "by_p": s.get("by_p"),
+            }
+        )
     return rows
 
 
@@ -49,11 +61,20 @@ def _figure(rows: list[dict]):
 
     from crosscheck.sweeps.compare import wilson_interval
 
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11.0, 0.9 + 0.42 * max(len(rows), 5)), layout="constrained",
-                                      gridspec_kw={"width_ratios": (1.25, 1.0)})
-    parts = (("confirmed by its own cause's intervention", "confirmed", "#2a9d4b"), ("overdetermined pair, by both together", "pairs", "#8fd19e"),
-             ("removed by another cause's instead", "other", "#e9a23b"), ("only jointly (no pair named)", "jointly", "#6c8ebf"),
-             ("removed by none", "none", "#c0392b"))
+    fig, (left, right) = plt.subplots(
+        1,
+        2,
+        figsize=(11.0, 0.9 + 0.42 * max(len(rows), 5)),
+        layout="constrained",
+        gridspec_kw={"width_ratios": (1.25, 1.0)},
+    )
+    parts = (
+        ("confirmed by its own cause's intervention", "confirmed", "#2a9d4b"),
+        ("overdetermined pair, by both together", "pairs", "#8fd19e"),
+        ("removed by another cause's instead", "other", "#e9a23b"),
+        ("only jointly (no pair named)", "jointly", "#6c8ebf"),
+        ("removed by none", "none", "#c0392b"),
+    )
     names = [f"{r['label']} ({r['attributed']})" for r in rows]
     start = np.zeros(len(rows))
     for label, key, colour in parts:
@@ -67,7 +88,9 @@ def _figure(rows: list[dict]):
     left.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=2, fontsize=7.5, frameon=False)
     ticks, counts, xlabel = _bins(rows)
     x = np.arange(len(ticks))
-    for j, (r, kn) in enumerate(zip(rows, counts)):  # each engine's share as a dot, its area the disagreements behind it (few for Drake)
+    for j, (r, kn) in enumerate(
+        zip(rows, counts)
+    ):  # each engine's share as a dot, its area the disagreements behind it (few for Drake)
         n = np.array([n for _, n in kn])
         y = np.array([k / n if n else np.nan for k, n in kn])
         right.scatter(x + 0.05 * (j - (len(rows) - 1) / 2), y, s=6 + 4 * n, alpha=0.55, label=r["label"])
@@ -77,7 +100,15 @@ def _figure(rows: list[dict]):
         at, k, n = (np.array(c) for c in zip(*pooled))
         lo_hi = np.array([wilson_interval(a, b) for a, b in zip(k, n)])
         share = k / n
-        right.errorbar(at, share, yerr=[share - lo_hi[:, 0], lo_hi[:, 1] - share], color="k", lw=2, capsize=3, label="all engines (95 %)")
+        right.errorbar(
+            at,
+            share,
+            yerr=[share - lo_hi[:, 0], lo_hi[:, 1] - share],
+            color="k",
+            lw=2,
+            capsize=3,
+            label="all engines (95 %)",
+        )
     right.set_xticks(x, ticks)
     right.set_xlim(-0.5, len(ticks) - 0.5)
     right.set_xlabel(xlabel)
@@ -94,13 +125,21 @@ def _bins(rows: list[dict]) -> tuple[list[str], list[list[tuple[int, int]]], str
     if any(r["by_distance"] for r in rows):
         keys = sorted({float(b["distance"]) for r in rows for b in r["by_distance"]})
         got = [{float(b["distance"]): (b["confirmed"], b["attributed"]) for b in r["by_distance"]} for r in rows]
-        return ([("beyond" if k == float("inf") else f"{k:g}") for k in keys], [[g.get(k, (0, 0)) for k in keys] for g in got],
-                "distance to the theory's event boundary (probe radius)")
+        return (
+            [("beyond" if k == float("inf") else f"{k:g}") for k in keys],
+            [[g.get(k, (0, 0)) for k in keys] for g in got],
+            "distance to the theory's event boundary (probe radius)",
+        )
     band = next((r["by_p"]["p_band"] for r in rows if r["by_p"]), 0.2)
     sides = ("in_band", "above")
-    return ([f"enters p <= {band:g}", f"keeps p > {band:g}"],
-            [[(r["by_p"][s]["confirmed"], r["by_p"][s]["attributed"]) if r["by_p"] else (0, 0) for s in sides] for r in rows],
-            "the theory's slip (no boundary distances probed)")
+    return (
+        [f"enters p <= {band:g}", f"keeps p > {band:g}"],
+        [
+            [(r["by_p"][s]["confirmed"], r["by_p"][s]["attributed"]) if r["by_p"] else (0, 0) for s in sides]
+            for r in rows
+        ],
+        "the theory's slip (no boundary distances probed)",
+    )
 
 
 def confirmed_block(out: Path):
@@ -116,9 +155,12 @@ def confirmed_block(out: Path):
     (out / DATA).write_text(json.dumps(rows, indent=1, default=str) + "\n")
     save_figure(_figure(rows), out / STEM)
     n, k = sum(r["attributed"] for r in rows), sum(r["confirmed"] + r["pairs"] for r in rows)
-    return Figure(stem=str(STEM), data=[str(DATA)],
-                  caption=f"Causes confirmed on the engines themselves: {k} of {n} attributed disagreements over {len(rows)} engines. Left: "
-                          "per engine (attributed disagreements in brackets), the shares removed by their own cause's intervention, "
-                          "by the two interventions of an overdetermined pair the ladder named, by another cause's instead, only "
-                          "jointly with another cause's, or by none; the dashed line is the 80 % goal. Right: the share confirmed "
-                          "where the theory's own outcome is close to turning and where it is not, per engine and pooled.")
+    return Figure(
+        stem=str(STEM),
+        data=[str(DATA)],
+        caption=f"Causes confirmed on the engines themselves: {k} of {n} attributed disagreements over {len(rows)} engines. Left: "
+        "per engine (attributed disagreements in brackets), the shares removed by their own cause's intervention, "
+        "by the two interventions of an overdetermined pair the ladder named, by another cause's instead, only "
+        "jointly with another cause's, or by none; the dashed line is the 80 % goal. Right: the share confirmed "
+        "where the theory's own outcome is close to turning and where it is not, per engine and pooled.",
+    )

@@ -35,9 +35,23 @@ from pathlib import Path
 
 __all__ = ["engine_table", "HEADER", "CAPTION", "table_block"]
 
-HEADER = ["engine", "setting", "agreement (95 % CI)", "theory slips", "theory lifts off", "theory jams", "LAUNCH", "onset |Psi - Psi_L|",
-          "convergence", "friction skew, cone violation", "causes (ladder)",
-          "causes confirmed (intervention)", "outcome moves within 2 ulp", "us/step", "runs/s"]
+HEADER = [
+    "engine",
+    "setting",
+    "agreement (95 % CI)",
+    "theory slips",
+    "theory lifts off",
+    "theory jams",
+    "LAUNCH",
+    "onset |Psi - Psi_L|",
+    "convergence",
+    "friction skew, cone violation",
+    "causes (ladder)",
+    "causes confirmed (intervention)",
+    "outcome moves within 2 ulp",
+    "us/step",
+    "runs/s",
+]
 
 _NONE = "-"
 _WORDS = {"timestep": "timestep", "timeconst": "time constant"}
@@ -53,10 +67,13 @@ def _share(k: int, n: int) -> str:
 
 def _setting(options: dict, defaults: dict) -> str:
     """The timestep and the options that differ from the engine's defaults, compactly (lists and tuples compare equal)."""
+
     def same(a, b):
         return list(a) == list(b) if isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)) else a == b
 
-    shown = {k: v for k, v in options.items() if k == "timestep" or (k != "approximation" and not same(defaults.get(k), v))}
+    shown = {
+        k: v for k, v in options.items() if k == "timestep" or (k != "approximation" and not same(defaults.get(k), v))
+    }
     return ", ".join(f"{k} {v:g}" if isinstance(v, float) else f"{k} {v}" for k, v in sorted(shown.items()))
 
 
@@ -120,7 +137,9 @@ def _friction(data: Path, slug: str) -> str:
     if not q:
         return _NONE
     skew, cone = q.get("median_skew_deg"), q.get("max_cone_violation")
-    if skew is None or cone is None or (isinstance(skew, float) and math.isnan(skew)):  # no sliding contact row (JSON null)
+    if (
+        skew is None or cone is None or (isinstance(skew, float) and math.isnan(skew))
+    ):  # no sliding contact row (JSON null)
         return _NONE
     return f"{skew:.2g} deg, {cone:.2g}"
 
@@ -172,12 +191,31 @@ def engine_table(data: Path) -> tuple[list[str], list[list[str]], list[dict]]:
             defaults = {}
         runs = [mp["runs"][0] for mp in maps]
         label = f"{spec.label} (rigid)" if "rigid" in spec.tags else spec.label
-        onset, conv, friction, causes = _onset(data, spec.slug), _convergence(data, spec.slug), _friction(data, spec.slug), _causes(data, spec.name)
-        rows.append([label, _setting(runs[0]["options"], defaults) + " (maps)", *_confusion_cells(runs), onset, conv, friction, causes,
-                     _confirmed(data, spec.slug), _rounding(data, spec.slug), *_cost(runs)])
+        onset, conv, friction, causes = (
+            _onset(data, spec.slug),
+            _convergence(data, spec.slug),
+            _friction(data, spec.slug),
+            _causes(data, spec.name),
+        )
+        rows.append(
+            [
+                label,
+                _setting(runs[0]["options"], defaults) + " (maps)",
+                *_confusion_cells(runs),
+                onset,
+                conv,
+                friction,
+                causes,
+                _confirmed(data, spec.slug),
+                _rounding(data, spec.slug),
+                *_cost(runs),
+            ]
+        )
         study = _read(data / f"{spec.slug}_convergence" / "study.json")
         for r in (study or {}).get("runs", []):
-            rows.append([label, _setting(r["options"], defaults), *_confusion_cells([r]), "", "", "", "", "", "", *_cost([r])])
+            rows.append(
+                [label, _setting(r["options"], defaults), *_confusion_cells([r]), "", "", "", "", "", "", *_cost([r])]
+            )
     return HEADER, rows, [dict(zip(HEADER, r)) for r in rows]
 
 

@@ -39,13 +39,18 @@ def read_json(path: Path, what: str):
     try:
         return json.loads(path.read_text())
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
-        raise DamagedResults(f"{path}: {what} is not readable JSON ({e}); rerun the report without --from-results") from None
+        raise DamagedResults(
+            f"{path}: {what} is not readable JSON ({e}); rerun the report without --from-results"
+        ) from None
 
 
 def check_status(doc, path: Path) -> dict:
     """``doc`` if it is a section status the run stage writes; ``DamagedResults`` naming ``path`` otherwise."""
+
     def bad(why: str):
-        return DamagedResults(f"{path}: not a section status written by crosscheck report ({why}); rerun the section with --only")
+        return DamagedResults(
+            f"{path}: not a section status written by crosscheck report ({why}); rerun the section with --only"
+        )
 
     if not isinstance(doc, dict):
         raise bad(f"a JSON {type(doc).__name__}, expected an object")
@@ -55,8 +60,10 @@ def check_status(doc, path: Path) -> dict:
         raise bad("no params object")
     if doc["status"] != "running":
         files = doc.get("files")
-        if not isinstance(files, dict) or not all(isinstance(v, dict) and isinstance(v.get("bytes"), int) and isinstance(v.get("sha256"), str)
-                                                  for v in files.values()):
+        if not isinstance(files, dict) or not all(
+            isinstance(v, dict) and isinstance(v.get("bytes"), int) and isinstance(v.get("sha256"), str)
+            for v in files.values()
+        ):
             raise bad("no manifest of the files it saved")
     check_seal(path, "the section status", "rerun the section with --only")
     return doc
@@ -71,14 +78,18 @@ def check_seal(path: Path, what: str, fix: str) -> None:
         data = path.read_bytes()
         want = json.loads(seal_path.read_bytes().decode())
     except FileNotFoundError:
-        raise DamagedResults(f"{path}: {what} has no seal {seal_path.name} (size and sha256 of what the run wrote); {fix}") from None
+        raise DamagedResults(
+            f"{path}: {what} has no seal {seal_path.name} (size and sha256 of what the run wrote); {fix}"
+        ) from None
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
         raise DamagedResults(f"{path}: the seal {seal_path.name} of {what} is not readable ({e}); {fix}") from None
     if not isinstance(want, dict) or not isinstance(want.get("bytes"), int) or not isinstance(want.get("sha256"), str):
         raise DamagedResults(f"{path}: the seal {seal_path.name} of {what} is not one (no bytes and sha256); {fix}")
     got = seal_of(data)
     if got["bytes"] != want["bytes"]:
-        raise DamagedResults(f"{path}: {got['bytes']} bytes, the run wrote {want['bytes']} (truncated or edited after the run); {fix}")
+        raise DamagedResults(
+            f"{path}: {got['bytes']} bytes, the run wrote {want['bytes']} (truncated or edited after the run); {fix}"
+        )
     if got["sha256"] != want["sha256"]:
         raise DamagedResults(f"{path}: sha256 differs from what the run wrote (edited after the run); {fix}")
 
@@ -87,11 +98,15 @@ def check_provenance(doc, path: Path) -> dict:
     """``doc`` if it has the provenance's shape; ``DamagedResults`` naming ``path`` otherwise."""
     expected = {"date": str, "git": dict, "parameters": dict, "tolerances": dict, "versions": dict}
     if not isinstance(doc, dict):
-        raise DamagedResults(f"{path}: not the provenance written by crosscheck report (a JSON {type(doc).__name__}, expected an object)")
+        raise DamagedResults(
+            f"{path}: not the provenance written by crosscheck report (a JSON {type(doc).__name__}, expected an object)"
+        )
     for key, kind in expected.items():
         if not isinstance(doc.get(key), kind):
-            raise DamagedResults(f"{path}: not the provenance written by crosscheck report ({key} is {type(doc.get(key)).__name__}, "
-                                 f"expected {kind.__name__}); rerun the report without --from-results")
+            raise DamagedResults(
+                f"{path}: not the provenance written by crosscheck report ({key} is {type(doc.get(key)).__name__}, "
+                f"expected {kind.__name__}); rerun the report without --from-results"
+            )
     check_seal(path, "the provenance", "rerun the report without --from-results")
     return doc
 
@@ -107,6 +122,8 @@ def verify_files(root: Path, files: dict[str, dict], present: list[str]) -> None
             raise DamagedResults(f"{path}: missing; the run wrote {want['bytes']} bytes")
         size = path.stat().st_size
         if size != want["bytes"]:
-            raise DamagedResults(f"{path}: {size} bytes, the run wrote {want['bytes']} (truncated or edited after the run)")
+            raise DamagedResults(
+                f"{path}: {size} bytes, the run wrote {want['bytes']} (truncated or edited after the run)"
+            )
         if sha256_file(path) != want["sha256"]:
             raise DamagedResults(f"{path}: sha256 differs from what the run wrote (edited after the run)")

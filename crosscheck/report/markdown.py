@@ -15,8 +15,19 @@ from crosscheck.report.findings import RULES
 from crosscheck.report.pipeline import PROVENANCE_FILE
 from crosscheck.report.references import _NUMBERING, _figures_table, paper_reference, unlabel
 from crosscheck.report.provenance import provenance_rows
-from crosscheck.report.render import (_FINDINGS, _RULES_TITLE, SectionView, _badge, _checks_note, _checks_shown, _checks_table, _long,
-                                      _md_cell, _summary_table, _verdicts)
+from crosscheck.report.render import (
+    _FINDINGS,
+    _RULES_TITLE,
+    SectionView,
+    _badge,
+    _checks_note,
+    _checks_shown,
+    _checks_table,
+    _long,
+    _md_cell,
+    _summary_table,
+    _verdicts,
+)
 from crosscheck.report.section import Figure, Preformatted, Table, Text
 
 __all__ = ["write_md", "MD_WIDTH", "MD_ROW_WIDTH"]
@@ -72,11 +83,17 @@ def _wrap_md(text: str) -> str:
         indent = "  " if line.startswith("- ") else "> " if line.startswith("> ") else ""
         # a link, an image or a code span is never broken: its spaces are hidden from textwrap
         kept = _UNBROKEN.sub(lambda m: m.group(0).replace(" ", "\x00"), line)
-        wrapped = [w.replace("\x00", " ") for w in
-                   textwrap.wrap(kept, MD_WIDTH, subsequent_indent=indent, break_long_words=False, break_on_hyphens=False)]
-        for w in wrapped[1:]:  # a line that Markdown would read as a quote, a list item, a heading or a table row joins the one before
-            if _BLOCK_START.match(w[len(indent):].lstrip()):
-                wrapped[wrapped.index(w) - 1] += " " + w[len(indent):].lstrip()
+        wrapped = [
+            w.replace("\x00", " ")
+            for w in textwrap.wrap(
+                kept, MD_WIDTH, subsequent_indent=indent, break_long_words=False, break_on_hyphens=False
+            )
+        ]
+        for w in wrapped[
+            1:
+        ]:  # a line that Markdown would read as a quote, a list item, a heading or a table row joins the one before
+            if _BLOCK_START.match(w[len(indent) :].lstrip()):
+                wrapped[wrapped.index(w) - 1] += " " + w[len(indent) :].lstrip()
                 wrapped.remove(w)
         out.extend(wrapped)
     return "\n".join(out)
@@ -95,22 +112,55 @@ def _md_raw_link(out: Path, slug: str, b: Preformatted, k: int) -> str:
     return f"{b.title or 'raw output'}: [{path.name}]({path}) ({b.text.count(chr(10)) + 1} lines)\n"
 
 
-def write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list, table) -> Path:
-    m = ["# crosscheck report: contact engines against the rigid theory of the 3D Painlevé rod", "",
-         "Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painlevé paradox*. Every figure is recomputed "
-         f"from the project's model; beside each figure and table is the data behind it. {_NUMBERING} HTML version: [index.html](index.html).", "",
-         "## Findings", "", *[_md_block(b) for b in table],
-         *(f"- **{f.leg}**: {f.text}. *{f.verdict}*" + (f" ({f.why})" if f.why else "") + f" ({f.slug})" for f in found), "",
-         f"[data: {_FINDINGS}](data/{_FINDINGS})", "",
-         f"**{_RULES_TITLE}**", "", *(f"- *{k}*: {r}" for k, r in RULES), "",
-         "## Summary", ""]
+def write_md(
+    out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list, table
+) -> Path:
+    m = [
+        "# crosscheck report: contact engines against the rigid theory of the 3D Painlevé rod",
+        "",
+        "Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painlevé paradox*. Every figure is recomputed "
+        f"from the project's model; beside each figure and table is the data behind it. {_NUMBERING} HTML version: [index.html](index.html).",
+        "",
+        "## Findings",
+        "",
+        *[_md_block(b) for b in table],
+        *(f"- **{f.leg}**: {f.text}. *{f.verdict}*" + (f" ({f.why})" if f.why else "") + f" ({f.slug})" for f in found),
+        "",
+        f"[data: {_FINDINGS}](data/{_FINDINGS})",
+        "",
+        f"**{_RULES_TITLE}**",
+        "",
+        *(f"- *{k}*: {r}" for k, r in RULES),
+        "",
+        "## Summary",
+        "",
+    ]
     m.append(_md_block(_summary_table(summary_rows)))
-    m.append("**Failures** (the command exits non-zero):\n\n" + "\n".join(f"- {f}" for f in failures) + "\n" if failures else "No failures.\n")
+    m.append(
+        "**Failures** (the command exits non-zero):\n\n" + "\n".join(f"- {f}" for f in failures) + "\n"
+        if failures
+        else "No failures.\n"
+    )
     known = [(v.section.slug, c) for v in views for c in v.known_checks]
     if known:
-        m.append("**Known discrepancies of the paper** (shown, not hidden):\n\n" + "\n".join(f"- {s}: {unlabel(c['name'])}: {unlabel(c['known_discrepancy'])}" for s, c in known) + "\n")
+        m.append(
+            "**Known discrepancies of the paper** (shown, not hidden):\n\n"
+            + "\n".join(f"- {s}: {unlabel(c['name'])}: {unlabel(c['known_discrepancy'])}" for s, c in known)
+            + "\n"
+        )
     m += ["## The paper's figures", "", _md_block(_figures_table(views))]
-    m += ["## Provenance", "", _md_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"]))]
+    m += [
+        "## Provenance",
+        "",
+        _md_block(
+            Table(
+                caption="Versions, revision, date and machine of the run stage.",
+                header=["item", "value"],
+                rows=provenance_rows(prov),
+                data=[f"data/{PROVENANCE_FILE}.json"],
+            )
+        ),
+    ]
     for v in views:
         s = v.section
         verdicts = _verdicts(found, s.slug)
@@ -130,10 +180,22 @@ def write_md(out: Path, views: list[SectionView], prov: dict, summary_rows, fail
             m.append(_md_block(_checks_table(v.checks)))
         elif v.checks:
             m.append(_md_block(_checks_note(v.checks)))
-    m += ["## Parameters and tolerances", "", "Every parameter of every section is in "
-          f"[data/{PROVENANCE_FILE}.json](data/{PROVENANCE_FILE}.json) (key `parameters`) and in each section's "
-          "`data/<section>/status.json`; every tolerance of `crosscheck.tolerances` is below.", "",
-          _md_block(Table(caption="Tolerances.", header=["name", "atol", "rtol", "why"], rows=[[k, str(t["atol"]), str(t["rtol"]), t["why"]] for k, t in prov.get("tolerances", {}).items()], data=[]))]
+    m += [
+        "## Parameters and tolerances",
+        "",
+        "Every parameter of every section is in "
+        f"[data/{PROVENANCE_FILE}.json](data/{PROVENANCE_FILE}.json) (key `parameters`) and in each section's "
+        "`data/<section>/status.json`; every tolerance of `crosscheck.tolerances` is below.",
+        "",
+        _md_block(
+            Table(
+                caption="Tolerances.",
+                header=["name", "atol", "rtol", "why"],
+                rows=[[k, str(t["atol"]), str(t["rtol"]), t["why"]] for k, t in prov.get("tolerances", {}).items()],
+                data=[],
+            )
+        ),
+    ]
     path = out / "report.md"
     path.write_text(_wrap_md("\n".join(m)))
     return path

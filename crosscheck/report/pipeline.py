@@ -89,8 +89,10 @@ def lock(out: Path):
     from crosscheck.locking import exclusive, owner_text
 
     def refuse(holder: str) -> ValueError:
-        return ValueError(f"out must be a report directory no other process is writing; {str(out)!r} is being written by {holder or 'another process'} "
-                          "(wait for it, or choose another --out)")
+        return ValueError(
+            f"out must be a report directory no other process is writing; {str(out)!r} is being written by {holder or 'another process'} "
+            "(wait for it, or choose another --out)"
+        )
 
     return exclusive(Path(out) / LOCK_FILE, owner_text(), refuse)
 
@@ -131,7 +133,9 @@ def _sweeps_of(out: Path, computed_by: dict, say: bool) -> None:
             same = False  # an older report, or a damaged stamp: nothing proves what computed them
         if not same:
             if say:
-                sys.stderr.write(f"report: {root} was computed by other code or library versions; its sweeps are recomputed\n")
+                sys.stderr.write(
+                    f"report: {root} was computed by other code or library versions; its sweeps are recomputed\n"
+                )
             if root.is_dir():
                 shutil.rmtree(root)
             else:
@@ -204,6 +208,7 @@ def _preload(sections: Sequence[Section]) -> None:
 def _order(todo: list[Section], out: Path) -> list[Section]:
     """Longest first, by the time each took when it last ran in ``out`` (sections never run there keep their
     declared order, ahead of those known): two slots then finish close together."""
+
     def last_seconds(s: Section) -> float:
         try:
             return float((read_status(out, s.slug) or {}).get("seconds") or float("inf"))
@@ -247,8 +252,12 @@ def _run_parallel(jobs_of: dict, order: list[Section], jobs: int, outer, results
                 except integrity.DamagedResults as e:
                     status = {"status": "error", "error": str(e)}
                 if status.get("status") in (None, "running"):  # killed, or a crash inside a library
-                    status = {**status, "status": "error", "seconds": status.get("seconds"),
-                              "error": f"the section's process ended with exit code {proc.exitcode} before it finished"}
+                    status = {
+                        **status,
+                        "status": "error",
+                        "seconds": status.get("seconds"),
+                        "error": f"the section's process ended with exit code {proc.exitcode} before it finished",
+                    }
                     store = SectionStore(out / "data" / s.slug)
                     status["files"] = store.manifest()  # what it saved before it died, kept as a failed section's are
                     store.write_json(STATUS_FILE, status)
@@ -261,9 +270,20 @@ def _run_parallel(jobs_of: dict, order: list[Section], jobs: int, outer, results
             proc.join()
 
 
-def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int = 0, progress: bool = False, argv: list[str] | None = None,
-        resume: bool = False, scheduler: str | None = None, workers: int | None = None, log: bool = False,
-        jobs: int | None = None) -> dict[str, dict]:
+def run(
+    out: Path | str,
+    sections: Sequence[Section],
+    *,
+    quick: bool,
+    seed: int = 0,
+    progress: bool = False,
+    argv: list[str] | None = None,
+    resume: bool = False,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    log: bool = False,
+    jobs: int | None = None,
+) -> dict[str, dict]:
     """Run ``sections`` and save their results under ``<out>/data``.
 
     Args:
@@ -310,7 +330,9 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
         previous = read_provenance(out) or {}
     except integrity.DamagedResults:
         previous = {}  # rewritten below; the sections' own parameters are in their statuses
-    prov = provenance.collect(quick=quick, seed=seed, parameters={**previous.get("parameters", {}), **params}, argv=argv)
+    prov = provenance.collect(
+        quick=quick, seed=seed, parameters={**previous.get("parameters", {}), **params}, argv=argv
+    )
     prov["sections_run"] = [s.slug for s in sections]
     root.write_json(PROVENANCE_FILE, prov)
     bar = _progress_factory(progress)
@@ -324,9 +346,16 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
             prev = verified_status(out, s.slug)
         except integrity.DamagedResults:
             prev = None  # damaged results are recomputed, never kept
-        if (resume and prev is not None and prev.get("status") == "ok" and prev.get("quick") == quick and prev.get("seed") == seed
-                and json.loads(json.dumps(prev.get("params"), default=str)) == json.loads(json.dumps(params[s.slug], default=str))
-                and prev.get("code_sha256") == code):
+        if (
+            resume
+            and prev is not None
+            and prev.get("status") == "ok"
+            and prev.get("quick") == quick
+            and prev.get("seed") == seed
+            and json.loads(json.dumps(prev.get("params"), default=str))
+            == json.loads(json.dumps(params[s.slug], default=str))
+            and prev.get("code_sha256") == code
+        ):
             results[s.slug] = {**prev, "resumed": True}
         else:
             todo.append(s)
@@ -355,14 +384,25 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
             "code_sha256": code,
             "date": provenance.now(),
         }
-        store.write_json(STATUS_FILE, status)  # a section killed before it started reads as unfinished, never as its old result
+        store.write_json(
+            STATUS_FILE, status
+        )  # a section killed before it started reads as unfinished, never as its old result
         sweeps = {"store": out / "sweeps" / s.slug, "scheduler": scheduler, "workers": workers}
 
         def named(iterable, *, desc: str = "", _slug=s.slug, **kw):  # a section's bars say whose they are
             return inner(iterable, desc=f"{_slug}: {desc}" if desc else _slug, **kw)
 
-        ctx = RunContext(slug=s.slug, params=params[s.slug], quick=quick, rng=section_rng(seed, s.slug), store=store, progress=named,
-                         show_progress=progress and not parallel, sweeps=sweeps, seed=seed)
+        ctx = RunContext(
+            slug=s.slug,
+            params=params[s.slug],
+            quick=quick,
+            rng=section_rng(seed, s.slug),
+            store=store,
+            progress=named,
+            show_progress=progress and not parallel,
+            sweeps=sweeps,
+            seed=seed,
+        )
         jobs_of[s.slug] = lambda s=s, status=status, ctx=ctx: _compute(s, out, status, ctx, log)
     outer = bar(range(len(todo)), desc="report", total=len(todo), leave=True)
     if parallel:
@@ -377,7 +417,9 @@ def run(out: Path | str, sections: Sequence[Section], *, quick: bool, seed: int 
                 outer.update(1)
     if hasattr(outer, "close"):
         outer.close()
-    results = {s.slug: results[s.slug] for s in sections if s.slug in results}  # the declared order, whatever finished first
+    results = {
+        s.slug: results[s.slug] for s in sections if s.slug in results
+    }  # the declared order, whatever finished first
     prov["seconds"] = time.perf_counter() - t_all
     prov["section_seconds"] = {k: v.get("seconds") for k, v in results.items()}
     prov["sections_resumed"] = [k for k, v in results.items() if v.get("resumed")]

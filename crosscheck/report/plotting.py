@@ -68,7 +68,10 @@ LINE_COLORS = [
     (0.6350, 0.0780, 0.1840),
 ]
 
-PI_TICKS_VARPHI = ([-np.pi, -3 * np.pi / 4, -np.pi / 2, -np.pi / 4, 0], ["$-\\pi$", "$-3\\pi/4$", "$-\\pi/2$", "$-\\pi/4$", "0"])
+PI_TICKS_VARPHI = (
+    [-np.pi, -3 * np.pi / 4, -np.pi / 2, -np.pi / 4, 0],
+    ["$-\\pi$", "$-3\\pi/4$", "$-\\pi/2$", "$-\\pi/4$", "0"],
+)
 
 plt.rcParams.update(
     {
@@ -131,14 +134,28 @@ MATHTEXT_PARSES = _share_mathtext_parses()
 
 #: Fig. 17's colours for the type of a GB point (md1 stable node, md2 saddle, md3 unstable node,
 #: md5 unstable focus); the paper shows no stable focus or degenerate point: grey and black here.
-GB_TYPE_COLORS = {0: LINE_COLORS[0], 1: LINE_COLORS[1], 2: LINE_COLORS[2], 3: (0.6, 0.6, 0.6), 4: LINE_COLORS[4], 5: (0, 0, 0)}
+GB_TYPE_COLORS = {
+    0: LINE_COLORS[0],
+    1: LINE_COLORS[1],
+    2: LINE_COLORS[2],
+    3: (0.6, 0.6, 0.6),
+    4: LINE_COLORS[4],
+    5: (0, 0, 0),
+}
 
 
 #: Colours of ``crosscheck.Outcome`` in maps: an outcome looks like the mode it leads into (SLIP
 #: yellow as slipping, LIFTOFF orange, JAM lime as the inconsistent region it enters), STICK blue,
 #: GB (b = p = 0 reached) purple, DIVERGED black.
-OUTCOME_COLORS = {0: MODE_COLORS[Mode.SLIP], 1: MODE_COLORS[Mode.LIFTOFF], 2: (0.55, 0.75, 0.95), 3: MODE_COLORS[Mode.INCONSISTENT],
-                  4: (0.0, 0.0, 0.0), 5: MODE_COLORS[Mode.INDETERMINATE], 6: (0.85, 0.45, 0.0)}
+OUTCOME_COLORS = {
+    0: MODE_COLORS[Mode.SLIP],
+    1: MODE_COLORS[Mode.LIFTOFF],
+    2: (0.55, 0.75, 0.95),
+    3: MODE_COLORS[Mode.INCONSISTENT],
+    4: (0.0, 0.0, 0.0),
+    5: MODE_COLORS[Mode.INDETERMINATE],
+    6: (0.85, 0.45, 0.0),
+}
 
 
 def outcome_legend(ax, codes=None, **kw):
@@ -152,7 +169,12 @@ def outcome_legend(ax, codes=None, **kw):
 def pb_plane(ax, p_lim: float, b_lim: float) -> None:
     """Shade the (p, b) plane by mode as Figs. 12 and 13: p > 0, b < 0 slipping; p > 0, b > 0 lift-off;
     p < 0, b < 0 inconsistent; p < 0, b > 0 indeterminate."""
-    for (x0, y0), m in (((0, -1), Mode.SLIP), ((0, 0), Mode.LIFTOFF), ((-1, -1), Mode.INCONSISTENT), ((-1, 0), Mode.INDETERMINATE)):
+    for (x0, y0), m in (
+        ((0, -1), Mode.SLIP),
+        ((0, 0), Mode.LIFTOFF),
+        ((-1, -1), Mode.INCONSISTENT),
+        ((-1, 0), Mode.INDETERMINATE),
+    ):
         ax.add_patch(plt.Rectangle((x0 * p_lim, y0 * b_lim), p_lim, b_lim, color=MODE_COLORS[m], alpha=0.55, lw=0))
     ax.axhline(0, color="k", lw=0.5)
     ax.axvline(0, color="k", lw=0.5)
@@ -172,7 +194,9 @@ def pb_orbits(ax, p: np.ndarray, b: np.ndarray, orbit: np.ndarray, *, color: str
         ax.plot(x[keep], y[keep], color=color, lw=0.6)
         if keep.size > 3:
             m = keep[keep.size // 2]
-            ax.annotate("", xy=(x[m + 1], y[m + 1]), xytext=(x[m], y[m]), arrowprops=dict(arrowstyle="->", color=color, lw=0.6))
+            ax.annotate(
+                "", xy=(x[m + 1], y[m + 1]), xytext=(x[m], y[m]), arrowprops=dict(arrowstyle="->", color=color, lw=0.6)
+            )
 
 
 def pb_eigenvectors(ax, e_plus, e_minus, colors: tuple, *, lw: float = 2.0) -> None:
@@ -199,7 +223,9 @@ def _rasterize_heavy(fig) -> None:
 
     for ax in fig.axes:
         for artist in ax.get_children():
-            heavy = isinstance(artist, AxesImage) or (isinstance(artist, Collection) and len(artist.get_paths()) > RASTER_ELEMENTS)
+            heavy = isinstance(artist, AxesImage) or (
+                isinstance(artist, Collection) and len(artist.get_paths()) > RASTER_ELEMENTS
+            )
             if heavy and not artist.get_rasterized():
                 artist.set_rasterized(True)
 
@@ -254,7 +280,9 @@ def categorical_image(ax, x: np.ndarray, y: np.ndarray, codes: np.ndarray, color
     idx = np.vectorize(lambda c: lut.get(int(c), -1) if np.isfinite(c) else -1)(codes) if codes.size else codes
     cmap = ListedColormap([colors[k] for k in keys]).with_extremes(under="white")
     norm = BoundaryNorm(np.arange(-0.5, len(keys)), cmap.N)
-    return ax.imshow(np.ma.masked_less(idx, 0), origin="lower", extent=_extent(x, y), aspect="auto", cmap=cmap, norm=norm)
+    return ax.imshow(
+        np.ma.masked_less(idx, 0), origin="lower", extent=_extent(x, y), aspect="auto", cmap=cmap, norm=norm
+    )
 
 
 def mode_legend(ax, *, extra: list | None = None, **kw):

@@ -17,7 +17,16 @@ import sys
 from importlib import metadata
 from pathlib import Path
 
-__all__ = ["PACKAGES", "collect", "git_revision", "package_versions", "machine", "provenance_rows", "revision_text", "seconds_text"]
+__all__ = [
+    "PACKAGES",
+    "collect",
+    "git_revision",
+    "package_versions",
+    "machine",
+    "provenance_rows",
+    "revision_text",
+    "seconds_text",
+]
 
 #: Distributions whose versions every report records besides the engines' libraries (PyPI names).
 PACKAGES = ("crosscheck", "numpy", "scipy", "matplotlib", "tqdm")
@@ -68,8 +77,13 @@ def git_revision(cwd: Path | None = None) -> dict[str, object]:
 
         built = build_info() if installed else None
         if built is not None:
-            return {"revision": built["revision"], "dirty": built.get("dirty"), "describe": built.get("describe", built["revision"][:12]),
-                    "source": "build", "built": built.get("built")}
+            return {
+                "revision": built["revision"],
+                "dirty": built.get("dirty"),
+                "describe": built.get("describe", built["revision"][:12]),
+                "source": "build",
+                "built": built.get("built"),
+            }
         return {"revision": None, "dirty": None, "describe": "not a git checkout"}
 
     def git(*args: str) -> str | None:
@@ -127,8 +141,11 @@ def _blas() -> str:
     try:
         (path,) = glob.glob(str(Path(np.__file__).parent.parent / "numpy.libs" / "lib*openblas*"))[:1]
         lib = ctypes.CDLL(path)
-        name = next(getattr(lib, f) for f in ("scipy_openblas_get_corename64_", "openblas_get_corename64_", "openblas_get_corename")
-                    if hasattr(lib, f))
+        name = next(
+            getattr(lib, f)
+            for f in ("scipy_openblas_get_corename64_", "openblas_get_corename64_", "openblas_get_corename")
+            if hasattr(lib, f)
+        )
         name.restype = ctypes.c_char_p
         text += f", kernel {name().decode()}"
     except (ValueError, OSError, StopIteration, AttributeError):
@@ -195,17 +212,25 @@ def provenance_rows(prov: dict) -> list[list[str]]:
     """The provenance block of a report: run and render revisions, command, mode, seed, versions, machine, run time."""
     git = prov.get("git", {})
     m = prov.get("machine", {})
-    rows = [["date (UTC)", prov.get("date", "")],
-            ["git revision", revision_text(git, prov)],
-            ["command", " ".join(prov.get("command") or [])],
-            ["mode", "quick" if prov.get("quick") else "full"],
-            ["seed", str(prov.get("seed"))]]
+    rows = [
+        ["date (UTC)", prov.get("date", "")],
+        ["git revision", revision_text(git, prov)],
+        ["command", " ".join(prov.get("command") or [])],
+        ["mode", "quick" if prov.get("quick") else "full"],
+        ["seed", str(prov.get("seed"))],
+    ]
     rows += [[f"version: {k}", str(v)] for k, v in prov.get("versions", {}).items()]
     rendered = prov.get("rendered", {})
     if rendered:
-        rows += [["rendered (UTC)", rendered.get("date", "")],
-                 ["render git revision", revision_text(rendered.get("git", {}), prov)]]
-    rows += [["machine: platform", str(m.get("platform"))], ["machine: processor", str(m.get("processor"))],
-             ["machine: CPUs (usable)", f"{m.get('cpu_count')} ({m.get('usable_cpus')})"], ["machine: BLAS", str(m.get("blas", "-"))],
-             ["run time of the run stage", seconds_text(prov.get("seconds"))]]
+        rows += [
+            ["rendered (UTC)", rendered.get("date", "")],
+            ["render git revision", revision_text(rendered.get("git", {}), prov)],
+        ]
+    rows += [
+        ["machine: platform", str(m.get("platform"))],
+        ["machine: processor", str(m.get("processor"))],
+        ["machine: CPUs (usable)", f"{m.get('cpu_count')} ({m.get('usable_cpus')})"],
+        ["machine: BLAS", str(m.get("blas", "-"))],
+        ["run time of the run stage", seconds_text(prov.get("seconds"))],
+    ]
     return rows

@@ -47,8 +47,11 @@ def paper_reference(paper: str, *, labels: bool = False) -> str:
             elif item:
                 eqs.append(item)
     if eqs:
-        parts.append(("equations, by their labels in the paper's source: " + ", ".join(eqs)) if labels else
-                     f"{len(eqs)} equation{'s' if len(eqs) > 1 else ''}")
+        parts.append(
+            ("equations, by their labels in the paper's source: " + ", ".join(eqs))
+            if labels
+            else f"{len(eqs)} equation{'s' if len(eqs) > 1 else ''}"
+        )
     return "; ".join(p for p in parts if p)
 
 
@@ -67,11 +70,15 @@ def unlabel(text: str) -> str:
     text = _FIG_LABELS.sub("", text)
     text = _FIG_LABEL.sub(lambda m: f"Fig. {number[m.group(0)]}" if m.group(0) in number else m.group(0), text)
     # "Fig. GBs_bif3": a label written after "Fig." without its prefix
-    return _FIG_NAMED.sub(lambda m: f"Fig. {number['fig:' + m.group(1)]}" if "fig:" + m.group(1) in number else m.group(0), text)
+    return _FIG_NAMED.sub(
+        lambda m: f"Fig. {number['fig:' + m.group(1)]}" if "fig:" + m.group(1) in number else m.group(0), text
+    )
 
 
-_NUMBERING = ("Figure numbers are the printed paper's (the order of its figure environments), with panel letters; "
-              "the table of the paper's figures below says which ones this report recomputes.")
+_NUMBERING = (
+    "Figure numbers are the printed paper's (the order of its figure environments), with panel letters; "
+    "the table of the paper's figures below says which ones this report recomputes."
+)
 
 
 def _figures_table(views: list[SectionView]) -> Table:
@@ -84,10 +91,15 @@ def _figures_table(views: list[SectionView]) -> Table:
         where = ", ".join(titles.get(s, s) for s in f.sections)
         rows.append([f"Fig. {f.number}", f.shows, where or "not recomputed", f.why_not])
         cls.append("ok" if f.sections and not f.why_not else ("known" if f.sections else "skip"))
-    return Table(caption="The paper's figures, numbered as printed: where this report recomputes each, and what it leaves out and why "
-                 "(white: recomputed; yellow: recomputed in part or in another form; grey: not recomputed). The figures' LaTeX labels "
-                 "and each section's references to the paper are in the data file.",
-                 header=["figure", "shows", "recomputed in", "not drawn / why"], rows=rows, data=[f"data/{_REFERENCES}"], row_class=cls)
+    return Table(
+        caption="The paper's figures, numbered as printed: where this report recomputes each, and what it leaves out and why "
+        "(white: recomputed; yellow: recomputed in part or in another form; grey: not recomputed). The figures' LaTeX labels "
+        "and each section's references to the paper are in the data file.",
+        header=["figure", "shows", "recomputed in", "not drawn / why"],
+        rows=rows,
+        data=[f"data/{_REFERENCES}"],
+        row_class=cls,
+    )
 
 
 #: The paper's figures with their LaTeX labels and every section's reference to the paper, written beside the report's data.

@@ -27,7 +27,14 @@ from typing import Sequence
 
 from crosscheck.report.findings import RULES
 from crosscheck.report.pipeline import PROVENANCE_FILE, read_provenance, read_status, verified_status
-from crosscheck.report.references import _NUMBERING, _REFERENCES, _figures_table, _write_references, paper_reference, unlabel
+from crosscheck.report.references import (
+    _NUMBERING,
+    _REFERENCES,
+    _figures_table,
+    _write_references,
+    paper_reference,
+    unlabel,
+)
 from crosscheck.report.provenance import provenance_rows, seconds_text as _fmt_seconds
 from crosscheck.report.section import Figure, Preformatted, RenderContext, Section, Table, Text
 from crosscheck.report.store import SectionStore
@@ -100,9 +107,13 @@ def _unlabelled(b):
 def _view(section: Section, out: Path) -> SectionView:
     store = SectionStore(out / "data" / section.slug)
     status = read_status(out, section.slug)
-    view = SectionView(section=section, status=status, files=[str(Path("data") / section.slug / f) for f in store.files()])
+    view = SectionView(
+        section=section, status=status, files=[str(Path("data") / section.slug / f) for f in store.files()]
+    )
     if status is None:
-        view.error = "no saved results: run `crosscheck report` without --from-results (or with --only " + section.slug + ")"
+        view.error = (
+            "no saved results: run `crosscheck report` without --from-results (or with --only " + section.slug + ")"
+        )
         return view
     if store.exists("checks.json"):
         view.checks = store.read_json("checks")
@@ -137,8 +148,12 @@ def _html_text(s: str) -> str:
 
 
 #: A number with an exponent, or a number with its unit or percentage: kept on one line in a table cell.
-_NUMBER_TOKEN = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?(?: ?%)?(?![\w.])")  # a whole number, not digits inside a word or hash
-_NUMERIC_CELL = re.compile(r"[-+]?(?:\d[\d.]*(?:e[-+]?\d+)?|nan|inf)(?: ?%| deg)?(?: ?[\[(][-+\d.e/ %,]*[\])])?(?:, [-+]?\d[\d.]*(?:e[-+]?\d+)?)?")
+_NUMBER_TOKEN = re.compile(
+    r"(?<![\w.])[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?(?: ?%)?(?![\w.])"
+)  # a whole number, not digits inside a word or hash
+_NUMERIC_CELL = re.compile(
+    r"[-+]?(?:\d[\d.]*(?:e[-+]?\d+)?|nan|inf)(?: ?%| deg)?(?: ?[\[(][-+\d.e/ %,]*[\])])?(?:, [-+]?\d[\d.]*(?:e[-+]?\d+)?)?"
+)
 
 
 def _html_cell(c) -> str:
@@ -148,8 +163,16 @@ def _html_cell(c) -> str:
         return f'<td class="num">{_html_text(text)}</td>'
     if "<" in text or "`" in text:
         return f"<td>{_html_text(text)}</td>"
-    return "<td>" + _NUMBER_TOKEN.sub(lambda m: f'<span class="num">{m.group(0)}</span>' if "e" in m.group(0) or "%" in m.group(0) else m.group(0),
-                                      html.escape(text)) + "</td>"
+    return (
+        "<td>"
+        + _NUMBER_TOKEN.sub(
+            lambda m: (
+                f'<span class="num">{m.group(0)}</span>' if "e" in m.group(0) or "%" in m.group(0) else m.group(0)
+            ),
+            html.escape(text),
+        )
+        + "</td>"
+    )
 
 
 def _md_cell(s: str) -> str:
@@ -157,7 +180,9 @@ def _md_cell(s: str) -> str:
 
 
 def _badge(state: str) -> str:
-    return {"ok": "ok", "skipped": "skipped", "failed": "FAILED", "unfinished": "UNFINISHED", "not run": "NOT RUN"}[state]
+    return {"ok": "ok", "skipped": "skipped", "failed": "FAILED", "unfinished": "UNFINISHED", "not run": "NOT RUN"}[
+        state
+    ]
 
 
 # ------------------------------------------------------------------- html ---
@@ -187,10 +212,18 @@ a.top{font-size:.6em;font-weight:normal;margin-left:.6em;color:#888;text-decorat
 
 def _toc(views: list[SectionView]) -> str:
     """A table of contents that stays in view on a wide screen (a list on top otherwise)."""
-    fixed = [("findings", "Findings"), ("summary", "Summary"), ("figures", "The paper's figures"), ("provenance", "Provenance")]
+    fixed = [
+        ("findings", "Findings"),
+        ("summary", "Summary"),
+        ("figures", "The paper's figures"),
+        ("provenance", "Provenance"),
+    ]
     items = [f'<a href="#{a}">{t}</a>' for a, t in fixed]
-    items += [f'<a href="#{v.section.slug}">{html.escape(v.section.title)}<span class="st badge b-{_badge(v.state).replace(" ", "")}">'
-              f'{_badge(v.state)}</span></a>' for v in views]
+    items += [
+        f'<a href="#{v.section.slug}">{html.escape(v.section.title)}<span class="st badge b-{_badge(v.state).replace(" ", "")}">'
+        f"{_badge(v.state)}</span></a>"
+        for v in views
+    ]
     items.append('<a href="#parameters">Parameters and tolerances</a>')
     return '<nav class="toc" id="top"><b>Contents</b>' + "".join(items) + "</nav>"
 
@@ -216,7 +249,9 @@ def _html_block(b) -> str:
         title = f"<p><b>{html.escape(b.title)}</b></p>" if b.title else ""
         return f"{title}<pre>{html.escape(b.text)}</pre>"
     if isinstance(b, Figure):
-        links = f'<a href="{b.stem}.svg">SVG</a>' + "".join(f'<a href="{d}">data: {html.escape(Path(d).name)}</a>' for d in b.data)
+        links = f'<a href="{b.stem}.svg">SVG</a>' + "".join(
+            f'<a href="{d}">data: {html.escape(Path(d).name)}</a>' for d in b.data
+        )
         return (
             f'<figure><a href="{b.stem}.svg"><img src="{b.stem}.png" alt="{html.escape(b.caption[:80])}"></a>'
             f"<figcaption>{_html_text(b.caption)}</figcaption><div class=data>{links}</div></figure>"
@@ -241,7 +276,11 @@ def _html_error(v: SectionView) -> str:
     if v.traceback:
         parts.append(f"<details><summary>traceback</summary><pre>{html.escape(v.traceback)}</pre></details>")
     if v.files:
-        parts.append("<p>Saved before the failure: " + ", ".join(f'<a href="{f}">{html.escape(Path(f).name)}</a>' for f in v.files) + "</p>")
+        parts.append(
+            "<p>Saved before the failure: "
+            + ", ".join(f'<a href="{f}">{html.escape(Path(f).name)}</a>' for f in v.files)
+            + "</p>"
+        )
     parts.append("</div>")
     return "".join(parts)
 
@@ -251,16 +290,32 @@ def _checks_table(checks: list[dict]):
     for c in checks:
         kind = c.get("kind", "physics")
         if c["passed"]:  # a guard that holds shows no change from its measured spread; it is not a physics pass
-            verdict, k = ("held (no change; not a physics check)", "guard") if kind == "regression guard" else ("passed", "ok")
+            verdict, k = (
+                ("held (no change; not a physics check)", "guard") if kind == "regression guard" else ("passed", "ok")
+            )
         elif c.get("known_discrepancy"):
             verdict, k = "KNOWN DISCREPANCY: " + unlabel(c["known_discrepancy"]), "known"
         else:
             verdict, k = "FAILED", "fail"
-        rows.append([unlabel(c["name"]), kind, _short(c.get("value")), _short(c.get("allowance")), verdict, unlabel(c.get("detail", ""))])
+        rows.append(
+            [
+                unlabel(c["name"]),
+                kind,
+                _short(c.get("value")),
+                _short(c.get("allowance")),
+                verdict,
+                unlabel(c.get("detail", "")),
+            ]
+        )
         cls.append(k)
-    return Table(caption="Checks recorded by this section. A physics check's allowance comes from the paper, the integrator or the timestep; "
-                 "a regression guard's from a measured spread: it flags a change, it does not prove the physics.",
-                 header=["check", "kind", "value", "allowance", "result", "detail"], rows=rows, data=[], row_class=cls)
+    return Table(
+        caption="Checks recorded by this section. A physics check's allowance comes from the paper, the integrator or the timestep; "
+        "a regression guard's from a measured spread: it flags a change, it does not prove the physics.",
+        header=["check", "kind", "value", "allowance", "result", "detail"],
+        rows=rows,
+        data=[],
+        row_class=cls,
+    )
 
 
 def _checks_shown(v: SectionView) -> bool:
@@ -278,11 +333,16 @@ def _checks_shown(v: SectionView) -> bool:
 def _checks_note(checks: list[dict]) -> Text:
     """What the checks table would add to a section whose own table lists its checks: their kinds and results."""
     guards = [c for c in checks if c.get("kind") == "regression guard"]
-    text = (f"The table above lists this section's {len(checks)} checks ({_checks_cell(checks)}); "
-            "a physics check's allowance comes from the paper, the integrator or the timestep.")
+    text = (
+        f"The table above lists this section's {len(checks)} checks ({_checks_cell(checks)}); "
+        "a physics check's allowance comes from the paper, the integrator or the timestep."
+    )
     if guards:
-        text += (" Regression guards (allowance from a measured spread: holding flags no change, it does not show the physics is right): "
-                 + "; ".join(f"{c['name']}: {'held' if c['passed'] else 'FAILED'}" for c in guards) + ".")
+        text += (
+            " Regression guards (allowance from a measured spread: holding flags no change, it does not show the physics is right): "
+            + "; ".join(f"{c['name']}: {'held' if c['passed'] else 'FAILED'}" for c in guards)
+            + "."
+        )
     return Text(text)
 
 
@@ -299,10 +359,12 @@ _FINDINGS = "findings.json"
 
 _RULES_TITLE = "How the verdicts are given (crosscheck.report.findings.RULES)"
 
-_SUMMARY_CAPTION = ("Sections, in report order. Ran: whether the section's computation finished (ok), not whether an engine agrees "
-                    "with the theory. Checks: physics checks (allowance from the paper, the integrator or the timestep) apart from "
-                    "regression guards (allowance from a measured spread: holding means nothing changed, not that the physics is right). "
-                    "Finding: the verdict of the section's line(s) under Findings, by the rules given there.")
+_SUMMARY_CAPTION = (
+    "Sections, in report order. Ran: whether the section's computation finished (ok), not whether an engine agrees "
+    "with the theory. Checks: physics checks (allowance from the paper, the integrator or the timestep) apart from "
+    "regression guards (allowance from a measured spread: holding means nothing changed, not that the physics is right). "
+    "Finding: the verdict of the section's line(s) under Findings, by the rules given there."
+)
 
 
 def _verdicts(found: list, slug: str) -> list[str]:
@@ -315,8 +377,13 @@ def _verdicts(found: list, slug: str) -> list[str]:
 
 
 def _summary_table(summary_rows) -> Table:
-    return Table(caption=_SUMMARY_CAPTION, header=["section", "paper", "ran", "run time", "checks", "finding"],
-                 rows=[r[0] for r in summary_rows], data=[f"data/{_REFERENCES}"], row_class=[r[1] for r in summary_rows])
+    return Table(
+        caption=_SUMMARY_CAPTION,
+        header=["section", "paper", "ran", "run time", "checks", "finding"],
+        rows=[r[0] for r in summary_rows],
+        data=[f"data/{_REFERENCES}"],
+        row_class=[r[1] for r in summary_rows],
+    )
 
 
 def _checks_cell(checks: list[dict]) -> str:
@@ -329,52 +396,96 @@ def _checks_cell(checks: list[dict]) -> str:
         ok = sum(bool(c["passed"]) for c in cs)
         nf = sum(not c["passed"] and not c.get("known_discrepancy") for c in cs)
         nk = sum(not c["passed"] and bool(c.get("known_discrepancy")) for c in cs)
-        out.append(f"{word} {ok}/{len(cs)} {held}" + (f", {nf} FAILED" if nf else "") + (f", {nk} known discrepanc{'y' if nk == 1 else 'ies'}" if nk else ""))
+        out.append(
+            f"{word} {ok}/{len(cs)} {held}"
+            + (f", {nf} FAILED" if nf else "")
+            + (f", {nk} known discrepanc{'y' if nk == 1 else 'ies'}" if nk else "")
+        )
     return "; ".join(out)
 
 
-def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list, table: list) -> Path:
-    h = ['<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crosscheck report</title>',
-         f"<style>{_CSS}</style></head><body>",
-         "<h1>crosscheck report: contact engines against the rigid theory of the 3D Painlevé rod</h1>",
-         "<p>Reference: Cheesman, Hogan &amp; Kristiansen, <i>The geometry of the Painlevé paradox</i>. "
-         "Every figure is recomputed from the project's model; beside each figure and table is the data behind it. "
-         f"{html.escape(_NUMBERING)} "
-         'Markdown twin: <a href="report.md">report.md</a>.</p>',
-         _toc(views),
-         _h2("findings", "Findings"),
-         *[_html_block(b) for b in table],
-         "<ul>" + "".join(f'<li><b>{html.escape(f.leg)}</b>: {html.escape(f.text)}. <span class="v-{f.verdict.replace(" ", "")}">{html.escape(f.verdict)}</span>'
-                          + (f' <span class="why">({html.escape(f.why)})</span>' if f.why else "")
-                          + f' (<a href="#{f.slug}">{html.escape(f.slug)}</a>)</li>' for f in found) + "</ul>",
-         f'<div class=data><a href="data/{_FINDINGS}">data: {_FINDINGS}</a></div>',
-         f"<p><b>{_RULES_TITLE}</b></p>",
-         '<dl class="rules">' + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(r)}</dd>" for k, r in RULES) + "</dl>",
-         _h2("summary", "Summary")]
+def _write_html(
+    out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list, table: list
+) -> Path:
+    h = [
+        '<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>crosscheck report</title>',
+        f"<style>{_CSS}</style></head><body>",
+        "<h1>crosscheck report: contact engines against the rigid theory of the 3D Painlevé rod</h1>",
+        "<p>Reference: Cheesman, Hogan &amp; Kristiansen, <i>The geometry of the Painlevé paradox</i>. "
+        "Every figure is recomputed from the project's model; beside each figure and table is the data behind it. "
+        f"{html.escape(_NUMBERING)} "
+        'Markdown twin: <a href="report.md">report.md</a>.</p>',
+        _toc(views),
+        _h2("findings", "Findings"),
+        *[_html_block(b) for b in table],
+        "<ul>"
+        + "".join(
+            f'<li><b>{html.escape(f.leg)}</b>: {html.escape(f.text)}. <span class="v-{f.verdict.replace(" ", "")}">{html.escape(f.verdict)}</span>'
+            + (f' <span class="why">({html.escape(f.why)})</span>' if f.why else "")
+            + f' (<a href="#{f.slug}">{html.escape(f.slug)}</a>)</li>'
+            for f in found
+        )
+        + "</ul>",
+        f'<div class=data><a href="data/{_FINDINGS}">data: {_FINDINGS}</a></div>',
+        f"<p><b>{_RULES_TITLE}</b></p>",
+        '<dl class="rules">'
+        + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(r)}</dd>" for k, r in RULES)
+        + "</dl>",
+        _h2("summary", "Summary"),
+    ]
     table = _html_block(_summary_table(summary_rows))
     for v in views:  # section names link to their sections
         cell = f"<td>{_html_text(v.section.title)}</td>"
         table = table.replace(cell, f'<td><a href="#{v.section.slug}">{_html_text(v.section.title)}</a></td>', 1)
     h.append(table)
     if failures:
-        h.append('<div class="error"><p><b>Failures</b> (the command exits non-zero):</p><ul>' + "".join(f"<li>{html.escape(f)}</li>" for f in failures) + "</ul></div>")
+        h.append(
+            '<div class="error"><p><b>Failures</b> (the command exits non-zero):</p><ul>'
+            + "".join(f"<li>{html.escape(f)}</li>" for f in failures)
+            + "</ul></div>"
+        )
     else:
         h.append("<p>No failures.</p>")
     known = [(v.section.slug, c) for v in views for c in v.known_checks]
     if known:
-        h.append('<div class="known"><p><b>Known discrepancies of the paper</b> (shown, not hidden):</p><ul>' + "".join(f"<li>{html.escape(s)}: {html.escape(unlabel(c['name']))}: {html.escape(unlabel(c['known_discrepancy']))}</li>" for s, c in known) + "</ul></div>")
+        h.append(
+            '<div class="known"><p><b>Known discrepancies of the paper</b> (shown, not hidden):</p><ul>'
+            + "".join(
+                f"<li>{html.escape(s)}: {html.escape(unlabel(c['name']))}: {html.escape(unlabel(c['known_discrepancy']))}</li>"
+                for s, c in known
+            )
+            + "</ul></div>"
+        )
     h.append(_h2("figures", "The paper's figures"))
     table = _html_block(_figures_table(views))
     for v in views:  # section names link to their sections
-        table = table.replace(_html_text(v.section.title), f'<a href="#{v.section.slug}">{_html_text(v.section.title)}</a>')
+        table = table.replace(
+            _html_text(v.section.title), f'<a href="#{v.section.slug}">{_html_text(v.section.title)}</a>'
+        )
     h.append(table)
     h.append(_h2("provenance", "Provenance"))
-    h.append(_html_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"], rows=provenance_rows(prov), data=[f"data/{PROVENANCE_FILE}.json"])))
+    h.append(
+        _html_block(
+            Table(
+                caption="Versions, revision, date and machine of the run stage.",
+                header=["item", "value"],
+                rows=provenance_rows(prov),
+                data=[f"data/{PROVENANCE_FILE}.json"],
+            )
+        )
+    )
     for v in views:
         s = v.section
         verdicts = _verdicts(found, s.slug)
-        finding = "".join(f' <span class="v-{w.replace(" ", "")}" style="font-size:.7em">{html.escape(w)}</span>' for w in verdicts)
-        h.append(_h2(s.slug, f'{html.escape(s.title)} <span class="badge b-{_badge(v.state).replace(" ", "")}">{_badge(v.state)}</span>{finding}'))
+        finding = "".join(
+            f' <span class="v-{w.replace(" ", "")}" style="font-size:.7em">{html.escape(w)}</span>' for w in verdicts
+        )
+        h.append(
+            _h2(
+                s.slug,
+                f'{html.escape(s.title)} <span class="badge b-{_badge(v.state).replace(" ", "")}">{_badge(v.state)}</span>{finding}',
+            )
+        )
         if s.paper:
             h.append(f"<p><i>Paper: {html.escape(paper_reference(s.paper, labels=True))}</i></p>")
         h.append(_html_error(v))
@@ -384,12 +495,26 @@ def _write_html(out: Path, views: list[SectionView], prov: dict, summary_rows, f
         elif v.checks:
             h.append(_html_block(_checks_note(v.checks)))
         if v.status and v.status.get("params"):
-            h.append(f"<details><summary>parameters</summary><pre>{html.escape(json.dumps(v.status['params'], indent=1))}</pre></details>")
+            h.append(
+                f"<details><summary>parameters</summary><pre>{html.escape(json.dumps(v.status['params'], indent=1))}</pre></details>"
+            )
     h.append(_h2("parameters", "Parameters and tolerances"))
-    h.append("<p>Every parameter of every section (also in each section's <code>data/&lt;section&gt;/status.json</code>) and every tolerance of <code>crosscheck.tolerances</code>.</p>")
-    h.append(f"<details><summary>every parameter (JSON)</summary><pre>{html.escape(json.dumps(prov.get('parameters', {}), indent=1))}</pre></details>")
-    h.append(_html_block(Table(caption="Tolerances (`crosscheck.tolerances.all_tolerances()`).", header=["name", "atol", "rtol", "why"],
-                               rows=[[k, str(t["atol"]), str(t["rtol"]), t["why"]] for k, t in prov.get("tolerances", {}).items()], data=[f"data/{PROVENANCE_FILE}.json"])))
+    h.append(
+        "<p>Every parameter of every section (also in each section's <code>data/&lt;section&gt;/status.json</code>) and every tolerance of <code>crosscheck.tolerances</code>.</p>"
+    )
+    h.append(
+        f"<details><summary>every parameter (JSON)</summary><pre>{html.escape(json.dumps(prov.get('parameters', {}), indent=1))}</pre></details>"
+    )
+    h.append(
+        _html_block(
+            Table(
+                caption="Tolerances (`crosscheck.tolerances.all_tolerances()`).",
+                header=["name", "atol", "rtol", "why"],
+                rows=[[k, str(t["atol"]), str(t["rtol"]), t["why"]] for k, t in prov.get("tolerances", {}).items()],
+                data=[f"data/{PROVENANCE_FILE}.json"],
+            )
+        )
+    )
     h.append("</body></html>\n")
     path = out / "index.html"
     path.write_text("\n".join(h))
@@ -411,7 +536,9 @@ def _view_by_index(i: int) -> SectionView:
     return view
 
 
-def _views(sections: list[Section], out: Path, *, jobs: int, progress: bool, meanwhile=lambda: None) -> tuple[list[SectionView], object]:
+def _views(
+    sections: list[Section], out: Path, *, jobs: int, progress: bool, meanwhile=lambda: None
+) -> tuple[list[SectionView], object]:
     """Render every section, in ``jobs`` forked processes when there is more than one (figures are CPU-bound), and
     call ``meanwhile()`` in this process while they draw.  Returns (the views, what ``meanwhile`` returned).
 
@@ -446,7 +573,9 @@ def _views(sections: list[Section], out: Path, *, jobs: int, progress: bool, mea
     return views, extra
 
 
-def render(out: Path | str, sections: Sequence[Section], *, progress: bool = False, jobs: int | None = None) -> RenderSummary:
+def render(
+    out: Path | str, sections: Sequence[Section], *, progress: bool = False, jobs: int | None = None
+) -> RenderSummary:
     """Render ``index.html`` and ``report.md`` in ``out`` from ``out/data`` alone.
 
     ``jobs``: processes drawing figures (default: the usable CPUs, at most 4).  The output does not
@@ -479,13 +608,21 @@ def render(out: Path | str, sections: Sequence[Section], *, progress: bool = Fal
     summary_rows = []
     for v in views:
         nf = len(v.failed_checks)
-        row = [v.section.title, paper_reference(v.section.paper), _badge(v.state), _fmt_seconds((v.status or {}).get("seconds")),
-               _checks_cell(v.checks), ", ".join(_verdicts(found, v.section.slug)) or "-"]
+        row = [
+            v.section.title,
+            paper_reference(v.section.paper),
+            _badge(v.state),
+            _fmt_seconds((v.status or {}).get("seconds")),
+            _checks_cell(v.checks),
+            ", ".join(_verdicts(found, v.section.slug)) or "-",
+        ]
         summary_rows.append((row, "ok" if v.state in ("ok", "skipped") and not nf else "fail"))
     summary = RenderSummary(html=out / "index.html", markdown=out / "report.md", views=views)
     failures = summary.failures
     _write_references(out)
-    (out / "data" / _FINDINGS).write_text(json.dumps({"findings": [dataclasses.asdict(f) for f in found], "rules": dict(RULES)}, indent=1) + "\n")
+    (out / "data" / _FINDINGS).write_text(
+        json.dumps({"findings": [dataclasses.asdict(f) for f in found], "rules": dict(RULES)}, indent=1) + "\n"
+    )
     from crosscheck.report.markdown import write_md
 
     _write_html(out, views, prov, summary_rows, failures, found, table)

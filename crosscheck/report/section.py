@@ -160,15 +160,31 @@ class RunContext:
             return None, digest
         return Path(self.sweeps["store"]).parent / kind / f"{name}-{digest}{suffix}", digest
 
-    def check(self, name: str, passed: bool, *, value: Any = None, allowance: Any = None, detail: str = "", known: str = "",
-              guard: bool = False) -> bool:
+    def check(
+        self,
+        name: str,
+        passed: bool,
+        *,
+        value: Any = None,
+        allowance: Any = None,
+        detail: str = "",
+        known: str = "",
+        guard: bool = False,
+    ) -> bool:
         """Record a check and save the list at once (a later failure keeps it).
 
         ``guard``: the allowance is a regression guard (set from a measured spread), not a physical
         bound; the report labels it so (``crosscheck.tolerances.Tolerance.guard``)."""
         self.checks.append(
-            {"name": name, "passed": bool(passed), "value": value, "allowance": allowance, "detail": detail, "known_discrepancy": known,
-             "kind": "regression guard" if guard else "physics"}
+            {
+                "name": name,
+                "passed": bool(passed),
+                "value": value,
+                "allowance": allowance,
+                "detail": detail,
+                "known_discrepancy": known,
+                "kind": "regression guard" if guard else "physics",
+            }
         )
         self.store.write_json("checks", self.checks)
         return bool(passed)

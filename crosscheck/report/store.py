@@ -67,7 +67,9 @@ def write_atomic(path: Path, data: bytes) -> None:
         if e.errno in files.NO_SPACE:
             raise ValueError(files.no_space(path.parent, len(data), e)) from None
         name = path.name if len(path.name) <= 60 else f"{path.name[:40]}... ({len(path.name)} characters)"
-        raise ValueError(f"out must be a writable path; cannot write {name} in {str(path.parent)[:200]!r}: {e.strerror or e}") from None
+        raise ValueError(
+            f"out must be a writable path; cannot write {name} in {str(path.parent)[:200]!r}: {e.strerror or e}"
+        ) from None
 
 
 def _fmt(v: Any, digits: int) -> Any:
@@ -162,7 +164,15 @@ class SectionStore:
         write_atomic(path, data)  # a reader never sees half a file
         return path
 
-    def write_grid(self, name: str, x: tuple[str, np.ndarray], y: tuple[str, np.ndarray], z: tuple[str, np.ndarray], *, digits: int = 6) -> Path:
+    def write_grid(
+        self,
+        name: str,
+        x: tuple[str, np.ndarray],
+        y: tuple[str, np.ndarray],
+        z: tuple[str, np.ndarray],
+        *,
+        digits: int = 6,
+    ) -> Path:
         """Write a 2D field z(y, x) (shape (len(y), len(x))) as ``<name>.json``."""
         (xn, xv), (yn, yv), (zn, zv) = x, y, z
         xv, yv, zv = np.asarray(xv), np.asarray(yv), np.asarray(zv)
@@ -185,8 +195,14 @@ class SectionStore:
         """Names of the saved files (status excluded), sorted."""
         if not self.root.exists():
             return []
-        return sorted(p.name for p in self.root.iterdir() if p.is_file() and p.name not in ("status.json", "status.json" + SEAL_SUFFIX)
-                      and not p.name.endswith(".tmp") and ".tmp-" not in p.name)
+        return sorted(
+            p.name
+            for p in self.root.iterdir()
+            if p.is_file()
+            and p.name not in ("status.json", "status.json" + SEAL_SUFFIX)
+            and not p.name.endswith(".tmp")
+            and ".tmp-" not in p.name
+        )
 
     def manifest(self) -> dict[str, dict]:
         """Size and sha256 of every saved file (``crosscheck.report.integrity``), recorded in the status when the section ends."""

@@ -66,17 +66,38 @@ def theory_trajectory(state, mu: float, alpha: float, horizon: float, *, n: int 
     first = slip_until_event(state, mu, alpha, t_max=horizon)
     s_end = float(first.s[-1])
     if s_end > 0:
+
         def rhs(s, y):
             return [*slip_rhs(y[:6], mu, alpha), y[0] * _p(y[4], y[1], mu, alpha)]  # dt/ds = eta p
 
         y0 = [state.eta, state.varphi, state.psi, state.Psi, state.theta, state.Theta, 0.0]
-        sol = solve_ivp(rhs, (0.0, s_end), y0, method="DOP853", rtol=SLIP_INTEGRATION.rtol, atol=SLIP_INTEGRATION.atol,
-                        t_eval=np.linspace(0.0, s_end, n))
+        sol = solve_ivp(
+            rhs,
+            (0.0, s_end),
+            y0,
+            method="DOP853",
+            rtol=SLIP_INTEGRATION.rtol,
+            atol=SLIP_INTEGRATION.atol,
+            t_eval=np.linspace(0.0, s_end, n),
+        )
         eta, varphi, _, Psi, theta, Theta, t = sol.y
     else:  # an event at the start: the start alone
-        eta, varphi, Psi, theta, Theta, t = (np.array([v]) for v in (state.eta, state.varphi, state.Psi, state.theta, state.Theta, 0.0))
-    return TheoryTrajectory(t=t, theta=theta, Theta=Theta, Psi=Psi, eta=eta, varphi=varphi, b=_b(theta, Theta, Psi),
-                            p=_p(theta, varphi, mu, alpha), outcome=first.outcome, time=float(first.time), reason=first.reason)
+        eta, varphi, Psi, theta, Theta, t = (
+            np.array([v]) for v in (state.eta, state.varphi, state.Psi, state.theta, state.Theta, 0.0)
+        )
+    return TheoryTrajectory(
+        t=t,
+        theta=theta,
+        Theta=Theta,
+        Psi=Psi,
+        eta=eta,
+        varphi=varphi,
+        b=_b(theta, Theta, Psi),
+        p=_p(theta, varphi, mu, alpha),
+        outcome=first.outcome,
+        time=float(first.time),
+        reason=first.reason,
+    )
 
 
 def run_columns(run) -> dict[str, np.ndarray]:
@@ -86,8 +107,21 @@ def run_columns(run) -> dict[str, np.ndarray]:
     b, p = r.b, r.p(run.mu, run.alpha)
     with np.errstate(divide="ignore", invalid="ignore"):
         fz = -b / p
-    return {"t": r.t, "theta": r.theta, "Theta": r.Theta, "psi": r.psi, "Psi": r.Psi, "eta": r.eta, "varphi": r.varphi, "gap": r.gap,
-            "normal_force": r.normal_force, "active": np.asarray(r.active, dtype=int), "b": b, "p": p, "minus_b_over_p": fz}
+    return {
+        "t": r.t,
+        "theta": r.theta,
+        "Theta": r.Theta,
+        "psi": r.psi,
+        "Psi": r.Psi,
+        "eta": r.eta,
+        "varphi": r.varphi,
+        "gap": r.gap,
+        "normal_force": r.normal_force,
+        "active": np.asarray(r.active, dtype=int),
+        "b": b,
+        "p": p,
+        "minus_b_over_p": fz,
+    }
 
 
 def write_csv(path: Path | str, columns: dict[str, np.ndarray]) -> Path:
@@ -120,16 +154,30 @@ def plot_run(run, *, theory: bool = True, path: Path | str | None = None, title:
     th = theory_trajectory(run.state, run.mu, run.alpha, run.horizon) if theory else None
     fig, axes = plt.subplots(2, 3, figsize=(12, 6.4), sharex=True, constrained_layout=True)
     eng, ref = LINE_COLORS[0], "k"
-    panels = [("theta", "theta [rad]"), ("Theta", "Theta = theta' / omega"), ("Psi", "Psi = psi' / omega"),
-              ("eta", "slip speed eta / (l omega)"), ("gap", "contact height / l")]
+    panels = [
+        ("theta", "theta [rad]"),
+        ("Theta", "Theta = theta' / omega"),
+        ("Psi", "Psi = psi' / omega"),
+        ("eta", "slip speed eta / (l omega)"),
+        ("gap", "contact height / l"),
+    ]
     for ax, (key, label) in zip(axes.flat, panels):
         ax.plot(c["t"], c[key], color=eng, lw=1.2, label=name)
         if th is not None:
-            ax.plot(th.t, {"gap": np.zeros_like(th.t)}.get(key, getattr(th, key, None)), color=ref, lw=1.0, ls="--", label="theory (slipping flow)")
+            ax.plot(
+                th.t,
+                {"gap": np.zeros_like(th.t)}.get(key, getattr(th, key, None)),
+                color=ref,
+                lw=1.0,
+                ls="--",
+                label="theory (slipping flow)",
+            )
         ax.set_ylabel(label)
     ax = axes.flat[5]
     ax.plot(c["t"], c["normal_force"], color=eng, lw=1.2, label=f"{name}: normal force")
-    in_contact = np.where(c["active"] > 0, c["minus_b_over_p"], np.nan)  # -b/p is the slipping rod's force: drawn while in contact
+    in_contact = np.where(
+        c["active"] > 0, c["minus_b_over_p"], np.nan
+    )  # -b/p is the slipping rod's force: drawn while in contact
     ax.plot(c["t"], in_contact, color=LINE_COLORS[1], lw=0.9, ls="-.", label=f"-b/p on {name}'s states (in contact)")
     shown = [c["normal_force"][np.isfinite(c["normal_force"])], in_contact[np.isfinite(in_contact)]]
     if th is not None:
@@ -142,17 +190,34 @@ def plot_run(run, *, theory: bool = True, path: Path | str | None = None, title:
         ax.set_ylim(min(lo, 0.0) - 0.1 * span, hi + 0.25 * span)
     ax.set_ylabel("normal force / (m g)")
     for a in axes.flat:
-        _event_line(a, run.event_time, eng, f"{name}: {run.outcome.name} at {run.event_time:.4g}" if math.isfinite(run.event_time) else None)
+        _event_line(
+            a,
+            run.event_time,
+            eng,
+            f"{name}: {run.outcome.name} at {run.event_time:.4g}" if math.isfinite(run.event_time) else None,
+        )
         if th is not None:
-            _event_line(a, th.time if th.outcome.name != "SLIP" else math.nan, ref, f"theory: {th.outcome.name} at {th.time:.4g}")
+            _event_line(
+                a,
+                th.time if th.outcome.name != "SLIP" else math.nan,
+                ref,
+                f"theory: {th.outcome.name} at {th.time:.4g}",
+            )
         a.grid(alpha=0.3)
     for a in axes[1]:
         a.set_xlabel("t (scaled, 1/omega)")
     axes.flat[5].legend(fontsize=7, loc="best")
     axes.flat[0].legend(fontsize=7, loc="best")
     s = run.state
-    fig.suptitle(title or (f"{name} from theta {s.theta:g}, varphi {s.varphi:g}, Theta {s.Theta:g}, Psi {s.Psi:g}, eta {s.eta:g}; mu {run.mu:g}, "
-                           f"alpha {run.alpha:g}: {name} {run.outcome.name}" + (f", theory {th.outcome.name}" if th is not None else "")), fontsize=10)
+    fig.suptitle(
+        title
+        or (
+            f"{name} from theta {s.theta:g}, varphi {s.varphi:g}, Theta {s.Theta:g}, Psi {s.Psi:g}, eta {s.eta:g}; mu {run.mu:g}, "
+            f"alpha {run.alpha:g}: {name} {run.outcome.name}"
+            + (f", theory {th.outcome.name}" if th is not None else "")
+        ),
+        fontsize=10,
+    )
     if path is not None:
         Path(path).parent.mkdir(parents=True, exist_ok=True)
         fig.savefig(path)

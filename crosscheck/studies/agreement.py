@@ -68,9 +68,26 @@ from crosscheck.engines.base import options_from_kwargs
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.studies.analytic_events import BOUNDARY_RADII, AnalyticEvents, analytic_events, boundary_distance, floor_times
+from crosscheck.studies.analytic_events import (
+    BOUNDARY_RADII,
+    AnalyticEvents,
+    analytic_events,
+    boundary_distance,
+    floor_times,
+)
 from crosscheck.studies.agreement_store import engine_runs
-from crosscheck.studies.comparison import EVENTS, LAG_STEPS, LAG_TAU, RATED, comparison_labels, engine_floor, event_lag, event_lags, stick_from, window_margin
+from crosscheck.studies.comparison import (
+    EVENTS,
+    LAG_STEPS,
+    LAG_TAU,
+    RATED,
+    comparison_labels,
+    engine_floor,
+    event_lag,
+    event_lags,
+    stick_from,
+    window_margin,
+)
 from crosscheck.studies.grids import AXES, EventGrid
 
 __all__ = [
@@ -112,7 +129,13 @@ def _binned(values: np.ndarray, agree: np.ndarray, edges: Sequence[float], name:
     rows = []
     for lo, hi in zip(edges[:-1], edges[1:]):
         sel = (values >= lo) & ((values < hi) | (math.isinf(hi) & np.isinf(values)))
-        rows.append({name: [float(lo), float(hi)], "n": int(sel.sum()), "agreement": float(agree[sel].mean()) if sel.any() else math.nan})
+        rows.append(
+            {
+                name: [float(lo), float(hi)],
+                "n": int(sel.sum()),
+                "agreement": float(agree[sel].mean()) if sel.any() else math.nan,
+            }
+        )
     return rows
 
 
@@ -120,6 +143,7 @@ def _binned(values: np.ndarray, agree: np.ndarray, edges: Sequence[float], name:
 DISTANCE_EDGES = (0.0, 0.02, 0.05, 0.2, 1.0, math.inf)
 TIME_EDGES_TAU = (0.0, 1.0, 3.0, 10.0, math.inf)
 OFFPLANE_EDGES = (0.0, 0.05, 0.5, 1.0, 1.6)
+
 
 @dataclass(frozen=True, eq=False)
 class AgreementRun:
@@ -194,8 +218,11 @@ class AgreementRun:
         per_outcome = {}
         for o in EVENTS:
             sel = self.time_difference_outcome == o
-            per_outcome[o.name] = {"n": int(sel.sum()), "median": float(np.median(td[sel])) if sel.any() else math.nan,
-                                   "median_abs": float(np.median(np.abs(td[sel]))) if sel.any() else math.nan}
+            per_outcome[o.name] = {
+                "n": int(sel.sum()),
+                "median": float(np.median(td[sel])) if sel.any() else math.nan,
+                "median_abs": float(np.median(np.abs(td[sel]))) if sel.any() else math.nan,
+            }
         return {
             "engine": self.engine,
             "timestep": self.timestep,
@@ -279,28 +306,47 @@ class AgreementResult:
         rated = np.isin(a.outcome[self.index], RATED)
         counts = {o.name: int((a.outcome[self.index] == o).sum()) for o in Outcome}
         reasons = {r: int((a.reason[self.index] == r).sum()) for r in np.unique(a.reason[self.index])}
-        return as_json({
-            "engine": self.engine,
-            "grid": self.grid.as_dict() if self.grid is not None else None,
-            "alpha": self.alpha,
-            "horizon": self.horizon,
-            "n_points": len(a.outcome),
-            "n_slipping": int(self.index.size),
-            "n_rated": int(rated.sum()),
-            "analytic_outcomes": counts,
-            "analytic_reasons": reasons,
-            "boundary_radii": list(BOUNDARY_RADII),
-            "runs": [r.summary() for r in self.runs],
-            "convergence_table": convergence_table(self),
-        })
+        return as_json(
+            {
+                "engine": self.engine,
+                "grid": self.grid.as_dict() if self.grid is not None else None,
+                "alpha": self.alpha,
+                "horizon": self.horizon,
+                "n_points": len(a.outcome),
+                "n_slipping": int(self.index.size),
+                "n_rated": int(rated.sum()),
+                "analytic_outcomes": counts,
+                "analytic_reasons": reasons,
+                "boundary_radii": list(BOUNDARY_RADII),
+                "runs": [r.summary() for r in self.runs],
+                "convergence_table": convergence_table(self),
+            }
+        )
 
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), indent=2, allow_nan=False)
 
 
-def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a: AnalyticEvents, idx, distance, offplane,
-          wall_time: float, steps_per_second: float, solver: dict | None = None, warnings: dict | None = None, points: dict,
-          alpha: float, horizon: float) -> AgreementRun:
+def _rate(
+    *,
+    engine: str,
+    opts,
+    th: Thresholds,
+    outcome,
+    event_time,
+    p_event,
+    a: AnalyticEvents,
+    idx,
+    distance,
+    offplane,
+    wall_time: float,
+    steps_per_second: float,
+    solver: dict | None = None,
+    warnings: dict | None = None,
+    points: dict,
+    alpha: float,
+    horizon: float,
+) -> AgreementRun:
     until = a.until[idx]
     ao = a.outcome[idx]
     tau = float(opts.contact_time)
@@ -313,7 +359,12 @@ def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a:
     lag = event_lags(ao, a.jam_scale[idx], opts)
     # an engine STICK the classifier cannot tell from the theory's slip, slower there than the engine's STICK floor
     floor = engine_floor(th, opts)
-    since = stick_from(ao, until, floor_times(points, idx, a, floor, alpha=alpha, horizon=horizon), event_lag(tau, float(opts.timestep)))
+    since = stick_from(
+        ao,
+        until,
+        floor_times(points, idx, a, floor, alpha=alpha, horizon=horizon),
+        event_lag(tau, float(opts.timestep)),
+    )
     label = comparison_labels(outcome, event_time, until + lag, since)
     rated = np.isin(ao, RATED)
     agree = label == ao
@@ -345,12 +396,25 @@ def _rate(*, engine: str, opts, th: Thresholds, outcome, event_time, p_event, a:
         solver_health=solver_health(solver, engines.get(engine).solver_columns),
         engine_warnings=dict(warnings or {}),
         stick_floor=float(floor),
-        stick_as_slip=int(((label == Outcome.SLIP) & (comparison_labels(outcome, event_time, until + lag) == Outcome.STICK)).sum()),
+        stick_as_slip=int(
+            ((label == Outcome.SLIP) & (comparison_labels(outcome, event_time, until + lag) == Outcome.STICK)).sum()
+        ),
     )
 
 
-def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresholds: Thresholds | None, progress: bool,
-                 options: dict, store=None, scheduler: str | None = None, workers: int | None = None) -> AgreementRun:
+def _run_setting(
+    base: dict,
+    *,
+    engine: str,
+    rod: Rod,
+    setting: Mapping,
+    thresholds: Thresholds | None,
+    progress: bool,
+    options: dict,
+    store=None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+) -> AgreementRun:
     """One engine sweep of the studied states at one setting of its options, rated.
 
     With ``store`` (and the default thresholds and scalar options) the sweep goes
@@ -368,18 +432,62 @@ def _run_setting(base: dict, *, engine: str, rod: Rod, setting: Mapping, thresho
     needed = a.until[idx] + event_lags(a.outcome[idx], a.jam_scale[idx], opts)
     cols = {k: points[k][idx] for k in ("theta", "varphi", "Theta", "Psi", "eta")}
     through = store is not None and thresholds is None and not any(isinstance(v, (list, tuple)) for v in given.values())
-    r = engine_runs(E, rod, cols, points["mu"][idx], needed, horizon, margin, given, opts, th, progress, store=store if through else None,
-                    scheduler=scheduler, workers=workers)
-    return _rate(engine=engine, opts=opts, th=th, outcome=r.outcome, event_time=r.event_time, p_event=r.p_event, a=a, idx=idx, distance=distance,
-                 offplane=offplane, wall_time=r.wall_time, steps_per_second=r.steps_per_second, solver=r.solver, warnings=r.warnings, points=points,
-                 alpha=rod.alpha, horizon=horizon)
+    r = engine_runs(
+        E,
+        rod,
+        cols,
+        points["mu"][idx],
+        needed,
+        horizon,
+        margin,
+        given,
+        opts,
+        th,
+        progress,
+        store=store if through else None,
+        scheduler=scheduler,
+        workers=workers,
+    )
+    return _rate(
+        engine=engine,
+        opts=opts,
+        th=th,
+        outcome=r.outcome,
+        event_time=r.event_time,
+        p_event=r.p_event,
+        a=a,
+        idx=idx,
+        distance=distance,
+        offplane=offplane,
+        wall_time=r.wall_time,
+        steps_per_second=r.steps_per_second,
+        solver=r.solver,
+        warnings=r.warnings,
+        points=points,
+        alpha=rod.alpha,
+        horizon=horizon,
+    )
 
 
-def agreement_study(grid: EventGrid | dict, *, engine: str = engines.DEFAULT, settings: Sequence[Mapping] = ({},), alpha: float = 3.0,
-                    horizon: float = DEFAULT_HORIZON, rng: np.random.Generator | None = None, thresholds: Thresholds | None = None,
-                    boundary_radii: Sequence[float] = BOUNDARY_RADII, boundary_directions: int = 6, progress: bool = False,
-                    store=None, scheduler: str | None = None, workers: int | None = None, boundary_cache=None, analytic_cache=None,
-                    **options) -> AgreementResult:
+def agreement_study(
+    grid: EventGrid | dict,
+    *,
+    engine: str = engines.DEFAULT,
+    settings: Sequence[Mapping] = ({},),
+    alpha: float = 3.0,
+    horizon: float = DEFAULT_HORIZON,
+    rng: np.random.Generator | None = None,
+    thresholds: Thresholds | None = None,
+    boundary_radii: Sequence[float] = BOUNDARY_RADII,
+    boundary_directions: int = 6,
+    progress: bool = False,
+    store=None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    boundary_cache=None,
+    analytic_cache=None,
+    **options,
+) -> AgreementResult:
     """Event agreement, analytic vs an engine, over ``grid`` at one or more settings of the engine's options.
 
     Args:
@@ -418,7 +526,9 @@ def agreement_study(grid: EventGrid | dict, *, engine: str = engines.DEFAULT, se
     if not settings:
         raise ValueError("settings must hold at least one dict of engine options")
     for s in settings:
-        options_from_kwargs(E.Options, {**options, **s}, E.name)  # unknown or invalid option -> ValueError before any work
+        options_from_kwargs(
+            E.Options, {**options, **s}, E.name
+        )  # unknown or invalid option -> ValueError before any work
     alpha = float(check("alpha", alpha, ALPHA))
     horizon = float(check("horizon", horizon, POSITIVE))
     rng = rng if rng is not None else np.random.default_rng(0)
@@ -439,16 +549,48 @@ def agreement_study(grid: EventGrid | dict, *, engine: str = engines.DEFAULT, se
     mask = np.zeros(len(a.outcome), bool)
     mask[idx] = True
     if boundary_directions > 0:
-        dist = boundary_distance(points, a.outcome, alpha=alpha, horizon=horizon, rng=rng, radii=boundary_radii, directions=boundary_directions,
-                                 mask=mask, progress=progress, kept=boundary_cache)[idx]
+        dist = boundary_distance(
+            points,
+            a.outcome,
+            alpha=alpha,
+            horizon=horizon,
+            rng=rng,
+            radii=boundary_radii,
+            directions=boundary_directions,
+            mask=mask,
+            progress=progress,
+            kept=boundary_cache,
+        )[idx]
     else:
         dist = np.full(idx.size, np.nan)
     base = {"points": points, "analytic": a, "index": idx, "distance": dist, "horizon": horizon}
     rod = Rod.scaled(alpha)
-    runs = [_run_setting(base, engine=E.name, rod=rod, setting=s, thresholds=thresholds, progress=progress, options=options, store=store,
-                         scheduler=scheduler, workers=workers) for s in settings]
-    return AgreementResult(engine=E.name, grid=grid, alpha=alpha, horizon=horizon, points=points, analytic=a, index=idx,
-                           distance=dist, runs=runs)
+    runs = [
+        _run_setting(
+            base,
+            engine=E.name,
+            rod=rod,
+            setting=s,
+            thresholds=thresholds,
+            progress=progress,
+            options=options,
+            store=store,
+            scheduler=scheduler,
+            workers=workers,
+        )
+        for s in settings
+    ]
+    return AgreementResult(
+        engine=E.name,
+        grid=grid,
+        alpha=alpha,
+        horizon=horizon,
+        points=points,
+        analytic=a,
+        index=idx,
+        distance=dist,
+        runs=runs,
+    )
 
 
 def convergence_table(result: AgreementResult) -> list[dict]:

@@ -28,7 +28,15 @@ from crosscheck.engines.base import n_steps
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 
-__all__ = ["STORE_CHUNK", "HORIZON_HALVINGS", "store_chunk", "sweep_through_store", "run_horizons", "EngineRuns", "engine_runs"]
+__all__ = [
+    "STORE_CHUNK",
+    "HORIZON_HALVINGS",
+    "store_chunk",
+    "sweep_through_store",
+    "run_horizons",
+    "EngineRuns",
+    "engine_runs",
+]
 
 #: How many times the study's horizon is halved for the states whose comparison ends early: a state runs to the smallest
 #: of horizon / 2^k, k = 0 .. HORIZON_HALVINGS, past its comparison (at most twice the steps it needs, or horizon / 16).
@@ -50,18 +58,40 @@ def store_chunk(E) -> int:
     return STORE_CHUNK if E.sweep_chunk is None else E.sweep_chunk
 
 
-def sweep_through_store(E, rod: Rod, states_cols: dict, mu: np.ndarray, horizon: float, given: dict, store, scheduler, workers, progress: bool):
+def sweep_through_store(
+    E,
+    rod: Rod,
+    states_cols: dict,
+    mu: np.ndarray,
+    horizon: float,
+    given: dict,
+    store,
+    scheduler,
+    workers,
+    progress: bool,
+):
     """The engine's runs through ``crosscheck.sweeps`` (resumable chunks in ``store``): outcome, event_time, jam_p_eff, wall, solver,
     warnings."""
     from crosscheck import sweeps
 
-    doc = {"sweep": {"engine": E.name, "horizon": horizon, "seed": 0, "chunk": store_chunk(E)},
-           "states": {"zip": True, **{k: [float(x) for x in v] for k, v in states_cols.items()}, "mu": [float(x) for x in mu]},
-           "parameters": {"alpha": float(rod.alpha)}, "options": dict(given)}
+    doc = {
+        "sweep": {"engine": E.name, "horizon": horizon, "seed": 0, "chunk": store_chunk(E)},
+        "states": {
+            "zip": True,
+            **{k: [float(x) for x in v] for k, v in states_cols.items()},
+            "mu": [float(x) for x in mu],
+        },
+        "parameters": {"alpha": float(rod.alpha)},
+        "options": dict(given),
+    }
     spec = sweeps.parse_spec(doc)
-    summary = sweeps.run(spec, Path(store) / f"{E.name}-{spec.digest[:16]}", workers=workers, scheduler=scheduler, progress=progress)
+    summary = sweeps.run(
+        spec, Path(store) / f"{E.name}-{spec.digest[:16]}", workers=workers, scheduler=scheduler, progress=progress
+    )
     if summary.failed:
-        raise RuntimeError(f"{len(summary.failed)} chunks of the {E.name} sweep failed; first: {next(iter(summary.failed.values()))}")
+        raise RuntimeError(
+            f"{len(summary.failed)} chunks of the {E.name} sweep failed; first: {next(iter(summary.failed.values()))}"
+        )
     df = sweeps.load(summary.out)
     outcome = np.array([Outcome[o] for o in df["outcome"]], np.int8)
     solver = {c: df[f"solver_{c}"].to_numpy() for c in E.solver_columns} or None
@@ -92,8 +122,22 @@ class EngineRuns:
     warnings: dict
 
 
-def engine_runs(E, rod: Rod, states_cols: dict, mu: np.ndarray, needed: np.ndarray, horizon: float, margin: float, given: dict, opts,
-                thresholds, progress: bool, store=None, scheduler=None, workers=None) -> EngineRuns:
+def engine_runs(
+    E,
+    rod: Rod,
+    states_cols: dict,
+    mu: np.ndarray,
+    needed: np.ndarray,
+    horizon: float,
+    margin: float,
+    given: dict,
+    opts,
+    thresholds,
+    progress: bool,
+    store=None,
+    scheduler=None,
+    workers=None,
+) -> EngineRuns:
     """Every state run to its ``run_horizons`` horizon plus ``margin`` (module docstring), one sweep per horizon: through the
     sweep store when ``store`` is given (``sweep_through_store``, its spec holding the options as ``given``), else by the
     engine's ``sweep`` at every field of ``opts``."""
@@ -108,10 +152,19 @@ def engine_runs(E, rod: Rod, states_cols: dict, mu: np.ndarray, needed: np.ndarr
         sel = np.flatnonzero(runs_to == h)
         cols = {k: np.asarray(v)[sel] for k, v in states_cols.items()}
         if store is not None:
-            o, t, p, w, sv, wn = sweep_through_store(E, rod, cols, mu[sel], float(h) + margin, given, store, scheduler, workers, progress)
+            o, t, p, w, sv, wn = sweep_through_store(
+                E, rod, cols, mu[sel], float(h) + margin, given, store, scheduler, workers, progress
+            )
         else:
-            r = E.sweep(rod, states_at(cols, np.arange(len(sel))), mu[sel], horizon=float(h) + margin, thresholds=thresholds, progress=progress,
-                        **every)
+            r = E.sweep(
+                rod,
+                states_at(cols, np.arange(len(sel))),
+                mu[sel],
+                horizon=float(h) + margin,
+                thresholds=thresholds,
+                progress=progress,
+                **every,
+            )
             o, t, p, w, sv, wn = r.outcome, r.event_time, r.summary["jam_p_eff"], r.wall_time, r.solver, r.warnings
         outcome[sel], event_time[sel], p_event[sel] = o, t, p
         if sv is not None:

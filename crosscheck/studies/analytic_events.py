@@ -147,9 +147,19 @@ def _perturbed(points: dict, i: int, delta: np.ndarray) -> SlipState:
     )
 
 
-def boundary_distance(points: dict, outcome: np.ndarray, *, alpha: float, horizon: float, rng: np.random.Generator,
-                      radii: Sequence[float] = BOUNDARY_RADII, directions: int = 6, mask: np.ndarray | None = None,
-                      progress: bool = False, kept=None) -> np.ndarray:
+def boundary_distance(
+    points: dict,
+    outcome: np.ndarray,
+    *,
+    alpha: float,
+    horizon: float,
+    rng: np.random.Generator,
+    radii: Sequence[float] = BOUNDARY_RADII,
+    directions: int = 6,
+    mask: np.ndarray | None = None,
+    progress: bool = False,
+    kept=None,
+) -> np.ndarray:
     """Distance of each point to the analytic event boundary, probed by perturbation.
 
     For r in ``radii`` (increasing), ``directions`` random unit vectors u in
@@ -190,7 +200,11 @@ def boundary_distance(points: dict, outcome: np.ndarray, *, alpha: float, horizo
         for r in sorted(radii):
             u = rng.normal(size=(directions, 5))
             u /= np.linalg.norm(u, axis=1, keepdims=True)
-            if any(slip_until_event(_perturbed(points, i, r * d), points["mu"][i], alpha, t_max=horizon).outcome != outcome[i] for d in u):
+            if any(
+                slip_until_event(_perturbed(points, i, r * d), points["mu"][i], alpha, t_max=horizon).outcome
+                != outcome[i]
+                for d in u
+            ):
                 out[i] = r
                 break
     if kept is not None:

@@ -42,8 +42,26 @@ import numpy as np
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome
 
-__all__ = ["RATED", "EVENTS", "LAG_TAU", "LAG_STEPS", "window_margin", "comparison_labels", "comparison_window", "compared_label",
-           "floor_time", "engine_floor", "event_lag", "stick_from", "run_stick_from", "jam_scale", "theory_jam_scale", "jam_lag", "event_lags", "run_comparison_window"]
+__all__ = [
+    "RATED",
+    "EVENTS",
+    "LAG_TAU",
+    "LAG_STEPS",
+    "window_margin",
+    "comparison_labels",
+    "comparison_window",
+    "compared_label",
+    "floor_time",
+    "engine_floor",
+    "event_lag",
+    "stick_from",
+    "run_stick_from",
+    "jam_scale",
+    "theory_jam_scale",
+    "jam_lag",
+    "event_lags",
+    "run_comparison_window",
+]
 
 #: Outcomes an analytic run is compared on (GB and DIVERGED rows are counted, not rated).
 RATED = (Outcome.SLIP, Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM)
@@ -75,8 +93,9 @@ def comparison_labels(outcome: np.ndarray, event_time: np.ndarray, until: np.nda
     return np.where(keep, outcome, np.int8(Outcome.SLIP)).astype(np.int8)
 
 
-def comparison_window(outcome: Outcome, time: float, horizon: float, *, contact_time: float, timestep: float,
-                      spring_jam: float = 0.0) -> tuple[float, float, float]:
+def comparison_window(
+    outcome: Outcome, time: float, horizon: float, *, contact_time: float, timestep: float, spring_jam: float = 0.0
+) -> tuple[float, float, float]:
     """(until, lag, run_until) of one start whose analytic first event is ``outcome`` at ``time``: its comparison time (the event
     time for an event, the domain-exit time of a censored SLIP, the horizon otherwise), the lag an engine is allowed at an event
     (max(LAG_TAU contact_time, LAG_STEPS timestep), and at a JAM at least ``spring_jam``: ``jam_lag``), and how far an engine
@@ -89,8 +108,14 @@ def comparison_window(outcome: Outcome, time: float, horizon: float, *, contact_
 def run_comparison_window(first, horizon: float, mu: float, alpha: float, options) -> tuple[float, float, float]:
     """``comparison_window`` of a theory run ``first`` (``slip_until_event``'s result) for an engine run at ``options``:
     its contact time, timestep and, at a jam, its spring lag (``jam_lag``)."""
-    return comparison_window(Outcome(int(first.outcome)), float(first.time), horizon, contact_time=options.contact_time,
-                             timestep=options.timestep, spring_jam=jam_lag(options, theory_jam_scale(first, mu, alpha)))
+    return comparison_window(
+        Outcome(int(first.outcome)),
+        float(first.time),
+        horizon,
+        contact_time=options.contact_time,
+        timestep=options.timestep,
+        spring_jam=jam_lag(options, theory_jam_scale(first, mu, alpha)),
+    )
 
 
 def event_lags(outcome, scale, options) -> np.ndarray:
@@ -98,13 +123,21 @@ def event_lags(outcome, scale, options) -> np.ndarray:
     NaN where no jam), the lag an engine run at ``options`` is allowed; 0 where the theory has no event."""
     outcome = np.asarray(outcome)
     spring_jam = np.where(outcome == Outcome.JAM, jam_lag(options, scale), 0.0)
-    return np.where(np.isin(outcome, EVENTS), event_lag(float(options.contact_time), float(options.timestep), spring_jam), 0.0)
+    return np.where(
+        np.isin(outcome, EVENTS), event_lag(float(options.contact_time), float(options.timestep), spring_jam), 0.0
+    )
 
 
 def compared_label(outcome: Outcome, time: float, until: float, stick_from: float = math.inf) -> Outcome:
     """``comparison_labels`` of one run (a NaN time, no event, counts as never)."""
     t = time if math.isfinite(time) else math.inf
-    return Outcome(int(comparison_labels(np.array([int(outcome)], np.int8), np.array([t]), np.array([until]), np.array([stick_from]))[0]))
+    return Outcome(
+        int(
+            comparison_labels(
+                np.array([int(outcome)], np.int8), np.array([t]), np.array([until]), np.array([stick_from])
+            )[0]
+        )
+    )
 
 
 def floor_time(t, eta, floor: float) -> float:
@@ -123,7 +156,9 @@ def floor_time(t, eta, floor: float) -> float:
 def engine_floor(thresholds: Thresholds, options) -> float:
     """The STICK floor of a run at ``options`` (an engine's ``Options``): rigid when its contact time is 0, as the engines
     call ``classify``."""
-    return thresholds.stick_floor(timestep=options.timestep, friction_timeconst=options.friction_time, rigid=options.contact_time == 0.0)
+    return thresholds.stick_floor(
+        timestep=options.timestep, friction_timeconst=options.friction_time, rigid=options.contact_time == 0.0
+    )
 
 
 def event_lag(contact_time: float, timestep: float, spring_jam=0.0):
@@ -156,7 +191,9 @@ def jam_lag(options, scale):
 
     eps = getattr(options, "spring_time", None)  # optional in the engine contract: only spring contacts declare it
     if np.ndim(scale):
-        return np.array([0.0 if eps is None else spring_jam_lag(float(eps), float(c)) for c in np.asarray(scale, float)])
+        return np.array(
+            [0.0 if eps is None else spring_jam_lag(float(eps), float(c)) for c in np.asarray(scale, float)]
+        )
     return 0.0 if eps is None else spring_jam_lag(float(eps), float(scale))
 
 

@@ -41,7 +41,9 @@ __all__ = ["METRICS", "row_metrics", "contact_quality", "summary"]
 METRICS = ("signorini", "cone_violation", "dissipation_ratio", "skew_deg", "force_over_FZ")
 
 
-def row_metrics(record, mu: float, alpha: float, *, last_row: int, slip_floor: float, window: int) -> dict[str, np.ndarray]:
+def row_metrics(
+    record, mu: float, alpha: float, *, last_row: int, slip_floor: float, window: int
+) -> dict[str, np.ndarray]:
     """The metrics of ``METRICS`` on the counted rows of one run's record (each a 1D array; empty when no row counts)."""
     n = min(last_row, len(record))
     F = record.force[:n]
@@ -60,7 +62,9 @@ def row_metrics(record, mu: float, alpha: float, *, last_row: int, slip_floor: f
         b, p = rec.b, rec.p(mu, alpha)
         fz = np.where(p > 0, np.maximum(-b, 0.0) / p, np.nan)
         w = min(window, n)
-        force = window_sum(record.normal_force[:n], w) / np.where(np.isfinite(window_sum(fz, w)), window_sum(fz, w), np.nan)
+        force = window_sum(record.normal_force[:n], w) / np.where(
+            np.isfinite(window_sum(fz, w)), window_sum(fz, w), np.nan
+        )
     return {
         "signorini": np.abs(Fn * vn)[keep],
         "cone_violation": np.maximum(0.0, ft - mu * Fn)[keep],
@@ -70,8 +74,18 @@ def row_metrics(record, mu: float, alpha: float, *, last_row: int, slip_floor: f
     }
 
 
-def contact_quality(engine: str, n: int, rng: np.random.Generator, *, alpha: float = 3.0, horizon: float = 0.3, mu_range=(0.3, 1.2),
-                    options: dict | None = None, thresholds: Thresholds | None = None, progress: bool = False) -> dict:
+def contact_quality(
+    engine: str,
+    n: int,
+    rng: np.random.Generator,
+    *,
+    alpha: float = 3.0,
+    horizon: float = 0.3,
+    mu_range=(0.3, 1.2),
+    options: dict | None = None,
+    thresholds: Thresholds | None = None,
+    progress: bool = False,
+) -> dict:
     """``n`` seeded slipping starts (mu uniform in ``mu_range``, below mu_P) through ``engine``; the metrics of every counted row.
 
     Returns a dict: ``rows`` (metric -> 1D array over all counted rows of all runs), ``per_run`` (metric -> (n,) medians,
@@ -96,12 +110,20 @@ def contact_quality(engine: str, n: int, rng: np.random.Generator, *, alpha: flo
     from tqdm.auto import tqdm
 
     given = {k: getattr(opts, k) for k in opts.__dataclass_fields__}
-    for j, (s, mu) in enumerate(tqdm(list(zip(states_at(pts, idx), pts["mu"][idx])), desc=f"{engine} contact quality", disable=not progress)):
+    for j, (s, mu) in enumerate(
+        tqdm(list(zip(states_at(pts, idx), pts["mu"][idx])), desc=f"{engine} contact quality", disable=not progress)
+    ):
         run = E.simulate(rod, s, float(mu), horizon=horizon, thresholds=th, **given)
         outcomes.append(run.outcome.name)
-        last = len(run.record) if not np.isfinite(run.event_time) else int(np.searchsorted(run.record.t, run.event_time))
-        floor = th.rigid_stick_steps * opts.timestep if opts.contact_time == 0 else th.stick_threshold(opts.friction_time)
-        m = row_metrics(run.record, float(mu), alpha, last_row=last, slip_floor=floor, window=th.window_rows(opts.timestep))
+        last = (
+            len(run.record) if not np.isfinite(run.event_time) else int(np.searchsorted(run.record.t, run.event_time))
+        )
+        floor = (
+            th.rigid_stick_steps * opts.timestep if opts.contact_time == 0 else th.stick_threshold(opts.friction_time)
+        )
+        m = row_metrics(
+            run.record, float(mu), alpha, last_row=last, slip_floor=floor, window=th.window_rows(opts.timestep)
+        )
         for k in METRICS:
             rows[k].append(m[k])
             if len(m[k]):
@@ -115,8 +137,11 @@ def summary(rows: dict[str, np.ndarray]) -> dict:
     out = {"rows": int(len(rows["cone_violation"]))}
     for k in METRICS:
         x = rows[k]
-        out[k] = {"median": float(np.median(x)) if len(x) else math.nan, "p95": float(np.percentile(x, 95)) if len(x) else math.nan,
-                  "max": float(np.max(x)) if len(x) else math.nan}
+        out[k] = {
+            "median": float(np.median(x)) if len(x) else math.nan,
+            "p95": float(np.percentile(x, 95)) if len(x) else math.nan,
+            "max": float(np.max(x)) if len(x) else math.nan,
+        }
     out["median_skew_deg"] = out["skew_deg"]["median"]
     out["max_cone_violation"] = out["cone_violation"]["max"]
     return out

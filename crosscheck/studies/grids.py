@@ -17,8 +17,17 @@ from crosscheck.checks import ETA, MU, RATE, THETA, VARPHI, check
 from crosscheck.theory.critical import theta_L
 from crosscheck.state import SlipState
 
-__all__ = ["AXES", "EventGrid", "DEFAULT_GRID", "SMALL_GRID", "floats", "initial_b_p", "states_at", "random_event_points",
-           "random_slipping_states"]
+__all__ = [
+    "AXES",
+    "EventGrid",
+    "DEFAULT_GRID",
+    "SMALL_GRID",
+    "floats",
+    "initial_b_p",
+    "states_at",
+    "random_event_points",
+    "random_slipping_states",
+]
 
 #: Axes of an ``EventGrid``, in the order of its shape.
 AXES = ("theta", "varphi", "Theta", "Psi", "mu", "eta")
@@ -85,7 +94,9 @@ DEFAULT_GRID = EventGrid(
 )
 
 #: A grid for tests: 2 x 2 x 1 x 4 x 3 = 48 states.
-SMALL_GRID = EventGrid(theta=(0.3, 0.9), varphi=(-math.pi / 2, -math.pi / 4), Theta=(0.0,), Psi=(-1.5, -0.5, 0.5, 1.5), mu=(0.6, 1.4, 4.0))
+SMALL_GRID = EventGrid(
+    theta=(0.3, 0.9), varphi=(-math.pi / 2, -math.pi / 4), Theta=(0.0,), Psi=(-1.5, -0.5, 0.5, 1.5), mu=(0.6, 1.4, 4.0)
+)
 
 
 def initial_b_p(points: dict, alpha: float) -> tuple[np.ndarray, np.ndarray]:
@@ -99,7 +110,16 @@ def initial_b_p(points: dict, alpha: float) -> tuple[np.ndarray, np.ndarray]:
 
 def states_at(points: dict, idx) -> list[SlipState]:
     """The ``SlipState``s of the points ``idx``."""
-    return [SlipState(theta=points["theta"][i], varphi=points["varphi"][i], Theta=points["Theta"][i], Psi=points["Psi"][i], eta=points["eta"][i]) for i in idx]
+    return [
+        SlipState(
+            theta=points["theta"][i],
+            varphi=points["varphi"][i],
+            Theta=points["Theta"][i],
+            Psi=points["Psi"][i],
+            eta=points["eta"][i],
+        )
+        for i in idx
+    ]
 
 
 def random_event_points(n: int, rng: np.random.Generator, *, alpha: float = 3.0) -> dict[str, np.ndarray]:
@@ -112,7 +132,12 @@ def random_event_points(n: int, rng: np.random.Generator, *, alpha: float = 3.0)
     while len(out["theta"]) < n:
         m = 4 * (n - len(out["theta"])) + 8
         th, vp = rng.uniform(0.1, 1.45, m), -rng.uniform(0.0, math.pi * (1 - 1e-9), m)
-        Th, Ps, eta, mu = rng.uniform(-1, 1, m), rng.uniform(-3, 3, m), rng.uniform(0.3, 2.0, m), rng.uniform(0.3, 6.0, m)
+        Th, Ps, eta, mu = (
+            rng.uniform(-1, 1, m),
+            rng.uniform(-3, 3, m),
+            rng.uniform(0.3, 2.0, m),
+            rng.uniform(0.3, 6.0, m),
+        )
         s, c = np.sin(th), np.cos(th)
         ok = ((Ps**2 * c**2 + Th**2) * s - 1 < 0) & (1 + alpha + alpha * s * (mu * c * np.sin(vp) - s) > 0)
         for k, v in zip(out, (th, vp, Th, Ps, mu, eta)):
@@ -127,9 +152,16 @@ def random_slipping_states(mu: float, n: int, rng: np.random.Generator, alpha: f
     """
     out = []
     while len(out) < n:
-        s = SlipState(theta=rng.uniform(0.05, 1.5), varphi=-rng.uniform(0.0, math.pi * (1 - 1e-9)), Theta=rng.uniform(-1.5, 1.5), Psi=rng.uniform(-2.5, 2.5), eta=rng.uniform(0.2, 3))
+        s = SlipState(
+            theta=rng.uniform(0.05, 1.5),
+            varphi=-rng.uniform(0.0, math.pi * (1 - 1e-9)),
+            Theta=rng.uniform(-1.5, 1.5),
+            Psi=rng.uniform(-2.5, 2.5),
+            eta=rng.uniform(0.2, 3),
+        )
         st, ct = math.sin(s.theta), math.cos(s.theta)
-        if (s.Psi**2 * ct**2 + s.Theta**2) * st - 1 < 0 and 1 + alpha + alpha * st * (mu * ct * math.sin(s.varphi) - st) > 0:
+        if (s.Psi**2 * ct**2 + s.Theta**2) * st - 1 < 0 and 1 + alpha + alpha * st * (
+            mu * ct * math.sin(s.varphi) - st
+        ) > 0:
             out.append(s)
     return out
-

@@ -39,8 +39,15 @@ from crosscheck.engines.spec import LADDER_CAUSES
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
-from crosscheck.studies.comparison import (RATED, compared_label, engine_floor, floor_time, run_comparison_window, run_stick_from,
-                                          window_margin)
+from crosscheck.studies.comparison import (
+    RATED,
+    compared_label,
+    engine_floor,
+    floor_time,
+    run_comparison_window,
+    run_stick_from,
+    window_margin,
+)
 from crosscheck.theory.slipping import slip_until_event
 
 __all__ = ["intervene", "summarise", "causes_with_interventions"]
@@ -52,8 +59,19 @@ def causes_with_interventions(engine: str) -> list[str]:
     return [c for c in LADDER_CAUSES if c in (spec.interventions or {})]
 
 
-def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, horizon: float = 2.0, thresholds: Thresholds | None = None,
-              causes=None, named: str | None = None, reference=None, **options) -> dict:
+def intervene(
+    engine: str,
+    state: SlipState,
+    mu: float,
+    *,
+    alpha: float = 3.0,
+    horizon: float = 2.0,
+    thresholds: Thresholds | None = None,
+    causes=None,
+    named: str | None = None,
+    reference=None,
+    **options,
+) -> dict:
     """``state`` through every intervention ``engine`` declares (or those of ``causes``), at the run's ``options``.
 
     Returns a dict: ``theory`` (rung 1's label), ``theory_time``, what the theory's slip looks like to the run
@@ -82,7 +100,12 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
     rod = Rod.scaled(alpha)
     first = slip_until_event(state, mu, alpha, t_max=horizon)
     o1, t1 = Outcome(int(first.outcome)), float(first.time)
-    out = {"theory": compared_label(o1, t1, t1).name, "theory_time": t1, **theory_against_floor(first, mu, alpha, th, base), "causes": {}}
+    out = {
+        "theory": compared_label(o1, t1, t1).name,
+        "theory_time": t1,
+        **theory_against_floor(first, mu, alpha, th, base),
+        "causes": {},
+    }
     given = {k: getattr(base, k) for k in base.__dataclass_fields__}
 
     def attempt(text: str, changed: dict) -> dict:
@@ -93,27 +116,49 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
             until, lag, run_until = run_comparison_window(first, horizon, mu, alpha, opts)
             # a STICK the classifier cannot tell from the theory's slip, at the intervened run's own STICK floor
             since = run_stick_from(first, until, th, opts)
-            o, t = spec.first_event(rod, state, mu, horizon=run_until + window_margin(th, opts.timestep), thresholds=th, **opts_kw)
+            o, t = spec.first_event(
+                rod, state, mu, horizon=run_until + window_margin(th, opts.timestep), thresholds=th, **opts_kw
+            )
             theory, label = compared_label(o1, t1, until + lag), compared_label(o, t, until + lag, since)
-            return {"text": text, "options": dict(changed), "status": "ok", "outcome": o.name, "time": t, "label": label.name,
-                    "removes": label == theory and theory in RATED, "wall_time": time.perf_counter() - t0}
+            return {
+                "text": text,
+                "options": dict(changed),
+                "status": "ok",
+                "outcome": o.name,
+                "time": t,
+                "label": label.name,
+                "removes": label == theory and theory in RATED,
+                "wall_time": time.perf_counter() - t0,
+            }
         except Exception as e:  # noqa: BLE001 - an intervention the engine refuses is reported, the others go on
-            return {"text": text, "options": dict(changed), "status": "failed", "detail": f"{type(e).__name__}: {e}", "removes": False,
-                    "wall_time": time.perf_counter() - t0}
+            return {
+                "text": text,
+                "options": dict(changed),
+                "status": "failed",
+                "detail": f"{type(e).__name__}: {e}",
+                "removes": False,
+                "wall_time": time.perf_counter() - t0,
+            }
 
-    for cause in (causes if causes is not None else causes_with_interventions(engine)):
-        out["causes"][cause] = [{**attempt(iv.text, iv.options), **({"family": iv.family} if iv.family else {})}
-                                for iv in spec.interventions_for(cause, base, p_min=out["theory_p_min"])]
+    for cause in causes if causes is not None else causes_with_interventions(engine):
+        out["causes"][cause] = [
+            {**attempt(iv.text, iv.options), **({"family": iv.family} if iv.family else {})}
+            for iv in spec.interventions_for(cause, base, p_min=out["theory_p_min"])
+        ]
     if named == "geometry" and reference is not None:
         from crosscheck.studies.ladder import without_capsule_offset
 
         ref = Outcome[reference] if isinstance(reference, str) else Outcome(int(reference))
         try:
-            out["without_offset"] = without_capsule_offset(engine, state, mu, ref, alpha=alpha, horizon=horizon, thresholds=th, **given)
+            out["without_offset"] = without_capsule_offset(
+                engine, state, mu, ref, alpha=alpha, horizon=horizon, thresholds=th, **given
+            )
         except Exception as e:  # noqa: BLE001 - the ladder's question left open is reported, the interventions stand
             out["without_offset"] = {"also": None, "status": "failed", "detail": f"{type(e).__name__}: {e}"}
     own = out["causes"].get(named) or []
-    if own and not any(_fixes(out, c) for c in out["causes"]):  # (one that another cause removes alone is a misattribution)
+    if own and not any(
+        _fixes(out, c) for c in out["causes"]
+    ):  # (one that another cause removes alone is a misattribution)
         # an overdetermined disagreement: the named difference and another one each produce the engine's outcome alone
         strongest = own[-1]["options"]
         out["joint"] = []
@@ -121,7 +166,9 @@ def intervene(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, h
             rows = out["causes"].get(c) or []
             if not rows or _fixes(out, c) or set(strongest) & set(rows[-1]["options"]):
                 continue
-            out["joint"].append({"with": c, **attempt(f"{own[-1]['text']}; {rows[-1]['text']}", {**strongest, **rows[-1]["options"]})})
+            out["joint"].append(
+                {"with": c, **attempt(f"{own[-1]['text']}; {rows[-1]['text']}", {**strongest, **rows[-1]["options"]})}
+            )
     return out
 
 
@@ -135,8 +182,12 @@ def theory_against_floor(first, mu: float, alpha: float, th: Thresholds, opts) -
 
     floor = engine_floor(th, opts)
     p = analytic.p(first.x[:, 4], first.x[:, 1], mu, alpha)
-    return {"theory_eta_min": float(first.x[:, 0].min()), "theory_p_min": float(np.min(p)), "stick_floor": float(floor),
-            "theory_below_floor_time": floor_time(first.t, first.x[:, 0], floor)}
+    return {
+        "theory_eta_min": float(first.x[:, 0].min()),
+        "theory_p_min": float(np.min(p)),
+        "stick_floor": float(floor),
+        "theory_below_floor_time": floor_time(first.t, first.x[:, 0], floor),
+    }
 
 
 def _fixes(result: dict, cause: str) -> bool:
@@ -210,22 +261,57 @@ def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
         joint = _jointly(iv)
         removed += bool(fixing or joint)
         side = by_p["in_band" if iv.get("theory_p_min", math.inf) <= band else "above"]
-        row = per.setdefault(cause, {"n": 0, "confirmed": 0, "not_at_strongest": 0, "overdetermined": {}, "by_other": {}, "by_other_starts": 0,
-                                     "jointly": {}, "none": 0, "no_intervention": 0, "by_intervention": {}, "tried": {}})
+        row = per.setdefault(
+            cause,
+            {
+                "n": 0,
+                "confirmed": 0,
+                "not_at_strongest": 0,
+                "overdetermined": {},
+                "by_other": {},
+                "by_other_starts": 0,
+                "jointly": {},
+                "none": 0,
+                "no_intervention": 0,
+                "by_intervention": {},
+                "tried": {},
+            },
+        )
         also = (iv.get("without_offset") or {}).get("also")
-        both = bool(also) and not fixing and also in joint  # the ladder's overdetermined pair, removed by the two together
+        both = (
+            bool(also) and not fixing and also in joint
+        )  # the ladder's overdetermined pair, removed by the two together
         if also and cause in LADDER_CAUSES:  # how the ladder's prediction fared: only "confirmed" counts the pair
             pairs["predicted"] += 1
-            pairs["confirmed" if both else "geometry alone" if cause in fixing else "another alone" if fixing else "joint failed"] += 1
+            pairs[
+                "confirmed"
+                if both
+                else "geometry alone"
+                if cause in fixing
+                else "another alone"
+                if fixing
+                else "joint failed"
+            ] += 1
         row["n"] += 1
-        for x in iv["causes"].get(cause) or []:  # what, of the cause's own interventions, removes it: which part of the cause acts
+        for x in (
+            iv["causes"].get(cause) or []
+        ):  # what, of the cause's own interventions, removes it: which part of the cause acts
             row["by_intervention"][x["text"]] = row["by_intervention"].get(x["text"], 0) + bool(x["removes"])
-            row["tried"][x["text"]] = row["tried"].get(x["text"], 0) + 1  # (a step some starts get, as at p near 0: fewer than n)
+            row["tried"][x["text"]] = (
+                row["tried"].get(x["text"], 0) + 1
+            )  # (a step some starts get, as at p near 0: fewer than n)
         if cause in LADDER_CAUSES:
             d = r.get("boundary_distance")
             probed = d is not None and float(d) == float(d)  # (None: not probed; NaN likewise)
             unprobed += not probed
-            tallies = [side, *([by_distance.setdefault(float(d), {"distance": float(d), "attributed": 0, "confirmed": 0})] if probed else [])]
+            tallies = [
+                side,
+                *(
+                    [by_distance.setdefault(float(d), {"distance": float(d), "attributed": 0, "confirmed": 0})]
+                    if probed
+                    else []
+                ),
+            ]
             ok = cause in iv["causes"] and (_fixes(iv, cause) or both)
             for tally in tallies:
                 tally["attributed"] += 1
@@ -250,11 +336,21 @@ def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
                 jointly += 1
             elif not both:
                 row["none"] += 1
-    return {"per_cause": per, "attributed": attributed, "confirmed": confirmed, "confirmed_share": confirmed / attributed if attributed else None,
-            "jointly": jointly, "misattributed": misattributed, "pairs": pairs, "by_p": by_p,
-            "by_distance": [by_distance[d] for d in sorted(by_distance)], "unprobed": unprobed if by_distance else 0,
-            # whatever the ladder named: the disagreements some cause's intervention on the engine removes
-            "n": len(results), "removed_by_any": removed}
+    return {
+        "per_cause": per,
+        "attributed": attributed,
+        "confirmed": confirmed,
+        "confirmed_share": confirmed / attributed if attributed else None,
+        "jointly": jointly,
+        "misattributed": misattributed,
+        "pairs": pairs,
+        "by_p": by_p,
+        "by_distance": [by_distance[d] for d in sorted(by_distance)],
+        "unprobed": unprobed if by_distance else 0,
+        # whatever the ladder named: the disagreements some cause's intervention on the engine removes
+        "n": len(results),
+        "removed_by_any": removed,
+    }
 
 
 def as_record(x) -> dict:

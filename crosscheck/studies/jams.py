@@ -56,8 +56,16 @@ class JamCheck:
     thresholds: dict
 
     def to_dict(self) -> dict:
-        return as_json({"engine": self.engine, "mu_P": self.mu_P, "below": self.below, "above": self.above, "options": self.options,
-                        "thresholds": self.thresholds})
+        return as_json(
+            {
+                "engine": self.engine,
+                "mu_P": self.mu_P,
+                "below": self.below,
+                "above": self.above,
+                "options": self.options,
+                "thresholds": self.thresholds,
+            }
+        )
 
 
 def outcome_counts(outcome: np.ndarray) -> dict:
@@ -65,9 +73,21 @@ def outcome_counts(outcome: np.ndarray) -> dict:
     return {o.name: int((outcome == o).sum()) for o in Outcome if (outcome == o).any()}
 
 
-def jam_check(*, engine: str = engines.DEFAULT, mus_below: Sequence[float] = (0.5, 1.0, 1.3), mus_above: Sequence[float] = (1.4, 1.7, 6.0),
-              n_below: int = 100, n_above: int = 40, rng: np.random.Generator, alpha: float = 3.0, horizon: float = DEFAULT_HORIZON,
-              thresholds: Thresholds | None = None, near_window: float = 0.15, progress: bool = False, **options) -> JamCheck:
+def jam_check(
+    *,
+    engine: str = engines.DEFAULT,
+    mus_below: Sequence[float] = (0.5, 1.0, 1.3),
+    mus_above: Sequence[float] = (1.4, 1.7, 6.0),
+    n_below: int = 100,
+    n_above: int = 40,
+    rng: np.random.Generator,
+    alpha: float = 3.0,
+    horizon: float = DEFAULT_HORIZON,
+    thresholds: Thresholds | None = None,
+    near_window: float = 0.15,
+    progress: bool = False,
+    **options,
+) -> JamCheck:
     """No jam below mu_P; above it, the engine against the theory's jam states.
 
     Below mu_P: ``n_below`` random slipping states per mu
@@ -96,8 +116,15 @@ def jam_check(*, engine: str = engines.DEFAULT, mus_below: Sequence[float] = (0.
         states = random_slipping_states(m, n_below, rng, alpha)
         r = E.sweep(rod, states, m, horizon=horizon, thresholds=th, progress=progress, **kw)
         analytic_jams = sum(slip_until_event(s, m, alpha, t_max=horizon).outcome == Outcome.JAM for s in states)
-        below.append({"mu": m, "n": len(states), "analytic_jams": int(analytic_jams), "outcomes": outcome_counts(r.outcome),
-                      "n_jam": int((r.outcome == Outcome.JAM).sum())})
+        below.append(
+            {
+                "mu": m,
+                "n": len(states),
+                "analytic_jams": int(analytic_jams),
+                "outcomes": outcome_counts(r.outcome),
+                "n_jam": int((r.outcome == Outcome.JAM).sum()),
+            }
+        )
     above = []
     for m in mus_above:
         states, t_a, varphi_a = corollary_states(m, n_above, rng, alpha=alpha, horizon=horizon)
@@ -106,11 +133,26 @@ def jam_check(*, engine: str = engines.DEFAULT, mus_below: Sequence[float] = (0.
         o, t = r.outcome, r.event_time
         jam = o == Outcome.JAM
         near = np.abs(t - t_a) <= near_window
-        above.append({"mu": m, "n": len(states), "outcomes": outcome_counts(o), "jam_fraction": float(jam.mean()),
-                      "median_jam_time_difference": float(np.median(t[jam] - t_a[jam])) if jam.any() else math.nan,
-                      "near_fraction": {e.name: float(((o == e) & near).mean()) for e in EVENTS},
-                      "ended_near_fraction": float((np.isin(o, EVENTS) & near).mean()),
-                      "time_difference": {e.name: quantiles(t[o == e] - t_a[o == e]) for e in EVENTS},
-                      "p_at_jam": quantiles(r.summary["jam_p_eff"][jam]),
-                      "offplane_at_event_jam": quantiles(off[jam]), "offplane_at_event_other": quantiles(off[~jam])})
-    return JamCheck(engine=E.name, mu_P=muP, below=below, above=above, options=kw, thresholds={**th.as_dict(), "stick_threshold": th.stick_threshold(opts.friction_time)})
+        above.append(
+            {
+                "mu": m,
+                "n": len(states),
+                "outcomes": outcome_counts(o),
+                "jam_fraction": float(jam.mean()),
+                "median_jam_time_difference": float(np.median(t[jam] - t_a[jam])) if jam.any() else math.nan,
+                "near_fraction": {e.name: float(((o == e) & near).mean()) for e in EVENTS},
+                "ended_near_fraction": float((np.isin(o, EVENTS) & near).mean()),
+                "time_difference": {e.name: quantiles(t[o == e] - t_a[o == e]) for e in EVENTS},
+                "p_at_jam": quantiles(r.summary["jam_p_eff"][jam]),
+                "offplane_at_event_jam": quantiles(off[jam]),
+                "offplane_at_event_other": quantiles(off[~jam]),
+            }
+        )
+    return JamCheck(
+        engine=E.name,
+        mu_P=muP,
+        below=below,
+        above=above,
+        options=kw,
+        thresholds={**th.as_dict(), "stick_threshold": th.stick_threshold(opts.friction_time)},
+    )

@@ -58,7 +58,16 @@ from crosscheck.studies.agreement import DEFAULT_HORIZON
 from crosscheck.studies.comparison import RATED, compared_label, run_comparison_window, run_stick_from, window_margin
 from crosscheck.theory.slipping import slip_until_event
 
-__all__ = ["Rung", "EngineLadder", "rungs_of", "run_ladder", "without_capsule_offset", "final_stretch_cause", "detour", "CAUSES"]
+__all__ = [
+    "Rung",
+    "EngineLadder",
+    "rungs_of",
+    "run_ladder",
+    "without_capsule_offset",
+    "final_stretch_cause",
+    "detour",
+    "CAUSES",
+]
 
 #: Every cause a start can get (as MuJoCo's ladder): the four rungs' causes, "unexplained", "undetermined",
 #: "agree" (rung 1 already equals the engine) and "not rated" (rung 1 is GB or DIVERGED).
@@ -84,9 +93,17 @@ class Rung:
         return self.status == "ok"
 
     def as_dict(self) -> dict:
-        return {"rung": self.rung, "name": self.name, "cause": self.cause, "status": self.status,
-                "outcome": None if self.outcome is None else self.outcome.name, "time": self.time,
-                "label": None if self.label is None else self.label.name, "detail": self.detail, "wall_time": self.wall_time}
+        return {
+            "rung": self.rung,
+            "name": self.name,
+            "cause": self.cause,
+            "status": self.status,
+            "outcome": None if self.outcome is None else self.outcome.name,
+            "time": self.time,
+            "label": None if self.label is None else self.label.name,
+            "detail": self.detail,
+            "wall_time": self.wall_time,
+        }
 
 
 @dataclass(frozen=True)
@@ -103,9 +120,16 @@ class EngineLadder:
     cause: str
 
     def as_dict(self) -> dict:
-        return {"engine": self.engine, "state": self.state.as_dict(), "mu": self.mu, "comparison_time": self.until, "lag": self.lag,
-                "rungs": [r.as_dict() for r in self.rungs], "reference": None if self.reference is None else self.reference.name,
-                "cause": self.cause}
+        return {
+            "engine": self.engine,
+            "state": self.state.as_dict(),
+            "mu": self.mu,
+            "comparison_time": self.until,
+            "lag": self.lag,
+            "rungs": [r.as_dict() for r in self.rungs],
+            "reference": None if self.reference is None else self.reference.name,
+            "cause": self.cause,
+        }
 
 
 def rungs_of(engine: str) -> list[tuple[str, str]]:
@@ -117,7 +141,19 @@ def rungs_of(engine: str) -> list[tuple[str, str]]:
     return [(c, spec.ladder[c]) for c in LADDER_CAUSES if c in spec.ladder]
 
 
-def _run(rung: str, *, spec, rod: Rod, state: SlipState, mu: float, alpha: float, opts, th: Thresholds, t_analytic: float, t_engine: float):
+def _run(
+    rung: str,
+    *,
+    spec,
+    rod: Rod,
+    state: SlipState,
+    mu: float,
+    alpha: float,
+    opts,
+    th: Thresholds,
+    t_analytic: float,
+    t_engine: float,
+):
     """(outcome, time) of one rung (raises what the rung raises)."""
     if rung == "capsule":
         from crosscheck.theory import capsule
@@ -132,8 +168,17 @@ def _run(rung: str, *, spec, rod: Rod, state: SlipState, mu: float, alpha: float
     return Outcome(int(run.outcome)), float(run.event_time)
 
 
-def run_ladder(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, horizon: float = DEFAULT_HORIZON,
-               thresholds: Thresholds | None = None, reference: Outcome | int | None = None, **options) -> EngineLadder:
+def run_ladder(
+    engine: str,
+    state: SlipState,
+    mu: float,
+    *,
+    alpha: float = 3.0,
+    horizon: float = DEFAULT_HORIZON,
+    thresholds: Thresholds | None = None,
+    reference: Outcome | int | None = None,
+    **options,
+) -> EngineLadder:
     """``state`` through the ladder ``engine`` declares, at the engine's ``options``; the cause of its disagreement (module docstring).
 
     ``reference``: the engine's label to judge against (the agreement study's); None uses the last rung's (the engine's own).
@@ -156,8 +201,17 @@ def run_ladder(engine: str, state: SlipState, mu: float, *, alpha: float = 3.0, 
     return EngineLadder(engine, state, mu, until, lag, tuple(rungs), ref, _cause(rungs, ref))
 
 
-def without_capsule_offset(engine: str, state: SlipState, mu: float, reference: Outcome | int, *, alpha: float = 3.0,
-                           horizon: float = DEFAULT_HORIZON, thresholds: Thresholds | None = None, **options) -> dict | None:
+def without_capsule_offset(
+    engine: str,
+    state: SlipState,
+    mu: float,
+    reference: Outcome | int,
+    *,
+    alpha: float = 3.0,
+    horizon: float = DEFAULT_HORIZON,
+    thresholds: Thresholds | None = None,
+    **options,
+) -> dict | None:
     """The ladder's models rerun with the capsule as thin as the engine's strongest geometry intervention makes it.
 
     The capsule's offset is the one difference every model rung can drop (its radius).  Where the ladder names
@@ -181,11 +235,16 @@ def without_capsule_offset(engine: str, state: SlipState, mu: float, reference: 
     _, _, rungs = _climb(spec, models, state, mu, alpha, horizon, opts, thresholds or Thresholds())
     rungs = rungs[1:]  # (rung 1, the paper's rod, has no cause)
     also = final_stretch_cause(rungs, Outcome(int(reference)), lambda r: r.cause)
-    return {"radius": opts.radius, "rungs": [{"cause": r.cause, "label": None if r.label is None else r.label.name} for r in rungs],
-            "also": also if also in LADDER_CAUSES and also != "geometry" else None}
+    return {
+        "radius": opts.radius,
+        "rungs": [{"cause": r.cause, "label": None if r.label is None else r.label.name} for r in rungs],
+        "also": also if also in LADDER_CAUSES and also != "geometry" else None,
+    }
 
 
-def _climb(spec, ladder, state: SlipState, mu: float, alpha: float, horizon: float, opts, th: Thresholds) -> tuple[float, float, list]:
+def _climb(
+    spec, ladder, state: SlipState, mu: float, alpha: float, horizon: float, opts, th: Thresholds
+) -> tuple[float, float, list]:
     """(comparison time, lag, rungs) of ``state`` up ``ladder`` ((cause, rung) pairs, rungs 2, 3, ...) at ``opts``: rung 1
     the paper's rod, each label the agreement study's; a rung that raises is "failed" and the climb goes on."""
     rod = Rod.scaled(alpha)
@@ -202,11 +261,32 @@ def _climb(spec, ladder, state: SlipState, mu: float, alpha: float, horizon: flo
     for k, (cause, rung) in enumerate(ladder, start=2):
         t0 = time.perf_counter()
         try:
-            o, t = _run(rung, spec=spec, rod=rod, state=state, mu=mu, alpha=alpha, opts=opts, th=th, t_analytic=run_until,
-                        t_engine=run_until + window_margin(th, opts.timestep))
-            rungs.append(Rung(k, rung.rpartition(":")[2], cause, "ok", o, t, label(o, t), wall_time=time.perf_counter() - t0))
+            o, t = _run(
+                rung,
+                spec=spec,
+                rod=rod,
+                state=state,
+                mu=mu,
+                alpha=alpha,
+                opts=opts,
+                th=th,
+                t_analytic=run_until,
+                t_engine=run_until + window_margin(th, opts.timestep),
+            )
+            rungs.append(
+                Rung(k, rung.rpartition(":")[2], cause, "ok", o, t, label(o, t), wall_time=time.perf_counter() - t0)
+            )
         except Exception as e:  # noqa: BLE001 - a failing rung is reported, the ladder goes on
-            rungs.append(Rung(k, rung.rpartition(":")[2], cause, "failed", detail=f"{type(e).__name__}: {e}", wall_time=time.perf_counter() - t0))
+            rungs.append(
+                Rung(
+                    k,
+                    rung.rpartition(":")[2],
+                    cause,
+                    "failed",
+                    detail=f"{type(e).__name__}: {e}",
+                    wall_time=time.perf_counter() - t0,
+                )
+            )
     return until, lag, rungs
 
 
@@ -253,6 +333,9 @@ def detour(labels, reference) -> tuple[int, int | None] | None:
     first = labels[0]
     for k in range(1, len(labels)):
         if labels[k] is not None and labels[k] not in (first, reference):
-            j = next((i for i in range(k + 1, len(labels)) if labels[i] is not None and labels[i] in (first, reference)), None)
+            j = next(
+                (i for i in range(k + 1, len(labels)) if labels[i] is not None and labels[i] in (first, reference)),
+                None,
+            )
             return k, j
     return None

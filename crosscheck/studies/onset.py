@@ -22,8 +22,17 @@ from crosscheck.state import SlipState
 __all__ = ["liftoff_onset"]
 
 
-def liftoff_onset(rod: Rod, mu: float, *, engine: str = engines.DEFAULT, rounds: int = 5, n: int = 33, half_width: float = 1e-3,
-                  horizon: float = 0.03, **options) -> tuple[float, float]:
+def liftoff_onset(
+    rod: Rod,
+    mu: float,
+    *,
+    engine: str = engines.DEFAULT,
+    rounds: int = 5,
+    n: int = 33,
+    half_width: float = 1e-3,
+    horizon: float = 0.03,
+    **options,
+) -> tuple[float, float]:
     """Smallest Psi at which ``engine`` lifts off at t = 0 from theta_L, Theta = 0, varphi = -pi/2.
 
     Bisection on grids of n values of Psi (``rounds`` times), starting from

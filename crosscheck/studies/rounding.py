@@ -32,7 +32,9 @@ def ulp_shifted(x: float, k: int) -> float:
     return x
 
 
-def ulp_sensitivity(engine: str, states: list[SlipState], mu, *, alpha: float = 3.0, horizon: float = 2.0, ulps=ULPS, **options) -> dict:
+def ulp_sensitivity(
+    engine: str, states: list[SlipState], mu, *, alpha: float = 3.0, horizon: float = 2.0, ulps=ULPS, **options
+) -> dict:
     """Each start's outcome at theta and at theta moved by each of ``ulps``; the starts whose outcome changes.
 
     Returns {"n", "changed" (count), "changed_index" (list), "outcomes" ({shift: [names]})}.
@@ -49,5 +51,9 @@ def ulp_sensitivity(engine: str, states: list[SlipState], mu, *, alpha: float = 
     changed = np.zeros(len(states), bool)
     for k in ulps:
         changed |= outcomes[k] != base
-    return {"n": len(states), "changed": int(changed.sum()), "changed_index": np.flatnonzero(changed).tolist(),
-            "outcomes": {str(k): [Outcome(int(o)).name for o in v] for k, v in outcomes.items()}}
+    return {
+        "n": len(states),
+        "changed": int(changed.sum()),
+        "changed_index": np.flatnonzero(changed).tolist(),
+        "outcomes": {str(k): [Outcome(int(o)).name for o in v] for k, v in outcomes.items()},
+    }

@@ -67,8 +67,19 @@ from crosscheck.studies.grids import random_event_points
 from crosscheck.studies.jams import jam_check
 from crosscheck.studies.onset import liftoff_onset
 
-__all__ = ["names", "default_states", "validate", "contact_events", "DEFAULT_STATES", "ALPHA", "MUS_ONSET",
-           "MUS_BELOW", "RIGID_JAM_WINDOW", "PARTS", "parts_of"]
+__all__ = [
+    "names",
+    "default_states",
+    "validate",
+    "contact_events",
+    "DEFAULT_STATES",
+    "ALPHA",
+    "MUS_ONSET",
+    "MUS_BELOW",
+    "RIGID_JAM_WINDOW",
+    "PARTS",
+    "parts_of",
+]
 
 #: Random states of the event agreement without ``--states`` (~1 min on 2 cores for MuJoCo's whole validation).
 DEFAULT_STATES = 300
@@ -103,7 +114,9 @@ def default_states(name: str) -> int:
 
 def _known(name: str) -> None:
     if name not in names():
-        raise ValueError(f"engine must be one of {', '.join(names())} (engines with validation tolerances); got {name!r}")
+        raise ValueError(
+            f"engine must be one of {', '.join(names())} (engines with validation tolerances); got {name!r}"
+        )
 
 
 def _count_stat(quantity: str, got, tolerance, states: dict) -> ErrorStat:
@@ -111,8 +124,14 @@ def _count_stat(quantity: str, got, tolerance, states: dict) -> ErrorStat:
     return error_stat(quantity, got, np.zeros_like(got), tolerance, states)
 
 
-def contact_events(engine: str, n_states: int, rng: np.random.Generator, *, progress: bool = False,
-                   jam_states: tuple[int, int] | None = None) -> ValidationResult:
+def contact_events(
+    engine: str,
+    n_states: int,
+    rng: np.random.Generator,
+    *,
+    progress: bool = False,
+    jam_states: tuple[int, int] | None = None,
+) -> ValidationResult:
     """The contact-event checks of the module docstring for ``engine``; the event agreement on ``n_states`` random states.
 
     ``jam_states``: (random states per mu below mu_P, Corollary 4.2 states per mu above it); by default
@@ -133,43 +152,86 @@ def contact_events(engine: str, n_states: int, rng: np.random.Generator, *, prog
         stats.extend(E.checks(rod, n_states, rng))
 
     onsets = [liftoff_onset(rod, m, engine=engine) for m in MUS_ONSET]
-    stats.append(error_stat("lift-off onset Psi", [o for o, _ in onsets], [float(Psi_L)] * len(onsets), T["liftoff_onset"],
-                            {"mu": np.array(MUS_ONSET), "resolution": np.array([r for _, r in onsets])}))
+    stats.append(
+        error_stat(
+            "lift-off onset Psi",
+            [o for o, _ in onsets],
+            [float(Psi_L)] * len(onsets),
+            T["liftoff_onset"],
+            {"mu": np.array(MUS_ONSET), "resolution": np.array([r for _, r in onsets])},
+        )
+    )
 
     points = random_event_points(n_states, rng)
-    study = agreement_study(points, engine=engine, alpha=ALPHA, horizon=DEFAULT_HORIZON, rng=rng, boundary_directions=0, progress=progress)
+    study = agreement_study(
+        points, engine=engine, alpha=ALPHA, horizon=DEFAULT_HORIZON, rng=rng, boundary_directions=0, progress=progress
+    )
     run = study.runs[0]
     where_c = {"n_rated": np.array([run.n_rated])}
-    stats.append(error_stat("event disagreement", [1.0 - run.agreement_jam_as_stop], [0.0], T["event_disagreement"], where_c))
-    stats.append(error_stat("median |event time difference|", [run.median_abs_time_difference], [0.0], T["event_time"], where_c))
+    stats.append(
+        error_stat("event disagreement", [1.0 - run.agreement_jam_as_stop], [0.0], T["event_disagreement"], where_c)
+    )
+    stats.append(
+        error_stat("median |event time difference|", [run.median_abs_time_difference], [0.0], T["event_time"], where_c)
+    )
     extra["event_agreement"] = {
         "n_states": n_states,
         "horizon": DEFAULT_HORIZON,
         "analytic_outcomes": {o.name: int((study.analytic.outcome[study.index] == o).sum()) for o in Outcome},
-        "runs": [{k: v for k, v in r.summary().items() if k not in ("time_difference", "time_difference_outcome", "by_distance")}
-                 for r in study.runs],
+        "runs": [
+            {
+                k: v
+                for k, v in r.summary().items()
+                if k not in ("time_difference", "time_difference_outcome", "by_distance")
+            }
+            for r in study.runs
+        ],
         "convergence_row": convergence_table(study),
     }
 
     rigid = E.options().contact_time == 0.0
     n_below, n_above = jam_states or (max(20, n_states // 5), max(30, n_states // 10))
-    jc = jam_check(engine=engine, mus_below=MUS_BELOW, n_below=n_below, n_above=n_above, rng=rng,
-                   near_window=RIGID_JAM_WINDOW if rigid else 0.15, progress=progress)
+    jc = jam_check(
+        engine=engine,
+        mus_below=MUS_BELOW,
+        n_below=n_below,
+        n_above=n_above,
+        rng=rng,
+        near_window=RIGID_JAM_WINDOW if rigid else 0.15,
+        progress=progress,
+    )
     p_jam = Thresholds().jam_p_eff
     decidable = [row for row in jc.below if p_min(row["mu"], ALPHA) > p_jam]
-    stats.append(_count_stat("jams below mu_P", [row["n_jam"] for row in decidable], T["no_jam_below_mu_P"],
-                             {"mu": np.array([row["mu"] for row in decidable]), "n": np.array([row["n"] for row in decidable])}))
+    stats.append(
+        _count_stat(
+            "jams below mu_P",
+            [row["n_jam"] for row in decidable],
+            T["no_jam_below_mu_P"],
+            {"mu": np.array([row["mu"] for row in decidable]), "n": np.array([row["n"] for row in decidable])},
+        )
+    )
     # pooled over the mu values: the fraction is a binomial estimate, sd ~0.05 at 90 states
     n_above = sum(row["n"] for row in jc.above)
     ended = sum(row["n"] * row["ended_near_fraction"] for row in jc.above)
-    stats.append(error_stat("Corollary 4.2 slip not ended", [1.0 - ended / n_above], [0.0], T["corollary_stop"], {"n": np.array([n_above])}))
+    stats.append(
+        error_stat(
+            "Corollary 4.2 slip not ended",
+            [1.0 - ended / n_above],
+            [0.0],
+            T["corollary_stop"],
+            {"n": np.array([n_above])},
+        )
+    )
     extra["corollary_jam_fraction"] = sum(row["n"] * row["near_fraction"]["JAM"] for row in jc.above) / n_above
     extra["jams"] = jc.to_dict()
     extra["jams"]["asserted_below"] = [row["mu"] for row in decidable]
     extra["jams"]["near_mu_P_not_asserted"] = {
         "why": f"p_min(mu) <= jam_p_eff = {p_jam}: the JAM rule cannot tell a jam from a hard slip there",
-        "rows": [{"mu": row["mu"], "p_min": float(p_min(row["mu"], ALPHA)), "n": row["n"], "jams": row["n_jam"]}
-                 for row in jc.below if row not in decidable],
+        "rows": [
+            {"mu": row["mu"], "p_min": float(p_min(row["mu"], ALPHA)), "n": row["n"], "jams": row["n_jam"]}
+            for row in jc.below
+            if row not in decidable
+        ],
     }
     extra["tolerances"] = {k: v.as_dict() for k, v in T.items()}
     return ValidationResult(engine=engine, stats=stats, extra=extra)
@@ -185,7 +247,9 @@ def parts_of(name: str) -> tuple[str, ...]:
     return tuple(p for p in PARTS if (p == "dynamics" and E.dynamics) or (p == "events" and E.tolerances is not None))
 
 
-def validate(name: str, n_states: int, rng: np.random.Generator, *, progress: bool = False, checks=PARTS) -> ValidationResult:
+def validate(
+    name: str, n_states: int, rng: np.random.Generator, *, progress: bool = False, checks=PARTS
+) -> ValidationResult:
     """Every check ``name`` has among ``checks`` (dynamics terms, then contact events), as one ``ValidationResult``."""
     _known(name)
     checks = tuple(checks)
@@ -197,9 +261,13 @@ def validate(name: str, n_states: int, rng: np.random.Generator, *, progress: bo
     if E.dynamics and "dynamics" in checks:
         parts.append(importlib.import_module(E.dynamics).validate(n_states, rng, progress=progress))
     if E.tolerances is not None and "events" in checks:
-        parts.append(contact_events(name, min(n_states, DEFAULT_STATES) if E.dynamics else n_states, rng, progress=progress))
+        parts.append(
+            contact_events(name, min(n_states, DEFAULT_STATES) if E.dynamics else n_states, rng, progress=progress)
+        )
     if not parts:
-        raise ValueError(f"checks must include a part {name} has ({', '.join(parts_of(name))}); got {', '.join(checks) or 'none'}")
+        raise ValueError(
+            f"checks must include a part {name} has ({', '.join(parts_of(name))}); got {', '.join(checks) or 'none'}"
+        )
     if len(parts) == 1:
         return parts[0]
     extra = {}

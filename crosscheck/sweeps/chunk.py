@@ -22,7 +22,17 @@ __all__ = ["compute_chunk", "RESULT_COLUMNS", "result_columns"]
 #: Per-run result columns (besides the inputs) of every engine: the outcome's name, times (scaled; NaN
 #: where none), the JAM's own p and impulse, and the wall time per run (the chunk's engine time over its
 #: runs; the one column that differs between runs).
-RESULT_COLUMNS = ("engine", "outcome", "event_time", "exit_time", "diverged_time", "jam_p_eff", "jam_impulse", "chunk", "wall_time")
+RESULT_COLUMNS = (
+    "engine",
+    "outcome",
+    "event_time",
+    "exit_time",
+    "diverged_time",
+    "jam_p_eff",
+    "jam_impulse",
+    "chunk",
+    "wall_time",
+)
 
 
 def result_columns(engine: str) -> tuple[str, ...]:
@@ -48,7 +58,12 @@ def _analytic(cols: dict, horizon: float) -> dict:
     from crosscheck.theory.slipping import slip_until_event
 
     n = len(cols["run"])
-    out = {"outcome": np.empty(n, object), "event_time": np.full(n, np.nan), "exit_time": np.full(n, np.nan), "jam_impulse": np.full(n, np.nan)}
+    out = {
+        "outcome": np.empty(n, object),
+        "event_time": np.full(n, np.nan),
+        "exit_time": np.full(n, np.nan),
+        "jam_impulse": np.full(n, np.nan),
+    }
     for i in range(n):
         s = _state(cols, i)
         mu, alpha = float(cols["mu"][i]), float(cols["alpha"][i])
@@ -89,8 +104,15 @@ def _engine(spec: Spec, cols: dict, warnings: dict) -> dict:
         alpha, opts = float(key[0]), dict(zip(keys[1:], key[1:]))
         opts = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in opts.items()}
         states = [_state(cols, i) for i in idx]
-        r = E.sweep(Rod.scaled(alpha), states, np.asarray(cols["mu"], float)[idx], horizon=spec.horizon, progress=False,
-                    **opts, **E.one_core)
+        r = E.sweep(
+            Rod.scaled(alpha),
+            states,
+            np.asarray(cols["mu"], float)[idx],
+            horizon=spec.horizon,
+            progress=False,
+            **opts,
+            **E.one_core,
+        )
         out["outcome"][idx] = [Outcome(int(o)).name for o in r.outcome]
         for kind, count in r.warnings.items():
             warnings[kind] = warnings.get(kind, 0) + int(count)
@@ -113,7 +135,11 @@ def compute_chunk(spec: Spec, chunk_id: int, *, warnings: dict | None = None) ->
     cols = spec.runs(chunk_id)
     n = len(cols["run"])
     t0 = time.perf_counter()
-    res = _analytic(cols, spec.horizon) if spec.engine == ANALYTIC else _engine(spec, cols, {} if warnings is None else warnings)
+    res = (
+        _analytic(cols, spec.horizon)
+        if spec.engine == ANALYTIC
+        else _engine(spec, cols, {} if warnings is None else warnings)
+    )
     wall = (time.perf_counter() - t0) / max(n, 1)
     out = dict(cols)
     out["engine"] = np.full(n, spec.engine, object)

@@ -52,20 +52,33 @@ class Comparison:
 
     def as_dict(self) -> dict:
         fin = lambda x: None if isinstance(x, float) and not math.isfinite(x) else x  # noqa: E731
-        return {"a": self.a, "b": self.b, "n": self.n, "labels": _NAMES, "confusion": self.confusion.tolist(), "agreement": fin(self.agreement),
-                "agreement_95": [fin(x) for x in self.interval], "time_difference": self.time_difference, "n_disagreeing": len(self.disagreeing)}
+        return {
+            "a": self.a,
+            "b": self.b,
+            "n": self.n,
+            "labels": _NAMES,
+            "confusion": self.confusion.tolist(),
+            "agreement": fin(self.agreement),
+            "agreement_95": [fin(x) for x in self.interval],
+            "time_difference": self.time_difference,
+            "n_disagreeing": len(self.disagreeing),
+        }
 
     def table(self) -> str:
         used = [i for i in range(len(_NAMES)) if self.confusion[i].sum() or self.confusion[:, i].sum()]
         w = max(8, *(len(_NAMES[i]) for i in used))
         corner = "A \\ B"
-        lines = [f"{self.b} against {self.a}: {self.n} runs, agreement {self.agreement:.3f} (95 % CI {self.interval[0]:.3f}-{self.interval[1]:.3f})",
-                 f"{corner:>{w}} " + " ".join(f"{_NAMES[j]:>{w}}" for j in used)]
+        lines = [
+            f"{self.b} against {self.a}: {self.n} runs, agreement {self.agreement:.3f} (95 % CI {self.interval[0]:.3f}-{self.interval[1]:.3f})",
+            f"{corner:>{w}} " + " ".join(f"{_NAMES[j]:>{w}}" for j in used),
+        ]
         for i in used:
             lines.append(f"{_NAMES[i]:>{w}} " + " ".join(f"{int(self.confusion[i, j]):>{w}d}" for j in used))
         for ev, d in self.time_difference.items():
             if d["n"]:
-                lines.append(f"{ev}: {d['n']} shared, t_B - t_A median {d['median']:+.3g}, median |.| {d['median_abs']:.3g}, 95th pct |.| {d['p95_abs']:.3g}")
+                lines.append(
+                    f"{ev}: {d['n']} shared, t_B - t_A median {d['median']:+.3g}, median |.| {d['median_abs']:.3g}, 95th pct |.| {d['p95_abs']:.3g}"
+                )
         lines.append(f"{len(self.disagreeing)} runs disagree")
         return "\n".join(lines)
 
@@ -74,10 +87,14 @@ def compare_frames(a, b, *, name_a: str = "A", name_b: str = "B") -> Comparison:
     """Compare two sweep tables (``crosscheck.sweeps.load``) matched on ``KEYS``."""
     for df, name in ((a, name_a), (b, name_b)):
         if df.duplicated(list(KEYS)).any():
-            raise ValueError(f"{name} has several runs per input (an option swept); compare needs one: filter its table and use compare_frames")
+            raise ValueError(
+                f"{name} has several runs per input (an option swept); compare needs one: filter its table and use compare_frames"
+            )
     j = a.merge(b, on=list(KEYS), suffixes=("_a", "_b"))
     if not len(j):
-        raise ValueError(f"{name_a} and {name_b} share no runs (no equal theta, varphi, Theta, Psi, eta, psi, mu, alpha)")
+        raise ValueError(
+            f"{name_a} and {name_b} share no runs (no equal theta, varphi, Theta, Psi, eta, psi, mu, alpha)"
+        )
     oa = np.array([Outcome[o] for o in j["outcome_a"]], int)
     ob = np.array([Outcome[o] for o in j["outcome_b"]], int)
     conf = np.zeros((len(_NAMES), len(_NAMES)), int)
@@ -88,15 +105,28 @@ def compare_frames(a, b, *, name_a: str = "A", name_b: str = "B") -> Comparison:
     for ev in (Outcome.LIFTOFF, Outcome.STICK, Outcome.JAM):
         s = agree & (oa == ev)
         d = (j["event_time_b"] - j["event_time_a"]).to_numpy()[s]
-        td[ev.name] = {"n": int(s.sum()), "median": float(np.median(d)) if s.any() else None,
-                       "median_abs": float(np.median(np.abs(d))) if s.any() else None,
-                       "p95_abs": float(np.percentile(np.abs(d), 95)) if s.any() else None}
+        td[ev.name] = {
+            "n": int(s.sum()),
+            "median": float(np.median(d)) if s.any() else None,
+            "median_abs": float(np.median(np.abs(d))) if s.any() else None,
+            "p95_abs": float(np.percentile(np.abs(d), 95)) if s.any() else None,
+        }
     cols = [*KEYS, "outcome_a", "event_time_a", "outcome_b", "event_time_b"]
-    return Comparison(a=name_a, b=name_b, n=n, confusion=conf, agreement=k / n, interval=wilson_interval(k, n), time_difference=td,
-                      disagreeing=j.loc[~agree, cols].reset_index(drop=True))
+    return Comparison(
+        a=name_a,
+        b=name_b,
+        n=n,
+        confusion=conf,
+        agreement=k / n,
+        interval=wilson_interval(k, n),
+        time_difference=td,
+        disagreeing=j.loc[~agree, cols].reset_index(drop=True),
+    )
 
 
-def compare_stores(dir_a: str | Path, dir_b: str | Path, *, out: str | Path | None = None) -> tuple[Comparison, list[Path]]:
+def compare_stores(
+    dir_a: str | Path, dir_b: str | Path, *, out: str | Path | None = None
+) -> tuple[Comparison, list[Path]]:
     """Compare the sweeps in two stores; write ``<out>.json`` (summary) and ``<out>-disagreeing.csv``.
 
     ``out`` defaults to ``<dir_b>/compare-<name of dir_a>``.  Returns the comparison and the files written.
@@ -110,10 +140,14 @@ def compare_stores(dir_a: str | Path, dir_b: str | Path, *, out: str | Path | No
         except OSError as e:  # a name the file system refuses (too long)
             store, d = False, f"{str(d)[:60]}... ({e.strerror})"
         if not store:
-            raise ValueError(f"{name} must be a sweep store (a directory with the manifest.json of crosscheck sweep); got {str(d)!r}")
+            raise ValueError(
+                f"{name} must be a sweep store (a directory with the manifest.json of crosscheck sweep); got {str(d)!r}"
+            )
     c = compare_frames(load(dir_a), load(dir_b), name_a=str(dir_a), name_b=str(dir_b))
     if out is not None and (not str(out).strip() or str(out).endswith("/")):
-        raise ValueError(f"out must be a file name prefix (the JSON and CSV are <out>.json and <out>-disagreeing.csv); got {str(out)!r}")
+        raise ValueError(
+            f"out must be a file name prefix (the JSON and CSV are <out>.json and <out>-disagreeing.csv); got {str(out)!r}"
+        )
     out = Path(out) if out is not None else dir_b / f"compare-{dir_a.resolve().name}"
     js, csv = out.with_name(out.name + ".json"), out.with_name(out.name + "-disagreeing.csv")
     from crosscheck.report.store import write_atomic
@@ -121,7 +155,9 @@ def compare_stores(dir_a: str | Path, dir_b: str | Path, *, out: str | Path | No
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
     except OSError as e:
-        raise ValueError(f"out must be in a writable directory; cannot create {str(out.parent)[:200]!r}: {e.strerror or e}") from None
+        raise ValueError(
+            f"out must be in a writable directory; cannot create {str(out.parent)[:200]!r}: {e.strerror or e}"
+        ) from None
     # through a temporary file each: a full disk or a refused path is one line, and no half-written file stays
     write_atomic(js, (json.dumps(c.as_dict(), indent=1) + "\n").encode())
     write_atomic(csv, c.disagreeing.to_csv(index=False).encode())

@@ -53,8 +53,10 @@ class SweepSummary:
         return self.computed_runs / self.seconds if self.seconds > 0 else float("nan")
 
     def __str__(self) -> str:
-        s = (f"sweep {self.out}: {self.n_chunks} chunks ({self.n_runs} runs): {len(self.reused)} reused, {len(self.computed)} computed, "
-             f"{len(self.failed)} failed, {self.seconds:.1f} s")
+        s = (
+            f"sweep {self.out}: {self.n_chunks} chunks ({self.n_runs} runs): {len(self.reused)} reused, {len(self.computed)} computed, "
+            f"{len(self.failed)} failed, {self.seconds:.1f} s"
+        )
         for cid, err in sorted(self.failed.items())[:5]:
             s += f"\n  chunk {cid} failed: {err}"
         if len(self.failed) > 5:
@@ -113,8 +115,10 @@ def check_scheduler(scheduler) -> str | None:
     m = _ADDRESS.match(scheduler) if isinstance(scheduler, str) else None
     if m is None or not 1 <= int(m.group(2)) <= 65535:
         shown = repr(scheduler) if not isinstance(scheduler, str) or len(scheduler) <= 80 else f"{scheduler[:60]!r}..."
-        raise ValueError(f"scheduler must be 'local' or a Dask scheduler address tcp://host:port (host a name, an IPv4 or an [IPv6] "
-                         f"address, port in [1, 65535]); got {shown}")
+        raise ValueError(
+            f"scheduler must be 'local' or a Dask scheduler address tcp://host:port (host a name, an IPv4 or an [IPv6] "
+            f"address, port in [1, 65535]); got {shown}"
+        )
     return scheduler
 
 
@@ -129,8 +133,10 @@ def check_reachable(scheduler: str | None, timeout: float = CONNECT_TIMEOUT) -> 
         with socket.create_connection((host.strip("[]"), int(port)), timeout=timeout):
             pass
     except OSError as e:
-        raise ValueError(f"scheduler must be a reachable Dask scheduler; nothing accepts connections at {scheduler!r} "
-                         f"({e.strerror or e or 'no answer'}; waited at most {timeout:g} s)") from None
+        raise ValueError(
+            f"scheduler must be a reachable Dask scheduler; nothing accepts connections at {scheduler!r} "
+            f"({e.strerror or e or 'no answer'}; waited at most {timeout:g} s)"
+        ) from None
     return scheduler
 
 
@@ -140,7 +146,9 @@ def _client(target, scheduler: str):
     try:
         return Client(target, timeout=CONNECT_TIMEOUT)
     except (OSError, TimeoutError) as e:
-        raise ValueError(f"scheduler must be a reachable Dask scheduler; cannot connect to {scheduler!r} in {CONNECT_TIMEOUT:g} s ({e})") from None
+        raise ValueError(
+            f"scheduler must be a reachable Dask scheduler; cannot connect to {scheduler!r} in {CONNECT_TIMEOUT:g} s ({e})"
+        ) from None
 
 
 def _results(spec: Spec, todo: list[int], workers: int, scheduler: str | None):
@@ -148,11 +156,18 @@ def _results(spec: Spec, todo: list[int], workers: int, scheduler: str | None):
     if scheduler is not None:
         from distributed import LocalCluster, as_completed
 
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) if scheduler == "local" else None
+        cluster = (
+            LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
+            if scheduler == "local"
+            else None
+        )
         try:
             with _client(cluster if cluster is not None else scheduler, scheduler) as client:
                 spec_f = client.scatter(spec, broadcast=True)
-                futures = {client.submit(_timed_chunk, spec_f, c, pure=False, key=f"chunk-{spec.digest[:8]}-{c}"): c for c in todo}
+                futures = {
+                    client.submit(_timed_chunk, spec_f, c, pure=False, key=f"chunk-{spec.digest[:8]}-{c}"): c
+                    for c in todo
+                }
                 for fut in as_completed(futures):
                     c = futures[fut]
                     try:
@@ -184,8 +199,15 @@ def _results(spec: Spec, todo: list[int], workers: int, scheduler: str | None):
                 yield c, e
 
 
-def run(spec: Spec | str | Path, out: str | Path, *, workers: int | None = None, scheduler: str | None = None, fresh: bool = False,
-        progress: bool | None = None) -> SweepSummary:
+def run(
+    spec: Spec | str | Path,
+    out: str | Path,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    fresh: bool = False,
+    progress: bool | None = None,
+) -> SweepSummary:
     """Run the sweep ``spec`` (a ``Spec`` or a TOML path) into the store ``out``, resuming what is there.
 
     ``progress``: None or True shows a bar over chunks (runs/s, ETA) on a

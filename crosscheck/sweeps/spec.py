@@ -62,14 +62,27 @@ AXES = ("theta", "varphi", "Theta", "Psi", "eta")
 #: The engine name of the analytic reference (the first event of ``slip_until_event``).
 ANALYTIC = "analytic"
 
-_TABLES = {"sweep": {"engine", "horizon", "seed", "chunk"}, "states": None, "parameters": {"mu", "alpha"}, "options": None}
+_TABLES = {
+    "sweep": {"engine", "horizon", "seed", "chunk"},
+    "states": None,
+    "parameters": {"mu", "alpha"},
+    "options": None,
+}
 
 
 class SpecError(ValueError):
     """An invalid spec: the message names the key, the value and what is allowed."""
 
 
-def _number(key: str, value: Any, *, low: float = -math.inf, high: float = math.inf, low_open: bool = False, integer: bool = False) -> float:
+def _number(
+    key: str,
+    value: Any,
+    *,
+    low: float = -math.inf,
+    high: float = math.inf,
+    low_open: bool = False,
+    integer: bool = False,
+) -> float:
     ok_type = isinstance(value, int) if integer else isinstance(value, (int, float))
     if isinstance(value, bool) or not ok_type:
         raise SpecError(f"{key} must be {'an integer' if integer else 'a number'}; got {value!r}")
@@ -100,9 +113,14 @@ def _values(key: str, value: Any, **limits) -> list[float]:
 
 # Where each state axis may lie (SlipState's domain), in scaled units.
 # (the same ranges as crosscheck.checks, which says where each bound comes from)
-_LIMITS = {"theta": dict(low=0.0, high=math.pi / 2, low_open=True), "varphi": dict(low=-math.pi, high=0.0, low_open=True),
-           "Theta": dict(low=-RATE_MAX, high=RATE_MAX), "Psi": dict(low=-RATE_MAX, high=RATE_MAX), "eta": dict(low=0.0, high=RATE_MAX, low_open=True),
-           "psi": dict(low=-PSI_MAX, high=PSI_MAX)}
+_LIMITS = {
+    "theta": dict(low=0.0, high=math.pi / 2, low_open=True),
+    "varphi": dict(low=-math.pi, high=0.0, low_open=True),
+    "Theta": dict(low=-RATE_MAX, high=RATE_MAX),
+    "Psi": dict(low=-RATE_MAX, high=RATE_MAX),
+    "eta": dict(low=0.0, high=RATE_MAX, low_open=True),
+    "psi": dict(low=-PSI_MAX, high=PSI_MAX),
+}
 _MU = dict(low=0.0, high=MU_MAX)
 _ALPHA = dict(low=ALPHA_MIN, high=ALPHA_MAX)
 
@@ -135,7 +153,9 @@ class Spec:
 
     @property
     def n_runs(self) -> int:
-        return self.n_states * (1 if self.mu_per_state else len(self.mu)) * len(self.alpha) * len(self.option_combinations)
+        return (
+            self.n_states * (1 if self.mu_per_state else len(self.mu)) * len(self.alpha) * len(self.option_combinations)
+        )
 
     @property
     def n_chunks(self) -> int:
@@ -151,13 +171,19 @@ class Spec:
         combos = self.option_combinations
         n_mu = 1 if self.mu_per_state else len(self.mu)
         n_inner = n_mu * len(self.alpha) * len(combos)
-        lo, hi = (0, self.n_runs) if chunk_id is None else (chunk_id * self.chunk, min((chunk_id + 1) * self.chunk, self.n_runs))
+        lo, hi = (
+            (0, self.n_runs)
+            if chunk_id is None
+            else (chunk_id * self.chunk, min((chunk_id + 1) * self.chunk, self.n_runs))
+        )
         idx = np.arange(lo, hi)
         i_state, rest = np.divmod(idx, n_inner)
         i_mu, rest = np.divmod(rest, len(self.alpha) * len(combos))
         i_alpha, i_combo = np.divmod(rest, len(combos))
         cols = {k: np.asarray(self.states[k], float)[i_state] for k in (*AXES, "psi")}
-        cols["mu"] = np.asarray(self.states["mu"], float)[i_state] if self.mu_per_state else np.asarray(self.mu, float)[i_mu]
+        cols["mu"] = (
+            np.asarray(self.states["mu"], float)[i_state] if self.mu_per_state else np.asarray(self.mu, float)[i_mu]
+        )
         cols["alpha"] = np.asarray(self.alpha, float)[i_alpha]
         for k in self.options:
             cols[k] = np.array([combos[c][k] for c in i_combo])
@@ -167,9 +193,16 @@ class Spec:
     @property
     def digest(self) -> str:
         """sha256 of the spec's content (its runs and settings), independent of the TOML's formatting."""
-        body = {"engine": self.engine, "horizon": self.horizon, "seed": self.seed, "chunk": self.chunk, "mu": self.mu, "alpha": self.alpha,
-                "options": {k: list(v) for k, v in self.options.items()},
-                "states": {k: np.asarray(v, float).tobytes().hex() for k, v in self.states.items()}}
+        body = {
+            "engine": self.engine,
+            "horizon": self.horizon,
+            "seed": self.seed,
+            "chunk": self.chunk,
+            "mu": self.mu,
+            "alpha": self.alpha,
+            "options": {k: list(v) for k, v in self.options.items()},
+            "states": {k: np.asarray(v, float).tobytes().hex() for k, v in self.states.items()},
+        }
         return hashlib.sha256(json.dumps(body, sort_keys=True).encode()).hexdigest()
 
 
@@ -190,7 +223,9 @@ def _check_tables(doc: dict) -> None:
         raise SpecError("the spec needs a [states] table")
     zipped_mu = doc["states"].get("zip") is True and "mu" in doc["states"]
     if zipped_mu == ("mu" in doc.get("parameters", {})):
-        raise SpecError("mu goes in [parameters] (or, with [states] zip = true, in [states]: one per state), not both or neither")
+        raise SpecError(
+            "mu goes in [parameters] (or, with [states] zip = true, in [states]: one per state), not both or neither"
+        )
 
 
 def _states(table: dict, seed: int, base: Path | None) -> dict[str, np.ndarray]:
@@ -215,18 +250,24 @@ def _states(table: dict, seed: int, base: Path | None) -> dict[str, np.ndarray]:
         raise SpecError(f"[states] needs every axis {', '.join(AXES)}; missing {', '.join(missing)}")
     if table.get("zip", False) is not False:
         if table["zip"] is not True or "random" in table:
-            raise SpecError(f"states.zip must be true (lists of equal length, one state per position, mu among them if wanted) and excludes random; got {table['zip']!r}")
+            raise SpecError(
+                f"states.zip must be true (lists of equal length, one state per position, mu among them if wanted) and excludes random; got {table['zip']!r}"
+            )
         cols = {a: _values(f"states.{a}", table[a], **_LIMITS[a]) for a in AXES if a in table}
         for a, lim in (("psi", _LIMITS["psi"]), ("mu", _MU)):
             if a in table:
                 cols[a] = _values(f"states.{a}", table[a], **lim)
         n = {len(v) for v in cols.values()}
         if len(n) != 1:
-            raise SpecError(f"states with zip = true need lists of one length; got lengths {', '.join(f'{a} {len(v)}' for a, v in cols.items())}")
+            raise SpecError(
+                f"states with zip = true need lists of one length; got lengths {', '.join(f'{a} {len(v)}' for a, v in cols.items())}"
+            )
         cols.setdefault("psi", [0.0] * n.pop())
         return {a: np.asarray(v, float) for a, v in cols.items()}
     if "mu" in table:
-        raise SpecError("states.mu is allowed only with zip = true (one mu per listed state); otherwise mu goes in [parameters]")
+        raise SpecError(
+            "states.mu is allowed only with zip = true (one mu per listed state); otherwise mu goes in [parameters]"
+        )
     if "random" in table:
         n = _number("states.random", table["random"], low=1, high=MAX_STATES, integer=True)
         rng = np.random.default_rng([seed, 0])  # the states' own stream; chunks draw from (seed, 1 + chunk id)
@@ -236,7 +277,10 @@ def _states(table: dict, seed: int, base: Path | None) -> dict[str, np.ndarray]:
             if isinstance(v, dict):
                 if set(v) != {"low", "high"}:
                     raise SpecError(f"states.{a} of random states must be a scalar or {{low, high}}; got {v!r}")
-                lo, hi = _number(f"states.{a}.low", v["low"], **_LIMITS[a]), _number(f"states.{a}.high", v["high"], **_LIMITS[a])
+                lo, hi = (
+                    _number(f"states.{a}.low", v["low"], **_LIMITS[a]),
+                    _number(f"states.{a}.high", v["high"], **_LIMITS[a]),
+                )
                 if not lo < hi:
                     raise SpecError(f"states.{a} must have low < high; got low = {lo!r}, high = {hi!r}")
                 cols[a] = rng.uniform(lo, hi, n)
@@ -246,7 +290,9 @@ def _states(table: dict, seed: int, base: Path | None) -> dict[str, np.ndarray]:
     axes = {a: _values(f"states.{a}", table.get(a, 0.0), **_LIMITS[a]) for a in (*AXES, "psi")}
     n = math.prod(len(v) for v in axes.values())
     if n > MAX_STATES:
-        raise SpecError(f"[states] grid must have at most {MAX_STATES} states; got {' x '.join(str(len(v)) for v in axes.values())} = {n}")
+        raise SpecError(
+            f"[states] grid must have at most {MAX_STATES} states; got {' x '.join(str(len(v)) for v in axes.values())} = {n}"
+        )
     grid = np.array(list(itertools.product(*(axes[a] for a in (*AXES, "psi")))), float)
     return {a: grid[:, i].copy() for i, a in enumerate((*AXES, "psi"))}
 
@@ -264,38 +310,56 @@ def _read_states_file(path: Path) -> dict[str, np.ndarray]:
         if not path.is_file():  # also refuses a FIFO or a device, which would block or never end
             raise SpecError(f"states.file must be a readable CSV file; got {str(path)!r}")
         if path.stat().st_size > MAX_STATES_FILE_BYTES:
-            raise SpecError(f"states.file must be at most {MAX_STATES_FILE_BYTES} bytes; {str(path)!r} has {path.stat().st_size}")
+            raise SpecError(
+                f"states.file must be at most {MAX_STATES_FILE_BYTES} bytes; {str(path)!r} has {path.stat().st_size}"
+            )
         raw = path.read_bytes()
     except OSError as e:
         raise SpecError(f"states.file must be a readable CSV file; got {str(path)!r} ({e.strerror or e})") from None
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as e:
-        raise SpecError(f"states.file must be a readable UTF-8 CSV file; {str(path)!r} has the byte 0x{raw[e.start]:02x} at byte {e.start + 1}") from None
+        raise SpecError(
+            f"states.file must be a readable UTF-8 CSV file; {str(path)!r} has the byte 0x{raw[e.start]:02x} at byte {e.start + 1}"
+        ) from None
     if "\0" in text:
-        raise SpecError(f"states.file must be a readable CSV text file; {str(path)!r} has the byte 0x00 at byte {text.index(chr(0)) + 1}")
+        raise SpecError(
+            f"states.file must be a readable CSV text file; {str(path)!r} has the byte 0x00 at byte {text.index(chr(0)) + 1}"
+        )
     rows = [r for r in csv.reader(io.StringIO(text, newline="")) if r and any(c.strip() for c in r)]
     if not rows:
-        raise SpecError(f"states.file must be a CSV file with a header row ({', '.join(AXES)}[, psi]) and one row per state; {str(path)!r} is empty")
+        raise SpecError(
+            f"states.file must be a CSV file with a header row ({', '.join(AXES)}[, psi]) and one row per state; {str(path)!r} is empty"
+        )
     header = [c.strip() for c in rows[0]]
     allowed = (*AXES, "psi")
     for c in header:
         if c not in allowed:
-            raise SpecError(f"states.file must have only the columns ({', '.join(allowed)}) separated by commas; {str(path)!r} has {c[:40]!r}")
+            raise SpecError(
+                f"states.file must have only the columns ({', '.join(allowed)}) separated by commas; {str(path)!r} has {c[:40]!r}"
+            )
         if header.count(c) > 1:
-            raise SpecError(f"states.file must have each column ({', '.join(allowed)}) once; {str(path)!r} has {c!r} {header.count(c)} times")
+            raise SpecError(
+                f"states.file must have each column ({', '.join(allowed)}) once; {str(path)!r} has {c!r} {header.count(c)} times"
+            )
     missing = [a for a in AXES if a not in header]
     if missing:
-        raise SpecError(f"states.file must have the columns {', '.join(AXES)}; {str(path)!r} lacks {', '.join(missing)}")
+        raise SpecError(
+            f"states.file must have the columns {', '.join(AXES)}; {str(path)!r} lacks {', '.join(missing)}"
+        )
     body = rows[1:]
     if not body:
-        raise SpecError(f"states.file must be a CSV file with a header row ({', '.join(AXES)}[, psi]) and one row per state; {str(path)!r} has no states")
+        raise SpecError(
+            f"states.file must be a CSV file with a header row ({', '.join(AXES)}[, psi]) and one row per state; {str(path)!r} has no states"
+        )
     if len(body) > MAX_STATES:
         raise SpecError(f"states.file must have at most {MAX_STATES} states; {str(path)!r} has {len(body)}")
     cols = {c: np.empty(len(body)) for c in header}
     for i, r in enumerate(body):
         if len(r) != len(header):
-            raise SpecError(f"states.file must have one value per column in every row ({len(header)}: {', '.join(header)}); {str(path)!r} row {i + 1} has {len(r)}")
+            raise SpecError(
+                f"states.file must have one value per column in every row ({len(header)}: {', '.join(header)}); {str(path)!r} row {i + 1} has {len(r)}"
+            )
         for c, cell in zip(header, r):
             cols[c][i] = _cell(f"states.file row {i + 1} {c}", cell)
     out = {a: cols[a] for a in AXES}
@@ -349,7 +413,9 @@ def _options(engine: str, table: dict, horizon: float | None = None) -> dict[str
             except ValueError as e:
                 raise SpecError(f"options.{k}: {e}") from None
             except TypeError:
-                raise SpecError(f"options.{k} must be a value of {engine}'s option {k} (or a list of them); got {x!r}") from None
+                raise SpecError(
+                    f"options.{k} must be a value of {engine}'s option {k} (or a list of them); got {x!r}"
+                ) from None
         out[k] = tuple(vals)
     # each combination a chunk will run, checked now (options that bound each other: MuJoCo's timeconst >= 2 timestep)
     combos = itertools.product(*(out[k] for k in out))
@@ -361,7 +427,9 @@ def _options(engine: str, table: dict, horizon: float | None = None) -> dict[str
             raise SpecError(f"options {shown}: {e}") from None
         # every engine's run refuses a step longer than its horizon: refused here, before any chunk runs
         if horizon is not None and getattr(opts, "timestep", 0.0) > horizon:
-            raise SpecError(f"options {shown}: timestep must be in (0, sweep.horizon = {horizon:g}]; got {opts.timestep!r}")
+            raise SpecError(
+                f"options {shown}: timestep must be in (0, sweep.horizon = {horizon:g}]; got {opts.timestep!r}"
+            )
     return out
 
 
@@ -388,7 +456,17 @@ def parse_spec(doc: dict, *, base: Path | None = None) -> Spec:
     mu = tuple(_values("parameters.mu", par["mu"], **_MU)) if "mu" in par else ()
     alpha = tuple(_values("parameters.alpha", par.get("alpha", 3.0), **_ALPHA))
     options = _options(engine, doc.get("options", {}), horizon)
-    return Spec(engine=engine, horizon=horizon, seed=seed, chunk=chunk, states=states, mu=mu, alpha=alpha, options=options, source=doc)
+    return Spec(
+        engine=engine,
+        horizon=horizon,
+        seed=seed,
+        chunk=chunk,
+        states=states,
+        mu=mu,
+        alpha=alpha,
+        options=options,
+        source=doc,
+    )
 
 
 #: The largest spec file read (a spec lists its states in a CSV file, not inline).
@@ -402,14 +480,18 @@ def load_spec(path: str | Path) -> Spec:
         if path.exists() and not path.is_file():  # a directory, a FIFO (which would block), a device
             raise SpecError(f"spec must be a readable TOML file; got {str(path)!r} (not a regular file)")
         if path.stat().st_size > MAX_SPEC_BYTES:
-            raise SpecError(f"spec must be a TOML file of at most {MAX_SPEC_BYTES} bytes; got {str(path)!r} ({path.stat().st_size} bytes)")
+            raise SpecError(
+                f"spec must be a TOML file of at most {MAX_SPEC_BYTES} bytes; got {str(path)!r} ({path.stat().st_size} bytes)"
+            )
         raw = path.read_bytes()
     except OSError as e:
         raise SpecError(f"spec must be a readable TOML file; got {str(path)!r} ({e.strerror or e})") from None
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as e:
-        raise SpecError(f"spec must be a readable UTF-8 TOML file; {str(path)!r} has the byte 0x{raw[e.start]:02x} at byte {e.start + 1}") from None
+        raise SpecError(
+            f"spec must be a readable UTF-8 TOML file; {str(path)!r} has the byte 0x{raw[e.start]:02x} at byte {e.start + 1}"
+        ) from None
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:

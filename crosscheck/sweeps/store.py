@@ -68,6 +68,7 @@ _SHA256 = re.compile(r"^[0-9a-f]{64}$")
 
 _REBUILD = "re-run the same crosscheck sweep command to rebuild it (its intact chunks are kept)"
 
+
 class StoreError(ValueError):
     """A store that cannot be used as asked (another writer, another spec, a damaged manifest)."""
 
@@ -139,8 +140,11 @@ def _version_change(recorded, now: dict) -> str:
     before, after = computing_versions(recorded), computing_versions(now)
     if before is None:
         return "versions that its manifest does not record"
-    return ", ".join(f"{k} {before.get(k) or 'absent'} (now {after.get(k) or 'absent'})" for k in sorted(set(before) | set(after))
-                     if before.get(k) != after.get(k))
+    return ", ".join(
+        f"{k} {before.get(k) or 'absent'} (now {after.get(k) or 'absent'})"
+        for k in sorted(set(before) | set(after))
+        if before.get(k) != after.get(k)
+    )
 
 
 def import_libraries() -> None:
@@ -170,8 +174,11 @@ class Store:
     @contextmanager
     def writer(self):
         """Hold the store's lock while writing; ``StoreError`` at once if another process holds it."""
+
         def refuse(holder: str) -> StoreError:
-            return StoreError(f"out {str(self.root)!r} is being written by {holder or 'another process'}; wait for it or use another directory")
+            return StoreError(
+                f"out {str(self.root)!r} is being written by {holder or 'another process'}; wait for it or use another directory"
+            )
 
         stack = ExitStack()
         try:
@@ -259,7 +266,9 @@ class Store:
         return rec
 
     def _write_manifest(self, m: dict) -> None:
-        body = {k: v for k, v in m.items() if k not in ("chunks", "failed", "damaged", "stray")}  # those live in the chunk records
+        body = {
+            k: v for k, v in m.items() if k not in ("chunks", "failed", "damaged", "stray")
+        }  # those live in the chunk records
         body["format"] = FORMAT
         body["updated"] = _now()
         body = json.loads(json.dumps(body, default=str))  # sealed as it will be read back
@@ -286,11 +295,20 @@ class Store:
             if m is None and rebuilt is None and self._is_store() and self.chunks.is_dir():
                 rebuilt = f"manifest {str(self.manifest_path)!r} is missing"
         if m is not None and m.get("spec_sha256") != spec.digest:
-            raise StoreError(f"out {str(self.root)!r} holds a different sweep (spec sha256 {m.get('spec_sha256', '?')[:12]}, this one "
-                             f"{spec.digest[:12]}); use --fresh to replace it or choose another directory")
+            raise StoreError(
+                f"out {str(self.root)!r} holds a different sweep (spec sha256 {m.get('spec_sha256', '?')[:12]}, this one "
+                f"{spec.digest[:12]}); use --fresh to replace it or choose another directory"
+            )
         if m is None:
-            if not fresh and rebuilt is None and self.root.exists() and any(p.name not in (".lock",) for p in self.root.iterdir()):
-                raise StoreError(f"out {str(self.root)!r} is not empty and has no sweep manifest; use --fresh to replace its sweep or choose another directory")
+            if (
+                not fresh
+                and rebuilt is None
+                and self.root.exists()
+                and any(p.name not in (".lock",) for p in self.root.iterdir())
+            ):
+                raise StoreError(
+                    f"out {str(self.root)!r} is not empty and has no sweep manifest; use --fresh to replace its sweep or choose another directory"
+                )
             if rebuilt is None:
                 if self.chunks.is_dir():
                     shutil.rmtree(self.chunks)
@@ -298,18 +316,35 @@ class Store:
                     self.chunks.unlink()
                 if fresh and self.manifest_path.exists():
                     self.manifest_path.unlink()
-            m = {"format": FORMAT, "spec": spec.source, "spec_sha256": spec.digest, "engine": spec.engine, "n_runs": spec.n_runs,
-                 "n_chunks": spec.n_chunks, "chunk": spec.chunk, "versions": versions(spec.engine), "created": _now(), "chunks": {}, "failed": {}}
+            m = {
+                "format": FORMAT,
+                "spec": spec.source,
+                "spec_sha256": spec.digest,
+                "engine": spec.engine,
+                "n_runs": spec.n_runs,
+                "n_chunks": spec.n_chunks,
+                "chunk": spec.chunk,
+                "versions": versions(spec.engine),
+                "created": _now(),
+                "chunks": {},
+                "failed": {},
+            }
             if rebuilt is not None:
                 other = self._other_sweep(spec.digest)
-                if other:  # only records naming this spec prove their chunks are of it; the others are not ours to delete
-                    raise StoreError(f"{rebuilt}, and {other} was not recorded for this spec; use --fresh to replace that sweep "
-                                     "or choose another directory")
+                if (
+                    other
+                ):  # only records naming this spec prove their chunks are of it; the others are not ours to delete
+                    raise StoreError(
+                        f"{rebuilt}, and {other} was not recorded for this spec; use --fresh to replace that sweep "
+                        "or choose another directory"
+                    )
                 self.manifest_path.unlink(missing_ok=True)
                 self._write_manifest(m)
                 m = self.read_manifest()
                 kept = len(m["chunks"])
-                warnings.warn(f"{rebuilt}; rebuilt from the spec, keeping the {kept} chunks recorded for it", stacklevel=2)
+                warnings.warn(
+                    f"{rebuilt}; rebuilt from the spec, keeping the {kept} chunks recorded for it", stacklevel=2
+                )
         try:
             self.chunks.mkdir(parents=True, exist_ok=True)
         except OSError as e:
@@ -319,9 +354,11 @@ class Store:
             # chunks of other versions mixed with new ones would be a sweep that no one set of versions computes
             other = _version_change(m.get("versions"), now)
             if other:
-                raise StoreError(f"out {str(self.root)!r} holds {len(m['chunks'])} chunks computed with {other}; finishing the sweep "
-                                 "would mix the results of two versions: use --fresh to recompute it, or finish it with the versions "
-                                 "it was started with")
+                raise StoreError(
+                    f"out {str(self.root)!r} holds {len(m['chunks'])} chunks computed with {other}; finishing the sweep "
+                    "would mix the results of two versions: use --fresh to recompute it, or finish it with the versions "
+                    "it was started with"
+                )
         else:
             m["versions"] = now  # nothing computed yet: the sweep is this installation's
         m["versions_resumed"] = now if m.get("chunks") else None
@@ -346,7 +383,9 @@ class Store:
         if not self.root.is_dir() or self._chunks_dir_problem():
             return False
         names = {p.name for p in self.root.iterdir()}
-        return "chunks" in names and all(n in ("chunks", "manifest.json", ".lock") or n.startswith(".manifest.json.tmp-") for n in names)
+        return "chunks" in names and all(
+            n in ("chunks", "manifest.json", ".lock") or n.startswith(".manifest.json.tmp-") for n in names
+        )
 
     def warnings(self) -> dict[str, int]:
         """The engine's warnings over the store's finished chunks, by kind (recorded by the process that computed each)."""
@@ -363,7 +402,10 @@ class Store:
             warnings.warn(f"{str(self.chunks / name)!r} is not a file of the sweep store; it is ignored", stacklevel=2)
         for name, why in list(m.get("damaged", {}).items()):
             cid = int(name[6:12])
-            warnings.warn(f"chunk {cid} of {str(self.root)!r} has a damaged record {name} ({why}); it will be recomputed", stacklevel=2)
+            warnings.warn(
+                f"chunk {cid} of {str(self.root)!r} has a damaged record {name} ({why}); it will be recomputed",
+                stacklevel=2,
+            )
             (self.chunks / name).unlink(missing_ok=True)
             if str(cid) not in m["chunks"]:
                 (self.chunks / f"chunk-{cid:06d}.parquet").unlink(missing_ok=True)
@@ -373,26 +415,40 @@ class Store:
             if path.is_file() and sha256_file(path) == rec["sha256"]:
                 ok.add(int(cid))
                 continue
-            warnings.warn(f"chunk {cid} of {str(self.root)!r} is {'missing' if not path.is_file() else 'damaged (sha256 mismatch)'}; "
-                          "it will be recomputed", stacklevel=2)
+            warnings.warn(
+                f"chunk {cid} of {str(self.root)!r} is {'missing' if not path.is_file() else 'damaged (sha256 mismatch)'}; "
+                "it will be recomputed",
+                stacklevel=2,
+            )
             del m["chunks"][cid]
             (self.chunks / f"chunk-{int(cid):06d}.json").unlink(missing_ok=True)
             path.unlink(missing_ok=True)
         return ok
 
-    def write_chunk(self, m: dict, chunk_id: int, columns: dict, seconds: float, *, warnings: dict | None = None) -> None:
+    def write_chunk(
+        self, m: dict, chunk_id: int, columns: dict, seconds: float, *, warnings: dict | None = None
+    ) -> None:
         """Write chunk ``chunk_id``'s table atomically, then record it (file, rows, sha256) in the manifest."""
         import pyarrow as pa
         import pyarrow.parquet as pq
 
         name = f"chunk-{chunk_id:06d}.parquet"
-        table = pa.table({k: pa.array(list(v) if np.asarray(v).dtype == object else np.asarray(v)) for k, v in columns.items()})
+        table = pa.table(
+            {k: pa.array(list(v) if np.asarray(v).dtype == object else np.asarray(v)) for k, v in columns.items()}
+        )
         buf = pa.BufferOutputStream()
         pq.write_table(table, buf)
         data = buf.getvalue().to_pybytes()  # hashed as written: no second read of the file
         _write_atomic(self.chunks / name, data)
-        rec = {"file": name, "rows": table.num_rows, "sha256": hashlib.sha256(data).hexdigest(), "spec_sha256": m["spec_sha256"], "seconds": seconds,
-               "warnings": dict(warnings or {}), "computed_with": computing_versions(m["versions"])}
+        rec = {
+            "file": name,
+            "rows": table.num_rows,
+            "sha256": hashlib.sha256(data).hexdigest(),
+            "spec_sha256": m["spec_sha256"],
+            "seconds": seconds,
+            "warnings": dict(warnings or {}),
+            "computed_with": computing_versions(m["versions"]),
+        }
         _write_atomic(self.chunks / f"chunk-{chunk_id:06d}.json", json.dumps(rec).encode())
         (self.chunks / f"chunk-{chunk_id:06d}.failed.json").unlink(missing_ok=True)
         m["chunks"][str(chunk_id)] = rec
@@ -414,26 +470,41 @@ class Store:
 
         m = self.read_manifest()
         if m is None:
-            raise StoreError(f"out {str(self.root)!r} has no sweep manifest (manifest.json); run crosscheck sweep into it first")
+            raise StoreError(
+                f"out {str(self.root)!r} has no sweep manifest (manifest.json); run crosscheck sweep into it first"
+            )
         if m["damaged"] and not partial:
             name, why = next(iter(m["damaged"].items()))
-            raise StoreError(f"chunk {int(name[6:12])} of {str(self.root)!r} has a damaged record {name} ({why}); "
-                             "re-run the same crosscheck sweep command to recompute it")
+            raise StoreError(
+                f"chunk {int(name[6:12])} of {str(self.root)!r} has a damaged record {name} ({why}); "
+                "re-run the same crosscheck sweep command to recompute it"
+            )
         missing = m["n_chunks"] - len(m["chunks"])
         if missing and not partial:
-            raise StoreError(f"the sweep in {str(self.root)!r} is unfinished: {missing} of {m['n_chunks']} chunks missing; "
-                             "re-run the same crosscheck sweep command to finish it")
+            raise StoreError(
+                f"the sweep in {str(self.root)!r} is unfinished: {missing} of {m['n_chunks']} chunks missing; "
+                "re-run the same crosscheck sweep command to finish it"
+            )
         frames = []
         for cid in sorted(m["chunks"], key=int):
             rec = m["chunks"][cid]
             path = self.chunks / rec["file"]
             if not path.is_file() or sha256_file(path) != rec["sha256"]:
-                raise StoreError(f"chunk {cid} of {str(self.root)!r} is missing or damaged (sha256 mismatch); re-run the sweep to recompute it")
+                raise StoreError(
+                    f"chunk {cid} of {str(self.root)!r} is missing or damaged (sha256 mismatch); re-run the sweep to recompute it"
+                )
             df = pq.read_table(path).to_pandas()
             lo = int(cid) * m["chunk"]
-            if not ("run" in df and "chunk" in df and df["run"].tolist() == list(range(lo, lo + rec["rows"])) and (df["chunk"] == int(cid)).all()):
-                raise StoreError(f"chunk {cid} of {str(self.root)!r} is damaged (its table does not hold runs {lo} to {lo + rec['rows'] - 1}); "
-                                 "re-run the sweep to recompute it")
+            if not (
+                "run" in df
+                and "chunk" in df
+                and df["run"].tolist() == list(range(lo, lo + rec["rows"]))
+                and (df["chunk"] == int(cid)).all()
+            ):
+                raise StoreError(
+                    f"chunk {cid} of {str(self.root)!r} is damaged (its table does not hold runs {lo} to {lo + rec['rows'] - 1}); "
+                    "re-run the sweep to recompute it"
+                )
             frames.append(df)
         if not frames:
             return pd.DataFrame()

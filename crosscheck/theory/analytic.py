@@ -168,7 +168,11 @@ def b(Psi, Theta, theta):
     b = (Psi^2 cos^2 theta + Theta^2) sin theta - 1; in physical units
     l psi_dot^2 sin theta cos^2 theta + l theta_dot^2 sin theta - g, divided by g.
     """
-    return _b(*same_shape(Psi=real("Psi", Psi, BOUNDED), Theta=real("Theta", Theta, BOUNDED), theta=real("theta", theta, THETA)))
+    return _b(
+        *same_shape(
+            Psi=real("Psi", Psi, BOUNDED), Theta=real("Theta", Theta, BOUNDED), theta=real("theta", theta, THETA)
+        )
+    )
 
 
 def p(theta, varphi, mu, alpha):
@@ -177,7 +181,14 @@ def p(theta, varphi, mu, alpha):
     p = 1 + alpha + alpha sin theta (mu cos theta sin varphi - sin theta).
     A paradox needs p < 0.
     """
-    return _p(*same_shape(theta=real("theta", theta, THETA), varphi=real("varphi", varphi, BOUNDED), mu=real("mu", mu, MU), alpha=real("alpha", alpha, ALPHA)))
+    return _p(
+        *same_shape(
+            theta=real("theta", theta, THETA),
+            varphi=real("varphi", varphi, BOUNDED),
+            mu=real("mu", mu, MU),
+            alpha=real("alpha", alpha, ALPHA),
+        )
+    )
 
 
 #: Rounding operations in eqs. b and p: each term carries at most ~4 roundings (sin, cos,
@@ -201,9 +212,16 @@ def p_rounding(theta, varphi, mu, alpha):
     At mu = mu_P, theta = theta_P, varphi = -pi/2, where p = 0 exactly, ``p``
     computes -8.9e-16 and this bound is 2.7e-15.
     """
-    theta, varphi, mu, alpha = check("theta", theta, THETA), check("varphi", varphi), check("mu", mu, MU), check("alpha", alpha, ALPHA)
+    theta, varphi, mu, alpha = (
+        check("theta", theta, THETA),
+        check("varphi", varphi),
+        check("mu", mu, MU),
+        check("alpha", alpha, ALPHA),
+    )
     s, c = np.sin(theta), np.cos(theta)
-    return _ROUNDINGS * np.finfo(float).eps * (1.0 + alpha + alpha * s * s + alpha * mu * np.abs(s * c * np.sin(varphi)))
+    return (
+        _ROUNDINGS * np.finfo(float).eps * (1.0 + alpha + alpha * s * s + alpha * mu * np.abs(s * c * np.sin(varphi)))
+    )
 
 
 def boundary(b, p, b_tol, p_tol) -> str:

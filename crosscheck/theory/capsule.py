@@ -193,8 +193,18 @@ class CapsuleSlipResult(SlipResult):
             return -b(x[:, 3], x[:, 5], x[:, 4]) / p(x[:, 4], x[:, 1], self.mu, self.alpha, self.radius)
 
 
-def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0, s_max: float = 1e4,
-                     rtol: float | None = None, atol: float | None = None, friction=None) -> CapsuleSlipResult:
+def slip_until_event(
+    state: SlipState,
+    mu,
+    alpha,
+    *,
+    radius,
+    t_max: float = 10.0,
+    s_max: float = 1e4,
+    rtol: float | None = None,
+    atol: float | None = None,
+    friction=None,
+) -> CapsuleSlipResult:
     """Integrate the rigid rod slipping with its contact at C from ``state`` to its first event.
 
     The start is MuJoCo's: (q, v) = ``to_generalized(rod, state, tip=(0, 0, radius))``,
@@ -224,8 +234,16 @@ def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0
     alpha = float(check("alpha", alpha, ALPHA))
     t_max = float(check("t_max", t_max, HORIZON))
     s_max = float(check("s_max", s_max, Interval(0.0, 1e8, lo_open=True, hi_open=False)))
-    rtol = SLIP_INTEGRATION.rtol if rtol is None else float(check("rtol", rtol, Interval(1e-14, 1e-3, lo_open=False, hi_open=False)))
-    atol = SLIP_INTEGRATION.atol if atol is None else float(check("atol", atol, Interval(1e-16, 1e-3, lo_open=False, hi_open=False)))
+    rtol = (
+        SLIP_INTEGRATION.rtol
+        if rtol is None
+        else float(check("rtol", rtol, Interval(1e-14, 1e-3, lo_open=False, hi_open=False)))
+    )
+    atol = (
+        SLIP_INTEGRATION.atol
+        if atol is None
+        else float(check("atol", atol, Interval(1e-16, 1e-3, lo_open=False, hi_open=False)))
+    )
 
     eta_C, varphi_C = contact_slip(state, radius=r)
     y0 = np.array([eta_C, varphi_C, state.psi, state.Psi, state.theta, state.Theta, 0.0])
@@ -236,8 +254,22 @@ def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0
     def result(outcome, t, y, reason, s_arr, Y, *, eta_out=None):
         bb, pp, *_ = slipping._coefficients(y[1], y[3], y[4], y[5], mu, alpha, r, angle(y))
         eta_A, varphi_A = tip_slip(y[0] if eta_out is None else eta_out, y[1], y[5], radius=r)
-        return CapsuleSlipResult(outcome, t, _state_from(y, eta=eta_out), reason, bb, pp, s_arr, Y[:, 6].copy(), Y[:, :6].copy(),
-                                 radius=r, tip_eta=float(eta_A), tip_varphi=float(varphi_A), mu=mu, alpha=alpha)
+        return CapsuleSlipResult(
+            outcome,
+            t,
+            _state_from(y, eta=eta_out),
+            reason,
+            bb,
+            pp,
+            s_arr,
+            Y[:, 6].copy(),
+            Y[:, :6].copy(),
+            radius=r,
+            tip_eta=float(eta_A),
+            tip_varphi=float(varphi_A),
+            mu=mu,
+            alpha=alpha,
+        )
 
     b0, p0, *_ = slipping._coefficients(varphi_C, state.Psi, state.theta, state.Theta, mu, alpha, r, angle(y0))
     early = _start_outcome(eta_C, b0, p0)
@@ -249,6 +281,7 @@ def slip_until_event(state: SlipState, mu, alpha, *, radius, t_max: float = 10.0
     if early is not None:
         return result(early, 0.0, y0, reason, np.zeros(1), y0[None, :].copy())
 
-    outcome, t_end, y, reason, s_arr, Y, eta_out = slipping.integrate(y0, mu, alpha, r, t_max=t_max, s_max=s_max, rtol=rtol, atol=atol,
-                                                                      friction=friction)
+    outcome, t_end, y, reason, s_arr, Y, eta_out = slipping.integrate(
+        y0, mu, alpha, r, t_max=t_max, s_max=s_max, rtol=rtol, atol=atol, friction=friction
+    )
     return result(outcome, t_end, y, reason, s_arr, Y, eta_out=eta_out)

@@ -85,7 +85,15 @@ from crosscheck.rod import Rod
 from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
 
-__all__ = ["growth_rates", "FastLimit", "fast_limit", "planar_restitution", "indeterminate_boundary", "gb_reaching_rates", "time_corrections"]
+__all__ = [
+    "growth_rates",
+    "FastLimit",
+    "fast_limit",
+    "planar_restitution",
+    "indeterminate_boundary",
+    "gb_reaching_rates",
+    "time_corrections",
+]
 
 #: Relative accuracy of the fast problem's integration (DOP853) and the slip speed counted as stopped there.
 _RTOL, _ATOL = 1e-11, 1e-14
@@ -103,7 +111,9 @@ def growth_rates(p, xi):
     """
     p, xi = np.asarray(p, float), check("xi", xi, NONNEGATIVE)
     if np.any(~(p < 0.0)):
-        raise ValueError(f"p must be in (-inf, 0) (the growth exists only where the tip's normal 'mass' 1/p is negative); got {p!r}")
+        raise ValueError(
+            f"p must be in (-inf, 0) (the growth exists only where the tip's normal 'mass' 1/p is negative); got {p!r}"
+        )
     a = -p
     root = np.sqrt(a * a * xi * xi + 4.0 * a)
     lam, lam2 = 0.5 * (a * xi + root), 0.5 * (a * xi - root)
@@ -149,11 +159,31 @@ class FastLimit:
 
     def as_dict(self) -> dict:
         i = self.impact
-        return {"start": self.start, "xi": self.xi, "p": self.p, "b": self.b, "lambda": self.lam, "lambda_2": self.lam2,
-                "coefficient": self.coefficient, "offset": self.offset, "P_stop": self.P_stop, "P_c": self.P_c, "P_f": self.P_f,
-                "restitution": self.restitution, "w": self.w, "phases": [list(ph) for ph in self.phases],
-                "iwc": {"Theta": i.Theta, "Psi": i.Psi, "eta": i.eta, "varphi": i.varphi, "w": i.w, "normal_impulse": i.normal_impulse,
-                        "compression_impulse": i.compression_impulse}}
+        return {
+            "start": self.start,
+            "xi": self.xi,
+            "p": self.p,
+            "b": self.b,
+            "lambda": self.lam,
+            "lambda_2": self.lam2,
+            "coefficient": self.coefficient,
+            "offset": self.offset,
+            "P_stop": self.P_stop,
+            "P_c": self.P_c,
+            "P_f": self.P_f,
+            "restitution": self.restitution,
+            "w": self.w,
+            "phases": [list(ph) for ph in self.phases],
+            "iwc": {
+                "Theta": i.Theta,
+                "Psi": i.Psi,
+                "eta": i.eta,
+                "varphi": i.varphi,
+                "w": i.w,
+                "normal_impulse": i.normal_impulse,
+                "compression_impulse": i.compression_impulse,
+            },
+        }
 
 
 def _tip(state: SlipState, alpha: float) -> tuple[np.ndarray, np.ndarray]:
@@ -235,7 +265,9 @@ def fast_limit(state: SlipState, mu: float, alpha: float, *, xi: float) -> FastL
 
     compressed.terminal, compressed.direction = True, +1
     y0 = np.array([u[0], u[1], u[2], d0, -mu * uh[0] * P0, -mu * uh[1] * P0, 0.0])
-    sol = solve_ivp(slip_P, (P0, P0 + 1e3 * (1.0 + n0)), y0, method="DOP853", rtol=_RTOL, atol=_ATOL, events=[stopped, compressed])
+    sol = solve_ivp(
+        slip_P, (P0, P0 + 1e3 * (1.0 + n0)), y0, method="DOP853", rtol=_RTOL, atol=_ATOL, events=[stopped, compressed]
+    )
     if sol.status != 1:
         raise RuntimeError(f"fast problem: the slip phase did not end ({sol.message})")
     P, y = float(sol.t[-1]), sol.y[:, -1].copy()
@@ -253,13 +285,17 @@ def fast_limit(state: SlipState, mu: float, alpha: float, *, xi: float) -> FastL
         if mode is None:  # just stopped: the tip sticks (|f_s| < mu wherever p <= 0: darboux_keller's docstring)
             z[:2] = 0.0
             if not np.linalg.norm(f_s) < mu:
-                raise RuntimeError(f"fast problem: the sticking impulse |f_s| = {np.linalg.norm(f_s)!r} is outside the cone mu = {mu!r}")
+                raise RuntimeError(
+                    f"fast problem: the sticking impulse |f_s| = {np.linalg.norm(f_s)!r} is outside the cone mu = {mu!r}"
+                )
             mode = "stick"
         if mode == "stick":
+
             def rhs(_t, z):
                 f = z[3] - xi * z[2]
                 return [0.0, 0.0, S * f, -z[2], f_s[0] * f, f_s[1] * f, f]
         else:
+
             def rhs(_t, z):
                 ut = z[:2]
                 f_t = -mu * ut / math.hypot(ut[0], ut[1])
@@ -303,8 +339,26 @@ def fast_limit(state: SlipState, mu: float, alpha: float, *, xi: float) -> FastL
     if start == "inconsistent" and b < 0:
         # the linear growth d = eps K e^(lambda tau) reaches d0 at tau_entry = ln(d0/(eps K))/lambda
         offset = math.log(d0 / K) / lam + tau_stop
-    return FastLimit(state=state, mu=mu, alpha=alpha, xi=xi, start=start, p=p, b=b, lam=lam, lam2=lam2, coefficient=coefficient, offset=offset,
-                     P_stop=P_stop, P_c=P_c, P_f=P_f, restitution=e, w=float(z[2]), phases=tuple(phases), impact=imp)
+    return FastLimit(
+        state=state,
+        mu=mu,
+        alpha=alpha,
+        xi=xi,
+        start=start,
+        p=p,
+        b=b,
+        lam=lam,
+        lam2=lam2,
+        coefficient=coefficient,
+        offset=offset,
+        P_stop=P_stop,
+        P_c=P_c,
+        P_f=P_f,
+        restitution=e,
+        w=float(z[2]),
+        phases=tuple(phases),
+        impact=imp,
+    )
 
 
 def planar_restitution(p, S, xi) -> float:
@@ -357,7 +411,9 @@ def planar_restitution(p, S, xi) -> float:
     return float(w_f * c / (S + abs(p)))
 
 
-def indeterminate_boundary(state: SlipState, mu: float, alpha: float, *, xi: float, eps: float, D0: float) -> tuple[float, float]:
+def indeterminate_boundary(
+    state: SlipState, mu: float, alpha: float, *, xi: float, eps: float, D0: float
+) -> tuple[float, float]:
     """The start (gap, gap_rate) on the boundary between lift-off and an impact without collision, for a given penetration.
 
     For an indeterminate state (eq. p < 0 < eq. b), in the fast variables
@@ -380,15 +436,26 @@ def indeterminate_boundary(state: SlipState, mu: float, alpha: float, *, xi: flo
     mu, alpha = float(check("mu", mu, MU)), float(check("alpha", alpha, ALPHA))
     eps = float(check("eps", eps, Interval(0.0, 1.0, lo_open=True, hi_open=False)))
     D0 = float(check("D0", D0, NONNEGATIVE))
-    p, b = float(analytic.p(state.theta, state.varphi, mu, alpha)), float(analytic.b(state.Psi, state.Theta, state.theta))
+    p, b = (
+        float(analytic.p(state.theta, state.varphi, mu, alpha)),
+        float(analytic.b(state.Psi, state.Theta, state.theta)),
+    )
     if not (p < 0.0 < b):
         raise ValueError(f"state must be indeterminate (p < 0 < b); got p = {p!r}, b = {b!r}")
     _, lam2 = growth_rates(p, xi)
     return -eps * eps * D0, -eps * lam2 * (D0 - b / abs(p))
 
 
-def gb_reaching_rates(mu: float, alpha: float, theta0: float, *, eta: float = 1.0, Theta_range: tuple[float, float] = (0.0, 3.0),
-                      n: int = 61, t_max: float = 5.0) -> tuple[np.ndarray, np.ndarray]:
+def gb_reaching_rates(
+    mu: float,
+    alpha: float,
+    theta0: float,
+    *,
+    eta: float = 1.0,
+    Theta_range: tuple[float, float] = (0.0, 3.0),
+    n: int = 61,
+    t_max: float = 5.0,
+) -> tuple[np.ndarray, np.ndarray]:
     """Planar starts (varphi = -pi/2, Psi = 0) at theta0 that slip into the GB point P+ (b = p = 0).
 
     Scans Theta0 over ``Theta_range`` and runs ``slip_until_event``; where
@@ -401,8 +468,15 @@ def gb_reaching_rates(mu: float, alpha: float, theta0: float, *, eta: float = 1.
     mu, alpha = float(check("mu", mu, MU)), float(check("alpha", alpha, ALPHA))
     theta0 = float(check("theta0", theta0, THETA))
     Theta0 = np.linspace(*Theta_range, n)
-    out = np.array([slip_until_event(SlipState(theta=theta0, varphi=-math.pi / 2, Theta=float(T), Psi=0.0, eta=eta), mu, alpha,
-                                     t_max=t_max).outcome for T in Theta0], dtype=np.int8)
+    out = np.array(
+        [
+            slip_until_event(
+                SlipState(theta=theta0, varphi=-math.pi / 2, Theta=float(T), Psi=0.0, eta=eta), mu, alpha, t_max=t_max
+            ).outcome
+            for T in Theta0
+        ],
+        dtype=np.int8,
+    )
     return Theta0, out
 
 

@@ -50,18 +50,33 @@ def backward_from(x_event: np.ndarray, mu: float, alpha: float, t_back: float):
         st, ct = math.sin(y[4]), math.cos(y[4])
         return (y[3] ** 2 * ct * ct + y[5] ** 2) * st - 1.0
 
-    events = [event(lambda s, y: y[6] - t_back), event(lambda s, y: b_of(y)), event(lambda s, y: y[0] - 1e-3),
-              event(lambda s, y: y[1]), event(lambda s, y: y[1] + math.pi), event(lambda s, y: y[4] - 1e-3),
-              event(lambda s, y: math.pi / 2 - 1e-3 - y[4])]
+    events = [
+        event(lambda s, y: y[6] - t_back),
+        event(lambda s, y: b_of(y)),
+        event(lambda s, y: y[0] - 1e-3),
+        event(lambda s, y: y[1]),
+        event(lambda s, y: y[1] + math.pi),
+        event(lambda s, y: y[4] - 1e-3),
+        event(lambda s, y: math.pi / 2 - 1e-3 - y[4]),
+    ]
     sol = solve_ivp(rhs, (0.0, 1e4), np.append(x_event, 0.0), method="DOP853", rtol=1e-10, atol=1e-12, events=events)
     if sol.status != 1 or not len(sol.t_events[0]) or any(len(te) for te in sol.t_events[1:]):
         return None
     return sol.y_events[0][0][:6]
 
 
-def corollary_states(mu: float, n: int, rng: np.random.Generator, *, alpha: float = 3.0, horizon: float = 2.0,
-                     t_range: tuple[float, float] = (0.2, 1.5), min_offplane: float = 0.1, max_b: float = -0.1,
-                     max_tries: int = 20_000) -> tuple[list[SlipState], np.ndarray, np.ndarray]:
+def corollary_states(
+    mu: float,
+    n: int,
+    rng: np.random.Generator,
+    *,
+    alpha: float = 3.0,
+    horizon: float = 2.0,
+    t_range: tuple[float, float] = (0.2, 1.5),
+    min_offplane: float = 0.1,
+    max_b: float = -0.1,
+    max_tries: int = 20_000,
+) -> tuple[list[SlipState], np.ndarray, np.ndarray]:
     """Slipping states the theory sends to p = 0 with b < 0 (Corollary 4.2), away from varphi = -pi/2.
 
     Built from the event backwards: a point of p = 0 (theta = theta_-+(varphi),
@@ -86,29 +101,40 @@ def corollary_states(mu: float, n: int, rng: np.random.Generator, *, alpha: floa
     n = integer("n", n, 1, 100_000)
     horizon = float(check("horizon", horizon, HORIZON))
     if not isinstance(rng, np.random.Generator):
-        raise ValueError(f"rng must be a numpy.random.Generator (numpy.random.default_rng(seed)); got {type(rng).__name__}")
+        raise ValueError(
+            f"rng must be a numpy.random.Generator (numpy.random.default_rng(seed)); got {type(rng).__name__}"
+        )
     ratio = 2.0 * math.sqrt(1.0 + alpha) / (alpha * mu)  # |sin varphi| must exceed this (eq. mup)
     half = math.acos(ratio) if ratio < 1 else 0.0
     if half <= min_offplane:
-        raise ValueError(f"no p = 0 crossing with |varphi + pi/2| >= {min_offplane} at mu = {mu:g} (mu_P = {float(mu_P(alpha)):.4g})")
+        raise ValueError(
+            f"no p = 0 crossing with |varphi + pi/2| >= {min_offplane} at mu = {mu:g} (mu_P = {float(mu_P(alpha)):.4g})"
+        )
     found, times, varphis = [], [], []
     for _ in range(max_tries):
         off = rng.uniform(min_offplane, half) * rng.choice((-1.0, 1.0))
         varphi = -math.pi / 2 + off
         theta = float(theta_pm(varphi, mu, alpha)[int(rng.integers(2))])
         Theta, Psi, eta = rng.uniform(-2, 2), rng.uniform(-3, 3), rng.uniform(0.3, 3.0)
-        if not (1e-3 < theta < math.pi / 2 - 1e-3) or (Psi**2 * math.cos(theta) ** 2 + Theta**2) * math.sin(theta) - 1 > max_b:
+        if (
+            not (1e-3 < theta < math.pi / 2 - 1e-3)
+            or (Psi**2 * math.cos(theta) ** 2 + Theta**2) * math.sin(theta) - 1 > max_b
+        ):
             continue
         x0 = backward_from(np.array([eta, varphi, 0.0, Psi, theta, Theta]), mu, alpha, rng.uniform(*t_range))
         if x0 is None:
             continue
         s = SlipState(theta=x0[4], varphi=x0[1], Theta=x0[5], Psi=x0[3], eta=x0[0])
         r = slip_until_event(s, mu, alpha, t_max=horizon)
-        if r.outcome == Outcome.JAM and t_range[0] <= r.time <= t_range[1] and r.b <= max_b and abs(r.state.varphi + math.pi / 2) >= min_offplane:
+        if (
+            r.outcome == Outcome.JAM
+            and t_range[0] <= r.time <= t_range[1]
+            and r.b <= max_b
+            and abs(r.state.varphi + math.pi / 2) >= min_offplane
+        ):
             found.append(s)
             times.append(r.time)
             varphis.append(r.state.varphi)
             if len(found) == n:
                 return found, np.array(times), np.array(varphis)
     raise ValueError(f"found only {len(found)} of {n} Corollary 4.2 states at mu = {mu:g} in {max_tries} attempts")
-

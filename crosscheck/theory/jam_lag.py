@@ -73,8 +73,15 @@ def inner_pole() -> float:
         return y[0] - 1e8
 
     blown.terminal = True
-    sol = solve_ivp(lambda s, y: (y[1], s + 0.5 * y[0] ** 2), (s0, 10.0), (q0, dq0), method="DOP853", rtol=1e-12, atol=1e-12,
-                    events=blown)
+    sol = solve_ivp(
+        lambda s, y: (y[1], s + 0.5 * y[0] ** 2),
+        (s0, 10.0),
+        (q0, dq0),
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-12,
+        events=blown,
+    )
     s_end, q_end = float(sol.t_events[0][0]), float(sol.y_events[0][0][0])
     return s_end + math.sqrt(12.0 / q_end)
 

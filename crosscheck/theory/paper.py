@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from crosscheck.theory import critical as cr
+
 __all__ = ["PrintedValue", "PRINTED", "FIG20_INITIAL_CONDITIONS", "GB_POINTS", "PaperFigure", "FIGURES"]
 
 
@@ -85,7 +86,9 @@ PRINTED: tuple[PrintedValue, ...] = (
     PrintedValue("1.01 mu_P(alpha=3)", "1.3467", "sec. 4.3", lambda: _MU_1P01),
     PrintedValue("Psi_1(mu=1.01 mu_P)", "2.1526", "sec. 4.3", lambda: _cv(_MU_1P01).Psi_1),
     PrintedValue("Psi_2(mu=1.01 mu_P)", "2.6220", "sec. 4.3", lambda: _cv(_MU_1P01).Psi_2),
-    PrintedValue("eps varphi_hat at Psi=0 (eps^2 mu_hat=0.01)", "0.1414", "sec. 4.3 footnote", lambda: math.sqrt(2 * 0.01)),
+    PrintedValue(
+        "eps varphi_hat at Psi=0 (eps^2 mu_hat=0.01)", "0.1414", "sec. 4.3 footnote", lambda: math.sqrt(2 * 0.01)
+    ),
     PrintedValue("theta_1(mu=1.7)", "0.7692", "Fig. planesmu1p7_w_traj", lambda: _cv(1.7).theta_1),
     PrintedValue("theta_2(mu=1.7)", "1.3333", "Fig. planesmu1p7_w_traj", lambda: _cv(1.7).theta_2),
     PrintedValue("Psi_1(mu=1.7)", "1.6689", "Fig. determinant_bif", lambda: _cv(1.7).Psi_1),
@@ -93,9 +96,13 @@ PRINTED: tuple[PrintedValue, ...] = (
     # Fig. stabilty_on_GB: manifolds at Psi = (Psi_L + Psi_1)/2 and (Psi_1 + Psi_2)/2,
     # printed in sec. 3.5 as the mechanism examples.
     PrintedValue("(Psi_L+Psi_1)/2 (mu=1.4)", "1.7800", "sec. 3.5, case 4", lambda: (cr.Psi_L + _cv(1.4).Psi_1) / 2),
-    PrintedValue("(Psi_1+Psi_2)/2 (mu=1.4)", "2.4789", "sec. 3.5, case 6", lambda: (_cv(1.4).Psi_1 + _cv(1.4).Psi_2) / 2),
+    PrintedValue(
+        "(Psi_1+Psi_2)/2 (mu=1.4)", "2.4789", "sec. 3.5, case 6", lambda: (_cv(1.4).Psi_1 + _cv(1.4).Psi_2) / 2
+    ),
     PrintedValue("(Psi_L+Psi_1)/2 (mu=6)", "1.8997", "sec. 3.5, case 5", lambda: (cr.Psi_L + _cv(6.0).Psi_1) / 2),
-    PrintedValue("(Psi_1+Psi_2)/2 (mu=6)", "10.0024", "sec. 3.5, case 6", lambda: (_cv(6.0).Psi_1 + _cv(6.0).Psi_2) / 2),
+    PrintedValue(
+        "(Psi_1+Psi_2)/2 (mu=6)", "10.0024", "sec. 3.5, case 6", lambda: (_cv(6.0).Psi_1 + _cv(6.0).Psi_2) / 2
+    ),
 )
 
 #: Points (theta_GB, varphi_GB) printed in Figs. planesmu1p4_w_traj (mu=1.4) and
@@ -134,33 +141,116 @@ class PaperFigure:
 
 #: Every figure of the paper, numbered as printed, with where the report recomputes it.
 FIGURES = (
-    PaperFigure(1, ("fig:me2",), "the rod AB on the rough plane, its frames and angles", (), "a schematic drawing, not computed from the model"),
-    PaperFigure(2, ("fig:rod_orientations", "fig:badregion", "fig:badsection"), "(a) rod orientations with p < 0 in physical space, "
-                "(b) the region p < 0 in (theta, varphi)", ("p_region",)),
-    PaperFigure(3, ("fig:pandb", "fig:p3.2", "fig:p3s"), "(a) the four modes in the (theta, Theta) section varphi = -pi/2, (b) the surfaces b = 0 "
-                "and p = 0 in (theta, varphi, Theta) at Psi = 0", ("kinematic_surfaces", "mode_maps")),
-    PaperFigure(4, ("fig:p3.3", "fig:p3.4", "fig:p3.5", "fig:p3.6", "fig:p3ss"), "the surfaces b = 0 and p = 0 as Psi grows (1.56, 1.7, 2.2, 5)",
-                ("kinematic_surfaces", "mode_maps")),
-    PaperFigure(5, ("fig:psi1.61192D", "fig:psi1.61193D", "fig:psi1.6119"), "(a) section and (b) surfaces at Psi = Psi_L", ("kinematic_surfaces", "mode_maps")),
-    PaperFigure(6, ("fig:psi1.9482D", "fig:psi1.9483D", "fig:psi1.9483"), "(a) section and (b) surfaces at Psi = Psi_1", ("kinematic_surfaces", "mode_maps")),
-    PaperFigure(7, ("fig:psi3.00972D", "fig:psi3.00973D", "fig:psi3.0097"), "(a) section and (b) surfaces at Psi = Psi_2", ("kinematic_surfaces", "mode_maps")),
-    PaperFigure(8, ("fig:mechanisms",), "mechanisms I-III as Psi grows", ("mechanisms",), "a schematic; the report draws the mechanisms' regions (Fig. 9b)"),
-    PaperFigure(9, ("fig:muPsicases", "fig:alphamumech", "fig:CaseIs"), "(a) kinematic cases 1-7 in (mu, Psi), (b) mechanisms in (alpha, mu)",
-                ("kinematic_cases", "mechanisms")),
+    PaperFigure(
+        1,
+        ("fig:me2",),
+        "the rod AB on the rough plane, its frames and angles",
+        (),
+        "a schematic drawing, not computed from the model",
+    ),
+    PaperFigure(
+        2,
+        ("fig:rod_orientations", "fig:badregion", "fig:badsection"),
+        "(a) rod orientations with p < 0 in physical space, (b) the region p < 0 in (theta, varphi)",
+        ("p_region",),
+    ),
+    PaperFigure(
+        3,
+        ("fig:pandb", "fig:p3.2", "fig:p3s"),
+        "(a) the four modes in the (theta, Theta) section varphi = -pi/2, (b) the surfaces b = 0 "
+        "and p = 0 in (theta, varphi, Theta) at Psi = 0",
+        ("kinematic_surfaces", "mode_maps"),
+    ),
+    PaperFigure(
+        4,
+        ("fig:p3.3", "fig:p3.4", "fig:p3.5", "fig:p3.6", "fig:p3ss"),
+        "the surfaces b = 0 and p = 0 as Psi grows (1.56, 1.7, 2.2, 5)",
+        ("kinematic_surfaces", "mode_maps"),
+    ),
+    PaperFigure(
+        5,
+        ("fig:psi1.61192D", "fig:psi1.61193D", "fig:psi1.6119"),
+        "(a) section and (b) surfaces at Psi = Psi_L",
+        ("kinematic_surfaces", "mode_maps"),
+    ),
+    PaperFigure(
+        6,
+        ("fig:psi1.9482D", "fig:psi1.9483D", "fig:psi1.9483"),
+        "(a) section and (b) surfaces at Psi = Psi_1",
+        ("kinematic_surfaces", "mode_maps"),
+    ),
+    PaperFigure(
+        7,
+        ("fig:psi3.00972D", "fig:psi3.00973D", "fig:psi3.0097"),
+        "(a) section and (b) surfaces at Psi = Psi_2",
+        ("kinematic_surfaces", "mode_maps"),
+    ),
+    PaperFigure(
+        8,
+        ("fig:mechanisms",),
+        "mechanisms I-III as Psi grows",
+        ("mechanisms",),
+        "a schematic; the report draws the mechanisms' regions (Fig. 9b)",
+    ),
+    PaperFigure(
+        9,
+        ("fig:muPsicases", "fig:alphamumech", "fig:CaseIs"),
+        "(a) kinematic cases 1-7 in (mu, Psi), (b) mechanisms in (alpha, mu)",
+        ("kinematic_cases", "mechanisms"),
+    ),
     PaperFigure(10, ("fig:Psistheta",), "critical angles theta_L, theta_1, theta_2 against mu", ("critical_angles",)),
-    PaperFigure(11, ("fig:GBmanifoldmu1p4", "fig:GBmanifoldmu6", "fig:GBs_bif3"), "the GB manifold at mu = 1.4 and mu = 6", ("gb_manifold",)),
-    PaperFigure(12, ("fig:planesmu1p4_w_traj",), "eigenvectors of K in the (p, b) plane at mu = 1.4", ("gb_eigenvectors",)),
-    PaperFigure(13, ("fig:planesmu1p7_w_traj",), "eigenvectors of K in the (p, b) plane at mu = 1.7", ("gb_eigenvectors",)),
-    PaperFigure(14, ("fig:pp1", "fig:pp2", "fig:pp8", "fig:ppsThetapos"), "local (p, b) dynamics near the GB manifold, Theta > 0", ("gb_local",),
-                "sketches in the paper; computed here as linearised orbits at one GB point of each type found"),
-    PaperFigure(15, ("fig:pp3", "fig:pp6", "fig:pp5", "fig:pp4", "fig:pp7", "fig:ppsThetaneg"), "local (p, b) dynamics near the GB manifold, Theta < 0",
-                ("gb_local",), "as Fig. 14"),
+    PaperFigure(
+        11,
+        ("fig:GBmanifoldmu1p4", "fig:GBmanifoldmu6", "fig:GBs_bif3"),
+        "the GB manifold at mu = 1.4 and mu = 6",
+        ("gb_manifold",),
+    ),
+    PaperFigure(
+        12, ("fig:planesmu1p4_w_traj",), "eigenvectors of K in the (p, b) plane at mu = 1.4", ("gb_eigenvectors",)
+    ),
+    PaperFigure(
+        13, ("fig:planesmu1p7_w_traj",), "eigenvectors of K in the (p, b) plane at mu = 1.7", ("gb_eigenvectors",)
+    ),
+    PaperFigure(
+        14,
+        ("fig:pp1", "fig:pp2", "fig:pp8", "fig:ppsThetapos"),
+        "local (p, b) dynamics near the GB manifold, Theta > 0",
+        ("gb_local",),
+        "sketches in the paper; computed here as linearised orbits at one GB point of each type found",
+    ),
+    PaperFigure(
+        15,
+        ("fig:pp3", "fig:pp6", "fig:pp5", "fig:pp4", "fig:pp7", "fig:ppsThetaneg"),
+        "local (p, b) dynamics near the GB manifold, Theta < 0",
+        ("gb_local",),
+        "as Fig. 14",
+    ),
     PaperFigure(16, ("fig:expan",), "the quartic in Psi against its asymptotic form near mu_P", ("gb_quartic",)),
     PaperFigure(17, ("fig:stabilty_on_GB",), "stability of the points of the GB manifold", ("gb_manifold",)),
-    PaperFigure(18, ("fig:determinant_bif",), "zeros of det K on the GB manifold (alpha = 3, mu = 1.7, eta = 10)", ("gb_det_zeros",)),
-    PaperFigure(19, ("fig:evsb", "fig:pandora"), "eigenvectors along the GB manifold at alpha = 3, mu = 1.7, eta = 10, Psi = 1.062", ("gb_det_zeros",),
-                "at the four zeros of det K and between them: the paper does not print its panels' points"),
-    PaperFigure(20, ("fig:my_ugly_simulations",), "slipping trajectories near the separatrix (initial conditions IC1, IC2)", ("gb_separatrix",)),
-    PaperFigure(21, ("fig:mechbifs",), "codimension-1 and -2 bifurcations between the kinematic cases in (mu, Psi): the curves and points, and the "
-                "surfaces b = 0, p = 0 in each of the 19 strata", ("bifurcations",)),
+    PaperFigure(
+        18,
+        ("fig:determinant_bif",),
+        "zeros of det K on the GB manifold (alpha = 3, mu = 1.7, eta = 10)",
+        ("gb_det_zeros",),
+    ),
+    PaperFigure(
+        19,
+        ("fig:evsb", "fig:pandora"),
+        "eigenvectors along the GB manifold at alpha = 3, mu = 1.7, eta = 10, Psi = 1.062",
+        ("gb_det_zeros",),
+        "at the four zeros of det K and between them: the paper does not print its panels' points",
+    ),
+    PaperFigure(
+        20,
+        ("fig:my_ugly_simulations",),
+        "slipping trajectories near the separatrix (initial conditions IC1, IC2)",
+        ("gb_separatrix",),
+    ),
+    PaperFigure(
+        21,
+        ("fig:mechbifs",),
+        "codimension-1 and -2 bifurcations between the kinematic cases in (mu, Psi): the curves and points, and the "
+        "surfaces b = 0, p = 0 in each of the 19 strata",
+        ("bifurcations",),
+    ),
 )

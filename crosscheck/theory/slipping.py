@@ -99,7 +99,9 @@ def _rhs7(y, mu, alpha, r, varphi_f=None):
     """f(x) of eq. f at the contact point C plus dt/ds = eta p, for y = (eta, varphi, psi, Psi, theta, Theta, t)
     (``varphi_f``: the friction's angle as in ``_coefficients``; p is then the p of that friction)."""
     eta, varphi, Psi, theta, Theta = y[0], y[1], y[3], y[4], y[5]
-    b, p, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0 = _coefficients(varphi, Psi, theta, Theta, mu, alpha, r, varphi_f)
+    b, p, ai1, ai0, aj1, aj0, Psi1, Psi0, Theta1, Theta0 = _coefficients(
+        varphi, Psi, theta, Theta, mu, alpha, r, varphi_f
+    )
     # p times each acceleration: F_z p = -b removes the 1/p of eq. FZ
     Ai = -b * ai1 + p * ai0
     Aj = -b * aj1 + p * aj0
@@ -161,8 +163,14 @@ class SlipResult:
 
     def as_dict(self) -> dict:
         """JSON-able summary (no trajectory)."""
-        return {"outcome": self.outcome.name, "time": self.time, "reason": self.reason,
-                "b": self.b, "p": self.p, "state": self.state.as_dict()}
+        return {
+            "outcome": self.outcome.name,
+            "time": self.time,
+            "reason": self.reason,
+            "b": self.b,
+            "p": self.p,
+            "state": self.state.as_dict(),
+        }
 
 
 def _start_outcome(eta: float, b: float, p: float) -> Outcome | None:
@@ -251,8 +259,14 @@ def first_event(sol, meaning, y0) -> tuple[Outcome, str, np.ndarray, np.ndarray]
 def _state_from(y, *, eta=None) -> SlipState:
     varphi = min(max(float(y[1]), _VARPHI_LOW), 0.0)
     theta = min(max(float(y[4]), THETA_MARGIN.atol), _HALF_PI - THETA_MARGIN.atol)
-    return SlipState(theta=theta, varphi=varphi, Theta=float(y[5]), Psi=float(y[3]),
-                     eta=float(y[0]) if eta is None else eta, psi=float(y[2]))
+    return SlipState(
+        theta=theta,
+        varphi=varphi,
+        Theta=float(y[5]),
+        Psi=float(y[3]),
+        eta=float(y[0]) if eta is None else eta,
+        psi=float(y[2]),
+    )
 
 
 def slip_until_event(state: SlipState, mu, alpha, *, t_max: float = 10.0, s_max: float = 1e4) -> SlipResult:
@@ -297,8 +311,18 @@ def continue_slip(state: SlipState, mu, alpha, *, t_max: float = 10.0, s_max: fl
     return SlipResult(outcome, t_end, _state_from(y, eta=eta_out), reason, b, p, s_arr, Y[:, 6].copy(), Y[:, :6].copy())
 
 
-def integrate(y0: np.ndarray, mu: float, alpha: float, r: float, *, t_max: float, s_max: float, rtol: float | None = None,
-              atol: float | None = None, friction=None) -> tuple:
+def integrate(
+    y0: np.ndarray,
+    mu: float,
+    alpha: float,
+    r: float,
+    *,
+    t_max: float,
+    s_max: float,
+    rtol: float | None = None,
+    atol: float | None = None,
+    friction=None,
+) -> tuple:
     """The slipping flow with its contact at C = A - r K from the slipping start ``y0`` = (eta, varphi, psi, Psi, theta,
     Theta, 0) to its first event (checked arguments; the start rules are the caller's).
 
@@ -311,7 +335,11 @@ def integrate(y0: np.ndarray, mu: float, alpha: float, r: float, *, t_max: float
     rtol = SLIP_INTEGRATION.rtol if rtol is None else rtol
     atol = SLIP_INTEGRATION.atol if atol is None else atol
     events, meaning = _events(mu, alpha, r, t_max, friction)
-    fun = (lambda s, y: _rhs7(y, mu, alpha, r)) if friction is None else (lambda s, y: _rhs7(y, mu, alpha, r, friction(y)))
+    fun = (
+        (lambda s, y: _rhs7(y, mu, alpha, r))
+        if friction is None
+        else (lambda s, y: _rhs7(y, mu, alpha, r, friction(y)))
+    )
     sol = solve_ivp(fun, (0.0, s_max), y0, method="DOP853", rtol=rtol, atol=atol, events=events)
     s_arr, Y = sol.t, sol.y.T
     if sol.status == -1 or not np.all(np.isfinite(Y)):
@@ -347,5 +375,4 @@ def slip_outcomes(states, mu, alpha, *, t_max: float = 10.0) -> tuple[np.ndarray
       (outcomes, times): (N,) int8 array of ``Outcome`` values and (N,) real scaled times.
     """
     results = [slip_until_event(s, mu, alpha, t_max=t_max) for s in states]
-    return (np.array([r.outcome for r in results], dtype=np.int8),
-            np.array([r.time for r in results], dtype=float))
+    return (np.array([r.outcome for r in results], dtype=np.int8), np.array([r.time for r in results], dtype=float))

@@ -139,7 +139,9 @@ def at_rest(state: SlipState, mu: float, alpha: float) -> Rest:
     if not ok:
         return Rest("inconsistent", None, F, b)
     if len(ok) > 1:
-        raise RuntimeError(f"two slip directions are consistent at rest at {state!r} (mu = {mu!r}): excluded by the module docstring")
+        raise RuntimeError(
+            f"two slip directions are consistent at rest at {state!r} (mu = {mu!r}): excluded by the module docstring"
+        )
     sign_j, F_n = next(iter(ok.items()))
     return Rest("slip", sign_j * _HALF_PI, (0.0, -mu * F_n * sign_j, F_n), b)
 

@@ -140,13 +140,33 @@ def record_from_raw(raw: Raw, rod: Rod, options: Options) -> Record:
     slip = np.zeros((n, 3))
     slip[:, 0] = tip_vel[:, 0] - r * Theta * np.sin(psi)
     slip[:, 1] = tip_vel[:, 1] + r * Theta * np.cos(psi)
-    return Record(t=row_times(n, options.timestep, raw.computed), tip_pos=tip_pos, tip_vel=tip_vel, tip_acc=acc, force=force,
-                  normal_force=force[:, 2].copy(), active=raw.points > 0, gap=tip_pos[:, 2] - r, slip_vel=slip,
-                  psi=psi, theta=theta, Psi=Psi, Theta=Theta)
+    return Record(
+        t=row_times(n, options.timestep, raw.computed),
+        tip_pos=tip_pos,
+        tip_vel=tip_vel,
+        tip_acc=acc,
+        force=force,
+        normal_force=force[:, 2].copy(),
+        active=raw.points > 0,
+        gap=tip_pos[:, 2] - r,
+        slip_vel=slip,
+        psi=psi,
+        theta=theta,
+        Psi=Psi,
+        Theta=Theta,
+    )
 
 
-def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, until_event: bool = False,
-             **options) -> Run:
+def simulate(
+    rod: Rod,
+    state: SlipState,
+    mu: float,
+    *,
+    horizon: float,
+    thresholds: Thresholds | None = None,
+    until_event: bool = False,
+    **options,
+) -> Run:
     """Run one slipping state in Bullet and classify its first event.
 
     The capsule starts touching the plane (z_A = r, C on the plane) with the
@@ -166,11 +186,15 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     """
     mu, horizon, opts = run_inputs(state, mu, horizon, options, Options)
     if mu > MU_MAX:
-        raise ValueError(f"mu must be in {BULLET_MU} for Bullet (it clamps the combined friction to {MU_MAX:g}); got {mu!r}")
+        raise ValueError(
+            f"mu must be in {BULLET_MU} for Bullet (it clamps the combined friction to {MU_MAX:g}); got {mu!r}"
+        )
     th = thresholds or Thresholds()
     n = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES)  # the record holds every row: refuse before allocating
     q0, v0 = to_generalized(rod, state, tip=(0.0, 0.0, opts.radius))
-    rules = dict(mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=True, thresholds=th)
+    rules = dict(
+        mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=True, thresholds=th
+    )
 
     def judged(raw: Raw) -> bool:
         return first_event_final(classify(record_from_raw(raw, rod, opts), **rules), raw.computed, th, opts.timestep)
@@ -178,8 +202,9 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     raw = world(rod, mu, opts).rollout(q0, v0, n, judged if until_event else None)
     record = record_from_raw(raw, rod, opts)
     c = classify(record, **rules)
-    run = Run.from_classification(NAME, c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
-                                  horizon=horizon, nstep=n)
+    run = Run.from_classification(
+        NAME, c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th, horizon=horizon, nstep=n
+    )
     return dataclasses.replace(run, solver=health(raw, record, rod, opts))
 
 
@@ -192,14 +217,28 @@ def health(raw: Raw, record: Record, rod: Rod, opts: Options) -> BulletHealth:
     scale = rod.length * rod.omega
     unconverged = (iterations >= opts.solver_iterations) & (residual > (opts.solver_tolerance * scale) ** 2)
     deepest = float(np.min(distance[contact], initial=0.0))
-    return BulletHealth(contact_steps=int(contact.sum()), max_iterations=int(iterations.max(initial=0)),
-                        mean_iterations=float(iterations[contact].mean()) if contact.any() else 0.0,
-                        unconverged_steps=int(unconverged.sum()), max_residual=float(np.sqrt(residual.max(initial=0.0))) / scale,
-                        max_points=int(points.max(initial=0)), max_penetration=max(0.0, -deepest) / rod.length)
+    return BulletHealth(
+        contact_steps=int(contact.sum()),
+        max_iterations=int(iterations.max(initial=0)),
+        mean_iterations=float(iterations[contact].mean()) if contact.any() else 0.0,
+        unconverged_steps=int(unconverged.sum()),
+        max_residual=float(np.sqrt(residual.max(initial=0.0))) / scale,
+        max_points=int(points.max(initial=0)),
+        max_penetration=max(0.0, -deepest) / rod.length,
+    )
 
 
-def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool | None = None,
-          workers: int = 1, **options) -> SweepResult:
+def sweep(
+    rod: Rod,
+    states: Sequence[SlipState],
+    mu,
+    *,
+    horizon: float,
+    thresholds: Thresholds | None = None,
+    progress: bool | None = None,
+    workers: int = 1,
+    **options,
+) -> SweepResult:
     """Every state through ``simulate`` (one classifier, the same records), on ``workers`` processes.
 
     Each rollout stops once its first event is judged (``simulate``'s ``until_event``): a sweep keeps the first
@@ -208,5 +247,15 @@ def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, threshol
     (``benchmarks/bench_bullet.py``), a run to horizon 2 at the default
     timestep ~0.04-0.06 s; ``workers=2`` uses both cores of this machine.
     """
-    return sweep_by_simulate(get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers,
-                             until_event=True, **options)
+    return sweep_by_simulate(
+        get(NAME),
+        rod,
+        states,
+        mu,
+        horizon=horizon,
+        thresholds=thresholds,
+        progress=progress,
+        workers=workers,
+        until_event=True,
+        **options,
+    )

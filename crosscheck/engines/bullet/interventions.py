@@ -17,7 +17,9 @@ __all__ = ["geometry", "friction_law", "discretisation"]
 
 
 def geometry(o):
-    return tuple(Intervention(f"capsule radius {o.radius:g} -> {o.radius / k:g}", {"radius": o.radius / k}) for k in (4, 16))
+    return tuple(
+        Intervention(f"capsule radius {o.radius:g} -> {o.radius / k:g}", {"radius": o.radius / k}) for k in (4, 16)
+    )
 
 
 def friction_law(o):
@@ -27,4 +29,6 @@ def friction_law(o):
 
 
 def discretisation(o):
-    return tuple(Intervention(f"timestep {o.timestep:g} -> {o.timestep / k:g}", {"timestep": o.timestep / k}) for k in (4, 16))
+    return tuple(
+        Intervention(f"timestep {o.timestep:g} -> {o.timestep / k:g}", {"timestep": o.timestep / k}) for k in (4, 16)
+    )

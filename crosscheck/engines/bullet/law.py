@@ -66,7 +66,9 @@ def friction_angle(varphi, psi, theta, alpha, r):
     return math.atan2(-spsi * ux + cpsi * uy, cpsi * ux + spsi * uy)  # back in the rod's (i, j) frame
 
 
-def slip_until_event(state: SlipState, mu, alpha, *, radius, axes: str = "world", t_max: float = 10.0, s_max: float = 1e4):
+def slip_until_event(
+    state: SlipState, mu, alpha, *, radius, axes: str = "world", t_max: float = 10.0, s_max: float = 1e4
+):
     """The rigid capsule with Bullet's friction law from ``state`` (its psi included) to its first event: the capsule
     theory (``crosscheck.theory.capsule.slip_until_event``: its start rules, events and result) with the friction along
     ``friction_angle``, and eq. p at C taken at that angle (p_eff).  ``axes``: "world" (Bullet's) or "slip" (Coulomb's:

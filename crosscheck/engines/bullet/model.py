@@ -150,34 +150,80 @@ class World:
         pb.resetSimulation(physicsClientId=c)
         pb.setGravity(0.0, 0.0, -rod.gravity, physicsClientId=c)
         pb.setPhysicsEngineParameter(
-            fixedTimeStep=self.dt, numSubSteps=0, numSolverIterations=options.solver_iterations,
+            fixedTimeStep=self.dt,
+            numSubSteps=0,
+            numSolverIterations=options.solver_iterations,
             solverResidualThreshold=(options.solver_tolerance * l * rod.omega) ** 2,
-            enableConeFriction=int(options.cone), contactERP=options.contact_erp, contactSlop=0.0,
-            contactBreakingThreshold=options.contact_margin * l, restitutionVelocityThreshold=0.0, globalCFM=0.0,
-            reportSolverAnalytics=1, physicsClientId=c)
-        self.ground = pb.createMultiBody(0.0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=c), physicsClientId=c)
-        capsule = pb.createCollisionShape(pb.GEOM_CAPSULE, radius=options.radius * l, height=2.0 * l,
-                                          collisionFrameOrientation=pb.getQuaternionFromEuler([math.pi / 2, 0.0, 0.0]),
-                                          physicsClientId=c)
+            enableConeFriction=int(options.cone),
+            contactERP=options.contact_erp,
+            contactSlop=0.0,
+            contactBreakingThreshold=options.contact_margin * l,
+            restitutionVelocityThreshold=0.0,
+            globalCFM=0.0,
+            reportSolverAnalytics=1,
+            physicsClientId=c,
+        )
+        self.ground = pb.createMultiBody(
+            0.0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=c), physicsClientId=c
+        )
+        capsule = pb.createCollisionShape(
+            pb.GEOM_CAPSULE,
+            radius=options.radius * l,
+            height=2.0 * l,
+            collisionFrameOrientation=pb.getQuaternionFromEuler([math.pi / 2, 0.0, 0.0]),
+            physicsClientId=c,
+        )
         zero, ident = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]
         self.body = pb.createMultiBody(
-            baseMass=0.0, baseCollisionShapeIndex=-1, baseVisualShapeIndex=-1, basePosition=zero, baseOrientation=ident,
-            linkMasses=[0.0, 0.0, 0.0, 0.0, rod.mass], linkCollisionShapeIndices=[-1, -1, -1, -1, capsule],
-            linkVisualShapeIndices=[-1] * 5, linkPositions=[zero] * 5, linkOrientations=[ident] * 5,
-            linkInertialFramePositions=[zero] * 5, linkInertialFrameOrientations=[ident] * 5,
+            baseMass=0.0,
+            baseCollisionShapeIndex=-1,
+            baseVisualShapeIndex=-1,
+            basePosition=zero,
+            baseOrientation=ident,
+            linkMasses=[0.0, 0.0, 0.0, 0.0, rod.mass],
+            linkCollisionShapeIndices=[-1, -1, -1, -1, capsule],
+            linkVisualShapeIndices=[-1] * 5,
+            linkPositions=[zero] * 5,
+            linkOrientations=[ident] * 5,
+            linkInertialFramePositions=[zero] * 5,
+            linkInertialFrameOrientations=[ident] * 5,
             linkParentIndices=[0, 1, 2, 3, 4],  # createMultiBody numbers the base 0 and link i as i + 1
             linkJointTypes=[pb.JOINT_PRISMATIC] * 3 + [pb.JOINT_REVOLUTE] * 2,
-            linkJointAxis=[[1, 0, 0], [0, 1, 0], [0, 0, 1], [0, 0, 1], [1, 0, 0]], physicsClientId=c)
+            linkJointAxis=[[1, 0, 0], [0, 1, 0], [0, 0, 1], [0, 0, 1], [1, 0, 0]],
+            physicsClientId=c,
+        )
         if self.body < 0 or self.ground < 0:
             raise RuntimeError("pybullet could not create the rod or the plane")
-        pb.changeDynamics(self.ground, -1, lateralFriction=1.0, restitution=0.0, rollingFriction=0.0, spinningFriction=0.0,
-                          physicsClientId=c)
-        pb.changeDynamics(self.body, -1, linearDamping=0.0, angularDamping=0.0, maxJointVelocity=NO_CLAMP,
-                          activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING, physicsClientId=c)
+        pb.changeDynamics(
+            self.ground,
+            -1,
+            lateralFriction=1.0,
+            restitution=0.0,
+            rollingFriction=0.0,
+            spinningFriction=0.0,
+            physicsClientId=c,
+        )
+        pb.changeDynamics(
+            self.body,
+            -1,
+            linearDamping=0.0,
+            angularDamping=0.0,
+            maxJointVelocity=NO_CLAMP,
+            activationState=pb.ACTIVATION_STATE_DISABLE_SLEEPING,
+            physicsClientId=c,
+        )
         for j in JOINTS:
             pb.changeDynamics(self.body, j, jointDamping=0.0, physicsClientId=c)
-        pb.changeDynamics(self.body, ROD_LINK, localInertiaDiagonal=[rod.inertia, 0.0, rod.inertia], lateralFriction=self.mu,
-                          restitution=0.0, rollingFriction=0.0, spinningFriction=0.0, physicsClientId=c)
+        pb.changeDynamics(
+            self.body,
+            ROD_LINK,
+            localInertiaDiagonal=[rod.inertia, 0.0, rod.inertia],
+            lateralFriction=self.mu,
+            restitution=0.0,
+            rollingFriction=0.0,
+            spinningFriction=0.0,
+            physicsClientId=c,
+        )
         pb.setJointMotorControlArray(self.body, list(JOINTS), pb.VELOCITY_CONTROL, forces=[0.0] * 5, physicsClientId=c)
 
     def set_state(self, q: np.ndarray, v: np.ndarray) -> None:
@@ -217,11 +263,29 @@ class World:
         check = FIRST_CHECK
         for k in range(nstep):
             if judged is not None and k == check:
-                if judged(Raw(q=q[:k + 1], v=v[:k + 1], force=force[:k], points=points[:k], distance=distance[:k],
-                              iterations=iterations[:k], residual=residual[:k], computed=k)):
-                    q[k + 1:], v[k + 1:], force[k:] = np.nan, np.nan, np.nan
-                    return Raw(q=q, v=v, force=force, points=points, distance=distance, iterations=iterations, residual=residual,
-                               computed=k)
+                if judged(
+                    Raw(
+                        q=q[: k + 1],
+                        v=v[: k + 1],
+                        force=force[:k],
+                        points=points[:k],
+                        distance=distance[:k],
+                        iterations=iterations[:k],
+                        residual=residual[:k],
+                        computed=k,
+                    )
+                ):
+                    q[k + 1 :], v[k + 1 :], force[k:] = np.nan, np.nan, np.nan
+                    return Raw(
+                        q=q,
+                        v=v,
+                        force=force,
+                        points=points,
+                        distance=distance,
+                        iterations=iterations,
+                        residual=residual,
+                        computed=k,
+                    )
                 check *= 2
             if along_slip:
                 turn, about = self._turn_to_slip(q[k], v[k])
@@ -257,7 +321,9 @@ class World:
         """Set the rod at (q, v) turned about the vertical through the tip A by the angle that brings the slip of its
         contact point C = A - r K along world +x (``Options.friction_axes`` "slip"); return the angle and A (x, y)."""
         rod, psi = self.rod, q[3]
-        u = tip_velocity(rod, q, v)[:2] + self.options.radius * rod.length * v[4] * np.array((-math.sin(psi), math.cos(psi)))
+        u = tip_velocity(rod, q, v)[:2] + self.options.radius * rod.length * v[4] * np.array(
+            (-math.sin(psi), math.cos(psi))
+        )
         turn = -math.atan2(u[1], u[0]) if u[0] or u[1] else 0.0
         about = tip_position(rod, q)[:2]
         qt, vt = _turned(q, v, turn, about)

@@ -87,7 +87,9 @@ class Options:
         if not (isinstance(n, (int, np.integer)) and not isinstance(n, bool) and 1 <= n <= MAX_ITERATIONS):
             raise ValueError(f"solver_iterations must be an integer in [1, {MAX_ITERATIONS}]; got {n!r}")
         object.__setattr__(self, "solver_iterations", int(n))
-        object.__setattr__(self, "solver_tolerance", real_scalar("solver_tolerance", self.solver_tolerance, NONNEGATIVE))
+        object.__setattr__(
+            self, "solver_tolerance", real_scalar("solver_tolerance", self.solver_tolerance, NONNEGATIVE)
+        )
         object.__setattr__(self, "contact_erp", real_scalar("contact_erp", self.contact_erp, UNIT))
         object.__setattr__(self, "contact_margin", real_scalar("contact_margin", self.contact_margin, POSITIVE))
         if not isinstance(self.cone, (bool, np.bool_)):

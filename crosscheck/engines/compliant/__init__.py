@@ -27,8 +27,21 @@ from crosscheck.engines.compliant.model import Dynamics
 from crosscheck.engines.compliant.manifold import rigid_normal_force, slow_manifold
 from crosscheck.engines.compliant.run import Options, simulate, sweep
 
-__all__ = ["ENGINES", "integrate", "simulate", "sweep", "slow_manifold", "rigid_normal_force", "Options", "Trajectory", "Event", "EVENT_KINDS", "Dynamics",
-           "NormalLaw", "LAWS"]
+__all__ = [
+    "ENGINES",
+    "integrate",
+    "simulate",
+    "sweep",
+    "slow_manifold",
+    "rigid_normal_force",
+    "Options",
+    "Trajectory",
+    "Event",
+    "EVENT_KINDS",
+    "Dynamics",
+    "NormalLaw",
+    "LAWS",
+]
 
 
 def _sections():
@@ -38,6 +51,11 @@ def _sections():
 
 
 ENGINES = (
-    EngineSpec(name="compliant", module="crosscheck.engines.compliant.run", one_core={"workers": 1},
-               tags={"compliant", "continuous"}, report=ReportPlan(sections=_sections, order=30)),
+    EngineSpec(
+        name="compliant",
+        module="crosscheck.engines.compliant.run",
+        one_core={"workers": 1},
+        tags={"compliant", "continuous"},
+        report=ReportPlan(sections=_sections, order=30),
+    ),
 )

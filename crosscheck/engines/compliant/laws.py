@@ -131,4 +131,3 @@ def get(name) -> NormalLaw:
     if not isinstance(name, str) or name not in LAWS:
         raise ValueError(f"law must be one of {', '.join(names())}; got {name!r}")
     return LAWS[name]
-

@@ -45,8 +45,9 @@ def _slipping_rate(dyn: Dynamics, y) -> np.ndarray:
     return np.concatenate([y[5:], dyn.accel(y, F)])
 
 
-def slow_manifold(rod: Rod, state: SlipState, mu: float, *, eps: float, xi: float, radius: float = 0.0,
-                  law="kelvin-voigt") -> tuple[float, float]:
+def slow_manifold(
+    rod: Rod, state: SlipState, mu: float, *, eps: float, xi: float, radius: float = 0.0, law="kelvin-voigt"
+) -> tuple[float, float]:
     """(gap, gap_rate) that start ``integrate`` on the slow manifold from a slipping ``state``.
 
     The penetration delta = -gap solves push(delta, delta') = F_z (Newton on
@@ -61,7 +62,9 @@ def slow_manifold(rod: Rod, state: SlipState, mu: float, *, eps: float, xi: floa
         raise ValueError("state must slip at its contact point for a slow-manifold start; got a contact point at rest")
     Fz = rigid_normal_force(dyn, y)
     if not Fz > 0.0:
-        raise ValueError(f"state must press on the plane (rigid normal force > 0) for a slow-manifold start; got F_z = {Fz:g}")
+        raise ValueError(
+            f"state must press on the plane (rigid normal force > 0) for a slow-manifold start; got F_z = {Fz:g}"
+        )
     h = 1e-5
     f = _slipping_rate(dyn, y)
     dFz = (rigid_normal_force(dyn, y + h * f) - rigid_normal_force(dyn, y - h * f)) / (2.0 * h)

@@ -54,6 +54,7 @@ from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState, check_timestep_within
 from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION
+
 __all__ = ["Options", "SolverStats", "simulate", "sweep", "record_of", "NAME"]
 
 #: The engine's registry name.
@@ -147,9 +148,18 @@ class SolverStats:
     @classmethod
     def of(cls, traj) -> "SolverStats":
         kinds = [e.kind for e in traj.events]
-        return cls(steps=len(traj.t), nfev=int(traj.nfev), njev=int(traj.njev), segments=len(traj.segments), events=len(kinds),
-                   slip_stops=kinds.count("slip_stop"), stick_breaks=kinds.count("stick_break"), contact_ends=kinds.count("contact_end"),
-                   slip_stop_time=float(traj.slip_stop_time), end_time=float(traj.segments[-1].t1))
+        return cls(
+            steps=len(traj.t),
+            nfev=int(traj.nfev),
+            njev=int(traj.njev),
+            segments=len(traj.segments),
+            events=len(kinds),
+            slip_stops=kinds.count("slip_stop"),
+            stick_breaks=kinds.count("stick_break"),
+            contact_ends=kinds.count("contact_end"),
+            slip_stop_time=float(traj.slip_stop_time),
+            end_time=float(traj.segments[-1].t1),
+        )
 
 
 def record_of(traj, times: np.ndarray) -> Record:
@@ -178,20 +188,45 @@ def record_of(traj, times: np.ndarray) -> Record:
     acc = np.empty((n, 3))
     slip = np.zeros((n, 3))
     for k in range(n):
-        T = dyn.terms(Y[k])  # once for the force, the tip's acceleration and the slip (``Dynamics.slip`` is J_t q' of the same terms)
+        T = dyn.terms(
+            Y[k]
+        )  # once for the force, the tip's acceleration and the slip (``Dynamics.slip`` is J_t q' of the same terms)
         F = dyn.force(Y[k], int(modes[k]), dirs[k], T) if modes[k] != FREE else np.zeros(3)
         force[k] = F
         acc[k] = dyn.tip_acceleration(Y[k], F, T)
         slip[k, :2] = T[2][:2] @ T[4]
     rod = Rod.scaled(dyn.alpha)
     q, v = q_from_y(Y, dyn.radius)
-    return Record(t=np.asarray(times, float), tip_pos=tip_position(rod, q), tip_vel=tip_velocity(rod, q, v), tip_acc=acc, force=force,
-                  normal_force=force[:, 2].copy(), active=np.isin(modes, (SLIP, STICK)), gap=Y[:, 2].copy(), slip_vel=slip,
-                  psi=Y[:, 3].copy(), theta=Y[:, 4].copy(), Psi=Y[:, 8].copy(), Theta=Y[:, 9].copy())
+    return Record(
+        t=np.asarray(times, float),
+        tip_pos=tip_position(rod, q),
+        tip_vel=tip_velocity(rod, q, v),
+        tip_acc=acc,
+        force=force,
+        normal_force=force[:, 2].copy(),
+        active=np.isin(modes, (SLIP, STICK)),
+        gap=Y[:, 2].copy(),
+        slip_vel=slip,
+        psi=Y[:, 3].copy(),
+        theta=Y[:, 4].copy(),
+        Psi=Y[:, 8].copy(),
+        Theta=Y[:, 9].copy(),
+    )
 
 
-def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: float = Options.eps, xi: float = Options.xi,
-             radius: float = 0.0, law: str = "kelvin-voigt", thresholds: Thresholds | None = None, **options) -> Run:
+def simulate(
+    rod: Rod,
+    state: SlipState,
+    mu: float,
+    *,
+    horizon: float,
+    eps: float = Options.eps,
+    xi: float = Options.xi,
+    radius: float = 0.0,
+    law: str = "kelvin-voigt",
+    thresholds: Thresholds | None = None,
+    **options,
+) -> Run:
     """Run one slipping state with the compliant rod and classify its first event.
 
     The capsule starts touching the plane (z_A = r, the gap of C zero) with
@@ -211,8 +246,19 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: floa
     n = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES)
     times = opts.timestep * np.arange(n)
     # integrate past the last row by one timestep so that every row lies inside the dense output
-    traj = integrate(rod, state, mu, horizon=max(horizon, times[-1] + opts.timestep), eps=opts.eps, xi=opts.xi, radius=opts.radius,
-                     law=opts.law, method=opts.method, rtol=opts.rtol, atol=opts.atol)
+    traj = integrate(
+        rod,
+        state,
+        mu,
+        horizon=max(horizon, times[-1] + opts.timestep),
+        eps=opts.eps,
+        xi=opts.xi,
+        radius=opts.radius,
+        law=opts.law,
+        method=opts.method,
+        rtol=opts.rtol,
+        atol=opts.atol,
+    )
     end = traj.segments[-1].t1
     if end < times[-1]:
         # the run stopped early (theta left the domain): rows past the end are the last state, the classifier's exit rule sees theta
@@ -223,15 +269,56 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: floa
         # classifier's exit rule sees the exit; the clock keeps its fixed step
         past = opts.timestep * np.arange(n) > end
         theta = np.where(past, np.where(record.theta[-1] < 0.75, 0.0, 0.5 * np.pi), record.theta)
-        record = Record(**{f.name: getattr(record, f.name) for f in fields(Record)} | {"t": opts.timestep * np.arange(n), "theta": theta})
-    c = classify(record, mu=float(mu), alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, rigid=False,
-                 contact_time=opts.contact_time, radius=opts.radius, thresholds=th)
-    return Run.from_classification(NAME, c, record, state=state, mu=float(mu), alpha=rod.alpha, options=opts, thresholds=th,
-                                   horizon=horizon, nstep=n, solver=SolverStats.of(traj))
+        record = Record(
+            **{f.name: getattr(record, f.name) for f in fields(Record)}
+            | {"t": opts.timestep * np.arange(n), "theta": theta}
+        )
+    c = classify(
+        record,
+        mu=float(mu),
+        alpha=rod.alpha,
+        timestep=opts.timestep,
+        friction_timeconst=opts.friction_time,
+        rigid=False,
+        contact_time=opts.contact_time,
+        radius=opts.radius,
+        thresholds=th,
+    )
+    return Run.from_classification(
+        NAME,
+        c,
+        record,
+        state=state,
+        mu=float(mu),
+        alpha=rod.alpha,
+        options=opts,
+        thresholds=th,
+        horizon=horizon,
+        nstep=n,
+        solver=SolverStats.of(traj),
+    )
 
 
-def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool | None = None,
-          workers: int = 1, **options) -> SweepResult:
+def sweep(
+    rod: Rod,
+    states: Sequence[SlipState],
+    mu,
+    *,
+    horizon: float,
+    thresholds: Thresholds | None = None,
+    progress: bool | None = None,
+    workers: int = 1,
+    **options,
+) -> SweepResult:
     """Every state through ``simulate`` (``sweep_by_simulate``; ``workers`` forked processes)."""
-    return sweep_by_simulate(get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers,
-                             **options)
+    return sweep_by_simulate(
+        get(NAME),
+        rod,
+        states,
+        mu,
+        horizon=horizon,
+        thresholds=thresholds,
+        progress=progress,
+        workers=workers,
+        **options,
+    )

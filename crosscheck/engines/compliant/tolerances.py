@@ -47,8 +47,11 @@ SLIP_STOP = Tolerance(atol=1e-9, rtol=0.0, why="compliant rod: slip speed of C a
 #: tolerance (COMPLIANT_INTEGRATION.atol = 1e-10), so a restarting slip's
 #: direction at the switch is not the solver's error.  A stop seen on the far
 #: side is late by ~2 SLIP_STOP.atol / |ds/dt| (5e-12 there): the far side's return.
-SLIP_FLOOR = Tolerance(atol=0.5 * SLIP_STOP.atol, rtol=0.0,
-                       why="compliant rod: restart-direction floor of the slip speed, strictly below the slip-stop event")
+SLIP_FLOOR = Tolerance(
+    atol=0.5 * SLIP_STOP.atol,
+    rtol=0.0,
+    why="compliant rod: restart-direction floor of the slip speed, strictly below the slip-stop event",
+)
 
 #: Order of convergence of the compliant rod to the rigid flow (slow
 #: variables at t = 1, eps = 0.04, 0.02, 0.01, started on the slow manifold;
@@ -57,7 +60,9 @@ SLIP_FLOOR = Tolerance(atol=0.5 * SLIP_STOP.atol, rtol=0.0,
 #: ~kappa eps_max / (2 ln 2).  Measured slopes: 2.005 and 1.970 (two slipping
 #: states, eps 0.005-0.04), 2.0 for the stop time; 0.1 is 3x the largest
 #: measured deviation: a regression guard on the order, not a bound.
-COMPLIANT_ORDER = Tolerance(atol=0.1, rtol=0.0, why="compliant -> rigid: fitted order 2 (3x the measured deviation 0.03)", guard=True)
+COMPLIANT_ORDER = Tolerance(
+    atol=0.1, rtol=0.0, why="compliant -> rigid: fitted order 2 (3x the measured deviation 0.03)", guard=True
+)
 
 #: Central differences of a body point's position (step h = 1e-5, O(1)
 #: positions and rates |v| <= ~5): truncation h^2 |third derivative| / 6
@@ -70,7 +75,9 @@ COMPLIANT_KINEMATICS = Tolerance(atol=5e-9, rtol=0.0, why="C's velocity by centr
 #: (2/3)|d'| with d' the restart direction's rate (O(1): the rod's rates are
 #: O(1)).  Measured 0.87 at tau = 1e-4 and 0.36 at 1e-3; 5 is a guard.  A
 #: wrong restart direction gives an O(1) angle, i.e. 1e3-1e4 per unit time.
-COMPLIANT_RESTART = Tolerance(atol=5.0, rtol=0.0, why="slip direction after a stick break: turn rate (measured <= 0.9)", guard=True)
+COMPLIANT_RESTART = Tolerance(
+    atol=5.0, rtol=0.0, why="slip direction after a stick break: turn rate (measured <= 0.9)", guard=True
+)
 
 #: One step of the compliant rod may raise the computed energy by its local
 #: error: <= atol + rtol |y_i| ~ 3e-8 per component (COMPLIANT_INTEGRATION,
@@ -87,7 +94,9 @@ COMPLIANT_ENERGY = Tolerance(atol=3e-7, rtol=0.0, why="energy rise within one so
 #: (crosscheck.theory.impact.darboux_keller, DOP853 at rtol 1e-12).  The fast problem starts at
 #: P0 = 1e-9 on the exact linear growth direction, an O(P0) = 1e-9 relative
 #: error; measured differences <= 4e-12.
-COMPLIANT_LIMIT_FAST = Tolerance(atol=1e-9, rtol=1e-9, why="fast problem vs closed form / iwc: start at P0 = 1e-9 on the linear direction")
+COMPLIANT_LIMIT_FAST = Tolerance(
+    atol=1e-9, rtol=1e-9, why="fast problem vs closed form / iwc: start at P0 = 1e-9 on the linear direction"
+)
 
 #: t_stop/eps of the compliant rod minus its leading law (1/lambda) ln(1/eps)
 #: + C, against the first corrections C1 eps T + C2 eps T^2
@@ -97,7 +106,9 @@ COMPLIANT_LIMIT_FAST = Tolerance(atol=1e-9, rtol=1e-9, why="fast problem vs clos
 #: corrections; with T >= 2 in the tests and a remainder coefficient of the
 #: same size as C1 (the same drifts, over the O(eps) start-up transient),
 #: rtol 0.5.  Measured worst 0.22 (xi = 5, eps = 1e-2, T = 1.6); 0.04 at xi = 1.
-COMPLIANT_LIMIT_SLIP_TIME = Tolerance(atol=0.0, rtol=0.5, why="O(eps) remainder ~ 1/T of the O(eps T) corrections, T >= 2")
+COMPLIANT_LIMIT_SLIP_TIME = Tolerance(
+    atol=0.0, rtol=0.5, why="O(eps) remainder ~ 1/T of the O(eps T) corrections, T >= 2"
+)
 
 #: e S xi^2 -> 1 as xi -> inf (compliant_limit.planar_restitution): the
 #: overdamped stick phase releases on its slow mode with w_f = (1 + |p|/S)
@@ -116,7 +127,9 @@ COMPLIANT_LIMIT_LARGE_XI = Tolerance(atol=0.07, rtol=0.0, why="e S xi^2 = 1 + O(
 #: local slope by ~1/ln(1/eps) <= 0.15 between eps = 1e-2 and 1e-6.
 #: Measured differences 0.01-0.03 (p <= -0.56); 0.10 at p = -0.08, where
 #: t_end is ~10x longer.
-COMPLIANT_LIMIT_POST_ORDER = Tolerance(atol=0.15, rtol=0.0, why="error ~ t_end = O(eps ln(1/eps)); O(eps) remainder shifts the slope by ~1/ln(1/eps)")
+COMPLIANT_LIMIT_POST_ORDER = Tolerance(
+    atol=0.15, rtol=0.0, why="error ~ t_end = O(eps ln(1/eps)); O(eps) remainder shifts the slope by ~1/ln(1/eps)"
+)
 
 #: Observed order of the slip-stop lag t_stop - t_jam at a Corollary 4.2
 #: jam, against 4/5: near the jam p ~ -k (P - P_jam), and delta'' = -b - p F_n

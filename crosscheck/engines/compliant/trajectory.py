@@ -72,13 +72,34 @@ from scipy.integrate import solve_ivp
 
 from crosscheck.checks import HORIZON, MU, RATE, Interval, check
 from crosscheck.engines.compliant import laws as _laws
-from crosscheck.engines.compliant.model import FREE, MODES, SLIP, STICK, Dynamics, q_from_y, restart_direction, y_from_qv
+from crosscheck.engines.compliant.model import (
+    FREE,
+    MODES,
+    SLIP,
+    STICK,
+    Dynamics,
+    q_from_y,
+    restart_direction,
+    y_from_qv,
+)
 from crosscheck.coordinates import paper_to_qv, qv_to_paper
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 from crosscheck.tolerances import THETA_MARGIN
 from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION, SLIP_FLOOR, SLIP_STOP
-__all__ = ["Event", "Segment", "Trajectory", "integrate", "start_state", "make_dynamics", "RADIUS", "GAP", "EVENT_KINDS", "METHODS"]
+
+__all__ = [
+    "Event",
+    "Segment",
+    "Trajectory",
+    "integrate",
+    "start_state",
+    "make_dynamics",
+    "RADIUS",
+    "GAP",
+    "EVENT_KINDS",
+    "METHODS",
+]
 
 #: Capsule radius r / l: 0 is the tip A itself; at r >= l/2 the end cap reaches the centre of mass.
 RADIUS = Interval(0.0, 0.5, lo_open=False, hi_open=True)
@@ -90,7 +111,16 @@ GAP = Interval(-1.0, 0.0, lo_open=False, hi_open=False)
 RTOL = Interval(1e-13, 1e-2, lo_open=False, hi_open=False)
 ATOL = Interval(1e-16, 1e-2, lo_open=False, hi_open=False)
 #: Event kinds an ``Event`` may have (and ``stop_at`` may name).
-EVENT_KINDS = ("contact_start", "contact_end", "slip_stop", "slip_restart", "stick_break", "domain_exit", "segments", "solver_failure")
+EVENT_KINDS = (
+    "contact_start",
+    "contact_end",
+    "slip_stop",
+    "slip_restart",
+    "stick_break",
+    "domain_exit",
+    "segments",
+    "solver_failure",
+)
 #: The stiff methods of ``solve_ivp`` this integrator accepts.
 METHODS = ("Radau", "BDF")
 #: At most this many mode segments per run: a stick-slip or contact chatter that switches more often is cut
@@ -180,9 +210,15 @@ class Trajectory:
         d = {k: float(x) for k, x in qv_to_paper(Rod.scaled(dyn.alpha), q, v).items()}
         s = dyn.slip(y)
         F = dyn.force(y, mode, direction)
-        d.update(gap=float(y[2]), gap_rate=float(y[7]), eta_C=float(math.hypot(*s)),
-                 varphi_C=float(np.angle(np.exp(1j * (math.atan2(s[1], s[0]) - q[3])))), normal_force=float(F[2]),
-                 tangential_force=float(math.hypot(F[0], F[1])), mode=MODES[mode])
+        d.update(
+            gap=float(y[2]),
+            gap_rate=float(y[7]),
+            eta_C=float(math.hypot(*s)),
+            varphi_C=float(np.angle(np.exp(1j * (math.atan2(s[1], s[0]) - q[3])))),
+            normal_force=float(F[2]),
+            tangential_force=float(math.hypot(F[0], F[1])),
+            mode=MODES[mode],
+        )
         return d
 
     def after_slip_stop(self) -> dict | None:
@@ -197,9 +233,23 @@ class Trajectory:
             return None
         mode = STICK if ev.after == "stick" else SLIP
         d = self._state(ev.y, mode, ev.direction)
-        varphi = float(np.angle(np.exp(1j * (math.atan2(ev.direction[1], ev.direction[0]) - ev.y[3])))) if mode == SLIP else math.nan
-        return {"time": ev.time, "Theta": d["Theta"], "Psi": d["Psi"], "theta": d["theta"], "eta_C": d["eta_C"],
-                "varphi_C": varphi, "w": d["gap_rate"], "gap": d["gap"], "normal_force": d["normal_force"], "mode": d["mode"]}
+        varphi = (
+            float(np.angle(np.exp(1j * (math.atan2(ev.direction[1], ev.direction[0]) - ev.y[3]))))
+            if mode == SLIP
+            else math.nan
+        )
+        return {
+            "time": ev.time,
+            "Theta": d["Theta"],
+            "Psi": d["Psi"],
+            "theta": d["theta"],
+            "eta_C": d["eta_C"],
+            "varphi_C": varphi,
+            "w": d["gap_rate"],
+            "gap": d["gap"],
+            "normal_force": d["normal_force"],
+            "mode": d["mode"],
+        }
 
     def energy(self) -> np.ndarray:
         """(n,) total mechanical energy at the rows (``Dynamics.energy``)."""
@@ -252,9 +302,11 @@ def _events(dyn: Dynamics, mode: int, below: bool):
     if mode == SLIP and dyn.mu > 0.0:
         add(lambda t, y: math.hypot(*dyn.slip(y)) - SLIP_STOP.atol, -1, "slip_stop")
     if mode == STICK:
+
         def cone(t, y):
             F = dyn.force(y, STICK)
             return dyn.mu * F[2] - math.hypot(F[0], F[1])
+
         add(cone, -1, "stick_break")
     return evs
 
@@ -325,14 +377,38 @@ def start_state(rod: Rod, state: SlipState, dyn: Dynamics, *, gap: float, gap_ra
     tip = (0, 0, radius)); the velocities are the tip's of ``state`` plus
     the normal velocity gap_rate (C's normal velocity equals A's).
     """
-    q0, v0 = paper_to_qv(Rod.scaled(rod.alpha), state.theta, state.varphi, state.Theta, state.Psi, state.eta, state.psi,
-                         tip=(0.0, 0.0, dyn.radius + gap), w=gap_rate)
+    q0, v0 = paper_to_qv(
+        Rod.scaled(rod.alpha),
+        state.theta,
+        state.varphi,
+        state.Theta,
+        state.Psi,
+        state.eta,
+        state.psi,
+        tip=(0.0, 0.0, dyn.radius + gap),
+        w=gap_rate,
+    )
     return y_from_qv(q0, v0, dyn.radius)
 
 
-def integrate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: float, xi: float, radius: float = 0.0,
-              law="kelvin-voigt", gap: float = 0.0, gap_rate: float = 0.0, stop_at=None, method: str = "Radau",
-              rtol: float | None = None, atol: float | None = None, max_step: float = math.inf) -> Trajectory:
+def integrate(
+    rod: Rod,
+    state: SlipState,
+    mu: float,
+    *,
+    horizon: float,
+    eps: float,
+    xi: float,
+    radius: float = 0.0,
+    law="kelvin-voigt",
+    gap: float = 0.0,
+    gap_rate: float = 0.0,
+    stop_at=None,
+    method: str = "Radau",
+    rtol: float | None = None,
+    atol: float | None = None,
+    max_step: float = math.inf,
+) -> Trajectory:
     """Integrate the compliant rod from ``state`` to ``horizon`` (or a ``stop_at`` event).
 
     Args:
@@ -400,9 +476,18 @@ def integrate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: flo
             break
         evs = _events(dyn, mode, below)
         m, dcur = mode, direction
-        sol = solve_ivp(lambda tt, yy: dyn.rhs(yy, m, dcur), (t, horizon), y, method=method, rtol=rtol, atol=atol_v,
-                        jac=lambda tt, yy: dyn.jac(yy, m, dcur), events=[f for f, _ in evs], dense_output=True,
-                        max_step=max_step)
+        sol = solve_ivp(
+            lambda tt, yy: dyn.rhs(yy, m, dcur),
+            (t, horizon),
+            y,
+            method=method,
+            rtol=rtol,
+            atol=atol_v,
+            jac=lambda tt, yy: dyn.jac(yy, m, dcur),
+            events=[f for f, _ in evs],
+            dense_output=True,
+            max_step=max_step,
+        )
         nfev += sol.nfev
         njev += sol.njev
         seg_t, seg_y = sol.t, sol.y.T
@@ -410,9 +495,13 @@ def integrate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: flo
             segments.append(Segment(t, float(seg_t[-1]), mode, direction, y.copy(), sol.sol, sol.nfev, sol.njev))
             T.append(seg_t), Y.append(seg_y), MODE.append(np.full(len(seg_t), mode))
             y_end = seg_y[-1]
-            reason = (f"{sol.message} (mode {MODES[mode]}, C's slip speed {math.hypot(*dyn.slip(y_end)):.3g}, gap {y_end[2]:.3g}, "
-                      f"last step {seg_t[-1] - seg_t[-2] if len(seg_t) > 1 else math.nan:.3g})")
-            events.append(Event(float(seg_t[-1]), "solver_failure", MODES[mode], MODES[mode], y_end.copy(), direction, reason))
+            reason = (
+                f"{sol.message} (mode {MODES[mode]}, C's slip speed {math.hypot(*dyn.slip(y_end)):.3g}, gap {y_end[2]:.3g}, "
+                f"last step {seg_t[-1] - seg_t[-2] if len(seg_t) > 1 else math.nan:.3g})"
+            )
+            events.append(
+                Event(float(seg_t[-1]), "solver_failure", MODES[mode], MODES[mode], y_end.copy(), direction, reason)
+            )
             break
         if sol.status == 0:
             segments.append(Segment(t, horizon, mode, direction, y.copy(), sol.sol, sol.nfev, sol.njev))
@@ -425,7 +514,11 @@ def integrate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: flo
         kind = evs[i][1]
         segments.append(Segment(t, float(te), mode, direction, y.copy(), sol.sol, sol.nfev, sol.njev))
         keep = seg_t < te
-        T.append(np.append(seg_t[keep], te)), Y.append(np.vstack([seg_y[keep], ye])), MODE.append(np.full(keep.sum() + 1, mode))
+        (
+            T.append(np.append(seg_t[keep], te)),
+            Y.append(np.vstack([seg_y[keep], ye])),
+            MODE.append(np.full(keep.sum() + 1, mode)),
+        )
         t, y = float(te), ye
         before = MODES[mode]
         direction = None
@@ -476,8 +569,19 @@ def integrate(rod: Rod, state: SlipState, mu: float, *, horizon: float, eps: flo
     q, v = q_from_y(y_all, dyn.radius)
     # F_n is the law's push in both contact modes (``Dynamics.force``'s third component), without the friction part
     Fn = np.array([dyn.push(yy) if mm != FREE else 0.0 for yy, mm in zip(y_all, mode_all)])
-    return Trajectory(t=t_all, q=q, v=v, mode=mode_all, normal_force=Fn, events=events, slip_stop_time=slip_stop_time,
-                      segments=segments, dynamics=dyn, nfev=nfev, njev=njev)
+    return Trajectory(
+        t=t_all,
+        q=q,
+        v=v,
+        mode=mode_all,
+        normal_force=Fn,
+        events=events,
+        slip_stop_time=slip_stop_time,
+        segments=segments,
+        dynamics=dyn,
+        nfev=nfev,
+        njev=njev,
+    )
 
 
 def _slip_rate(dyn: Dynamics, y, mode: int) -> np.ndarray:

@@ -29,8 +29,13 @@ _TAGS = {
     "tamsi": {"compliant", "time_stepping"},
 }
 
-_LABELS = {"continuous": "Drake continuous", "sap": "Drake SAP", "similar": "Drake Similar", "lagged": "Drake Lagged",
-           "tamsi": "Drake TAMSI"}
+_LABELS = {
+    "continuous": "Drake continuous",
+    "sap": "Drake SAP",
+    "similar": "Drake Similar",
+    "lagged": "Drake Lagged",
+    "tamsi": "Drake TAMSI",
+}
 
 #: Report settings by cost (python benchmarks/bench_drake.py --every 3: 50 of the quick maps' slipping starts, one
 #: core, while other jobs shared the 2 cores): the quick map section runs 3 maps of 10 x 10 starts at horizon 2, half
@@ -49,7 +54,10 @@ _LABELS = {"continuous": "Drake continuous", "sap": "Drake SAP", "similar": "Dra
 #: rather than a convergence to the theory.
 _CONTINUOUS_QUICK = {"timestep": 2e-3, "accuracy": 1e-3, "stiction_tolerance": 1e-3}
 _MAPS = {
-    "continuous": {"quick": _CONTINUOUS_QUICK, "full": {"timestep": 1e-3, "accuracy": 1e-4, "stiction_tolerance": 1e-3}},
+    "continuous": {
+        "quick": _CONTINUOUS_QUICK,
+        "full": {"timestep": 1e-3, "accuracy": 1e-4, "stiction_tolerance": 1e-3},
+    },
     "sap": {"quick": {"timestep": 2e-3}, "full": {"timestep": 1e-3}},
     "similar": {"quick": {"timestep": 2e-3}, "full": {"timestep": 1e-3}},
     "lagged": {"quick": {"timestep": 3e-3}, "full": {"timestep": 1e-3}},
@@ -58,16 +66,25 @@ _MAPS = {
 
 
 def _discrete_convergence(quick: list, full: list) -> dict:
-    return {"quick": [{"timestep": dt, "stiffness": k} for dt, k in quick], "full": [{"timestep": dt, "stiffness": k} for dt, k in full]}
+    return {
+        "quick": [{"timestep": dt, "stiffness": k} for dt, k in quick],
+        "full": [{"timestep": dt, "stiffness": k} for dt, k in full],
+    }
 
 
 _QUICK_STEPS = [(4e-3, 1e4), (2e-3, 1e4), (1e-3, 1e4), (1e-3, 1e5)]
 _CONVERGENCE = {
-    "continuous": {"quick": [{**_CONTINUOUS_QUICK, "stiffness": k} for k in (1e3, 1e4, 1e5)],
-                   "full": [{"timestep": 1e-3, "accuracy": 1e-4, "stiction_tolerance": 1e-3, "stiffness": k} for k in (1e3, 1e4, 1e5)]},
+    "continuous": {
+        "quick": [{**_CONTINUOUS_QUICK, "stiffness": k} for k in (1e3, 1e4, 1e5)],
+        "full": [
+            {"timestep": 1e-3, "accuracy": 1e-4, "stiction_tolerance": 1e-3, "stiffness": k} for k in (1e3, 1e4, 1e5)
+        ],
+    },
     "sap": _discrete_convergence(_QUICK_STEPS, _QUICK_STEPS),
     "similar": _discrete_convergence(_QUICK_STEPS, _QUICK_STEPS),
-    "lagged": _discrete_convergence([(6e-3, 1e4), (3e-3, 1e4), (3e-3, 1e5)], [(6e-3, 1e4), (3e-3, 1e4), (1e-3, 1e4), (1e-3, 1e5)]),
+    "lagged": _discrete_convergence(
+        [(6e-3, 1e4), (3e-3, 1e4), (3e-3, 1e5)], [(6e-3, 1e4), (3e-3, 1e4), (1e-3, 1e4), (1e-3, 1e5)]
+    ),
     "tamsi": _discrete_convergence(_QUICK_STEPS, _QUICK_STEPS),
 }
 
@@ -82,26 +99,50 @@ _CONVERGENCE_N = {"quick": 4, "full": 6}
 
 #: The models between the theory and each approximation (``crosscheck.studies.ladder``; ``ladder`` here): the capsule's
 #: contact point, the compliant rod with Drake's normal law, Drake's law in continuous time, the approximation itself.
-_LADDER = {"geometry": "capsule", "compliance": "crosscheck.engines.drake.ladder:compliant",
-           "friction law": "crosscheck.engines.drake.ladder:continuous", "discretisation": "engine"}
+_LADDER = {
+    "geometry": "capsule",
+    "compliance": "crosscheck.engines.drake.ladder:compliant",
+    "friction law": "crosscheck.engines.drake.ladder:continuous",
+    "discretisation": "engine",
+}
 #: The convex approximations' ladder: TAMSI's non-convex step at the same timestep first (discretisation), then the
 #: approximation itself (its relaxation).
 _LADDER_RELAXED = {**_LADDER, "discretisation": "crosscheck.engines.drake.ladder:tamsi", "relaxation": "engine"}
 #: The continuous plant's own ladder: its regularised friction is its last difference (no discretisation).
-_LADDER_CONTINUOUS = {"geometry": "capsule", "compliance": "crosscheck.engines.drake.ladder:compliant", "friction law": "engine"}
+_LADDER_CONTINUOUS = {
+    "geometry": "capsule",
+    "compliance": "crosscheck.engines.drake.ladder:compliant",
+    "friction law": "engine",
+}
 
 ENGINES = tuple(
     EngineSpec(
-        name=f"drake_{a}", module="crosscheck.engines.drake.engine", label=_LABELS[a], slug=f"drake_{a}", libraries=("drake",),
-        defaults={"approximation": a}, one_core={"workers": 1},
+        name=f"drake_{a}",
+        module="crosscheck.engines.drake.engine",
+        label=_LABELS[a],
+        slug=f"drake_{a}",
+        libraries=("drake",),
+        defaults={"approximation": a},
+        one_core={"workers": 1},
         solver_columns=("contact_rows", "steps", "derivative_evaluations", "error_shrinkages", "failed"),
         tags=_TAGS[a],
         # no event-tolerance profile: not measured yet (validate does not judge these engines' events)
         tolerances=None,
         ladder=_LADDER_CONTINUOUS if a == "continuous" else _LADDER_RELAXED if "relaxed" in _TAGS[a] else _LADDER,
-        interventions={c: f"crosscheck.engines.drake.interventions:{c.replace(' ', '_')}"
-                       for c in (_LADDER_CONTINUOUS if a == "continuous" else _LADDER_RELAXED if "relaxed" in _TAGS[a] else _LADDER)},
-        report=ReportPlan(maps=_MAPS[a], convergence=_CONVERGENCE[a], maps_n=_MAPS_N, convergence_n=_CONVERGENCE_N, ladder=True, order=40 + i),
+        interventions={
+            c: f"crosscheck.engines.drake.interventions:{c.replace(' ', '_')}"
+            for c in (
+                _LADDER_CONTINUOUS if a == "continuous" else _LADDER_RELAXED if "relaxed" in _TAGS[a] else _LADDER
+            )
+        },
+        report=ReportPlan(
+            maps=_MAPS[a],
+            convergence=_CONVERGENCE[a],
+            maps_n=_MAPS_N,
+            convergence_n=_CONVERGENCE_N,
+            ladder=True,
+            order=40 + i,
+        ),
         stops_at_event=True,
     )
     for i, a in enumerate(("sap", "continuous", "similar", "lagged", "tamsi"))

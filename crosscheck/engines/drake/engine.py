@@ -181,7 +181,9 @@ def _discrete_steps(m: Model, pc, x: np.ndarray, pairs: list, start: int, stop: 
     return stop, None
 
 
-def _discrete_rows(m: Model, pc, x: np.ndarray, pairs: list, n: int, bound: np.ndarray, judged=None) -> tuple[int, str | None]:
+def _discrete_rows(
+    m: Model, pc, x: np.ndarray, pairs: list, n: int, bound: np.ndarray, judged=None
+) -> tuple[int, str | None]:
     """Every step of a discrete plant from x[0] (already in ``pc``), as ``_discrete_steps``.
 
     Returns (n, None), or (k, why) for the first step k that ran away (x[k + 1] beyond ``bound``) or in which Drake
@@ -192,7 +194,7 @@ def _discrete_rows(m: Model, pc, x: np.ndarray, pairs: list, n: int, bound: np.n
     while k < n:
         start = k
         k, message = _discrete_steps(m, pc, x, pairs, start, min(n, start + CHUNK))
-        ok = (np.abs(x[start + 1:k + 1, 5:]) < bound).all(axis=1)
+        ok = (np.abs(x[start + 1 : k + 1, 5:]) < bound).all(axis=1)
         if not ok.all():
             return start + int(np.argmin(ok)), "runaway speed"
         if message is not None:
@@ -204,8 +206,9 @@ def _discrete_rows(m: Model, pc, x: np.ndarray, pairs: list, n: int, bound: np.n
     return n, None
 
 
-def _continuous_rows(m: Model, sim, pc, x: np.ndarray, vdot: np.ndarray, pairs: list, n: int, dt: float, bound: tuple,
-                     judged=None) -> tuple[int, str | None]:
+def _continuous_rows(
+    m: Model, sim, pc, x: np.ndarray, vdot: np.ndarray, pairs: list, n: int, dt: float, bound: tuple, judged=None
+) -> tuple[int, str | None]:
     """Every row of a continuous plant: ``sim`` advanced to t_k = k dt, then row k of x, vdot and contact pairs there.
 
     Returns (n, None), or (k, why) when x[k] ran away (beyond ``bound``) or Drake raised on the way to or at row k."""
@@ -242,11 +245,12 @@ def raw_run(m: Model, x0: np.ndarray, n: int, dt: float, speed_scale: np.ndarray
     ``judged(raw)``, if given, is asked at ``FIRST_CHECK`` rows and then at twice as many each time whether the
     rows so far (a ``Raw`` of them) settle the run's first event; the run stops there if so, its later rows NaN.
     """
+
     def ask(x, pairs, k, vdot=None):
         force, active = np.zeros((k, 3)), np.zeros(k, bool)
         _contact_rows(pairs, force, active)
-        vd = (x[1:k + 1, 5:] - x[:k, 5:]) / dt if vdot is None else vdot[:k]
-        return judged(Raw(x=x[:k + 1], vdot=vd, force=force, active=active, health=None, computed=k))
+        vd = (x[1 : k + 1, 5:] - x[:k, 5:]) / dt if vdot is None else vdot[:k]
+        return judged(Raw(x=x[: k + 1], vdot=vd, force=force, active=active, health=None, computed=k))
 
     plant, opts = m.plant, m.options
     x = np.full((n + 1, 10), np.nan)
@@ -263,8 +267,10 @@ def raw_run(m: Model, x0: np.ndarray, n: int, dt: float, speed_scale: np.ndarray
         x[0] = x0
         k, message = _discrete_rows(m, pc, x, pairs, n, np.array(bound), None if judged is None else ask)
         _contact_rows(pairs, force, active)
-        if message is not None:  # rows k.. not computed (stopped, failed or ran away): row k's contact and step are not known
-            force[k:], x[k + 1:], active[k:] = np.nan, np.nan, False
+        if (
+            message is not None
+        ):  # rows k.. not computed (stopped, failed or ran away): row k's contact and step are not known
+            force[k:], x[k + 1 :], active[k:] = np.nan, np.nan, False
         steps = k
         vdot[:] = (x[1:, 5:] - x[:-1, 5:]) / dt
     else:
@@ -278,8 +284,14 @@ def raw_run(m: Model, x0: np.ndarray, n: int, dt: float, speed_scale: np.ndarray
         steps, evaluations = integrator.get_num_steps_taken(), integrator.get_num_derivative_evaluations()
         shrinkages = integrator.get_num_step_shrinkages_from_error_control()
     stopped = message == STOPPED
-    health = Health(contact_rows=int(active.sum()), steps=int(steps), derivative_evaluations=int(evaluations),
-                    error_shrinkages=int(shrinkages), failed=int(message is not None and not stopped), message="" if stopped else message or "")
+    health = Health(
+        contact_rows=int(active.sum()),
+        steps=int(steps),
+        derivative_evaluations=int(evaluations),
+        error_shrinkages=int(shrinkages),
+        failed=int(message is not None and not stopped),
+        message="" if stopped else message or "",
+    )
     return Raw(x=x, vdot=vdot, force=force, active=active, health=health, computed=k if stopped else n)
 
 
@@ -298,13 +310,33 @@ def record(rod: Rod, raw: Raw, opts: Options) -> Record:
     slip[:, 0] = tip_vel[:, 0] - r * Theta * np.sin(psi)
     slip[:, 1] = tip_vel[:, 1] + r * Theta * np.cos(psi)
     force = raw.force / rod.force_scale
-    return Record(t=row_times(n, opts.timestep, raw.computed), tip_pos=tip_pos, tip_vel=tip_vel, tip_acc=acc / g, force=force,
-                  normal_force=force[:, 2].copy(), active=raw.active.copy(), gap=tip_pos[:, 2] - r, slip_vel=slip, psi=psi,
-                  theta=theta, Psi=v[:, 3] / w, Theta=Theta)
+    return Record(
+        t=row_times(n, opts.timestep, raw.computed),
+        tip_pos=tip_pos,
+        tip_vel=tip_vel,
+        tip_acc=acc / g,
+        force=force,
+        normal_force=force[:, 2].copy(),
+        active=raw.active.copy(),
+        gap=tip_pos[:, 2] - r,
+        slip_vel=slip,
+        psi=psi,
+        theta=theta,
+        Psi=v[:, 3] / w,
+        Theta=Theta,
+    )
 
 
-def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, until_event: bool = False,
-             **options) -> Run:
+def simulate(
+    rod: Rod,
+    state: SlipState,
+    mu: float,
+    *,
+    horizon: float,
+    thresholds: Thresholds | None = None,
+    until_event: bool = False,
+    **options,
+) -> Run:
     """Run one slipping state in Drake and classify its first event.
 
     Args:
@@ -330,21 +362,46 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     q0, v0 = to_generalized(rod, state, tip=(0.0, 0.0, opts.radius))
     l, w = rod.length, rod.omega
 
-    rules = dict(mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, radius=opts.radius, thresholds=th)
+    rules = dict(
+        mu=mu,
+        alpha=rod.alpha,
+        timestep=opts.timestep,
+        friction_timeconst=opts.friction_time,
+        contact_time=opts.contact_time,
+        radius=opts.radius,
+        thresholds=th,
+    )
 
     def judged(raw: Raw) -> bool:
         return first_event_final(classify(record(rod, raw, opts), **rules), raw.computed, th, opts.timestep)
 
-    raw = raw_run(m, np.concatenate((q0, v0)), n, opts.timestep / w, np.array([l * w, l * w, l * w, w, w]), judged if until_event else None)
+    raw = raw_run(
+        m,
+        np.concatenate((q0, v0)),
+        n,
+        opts.timestep / w,
+        np.array([l * w, l * w, l * w, w, w]),
+        judged if until_event else None,
+    )
     rec = record(rod, raw, opts)
     c = classify(rec, **rules)
-    run = Run.from_classification(opts.name, c, rec, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
-                                  horizon=horizon, nstep=n)
+    run = Run.from_classification(
+        opts.name, c, rec, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th, horizon=horizon, nstep=n
+    )
     return replace(run, solver=raw.health)
 
 
-def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool | None = None,
-          workers: int = 1, **options) -> SweepResult:
+def sweep(
+    rod: Rod,
+    states: Sequence[SlipState],
+    mu,
+    *,
+    horizon: float,
+    thresholds: Thresholds | None = None,
+    progress: bool | None = None,
+    workers: int = 1,
+    **options,
+) -> SweepResult:
     """Every state through ``simulate`` (``sweep_by_simulate`` with the registered engine of the options' approximation).
 
     Each run stops once its first event is judged (``simulate``'s ``until_event``): a sweep keeps the first event
@@ -356,5 +413,15 @@ def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, threshol
     from crosscheck.engines import get
 
     name = engine_name(Options.from_kwargs(options).approximation)
-    return sweep_by_simulate(get(name), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers,
-                             until_event=True, **options)
+    return sweep_by_simulate(
+        get(name),
+        rod,
+        states,
+        mu,
+        horizon=horizon,
+        thresholds=thresholds,
+        progress=progress,
+        workers=workers,
+        until_event=True,
+        **options,
+    )

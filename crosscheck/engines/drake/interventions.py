@@ -40,32 +40,62 @@ __all__ = ["geometry", "compliance", "friction_law", "discretisation", "relaxati
 
 
 def geometry(o):
-    return tuple(Intervention(f"capsule radius {o.radius:g} -> {o.radius / k:g}", {"radius": o.radius / k}) for k in (4, 16))
+    return tuple(
+        Intervention(f"capsule radius {o.radius:g} -> {o.radius / k:g}", {"radius": o.radius / k}) for k in (4, 16)
+    )
 
 
 def compliance(o, p_min: float | None = None):
-    stiffer = tuple(Intervention(f"point stiffness {o.stiffness:g} -> {o.stiffness * k:g}", {"stiffness": o.stiffness * k}) for k in (10, 100))
+    stiffer = tuple(
+        Intervention(f"point stiffness {o.stiffness:g} -> {o.stiffness * k:g}", {"stiffness": o.stiffness * k})
+        for k in (10, 100)
+    )
     stiffest, step = o.stiffness * 1000, o.timestep / 10
-    out = (*stiffer, Intervention(f"point stiffness {o.stiffness:g} -> {stiffest:g}, timestep {o.timestep:g} -> {step:g}",
-                                  {"stiffness": stiffest, "timestep": step}))
+    out = (
+        *stiffer,
+        Intervention(
+            f"point stiffness {o.stiffness:g} -> {stiffest:g}, timestep {o.timestep:g} -> {step:g}",
+            {"stiffness": stiffest, "timestep": step},
+        ),
+    )
     slower = 1.0 if p_min is None else contact_time_at(p_min)
     if slower > 1.0:
         # one text for every start (the values are in the options), so that the report counts this step as one
-        out += (Intervention(f"point stiffness {stiffest:g} / p_min, timestep {step:g} x p_min^(1/2) (at the theory's least p, "
-                             f"0 < p_min < 1)", {"stiffness": stiffest * slower**2, "timestep": step / slower}),)
+        out += (
+            Intervention(
+                f"point stiffness {stiffest:g} / p_min, timestep {step:g} x p_min^(1/2) (at the theory's least p, "
+                f"0 < p_min < 1)",
+                {"stiffness": stiffest * slower**2, "timestep": step / slower},
+            ),
+        )
     return out
 
 
 def friction_law(o):
-    return tuple(Intervention(f"stiction tolerance {o.stiction_tolerance:g} -> {o.stiction_tolerance / k:g}",
-                              {"stiction_tolerance": o.stiction_tolerance / k}) for k in (10, 100))
+    return tuple(
+        Intervention(
+            f"stiction tolerance {o.stiction_tolerance:g} -> {o.stiction_tolerance / k:g}",
+            {"stiction_tolerance": o.stiction_tolerance / k},
+        )
+        for k in (10, 100)
+    )
 
 
 def discretisation(o):
-    return tuple(Intervention(f"timestep {o.timestep:g} -> {o.timestep / k:g}", {"timestep": o.timestep / k}) for k in (4, 16))
+    return tuple(
+        Intervention(f"timestep {o.timestep:g} -> {o.timestep / k:g}", {"timestep": o.timestep / k}) for k in (4, 16)
+    )
 
 
 def relaxation(o):
     # SAP's dissipation is a relaxation time, TAMSI's Hunt & Crossley's: each takes its own default (the same damping ratio)
-    return (Intervention(f"approximation {o.approximation} -> tamsi (no convex relaxation)",
-                         {"approximation": "tamsi", "relaxation_time": None, "dissipation": None if o.approximation == "sap" else o.dissipation}),)
+    return (
+        Intervention(
+            f"approximation {o.approximation} -> tamsi (no convex relaxation)",
+            {
+                "approximation": "tamsi",
+                "relaxation_time": None,
+                "dissipation": None if o.approximation == "sap" else o.dissipation,
+            },
+        ),
+    )

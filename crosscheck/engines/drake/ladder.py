@@ -33,23 +33,51 @@ def compliant(rod, state, mu, *, horizon, thresholds, options):
         law, xi = "kelvin-voigt", options.relaxation * math.sqrt(S)
     else:
         law, xi = "hunt-crossley", options.hunt_crossley / math.sqrt(S)
-    return engines.get("compliant").simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, eps=1.0 / math.sqrt(S), xi=xi, law=law,
-                                             radius=options.radius, timestep=options.timestep)
+    return engines.get("compliant").simulate(
+        rod,
+        state,
+        mu,
+        horizon=horizon,
+        thresholds=thresholds,
+        eps=1.0 / math.sqrt(S),
+        xi=xi,
+        law=law,
+        radius=options.radius,
+        timestep=options.timestep,
+    )
 
 
 def continuous(rod, state, mu, *, horizon, thresholds, options):
     """Drake's continuous point contact at the same stiffness, dissipation and capsule, rows at the run's timestep; stopped
     once its first event is judged (the ladder reads the outcome and event time only)."""
     dissipation = None if options.approximation == "sap" else options.hunt_crossley
-    return engines.get("drake_continuous").simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, timestep=options.timestep,
-                                                    stiffness=options.stiffness, dissipation=dissipation, radius=options.radius,
-                                                    until_event=True)
+    return engines.get("drake_continuous").simulate(
+        rod,
+        state,
+        mu,
+        horizon=horizon,
+        thresholds=thresholds,
+        timestep=options.timestep,
+        stiffness=options.stiffness,
+        dissipation=dissipation,
+        radius=options.radius,
+        until_event=True,
+    )
 
 
 def tamsi(rod, state, mu, *, horizon, thresholds, options):
     """Drake's non-convex TAMSI step at the run's timestep, stiffness, dissipation and capsule: the step without the relaxation;
     stopped once its first event is judged, as ``continuous``."""
     dissipation = None if options.approximation == "sap" else options.hunt_crossley
-    return engines.get("drake_tamsi").simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, timestep=options.timestep,
-                                               stiffness=options.stiffness, dissipation=dissipation, radius=options.radius,
-                                               until_event=True)
+    return engines.get("drake_tamsi").simulate(
+        rod,
+        state,
+        mu,
+        horizon=horizon,
+        thresholds=thresholds,
+        timestep=options.timestep,
+        stiffness=options.stiffness,
+        dissipation=dissipation,
+        radius=options.radius,
+        until_event=True,
+    )

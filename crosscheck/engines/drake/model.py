@@ -107,8 +107,10 @@ def build_model(rod: Rod, mu: float, options: Options) -> Model:
     if options.approximation == "tamsi" and not hasattr(DiscreteContactApproximation, "kTamsi"):
         import pydrake
 
-        raise ValueError(f"approximation 'tamsi' is not available in the installed Drake {getattr(pydrake, '__version__', '?')} "
-                         "(deprecated for removal after 2026-09-01)")
+        raise ValueError(
+            f"approximation 'tamsi' is not available in the installed Drake {getattr(pydrake, '__version__', '?')} "
+            "(deprecated for removal after 2026-09-01)"
+        )
     l, m, w, g = rod.length, rod.mass, rod.omega, rod.gravity
     config = MultibodyPlantConfig(
         time_step=options.timestep / w if options.discrete else 0.0,
@@ -138,8 +140,12 @@ def build_model(rod: Rod, mu: float, options: Options) -> Model:
         d = options.hunt_crossley / (l * w)
         tau = options.relaxation / w
         capsule = RigidTransform(RotationMatrix.MakeXRotation(math.pi / 2), [0.0, 0.0, 0.0])
-        plant.RegisterCollisionGeometry(body, capsule, Capsule(options.radius * l, 2.0 * l), "rod", _material(mu, 2 * k, d, tau / 2))
-        plant.RegisterCollisionGeometry(plant.world_body(), RigidTransform(), HalfSpace(), "plane", _material(mu, 2 * k, d, tau / 2))
+        plant.RegisterCollisionGeometry(
+            body, capsule, Capsule(options.radius * l, 2.0 * l), "rod", _material(mu, 2 * k, d, tau / 2)
+        )
+        plant.RegisterCollisionGeometry(
+            plant.world_body(), RigidTransform(), HalfSpace(), "plane", _material(mu, 2 * k, d, tau / 2)
+        )
         plant.mutable_gravity_field().set_gravity_vector([0.0, 0.0, -g])
         plant.Finalize()
         diagram = builder.Build()
@@ -163,7 +169,9 @@ def model(rod: Rod, mu: float, options: Options) -> Model:
     return _kept.get((rod, float(mu), options), lambda: build_model(rod, mu, options))
 
 
-def tip_kinematics(rod: Rod, q: np.ndarray, v: np.ndarray, vdot: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def tip_kinematics(
+    rod: Rod, q: np.ndarray, v: np.ndarray, vdot: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Position, velocity and acceleration of the tip A [physical, world] from (q, v, v') of shape (N, 5).
 
     A = S + l (cos theta sin psi, -cos theta cos psi, -sin theta) (eq. tipfromcentre) and its first two
@@ -175,9 +183,21 @@ def tip_kinematics(rod: Rod, q: np.ndarray, v: np.ndarray, vdot: np.ndarray) -> 
     dpsi, dth = v[:, 3], v[:, 4]
     a_psi, a_th = vdot[:, 3], vdot[:, 4]
     pos = np.stack((q[:, 0] + l * ct * sp, q[:, 1] - l * ct * cp, q[:, 2] - l * st), -1)
-    vel = np.stack((v[:, 0] + l * (-st * sp * dth + ct * cp * dpsi), v[:, 1] + l * (st * cp * dth + ct * sp * dpsi), v[:, 2] - l * ct * dth), -1)
+    vel = np.stack(
+        (
+            v[:, 0] + l * (-st * sp * dth + ct * cp * dpsi),
+            v[:, 1] + l * (st * cp * dth + ct * sp * dpsi),
+            v[:, 2] - l * ct * dth,
+        ),
+        -1,
+    )
     rate2 = dth * dth + dpsi * dpsi
-    acc = np.stack((vdot[:, 0] + l * (-st * sp * a_th + ct * cp * a_psi - ct * sp * rate2 - 2 * st * cp * dth * dpsi),
-                    vdot[:, 1] + l * (st * cp * a_th + ct * sp * a_psi + ct * cp * rate2 - 2 * st * sp * dth * dpsi),
-                    vdot[:, 2] - l * ct * a_th + l * st * dth * dth), -1)
+    acc = np.stack(
+        (
+            vdot[:, 0] + l * (-st * sp * a_th + ct * cp * a_psi - ct * sp * rate2 - 2 * st * cp * dth * dpsi),
+            vdot[:, 1] + l * (st * cp * a_th + ct * sp * a_psi + ct * cp * rate2 - 2 * st * sp * dth * dpsi),
+            vdot[:, 2] - l * ct * a_th + l * st * dth * dth,
+        ),
+        -1,
+    )
     return pos, vel, acc

@@ -54,7 +54,15 @@ DISCRETE = ("sap", "similar", "lagged", "tamsi")
 #: Drake's error-controlled integration schemes (``pydrake.systems.analysis.GetIntegrationSchemes``
 #: without the fixed-step explicit_euler, semi_explicit_euler and runge_kutta2, and without cenic,
 #: which needs a discrete plant's contact problem).
-INTEGRATORS = ("runge_kutta3", "runge_kutta5", "bogacki_shampine3", "radau1", "radau3", "implicit_euler", "velocity_implicit_euler")
+INTEGRATORS = (
+    "runge_kutta3",
+    "runge_kutta5",
+    "bogacki_shampine3",
+    "radau1",
+    "radau3",
+    "implicit_euler",
+    "velocity_implicit_euler",
+)
 
 # Ranges.  Each is where the number still means what its name says for the paper's rod (forces O(1) m g,
 # speeds O(1) l omega, times O(1) / omega):
@@ -158,7 +166,10 @@ class Options:
             set_("relaxation_time", _check_number("relaxation_time", self.relaxation_time, RELAXATION_TIME))
         set_("stiction_tolerance", _check_number("stiction_tolerance", self.stiction_tolerance, STICTION_TOLERANCE))
         set_("accuracy", _check_number("accuracy", self.accuracy, ACCURACY))
-        set_("near_rigid_threshold", _check_number("near_rigid_threshold", self.near_rigid_threshold, NEAR_RIGID_THRESHOLD))
+        set_(
+            "near_rigid_threshold",
+            _check_number("near_rigid_threshold", self.near_rigid_threshold, NEAR_RIGID_THRESHOLD),
+        )
 
     @classmethod
     def from_kwargs(cls, options: dict[str, Any]) -> Options:

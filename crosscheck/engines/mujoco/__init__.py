@@ -26,8 +26,15 @@ def _checks(rod, n_states, rng):
 
     ca = contact_acceleration(rod, min(n_states, 100), rng)
     where = {k: ca[k] for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi", "mu")}
-    return [error_stat("tip acceleration with contact", ca["got"] / ca["scale"][:, None], ca["want"] / ca["scale"][:, None],
-                       mujoco_tol.MUJOCO_CONTACT_ACCELERATION, where)]
+    return [
+        error_stat(
+            "tip acceleration with contact",
+            ca["got"] / ca["scale"][:, None],
+            ca["want"] / ca["scale"][:, None],
+            mujoco_tol.MUJOCO_CONTACT_ACCELERATION,
+            where,
+        )
+    ]
 
 
 def _sections():
@@ -39,27 +46,58 @@ def _sections():
 
 ENGINES = (
     EngineSpec(
-        name="mujoco", module="crosscheck.engines.mujoco.engine", label="MuJoCo", libraries=("mujoco",),
-        one_core={"nthread": 1}, tags={"compliant", "relaxed", "time_stepping", "batched"},
-        tolerances={"liftoff_onset": mujoco_tol.MUJOCO_LIFTOFF_ONSET, "event_disagreement": mujoco_tol.MUJOCO_EVENT_DISAGREEMENT,
-                    "event_time": mujoco_tol.MUJOCO_EVENT_TIME, "no_jam_below_mu_P": mujoco_tol.MUJOCO_NO_JAM_BELOW_MU_P,
-                    "corollary_stop": mujoco_tol.MUJOCO_COROLLARY_STOP},
+        name="mujoco",
+        module="crosscheck.engines.mujoco.engine",
+        label="MuJoCo",
+        libraries=("mujoco",),
+        one_core={"nthread": 1},
+        tags={"compliant", "relaxed", "time_stepping", "batched"},
+        tolerances={
+            "liftoff_onset": mujoco_tol.MUJOCO_LIFTOFF_ONSET,
+            "event_disagreement": mujoco_tol.MUJOCO_EVENT_DISAGREEMENT,
+            "event_time": mujoco_tol.MUJOCO_EVENT_TIME,
+            "no_jam_below_mu_P": mujoco_tol.MUJOCO_NO_JAM_BELOW_MU_P,
+            "corollary_stop": mujoco_tol.MUJOCO_COROLLARY_STOP,
+        },
         checks=_checks,
         # the models between the theory and MuJoCo: its capsule's contact point, the compliant rod with MuJoCo's matched
         # Kelvin-Voigt law, MuJoCo's own law in continuous time without and with its normal force's feed-forward, MuJoCo
         # itself (crosscheck.studies.ladder runs them; MuJoCo's own study, crosscheck.engines.mujoco.studies.ladder, is the
         # same ladder written out, for its section and explain)
-        ladder={"geometry": "capsule", "compliance": "crosscheck.engines.mujoco.studies.ladder:compliant_rung",
-                "friction law": "crosscheck.engines.mujoco.studies.ladder:spring_law_rung",
-                "feed-forward": "crosscheck.engines.mujoco.studies.ladder:law_rung", "discretisation": "engine"},
-        interventions={c: f"crosscheck.engines.mujoco.interventions:{c.replace(' ', '_').replace('-', '_')}"
-                       for c in ("geometry", "compliance", "friction law", "feed-forward", "discretisation")},
-        report=ReportPlan(maps={"quick": {"timestep": 3e-4, "timeconst": 0.06}, "full": {"timestep": 3e-4, "timeconst": 0.06}},
-                          convergence={"quick": [{"timestep": dt, "timeconst": tc} for dt, tc in ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02))],
-                                       "full": [{"timestep": dt, "timeconst": tc} for dt, tc in
-                                                ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02), (1e-4, 0.02), (1e-4, 0.006))]},
-                          sections=_sections, onset=False, order=10, ladder_section="ladder"),
+        ladder={
+            "geometry": "capsule",
+            "compliance": "crosscheck.engines.mujoco.studies.ladder:compliant_rung",
+            "friction law": "crosscheck.engines.mujoco.studies.ladder:spring_law_rung",
+            "feed-forward": "crosscheck.engines.mujoco.studies.ladder:law_rung",
+            "discretisation": "engine",
+        },
+        interventions={
+            c: f"crosscheck.engines.mujoco.interventions:{c.replace(' ', '_').replace('-', '_')}"
+            for c in ("geometry", "compliance", "friction law", "feed-forward", "discretisation")
+        },
+        report=ReportPlan(
+            maps={"quick": {"timestep": 3e-4, "timeconst": 0.06}, "full": {"timestep": 3e-4, "timeconst": 0.06}},
+            convergence={
+                "quick": [
+                    {"timestep": dt, "timeconst": tc}
+                    for dt, tc in ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02))
+                ],
+                "full": [
+                    {"timestep": dt, "timeconst": tc}
+                    for dt, tc in ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02), (1e-4, 0.02), (1e-4, 0.006))
+                ],
+            },
+            sections=_sections,
+            onset=False,
+            order=10,
+            ladder_section="ladder",
+        ),
     ),
-    EngineSpec(name="mujoco_law", module="crosscheck.engines.mujoco.ode", label="MuJoCo's law in continuous time", libraries=("mujoco",),
-               tags={"compliant", "relaxed", "continuous"}),
+    EngineSpec(
+        name="mujoco_law",
+        module="crosscheck.engines.mujoco.ode",
+        label="MuJoCo's law in continuous time",
+        libraries=("mujoco",),
+        tags={"compliant", "relaxed", "continuous"},
+    ),
 )

@@ -34,7 +34,16 @@ from mujoco import rollout
 from crosscheck.progress import bar
 
 from crosscheck.checks import MU, POSITIVE
-from crosscheck.engines.base import (SERIES, STATE_KEYS, SUMMARY, Run, SweepResult, check_states, n_steps_within_memory, summaries)
+from crosscheck.engines.base import (
+    SERIES,
+    STATE_KEYS,
+    SUMMARY,
+    Run,
+    SweepResult,
+    check_states,
+    n_steps_within_memory,
+    summaries,
+)
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.mujoco import rollouts
 from crosscheck.engines.mujoco import warning_counts as mujoco_warnings
@@ -96,7 +105,9 @@ class Batch:
     radius: float
 
     @classmethod
-    def build(cls, rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, options: Options, nthread: int = 2) -> "Batch":
+    def build(
+        cls, rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, options: Options, nthread: int = 2
+    ) -> "Batch":
         """Validate the inputs and compile one model per distinct mu (the states are placed by ``starts``)."""
         states = check_states(states)
         B = len(states)
@@ -109,8 +120,14 @@ class Batch:
         mu = np.broadcast_to(mu, (B,)).astype(float)
         # refuse what cannot fit before allocating it: with several threads, nthread + 2 chunks of a state or more
         # are in flight (``chunks``)
-        nstep = n_steps_within_memory(horizon, options.timestep, ROW_BYTES, copies=1 if nthread == 1 else nthread + 2, what="records",
-                                      context=f" with nthread = {nthread}")
+        nstep = n_steps_within_memory(
+            horizon,
+            options.timestep,
+            ROW_BYTES,
+            copies=1 if nthread == 1 else nthread + 2,
+            what="records",
+            context=f" with nthread = {nthread}",
+        )
         models = {m: model(rod, m, options) for m in np.unique(mu)}  # compiled once per setting (``model``'s cache)
         first = next(iter(models.values()))
         return cls(models, SensorLayout.from_model(first), mu, rod, states, nstep, nthread, options.radius)
@@ -123,7 +140,9 @@ class Batch:
         ``scratch``: an ``MjData`` of these models to place them in (reset for each state; a new one if None).
         """
         first = next(iter(self.models.values()))
-        scratch = mujoco.MjData(first) if scratch is None else scratch  # all models share sizes; the state layout is the same
+        scratch = (
+            mujoco.MjData(first) if scratch is None else scratch
+        )  # all models share sizes; the state layout is the same
         return np.stack([initial_state(first, self.rod, s, self.radius, data=scratch) for s in self.states[sl]])
 
     def chunks(self, *, progress: bool | None, desc: str = "mujoco sweep"):
@@ -152,8 +171,13 @@ class Batch:
             return
         with _lent_data(first, 2 * self.nthread) as lent, contextlib.ExitStack() as pools:
             most = max(sl.stop - sl.start for sl in slices)
-            buffers = [np.empty((most, self.nstep, first.nsensordata)) for _ in range(min(len(slices), self.nthread + 2))]
-            workers = [self._worker(pools.enter_context(rollout.Rollout(nthread=0)), lent[2 * i], lent[2 * i + 1]) for i in range(self.nthread)]
+            buffers = [
+                np.empty((most, self.nstep, first.nsensordata)) for _ in range(min(len(slices), self.nthread + 2))
+            ]
+            workers = [
+                self._worker(pools.enter_context(rollout.Rollout(nthread=0)), lent[2 * i], lent[2 * i + 1])
+                for i in range(self.nthread)
+            ]
             yield from _counted(rollouts.in_order(slices, buffers, workers), len(slices), progress, desc)
 
     def _rollout(self, pool, data: list, sl: slice, sd: np.ndarray, scratch: mujoco.MjData) -> None:
@@ -188,7 +212,10 @@ class Batch:
         block = max(1, BLOCK_BYTES // (self.nstep * next(iter(self.models.values())).nsensordata * 8))
         for sl, sd in self.chunks(progress=progress, desc=desc):
             for a in range(0, len(sd), block):
-                yield slice(sl.start + a, min(sl.start + a + block, sl.stop)), record_from_sensordata(sd[a:a + block], self.layout, rod, self.radius)
+                yield (
+                    slice(sl.start + a, min(sl.start + a + block, sl.stop)),
+                    record_from_sensordata(sd[a : a + block], self.layout, rod, self.radius),
+                )
 
 
 def _counted(chunks, n: int, progress, desc: str):
@@ -211,8 +238,27 @@ _spare_lock = threading.Lock()
 def _layout(compiled: mujoco.MjModel) -> tuple:
     """What an ``MjData`` of ``compiled`` is sized by: models of one file at other options (mu, radius, solref,
     timestep) share it, as the models of one rollout share its data."""
-    return tuple(int(getattr(compiled, k)) for k in ("nq", "nv", "nu", "na", "nbody", "njnt", "ngeom", "nsite", "nsensor", "nsensordata",
-                                                     "npair", "nkey", "nmocap", "nuserdata", "nbuffer", "narena"))
+    return tuple(
+        int(getattr(compiled, k))
+        for k in (
+            "nq",
+            "nv",
+            "nu",
+            "na",
+            "nbody",
+            "njnt",
+            "ngeom",
+            "nsite",
+            "nsensor",
+            "nsensordata",
+            "npair",
+            "nkey",
+            "nmocap",
+            "nuserdata",
+            "nbuffer",
+            "narena",
+        )
+    )
 
 
 @contextmanager
@@ -238,7 +284,9 @@ def _lent_data(compiled: mujoco.MjModel, n: int):
             free.extend(lent[: max(0, SPARE_DATA - len(free))])
 
 
-def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
+def simulate(
+    rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options
+) -> Run:
     """Run one slipping state in MuJoCo and classify its first event.
 
     The capsule starts touching the plane (z_A = r) with the velocities of
@@ -268,11 +316,30 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     mu = real_scalar("mu", mu, MU)
     th = thresholds or Thresholds()
     batch = Batch.build(rod, [state], mu, horizon=horizon, options=opts, nthread=1)
-    (_, record), = batch.records(rod, progress=False)
+    ((_, record),) = batch.records(rod, progress=False)
     one = record.run(0)
-    c = classify(one, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, radius=opts.radius, thresholds=th)
-    return Run.from_classification(NAME, c, one, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
-                                   horizon=horizon, nstep=batch.nstep)
+    c = classify(
+        one,
+        mu=mu,
+        alpha=rod.alpha,
+        timestep=opts.timestep,
+        friction_timeconst=opts.friction_time,
+        contact_time=opts.contact_time,
+        radius=opts.radius,
+        thresholds=th,
+    )
+    return Run.from_classification(
+        NAME,
+        c,
+        one,
+        state=state,
+        mu=mu,
+        alpha=rod.alpha,
+        options=opts,
+        thresholds=th,
+        horizon=horizon,
+        nstep=batch.nstep,
+    )
 
 
 def sweep(
@@ -320,8 +387,22 @@ def sweep(
     summary = {k: np.empty(B) for k in SUMMARY}
     series = {k: np.empty((B, nstep // every)) for k in SERIES}
     for sl, record in batch.records(rod, progress=progress):
-        c = classify(record, mu=mu[sl], alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, radius=opts.radius, thresholds=th)
-        outcome[sl], event_time[sl], exit_time[sl], diverged_time[sl] = c.outcome, c.event_time, c.exit_time, c.diverged_time
+        c = classify(
+            record,
+            mu=mu[sl],
+            alpha=rod.alpha,
+            timestep=opts.timestep,
+            friction_timeconst=opts.friction_time,
+            contact_time=opts.contact_time,
+            radius=opts.radius,
+            thresholds=th,
+        )
+        outcome[sl], event_time[sl], exit_time[sl], diverged_time[sl] = (
+            c.outcome,
+            c.event_time,
+            c.exit_time,
+            c.diverged_time,
+        )
         summ, ser = summaries(record, c, mu[sl], rod.alpha, every)
         for k in SUMMARY:
             summary[k][sl] = summ[k]
@@ -347,4 +428,3 @@ def sweep(
         steps_per_second=B * nstep / wall,
         warnings=mujoco_warnings.since(warned_before),
     )
-

@@ -67,7 +67,9 @@ __all__ = ["geometry", "compliance", "friction_law", "feed_forward", "discretisa
 
 
 def geometry(o):
-    return tuple(Intervention(f"capsule radius {o.radius:g} -> {o.radius / k:g}", {"radius": o.radius / k}) for k in (4, 16))
+    return tuple(
+        Intervention(f"capsule radius {o.radius:g} -> {o.radius / k:g}", {"radius": o.radius / k}) for k in (4, 16)
+    )
 
 
 def compliance(o):
@@ -77,32 +79,58 @@ def compliance(o):
     stiff = (max(d0, 0.99), max(dmax, 0.99), width, mid, power)
     dt16 = o.timestep / 16
     tc100 = max(2 * dt16, o.timeconst / 100)
-    return (Intervention(f"time constant {o.timeconst:g} -> {tc3:g}", {"timeconst": tc3}),
-            Intervention(f"time constant {o.timeconst:g} -> {tc10:g}, impedance {dmax:g} -> {stiff[1]:g}", {"timeconst": tc10, "solimp": stiff}),
-            Intervention(f"time constant {o.timeconst:g} -> {tc100:g}, impedance {dmax:g} -> {stiff[1]:g}, timestep {o.timestep:g} -> {dt16:g}",
-                         {"timeconst": tc100, "solimp": stiff, "timestep": dt16}))
+    return (
+        Intervention(f"time constant {o.timeconst:g} -> {tc3:g}", {"timeconst": tc3}),
+        Intervention(
+            f"time constant {o.timeconst:g} -> {tc10:g}, impedance {dmax:g} -> {stiff[1]:g}",
+            {"timeconst": tc10, "solimp": stiff},
+        ),
+        Intervention(
+            f"time constant {o.timeconst:g} -> {tc100:g}, impedance {dmax:g} -> {stiff[1]:g}, timestep {o.timestep:g} -> {dt16:g}",
+            {"timeconst": tc100, "solimp": stiff, "timestep": dt16},
+        ),
+    )
 
 
 def friction_law(o):
     now = o.timeconst if o.friction_timeconst is None else o.friction_timeconst
     steps = [max(2 * o.timestep, now / k) for k in (6, 30)]
-    shorter = tuple(Intervention(f"friction time constant {now:g} -> {tf:g}", {"friction_timeconst": tf}, "friction time constant") for tf in steps)
-    softer = tuple(Intervention(f"impratio {o.impratio:g} -> {r:g}", {"impratio": r}, "impratio") for r in (0.1 * o.impratio, 0.01 * o.impratio))
+    shorter = tuple(
+        Intervention(f"friction time constant {now:g} -> {tf:g}", {"friction_timeconst": tf}, "friction time constant")
+        for tf in steps
+    )
+    softer = tuple(
+        Intervention(f"impratio {o.impratio:g} -> {r:g}", {"impratio": r}, "impratio")
+        for r in (0.1 * o.impratio, 0.01 * o.impratio)
+    )
     return shorter + softer
 
 
 def feed_forward(o):
     d0, dmax, width, mid, power = o.solimp
     # lowered on every row as MuJoCo does it, the friction rows' R_t = R_n / impratio growing with R_n ...
-    out = [Intervention(f"impedance {dmax:g} -> {d:g} on every row (impratio {o.impratio:g} kept)",
-                        {"solimp": (min(d0, d), min(dmax, d), width, mid, power)}, "every row") for d in (0.1, 0.01)]
+    out = [
+        Intervention(
+            f"impedance {dmax:g} -> {d:g} on every row (impratio {o.impratio:g} kept)",
+            {"solimp": (min(d0, d), min(dmax, d), width, mid, power)},
+            "every row",
+        )
+        for d in (0.1, 0.01)
+    ]
     for d in (0.5, 0.1, 0.01):  # ... then as the ladder's rung has it, the friction rows' R_t kept
         # R = (1 - d) / d w on every row: impratio scaled by the normal row's growth keeps the friction rows' R_t = R_n / impratio
         k = ((1.0 - d) / d) / ((1.0 - dmax) / dmax)
-        out.append(Intervention(f"impedance {dmax:g} -> {d:g} (friction rows' regulariser kept: impratio {o.impratio:g} -> {o.impratio * k:.3g})",
-                                {"solimp": (min(d0, d), min(dmax, d), width, mid, power), "impratio": o.impratio * k}, "friction rows kept"))
+        out.append(
+            Intervention(
+                f"impedance {dmax:g} -> {d:g} (friction rows' regulariser kept: impratio {o.impratio:g} -> {o.impratio * k:.3g})",
+                {"solimp": (min(d0, d), min(dmax, d), width, mid, power), "impratio": o.impratio * k},
+                "friction rows kept",
+            )
+        )
     return tuple(out)
 
 
 def discretisation(o):
-    return tuple(Intervention(f"timestep {o.timestep:g} -> {o.timestep / k:g}", {"timestep": o.timestep / k}) for k in (4, 16))
+    return tuple(
+        Intervention(f"timestep {o.timestep:g} -> {o.timestep / k:g}", {"timestep": o.timestep / k}) for k in (4, 16)
+    )

@@ -70,9 +70,27 @@ from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import AXIAL_INERTIA
 from crosscheck.rod import Rod
 
-__all__ = ["Parameters", "ContactProblem", "impedance", "inverse_weight", "mass_matrix", "smooth_force", "smooth_accelerations", "contact_problem",
-           "solve_cone", "contact_frame", "contact_force", "accelerations", "skew_angle", "simulate", "MINIMP", "MAXIMP", "MINVAL", "MINMU",
-           "NO_FEED_FORWARD_IMPEDANCE"]
+__all__ = [
+    "Parameters",
+    "ContactProblem",
+    "impedance",
+    "inverse_weight",
+    "mass_matrix",
+    "smooth_force",
+    "smooth_accelerations",
+    "contact_problem",
+    "solve_cone",
+    "contact_frame",
+    "contact_force",
+    "accelerations",
+    "skew_angle",
+    "simulate",
+    "MINIMP",
+    "MAXIMP",
+    "MINVAL",
+    "MINMU",
+    "NO_FEED_FORWARD_IMPEDANCE",
+]
 
 #: MuJoCo's clamps (mjMINIMP, mjMAXIMP: impedance parameters; mjMINVAL: smallest R; mjMINMU: smallest friction,
 #: so that mu = 0 is a cone of opening 1e-5, not a frictionless contact).
@@ -107,7 +125,9 @@ class Parameters:
     feed_forward: bool = True
 
     @classmethod
-    def of(cls, rod: Rod, options: Options, *, impratio: float | None = None, feed_forward: bool = True) -> "Parameters":
+    def of(
+        cls, rod: Rod, options: Options, *, impratio: float | None = None, feed_forward: bool = True
+    ) -> "Parameters":
         """Convert scaled ``Options`` as ``crosscheck.engines.mujoco.model.build_model`` does (impratio: the options' unless given;
         ``feed_forward``: as the attribute)."""
         if not isinstance(options, Options):
@@ -119,7 +139,13 @@ class Parameters:
         tau_f = tau if options.friction_timeconst is None else max(options.friction_timeconst / w, 2 * dt)
         d0, dmax, width, mid, power = options.solimp
         # getsolparam's clamps
-        solimp = (min(MAXIMP, max(MINIMP, d0)), min(MAXIMP, max(MINIMP, dmax)), max(0.0, width * l), min(MAXIMP, max(MINIMP, mid)), max(1.0, power))
+        solimp = (
+            min(MAXIMP, max(MINIMP, d0)),
+            min(MAXIMP, max(MINIMP, dmax)),
+            max(0.0, width * l),
+            min(MAXIMP, max(MINIMP, mid)),
+            max(1.0, power),
+        )
         return cls(options.radius * l, tau, tau_f, options.dampratio, solimp, impratio, bool(feed_forward))
 
     @property
@@ -138,7 +164,9 @@ class Parameters:
 def impedance(solimp, dist) -> np.ndarray:
     """MuJoCo's impedance d(dist) of solimp (d0, dmax, width [m], midpoint, power); vectorised in dist [m]."""
     d0, dmax, width, mid, power = solimp
-    if isinstance(dist, float):  # one distance (the contact law's hot loop): the same operations on numpy's float64 scalars
+    if isinstance(
+        dist, float
+    ):  # one distance (the contact law's hot loop): the same operations on numpy's float64 scalars
         return _impedance_scalar(d0, dmax, width, mid, power, dist)
     dist = np.asarray(dist, dtype=float)
     if d0 == dmax or width <= 1e-15:
@@ -147,7 +175,7 @@ def impedance(solimp, dist) -> np.ndarray:
     if power == 1:
         y = x
     else:
-        lo = x ** power / mid ** (power - 1)
+        lo = x**power / mid ** (power - 1)
         hi = 1 - (1 - x) ** power / (1 - mid) ** (power - 1)
         y = np.where(x <= mid, lo, hi)
     return d0 + y * (dmax - d0)
@@ -163,7 +191,7 @@ def _impedance_scalar(d0, dmax, width, mid, power, dist: float) -> np.ndarray:
     if power == 1:
         y = x
     else:
-        y = x ** power / mid ** (power - 1) if x <= mid else 1 - (1 - x) ** power / (1 - mid) ** (power - 1)
+        y = x**power / mid ** (power - 1) if x <= mid else 1 - (1 - x) ** power / (1 - mid) ** (power - 1)
     return np.asarray(d0 + y * (dmax - d0))
 
 
@@ -259,8 +287,9 @@ class ContactProblem:
         return solve_cone(self.A + np.diag(self.R), self.a0 - self.aref, self.mu)
 
 
-def contact_problem(rod: Rod, q, v, mu: float, options: Options, *, impratio: float | None = None,
-                    parameters: Parameters | None = None) -> ContactProblem:
+def contact_problem(
+    rod: Rod, q, v, mu: float, options: Options, *, impratio: float | None = None, parameters: Parameters | None = None
+) -> ContactProblem:
     """Build MuJoCo's contact problem at generalised (q, v) (physical) for friction mu and scaled ``options``.
 
     The contact is the A end cap's lowest point; the problem is built whatever
@@ -313,7 +342,9 @@ def contact_problem(rod: Rod, q, v, mu: float, options: Options, *, impratio: fl
 
 
 def _cone_direction(a, mu):
-    if isinstance(a, float):  # one angle (Brent's iterations): the same numpy cosine and sine, without broadcasting's cost
+    if isinstance(
+        a, float
+    ):  # one angle (Brent's iterations): the same numpy cosine and sine, without broadcasting's cost
         return np.array((1.0, mu * np.cos(a), mu * np.sin(a)))
     return np.stack(np.broadcast_arrays(1.0, mu * np.cos(a), mu * np.sin(a)), -1)
 
@@ -399,8 +430,17 @@ def contact_force(rod: Rod, q, v, mu: float, options: Options, *, impratio: floa
     return pb.frame.T @ pb.force() / rod.force_scale
 
 
-def accelerations(rod: Rod, q, v, mu: float, options: Options, *, contact: bool, impratio: float | None = None,
-                  parameters: Parameters | None = None):
+def accelerations(
+    rod: Rod,
+    q,
+    v,
+    mu: float,
+    options: Options,
+    *,
+    contact: bool,
+    impratio: float | None = None,
+    parameters: Parameters | None = None,
+):
     """qacc [physical] and the contact force (contact frame [N]) under MuJoCo's law; ``contact`` says whether the contact exists
     (``parameters``: as ``contact_problem``)."""
     pb = contact_problem(rod, q, v, mu, options, impratio=impratio, parameters=parameters)

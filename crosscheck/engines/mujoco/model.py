@@ -46,8 +46,18 @@ from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["MODEL_FILE", "AXIAL_INERTIA", "ModelFileError", "model_path", "build_model", "model", "CACHE_SIZE", "initial_state", "SensorLayout",
-           "record_from_sensordata"]
+__all__ = [
+    "MODEL_FILE",
+    "AXIAL_INERTIA",
+    "ModelFileError",
+    "model_path",
+    "build_model",
+    "model",
+    "CACHE_SIZE",
+    "initial_state",
+    "SensorLayout",
+    "record_from_sensordata",
+]
 
 #: The model file inside the package (a symlink to ``models/`` in the repository).
 MODEL_FILE = "rod.xml"
@@ -60,7 +70,6 @@ class ModelFileError(ValueError):
 def model_path() -> str:
     """Path of ``rod.xml`` as shipped with the package (``crosscheck/_models/rod.xml``)."""
     return str(importlib.resources.files("crosscheck") / "_models" / MODEL_FILE)
-
 
 
 def _load_spec(path: str) -> mujoco.MjSpec:
@@ -114,7 +123,9 @@ def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
     site.pos = [0.0, -l, 0.0]
     pair.friction = [mu, mu, pair.friction[2], pair.friction[3], pair.friction[4]]
     pair.solref = [options.timeconst / w, options.dampratio]
-    pair.solreffriction = [0.0, 0.0] if options.friction_timeconst is None else [options.friction_timeconst / w, options.dampratio]
+    pair.solreffriction = (
+        [0.0, 0.0] if options.friction_timeconst is None else [options.friction_timeconst / w, options.dampratio]
+    )
     d0, dmax, width, mid, power = options.solimp
     pair.solimp = [d0, dmax, width * l, mid, power]
     # The keyframe is the viewer's start pose for the file's own parameters.
@@ -154,7 +165,9 @@ def model(rod: Rod, mu: float, options) -> mujoco.MjModel:
 START_GAP = 1e-12
 
 
-def initial_state(model: mujoco.MjModel, rod: Rod, state: SlipState, radius: float, *, data: mujoco.MjData | None = None) -> np.ndarray:
+def initial_state(
+    model: mujoco.MjModel, rod: Rod, state: SlipState, radius: float, *, data: mujoco.MjData | None = None
+) -> np.ndarray:
     """Full physics state (mjSTATE_FULLPHYSICS) of ``state`` with the capsule touching the plane.
 
     The tip A is put at (0, 0, r + START_GAP) so the capsule's lowest point
@@ -250,7 +263,7 @@ def _columns(sd: np.ndarray) -> np.ndarray:
     rows = sd.reshape(-1, nsd)
     cols = np.empty((nsd, len(rows)))
     for a in range(0, len(rows), COPY_ROWS):
-        cols[:, a:a + COPY_ROWS] = rows[a:a + COPY_ROWS].T
+        cols[:, a : a + COPY_ROWS] = rows[a : a + COPY_ROWS].T
     return cols.reshape((nsd,) + sd.shape[:-1])
 
 
@@ -276,7 +289,9 @@ def record_from_sensordata(sensordata: np.ndarray, layout: SensorLayout, rod: Ro
     n0, n1, n2 = sd[layout.normal]
     t0, t1, t2 = sd[layout.tangent]
     force = np.empty(shape + (3,))
-    for i, (n_i, t_i, b_i) in enumerate(((n0, t0, n1 * t2 - n2 * t1), (n1, t1, n2 * t0 - n0 * t2), (n2, t2, n0 * t1 - n1 * t0))):
+    for i, (n_i, t_i, b_i) in enumerate(
+        ((n0, t0, n1 * t2 - n2 * t1), (n1, t1, n2 * t0 - n0 * t2), (n2, t2, n0 * t1 - n1 * t0))
+    ):
         force[..., i] = (f0 * n_i + f1 * t_i + f2 * b_i) / fs
     psi, theta = sd[layout.psi].copy(), sd[layout.theta].copy()  # copies: a record kept does not keep every column
     Psi, Theta = sd[layout.psi_dot] / w, sd[layout.theta_dot] / w
@@ -303,5 +318,3 @@ def record_from_sensordata(sensordata: np.ndarray, layout: SensorLayout, rod: Ro
         Psi=Psi,
         Theta=Theta,
     )
-
-

@@ -102,7 +102,9 @@ class _Phases:
 
     def __init__(self, rod: Rod, mu: float, options: Options, tau: float, radius: float, feed_forward: bool = True):
         self.rod, self.mu, self.options, self.tau, self.radius = rod, mu, options, tau, radius
-        self.parameters = Parameters.of(rod, options, feed_forward=feed_forward)  # the same at every evaluation: converted once
+        self.parameters = Parameters.of(
+            rod, options, feed_forward=feed_forward
+        )  # the same at every evaluation: converted once
 
     def _accelerations(self, y, contact: bool):
         return accelerations(self.rod, y[:5], y[5:], self.mu, self.options, contact=contact, parameters=self.parameters)
@@ -150,7 +152,9 @@ class _Phases:
 GRAZING_SPEED = 1e-4
 
 
-def integrate(rod: Rod, q0, v0, mu: float, options: Options, *, times, rtol: float = RTOL, feed_forward: bool = True) -> Trajectory:
+def integrate(
+    rod: Rod, q0, v0, mu: float, options: Options, *, times, rtol: float = RTOL, feed_forward: bool = True
+) -> Trajectory:
     """Integrate MuJoCo's continuous-time dynamics from (q0, v0) [physical] and sample at ``times`` [s] (increasing, from 0).
 
     Phases: "free" (dist > 0, no force), "contact" (dist < 0, the law's force
@@ -228,7 +232,9 @@ def integrate(rod: Rod, q0, v0, mu: float, options: Options, *, times, rtol: flo
             ev_sink = lambda t, y: phases.evaluate(y, "slide")[3] - 1.0  # noqa: E731
             ev_sink.terminal, ev_sink.direction = True, 1.0
             ev_list = [ev_lift, ev_sink]
-        sol = solve_ivp(phases.rhs(phase), (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, dense_output=True, events=ev_list)
+        sol = solve_ivp(
+            phases.rhs(phase), (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, dense_output=True, events=ev_list
+        )
         nfev += sol.nfev
         if sol.status < 0:
             raise RuntimeError(f"mujoco_law integration failed at t = {t * w:g} (scaled): {sol.message}")
@@ -261,7 +267,9 @@ def integrate(rod: Rod, q0, v0, mu: float, options: Options, *, times, rtol: flo
         if t >= t_end:
             break
     else:
-        raise RuntimeError(f"mujoco_law: more than {MAX_SEGMENTS} contact events before t = {t * w:g} (scaled); the contact chatters")
+        raise RuntimeError(
+            f"mujoco_law: more than {MAX_SEGMENTS} contact events before t = {t * w:g} (scaled); the contact chatters"
+        )
     for j in range(k, n):  # an event exactly at the end: the remaining rows are its state
         fill(j, y, phase)
     return Trajectory(times, Q, V, QA, F, frames, active, events, nfev)
@@ -275,14 +283,26 @@ def record(rod: Rod, traj: Trajectory, options: Options) -> Record:
     sp, cp, st, ct = np.sin(psi), np.cos(psi), np.sin(theta), np.cos(theta)
     dpsi, dth = v[:, 3], v[:, 4]
     tip = np.stack((q[:, 0] + l * ct * sp, q[:, 1] - l * ct * cp, q[:, 2] - l * st), -1)
-    tip_vel = np.stack((v[:, 0] + l * (-st * sp * dth + ct * cp * dpsi), v[:, 1] + l * (st * cp * dth + ct * sp * dpsi), v[:, 2] - l * ct * dth), -1)
+    tip_vel = np.stack(
+        (
+            v[:, 0] + l * (-st * sp * dth + ct * cp * dpsi),
+            v[:, 1] + l * (st * cp * dth + ct * sp * dpsi),
+            v[:, 2] - l * ct * dth,
+        ),
+        -1,
+    )
     force = np.einsum("nij,ni->nj", traj.frames, traj.force)  # contact frame -> world [N]
     # tip acceleration: the second derivative of eq. tipfromcentre, A = S + l (ct sp, -ct cp, -st)
     a_psi, a_th = traj.qacc[:, 3], traj.qacc[:, 4]
     rate2 = dth * dth + dpsi * dpsi
-    acc = np.stack((traj.qacc[:, 0] + l * (-st * sp * a_th + ct * cp * a_psi - ct * sp * rate2 - 2 * st * cp * dth * dpsi),
-                    traj.qacc[:, 1] + l * (st * cp * a_th + ct * sp * a_psi + ct * cp * rate2 - 2 * st * sp * dth * dpsi),
-                    traj.qacc[:, 2] - l * ct * a_th + l * st * dth * dth), -1)
+    acc = np.stack(
+        (
+            traj.qacc[:, 0] + l * (-st * sp * a_th + ct * cp * a_psi - ct * sp * rate2 - 2 * st * cp * dth * dpsi),
+            traj.qacc[:, 1] + l * (st * cp * a_th + ct * sp * a_psi + ct * cp * rate2 - 2 * st * sp * dth * dpsi),
+            traj.qacc[:, 2] - l * ct * a_th + l * st * dth * dth,
+        ),
+        -1,
+    )
     radius = options.radius
     Theta = dth / w
     slip = np.zeros((len(traj.t), 3))
@@ -306,8 +326,17 @@ def record(rod: Rod, traj: Trajectory, options: Options) -> Record:
     )
 
 
-def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, rtol: float = RTOL,
-             feed_forward: bool = True, **options) -> Run:
+def simulate(
+    rod: Rod,
+    state: SlipState,
+    mu: float,
+    *,
+    horizon: float,
+    thresholds: Thresholds | None = None,
+    rtol: float = RTOL,
+    feed_forward: bool = True,
+    **options,
+) -> Run:
     """Run one slipping state under MuJoCo's contact law in continuous time and classify it.
 
     Args:
@@ -333,7 +362,9 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     horizon = float(check("horizon", horizon, POSITIVE))
     opts = options_from_kwargs(Options, options, NAME)  # the options are MuJoCo's; the message names this engine
     if opts.model_file is not None:
-        raise ValueError(f"model_file must be None for the mujoco_law engine (its law is rod.xml's); got {opts.model_file!r}")
+        raise ValueError(
+            f"model_file must be None for the mujoco_law engine (its law is rod.xml's); got {opts.model_file!r}"
+        )
     mu = float(check("mu", mu, MU))
     rtol = float(check("rtol", rtol, RELATIVE_TOLERANCE))
     if not isinstance(feed_forward, bool):
@@ -344,13 +375,32 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     q0, v0 = to_generalized(rod, state, tip=(0.0, 0.0, opts.radius))
     traj = integrate(rod, q0, v0, mu, opts, times=times, rtol=rtol, feed_forward=feed_forward)
     rec = record(rod, traj, opts)
-    c = classify(rec, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=opts.friction_time, contact_time=opts.contact_time, radius=opts.radius, thresholds=th)
-    return Run.from_classification(NAME, c, rec, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
-                                   horizon=horizon, nstep=nstep)
+    c = classify(
+        rec,
+        mu=mu,
+        alpha=rod.alpha,
+        timestep=opts.timestep,
+        friction_timeconst=opts.friction_time,
+        contact_time=opts.contact_time,
+        radius=opts.radius,
+        thresholds=th,
+    )
+    return Run.from_classification(
+        NAME, c, rec, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th, horizon=horizon, nstep=nstep
+    )
 
 
-def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool | None = None,
-          **options) -> SweepResult:
+def sweep(
+    rod: Rod,
+    states: Sequence[SlipState],
+    mu,
+    *,
+    horizon: float,
+    thresholds: Thresholds | None = None,
+    progress: bool | None = None,
+    **options,
+) -> SweepResult:
     """Every state through ``simulate`` (``sweep_by_simulate``)."""
-    return sweep_by_simulate(get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options)
-
+    return sweep_by_simulate(
+        get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, **options
+    )

@@ -15,6 +15,7 @@ __all__ = ["Options", "RADIUS"]
 #: The capsule radius r / l (see Options.radius).
 RADIUS = Interval(0.0, 0.5, lo_open=True, hi_open=True)
 
+
 @dataclass(frozen=True)
 class Options:
     """MuJoCo parameters of a run, in the paper's scaled units.
@@ -62,7 +63,9 @@ class Options:
         # the centre of mass and the contact point C is no longer "below the tip".
         object.__setattr__(self, "radius", real_scalar("radius", self.radius, RADIUS))
         if self.friction_timeconst is not None:
-            object.__setattr__(self, "friction_timeconst", real_scalar("friction_timeconst", self.friction_timeconst, POSITIVE))
+            object.__setattr__(
+                self, "friction_timeconst", real_scalar("friction_timeconst", self.friction_timeconst, POSITIVE)
+            )
         for name in ("timeconst", "friction_timeconst"):
             tc = getattr(self, name)
             if tc is not None and tc < 2 * self.timestep:
@@ -73,10 +76,14 @@ class Options:
         # MuJoCo's impedance d(r) (Computation chapter): d0, dmax in (0, 1), width > 0, the sigmoid's
         # midpoint in (0, 1) and power >= 1 (MuJoCo clamps the others silently).
         if not (0 < solimp[0] < 1 and 0 < solimp[1] < 1 and solimp[2] > 0 and 0 < solimp[3] < 1 and solimp[4] >= 1):
-            raise ValueError(f"solimp must have d0, dmax in (0, 1), width > 0, midpoint in (0, 1) and power >= 1; got {tuple(solimp)!r}")
+            raise ValueError(
+                f"solimp must have d0, dmax in (0, 1), width > 0, midpoint in (0, 1) and power >= 1; got {tuple(solimp)!r}"
+            )
         object.__setattr__(self, "solimp", tuple(float(x) for x in solimp))
         object.__setattr__(self, "impratio", real_scalar("impratio", self.impratio, POSITIVE))
-        object.__setattr__(self, "solver_tolerance", real_scalar("solver_tolerance", self.solver_tolerance, NONNEGATIVE))
+        object.__setattr__(
+            self, "solver_tolerance", real_scalar("solver_tolerance", self.solver_tolerance, NONNEGATIVE)
+        )
         if self.model_file is not None:
             object.__setattr__(self, "model_file", os.fspath(self.model_file))
 

@@ -23,8 +23,9 @@ import numpy as np
 __all__ = ["in_order"]
 
 
-def in_order(slices: Sequence[slice], buffers: Sequence[np.ndarray], workers: Sequence[Callable[[slice, np.ndarray], None]]
-             ) -> Iterator[tuple[slice, np.ndarray]]:
+def in_order(
+    slices: Sequence[slice], buffers: Sequence[np.ndarray], workers: Sequence[Callable[[slice, np.ndarray], None]]
+) -> Iterator[tuple[slice, np.ndarray]]:
     """Yield (slice, its rows) for each of ``slices`` in order, each filled by one of ``workers`` in its own thread.
 
     ``workers[i](sl, rows)`` fills ``rows`` (the first sl.stop - sl.start rows of a buffer) for the states of ``sl``;
@@ -62,7 +63,9 @@ def in_order(slices: Sequence[slice], buffers: Sequence[np.ndarray], workers: Se
                 filled[k] = got
                 ready.notify()
 
-    threads = [threading.Thread(target=work, args=(w,), name=f"rollout {i}", daemon=True) for i, w in enumerate(workers)]
+    threads = [
+        threading.Thread(target=work, args=(w,), name=f"rollout {i}", daemon=True) for i, w in enumerate(workers)
+    ]
     for t in threads:
         t.start()
     try:

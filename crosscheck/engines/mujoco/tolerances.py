@@ -15,7 +15,9 @@ from crosscheck.tolerances import Tolerance
 #: changes the psi inertia by a relative 1e-12 tan^2 theta (<= 1e-9 for theta
 #: <= 1.54); measured max 9e-10 over 300 random states (1e-9 at eps = 1e-9 I0
 #: was 9e-7: the error is proportional to eps).
-MUJOCO_FREE_ACCELERATION = Tolerance(atol=1e-8, rtol=1e-8, why="axial inertia 1e-12 I0 in the psi inertia, x tan^2 theta")
+MUJOCO_FREE_ACCELERATION = Tolerance(
+    atol=1e-8, rtol=1e-8, why="axial inertia 1e-12 I0 in the psi inertia, x tan^2 theta"
+)
 
 #: MuJoCo's tip acceleration with contact vs eq. linode2 with MuJoCo's own
 #: contact force moved to the capsule's contact point
@@ -25,7 +27,9 @@ MUJOCO_FREE_ACCELERATION = Tolerance(atol=1e-8, rtol=1e-8, why="axial inertia 1e
 #: run to its iteration limit (solver_tolerance 0) the measured max is 1.4e-11
 #: over 200 random states x 5 radii.  Without the correction the error is
 #: 0.41 r/l (max; 0.27 r/l median): linear convergence as r -> 0.
-MUJOCO_CONTACT_ACCELERATION = Tolerance(atol=1e-9, rtol=0.0, why="converged contact solve (solver_tolerance 0): rounding of forces up to ~50 m g")
+MUJOCO_CONTACT_ACCELERATION = Tolerance(
+    atol=1e-9, rtol=0.0, why="converged contact solve (solver_tolerance 0): rounding of forces up to ~50 m g"
+)
 
 #: Smallest Psi at which MuJoCo lifts off at t = 0 (theta_L, Theta = 0,
 #: varphi = -pi/2) vs Psi_L (eq. psil), default timestep 3e-4.  LIFTOFF needs
@@ -37,7 +41,9 @@ MUJOCO_CONTACT_ACCELERATION = Tolerance(atol=1e-9, rtol=0.0, why="converged cont
 #: for mu = 0.3, 1, 2: semi-implicit Euler lags Psi by one step, which keeps
 #: b(row 2) = b0 + O(dt^3).
 MUJOCO_LIFTOFF_ONSET = Tolerance(atol=5.5e-7, rtol=0.0, why="3 rows of b > 0 needed: (Psi_L^3/6)(3 dt)^2 at dt = 3e-4")
-MUJOCO_LIFTOFF_ONSET_COARSE = Tolerance(atol=6.1e-5, rtol=0.0, why="(Psi_L^3/6)(3 dt)^2 at dt = 3.13e-3 (1 ms for a 1 m rod)")
+MUJOCO_LIFTOFF_ONSET_COARSE = Tolerance(
+    atol=6.1e-5, rtol=0.0, why="(Psi_L^3/6)(3 dt)^2 at dt = 3.13e-3 (1 ms for a 1 m rod)"
+)
 
 #: Ratio kappa in MuJoCo's lift-off decision b - kappa Theta^2 sin(theta) = 0
 #: (b of eq. b; Theta^2 sin(theta) l omega^2 is the dJ v part of the tip's
@@ -60,7 +66,12 @@ MUJOCO_DJV_KAPPA = Tolerance(atol=0.01, rtol=0.0, why="bisection on Psi + O(dt) 
 #: counting as agreement.  Measured 0.12 +- 0.026 (range 0.08-0.17) over 7 seeds of 300 states (the
 #: default of validate), so 0.2 is ~3 sd above the mean (sd ~0.06 at 30 states); the disagreement
 #: sits next to the analytic event boundaries, in the first few tau and off the planar section.
-MUJOCO_EVENT_DISAGREEMENT = Tolerance(atol=0.2, rtol=0.0, why="regression guard: measured 0.12 +- 0.026 (n = 300): soft contact + friction skew", guard=True)
+MUJOCO_EVENT_DISAGREEMENT = Tolerance(
+    atol=0.2,
+    rtol=0.0,
+    why="regression guard: measured 0.12 +- 0.026 (n = 300): soft contact + friction skew",
+    guard=True,
+)
 
 #: Median |t_MuJoCo - t_analytic| over states where both report the same event: the soft contact's
 #: response time tau = 0.06 (its force builds up over tau; STICK is read at eta = tau).  Measured
@@ -81,7 +92,12 @@ MUJOCO_NO_JAM_BELOW_MU_P = Tolerance(atol=0.5, rtol=0.0, why="integer count must
 #: mu = 1.4, 1.7, 6.  Measured 0.37 +- 0.06 over 8 seeds of 45 states (max 0.51); validate pools 90
 #: states (binomial sd 0.05), so 0.55 is ~3.5 sd above the mean.  MuJoCo delivers the impulse itself
 #: (JAM) in 7-40 % of them; otherwise its soft contact ends the slip by sticking or lifting off.
-MUJOCO_COROLLARY_STOP = Tolerance(atol=0.55, rtol=0.0, why="regression guard: measured 0.37 +- 0.06 (sd 0.05 at n = 90): soft contact ends the slip by stick/lift-off", guard=True)
+MUJOCO_COROLLARY_STOP = Tolerance(
+    atol=0.55,
+    rtol=0.0,
+    why="regression guard: measured 0.37 +- 0.06 (sd 0.05 at n = 90): soft contact ends the slip by stick/lift-off",
+    guard=True,
+)
 
 
 # ------------------------------------------------------------------ ladder ---
@@ -89,12 +105,16 @@ MUJOCO_COROLLARY_STOP = Tolerance(atol=0.55, rtol=0.0, why="regression guard: me
 
 #: The IC2 lift-off time of the paper's rod (Fig. 20, alpha = 3, mu = 1.4) is quoted as 0.01654: half a
 #: unit of its last digit.  Rung 1 computes it to ~1e-9 (EVENT_TIME), so this is the quote's rounding.
-LADDER_QUOTED_TIME = Tolerance(atol=5e-6, rtol=0.0, why="half a unit of the last digit of the quoted IC2 lift-off time 0.01654")
+LADDER_QUOTED_TIME = Tolerance(
+    atol=5e-6, rtol=0.0, why="half a unit of the last digit of the quoted IC2 lift-off time 0.01654"
+)
 
 #: The ladder's goal: at least 90 % of the disagreements of the MuJoCo maps attributed to a named cause
 #: (geometry, compliance, friction law, feed-forward, discretisation).  A target set for the study, not a bound derived
 #: from the physics or the numerics: the report labels its check a regression guard.
-LADDER_ATTRIBUTED = Tolerance(atol=0.1, rtol=0.0, why="goal, not a derived bound: at least 90% of the disagreements get a named cause", guard=True)
+LADDER_ATTRIBUTED = Tolerance(
+    atol=0.1, rtol=0.0, why="goal, not a derived bound: at least 90% of the disagreements get a named cause", guard=True
+)
 
 
 # -------------------------------------------------------------- mujoco_law ---
@@ -105,7 +125,9 @@ LADDER_ATTRIBUTED = Tolerance(atol=0.1, rtol=0.0, why="goal, not a derived bound
 #: rounding amplified by the condition number of A + R (measured <= 7 on the test's states) and by the
 #: slip angle's root polish (1e-15 rad): ~1e-14 to 1e-13 of |f|.  1e-11 leaves a factor 100.  Measured
 #: 8e-14 (16 random states).
-MUJOCO_LAW_FORCE = Tolerance(atol=0.0, rtol=1e-11, why="same convex problem solved exactly twice: rounding x cond(A + R) <= 7 (measured 8e-14)")
+MUJOCO_LAW_FORCE = Tolerance(
+    atol=0.0, rtol=1e-11, why="same convex problem solved exactly twice: rounding x cond(A + R) <= 7 (measured 8e-14)"
+)
 
 #: R and aref against efc_R and efc_aref: closed forms of the same ~20 flops (impedance sigmoid,
 #: (1 - d)/d diagApprox, -B J v - K d dist) with J v through a 3 x 5 product: CLOSED_FORM's 1e-12,
@@ -122,7 +144,12 @@ MUJOCO_LAW_KKT = Tolerance(atol=1e-12, rtol=0.0, why="3 x 3 solve + slip-angle r
 #: horizon 0.4.  Semi-implicit Euler is first order, but the slipping capsule rides on dist = 0 in a
 #: sliding mode that MuJoCo realises as a chatter of contact and free steps, whose phase makes the error
 #: irregular.  Measured slopes 0.79-1.54 over 8 states and 3 timestep triples (the test's state: 1.08).
-MUJOCO_LAW_ORDER = Tolerance(atol=0.6, rtol=0.0, why="regression guard: first order, measured slopes 0.79-1.54 (chatter of the sliding mode)", guard=True)
+MUJOCO_LAW_ORDER = Tolerance(
+    atol=0.6,
+    rtol=0.0,
+    why="regression guard: first order, measured slopes 0.79-1.54 (chatter of the sliding mode)",
+    guard=True,
+)
 
 #: The friction skew predicted by the law's run against MuJoCo's measured skew on the same state, first
 #: 0.1 of the run, timestep 3e-4, over states whose law run has a contact and keeps theta in (0, pi/2):
@@ -130,8 +157,15 @@ MUJOCO_LAW_ORDER = Tolerance(atol=0.6, rtol=0.0, why="regression guard: first or
 #: converges to the law's as dt -> 0 (worst state: 5.79, 3.44, 3.63, 3.49 degrees at dt = 3e-4, 1e-4,
 #: 3e-5, 1e-5 against the law's 3.50).  Measured at 3e-4: median 0.04, p99 1.8, max 2.3 degrees
 #: (n = 234, seeds 1, 2); 3 degrees = 0.052 rad.
-MUJOCO_LAW_SKEW = Tolerance(atol=0.052, rtol=0.0, why="regression guard: law run vs MuJoCo at dt = 3e-4, measured max 2.3 deg (n = 234)", guard=True)
+MUJOCO_LAW_SKEW = Tolerance(
+    atol=0.052,
+    rtol=0.0,
+    why="regression guard: law run vs MuJoCo at dt = 3e-4, measured max 2.3 deg (n = 234)",
+    guard=True,
+)
 
 #: The closed form angle(u, u + a_t / B) against the angle of the solved force: an identity of the cone's
 #: optimality conditions (f_t anti-parallel to a_t + B u + R_t f_t), so rounding of the solve only.
-MUJOCO_LAW_SKEW_IDENTITY = Tolerance(atol=1e-9, rtol=0.0, why="identity of the KKT conditions: rounding of the solve (~1e-13 rad)")
+MUJOCO_LAW_SKEW_IDENTITY = Tolerance(
+    atol=1e-9, rtol=0.0, why="identity of the KKT conditions: rounding of the solve (~1e-13 rad)"
+)

@@ -21,16 +21,40 @@ def _checks(rod, n_states, rng):
 
     stats = []
     steps = [(s, m, rigid.one_step(rod, s, m)) for s, m in rigid.slipping_states(min(n_states, 40), rng, rod.alpha)]
-    where = {k: np.array([getattr(s, k) for s, _, _ in steps]) for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi")}
+    where = {
+        k: np.array([getattr(s, k) for s, _, _ in steps]) for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi")
+    }
     where["mu"] = np.array([m for _, m, _ in steps])
-    stats.append(error_stat("one-step normal impulse / dt vs -b/p", [c.normal_force for _, _, c in steps],
-                            [c.slipping_force for _, _, c in steps], pinocchio_tol.RIGID_STEP_FORCE, where))
+    stats.append(
+        error_stat(
+            "one-step normal impulse / dt vs -b/p",
+            [c.normal_force for _, _, c in steps],
+            [c.slipping_force for _, _, c in steps],
+            pinocchio_tol.RIGID_STEP_FORCE,
+            where,
+        )
+    )
     rate, errs = rigid.slip_order(rod)
-    stats.append(error_stat("slipping convergence order", [rate], [1.0], pinocchio_tol.RIGID_SLIP_ORDER, {"error_at_smallest_dt": errs[-1:]}))
+    stats.append(
+        error_stat(
+            "slipping convergence order",
+            [rate],
+            [1.0],
+            pinocchio_tol.RIGID_SLIP_ORDER,
+            {"error_at_smallest_dt": errs[-1:]},
+        )
+    )
     impasses = [rigid.planar_impasse(m, T, rod.alpha) for m, T in ((1.4, 0.5), (1.4, -0.3), (2.0, 0.5))]
     after = [rigid.jam_aftermath(rod, [s], m) for s, m in zip(impasses, (1.4, 1.4, 2.0))]
-    stats.append(error_stat("post-jam rates vs IWC order (planar impasse)", [a.orders()[0] for a in after], [1.0] * len(after),
-                            pinocchio_tol.RIGID_IWC_ORDER, {"mu": np.array([1.4, 1.4, 2.0]), "Theta": np.array([0.5, -0.3, 0.5])}))
+    stats.append(
+        error_stat(
+            "post-jam rates vs IWC order (planar impasse)",
+            [a.orders()[0] for a in after],
+            [1.0] * len(after),
+            pinocchio_tol.RIGID_IWC_ORDER,
+            {"mu": np.array([1.4, 1.4, 2.0]), "Theta": np.array([0.5, -0.3, 0.5])},
+        )
+    )
     return stats
 
 
@@ -43,21 +67,38 @@ def _sections():
 
 ENGINES = (
     EngineSpec(
-        name="pinocchio", module="crosscheck.engines.pinocchio.stepper", label="Pinocchio", slug="rigid", libraries=("pin",),
-        one_core={"workers": 1}, solver_columns=("contact_steps", "unconverged_steps", "max_iterations"),
+        name="pinocchio",
+        module="crosscheck.engines.pinocchio.stepper",
+        label="Pinocchio",
+        slug="rigid",
+        libraries=("pin",),
+        one_core={"workers": 1},
+        solver_columns=("contact_steps", "unconverged_steps", "max_iterations"),
         tags={"rigid", "time_stepping"},
-        tolerances={"liftoff_onset": pinocchio_tol.RIGID_LIFTOFF_ONSET, "event_disagreement": pinocchio_tol.RIGID_EVENT_DISAGREEMENT,
-                    "event_time": pinocchio_tol.RIGID_EVENT_TIME, "no_jam_below_mu_P": pinocchio_tol.RIGID_NO_JAM_BELOW_MU_P,
-                    "corollary_stop": pinocchio_tol.RIGID_COROLLARY_STOP},
-        checks=_checks, dynamics="crosscheck.engines.pinocchio.studies.dynamics_terms",
+        tolerances={
+            "liftoff_onset": pinocchio_tol.RIGID_LIFTOFF_ONSET,
+            "event_disagreement": pinocchio_tol.RIGID_EVENT_DISAGREEMENT,
+            "event_time": pinocchio_tol.RIGID_EVENT_TIME,
+            "no_jam_below_mu_P": pinocchio_tol.RIGID_NO_JAM_BELOW_MU_P,
+            "corollary_stop": pinocchio_tol.RIGID_COROLLARY_STOP,
+        },
+        checks=_checks,
+        dynamics="crosscheck.engines.pinocchio.studies.dynamics_terms",
         # A chunk is one closed-form batch, whose step costs ~0.3 ms of numpy calls almost whatever its size: 128 states
         # step at ~2.3e5 steps/s on one core, 32 at ~0.9e5
         # (benchmarks/bench_pinocchio_engine.py).
         sweep_chunk=128,
         # the quick report at a coarser timestep (its cost is the NCP's), drawn beside MuJoCo's maps
-        report=ReportPlan(maps={"quick": {"timestep": 3e-3}, "full": {"timestep": 1e-3}}, beside="mujoco_maps",
-                          convergence={"quick": [{"timestep": dt} for dt in (1e-2, 3e-3, 1e-3)],
-                                       "full": [{"timestep": dt} for dt in (3e-3, 1e-3, 3e-4)]},
-                          convergence_n={"quick": 5, "full": 14}, sections=_sections, order=20),
+        report=ReportPlan(
+            maps={"quick": {"timestep": 3e-3}, "full": {"timestep": 1e-3}},
+            beside="mujoco_maps",
+            convergence={
+                "quick": [{"timestep": dt} for dt in (1e-2, 3e-3, 1e-3)],
+                "full": [{"timestep": dt} for dt in (3e-3, 1e-3, 3e-4)],
+            },
+            convergence_n={"quick": 5, "full": 14},
+            sections=_sections,
+            order=20,
+        ),
     ),
 )

@@ -43,7 +43,9 @@ class BatchStepper:
         self.band = options.gap * rod.length
         self._pgs: dict[float, object] = {}
         self.handed = 0  # steps made by Pinocchio's PGS stepper
-        self._health = np.tile([0.0, 0.0, 1.0], (len(self.mu), 1))  # a closed-form step: 0 iterations, complementarity 0, converged
+        self._health = np.tile(
+            [0.0, 0.0, 1.0], (len(self.mu), 1)
+        )  # a closed-form step: 0 iterations, complementarity 0, converged
 
     def _stepper(self, mu: float):
         from crosscheck.engines.pinocchio.stepper import Stepper
@@ -93,7 +95,9 @@ class BatchStepper:
         return q1, v1
 
 
-def run_batch(rod: Rod, q0: np.ndarray, v0: np.ndarray, mu: np.ndarray, options: Options, n: int) -> tuple[np.ndarray, int]:
+def run_batch(
+    rod: Rod, q0: np.ndarray, v0: np.ndarray, mu: np.ndarray, options: Options, n: int
+) -> tuple[np.ndarray, int]:
     """``n`` steps of B states from (q0, v0) (B, 5) [physical], friction ``mu`` (B,).
 
     Returns (rows (B, n, 20), the number of steps handed to PGS); row k is the state at t_k and its step's
@@ -102,7 +106,9 @@ def run_batch(rod: Rod, q0: np.ndarray, v0: np.ndarray, mu: np.ndarray, options:
     stepper = BatchStepper(rod, mu, options)
     q, v = np.array(q0, float), np.array(v0, float)
     rows = np.empty((q.shape[0], n, 20))
-    with np.errstate(all="ignore"):  # a run that leaves 0 < theta < pi/2 diverges as with Pinocchio; the classifier says DIVERGED
+    with np.errstate(
+        all="ignore"
+    ):  # a run that leaves 0 < theta < pi/2 diverges as with Pinocchio; the classifier says DIVERGED
         for k in range(n):
             q, v = stepper.step(q, v, rows[:, k])
     return rows, stepper.handed

@@ -83,7 +83,9 @@ __all__ = [
 TIP_FRAME = "tip"
 
 #: One single-axis joint per generalised coordinate, in the order of ``GENERALIZED``.
-JOINT_TYPES = dict(zip(GENERALIZED, (pin.JointModelPX, pin.JointModelPY, pin.JointModelPZ, pin.JointModelRZ, pin.JointModelRX)))
+JOINT_TYPES = dict(
+    zip(GENERALIZED, (pin.JointModelPX, pin.JointModelPY, pin.JointModelPZ, pin.JointModelRZ, pin.JointModelRX))
+)
 
 #: Routes of ``tip_acceleration``: "delassus" = G F + free acceleration; "aba" = aba with tau = J^T F,
 #: then the tip frame's classical acceleration.
@@ -224,7 +226,9 @@ class PinocchioRod:
         """
         model = self.model
         model.gravity.linear[:] = (0.0, 0.0, -rod.gravity)
-        model.inertias[model.njoints - 1] = _body(rod)  # the body alone on the last joint, as appendBodyToJoint leaves it
+        model.inertias[model.njoints - 1] = _body(
+            rod
+        )  # the body alone on the last joint, as appendBodyToJoint leaves it
         model.frames[self.tip].placement = _tip_placement(rod)
         self.rod = rod
 
@@ -236,7 +240,15 @@ class PinocchioRod:
         M, C, J6, dJ6 = (np.empty((n, k, 5)) for k in (5, 5, 6, 6))
         g, nle = np.empty((n, 5)), np.empty((n, 5))
         self.fill_terms(q, v, M, C, g, nle, J6, dJ6)
-        return RodTerms(v=v, M=symmetrised(M), C=C, g=g, nle=nle, J=np.ascontiguousarray(J6[:, :3]), dJ=np.ascontiguousarray(dJ6[:, :3]))
+        return RodTerms(
+            v=v,
+            M=symmetrised(M),
+            C=C,
+            g=g,
+            nle=nle,
+            J=np.ascontiguousarray(J6[:, :3]),
+            dJ=np.ascontiguousarray(dJ6[:, :3]),
+        )
 
     def fill_terms(self, q, v, M, C, g, nle, J6, dJ6) -> None:
         """Pinocchio's terms at (q, v) ((N, 5) C-contiguous arrays) written into preallocated arrays (views of larger ones allowed).
@@ -249,9 +261,17 @@ class PinocchioRod:
         (``benchmarks/bench_pinocchio.py``).
         """
         model, data, tip, lwa = self.model, self.data, self.tip, _LWA
-        crba, coriolis, gravity, nonlinear = pin.crba, pin.computeCoriolisMatrix, pin.computeGeneralizedGravity, pin.nonLinearEffects
-        jacobians_dt, frame_jacobian, frame_jacobian_dt = (pin.computeJointJacobiansTimeVariation, pin.getFrameJacobian,
-                                                           pin.getFrameJacobianTimeVariation)
+        crba, coriolis, gravity, nonlinear = (
+            pin.crba,
+            pin.computeCoriolisMatrix,
+            pin.computeGeneralizedGravity,
+            pin.nonLinearEffects,
+        )
+        jacobians_dt, frame_jacobian, frame_jacobian_dt = (
+            pin.computeJointJacobiansTimeVariation,
+            pin.getFrameJacobian,
+            pin.getFrameJacobianTimeVariation,
+        )
         buffers = [bytearray() for _ in range(6)]
         put_M, put_C, put_g, put_nle, put_J, put_dJ = (b.extend for b in buffers)
         # extend() copies a C-contiguous float64 result through the buffer protocol (a non-contiguous one raises
@@ -410,7 +430,9 @@ def _scaled_slip(theta, varphi, Theta, Psi, mu, alpha) -> tuple[np.ndarray, np.n
     mu = check("mu", mu, MU)
     alpha = check("alpha", alpha, ALPHA)
     varphi = check("varphi", varphi)
-    theta, varphi, Theta, Psi, mu, alpha = np.broadcast_arrays(*(np.asarray(x, float) for x in (theta, varphi, Theta, Psi, mu, alpha)))
+    theta, varphi, Theta, Psi, mu, alpha = np.broadcast_arrays(
+        *(np.asarray(x, float) for x in (theta, varphi, Theta, Psi, mu, alpha))
+    )
     shape = theta.shape
     flat = [x.reshape(-1) for x in (theta, varphi, Theta, Psi, mu, alpha)]
     theta, varphi, Theta, Psi, mu, alpha = flat

@@ -65,7 +65,9 @@ def h_coefficients(G: np.ndarray, u: np.ndarray, mu: np.ndarray) -> np.ndarray:
     ux, uy, un = u[:, 0], u[:, 1], u[:, 2]
     gx, gy, Gnn = G[:, 0, 2], G[:, 1, 2], G[:, 2, 2]
     a, b, e = G[:, 0, 0], G[:, 0, 1], G[:, 1, 1]
-    out = np.zeros((u.shape[0], 3, 5))  # filled column by column: np.stack costs more than the arithmetic at these sizes
+    out = np.zeros(
+        (u.shape[0], 3, 5)
+    )  # filled column by column: np.stack costs more than the arithmetic at these sizes
     # D (u_t x d) = G_nn (ux s - uy c) - mu (gx c + gy s)(ux s - uy c); -u_n (g x d); + u_n mu (A d x d),
     # A d x d = (a - e) c s - b (c^2 - s^2); products of c and s expanded into the second harmonics
     mgu_x, mgu_y = mu * (gx * ux - gy * uy), mu * (gx * uy + gy * ux)

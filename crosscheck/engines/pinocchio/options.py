@@ -18,7 +18,6 @@ __all__ = ["Options", "SOLVERS"]
 SOLVERS = ("auto", "closed_form", "pgs", "admm")
 
 
-
 @dataclass(frozen=True)
 class Options:
     """Parameters of the rigid engine, in the paper's scaled units.
@@ -73,7 +72,9 @@ class Options:
             if not (isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 1):
                 raise ValueError(f"{name} must be an integer >= 1; got {v!r}")
         if self.max_iterations_limit < self.max_iterations:
-            raise ValueError(f"max_iterations_limit must be >= max_iterations = {self.max_iterations}; got {self.max_iterations_limit}")
+            raise ValueError(
+                f"max_iterations_limit must be >= max_iterations = {self.max_iterations}; got {self.max_iterations_limit}"
+            )
         if self.contact_gap is not None:
             object.__setattr__(self, "contact_gap", real_scalar("contact_gap", self.contact_gap, POSITIVE))
         if not isinstance(self.ncp, (bool, np.bool_)):

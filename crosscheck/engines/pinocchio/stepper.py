@@ -94,8 +94,17 @@ import pinocchio as pin
 
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get
-from crosscheck.engines.base import (STATE_KEYS, Run, SweepResult, check_states, n_steps_within_memory, sweep_mu_workers, run_inputs, summaries,
-                                     sweep_by_simulate)
+from crosscheck.engines.base import (
+    STATE_KEYS,
+    Run,
+    SweepResult,
+    check_states,
+    n_steps_within_memory,
+    sweep_mu_workers,
+    run_inputs,
+    summaries,
+    sweep_by_simulate,
+)
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.pinocchio.model import TIP_FRAME, build_model
 from crosscheck.engines.pinocchio.options import SOLVERS, Options
@@ -149,9 +158,17 @@ class Stepper:
         self.datas.append(self.constraint.createData())
         self.cholesky = pin.ConstraintCholeskyDecomposition(self.model, self.data, self.models, self.datas)
         if options.solver == "admm":
-            self.solver, self.settings, self.result = pin.ADMMConstraintSolver(3), pin.ADMMSolverSettings(), pin.ADMMSolverResult()
+            self.solver, self.settings, self.result = (
+                pin.ADMMConstraintSolver(3),
+                pin.ADMMSolverSettings(),
+                pin.ADMMSolverResult(),
+            )
         else:  # "pgs", and the steps "auto" and "closed_form" hand to PGS
-            self.solver, self.settings, self.result = pin.PGSConstraintSolver(3), pin.PGSSolverSettings(), pin.PGSSolverResult()
+            self.solver, self.settings, self.result = (
+                pin.PGSConstraintSolver(3),
+                pin.PGSSolverSettings(),
+                pin.PGSSolverResult(),
+            )
         s = self.settings
         s.solve_ncp = bool(options.ncp)
         self.dt = options.timestep / rod.omega
@@ -202,11 +219,21 @@ class Stepper:
                 break
             self.result.setConstraintImpulseGuess(lam)
         lam = np.array(self.result.retrieveConstraintImpulses())
-        pin.cholesky.decompose(model, data)  # M = U D U^T of the crba above: M^-1 J^T lambda in O(nv) (a numpy solve costs 25x more)
+        pin.cholesky.decompose(
+            model, data
+        )  # M = U D U^T of the crba above: M^-1 J^T lambda in O(nv) (a numpy solve costs 25x more)
         v_next = v_free + pin.cholesky.solve(model, data, J.T @ lam)
         # the row's tip kinematics from this step's J (the contact frame is the world's) and dJ v: no more Pinocchio calls
-        info = StepInfo(lam, True, iterations, float(self.result.complementarity), bool(self.result.converged), pos, J @ v,
-                        dJv + J @ ((v_next - v) / dt))
+        info = StepInfo(
+            lam,
+            True,
+            iterations,
+            float(self.result.complementarity),
+            bool(self.result.converged),
+            pos,
+            J @ v,
+            dJv + J @ ((v_next - v) / dt),
+        )
         return q + dt * v_next, v_next, info
 
 
@@ -229,17 +256,33 @@ def _record(rod: Rod, raw: np.ndarray, dt: float, timestep: float) -> Record:
     force = raw[..., 9:12] / (dt * rod.force_scale)
     slip = vel.copy()
     slip[..., 2] = 0.0
-    return Record(t=np.broadcast_to(timestep * np.arange(n), raw.shape[:-1]).copy(), tip_pos=pos, tip_vel=vel, tip_acc=acc, force=force,
-                  normal_force=force[..., 2].copy(), active=raw[..., 16] > 0.5, gap=pos[..., 2].copy(), slip_vel=slip,
-                  psi=raw[..., 12].copy(), theta=raw[..., 13].copy(), Psi=raw[..., 14] / w, Theta=raw[..., 15] / w)
+    return Record(
+        t=np.broadcast_to(timestep * np.arange(n), raw.shape[:-1]).copy(),
+        tip_pos=pos,
+        tip_vel=vel,
+        tip_acc=acc,
+        force=force,
+        normal_force=force[..., 2].copy(),
+        active=raw[..., 16] > 0.5,
+        gap=pos[..., 2].copy(),
+        slip_vel=slip,
+        psi=raw[..., 12].copy(),
+        theta=raw[..., 13].copy(),
+        Psi=raw[..., 14] / w,
+        Theta=raw[..., 15] / w,
+    )
 
 
 def _health(raw: np.ndarray) -> SolverHealth:
     """``SolverHealth`` of one run's rows (n, 20)."""
     active, iters, compl, conv = raw[:, 16] > 0.5, raw[:, 17], raw[:, 18], raw[:, 19] > 0.5
-    return SolverHealth(contact_steps=int(active.sum()), max_iterations=int(iters.max(initial=0)),
-                        mean_iterations=float(iters[active].mean()) if active.any() else 0.0,
-                        max_complementarity=float(compl.max(initial=0.0)), unconverged_steps=int((~conv).sum()))
+    return SolverHealth(
+        contact_steps=int(active.sum()),
+        max_iterations=int(iters.max(initial=0)),
+        mean_iterations=float(iters[active].mean()) if active.any() else 0.0,
+        max_complementarity=float(compl.max(initial=0.0)),
+        unconverged_steps=int((~conv).sum()),
+    )
 
 
 def _rows_by_pgs(rod: Rod, q: np.ndarray, v: np.ndarray, mu: float, opts: Options, n: int) -> np.ndarray:
@@ -256,7 +299,9 @@ def _rows_by_pgs(rod: Rod, q: np.ndarray, v: np.ndarray, mu: float, opts: Option
     return raw
 
 
-def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options) -> Run:
+def simulate(
+    rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options
+) -> Run:
     """Run one slipping state with the rigid engine and classify its first event.
 
     The tip starts on the plane (z_A = 0) with the velocities of ``state``
@@ -276,9 +321,12 @@ def simulate(rod: Rod, state: SlipState, mu: float, *, horizon: float, threshold
     else:
         raw = _rows_by_pgs(rod, q, v, mu, opts, n)
     record = _record(rod, raw, opts.timestep / rod.omega, opts.timestep)
-    c = classify(record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=0.0, rigid=True, thresholds=th)
-    run = Run.from_classification(NAME, c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
-                                  horizon=horizon, nstep=n)
+    c = classify(
+        record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=0.0, rigid=True, thresholds=th
+    )
+    run = Run.from_classification(
+        NAME, c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th, horizon=horizon, nstep=n
+    )
     return dataclasses.replace(run, solver=_health(raw))
 
 
@@ -290,11 +338,26 @@ def _rows_closed_form(rod: Rod, q: np.ndarray, v: np.ndarray, mu: np.ndarray, op
     """Rows (B, n, 20) of B states stepped ``BATCH`` at a time by ``batch.run_batch``."""
     from crosscheck.engines.pinocchio.batch import run_batch
 
-    return np.concatenate([run_batch(rod, q[a:a + BATCH], v[a:a + BATCH], mu[a:a + BATCH], opts, n)[0] for a in range(0, len(q), BATCH)])
+    return np.concatenate(
+        [
+            run_batch(rod, q[a : a + BATCH], v[a : a + BATCH], mu[a : a + BATCH], opts, n)[0]
+            for a in range(0, len(q), BATCH)
+        ]
+    )
 
 
-def _sweep_closed_form(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None, progress: bool | None,
-                       workers: int, n_series: int = 200, **options) -> SweepResult:
+def _sweep_closed_form(
+    rod: Rod,
+    states: Sequence[SlipState],
+    mu,
+    *,
+    horizon: float,
+    thresholds: Thresholds | None,
+    progress: bool | None,
+    workers: int,
+    n_series: int = 200,
+    **options,
+) -> SweepResult:
     """``sweep`` with ``solver="closed_form"``: the states stepped together (``batch``), one classifier on the stacked records."""
     states = check_states(states)
     _, horizon, opts = run_inputs(states[0], 0.0, horizon, options, Options)  # every state was checked above
@@ -305,33 +368,76 @@ def _sweep_closed_form(rod: Rod, states: Sequence[SlipState], mu, *, horizon: fl
     t0 = time.perf_counter()
     qv = [to_generalized(rod, s) for s in states]
     q, v = np.array([a for a, _ in qv]), np.array([b for _, b in qv])
-    if workers == 1 or B < workers * BATCH // 2:  # a smaller share per process costs more in per-step overhead than it saves
+    if (
+        workers == 1 or B < workers * BATCH // 2
+    ):  # a smaller share per process costs more in per-step overhead than it saves
         raw = _rows_closed_form(rod, q, v, mu, opts, n)
     else:
         from crosscheck.workers import pool as worker_pool
 
         cuts = np.linspace(0, B, workers + 1).astype(int)
         with worker_pool(workers) as pool:
-            futures = [pool.submit(_rows_closed_form, rod, q[a:b], v[a:b], mu[a:b], opts, n) for a, b in zip(cuts[:-1], cuts[1:])]
+            futures = [
+                pool.submit(_rows_closed_form, rod, q[a:b], v[a:b], mu[a:b], opts, n)
+                for a, b in zip(cuts[:-1], cuts[1:])
+            ]
             raw = np.concatenate([f.result() for f in futures])
     record = _record(rod, raw, opts.timestep / rod.omega, opts.timestep)
-    c = classify(record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=0.0, rigid=True, thresholds=th)
+    c = classify(
+        record, mu=mu, alpha=rod.alpha, timestep=opts.timestep, friction_timeconst=0.0, rigid=True, thresholds=th
+    )
     summary, series = summaries(record, c, mu, rod.alpha, max(1, n // max(1, n_series)))
     health = [_health(r) for r in raw]
     solver = {f.name: np.array([getattr(h, f.name) for h in health]) for f in dataclasses.fields(SolverHealth)}
     wall = time.perf_counter() - t0
-    return SweepResult(engine=NAME, outcome=c.outcome, event_time=c.event_time, exit_time=c.exit_time, diverged_time=c.diverged_time,
-                       states={k: np.array([getattr(s, k) for s in states]) for k in STATE_KEYS}, mu=mu.copy(), summary=summary,
-                       series=series, alpha=rod.alpha, horizon=horizon, nstep=n, options=opts, thresholds=th, wall_time=wall,
-                       steps_per_second=B * n / wall, solver=solver)
+    return SweepResult(
+        engine=NAME,
+        outcome=c.outcome,
+        event_time=c.event_time,
+        exit_time=c.exit_time,
+        diverged_time=c.diverged_time,
+        states={k: np.array([getattr(s, k) for s in states]) for k in STATE_KEYS},
+        mu=mu.copy(),
+        summary=summary,
+        series=series,
+        alpha=rod.alpha,
+        horizon=horizon,
+        nstep=n,
+        options=opts,
+        thresholds=th,
+        wall_time=wall,
+        steps_per_second=B * n / wall,
+        solver=solver,
+    )
 
 
-def sweep(rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, thresholds: Thresholds | None = None, progress: bool | None = None,
-          workers: int = 2, **options) -> SweepResult:
+def sweep(
+    rod: Rod,
+    states: Sequence[SlipState],
+    mu,
+    *,
+    horizon: float,
+    thresholds: Thresholds | None = None,
+    progress: bool | None = None,
+    workers: int = 2,
+    **options,
+) -> SweepResult:
     """Every state through the engine (one classifier, the same records as ``simulate``'s), on ``workers`` processes (both
     cores by default): with ``solver="closed_form"`` or "auto", all states stepped together (on one process below
     ``workers * BATCH / 2`` states); otherwise one ``simulate`` per state."""
     solver = options.get("solver", Options.solver)
     if solver in ("closed_form", "auto"):
-        return _sweep_closed_form(rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options)
-    return sweep_by_simulate(get(NAME), rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options)
+        return _sweep_closed_form(
+            rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options
+        )
+    return sweep_by_simulate(
+        get(NAME),
+        rod,
+        states,
+        mu,
+        horizon=horizon,
+        thresholds=thresholds,
+        progress=progress,
+        workers=workers,
+        **options,
+    )

@@ -32,16 +32,22 @@ from crosscheck.tolerances import Tolerance
 
 #: Tip acceleration by aba + classical frame acceleration vs eq. linode2, scale A / cos theta.
 #: Measured max 3.3e-16 (1.5 eps).
-PIN_TIP_ACCELERATION = Tolerance(atol=1e-14, rtol=0.0, why="aba route: ~45 eps of A / cos theta (articulated inertia I0 cos^2 theta)")
+PIN_TIP_ACCELERATION = Tolerance(
+    atol=1e-14, rtol=0.0, why="aba route: ~45 eps of A / cos theta (articulated inertia I0 cos^2 theta)"
+)
 
 #: G F + free acceleration, G and the free acceleration vs eq. linode2, scale kappa * term scale,
 #: kappa = 1 / cos^2 theta.  Measured max 2.4e-15 (11 eps); 2e-14 covers the ~25 operations of
 #: a 5 x 5 solve and the products with J.
-PIN_THROUGH_MINV = Tolerance(atol=2e-14, rtol=0.0, why="through M^-1: ~90 eps of the term scale times cond(M) = 1/cos^2 theta")
+PIN_THROUGH_MINV = Tolerance(
+    atol=2e-14, rtol=0.0, why="through M^-1: ~90 eps of the term scale times cond(M) = 1/cos^2 theta"
+)
 
 #: M, C, g and C v + g = nonLinearEffects entry by entry in scaled units (M_s = L M L / (m l^2) etc.).
 #: Measured max 1.0e-15 (C), 5.6e-16 (M, g), 3.3e-16 (nle).
-PIN_MATRICES = Tolerance(atol=1e-14, rtol=0.0, why="M, C, g entries: ~45 eps of the entry scale (1 for M, g; 1 + |v_s| for C)")
+PIN_MATRICES = Tolerance(
+    atol=1e-14, rtol=0.0, why="M, C, g entries: ~45 eps of the entry scale (1 for M, g; 1 + |v_s| for C)"
+)
 
 #: b and p from Pinocchio's free acceleration and Delassus row e_z^T G vs eqs. b and p.
 #: Measured max 2.1e-15 (b, scale V), 1.0e-15 (p, scale (1 + alpha)(1 + mu)).
@@ -57,7 +63,9 @@ PIN_MU_P = Tolerance(atol=1e-9, rtol=0.0, why="required: mu_P from p to 1e-9")
 #: Finite differences (J vs tip positions, dJ vs J along v, M' vs M along v): the allowance is this
 #: multiple (atol) of the a-priori error bound eps f / h + h^2 |f'''| / 6 of a central difference with
 #: step h, f and f''' bounded from the rod's size and rates (tests/test_pinocchio_model.py).
-PIN_FINITE_DIFFERENCE = Tolerance(atol=4.0, rtol=0.0, why="multiple of the central-difference bound eps f/h + h^2 f'''/6")
+PIN_FINITE_DIFFERENCE = Tolerance(
+    atol=4.0, rtol=0.0, why="multiple of the central-difference bound eps f/h + h^2 f'''/6"
+)
 
 
 # The rigid engine (crosscheck.engines.pinocchio.stepper): a time-stepper on Pinocchio's NCP solvers.
@@ -75,7 +83,9 @@ RIGID_STEP_FORCE = Tolerance(atol=0.0, rtol=1e-9, why="required; NCP solved to 1
 #: is 0 iff b >= 0 (eq. b enters the step exactly through dt dJ v), and a rigid LIFTOFF needs one
 #: force-free upward row, so the onset is Psi_L whatever the timestep: no soft-contact delay.  The
 #: bound is the required 1e-9; measured: the bisection's resolution (1.9e-12) at dt = 3e-3 ... 1e-4.
-RIGID_LIFTOFF_ONSET = Tolerance(atol=1e-9, rtol=0.0, why="required: exact one-step lift-off decision (measured at the 1.9e-12 resolution)")
+RIGID_LIFTOFF_ONSET = Tolerance(
+    atol=1e-9, rtol=0.0, why="required: exact one-step lift-off decision (measured at the 1.9e-12 resolution)"
+)
 
 #: Order of convergence of the rigid engine's slipping trajectories to slip_until_event: semi-implicit
 #: Euler is first order.  Measured 1.00001 over dt = 4e-3 ... 2.5e-4 (errors 4.7e-4 ... 2.9e-5 at t = 0.3).
@@ -86,7 +96,9 @@ RIGID_SLIP_ORDER = Tolerance(atol=0.05, rtol=0.0, why="semi-implicit Euler: firs
 #: Psi = 0 at t = 0).  The step solves the same impulse problem at the same configuration plus the
 #: O(dt) gravity, Coriolis and dJ v terms: first order.  Measured 0.9992-1.0000 (mu = 1.4, 2; Theta
 #: = 0.5, -0.3) over dt = 1e-3, 3e-4, 1e-4.
-RIGID_IWC_ORDER = Tolerance(atol=0.05, rtol=0.0, why="one step = the IWC + O(dt) terms: first order (measured 0.9992-1.0000)")
+RIGID_IWC_ORDER = Tolerance(
+    atol=0.05, rtol=0.0, why="one step = the IWC + O(dt) terms: first order (measured 0.9992-1.0000)"
+)
 
 # The rigid engine's contact events (crosscheck.studies.validate), timestep 1e-3, the same random
 # states and horizon as MuJoCo's.  The engine is the theory's own rigid Coulomb contact, so what
@@ -102,11 +114,15 @@ RIGID_IWC_ORDER = Tolerance(atol=0.05, rtol=0.0, why="one step = the IWC + O(dt)
 #: -b/p ~ (t_jam - t)^(-1/2), runs out within the last step when the analytic slip speed at the jam is
 #: below ~ mu |b| sqrt(dt); those 35 become JAMs as dt shrinks: 0, 16, 30 of 35 at dt = 1e-3, 3e-4,
 #: 1e-4.  A regression guard from measured values, not a derived bound.
-RIGID_EVENT_DISAGREEMENT = Tolerance(atol=0.15, rtol=0.0, why="regression guard: measured 0.033 (n = 300, seed 0), on event boundaries", guard=True)
+RIGID_EVENT_DISAGREEMENT = Tolerance(
+    atol=0.15, rtol=0.0, why="regression guard: measured 0.033 (n = 300, seed 0), on event boundaries", guard=True
+)
 
 #: Median |t_engine - t_analytic| over states with the same event: a first-order stepper shifts an
 #: event by O(dt) = 1e-3 (measured 0.00155 at seed 0, n = 300: lift-offs and jams, O(dt)-O(sqrt(dt))).
-RIGID_EVENT_TIME = Tolerance(atol=0.01, rtol=0.0, why="regression guard: O(dt)-O(sqrt dt) event shift (measured 0.0016)", guard=True)
+RIGID_EVENT_TIME = Tolerance(
+    atol=0.01, rtol=0.0, why="regression guard: O(dt)-O(sqrt dt) event shift (measured 0.0016)", guard=True
+)
 
 #: Rigid JAMs among random slipping states below mu_P: none (p > 0 for every slip direction).
 RIGID_NO_JAM_BELOW_MU_P = Tolerance(atol=0.5, rtol=0.0, why="integer count must be 0: p > 0 for all varphi below mu_P")
@@ -115,7 +131,9 @@ RIGID_NO_JAM_BELOW_MU_P = Tolerance(atol=0.5, rtol=0.0, why="integer count must 
 #: STICK or LIFTOFF) within RIGID_JAM_WINDOW = 0.05 of the analytic jam.  Measured 0.056 at seed 0
 #: (n = 90) and 0.067 at seed 1; the JAMs alone are 0.83 and 0.74 of the states (mu = 6: 0.73 and
 #: 0.57; the rest stick at the jam row, as in RIGID_EVENT_DISAGREEMENT).
-RIGID_COROLLARY_STOP = Tolerance(atol=0.2, rtol=0.0, why="regression guard: measured 0.056-0.067 (n = 90, seeds 0, 1)", guard=True)
+RIGID_COROLLARY_STOP = Tolerance(
+    atol=0.2, rtol=0.0, why="regression guard: measured 0.056-0.067 (n = 90, seeds 0, 1)", guard=True
+)
 
 #: The batched closed-form stepper (crosscheck.engines.pinocchio.batch) against Pinocchio's PGS stepper, one step from
 #: the same state: impulse relative to max(m g dt, |lambda|) and velocity relative to its size.  PGS stops at
@@ -124,4 +142,6 @@ RIGID_COROLLARY_STOP = Tolerance(atol=0.2, rtol=0.0, why="regression guard: meas
 #: stopping rule, ~1e-13 relative to a slipping step's impulse, at most the 1e-11 measured for RIGID_STEP_FORCE.  Only
 #: steps where PGS met its tolerance are compared.  Measured max over the slip, lift-off, stick and two jam starts of
 #: tests/test_engine_pinocchio_batch.py: 1.7e-12 (impulse), 6.2e-15 (velocity).
-RIGID_BATCH_STEP = Tolerance(atol=0.0, rtol=1e-9, why="PGS's stopping rule 1e-13 m g dt against an exact solution (measured <= 1.7e-12)")
+RIGID_BATCH_STEP = Tolerance(
+    atol=0.0, rtol=1e-9, why="PGS's stopping rule 1e-13 m g dt against an exact solution (measured <= 1.7e-12)"
+)

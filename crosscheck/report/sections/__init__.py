@@ -12,9 +12,30 @@ read at attribute access.
 from __future__ import annotations
 
 from crosscheck.report.section import Section
-from crosscheck.report.sections import (bifurcations, critical_angles, engine_contact, engine_convergence, engine_ic, engine_interventions, engine_ladder, engine_maps, engine_onset, engine_rounding, gb_det_zeros, gb_eigenvectors, gb_local,
-                                        gb_manifold, gb_quartic, gb_separatrix, kinematic_cases, kinematic_surfaces, mechanisms, mode_maps,
-                                        p_region, printed_numbers)
+from crosscheck.report.sections import (
+    bifurcations,
+    critical_angles,
+    engine_contact,
+    engine_convergence,
+    engine_ic,
+    engine_interventions,
+    engine_ladder,
+    engine_maps,
+    engine_onset,
+    engine_rounding,
+    gb_det_zeros,
+    gb_eigenvectors,
+    gb_local,
+    gb_manifold,
+    gb_quartic,
+    gb_separatrix,
+    kinematic_cases,
+    kinematic_surfaces,
+    mechanisms,
+    mode_maps,
+    p_region,
+    printed_numbers,
+)
 
 __all__ = ["SECTIONS", "THEORY_SECTIONS", "all_sections", "engine_sections", "section_by_slug"]
 

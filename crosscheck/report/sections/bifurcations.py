@@ -71,20 +71,51 @@ POINTS = {
 #: ("case", k) a generic case, ("curve", id) a codimension-1 curve, ("point", name) a codimension-2 point.
 #: Cells spanning several strata in the paper (cases 2, 3, 6, 7 and Psi = Psi_2) sit in their middle column or row.
 CELLS = (
-    (0, 0, ("case", 1)), (0, 1, ("curve", "L_I")), (0, 4, ("case", 2)),
-    (1, 0, ("curve", "P_a")), (1, 1, ("point", "(mu_P, Psi_L)")), (1, 3, ("curve", "P_b")), (1, 5, ("point", "(mu_P, Psi_P)")), (1, 6, ("curve", "P_c")),
-    (2, 1, ("curve", "L_II")), (2, 2, ("case", 4)), (2, 3, ("curve", "1_II")),
-    (3, 0, ("case", 3)), (3, 2, ("point", "(mu_L, Psi_L)")), (3, 4, ("case", 6)), (3, 5, ("curve", "2")), (3, 6, ("case", 7)),
-    (4, 1, ("curve", "L_III")), (4, 2, ("case", 5)), (4, 3, ("curve", "1_III")),
+    (0, 0, ("case", 1)),
+    (0, 1, ("curve", "L_I")),
+    (0, 4, ("case", 2)),
+    (1, 0, ("curve", "P_a")),
+    (1, 1, ("point", "(mu_P, Psi_L)")),
+    (1, 3, ("curve", "P_b")),
+    (1, 5, ("point", "(mu_P, Psi_P)")),
+    (1, 6, ("curve", "P_c")),
+    (2, 1, ("curve", "L_II")),
+    (2, 2, ("case", 4)),
+    (2, 3, ("curve", "1_II")),
+    (3, 0, ("case", 3)),
+    (3, 2, ("point", "(mu_L, Psi_L)")),
+    (3, 4, ("case", 6)),
+    (3, 5, ("curve", "2")),
+    (3, 6, ("case", 7)),
+    (4, 1, ("curve", "L_III")),
+    (4, 2, ("case", 5)),
+    (4, 3, ("curve", "1_III")),
 )
 MU_STRATA = ("$\\mu\\in[0,\\mu_P)$", "$\\mu=\\mu_P$", "$\\mu\\in(\\mu_P,\\mu_L)$", "$\\mu=\\mu_L$", "$\\mu>\\mu_L$")
-PSI_STRATA = ("$|\\Psi|\\in[0,\\Psi_L)$", "$|\\Psi|=\\Psi_L$", "$|\\Psi|\\in(\\Psi_L,\\Psi_1)$", "$|\\Psi|=\\Psi_1$", "$|\\Psi|\\in(\\Psi_1,\\Psi_2)$",
-              "$|\\Psi|=\\Psi_2$", "$|\\Psi|>\\Psi_2$")
+PSI_STRATA = (
+    "$|\\Psi|\\in[0,\\Psi_L)$",
+    "$|\\Psi|=\\Psi_L$",
+    "$|\\Psi|\\in(\\Psi_L,\\Psi_1)$",
+    "$|\\Psi|=\\Psi_1$",
+    "$|\\Psi|\\in(\\Psi_1,\\Psi_2)$",
+    "$|\\Psi|=\\Psi_2$",
+    "$|\\Psi|>\\Psi_2$",
+)
 
 
 def params(quick: bool) -> dict:
-    return {"alpha": 3.0, "mu_max": 3.0, "Psi_max": 6.0, "mu_examples": [1.0, 1.4, 6.0], "n_curve": 200 if quick else 1000,
-            "n_map_mu": 150 if quick else 450, "n_map_Psi": 120 if quick else 360, "n_thumb": 21 if quick else 41, "Theta_max": 2.2, "offset": 1e-6}
+    return {
+        "alpha": 3.0,
+        "mu_max": 3.0,
+        "Psi_max": 6.0,
+        "mu_examples": [1.0, 1.4, 6.0],
+        "n_curve": 200 if quick else 1000,
+        "n_map_mu": 150 if quick else 450,
+        "n_map_Psi": 120 if quick else 360,
+        "n_thumb": 21 if quick else 41,
+        "Theta_max": 2.2,
+        "offset": 1e-6,
+    }
 
 
 def defining_function(kind: str, mu, Psi, alpha: float):
@@ -105,8 +136,18 @@ def _scale(kind: str, mu, Psi, alpha: float):
 
 
 def _constants(alpha: float, mu_max: float, Psi_max: float) -> dict:
-    return {"0": 0.0, "alpha": alpha, "mu_P": float(critical.mu_P(alpha)), "mu_L": float(critical.mu_L(alpha)), "Psi_L": critical.Psi_L,
-            "Psi_P": float(critical.Psi_P(alpha)), "theta_L": critical.theta_L, "theta_P": float(critical.theta_P(alpha)), "mu_max": mu_max, "Psi_max": Psi_max}
+    return {
+        "0": 0.0,
+        "alpha": alpha,
+        "mu_P": float(critical.mu_P(alpha)),
+        "mu_L": float(critical.mu_L(alpha)),
+        "Psi_L": critical.Psi_L,
+        "Psi_P": float(critical.Psi_P(alpha)),
+        "theta_L": critical.theta_L,
+        "theta_P": float(critical.theta_P(alpha)),
+        "mu_max": mu_max,
+        "Psi_max": Psi_max,
+    }
 
 
 def _curve_samples(cid: str, c: dict, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -131,14 +172,24 @@ def _cell_point(col: int, row: int, what: tuple, c: dict, mu_ex: list[float]) ->
     if col == 0:
         return mu, {0: 0.0, 1: c["Psi_L"], 4: 2.0 * c["Psi_L"]}[row]
     cv = critical.critical_values(mu, c["alpha"])
-    return mu, {0: 0.0, 1: cv.Psi_L, 2: (cv.Psi_L + cv.Psi_1) / 2, 3: cv.Psi_1, 4: (cv.Psi_1 + cv.Psi_2) / 2, 5: cv.Psi_2, 6: cv.Psi_2 + 1.0}[row]
+    return mu, {
+        0: 0.0,
+        1: cv.Psi_L,
+        2: (cv.Psi_L + cv.Psi_1) / 2,
+        3: cv.Psi_1,
+        4: (cv.Psi_1 + cv.Psi_2) / 2,
+        5: cv.Psi_2,
+        6: cv.Psi_2 + 1.0,
+    }[row]
 
 
 def _across(cid: str, mu, Psi, d: float, alpha: float) -> tuple[np.ndarray, np.ndarray]:
     """kinematic_case just below/left and above/right of points of a curve (a relative step ``d``)."""
     if CURVES[cid][2] == "Psi":  # a line mu = const: step in mu
         return critical.kinematic_case(mu - d, Psi, alpha), critical.kinematic_case(mu + d, Psi, alpha)
-    return critical.kinematic_case(mu, Psi - d * np.maximum(1, Psi), alpha), critical.kinematic_case(mu, Psi + d * np.maximum(1, Psi), alpha)
+    return critical.kinematic_case(mu, Psi - d * np.maximum(1, Psi), alpha), critical.kinematic_case(
+        mu, Psi + d * np.maximum(1, Psi), alpha
+    )
 
 
 def run(ctx: RunContext) -> None:
@@ -148,7 +199,9 @@ def run(ctx: RunContext) -> None:
     ctx.store.write_json("constants", c)
     mu = cell_centres(0.0, P["mu_max"], P["n_map_mu"])
     Psi = cell_centres(0.0, P["Psi_max"], P["n_map_Psi"])
-    ctx.store.write_grid("cases", ("mu", mu), ("Psi", Psi), ("case", critical.kinematic_case(mu[None, :], Psi[:, None], alpha)))
+    ctx.store.write_grid(
+        "cases", ("mu", mu), ("Psi", Psi), ("case", critical.kinematic_case(mu[None, :], Psi[:, None], alpha))
+    )
 
     cols = {k: [] for k in ("curve", "mu", "Psi", "residual", "allowance")}
     summary = []
@@ -167,10 +220,22 @@ def run(ctx: RunContext) -> None:
             th = critical.theta_12(m, alpha)[0 if kind == "1" else 1]
             p_res = float(np.max(np.abs(analytic.p(th, -np.pi / 2, m, alpha))))
         worst = int(np.argmax(res / allow))
-        summary.append({"curve": cid, "label": label, "function": kind, "cases": [below, above], "samples": int(m.size), "max_ratio": float(res[worst] / allow[worst]),
-                        "allowance_at_worst": float(allow[worst]),
-                        "max_residual": float(res[worst]), "p_residual": p_res, "side_mismatches": wrong, "sides_tested": int(lo_case.size),
-                        "cases_seen": sorted({int(v) for v in np.concatenate([lo_case, hi_case])})})
+        summary.append(
+            {
+                "curve": cid,
+                "label": label,
+                "function": kind,
+                "cases": [below, above],
+                "samples": int(m.size),
+                "max_ratio": float(res[worst] / allow[worst]),
+                "allowance_at_worst": float(allow[worst]),
+                "max_residual": float(res[worst]),
+                "p_residual": p_res,
+                "side_mismatches": wrong,
+                "sides_tested": int(lo_case.size),
+                "cases_seen": sorted({int(v) for v in np.concatenate([lo_case, hi_case])}),
+            }
+        )
         ctx.store.write_json("curves", summary)
     ctx.store.write_table("curve_samples", cols)
 
@@ -180,18 +245,37 @@ def run(ctx: RunContext) -> None:
         kinds = sorted({CURVES[cid][1] for cid in through})
         res = {k: float(abs(defining_function(k, m, s, alpha))) for k in kinds}
         allow = {k: float(CLOSED_FORM.allowance(_scale(k, m, s, alpha))) for k in kinds}
-        points.append({"point": name, "mu": m, "Psi": s, "curves": list(through), "residuals": res, "allowances": allow})
+        points.append(
+            {"point": name, "mu": m, "Psi": s, "curves": list(through), "residuals": res, "allowances": allow}
+        )
     ctx.store.write_json("points", points)
 
     cells = []
     for col, row, what in CELLS:
         m, s = _cell_point(col, row, what, c, P["mu_examples"])
-        cell = {"col": col, "row": row, "kind": what[0], "what": what[1], "mu": m, "Psi": s, "case": critical.kinematic_case(m, s, alpha)}
+        cell = {
+            "col": col,
+            "row": row,
+            "kind": what[0],
+            "what": what[1],
+            "mu": m,
+            "Psi": s,
+            "case": critical.kinematic_case(m, s, alpha),
+        }
         if what[0] == "curve":
             lo_case, hi_case = _across(what[1], np.array([m]), np.array([s]), P["offset"], alpha)
             cell["sides"] = [int(lo_case[0]), int(hi_case[0])]
         # the paper's picture of the cell: b = 0, p = 0 and the GB manifold in (theta, varphi, Theta) at this (mu, Psi)
-        meshes = surface_meshes(m, s, alpha, P["Theta_max"], n_surface=P["n_thumb"], n_varphi=P["n_thumb"] // 2 + 1, n_Theta=6, n_gb=P["n_thumb"])
+        meshes = surface_meshes(
+            m,
+            s,
+            alpha,
+            P["Theta_max"],
+            n_surface=P["n_thumb"],
+            n_varphi=P["n_thumb"] // 2 + 1,
+            n_Theta=6,
+            n_gb=P["n_thumb"],
+        )
         for part in ("b0", "p0", "gb"):
             ctx.store.write_table(f"cell_{col}_{row}_{part}", meshes[part])
         cell["gb_points"] = len(meshes["gb"]["theta"])
@@ -199,40 +283,87 @@ def run(ctx: RunContext) -> None:
         ctx.store.write_json("cells", cells)
 
     for s_ in summary:
-        ctx.check(f"{s_['label']} ({s_['curve']}): its {s_['samples']} samples are zeros of F_{s_['function']}", s_["max_ratio"] <= 1.0, value=s_["max_residual"],
-                  allowance=s_["allowance_at_worst"], detail=f"largest |F| / CLOSED_FORM allowance {s_['max_ratio']:.2g}" +
-                  (f"; max |p(theta_{s_['function']}, -pi/2)| {s_['p_residual']:.1e} (ROOT_RESIDUAL {ROOT_RESIDUAL.atol:g})" if s_["function"] in "12" else ""))
+        ctx.check(
+            f"{s_['label']} ({s_['curve']}): its {s_['samples']} samples are zeros of F_{s_['function']}",
+            s_["max_ratio"] <= 1.0,
+            value=s_["max_residual"],
+            allowance=s_["allowance_at_worst"],
+            detail=f"largest |F| / CLOSED_FORM allowance {s_['max_ratio']:.2g}"
+            + (
+                f"; max |p(theta_{s_['function']}, -pi/2)| {s_['p_residual']:.1e} (ROOT_RESIDUAL {ROOT_RESIDUAL.atol:g})"
+                if s_["function"] in "12"
+                else ""
+            ),
+        )
         if s_["function"] in "12":
-            ctx.check(f"{s_['label']} ({s_['curve']}): theta_{s_['function']}(mu) lies on p = 0 (eq. theta12)", s_["p_residual"] <= ROOT_RESIDUAL.atol,
-                      value=s_["p_residual"], allowance=ROOT_RESIDUAL.atol)
-        ctx.check(f"{s_['label']} ({s_['curve']}) separates cases {s_['cases'][0]} | {s_['cases'][1]}", s_["side_mismatches"] == 0, value=s_["side_mismatches"],
-                  allowance=0, detail=f"kinematic_case at +-{P['offset']:g} across {s_['sides_tested']} samples; cases seen {s_['cases_seen']}")
+            ctx.check(
+                f"{s_['label']} ({s_['curve']}): theta_{s_['function']}(mu) lies on p = 0 (eq. theta12)",
+                s_["p_residual"] <= ROOT_RESIDUAL.atol,
+                value=s_["p_residual"],
+                allowance=ROOT_RESIDUAL.atol,
+            )
+        ctx.check(
+            f"{s_['label']} ({s_['curve']}) separates cases {s_['cases'][0]} | {s_['cases'][1]}",
+            s_["side_mismatches"] == 0,
+            value=s_["side_mismatches"],
+            allowance=0,
+            detail=f"kinematic_case at +-{P['offset']:g} across {s_['sides_tested']} samples; cases seen {s_['cases_seen']}",
+        )
     for pt in points:
         k_ = max(pt["residuals"], key=lambda k: pt["residuals"][k] / pt["allowances"][k])
-        ctx.check(f"codimension-2 point {pt['point']} = ({pt['mu']:.4f}, {pt['Psi']:.4f}) lies on each of its curves {', '.join(pt['curves'])}",
-                  pt["residuals"][k_] <= pt["allowances"][k_], value=pt["residuals"][k_], allowance=pt["allowances"][k_],
-                  detail=", ".join(f"|F_{k}| = {v:.1e}" for k, v in pt["residuals"].items()))
+        ctx.check(
+            f"codimension-2 point {pt['point']} = ({pt['mu']:.4f}, {pt['Psi']:.4f}) lies on each of its curves {', '.join(pt['curves'])}",
+            pt["residuals"][k_] <= pt["allowances"][k_],
+            value=pt["residuals"][k_],
+            allowance=pt["allowances"][k_],
+            detail=", ".join(f"|F_{k}| = {v:.1e}" for k, v in pt["residuals"].items()),
+        )
     cv_L = critical.critical_values(c["mu_L"], alpha)
     gap = abs(cv_L.theta_1 - critical.theta_L)
     allow = float(CLOSED_FORM.allowance(critical.theta_L))
-    ctx.check("at (mu_L, Psi_L) the curve Psi_1 touches Psi = Psi_L: theta_1(mu_L) = theta_L (eq. mul)", gap <= allow, value=gap, allowance=allow)
-    wrong = [f"({cl['col']},{cl['row']})" for cl in cells if (cl["kind"] == "case" and cl["case"] != cl["what"])
-             or (cl["kind"] == "curve" and cl["sides"] != list(CURVES[cl["what"]][4]))]
-    ctx.check("each cell of the paper's grid: the case it circles, or the two cases either side of its curve", not wrong, value=len(wrong), allowance=0,
-              detail=f"{len(cells)} cells; wrong: {', '.join(wrong) or 'none'}")
+    ctx.check(
+        "at (mu_L, Psi_L) the curve Psi_1 touches Psi = Psi_L: theta_1(mu_L) = theta_L (eq. mul)",
+        gap <= allow,
+        value=gap,
+        allowance=allow,
+    )
+    wrong = [
+        f"({cl['col']},{cl['row']})"
+        for cl in cells
+        if (cl["kind"] == "case" and cl["case"] != cl["what"])
+        or (cl["kind"] == "curve" and cl["sides"] != list(CURVES[cl["what"]][4]))
+    ]
+    ctx.check(
+        "each cell of the paper's grid: the case it circles, or the two cases either side of its curve",
+        not wrong,
+        value=len(wrong),
+        allowance=0,
+        detail=f"{len(cells)} cells; wrong: {', '.join(wrong) or 'none'}",
+    )
 
 
 # ------------------------------------------------------------------ render ---
 
 _FN_COLOR = {"L": 0, "1": 1, "2": 3, "P": 4}  # LINE_COLORS index per critical value
-_TEX = {"Psi = Psi_L": "$\\Psi=\\Psi_L$", "Psi = Psi_1(mu)": "$\\Psi=\\Psi_1(\\mu)$", "Psi = Psi_2(mu)": "$\\Psi=\\Psi_2(\\mu)$", "mu = mu_P": "$\\mu=\\mu_P$"}
-_POINT_TEX = {"(mu_P, Psi_L)": "$(\\mu_P,\\Psi_L)$", "(mu_P, Psi_P)": "$(\\mu_P,\\Psi_P)$", "(mu_L, Psi_L)": "$(\\mu_L,\\Psi_L)$"}
+_TEX = {
+    "Psi = Psi_L": "$\\Psi=\\Psi_L$",
+    "Psi = Psi_1(mu)": "$\\Psi=\\Psi_1(\\mu)$",
+    "Psi = Psi_2(mu)": "$\\Psi=\\Psi_2(\\mu)$",
+    "mu = mu_P": "$\\mu=\\mu_P$",
+}
+_POINT_TEX = {
+    "(mu_P, Psi_L)": "$(\\mu_P,\\Psi_L)$",
+    "(mu_P, Psi_P)": "$(\\mu_P,\\Psi_P)$",
+    "(mu_L, Psi_L)": "$(\\mu_L,\\Psi_L)$",
+}
 
 
 def _case_colors():
     from crosscheck.report.plotting import LINE_COLORS
 
-    return {k: tuple(0.7 + 0.3 * np.array(LINE_COLORS[k - 1])) for k in range(1, 8)}  # pale: the curves carry the figure
+    return {
+        k: tuple(0.7 + 0.3 * np.array(LINE_COLORS[k - 1])) for k in range(1, 8)
+    }  # pale: the curves carry the figure
 
 
 def render(ctx: RenderContext) -> list:
@@ -258,15 +389,37 @@ def render(ctx: RenderContext) -> list:
     for pt in points:
         ax.plot(pt["mu"], pt["Psi"], "o", color="k", ms=6, zorder=5)
         off = {"(mu_P, Psi_L)": (-62, -14), "(mu_P, Psi_P)": (-64, 4), "(mu_L, Psi_L)": (4, -14)}[pt["point"]]
-        ax.annotate(_POINT_TEX[pt["point"]], (pt["mu"], pt["Psi"]), textcoords="offset points", xytext=off, fontsize=9,
-                    bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.8))
+        ax.annotate(
+            _POINT_TEX[pt["point"]],
+            (pt["mu"], pt["Psi"]),
+            textcoords="offset points",
+            xytext=off,
+            fontsize=9,
+            bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.8),
+        )
     # the curves' names where they are alone
-    ax.annotate("$\\Psi_L$", (0.35, c["Psi_L"]), textcoords="offset points", xytext=(0, 4), color=LINE_COLORS[0], fontsize=10)
+    ax.annotate(
+        "$\\Psi_L$", (0.35, c["Psi_L"]), textcoords="offset points", xytext=(0, 4), color=LINE_COLORS[0], fontsize=10
+    )
     for kind, cid, frac, dy in (("1", "1_III", 0.55, 5), ("2", "2", 0.3, 6)):
         sel = t["curve"] == cid
         i = int(frac * sel.sum())
-        ax.annotate(f"$\\Psi_{kind}(\\mu)$", (t["mu"][sel][i], t["Psi"][sel][i]), textcoords="offset points", xytext=(0, dy), color=LINE_COLORS[_FN_COLOR[kind]], fontsize=10)
-    ax.annotate("$\\mu_P$", (c["mu_P"], 0.5), textcoords="offset points", xytext=(-20, 0), color=LINE_COLORS[_FN_COLOR["P"]], fontsize=10)
+        ax.annotate(
+            f"$\\Psi_{kind}(\\mu)$",
+            (t["mu"][sel][i], t["Psi"][sel][i]),
+            textcoords="offset points",
+            xytext=(0, dy),
+            color=LINE_COLORS[_FN_COLOR[kind]],
+            fontsize=10,
+        )
+    ax.annotate(
+        "$\\mu_P$",
+        (c["mu_P"], 0.5),
+        textcoords="offset points",
+        xytext=(-20, 0),
+        color=LINE_COLORS[_FN_COLOR["P"]],
+        fontsize=10,
+    )
     circle = dict(boxstyle="circle,pad=0.2", fc="white", ec="k", lw=0.8)
     for k, (x, y) in {1: (0.6, 0.8), 2: (0.6, 4.0), 3: (2.4, 0.8), 6: (2.2, 3.6), 7: (1.6, 5.4)}.items():
         ax.text(x, y, str(k), ha="center", va="center", fontsize=10, fontweight="bold", bbox=circle)
@@ -274,8 +427,17 @@ def render(ctx: RenderContext) -> list:
     for k, cid, x, label_at in ((4, "1_II", 1.45, (1.75, 2.5)), (5, "1_III", 2.9, (2.75, 1.0))):
         sel = t["curve"] == cid
         y = 0.5 * (c["Psi_L"] + np.interp(x, t["mu"][sel], t["Psi"][sel]))
-        ax.annotate(str(k), (x, y), xytext=label_at, ha="center", va="center", fontsize=10, fontweight="bold", bbox=circle,
-                    arrowprops=dict(arrowstyle="-", lw=0.8, color="k", shrinkA=6, shrinkB=0))
+        ax.annotate(
+            str(k),
+            (x, y),
+            xytext=label_at,
+            ha="center",
+            va="center",
+            fontsize=10,
+            fontweight="bold",
+            bbox=circle,
+            arrowprops=dict(arrowstyle="-", lw=0.8, color="k", shrinkA=6, shrinkB=0),
+        )
     ax.set_xticks([0, 1, c["mu_P"], 2, c["mu_L"], 3], ["0", "1", "$\\mu_P$", "2", "$\\mu_L$", "3"])
     ax.set_xlim(0, c["mu_max"])
     ax.set_ylim(0, c["Psi_max"])
@@ -285,11 +447,20 @@ def render(ctx: RenderContext) -> list:
     leg = list(handles.items()) + [("codimension 2", Line2D([], [], marker="o", ls="", color="k"))]
     ax.legend([h for _, h in leg], [_TEX.get(k, k) for k, _ in leg], loc="upper left", fontsize=8, framealpha=0.9)
     curve_rows = "; ".join(f"{s['label']} ({s['curve']}): {s['cases'][0]}|{s['cases'][1]}" for s in curves)
-    cap_a = (f"Fig. 21 recomputed (fig:mechbifs), the (mu, |Psi|) plane for alpha = {c['alpha']:g}: the codimension-1 curves where the kinematic case changes, "
-             f"coloured by the critical value each is (Psi_L = {c['Psi_L']:.4f}, eq. psil; Psi_1(mu), Psi_2(mu), eqs. psi1, psi2; mu_P = {c['mu_P']:.4f}, eq. mup2D), "
-             f"and the codimension-2 points where they meet (black): (mu_P, Psi_L), (mu_P, Psi_P = {c['Psi_P']:.4f}) (eq. psip) and (mu_L = {c['mu_L']:.4f}, Psi_L) (eq. mul), "
-             f"where Psi_1 touches Psi_L and cases 4 and 5 meet. mu = mu_L (dotted) is no boundary elsewhere. Pale shading: the cases of Fig. 9a. Curves and the cases either side: {curve_rows}.")
-    blocks = [ctx.figure("fig21_curves", fig, cap_a, ["curve_samples.csv", "curves.json", "points.json", "cases.json", "constants.json"])]
+    cap_a = (
+        f"Fig. 21 recomputed (fig:mechbifs), the (mu, |Psi|) plane for alpha = {c['alpha']:g}: the codimension-1 curves where the kinematic case changes, "
+        f"coloured by the critical value each is (Psi_L = {c['Psi_L']:.4f}, eq. psil; Psi_1(mu), Psi_2(mu), eqs. psi1, psi2; mu_P = {c['mu_P']:.4f}, eq. mup2D), "
+        f"and the codimension-2 points where they meet (black): (mu_P, Psi_L), (mu_P, Psi_P = {c['Psi_P']:.4f}) (eq. psip) and (mu_L = {c['mu_L']:.4f}, Psi_L) (eq. mul), "
+        f"where Psi_1 touches Psi_L and cases 4 and 5 meet. mu = mu_L (dotted) is no boundary elsewhere. Pale shading: the cases of Fig. 9a. Curves and the cases either side: {curve_rows}."
+    )
+    blocks = [
+        ctx.figure(
+            "fig21_curves",
+            fig,
+            cap_a,
+            ["curve_samples.csv", "curves.json", "points.json", "cases.json", "constants.json"],
+        )
+    ]
 
     # the paper's layout: mu strata across, |Psi| strata up, one picture per cell
     # read at the report's 1100 px: labels of 9-11 pt (the thumbnails' own 6-7.5 pt were unreadable), and the strata
@@ -313,7 +484,9 @@ def render(ctx: RenderContext) -> list:
                 ax.set_yticks([])
                 for side in ax.spines.values():
                     side.set_color("0.92")
-                ax.text(0.5, 0.5, "no picture", ha="center", va="center", fontsize=9, color="0.6", transform=ax.transAxes)
+                ax.text(
+                    0.5, 0.5, "no picture", ha="center", va="center", fontsize=9, color="0.6", transform=ax.transAxes
+                )
     for cl in cells:
         ax = fig.add_subplot(gs[6 - cl["row"], cl["col"] + 1], projection="3d", computed_zorder=False)
         tables = [ctx.store.read_table(f"cell_{cl['col']}_{cl['row']}_{part}") for part in ("b0", "p0", "gb")]
@@ -326,19 +499,56 @@ def render(ctx: RenderContext) -> list:
         else:
             color, text = "k", "codim 2: " + _POINT_TEX[cl["what"]]
         ax.set_title(text, fontsize=10, pad=0, color=color, fontweight="bold" if cl["kind"] != "case" else "normal")
-        ax.text2D(0.5, -0.1, f"$\\mu$ = {cl['mu']:.3g}, $\\Psi$ = {cl['Psi']:.3g}", transform=ax.transAxes, ha="center", fontsize=9)
-    cap_b = ("Fig. 21 in the paper's layout: columns are the mu strata, rows the |Psi| strata, one picture for each of the 19 cells the paper draws (cells "
-             "spanning several strata there sit in their middle column or row here). Each is computed at the (mu, Psi) printed under it: b = 0 (red), "
-             "p = 0 (blue: absent below mu_P, a segment at mu_P) and the GB manifold (black) in (theta, varphi, Theta), Theta in [0, 2.2], viewed as Figs. 3-7. "
-             "Titles: the case of a generic cell, a codimension-1 curve (coloured as in the (mu, Psi) plane) with the cases just either side, or a "
-             "codimension-2 point. \"no picture\": the paper draws none for that pair of strata, or a cell of a neighbouring stratum spans it.")
-    blocks.append(ctx.figure("fig21_strata", fig, cap_b, ["cells.json"] + [f"cell_{cl['col']}_{cl['row']}_{p}.csv" for cl in cells for p in ("b0", "p0", "gb")]))
-    rows = [[pt["point"], f"{pt['mu']:.6f}", f"{pt['Psi']:.6f}", ", ".join(pt["curves"]), ", ".join(f"|F_{k}| = {v:.1e}" for k, v in pt["residuals"].items())] for pt in points]
-    blocks.append(Table(caption="Codimension-2 points and the residuals there of the functions whose zeros are the curves through them (F_L = b(Psi, 0, theta_L), "
-                                "F_1,2 = b(Psi, 0, theta_1,2(mu)), F_P = p_min(mu)).",
-                        header=["point", "mu", "Psi", "curves", "residuals"], rows=rows, data=ctx.data("points.json")))
+        ax.text2D(
+            0.5,
+            -0.1,
+            f"$\\mu$ = {cl['mu']:.3g}, $\\Psi$ = {cl['Psi']:.3g}",
+            transform=ax.transAxes,
+            ha="center",
+            fontsize=9,
+        )
+    cap_b = (
+        "Fig. 21 in the paper's layout: columns are the mu strata, rows the |Psi| strata, one picture for each of the 19 cells the paper draws (cells "
+        "spanning several strata there sit in their middle column or row here). Each is computed at the (mu, Psi) printed under it: b = 0 (red), "
+        "p = 0 (blue: absent below mu_P, a segment at mu_P) and the GB manifold (black) in (theta, varphi, Theta), Theta in [0, 2.2], viewed as Figs. 3-7. "
+        "Titles: the case of a generic cell, a codimension-1 curve (coloured as in the (mu, Psi) plane) with the cases just either side, or a "
+        'codimension-2 point. "no picture": the paper draws none for that pair of strata, or a cell of a neighbouring stratum spans it.'
+    )
+    blocks.append(
+        ctx.figure(
+            "fig21_strata",
+            fig,
+            cap_b,
+            ["cells.json"] + [f"cell_{cl['col']}_{cl['row']}_{p}.csv" for cl in cells for p in ("b0", "p0", "gb")],
+        )
+    )
+    rows = [
+        [
+            pt["point"],
+            f"{pt['mu']:.6f}",
+            f"{pt['Psi']:.6f}",
+            ", ".join(pt["curves"]),
+            ", ".join(f"|F_{k}| = {v:.1e}" for k, v in pt["residuals"].items()),
+        ]
+        for pt in points
+    ]
+    blocks.append(
+        Table(
+            caption="Codimension-2 points and the residuals there of the functions whose zeros are the curves through them (F_L = b(Psi, 0, theta_L), "
+            "F_1,2 = b(Psi, 0, theta_1,2(mu)), F_P = p_min(mu)).",
+            header=["point", "mu", "Psi", "curves", "residuals"],
+            rows=rows,
+            data=ctx.data("points.json"),
+        )
+    )
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="Bifurcations between the kinematic cases: Fig. 21", paper="Fig. 21 (fig:mechbifs); eqs. psil, psi1, psi2, psip, mul, mup2D",
-                  params=params, run=run, render=render)
+SECTION = Section(
+    slug=SLUG,
+    title="Bifurcations between the kinematic cases: Fig. 21",
+    paper="Fig. 21 (fig:mechbifs); eqs. psil, psi1, psi2, psip, mul, mup2D",
+    params=params,
+    run=run,
+    render=render,
+)

@@ -17,7 +17,13 @@ SLUG = "critical_angles"
 
 
 def params(quick: bool) -> dict:
-    return {"alpha": 3.0, "mu_max": 3.0, "n_curve": 400 if quick else 2000, "alpha_sample": [0.1, 0.5, 1.0, 3.0, 10.0, 100.0], "n_mu_sample": 200 if quick else 2000}
+    return {
+        "alpha": 3.0,
+        "mu_max": 3.0,
+        "n_curve": 400 if quick else 2000,
+        "alpha_sample": [0.1, 0.5, 1.0, 3.0, 10.0, 100.0],
+        "n_mu_sample": 200 if quick else 2000,
+    }
 
 
 def run(ctx: RunContext) -> None:
@@ -27,12 +33,22 @@ def run(ctx: RunContext) -> None:
     m = np.concatenate([[mu_P], np.linspace(mu_P * (1 + 1e-9), P["mu_max"], P["n_curve"] - 1)])
     th1, th2 = critical.theta_12(m, alpha)
     ctx.store.write_table("theta_curves", {"mu": m, "theta_1": th1, "theta_2": th2})
-    consts = {"alpha": alpha, "mu_P": mu_P, "mu_L": mu_L, "theta_L": critical.theta_L, "theta_P": float(critical.theta_P(alpha)), "mu_max": P["mu_max"]}
+    consts = {
+        "alpha": alpha,
+        "mu_P": mu_P,
+        "mu_L": mu_L,
+        "theta_L": critical.theta_L,
+        "theta_P": float(critical.theta_P(alpha)),
+        "mu_max": P["mu_max"],
+    }
     ctx.store.write_json("constants", consts)
 
     cvP, cvL = critical.critical_values(mu_P, alpha), critical.critical_values(mu_L, alpha)
-    for name, got, want in (("theta_1(mu_P) = theta_P", cvP.theta_1, consts["theta_P"]), ("theta_2(mu_P) = theta_P", cvP.theta_2, consts["theta_P"]),
-                            ("theta_1(mu_L) = theta_L", cvL.theta_1, critical.theta_L)):
+    for name, got, want in (
+        ("theta_1(mu_P) = theta_P", cvP.theta_1, consts["theta_P"]),
+        ("theta_2(mu_P) = theta_P", cvP.theta_2, consts["theta_P"]),
+        ("theta_1(mu_L) = theta_L", cvL.theta_1, critical.theta_L),
+    ):
         err = abs(got - want)
         allow = float(CLOSED_FORM.allowance(want))
         ctx.check(name, err <= allow, value=err, allowance=allow, detail=f"{got:.12g} vs {want:.12g}")
@@ -40,7 +56,13 @@ def run(ctx: RunContext) -> None:
     for a in P["alpha_sample"]:
         mus = np.geomspace(float(critical.mu_P(a)), 1e3, P["n_mu_sample"])
         worst = min(worst, float(np.min(critical.theta_12(mus, a)[1] - critical.theta_L)))
-    ctx.check("theta_2 > theta_L for all sampled alpha, mu >= mu_P (section 3.4)", worst > 0, value=worst, allowance=0.0, detail=f"alpha in {P['alpha_sample']}, mu in [mu_P, 1000]")
+    ctx.check(
+        "theta_2 > theta_L for all sampled alpha, mu >= mu_P (section 3.4)",
+        worst > 0,
+        value=worst,
+        allowance=0.0,
+        detail=f"alpha in {P['alpha_sample']}, mu in [mu_P, 1000]",
+    )
 
 
 def render(ctx: RenderContext) -> list:
@@ -64,10 +86,18 @@ def render(ctx: RenderContext) -> list:
     ax.set_xlabel("$\\mu$")
     ax.set_ylabel("$\\theta$")
     ax.legend(loc="center right", fontsize=8)
-    caption = (f"Fig. 10 recomputed: theta_L = {c['theta_L']:.4f}, theta_1(mu) and theta_2(mu) for alpha = {c['alpha']:g}. theta_1 = theta_2 = theta_P = "
-               f"{c['theta_P']:.4f} at mu_P = {c['mu_P']:.4f} (dot); theta_1 = theta_L at mu_L = {c['mu_L']:.4f} (square).")
+    caption = (
+        f"Fig. 10 recomputed: theta_L = {c['theta_L']:.4f}, theta_1(mu) and theta_2(mu) for alpha = {c['alpha']:g}. theta_1 = theta_2 = theta_P = "
+        f"{c['theta_P']:.4f} at mu_P = {c['mu_P']:.4f} (dot); theta_1 = theta_L at mu_L = {c['mu_L']:.4f} (square)."
+    )
     return [ctx.figure("fig10_critical_angles", fig, caption, ["theta_curves.csv", "constants.json"])]
 
 
-SECTION = Section(slug=SLUG, title="Critical angles theta_L, theta_1, theta_2 against mu", paper="Fig. 10 (fig:Psistheta); eqs. thetal, theta12, thetap",
-                  params=params, run=run, render=render)
+SECTION = Section(
+    slug=SLUG,
+    title="Critical angles theta_L, theta_1, theta_2 against mu",
+    paper="Fig. 10 (fig:Psistheta); eqs. thetal, theta12, thetap",
+    params=params,
+    run=run,
+    render=render,
+)

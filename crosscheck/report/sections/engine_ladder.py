@@ -27,7 +27,14 @@ def params(quick: bool, engine: str, options: dict, maps_slug: str) -> dict:
     # the full report and their interventions 2.3-10.5 s (Bullet's 0.2 and 1.6 s), since the compliant rod's grazes no
     # longer chatter and the engines stop at their judged first event; 30 give each engine's confirmed share more than a
     # dozen starts to rest on
-    return {"ladder_engine": engine, "options": dict(options), "alpha": 3.0, "horizon": 2.0, "maps": maps_slug, "max_states": 3 if quick else 30}
+    return {
+        "ladder_engine": engine,
+        "options": dict(options),
+        "alpha": 3.0,
+        "horizon": 2.0,
+        "maps": maps_slug,
+        "max_states": 3 if quick else 30,
+    }
 
 
 def _saved_events(ctx: RunContext) -> dict:
@@ -37,7 +44,9 @@ def _saved_events(ctx: RunContext) -> dict:
     status, store = found if found else ({}, None)
     theirs = status.get("params", {})
     if not found or theirs.get("options") != P["options"] or theirs.get("engine") != P["ladder_engine"]:
-        raise SkipSection(f"needs the {P['maps']} section's results at the same options: run it first (the report runs it before this one)")
+        raise SkipSection(
+            f"needs the {P['maps']} section's results at the same options: run it first (the report runs it before this one)"
+        )
     return {m["name"]: store.read_table(f"events_{m['name']}", text=("analytic_reason",)) for m in theirs["maps"]}
 
 
@@ -61,13 +70,29 @@ def run(ctx: RunContext) -> None:
     ladders = []
     for name, t, i in ctx.progress(chosen, desc=f"{engine} ladder"):
         s = SlipState(**{k: float(t[k][i]) for k in ("theta", "varphi", "Theta", "Psi", "eta")})
-        ld = run_ladder(engine, s, float(t["mu"][i]), alpha=P["alpha"], horizon=P["horizon"], reference=Outcome(int(t[engine][i])), **P["options"])
+        ld = run_ladder(
+            engine,
+            s,
+            float(t["mu"][i]),
+            alpha=P["alpha"],
+            horizon=P["horizon"],
+            reference=Outcome(int(t[engine][i])),
+            **P["options"],
+        )
         ladders.append({"map": name, "row": i, **ld.as_dict()})
     counts = {c: sum(1 for ld in ladders if ld["cause"] == c) for c in CAUSES}
     named = sum(counts[c] for c in LADDER_CAUSES)
     ctx.store.write_json("ladders", ladders)
-    ctx.store.write_json("summary", {"engine": engine, "n_disagreements_on_maps": n_all, "n_disagree": len(ladders), "counts": counts,
-                                     "attributed": named / len(ladders) if ladders else None})
+    ctx.store.write_json(
+        "summary",
+        {
+            "engine": engine,
+            "n_disagreements_on_maps": n_all,
+            "n_disagree": len(ladders),
+            "counts": counts,
+            "attributed": named / len(ladders) if ladders else None,
+        },
+    )
 
 
 def render(ctx: RenderContext) -> list:
@@ -78,19 +103,39 @@ def render(ctx: RenderContext) -> list:
     name = engine_label(P["ladder_engine"])
     summary, ladders = ctx.store.read_json("summary"), ctx.store.read_json("ladders")
     rows = [[c, str(summary["counts"][c])] for c in CAUSES if summary["counts"].get(c)]
-    blocks = [Table(caption=f"{name}: causes of {summary['n_disagree']} of the {summary['n_disagreements_on_maps']} disagreements on its maps "
-                            f"(the first rung whose outcome, compared as the agreement study compares, equals {name}'s).",
-                    header=["cause", "starts"], rows=rows or [["(no disagreement on the maps)", "0"]], data=ctx.data("summary.json"))]
+    blocks = [
+        Table(
+            caption=f"{name}: causes of {summary['n_disagree']} of the {summary['n_disagreements_on_maps']} disagreements on its maps "
+            f"(the first rung whose outcome, compared as the agreement study compares, equals {name}'s).",
+            header=["cause", "starts"],
+            rows=rows or [["(no disagreement on the maps)", "0"]],
+            data=ctx.data("summary.json"),
+        )
+    ]
     if ladders:
         rung_names = [r["name"] for r in ladders[0]["rungs"]]
         detail = []
         for ld in ladders:
             s = ld["state"]
-            detail.append([ld["map"], f"theta {s['theta']:.3g}, varphi {s['varphi']:.3g}, Theta {s['Theta']:.3g}, Psi {s['Psi']:.3g}, eta {s['eta']:.3g}",
-                           f"{ld['mu']:.3g}", *[(r["label"] or r["status"]).lower() for r in ld["rungs"]], ld["cause"]])
-        blocks.append(Table(caption="Each laddered start: its map, start, mu, each rung's outcome as compared, and the cause. Rungs: "
-                                    + ", ".join(f"{r['name']} ({r['cause'] or 'the theory'})" for r in ladders[0]["rungs"]) + ".",
-                            header=["map", "start", "mu", *rung_names, "cause"], rows=detail, data=ctx.data("ladders.json")))
+            detail.append(
+                [
+                    ld["map"],
+                    f"theta {s['theta']:.3g}, varphi {s['varphi']:.3g}, Theta {s['Theta']:.3g}, Psi {s['Psi']:.3g}, eta {s['eta']:.3g}",
+                    f"{ld['mu']:.3g}",
+                    *[(r["label"] or r["status"]).lower() for r in ld["rungs"]],
+                    ld["cause"],
+                ]
+            )
+        blocks.append(
+            Table(
+                caption="Each laddered start: its map, start, mu, each rung's outcome as compared, and the cause. Rungs: "
+                + ", ".join(f"{r['name']} ({r['cause'] or 'the theory'})" for r in ladders[0]["rungs"])
+                + ".",
+                header=["map", "start", "mu", *rung_names, "cause"],
+                rows=detail,
+                data=ctx.data("ladders.json"),
+            )
+        )
     return blocks
 
 
@@ -105,13 +150,27 @@ def finding(data: Path) -> list:
     counts = summary["counts"]
     causes = ", ".join(f"{k} {v}" for k, v in counts.items() if v)
     name = engine_label(summary["engine"])
-    return [Finding(f"{name}: causes of disagreement", f"{summary['n_disagree']} of its {summary['n_disagreements_on_maps']} disagreements "
-                    f"laddered, {100 * summary['attributed']:.0f} % attributed to a named cause: {causes}",
-                    "explained" if summary["attributed"] >= 0.9 else "partly explained", data.name)]
+    return [
+        Finding(
+            f"{name}: causes of disagreement",
+            f"{summary['n_disagree']} of its {summary['n_disagreements_on_maps']} disagreements "
+            f"laddered, {100 * summary['attributed']:.0f} % attributed to a named cause: {causes}",
+            "explained" if summary["attributed"] >= 0.9 else "partly explained",
+            data.name,
+        )
+    ]
 
 
 def section(spec, options: dict, maps_slug: str) -> Section:
     """The ladder section ``<slug>_ladder`` of the engine ``spec`` on the disagreements of the map section ``maps_slug``."""
-    return Section(slug=f"{spec.slug}_ladder", title=f"{spec.label}: a named cause for each disagreement (its ladder)", paper="sections 2, 4",
-                   params=lambda quick: params(quick, spec.name, options["quick" if quick else "full"], maps_slug), run=run, render=render,
-                   requires=("crosscheck.studies.ladder", spec.module or "crosscheck.engines"), finding=finding, after=(maps_slug,))
+    return Section(
+        slug=f"{spec.slug}_ladder",
+        title=f"{spec.label}: a named cause for each disagreement (its ladder)",
+        paper="sections 2, 4",
+        params=lambda quick: params(quick, spec.name, options["quick" if quick else "full"], maps_slug),
+        run=run,
+        render=render,
+        requires=("crosscheck.studies.ladder", spec.module or "crosscheck.engines"),
+        finding=finding,
+        after=(maps_slug,),
+    )

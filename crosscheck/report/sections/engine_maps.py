@@ -35,15 +35,40 @@ def params(quick: bool, engine: str, options: dict, beside: str | None = None, n
     """The section's parameters: ``engine`` with ``options`` on three maps of n x n starts (10 quick, 32 full by default)."""
     n = n or (10 if quick else 32)
     return {
-        "engine": engine, "alpha": 3.0, "horizon": 2.0, "options": dict(options), "beside": beside,
+        "engine": engine,
+        "alpha": 3.0,
+        "horizon": 2.0,
+        "options": dict(options),
+        "beside": beside,
         "boundary_directions": 0 if quick else 3,
         "maps": [
-            {"name": "Psi_mu", "x": "Psi", "y": "mu", "x_range": [0.0, 3.0], "y_range": [0.0, 3.0], "n": n,
-             "fixed": {"theta": 1.0, "varphi": -1.9, "Theta": 0.0, "eta": 1.0}},
-            {"name": "theta_Theta_0", "x": "theta", "y": "Theta", "x_range": [0.2, 1.5], "y_range": [-1.5, 1.5], "n": n,
-             "fixed": {"Psi": 0.0, "mu": 1.4, "varphi": -1.9, "eta": 1.0}},
-            {"name": "theta_Theta_1", "x": "theta", "y": "Theta", "x_range": [0.2, 1.5], "y_range": [-1.5, 1.5], "n": n,
-             "fixed": {"Psi": 1.7, "mu": 1.4, "varphi": -1.9, "eta": 1.0}},
+            {
+                "name": "Psi_mu",
+                "x": "Psi",
+                "y": "mu",
+                "x_range": [0.0, 3.0],
+                "y_range": [0.0, 3.0],
+                "n": n,
+                "fixed": {"theta": 1.0, "varphi": -1.9, "Theta": 0.0, "eta": 1.0},
+            },
+            {
+                "name": "theta_Theta_0",
+                "x": "theta",
+                "y": "Theta",
+                "x_range": [0.2, 1.5],
+                "y_range": [-1.5, 1.5],
+                "n": n,
+                "fixed": {"Psi": 0.0, "mu": 1.4, "varphi": -1.9, "eta": 1.0},
+            },
+            {
+                "name": "theta_Theta_1",
+                "x": "theta",
+                "y": "Theta",
+                "x_range": [0.2, 1.5],
+                "y_range": [-1.5, 1.5],
+                "n": n,
+                "fixed": {"Psi": 1.7, "mu": 1.4, "varphi": -1.9, "eta": 1.0},
+            },
         ],
     }
 
@@ -73,7 +98,9 @@ def _probes(ctx: RunContext, m: dict, P: dict) -> dict:
     """
     theory = {"map": m, "alpha": P["alpha"], "horizon": P["horizon"]}
     events, _ = ctx.shared("analytic_events", m["name"], theory, ".npz")
-    cache, digest = ctx.shared("boundary_distance", m["name"], {**theory, "directions": P["boundary_directions"], "seed": ctx.seed}, ".npy")
+    cache, digest = ctx.shared(
+        "boundary_distance", m["name"], {**theory, "directions": P["boundary_directions"], "seed": ctx.seed}, ".npy"
+    )
     rng = np.random.default_rng([ctx.seed, int(digest, 16) & 0xFFFFFFFF])
     return {"rng": rng, "boundary_cache": cache, "analytic_cache": events}
 
@@ -102,19 +129,36 @@ def run(ctx: RunContext) -> None:
     summary = []
     for m in ctx.progress(P["maps"], desc="agreement maps"):
         grid, x, y = _grid(m)
-        res = agreement_study(grid, engine=engine, settings=(P["options"],), alpha=P["alpha"], horizon=P["horizon"],
-                              boundary_directions=P["boundary_directions"], progress=ctx.show_progress, **_probes(ctx, m, P),
-                              **_sweeps(ctx, m["name"]))
+        res = agreement_study(
+            grid,
+            engine=engine,
+            settings=(P["options"],),
+            alpha=P["alpha"],
+            horizon=P["horizon"],
+            boundary_directions=P["boundary_directions"],
+            progress=ctx.show_progress,
+            **_probes(ctx, m, P),
+            **_sweeps(ctx, m["name"]),
+        )
         (ctx.store.root / f"study_{m['name']}.json").write_text(res.to_json() + "\n")
         pts, a = res.points, res.analytic
         n = len(a.outcome)
         cols = {k: pts[k] for k in ("theta", "varphi", "Theta", "Psi", "mu", "eta")}
-        cols.update({"b0": a.b0, "p0": a.p0, "slipping": a.slipping.astype(int), "analytic_outcome": a.outcome.astype(int), "analytic_time": a.time,
-                     "analytic_reason": a.reason, "comparison_time": a.until})
+        cols.update(
+            {
+                "b0": a.b0,
+                "p0": a.p0,
+                "slipping": a.slipping.astype(int),
+                "analytic_outcome": a.outcome.astype(int),
+                "analytic_time": a.time,
+                "analytic_reason": a.reason,
+                "comparison_time": a.until,
+            }
+        )
         dist = np.full(n, np.nan)
         dist[res.index] = res.distance
         cols["boundary_distance"] = dist
-        r, = res.runs
+        (r,) = res.runs
         lab, t = np.full(n, NOT_SLIPPING), np.full(n, np.nan)
         lab[res.index], t[res.index] = r.label, r.event_time
         cols[engine], cols[f"{engine}_time"] = lab, t
@@ -122,23 +166,47 @@ def run(ctx: RunContext) -> None:
         below_mu_P += int(below.sum())
         for i in np.flatnonzero(below & (r.label == Outcome.JAM)):
             k = res.index[i]
-            jams_below.append(({q: float(pts[q][k]) for q in ("theta", "varphi", "Theta", "Psi", "eta")}, float(pts["mu"][k]),
-                               float(r.event_time[i])))
+            jams_below.append(
+                (
+                    {q: float(pts[q][k]) for q in ("theta", "varphi", "Theta", "Psi", "eta")},
+                    float(pts["mu"][k]),
+                    float(r.event_time[i]),
+                )
+            )
         ctx.store.write_table(f"events_{m['name']}", cols)
-        summary.append({"name": m["name"], "x": {"name": m["x"], "values": x}, "y": {"name": m["y"], "values": y}, "fixed": m["fixed"],
-                        "runs": [{k: v for k, v in r.summary().items() if k not in ("time_difference", "time_difference_outcome")} for r in res.runs],
-                        "time_difference": {"difference": r.time_difference.tolist(),
-                                            "outcome": [OUTCOME_NAMES[int(o)] for o in r.time_difference_outcome],
-                                            "analytic_time": a.time[res.index][(r.label == a.outcome[res.index]) & np.isin(a.outcome[res.index], [1, 2, 3])].tolist()}})
+        summary.append(
+            {
+                "name": m["name"],
+                "x": {"name": m["x"], "values": x},
+                "y": {"name": m["y"], "values": y},
+                "fixed": m["fixed"],
+                "runs": [
+                    {k: v for k, v in r.summary().items() if k not in ("time_difference", "time_difference_outcome")}
+                    for r in res.runs
+                ],
+                "time_difference": {
+                    "difference": r.time_difference.tolist(),
+                    "outcome": [OUTCOME_NAMES[int(o)] for o in r.time_difference_outcome],
+                    "analytic_time": a.time[res.index][
+                        (r.label == a.outcome[res.index]) & np.isin(a.outcome[res.index], [1, 2, 3])
+                    ].tolist(),
+                },
+            }
+        )
         ctx.store.write_json("maps", summary)
     # Physics: below mu_P, p > 0 for every state (eq. mup2D), so no paradox and no impact without collision exists.  A JAM
     # label there after the engine's own hop (the tip off the plane, then landing hard) is a collision, not an impact without
     # one: each is rerun and its record read, and only those that never left the plane count against the theory.
     landings = sum(_landed(engine, P, *j) for j in jams_below)
     iwc = len(jams_below) - landings
-    ctx.check(f"{engine_label(engine)}: no impact without collision below mu_P = {mu_P:.4f} (p > 0 for every state there, eq. mup2D)", iwc == 0,
-              value=iwc, allowance=0, detail=f"{below_mu_P} rated starts below mu_P on the maps; {landings} JAM labels there are landings "
-                                             f"after a hop of the engine's own (contact point above the plane by more than {LANDING_GAP:g} l before)")
+    ctx.check(
+        f"{engine_label(engine)}: no impact without collision below mu_P = {mu_P:.4f} (p > 0 for every state there, eq. mup2D)",
+        iwc == 0,
+        value=iwc,
+        allowance=0,
+        detail=f"{below_mu_P} rated starts below mu_P on the maps; {landings} JAM labels there are landings "
+        f"after a hop of the engine's own (contact point above the plane by more than {LANDING_GAP:g} l before)",
+    )
 
 
 #: A contact point this far above the plane (l) before a JAM has left it: 1000 times a start's gap above the plane
@@ -154,7 +222,9 @@ def _landed(engine: str, P: dict, state: dict, mu: float, event_time: float) -> 
 
     spec = engines.get(engine)
     opts = spec.options(**P["options"])
-    run = spec.simulate(Rod.scaled(P["alpha"]), SlipState(**state), mu, horizon=event_time + 2 * opts.timestep, **P["options"])
+    run = spec.simulate(
+        Rod.scaled(P["alpha"]), SlipState(**state), mu, horizon=event_time + 2 * opts.timestep, **P["options"]
+    )
     k = int(np.searchsorted(run.record.t, event_time))
     return bool(k > 0 and np.max(run.record.gap[:k]) > LANDING_GAP)
 
@@ -187,15 +257,20 @@ def render(ctx: RenderContext) -> list:
     opts = ", ".join(f"{k} {v:g}" for k, v in P["options"].items())
     other, other_engine = _beside(ctx, P.get("beside"))
     other_name = engine_label(other_engine)
-    blocks = [Text(f"Each cell is one start (alpha = {P['alpha']:g}), compared over the scaled horizon {P['horizon']:g} by "
-                   f"`crosscheck.studies.agreement.agreement_study` ({name}: {opts}). Grey: not "
-                   f"slipping at t = 0 (b >= 0 or p <= 0), not compared. Panels: the analytic first event, {name}'s outcome (counted only up to the "
-                   "analytic comparison time; a JAM is judged against the engine's own friction direction), "
-                   + (f"{other_name}'s outcome on the same starts (its own section), " if other is not None else "") + "and where "
-                   f"{name} and the analytic model disagree. A {name} STICK where the theory slips on but slower than {name}'s STICK "
-                   f"floor (slip speed {_floors(maps)}, below which the classifier calls a contact stuck) is compared as that slip, "
-                   f"which it cannot be told from (`crosscheck.studies.comparison.stick_from`; {_stick_as_slip(maps)} here). Hover the cells of the interactive maps (`figures/{ctx.slug}/outcome_maps.html`, "
-                   "linked under each map) for each start's state and its analytic and engine outcomes and times.")]
+    blocks = [
+        Text(
+            f"Each cell is one start (alpha = {P['alpha']:g}), compared over the scaled horizon {P['horizon']:g} by "
+            f"`crosscheck.studies.agreement.agreement_study` ({name}: {opts}). Grey: not "
+            f"slipping at t = 0 (b >= 0 or p <= 0), not compared. Panels: the analytic first event, {name}'s outcome (counted only up to the "
+            "analytic comparison time; a JAM is judged against the engine's own friction direction), "
+            + (f"{other_name}'s outcome on the same starts (its own section), " if other is not None else "")
+            + "and where "
+            f"{name} and the analytic model disagree. A {name} STICK where the theory slips on but slower than {name}'s STICK "
+            f"floor (slip speed {_floors(maps)}, below which the classifier calls a contact stuck) is compared as that slip, "
+            f"which it cannot be told from (`crosscheck.studies.comparison.stick_from`; {_stick_as_slip(maps)} here). Hover the cells of the interactive maps (`figures/{ctx.slug}/outcome_maps.html`, "
+            "linked under each map) for each start's state and its analytic and engine outcomes and times."
+        )
+    ]
     page_rel = f"figures/{ctx.slug}/outcome_maps.html"
     pages = []
     warned: dict[str, int] = {}
@@ -203,9 +278,16 @@ def render(ctx: RenderContext) -> list:
         for r in mp["runs"]:
             for kind, count in (r.get("engine_warnings") or {}).items():
                 warned[kind] = warned.get(kind, 0) + int(count)
-    if warned:  # the engine's own console warnings, captured (crosscheck.engines.mujoco.warning_counts) and reported here
-        blocks.append(Text(f"{name} warned during these runs: " + "; ".join(f"{n} x \"{k}\"" for k, n in sorted(warned.items()))
-                           + ". Each is MuJoCo resetting a run after an instability; the classifier records the run's divergence (DIVERGED unless an event came first)."))
+    if (
+        warned
+    ):  # the engine's own console warnings, captured (crosscheck.engines.mujoco.warning_counts) and reported here
+        blocks.append(
+            Text(
+                f"{name} warned during these runs: "
+                + "; ".join(f'{n} x "{k}"' for k, n in sorted(warned.items()))
+                + ". Each is MuJoCo resetting a run after an instability; the classifier records the run's divergence (DIVERGED unless an event came first)."
+            )
+        )
     conf = 0
     diffs = {"difference": [], "outcome": []}
     boundary_rows = []
@@ -223,7 +305,11 @@ def render(ctx: RenderContext) -> list:
 
         slipping = t["slipping"] == 1
         a = np.where(slipping, t["analytic_outcome"], NOT_SLIPPING)
-        o = other.read_table(f"events_{mp['name']}", text=("analytic_reason",)) if other is not None and other.exists(f"events_{mp['name']}.csv") else None
+        o = (
+            other.read_table(f"events_{mp['name']}", text=("analytic_reason",))
+            if other is not None and other.exists(f"events_{mp['name']}.csv")
+            else None
+        )
         panels = 3 if o is None else 4
         fig, axes = plt.subplots(1, panels, figsize=(3.85 * panels, 3.6), sharey=True)
         categorical_image(axes[0], x, y, image(a), colors)
@@ -237,7 +323,9 @@ def render(ctx: RenderContext) -> list:
         handles = outcome_legend(axes[1], np.concatenate(used)).legend_handles
         axes[1].get_legend().remove()
         handles.append(Patch(color=colors[NOT_SLIPPING], label="not slipping at t = 0 (not compared)"))
-        fig.legend(handles=handles, loc="outside lower center", ncol=len(handles), fontsize=7, frameon=False)  # constrained layout makes room
+        fig.legend(
+            handles=handles, loc="outside lower center", ncol=len(handles), fontsize=7, frameon=False
+        )  # constrained layout makes room
         if o is not None:
             oi = np.abs(o[mp["x"]["name"]][:, None] - x[None, :]).argmin(axis=1)
             oj = np.abs(o[mp["y"]["name"]][:, None] - y[None, :]).argmin(axis=1)
@@ -258,57 +346,132 @@ def render(ctx: RenderContext) -> list:
                 tips[oj[k]][oi[k]] += "\n" + engine_line(o, k, other_engine, other_name)
             svg_panels.append(Panel(f"{other_name} (beside)", img))
         agree = np.where(a_img == NOT_SLIPPING, NOT_SLIPPING, np.where(a_img == m_img, 0, np.where(edge, 1, 2)))
-        categorical_image(axes[-1], x, y, agree, {NOT_SLIPPING: (0.8, 0.8, 0.8), 0: (0.95, 0.95, 0.95), 1: (0.95, 0.6, 0.2), 2: (0.8, 0.0, 0.0)})
+        categorical_image(
+            axes[-1],
+            x,
+            y,
+            agree,
+            {NOT_SLIPPING: (0.8, 0.8, 0.8), 0: (0.95, 0.95, 0.95), 1: (0.95, 0.6, 0.2), 2: (0.8, 0.0, 0.0)},
+        )
         axes[-1].set_title(f"{name} differs (orange: boundary, red: interior)", fontsize=9)
         for ax in axes:
             ax.set_xlabel(_label(mp["x"]["name"]))
         axes[0].set_ylabel(_label(mp["y"]["name"]))
         fixed = ", ".join(f"{k} = {v:g}" for k, v in mp["fixed"].items())
-        run, = mp["runs"]
-        blocks.append(ctx.figure(f"map_{mp['name']}", fig,
-                                 f"Analytic vs {name} over ({mp['x']['name']}, {mp['y']['name']}) at {fixed}: {int(slipping.sum())} of {a.size} starts slip at t = 0; "
-                                 f"{name} agrees on {100 * run['agreement']:.0f}% of the rated ones.",
-                                 [f"events_{mp['name']}.csv", f"study_{mp['name']}.json", "maps.json"]))
+        (run,) = mp["runs"]
+        blocks.append(
+            ctx.figure(
+                f"map_{mp['name']}",
+                fig,
+                f"Analytic vs {name} over ({mp['x']['name']}, {mp['y']['name']}) at {fixed}: {int(slipping.sum())} of {a.size} starts slip at t = 0; "
+                f"{name} agrees on {100 * run['agreement']:.0f}% of the rated ones.",
+                [f"events_{mp['name']}.csv", f"study_{mp['name']}.json", "maps.json"],
+            )
+        )
         blocks[-1].data.append(page_rel)
-        pages.append(GridMap(f"({mp['x']['name']}, {mp['y']['name']}) at {fixed}", mp["x"]["name"], mp["y"]["name"], x, y, svg_panels, tips))
+        pages.append(
+            GridMap(
+                f"({mp['x']['name']}, {mp['y']['name']}) at {fixed}",
+                mp["x"]["name"],
+                mp["y"]["name"],
+                x,
+                y,
+                svg_panels,
+                tips,
+            )
+        )
         differ = (agree == 1) | (agree == 2)
-        boundary_rows.append([mp["name"], str(int(slipping.sum())), str(int((edge & (agree != NOT_SLIPPING)).sum())), str(int(differ.sum())),
-                              str(int((agree == 1).sum())), str(int((agree == 2).sum()))])
+        boundary_rows.append(
+            [
+                mp["name"],
+                str(int(slipping.sum())),
+                str(int((edge & (agree != NOT_SLIPPING)).sum())),
+                str(int(differ.sum())),
+                str(int((agree == 1).sum())),
+                str(int((agree == 2).sum())),
+            ]
+        )
         conf = conf + np.asarray(run["confusion"])
         for k in ("difference", "outcome"):
             diffs[k] += mp["time_difference"][k]
-    names_ = {**{k: OUTCOME_NAMES[k].lower() for k in sorted(OUTCOME_COLORS)}, NOT_SLIPPING: "not slipping at t = 0 (not compared)"}
-    write_page(ctx.out / page_rel, outcome_maps_page(f"Analytic vs {name}: outcome maps (hover a cell)", pages, colors=colors, names=names_,
-                                                     intro=f"Each cell is one start (alpha = {P['alpha']:g}, scaled units); its tooltip gives the state, b and p "
-                                                           f"(eqs. b, p), the analytic first event and time, and each engine's outcome and time ({name}: {opts})."))
-    used = [i for i in range(len(conf)) if conf[i].sum() or conf[:, i].sum()]  # results saved before an outcome was added have fewer
+    names_ = {
+        **{k: OUTCOME_NAMES[k].lower() for k in sorted(OUTCOME_COLORS)},
+        NOT_SLIPPING: "not slipping at t = 0 (not compared)",
+    }
+    write_page(
+        ctx.out / page_rel,
+        outcome_maps_page(
+            f"Analytic vs {name}: outcome maps (hover a cell)",
+            pages,
+            colors=colors,
+            names=names_,
+            intro=f"Each cell is one start (alpha = {P['alpha']:g}, scaled units); its tooltip gives the state, b and p "
+            f"(eqs. b, p), the analytic first event and time, and each engine's outcome and time ({name}: {opts}).",
+        ),
+    )
+    used = [
+        i for i in range(len(conf)) if conf[i].sum() or conf[:, i].sum()
+    ]  # results saved before an outcome was added have fewer
     sub = conf[np.ix_(used, used)]
     names = [OUTCOME_NAMES[i].lower() for i in used]
     fig, ax = plt.subplots(figsize=(4.6, 3.8))
     ax.imshow(np.log1p(sub), cmap="Blues")
     for i in range(len(used)):
         for j in range(len(used)):
-            ax.text(j, i, str(sub[i, j]), ha="center", va="center", fontsize=9, color="k" if sub[i, j] < sub.max() / 2 else "w")
+            ax.text(
+                j,
+                i,
+                str(sub[i, j]),
+                ha="center",
+                va="center",
+                fontsize=9,
+                color="k" if sub[i, j] < sub.max() / 2 else "w",
+            )
     ax.set_xticks(range(len(used)), names, rotation=30)
     ax.set_yticks(range(len(used)), names)
     ax.set_xlabel(name)
     ax.set_ylabel("analytic first event")
     total, diag = int(sub.sum()), int(np.trace(sub))
     # the counts are printed in the cells and saved in maps.json: no second copy as a table
-    blocks.append(ctx.figure("confusion", fig, f"Confusion matrix, all maps (rows: analytic first event; columns: {name} as compared; the count "
-                             f"in each cell): {diag} of {total} compared starts on the diagonal ({100 * diag / max(total, 1):.0f}%).",
-                             ["maps.json"] + [f"study_{mp['name']}.json" for mp in maps]))
-    blocks.append(Table(caption=f"Where {name} disagrees: compared starts on an analytic boundary of the map against the interior.",
-                        header=["map", "compared", "on a boundary", "disagree", "of which on a boundary", "interior"], rows=boundary_rows, data=ctx.data("maps.json")))
+    blocks.append(
+        ctx.figure(
+            "confusion",
+            fig,
+            f"Confusion matrix, all maps (rows: analytic first event; columns: {name} as compared; the count "
+            f"in each cell): {diag} of {total} compared starts on the diagonal ({100 * diag / max(total, 1):.0f}%).",
+            ["maps.json"] + [f"study_{mp['name']}.json" for mp in maps],
+        )
+    )
+    blocks.append(
+        Table(
+            caption=f"Where {name} disagrees: compared starts on an analytic boundary of the map against the interior.",
+            header=["map", "compared", "on a boundary", "disagree", "of which on a boundary", "interior"],
+            rows=boundary_rows,
+            data=ctx.data("maps.json"),
+        )
+    )
     dist_rows = []
     for mp in maps:
-        run, = mp["runs"]
+        (run,) = mp["runs"]
         for b in run.get("by_distance", []):
             if b["n"] and b["agreement"] is not None:
-                dist_rows.append([mp["name"], f"[{b['distance'][0]:g}, {b['distance'][1]:g})", str(b["n"]), f"{100 * b['agreement']:.0f}%"])
+                dist_rows.append(
+                    [
+                        mp["name"],
+                        f"[{b['distance'][0]:g}, {b['distance'][1]:g})",
+                        str(b["n"]),
+                        f"{100 * b['agreement']:.0f}%",
+                    ]
+                )
     if dist_rows:  # the quick report does not probe the distance (boundary_directions = 0)
-        blocks.append(Table(caption="Agreement by the probed distance of the start to the analytic event boundary (scaled units).",
-                            header=["map", "distance", "n", "agreement"], rows=dist_rows, data=ctx.data(*[f"study_{mp['name']}.json" for mp in maps])))
+        blocks.append(
+            Table(
+                caption="Agreement by the probed distance of the start to the analytic event boundary (scaled units).",
+                header=["map", "distance", "n", "agreement"],
+                rows=dist_rows,
+                data=ctx.data(*[f"study_{mp['name']}.json" for mp in maps]),
+            )
+        )
     if diffs["difference"]:
         dd, oo = np.asarray(diffs["difference"]), np.asarray(diffs["outcome"])
         fig, ax = plt.subplots(figsize=(6, 3.6))
@@ -321,21 +484,56 @@ def render(ctx: RenderContext) -> list:
                 stack.append(dd[s])
                 colors_.append(OUTCOME_COLORS[code])
                 labels.append(f"{event.lower()} ({int(s.sum())})")
-                rows.append([event.lower(), str(int(s.sum())), f"{np.median(dd[s]):+.3g}", f"{np.median(np.abs(dd[s])):.3g}", f"{np.max(np.abs(dd[s])):.3g}"])
+                rows.append(
+                    [
+                        event.lower(),
+                        str(int(s.sum())),
+                        f"{np.median(dd[s]):+.3g}",
+                        f"{np.median(np.abs(dd[s])):.3g}",
+                        f"{np.max(np.abs(dd[s])):.3g}",
+                    ]
+                )
         ax.hist(stack, bins=bins, color=colors_, label=labels, stacked=True, edgecolor="k", lw=0.3)
         ax.set_xlabel(f"t_{name} - t_analytic (scaled)")
         ax.set_ylabel("starts (stacked by event)")
         ax.legend(fontsize=7)
-        blocks.append(ctx.figure("event_time_errors", fig, f"Event-time errors where {name} and the analytic model report the same event, all maps.", ["maps.json"]))
-        blocks.append(Table(caption=f"Event-time differences ({name} - analytic, scaled time).", header=["event", "n", "median", "median |diff|", "max |diff|"],
-                            rows=rows, data=ctx.data("maps.json")))
+        blocks.append(
+            ctx.figure(
+                "event_time_errors",
+                fig,
+                f"Event-time errors where {name} and the analytic model report the same event, all maps.",
+                ["maps.json"],
+            )
+        )
+        blocks.append(
+            Table(
+                caption=f"Event-time differences ({name} - analytic, scaled time).",
+                header=["event", "n", "median", "median |diff|", "max |diff|"],
+                rows=rows,
+                data=ctx.data("maps.json"),
+            )
+        )
     return blocks
 
 
 def section(spec, options: dict, beside: str | None = None, n: dict | None = None) -> Section:
     """The maps of the engine ``spec`` (an ``EngineSpec``) as the section ``<slug>_maps``, drawn beside the maps of the
     section ``beside`` if given.  ``options``: {"quick": {...}, "full": {...}}, the engine's options in each report."""
-    title = f"{spec.label} vs analytic: outcome maps, confusion matrices, event times" + (f" (beside {beside})" if beside else "")
-    return Section(slug=f"{spec.slug}_maps", title=title, paper="sections 3.1, 4 (Corollary 4.2)",
-                   params=lambda quick: params(quick, spec.name, options["quick" if quick else "full"], beside, None if n is None else n["quick" if quick else "full"]),
-                   run=run, render=render, requires=("crosscheck.studies.agreement", spec.module or "crosscheck.engines", "crosscheck.theory.gb"))
+    title = f"{spec.label} vs analytic: outcome maps, confusion matrices, event times" + (
+        f" (beside {beside})" if beside else ""
+    )
+    return Section(
+        slug=f"{spec.slug}_maps",
+        title=title,
+        paper="sections 3.1, 4 (Corollary 4.2)",
+        params=lambda quick: params(
+            quick,
+            spec.name,
+            options["quick" if quick else "full"],
+            beside,
+            None if n is None else n["quick" if quick else "full"],
+        ),
+        run=run,
+        render=render,
+        requires=("crosscheck.studies.agreement", spec.module or "crosscheck.engines", "crosscheck.theory.gb"),
+    )

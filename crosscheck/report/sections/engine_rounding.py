@@ -29,8 +29,14 @@ def params(quick: bool, engine: str, options: dict, n: dict | None) -> dict:
 
     key = "quick" if quick else "full"
     base = engine_maps.params(quick, engine, options, n=None if n is None else n[key])
-    return {"engine": engine, "alpha": base["alpha"], "horizon": base["horizon"], "options": base["options"], "maps": base["maps"],
-            "max_starts": MAX_STARTS[key]}
+    return {
+        "engine": engine,
+        "alpha": base["alpha"],
+        "horizon": base["horizon"],
+        "options": base["options"],
+        "maps": base["maps"],
+        "max_starts": MAX_STARTS[key],
+    }
 
 
 def _starts(P: dict):
@@ -63,9 +69,12 @@ def run(ctx: RunContext) -> None:
     P = ctx.params
     states, mus, where = _starts(P)
     r = ulp_sensitivity(P["engine"], states, mus, alpha=P["alpha"], horizon=P["horizon"], **P["options"])
-    rows = {"map": [where[i] for i in r["changed_index"]], "mu": [mus[i] for i in r["changed_index"]],
-            **{k: [getattr(states[i], k) for i in r["changed_index"]] for k in ("theta", "varphi", "Theta", "Psi", "eta")},
-            **{f"ulp_{k}": [r["outcomes"][str(k)][i] for i in r["changed_index"]] for k in (0, *ULPS)}}
+    rows = {
+        "map": [where[i] for i in r["changed_index"]],
+        "mu": [mus[i] for i in r["changed_index"]],
+        **{k: [getattr(states[i], k) for i in r["changed_index"]] for k in ("theta", "varphi", "Theta", "Psi", "eta")},
+        **{f"ulp_{k}": [r["outcomes"][str(k)][i] for i in r["changed_index"]] for k in (0, *ULPS)},
+    }
     ctx.store.write_table("changed", rows)
     ctx.store.write_json("summary", {"engine": P["engine"], "n": r["n"], "changed": r["changed"], "ulps": list(ULPS)})
 
@@ -78,13 +87,30 @@ def render(ctx: RenderContext) -> list:
     name = engine_label(P["engine"])
     s = ctx.store.read_json("summary")
     t = ctx.store.read_table("changed", text=("map", *(f"ulp_{k}" for k in (0, *ULPS))))
-    blocks = [Text(f"{name}: {s['changed']} of {s['n']} slipping starts of its maps change outcome when theta moves by "
-                   f"{', '.join(f'{k:+d}' for k in ULPS)} ulp.")]
+    blocks = [
+        Text(
+            f"{name}: {s['changed']} of {s['n']} slipping starts of its maps change outcome when theta moves by "
+            f"{', '.join(f'{k:+d}' for k in ULPS)} ulp."
+        )
+    ]
     if s["changed"]:
-        rows = [[t["map"][i], f"theta {t['theta'][i]:.17g}, varphi {t['varphi'][i]:.3g}, Theta {t['Theta'][i]:.3g}, Psi {t['Psi'][i]:.3g}",
-                 f"{t['mu'][i]:.3g}", *[str(t[f"ulp_{k}"][i]).lower() for k in (-2, -1, 0, 1, 2)]] for i in range(len(t["map"]))]
-        blocks.append(Table(caption=f"The starts whose {name} outcome hangs on the last bits of theta.",
-                            header=["map", "start", "mu", "-2 ulp", "-1 ulp", "at theta", "+1 ulp", "+2 ulp"], rows=rows, data=ctx.data("changed.csv")))
+        rows = [
+            [
+                t["map"][i],
+                f"theta {t['theta'][i]:.17g}, varphi {t['varphi'][i]:.3g}, Theta {t['Theta'][i]:.3g}, Psi {t['Psi'][i]:.3g}",
+                f"{t['mu'][i]:.3g}",
+                *[str(t[f"ulp_{k}"][i]).lower() for k in (-2, -1, 0, 1, 2)],
+            ]
+            for i in range(len(t["map"]))
+        ]
+        blocks.append(
+            Table(
+                caption=f"The starts whose {name} outcome hangs on the last bits of theta.",
+                header=["map", "start", "mu", "-2 ulp", "-1 ulp", "at theta", "+1 ulp", "+2 ulp"],
+                rows=rows,
+                data=ctx.data("changed.csv"),
+            )
+        )
     return blocks
 
 
@@ -97,13 +123,26 @@ def finding(data: Path) -> list:
     if not s:
         return []
     name = engine_label(s["engine"])
-    return [Finding(f"{name}: outcomes against rounding", f"{s['changed']} of {s['n']} slipping starts of its maps change outcome within "
-                    "2 ulp of theta", "agrees" if s["changed"] == 0 else "disagrees", data.name,
-                    why="agrees when no start's outcome changes as theta moves by up to 2 ulp")]
+    return [
+        Finding(
+            f"{name}: outcomes against rounding",
+            f"{s['changed']} of {s['n']} slipping starts of its maps change outcome within 2 ulp of theta",
+            "agrees" if s["changed"] == 0 else "disagrees",
+            data.name,
+            why="agrees when no start's outcome changes as theta moves by up to 2 ulp",
+        )
+    ]
 
 
 def section(spec, options: dict, n: dict | None) -> Section:
     """The rounding section ``<slug>_rounding`` of the engine ``spec`` at its maps' ``options`` and sizes ``n``."""
-    return Section(slug=f"{spec.slug}_rounding", title=f"{spec.label}: outcomes that hang on the last bits of a start", paper="",
-                   params=lambda quick: params(quick, spec.name, options["quick" if quick else "full"], n), run=run, render=render,
-                   requires=("crosscheck.studies.rounding", spec.module or "crosscheck.engines"), finding=finding)
+    return Section(
+        slug=f"{spec.slug}_rounding",
+        title=f"{spec.label}: outcomes that hang on the last bits of a start",
+        paper="",
+        params=lambda quick: params(quick, spec.name, options["quick" if quick else "full"], n),
+        run=run,
+        render=render,
+        requires=("crosscheck.studies.rounding", spec.module or "crosscheck.engines"),
+        finding=finding,
+    )

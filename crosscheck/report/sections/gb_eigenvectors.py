@@ -49,6 +49,7 @@ def _snap(mu, alpha, theta_s, varphi_s):
 
 def run(ctx: RunContext) -> None:
     from crosscheck.theory import gb
+
     P = ctx.params
     alpha, eta, Psi = P["alpha"], P["eta"], P["Psi"]
     points = []
@@ -61,16 +62,39 @@ def run(ctx: RunContext) -> None:
         kind = gb.classify(Km)
         strong = int(np.argmax(np.abs(lam)))
         quads = [gb.quadrant(vec[:, k], atol=1e-12).name for k in range(2)]
-        points.append({"index": i, "where": where, "mu": mu, "theta": theta, "varphi": varphi, "Theta": Theta, "Psi": Psi, "eta": eta,
-                       "K": Km, "lambda": [[float(l.real), float(l.imag)] for l in lam], "e_plus": [float(v.real) for v in vec[:, 0]],
-                       "e_minus": [float(v.real) for v in vec[:, 1]], "type": kind.name, "strong": "plus" if strong == 0 else "minus",
-                       "quadrant_plus": quads[0], "quadrant_minus": quads[1],
-                       "quadrant_strong": quads[strong], "quadrant_weak": quads[1 - strong]})
+        points.append(
+            {
+                "index": i,
+                "where": where,
+                "mu": mu,
+                "theta": theta,
+                "varphi": varphi,
+                "Theta": Theta,
+                "Psi": Psi,
+                "eta": eta,
+                "K": Km,
+                "lambda": [[float(l.real), float(l.imag)] for l in lam],
+                "e_plus": [float(v.real) for v in vec[:, 0]],
+                "e_minus": [float(v.real) for v in vec[:, 1]],
+                "type": kind.name,
+                "strong": "plus" if strong == 0 else "minus",
+                "quadrant_plus": quads[0],
+                "quadrant_minus": quads[1],
+                "quadrant_strong": quads[strong],
+                "quadrant_weak": quads[1 - strong],
+            }
+        )
         ctx.store.write_json("points", points)
         # orbits of the linear flow from a circle, forward and backward in s; time scale 1/max|lambda|
         s, ys = gb.linear_orbits(Km, n_orbits=P["n_orbits"], n_s=P["n_s"])
         for j, y in enumerate(ys):
-            for k, v in (("point", np.full(s.size, i)), ("orbit", np.full(s.size, j)), ("s", s), ("p", y[:, 0]), ("b", y[:, 1])):
+            for k, v in (
+                ("point", np.full(s.size, i)),
+                ("orbit", np.full(s.size, j)),
+                ("s", s),
+                ("p", y[:, 0]),
+                ("b", y[:, 1]),
+            ):
                 orbits[k] += list(v)
     ctx.store.write_table("orbits", orbits)
 
@@ -80,26 +104,51 @@ def run(ctx: RunContext) -> None:
         ctx.check(f"{where}: {name}", ok, detail=detail)
 
     for mu, fig in ((1.4, "12"), (1.7, "13")):
-        a, e = by[next(w for w in by if w.startswith(f"Fig. {fig}(a)"))], by[next(w for w in by if w.startswith(f"Fig. {fig}(e)"))]
+        a, e = (
+            by[next(w for w in by if w.startswith(f"Fig. {fig}(a)"))],
+            by[next(w for w in by if w.startswith(f"Fig. {fig}(e)"))],
+        )
         expect(a["where"], "P+ is a stable node", a["type"] == "STABLE_NODE", a["type"])
         expect(e["where"], "Q+ is a saddle", e["type"] == "SADDLE", e["type"])
         # eq. evecK2D: e_1 = (3 tan^2 theta - (1 + alpha), 1) for lambda_1 = K11, e_2 = (0, 1) for lambda_2 = K22;
         # section 4's summary: e_1 in quadrants I/III for mu < mu_C, II/IV for mu > mu_C; e_2 on the b axis.
         e1_quadrant = "I_III" if mu < critical.mu_C(alpha) else "II_IV"
-        e1, e2 = (a["quadrant_strong"], a["quadrant_weak"]) if a["quadrant_strong"] != "B_AXIS" else (a["quadrant_weak"], a["quadrant_strong"])
-        expect(a["where"], f"eq. evecK2D: e_1 in quadrants {e1_quadrant.replace('_', '/')}, e_2 on the b axis", e1 == e1_quadrant and e2 == "B_AXIS",
-               f"e_1 {e1}, e_2 {e2}; strong {a['quadrant_strong']}, weak {a['quadrant_weak']}")
+        e1, e2 = (
+            (a["quadrant_strong"], a["quadrant_weak"])
+            if a["quadrant_strong"] != "B_AXIS"
+            else (a["quadrant_weak"], a["quadrant_strong"])
+        )
+        expect(
+            a["where"],
+            f"eq. evecK2D: e_1 in quadrants {e1_quadrant.replace('_', '/')}, e_2 on the b axis",
+            e1 == e1_quadrant and e2 == "B_AXIS",
+            f"e_1 {e1}, e_2 {e2}; strong {a['quadrant_strong']}, weak {a['quadrant_weak']}",
+        )
         if mu < critical.mu_C(alpha):
-            expect(a["where"], "text of Fig. 12: strong direction on the b axis, weak in quadrants I/III",
-                   a["quadrant_strong"] == "B_AXIS" and a["quadrant_weak"] == "I_III", f"strong {a['quadrant_strong']}, weak {a['quadrant_weak']}")
+            expect(
+                a["where"],
+                "text of Fig. 12: strong direction on the b axis, weak in quadrants I/III",
+                a["quadrant_strong"] == "B_AXIS" and a["quadrant_weak"] == "I_III",
+                f"strong {a['quadrant_strong']}, weak {a['quadrant_weak']}",
+            )
         else:
             ok = a["quadrant_strong"] == "I_III" and a["quadrant_weak"] == "B_AXIS"
-            ctx.check(f"{a['where']}: text of Fig. 13: strong direction in quadrants I/III, weak on the b axis", ok,
-                      detail=f"strong {a['quadrant_strong']}, weak {a['quadrant_weak']}",
-                      known="" if ok else ("the paper contradicts itself: its eq. evecK2D gives e_1 = (3 tan^2 theta_1 - (1 + alpha), 1), negative first "
-                                           "component for mu > mu_C (its own summary: 'e_1 in the second and fourth quadrants'); the strong "
-                                           "eigenvector here is e_1, so it lies in quadrants II/IV, not I/III as the text of Fig. 13 says"))
-        b_, d_ = by[next(w for w in by if w.startswith(f"Fig. {fig}(b)"))], by[next(w for w in by if w.startswith(f"Fig. {fig}(d)"))]
+            ctx.check(
+                f"{a['where']}: text of Fig. 13: strong direction in quadrants I/III, weak on the b axis",
+                ok,
+                detail=f"strong {a['quadrant_strong']}, weak {a['quadrant_weak']}",
+                known=""
+                if ok
+                else (
+                    "the paper contradicts itself: its eq. evecK2D gives e_1 = (3 tan^2 theta_1 - (1 + alpha), 1), negative first "
+                    "component for mu > mu_C (its own summary: 'e_1 in the second and fourth quadrants'); the strong "
+                    "eigenvector here is e_1, so it lies in quadrants II/IV, not I/III as the text of Fig. 13 says"
+                ),
+            )
+        b_, d_ = (
+            by[next(w for w in by if w.startswith(f"Fig. {fig}(b)"))],
+            by[next(w for w in by if w.startswith(f"Fig. {fig}(d)"))],
+        )
         expect(b_["where"], "a stable node before the bifurcation", b_["type"] == "STABLE_NODE", b_["type"])
         expect(d_["where"], "a saddle after the bifurcation", d_["type"] == "SADDLE", d_["type"])
         c_where = next(w for w in by if w.startswith(f"Fig. {fig}(c)"))
@@ -108,9 +157,16 @@ def run(ctx: RunContext) -> None:
         zeros = np.vstack([gb.det_K_zeros(c, eta) for c in curves])
         z = zeros[np.argmin(np.hypot(zeros[:, 0] - th_c, zeros[:, 1] - vp_c))]
         err = max(abs(z[0] - th_c), abs(z[1] - vp_c))
-        ctx.check(f"{c_where}: the zero of det K along the manifold (lambda_+ = 0) is the printed point", err <= 0.5e-4, value=err, allowance=0.5e-4,
-                  detail=f"det K = 0 at theta = {z[0]:.6f}, varphi = {z[1]:.6f}; printed ({th_c}, {vp_c})")
-        ctx.store.write_json(f"det_zero_fig{fig}", {"theta": z[0], "varphi": z[1], "Theta": z[2], "printed": [th_c, vp_c]})
+        ctx.check(
+            f"{c_where}: the zero of det K along the manifold (lambda_+ = 0) is the printed point",
+            err <= 0.5e-4,
+            value=err,
+            allowance=0.5e-4,
+            detail=f"det K = 0 at theta = {z[0]:.6f}, varphi = {z[1]:.6f}; printed ({th_c}, {vp_c})",
+        )
+        ctx.store.write_json(
+            f"det_zero_fig{fig}", {"theta": z[0], "varphi": z[1], "Theta": z[2], "printed": [th_c, vp_c]}
+        )
 
 
 def render(ctx: RenderContext) -> list:
@@ -128,25 +184,59 @@ def render(ctx: RenderContext) -> list:
             pb_orbits(ax, orb["p"][sel], orb["b"][sel], orb["orbit"][sel])
             lam = [complex(*l) for l in p["lambda"]]
             pb_eigenvectors(ax, p["e_plus"], p["e_minus"], strong_weak_colors(p["strong"]))
-            ax.set_title(f"{p['where'].split(',')[0].replace('Fig. ', '')}: {p['type'].lower().replace('_', ' ')}", fontsize=8)
-            ax.text(0.03, 0.03, f"$\\theta$={p['theta']:.4f}\n$\\varphi$={p['varphi']:.4f}\n$\\lambda$={lam[0].real:.3g}, {lam[1].real:.3g}",
-                    transform=ax.transAxes, fontsize=6, va="bottom")
+            ax.set_title(
+                f"{p['where'].split(',')[0].replace('Fig. ', '')}: {p['type'].lower().replace('_', ' ')}", fontsize=8
+            )
+            ax.text(
+                0.03,
+                0.03,
+                f"$\\theta$={p['theta']:.4f}\n$\\varphi$={p['varphi']:.4f}\n$\\lambda$={lam[0].real:.3g}, {lam[1].real:.3g}",
+                transform=ax.transAxes,
+                fontsize=6,
+                va="bottom",
+            )
             ax.set_xticks([])
             ax.set_yticks([])
-        cap = (f"Fig. {fig_no} recomputed: eigenvectors of K (eq. K) in the (p, b) plane at the points of Fig. {fig_no} (alpha = 3, mu = {mu:g}, eta = 1, Psi = 0, "
-               "Theta = sqrt(csc theta)); strong eigenvector (larger |lambda|) blue, weak red; grey: orbits of (p, b)' = K (p, b) in the desingularised time s. "
-               "Shading as Fig. 3a: slipping (p > 0, b < 0) yellow, lift-off orange, inconsistent lime, indeterminate purple. Not to scale.")
+        cap = (
+            f"Fig. {fig_no} recomputed: eigenvectors of K (eq. K) in the (p, b) plane at the points of Fig. {fig_no} (alpha = 3, mu = {mu:g}, eta = 1, Psi = 0, "
+            "Theta = sqrt(csc theta)); strong eigenvector (larger |lambda|) blue, weak red; grey: orbits of (p, b)' = K (p, b) in the desingularised time s. "
+            "Shading as Fig. 3a: slipping (p > 0, b < 0) yellow, lift-off orange, inconsistent lime, indeterminate purple. Not to scale."
+        )
         blocks.append(ctx.figure(f"fig{fig_no}_eigenvectors", fig, cap, ["points.json", "orbits.csv"]))
     rows = []
     for p in points:
         lam = [complex(*l) for l in p["lambda"]]
-        rows.append([p["where"], f"{p['mu']:g}", f"{p['theta']:.5f}", f"{p['varphi']:.5f}", f"{p['Theta']:.4f}", p["type"].lower(),
-                     f"{lam[0].real:.4g}" + (f"{lam[0].imag:+.3g}i" if lam[0].imag else ""), f"{lam[1].real:.4g}" + (f"{lam[1].imag:+.3g}i" if lam[1].imag else ""),
-                     p["quadrant_strong"], p["quadrant_weak"]])
-    blocks.append(Table(caption="The points, their type and eigenvectors' quadrants (I_III: first and third; II_IV: second and fourth; B_AXIS: along b).",
-                        header=["point", "mu", "theta", "varphi", "Theta", "type", "lambda_+", "lambda_-", "strong e", "weak e"], rows=rows, data=ctx.data("points.json")))
+        rows.append(
+            [
+                p["where"],
+                f"{p['mu']:g}",
+                f"{p['theta']:.5f}",
+                f"{p['varphi']:.5f}",
+                f"{p['Theta']:.4f}",
+                p["type"].lower(),
+                f"{lam[0].real:.4g}" + (f"{lam[0].imag:+.3g}i" if lam[0].imag else ""),
+                f"{lam[1].real:.4g}" + (f"{lam[1].imag:+.3g}i" if lam[1].imag else ""),
+                p["quadrant_strong"],
+                p["quadrant_weak"],
+            ]
+        )
+    blocks.append(
+        Table(
+            caption="The points, their type and eigenvectors' quadrants (I_III: first and third; II_IV: second and fourth; B_AXIS: along b).",
+            header=["point", "mu", "theta", "varphi", "Theta", "type", "lambda_+", "lambda_-", "strong e", "weak e"],
+            rows=rows,
+            data=ctx.data("points.json"),
+        )
+    )
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="Eigenvectors of K at the paper's GB points", paper="Figs. 12 (fig:planesmu1p4_w_traj) and 13 (fig:planesmu1p7_w_traj); eqs. K, evalK2D, evecK2D",
-                  params=params, run=run, render=render, requires=("crosscheck.theory.gb",))
+SECTION = Section(
+    slug=SLUG,
+    title="Eigenvectors of K at the paper's GB points",
+    paper="Figs. 12 (fig:planesmu1p4_w_traj) and 13 (fig:planesmu1p7_w_traj); eqs. K, evalK2D, evecK2D",
+    params=params,
+    run=run,
+    render=render,
+    requires=("crosscheck.theory.gb",),
+)

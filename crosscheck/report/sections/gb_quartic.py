@@ -33,8 +33,16 @@ SLUG = "gb_quartic"
 
 
 def params(quick: bool) -> dict:
-    return {"alpha": 3.0, "eta": 1.0, "eps2_mu_hat": [0.01, 0.02], "eps2_mu_hat_text": 0.01, "eps2_mu_hat_caption": 0.02,
-            "cos_varphi_max": 0.202, "Psi_lim": 2.8, "n_varphi": 300 if quick else 2000}
+    return {
+        "alpha": 3.0,
+        "eta": 1.0,
+        "eps2_mu_hat": [0.01, 0.02],
+        "eps2_mu_hat_text": 0.01,
+        "eps2_mu_hat_caption": 0.02,
+        "cos_varphi_max": 0.202,
+        "Psi_lim": 2.8,
+        "n_varphi": 300 if quick else 2000,
+    }
 
 
 def _one(ctx: RunContext, e2: float) -> dict:
@@ -42,6 +50,7 @@ def _one(ctx: RunContext, e2: float) -> dict:
     from scipy.optimize import brentq
 
     from crosscheck.theory import gb
+
     P = ctx.params
     alpha, eta = P["alpha"], P["eta"]
     tag = f"{e2:g}"
@@ -79,9 +88,18 @@ def _one(ctx: RunContext, e2: float) -> dict:
         vals = np.array([C0(g, branch) for g in grid])
         idx = np.flatnonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) < 0)
         zeros[branch] = [brentq(C0, grid[i], grid[i + 1], args=(branch,), xtol=1e-14) for i in idx]
-    doc = {"eps2_mu_hat": e2, "mu": mu, "Psi_L": critical.Psi_L, "Psi_1": cv.Psi_1, "Psi_P": float(critical.Psi_P(alpha)), "Psi_2": cv.Psi_2,
-           "cos_varphi_2": math.cos(cv.varphi_2), "reach": float(max(ex["cos_varphi"])) if ex["cos_varphi"] else 0.0,
-           "psi0_asymptotic": math.sqrt(2 * e2), "psi0_exact": zeros}
+    doc = {
+        "eps2_mu_hat": e2,
+        "mu": mu,
+        "Psi_L": critical.Psi_L,
+        "Psi_1": cv.Psi_1,
+        "Psi_P": float(critical.Psi_P(alpha)),
+        "Psi_2": cv.Psi_2,
+        "cos_varphi_2": math.cos(cv.varphi_2),
+        "reach": float(max(ex["cos_varphi"])) if ex["cos_varphi"] else 0.0,
+        "psi0_asymptotic": math.sqrt(2 * e2),
+        "psi0_exact": zeros,
+    }
     ctx.store.write_json(f"lines_{tag}", doc)
     return doc
 
@@ -90,17 +108,30 @@ def run(ctx: RunContext) -> None:
     P = ctx.params
     docs = {e2: _one(ctx, e2) for e2 in P["eps2_mu_hat"]}
     text, caption = docs[P["eps2_mu_hat_text"]], docs[P["eps2_mu_hat_caption"]]
-    ctx.check("text: mu = 1.3467, Psi_1 = 2.1526, Psi_2 = 2.6220 at eps^2 mu_hat = 0.01", abs(text["mu"] - 1.3467) <= 0.5e-4
-              and abs(text["Psi_1"] - 2.1526) <= 0.5e-4 and abs(text["Psi_2"] - 2.6220) <= 0.5e-4,
-              value=[round(text["mu"], 6), round(text["Psi_1"], 6), round(text["Psi_2"], 6)], allowance="half a unit of the last printed digit")
-    ctx.check("footnote: cos varphi = 0.1414 at Psi = 0 is sqrt(2 x 0.01)", abs(text["psi0_asymptotic"] - 0.1414) <= 0.5e-4,
-              value=text["psi0_asymptotic"], allowance=0.5e-4)
-    ctx.check(f"the curves at the text's eps^2 mu_hat = {P['eps2_mu_hat_text']:g} fill the printed axis (cos varphi to {P['cos_varphi_max']:g})",
-              text["reach"] >= 0.9 * P["cos_varphi_max"], value=text["reach"], allowance=0.9 * P["cos_varphi_max"],
-              detail=f"at the caption's {P['eps2_mu_hat_caption']:g} they reach {caption['reach']:.3f}",
-              known=f"the text's numbers belong to eps^2 mu_hat = {P['eps2_mu_hat_text']:g}, whose curves stop at cos varphi = {text['reach']:.3f}; "
-                    f"the printed axis (to {P['cos_varphi_max']:g}) fits the caption's {P['eps2_mu_hat_caption']:g} (reach {caption['reach']:.3f}): "
-                    "both are drawn, neither is claimed")
+    ctx.check(
+        "text: mu = 1.3467, Psi_1 = 2.1526, Psi_2 = 2.6220 at eps^2 mu_hat = 0.01",
+        abs(text["mu"] - 1.3467) <= 0.5e-4
+        and abs(text["Psi_1"] - 2.1526) <= 0.5e-4
+        and abs(text["Psi_2"] - 2.6220) <= 0.5e-4,
+        value=[round(text["mu"], 6), round(text["Psi_1"], 6), round(text["Psi_2"], 6)],
+        allowance="half a unit of the last printed digit",
+    )
+    ctx.check(
+        "footnote: cos varphi = 0.1414 at Psi = 0 is sqrt(2 x 0.01)",
+        abs(text["psi0_asymptotic"] - 0.1414) <= 0.5e-4,
+        value=text["psi0_asymptotic"],
+        allowance=0.5e-4,
+    )
+    ctx.check(
+        f"the curves at the text's eps^2 mu_hat = {P['eps2_mu_hat_text']:g} fill the printed axis (cos varphi to {P['cos_varphi_max']:g})",
+        text["reach"] >= 0.9 * P["cos_varphi_max"],
+        value=text["reach"],
+        allowance=0.9 * P["cos_varphi_max"],
+        detail=f"at the caption's {P['eps2_mu_hat_caption']:g} they reach {caption['reach']:.3f}",
+        known=f"the text's numbers belong to eps^2 mu_hat = {P['eps2_mu_hat_text']:g}, whose curves stop at cos varphi = {text['reach']:.3f}; "
+        f"the printed axis (to {P['cos_varphi_max']:g}) fits the caption's {P['eps2_mu_hat_caption']:g} (reach {caption['reach']:.3f}): "
+        "both are drawn, neither is claimed",
+    )
 
 
 def render(ctx: RenderContext) -> list:
@@ -116,34 +147,94 @@ def render(ctx: RenderContext) -> list:
         asy = ctx.store.read_table(f"quartic_asymptotic_{tag}")
         lines = ctx.store.read_json(f"lines_{tag}")
         files += [f"quartic_exact_{tag}.csv", f"quartic_asymptotic_{tag}.csv", f"lines_{tag}.json"]
-        ax.plot(asy["cos_varphi"], asy["Psi"], ".", ms=2.5, color=LINE_COLORS[0], rasterized=True, label="$\\sum C^\\varepsilon_i \\Psi^i = 0$ (eq. Psiquarticeps)")
+        ax.plot(
+            asy["cos_varphi"],
+            asy["Psi"],
+            ".",
+            ms=2.5,
+            color=LINE_COLORS[0],
+            rasterized=True,
+            label="$\\sum C^\\varepsilon_i \\Psi^i = 0$ (eq. Psiquarticeps)",
+        )
         for branch, color in (("theta_+", LINE_COLORS[1]), ("theta_-", LINE_COLORS[2])):
             s = ex["branch"] == branch
-            ax.plot(ex["cos_varphi"][s], ex["Psi"][s], ".", ms=2.5, color=color, rasterized=True, label=f"$\\sum C_i \\Psi^i = 0$ on $\\theta_{branch[-1]}$ (eq. Psiquartic)")
-        for i, (name, key) in enumerate((("$\\Psi_L$", "Psi_L"), ("$\\Psi_1$", "Psi_1"), ("$\\Psi_P$", "Psi_P"), ("$\\Psi_2$", "Psi_2"))):
+            ax.plot(
+                ex["cos_varphi"][s],
+                ex["Psi"][s],
+                ".",
+                ms=2.5,
+                color=color,
+                rasterized=True,
+                label=f"$\\sum C_i \\Psi^i = 0$ on $\\theta_{branch[-1]}$ (eq. Psiquartic)",
+            )
+        for i, (name, key) in enumerate(
+            (("$\\Psi_L$", "Psi_L"), ("$\\Psi_1$", "Psi_1"), ("$\\Psi_P$", "Psi_P"), ("$\\Psi_2$", "Psi_2"))
+        ):
             for sgn in (1, -1):
-                ax.axhline(sgn * lines[key], color=LINE_COLORS[3 + i], ls="--", lw=0.9, label=f"$\\pm${name}" if sgn > 0 else None)
+                ax.axhline(
+                    sgn * lines[key],
+                    color=LINE_COLORS[3 + i],
+                    ls="--",
+                    lw=0.9,
+                    label=f"$\\pm${name}" if sgn > 0 else None,
+                )
         ax.axvline(lines["reach"], color="0.5", lw=0.8, ls=":")
         ax.set_xlim(0, P["cos_varphi_max"])
         ax.set_ylim(-P["Psi_lim"], P["Psi_lim"])
         ax.set_xlabel("cos $\\varphi$")
-        ax.set_title(f"$\\varepsilon^2\\hat\\mu$ = {e2:g} ($\\mu$ = {lines['mu']:.4f})" + (" (text)" if e2 == P["eps2_mu_hat_text"] else " (caption)"), fontsize=9)
-        rows.append([f"{e2:g}", f"{lines['mu']:.4f}", f"{lines['Psi_1']:.4f}", f"{lines['Psi_2']:.4f}", f"{lines['reach']:.3f}", f"{lines['psi0_asymptotic']:.4f}"]
-                    + [", ".join(f"{v:.4f}" for v in lines["psi0_exact"][b]) for b in ("theta_+", "theta_-")])
+        ax.set_title(
+            f"$\\varepsilon^2\\hat\\mu$ = {e2:g} ($\\mu$ = {lines['mu']:.4f})"
+            + (" (text)" if e2 == P["eps2_mu_hat_text"] else " (caption)"),
+            fontsize=9,
+        )
+        rows.append(
+            [
+                f"{e2:g}",
+                f"{lines['mu']:.4f}",
+                f"{lines['Psi_1']:.4f}",
+                f"{lines['Psi_2']:.4f}",
+                f"{lines['reach']:.3f}",
+                f"{lines['psi0_asymptotic']:.4f}",
+            ]
+            + [", ".join(f"{v:.4f}" for v in lines["psi0_exact"][b]) for b in ("theta_+", "theta_-")]
+        )
     np.atleast_1d(axes)[0].set_ylabel("$\\Psi$")
     np.atleast_1d(axes)[-1].legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
-    cap = (f"Fig. 16 recomputed at both values the paper suggests: zeros of det K on the GB manifold from the quartic eq. Psiquartic (exact, on theta_+ and "
-           f"theta_-) and from its asymptotic form eq. Psiquarticeps near mu_P, eta = {P['eta']:g}, alpha = {P['alpha']:g}. The text's numbers belong to "
-           f"eps^2 mu_hat = {P['eps2_mu_hat_text']:g} (left), the printed axis range to {P['cos_varphi_max']:g} fits {P['eps2_mu_hat_caption']:g} (right; "
-           "dotted: how far the exact curves reach, cos varphi_2). The two forms agree for |Psi| < Psi_L (case 3), less well in case 4, and not at all beyond "
-           "Psi_1, where the manifold's topology has changed (section 4.3).")
+    cap = (
+        f"Fig. 16 recomputed at both values the paper suggests: zeros of det K on the GB manifold from the quartic eq. Psiquartic (exact, on theta_+ and "
+        f"theta_-) and from its asymptotic form eq. Psiquarticeps near mu_P, eta = {P['eta']:g}, alpha = {P['alpha']:g}. The text's numbers belong to "
+        f"eps^2 mu_hat = {P['eps2_mu_hat_text']:g} (left), the printed axis range to {P['cos_varphi_max']:g} fits {P['eps2_mu_hat_caption']:g} (right; "
+        "dotted: how far the exact curves reach, cos varphi_2). The two forms agree for |Psi| < Psi_L (case 3), less well in case 4, and not at all beyond "
+        "Psi_1, where the manifold's topology has changed (section 4.3)."
+    )
     blocks = [ctx.figure("fig16_quartic", fig, cap, files)]
-    blocks.append(Table(caption="Per eps^2 mu_hat: mu, Psi_1, Psi_2, how far the exact curves reach in cos varphi, and at Psi = 0 the asymptotic zero "
-                        "sqrt(2 eps^2 mu_hat) (the footnote's 0.1414 at 0.01) beside the exact zeros of eq. C0 (difference O(eps^2)).",
-                        header=["eps^2 mu_hat", "mu", "Psi_1", "Psi_2", "reach (cos varphi)", "asymptotic zero", "exact zeros on theta_+", "exact zeros on theta_-"],
-                        rows=rows, data=ctx.data(*[f"lines_{v:g}.json" for v in values])))
+    blocks.append(
+        Table(
+            caption="Per eps^2 mu_hat: mu, Psi_1, Psi_2, how far the exact curves reach in cos varphi, and at Psi = 0 the asymptotic zero "
+            "sqrt(2 eps^2 mu_hat) (the footnote's 0.1414 at 0.01) beside the exact zeros of eq. C0 (difference O(eps^2)).",
+            header=[
+                "eps^2 mu_hat",
+                "mu",
+                "Psi_1",
+                "Psi_2",
+                "reach (cos varphi)",
+                "asymptotic zero",
+                "exact zeros on theta_+",
+                "exact zeros on theta_-",
+            ],
+            rows=rows,
+            data=ctx.data(*[f"lines_{v:g}.json" for v in values]),
+        )
+    )
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="The quartic in Psi and its asymptotic form near mu_P", paper="Fig. 16 (fig:expan); eqs. Psiquartic, Psiquarticeps, C0",
-                  params=params, run=run, render=render, requires=("crosscheck.theory.gb",))
+SECTION = Section(
+    slug=SLUG,
+    title="The quartic in Psi and its asymptotic form near mu_P",
+    paper="Fig. 16 (fig:expan); eqs. Psiquartic, Psiquarticeps, C0",
+    params=params,
+    run=run,
+    render=render,
+    requires=("crosscheck.theory.gb",),
+)

@@ -57,9 +57,18 @@ _LABELS = {3: "fig:p3s", 4: "fig:p3ss", 5: "fig:psi1.6119", 6: "fig:psi1.9483", 
 
 
 def params(quick: bool) -> dict:
-    return {"mu": 1.4, "alpha": 3.0, "Theta_max": 2.2, "n_map": 120 if quick else 360, "n_surface": 41 if quick else 81,
-            "n_varphi": 31 if quick else 61, "n_Theta": 12 if quick else 24, "n_gb": 101 if quick else 401,
-            "n_count": 60 if quick else 150, "n_fine": 20001}
+    return {
+        "mu": 1.4,
+        "alpha": 3.0,
+        "Theta_max": 2.2,
+        "n_map": 120 if quick else 360,
+        "n_surface": 41 if quick else 81,
+        "n_varphi": 31 if quick else 61,
+        "n_Theta": 12 if quick else 24,
+        "n_gb": 101 if quick else 401,
+        "n_count": 60 if quick else 150,
+        "n_fine": 20001,
+    }
 
 
 def Theta2_on_b0(Psi, theta):
@@ -119,8 +128,18 @@ def p0_cylinder(mu: float, alpha: float, *, n: int) -> tuple[np.ndarray, np.ndar
     return np.concatenate([th, th[::-1][1:]]), np.concatenate([vm, vp[::-1][1:]])
 
 
-def surface_meshes(mu: float, Psi: float, alpha: float, Theta_max: float, *, n_surface: int, n_varphi: int, n_Theta: int, n_gb: int,
-                   n_fine: int = 20001) -> dict:
+def surface_meshes(
+    mu: float,
+    Psi: float,
+    alpha: float,
+    Theta_max: float,
+    *,
+    n_surface: int,
+    n_varphi: int,
+    n_Theta: int,
+    n_gb: int,
+    n_fine: int = 20001,
+) -> dict:
     """The 3D picture at one (mu, Psi) as tables (columns of equal length) ready to save and draw.
 
     Returns a dict with
@@ -134,16 +153,25 @@ def surface_meshes(mu: float, Psi: float, alpha: float, Theta_max: float, *, n_s
         "gb" is such a touching point.
     """
     from crosscheck.theory import gb
+
     vp = np.linspace(-np.pi, 0.0, n_varphi)
     pieces = b0_pieces(Psi, Theta_max, n=n_fine)
     b0 = {k: [] for k in ("piece", "i", "j", "theta", "varphi", "Theta")}
     for k, (lo, hi) in enumerate(pieces):
         th = _spaced(lo, hi, n_surface)
-        if lo < critical.theta_L < hi:  # where b = 0 comes closest to Theta = 0 at Psi_L (a tangency, eq. thetal): sample it
+        if (
+            lo < critical.theta_L < hi
+        ):  # where b = 0 comes closest to Theta = 0 at Psi_L (a tangency, eq. thetal): sample it
             th = np.sort(np.append(th, critical.theta_L))
         T = np.sqrt(np.maximum(Theta2_on_b0(Psi, th), 0.0))  # the edges are roots: clip their rounding
-        for key, v in (("piece", np.full(th.size * vp.size, k)), ("i", np.repeat(np.arange(th.size), vp.size)), ("j", np.tile(np.arange(vp.size), th.size)),
-                       ("theta", np.repeat(th, vp.size)), ("varphi", np.tile(vp, th.size)), ("Theta", np.repeat(T, vp.size))):
+        for key, v in (
+            ("piece", np.full(th.size * vp.size, k)),
+            ("i", np.repeat(np.arange(th.size), vp.size)),
+            ("j", np.tile(np.arange(vp.size), th.size)),
+            ("theta", np.repeat(th, vp.size)),
+            ("varphi", np.tile(vp, th.size)),
+            ("Theta", np.repeat(T, vp.size)),
+        ):
             b0[key] += list(v)
     p0 = {k: [] for k in ("part", "i", "j", "theta", "varphi", "Theta")}
     g = {k: [] for k in ("curve", "theta", "varphi", "Theta")}
@@ -152,16 +180,29 @@ def surface_meshes(mu: float, Psi: float, alpha: float, Theta_max: float, *, n_s
     if not math.isnan(th1):  # p < 0 somewhere: mu >= mu_P
         cth, cvp = p0_cylinder(mu, alpha, n=n_surface)
         u = np.linspace(0.0, 1.0, n_Theta)
-        cut = np.minimum(np.sqrt(np.maximum(Theta2_on_b0(Psi, cth), 0.0)), Theta_max)  # b = 0 on the cylinder (0 in the theta gap)
+        cut = np.minimum(
+            np.sqrt(np.maximum(Theta2_on_b0(Psi, cth), 0.0)), Theta_max
+        )  # b = 0 on the cylinder (0 in the theta gap)
         for part, (lo, hi) in enumerate(((np.zeros_like(cut), cut), (cut, np.full_like(cut, Theta_max)))):
             Th = lo[:, None] + (hi - lo)[:, None] * u[None, :]
-            for key, v in (("part", np.full(Th.size, part)), ("i", np.repeat(np.arange(cth.size), u.size)), ("j", np.tile(np.arange(u.size), cth.size)),
-                           ("theta", np.repeat(cth, u.size)), ("varphi", np.repeat(cvp, u.size)), ("Theta", Th.ravel())):
+            for key, v in (
+                ("part", np.full(Th.size, part)),
+                ("i", np.repeat(np.arange(cth.size), u.size)),
+                ("j", np.tile(np.arange(u.size), cth.size)),
+                ("theta", np.repeat(cth, u.size)),
+                ("varphi", np.repeat(cvp, u.size)),
+                ("Theta", Th.ravel()),
+            ):
                 p0[key] += list(v)
         curves = gb.gb_manifold(mu, Psi, alpha, n=n_gb)
         for k, c in enumerate(curves):
             keep = c.Theta >= 0
-            for key, v in (("curve", np.full(keep.sum(), k)), ("theta", c.theta[keep]), ("varphi", c.varphi[keep]), ("Theta", c.Theta[keep])):
+            for key, v in (
+                ("curve", np.full(keep.sum(), k)),
+                ("theta", c.theta[keep]),
+                ("varphi", c.varphi[keep]),
+                ("Theta", c.Theta[keep]),
+            ):
                 g[key] += list(v)
         if not curves:
             # at |Psi| = Psi_2 the manifold is the point where b = 0 touches the cylinder at Theta = 0; gb_manifold's theta
@@ -200,7 +241,17 @@ def run(ctx: RunContext) -> None:
     summary = []
     for label in ctx.progress(labels, desc="kinematic surfaces"):
         Psi, tag = Psis[label], _tag(label)
-        m = surface_meshes(mu, Psi, alpha, Tmax, n_surface=P["n_surface"], n_varphi=P["n_varphi"], n_Theta=P["n_Theta"], n_gb=P["n_gb"], n_fine=P["n_fine"])
+        m = surface_meshes(
+            mu,
+            Psi,
+            alpha,
+            Tmax,
+            n_surface=P["n_surface"],
+            n_varphi=P["n_varphi"],
+            n_Theta=P["n_Theta"],
+            n_gb=P["n_gb"],
+            n_fine=P["n_fine"],
+        )
         pieces, curves, tangency, g = m["pieces"], m["gb_curves"], m["tangency"], m["gb"]
         ctx.store.write_table(f"b0_surface_{tag}", m["b0"])
         ctx.store.write_table(f"p0_surface_{tag}", m["p0"])
@@ -210,8 +261,11 @@ def run(ctx: RunContext) -> None:
         p_gb = analytic.p(gth_, gvp_, mu, alpha) if gth_.size else np.zeros(0)
 
         # the GB points in the section varphi = -pi/2: b = 0 on the lines theta_1, theta_2 (P+, Q+ at Psi = 0)
-        section_gb = [[t, math.sqrt(max(float(Theta2_on_b0(Psi, t)), 0.0))] for t in (cv.theta_1, cv.theta_2)
-                      if Theta2_on_b0(Psi, t) >= -CLOSED_FORM.allowance(1 / math.sin(t))]
+        section_gb = [
+            [t, math.sqrt(max(float(Theta2_on_b0(Psi, t)), 0.0))]
+            for t in (cv.theta_1, cv.theta_2)
+            if Theta2_on_b0(Psi, t) >= -CLOSED_FORM.allowance(1 / math.sin(t))
+        ]
         # the modes in the section varphi = -pi/2 (the paper's panels (a))
         modes = analytic.mode(analytic.b(Psi, Theta_map[:, None], theta_map[None, :]), p_planar[None, :])
         ctx.store.write_grid(f"section_{tag}", ("theta", theta_map), ("Theta", Theta_map), ("mode", modes))
@@ -220,12 +274,28 @@ def run(ctx: RunContext) -> None:
         bb = analytic.b(Psi, gTh[:, None], gth[None, :])  # (Theta, theta)
         n_inconsistent = int(np.sum((p_grid[None, :, :] < 0) & (bb[:, None, :] < 0)))
         T2 = Theta2_on_b0(Psi, theta_fine)
-        summary.append({"label": label, "Psi": Psi, "kinematic_case": critical.kinematic_case(mu, Psi, alpha), "pieces": pieces, "section_gb": section_gb,
-                        "gb_curves": len(curves), "gb_points": int(gth_.size), "gb_tangency_point": tangency,
-                        "gb_closed": [bool(c.theta[0] == c.theta[-1] and c.varphi[0] == c.varphi[-1] and c.Theta[0] == c.Theta[-1]) for c in curves],
-                        "gb_min_Theta": float(gTh_.min()) if gTh_.size else None,
-                        "gb_max_abs_b": float(np.max(np.abs(b_gb))) if b_gb.size else None, "gb_max_abs_p": float(np.max(np.abs(p_gb))) if p_gb.size else None,
-                        "inconsistent_cells": n_inconsistent, "min_Theta2_on_b0": float(T2.min()), "argmin_theta": float(theta_fine[np.argmin(T2)])})
+        summary.append(
+            {
+                "label": label,
+                "Psi": Psi,
+                "kinematic_case": critical.kinematic_case(mu, Psi, alpha),
+                "pieces": pieces,
+                "section_gb": section_gb,
+                "gb_curves": len(curves),
+                "gb_points": int(gth_.size),
+                "gb_tangency_point": tangency,
+                "gb_closed": [
+                    bool(c.theta[0] == c.theta[-1] and c.varphi[0] == c.varphi[-1] and c.Theta[0] == c.Theta[-1])
+                    for c in curves
+                ],
+                "gb_min_Theta": float(gTh_.min()) if gTh_.size else None,
+                "gb_max_abs_b": float(np.max(np.abs(b_gb))) if b_gb.size else None,
+                "gb_max_abs_p": float(np.max(np.abs(p_gb))) if p_gb.size else None,
+                "inconsistent_cells": n_inconsistent,
+                "min_Theta2_on_b0": float(T2.min()),
+                "argmin_theta": float(theta_fine[np.argmin(T2)]),
+            }
+        )
         ctx.store.write_json("slices", summary)
 
     _checks(ctx, summary, cv, theta_fine[1] - theta_fine[0])
@@ -236,34 +306,76 @@ def _checks(ctx: RunContext, summary: list[dict], cv, dtheta: float) -> None:
     for s in summary:
         if s["gb_points"]:
             worst = max(s["gb_max_abs_b"], s["gb_max_abs_p"])
-            ctx.check(f"Psi = {s['label']}: b = p = 0 on the computed GB curve ({s['gb_points']} points)", worst <= allow_gb, value=worst, allowance=allow_gb,
-                      detail=f"max |b| {s['gb_max_abs_b']:.2e}, max |p| {s['gb_max_abs_p']:.2e} (eqs. b, p; GB_IDENTITY)")
+            ctx.check(
+                f"Psi = {s['label']}: b = p = 0 on the computed GB curve ({s['gb_points']} points)",
+                worst <= allow_gb,
+                value=worst,
+                allowance=allow_gb,
+                detail=f"max |b| {s['gb_max_abs_b']:.2e}, max |p| {s['gb_max_abs_p']:.2e} (eqs. b, p; GB_IDENTITY)",
+            )
     by = {s["label"]: s for s in summary}
     s0 = by["0"]
     ok = s0["gb_curves"] == 2 and all(s0["gb_closed"]) and s0["gb_min_Theta"] > 0
-    ctx.check("Fig. 3b: at Psi = 0 the GB manifold in Theta > 0 is one closed curve off Theta = 0", ok,
-              detail=f"{s0['gb_curves']} curves in Theta > 0 and Theta < 0, closed: {s0['gb_closed']}, min Theta on the Theta > 0 curve {s0['gb_min_Theta']:.4f}")
+    ctx.check(
+        "Fig. 3b: at Psi = 0 the GB manifold in Theta > 0 is one closed curve off Theta = 0",
+        ok,
+        detail=f"{s0['gb_curves']} curves in Theta > 0 and Theta < 0, closed: {s0['gb_closed']}, min Theta on the Theta > 0 curve {s0['gb_min_Theta']:.4f}",
+    )
     # lift-off at Theta = 0 exists iff b = 0 reaches the plane Theta = 0 (min of Theta^2 on b = 0 <= 0)
     atol = CLOSED_FORM.atol
-    wrong = [s["label"] for s in summary if s["label"] not in ("Psi_L", "Psi_1", "Psi_2") and (s["min_Theta2_on_b0"] <= atol) != (s["Psi"] >= cv.Psi_L)]
-    ctx.check("Fig. 4: b = 0 reaches Theta = 0 iff |Psi| >= Psi_L (at Psi = 0, 1.56, 1.7, 2.2, 5)", not wrong, value=len(wrong), allowance=0,
-              detail="min over theta of Theta^2 on b = 0: " + ", ".join(f"{s['label']}: {s['min_Theta2_on_b0']:.4g}" for s in summary))
+    wrong = [
+        s["label"]
+        for s in summary
+        if s["label"] not in ("Psi_L", "Psi_1", "Psi_2") and (s["min_Theta2_on_b0"] <= atol) != (s["Psi"] >= cv.Psi_L)
+    ]
+    ctx.check(
+        "Fig. 4: b = 0 reaches Theta = 0 iff |Psi| >= Psi_L (at Psi = 0, 1.56, 1.7, 2.2, 5)",
+        not wrong,
+        value=len(wrong),
+        allowance=0,
+        detail="min over theta of Theta^2 on b = 0: "
+        + ", ".join(f"{s['label']}: {s['min_Theta2_on_b0']:.4g}" for s in summary),
+    )
     sL = by["Psi_L"]
     r = abs(float(Theta2_on_b0(cv.Psi_L, critical.theta_L)))
     allow = float(CLOSED_FORM.allowance(1.0 / math.sin(critical.theta_L)))
-    ctx.check("Fig. 5: at Psi = Psi_L, b = 0 touches Theta = 0 at theta_L (eqs. thetal, psil)", r <= allow, value=r, allowance=allow,
-              detail=f"|Theta^2 on b = 0| at theta_L = {critical.theta_L:.6f}")
-    cell_ok = abs(sL["argmin_theta"] - critical.theta_L) <= dtheta and sL["min_Theta2_on_b0"] >= -atol and len(sL["pieces"]) == 1
-    ctx.check("Fig. 5: at Psi = Psi_L, b = 0 does not cross Theta = 0 (one piece, min Theta^2 >= 0 at theta_L to one grid step)", cell_ok,
-              value=sL["min_Theta2_on_b0"], allowance=-atol,
-              detail=f"argmin theta {sL['argmin_theta']:.6f} vs theta_L {critical.theta_L:.6f} (step {dtheta:.1e}); {len(sL['pieces'])} piece(s)")
+    ctx.check(
+        "Fig. 5: at Psi = Psi_L, b = 0 touches Theta = 0 at theta_L (eqs. thetal, psil)",
+        r <= allow,
+        value=r,
+        allowance=allow,
+        detail=f"|Theta^2 on b = 0| at theta_L = {critical.theta_L:.6f}",
+    )
+    cell_ok = (
+        abs(sL["argmin_theta"] - critical.theta_L) <= dtheta
+        and sL["min_Theta2_on_b0"] >= -atol
+        and len(sL["pieces"]) == 1
+    )
+    ctx.check(
+        "Fig. 5: at Psi = Psi_L, b = 0 does not cross Theta = 0 (one piece, min Theta^2 >= 0 at theta_L to one grid step)",
+        cell_ok,
+        value=sL["min_Theta2_on_b0"],
+        allowance=-atol,
+        detail=f"argmin theta {sL['argmin_theta']:.6f} vs theta_L {critical.theta_L:.6f} (step {dtheta:.1e}); {len(sL['pieces'])} piece(s)",
+    )
     r1 = abs(float(Theta2_on_b0(cv.Psi_1, cv.theta_1)))
     allow1 = float(CLOSED_FORM.allowance(1.0 / math.sin(cv.theta_1)))
-    ctx.check("Fig. 6: at Psi = Psi_1, b = 0 touches the cylinder p = 0 at theta_1, Theta = 0 (eq. psi1)", r1 <= allow1, value=r1, allowance=allow1,
-              detail=f"|Theta^2 on b = 0| at theta_1 = {cv.theta_1:.6f}; min Theta on the computed GB curve {by['Psi_1']['gb_min_Theta']:.2e}")
+    ctx.check(
+        "Fig. 6: at Psi = Psi_1, b = 0 touches the cylinder p = 0 at theta_1, Theta = 0 (eq. psi1)",
+        r1 <= allow1,
+        value=r1,
+        allowance=allow1,
+        detail=f"|Theta^2 on b = 0| at theta_1 = {cv.theta_1:.6f}; min Theta on the computed GB curve {by['Psi_1']['gb_min_Theta']:.2e}",
+    )
     wrong = [s["label"] for s in summary if (s["inconsistent_cells"] == 0) != (s["Psi"] >= cv.Psi_2)]
-    ctx.check("Figs. 4d, 7: the part of the cylinder p < 0 below b = 0 (inconsistent) is empty iff |Psi| >= Psi_2 (eq. psi2)", not wrong, value=len(wrong),
-              allowance=0, detail="inconsistent cells of the (theta, varphi, Theta) grid: " + ", ".join(f"{s['label']}: {s['inconsistent_cells']}" for s in summary))
+    ctx.check(
+        "Figs. 4d, 7: the part of the cylinder p < 0 below b = 0 (inconsistent) is empty iff |Psi| >= Psi_2 (eq. psi2)",
+        not wrong,
+        value=len(wrong),
+        allowance=0,
+        detail="inconsistent cells of the (theta, varphi, Theta) grid: "
+        + ", ".join(f"{s['label']}: {s['inconsistent_cells']}" for s in summary),
+    )
 
 
 # ------------------------------------------------------------------ render ---
@@ -287,11 +399,15 @@ def draw_surfaces(ax, b0: dict, p0: dict, g: dict, Theta_max: float, *, labels: 
         return (np.asarray(t[c])[sel].reshape(ni, nj) for c in ("theta", "varphi", "Theta"))
 
     light = LightSource(azdeg=300, altdeg=70)  # nearly overhead: b = 0 falling and rising in theta shade alike
-    style = dict(alpha=0.55, linewidth=0, antialiased=True, shade=True, lightsource=light, rasterized=True)  # vector text, raster surfaces: small SVG
+    style = dict(
+        alpha=0.55, linewidth=0, antialiased=True, shade=True, lightsource=light, rasterized=True
+    )  # vector text, raster surfaces: small SVG
     p0 = {k: np.asarray(v) for k, v in p0.items()}
     b0 = {k: np.asarray(v) for k, v in b0.items()}
     # painter's order for a view from above: the cylinder below b = 0, then b = 0, then the cylinder above it
-    degenerate = p0["part"].size and np.ptp(p0["theta"]) == 0  # mu = mu_P: p = 0 only on the segment theta_P, varphi = -pi/2
+    degenerate = (
+        p0["part"].size and np.ptp(p0["theta"]) == 0
+    )  # mu = mu_P: p = 0 only on the segment theta_P, varphi = -pi/2
     if degenerate:
         ax.plot(p0["theta"][:2], p0["varphi"][:2], [0, Theta_max], color=P_COLOR, lw=2.0)
     elif p0["part"].size:
@@ -304,7 +420,15 @@ def draw_surfaces(ax, b0: dict, p0: dict, g: dict, Theta_max: float, *, labels: 
     for k in np.unique(g["curve"]):
         sel = g["curve"] == k
         if sel.sum() == 1:
-            ax.scatter(g["theta"][sel], g["varphi"][sel], g["Theta"][sel], color="k", s=14 if labels else 6, zorder=10, depthshade=False)
+            ax.scatter(
+                g["theta"][sel],
+                g["varphi"][sel],
+                g["Theta"][sel],
+                color="k",
+                s=14 if labels else 6,
+                zorder=10,
+                depthshade=False,
+            )
         else:
             ax.plot(g["theta"][sel], g["varphi"][sel], g["Theta"][sel], color="k", lw=1.8 if labels else 1.0, zorder=10)
     ax.set_xlim(0, np.pi / 2)
@@ -329,8 +453,13 @@ def draw_surfaces(ax, b0: dict, p0: dict, g: dict, Theta_max: float, *, labels: 
 
 def _draw_3d(ax, ctx: RenderContext, s: dict, cv: dict) -> None:
     tag = _tag(s["label"])
-    draw_surfaces(ax, ctx.store.read_table(f"b0_surface_{tag}"), ctx.store.read_table(f"p0_surface_{tag}"), ctx.store.read_table(f"gb_{tag}"),
-                  ctx.params["Theta_max"])
+    draw_surfaces(
+        ax,
+        ctx.store.read_table(f"b0_surface_{tag}"),
+        ctx.store.read_table(f"p0_surface_{tag}"),
+        ctx.store.read_table(f"gb_{tag}"),
+        ctx.params["Theta_max"],
+    )
 
 
 def _draw_2d(ax, ctx: RenderContext, s: dict, cv: dict) -> None:
@@ -349,7 +478,9 @@ def _draw_2d(ax, ctx: RenderContext, s: dict, cv: dict) -> None:
     for k, (t, T) in enumerate(s["section_gb"]):
         ax.plot(t, T, "ko", ms=4)
         if s["Psi"] == 0:  # the paper's names of the planar GB points
-            ax.annotate(("$P^+$", "$Q^+$")[k], (t, T), textcoords="offset points", xytext=(-17, 6) if k == 0 else (5, 6))
+            ax.annotate(
+                ("$P^+$", "$Q^+$")[k], (t, T), textcoords="offset points", xytext=(-17, 6) if k == 0 else (5, 6)
+            )
     ticks = [0, np.pi / 4, cv["theta_1"], cv["theta_2"], np.pi / 2]
     names = ["0", "$\\pi/4$", "$\\theta_1$", "$\\theta_2$", "$\\pi/2$"]
     if s["label"] == "Psi_L":
@@ -371,7 +502,11 @@ def render(ctx: RenderContext) -> list:
     cv = ctx.store.read_json("critical_values")
     slices = {s["label"]: s for s in ctx.store.read_json("slices")}
     blocks = []
-    surf_handles = [Patch(color=B_COLOR, alpha=0.6, label="b = 0"), Patch(color=P_COLOR, alpha=0.5, label="p = 0"), Line2D([], [], color="k", lw=1.8, label="GB: b = p = 0")]
+    surf_handles = [
+        Patch(color=B_COLOR, alpha=0.6, label="b = 0"),
+        Patch(color=P_COLOR, alpha=0.5, label="p = 0"),
+        Line2D([], [], color="k", lw=1.8, label="GB: b = p = 0"),
+    ]
     mode_handles = [Patch(color=MODE_COLORS[m], label=m.name.lower()) for m in sorted(MODE_COLORS)]
     for number, panels in FIGURE_PANELS.items():
         n = len(panels)
@@ -394,39 +529,98 @@ def render(ctx: RenderContext) -> list:
             ax.set_title(f"({letter}) {_psi_title(s)}{where}  (case {s['kinematic_case']})")
             data += [f"b0_surface_{tag}.csv", f"p0_surface_{tag}.csv", f"gb_{tag}.csv"]
         has_2d = any(kind == "2d" for _, kind, _ in panels)
-        fig.legend(handles=surf_handles + (mode_handles if has_2d else []), loc="outside lower center", ncol=len(surf_handles) + (4 if has_2d else 0), fontsize=8)
-        blocks.append(ctx.figure(f"fig{number}_surfaces", fig, _caption(number, panels, slices, cv), list(dict.fromkeys(data))))
+        fig.legend(
+            handles=surf_handles + (mode_handles if has_2d else []),
+            loc="outside lower center",
+            ncol=len(surf_handles) + (4 if has_2d else 0),
+            fontsize=8,
+        )
+        blocks.append(
+            ctx.figure(f"fig{number}_surfaces", fig, _caption(number, panels, slices, cv), list(dict.fromkeys(data)))
+        )
     rows_t = []
     for s in slices.values():
-        rows_t.append([s["label"], f"{s['Psi']:.4f}", str(s["kinematic_case"]), str(s["gb_points"]) + (" (tangency point)" if s["gb_tangency_point"] else ""),
-                       "" if s["gb_max_abs_b"] is None else f"{max(s['gb_max_abs_b'], s['gb_max_abs_p']):.1e}",
-                       f"{s['min_Theta2_on_b0']:.4f}", str(s["inconsistent_cells"])])
-    blocks.append(Table(caption=f"Each Psi drawn (alpha = {cv['alpha']:g}, mu = {cv['mu']:g}): the GB points in Theta >= 0 and the larger of max |b|, max |p| on them; "
-                                "the smallest Theta^2 on b = 0 over theta (<= 0: b = 0 reaches Theta = 0, lift-off with no polar motion); the grid cells of the "
-                                "cylinder p < 0 below b = 0 (inconsistent).",
-                        header=["Psi", "value", "case", "GB points", "max |b|, |p| on GB", "min Theta^2 on b = 0", "inconsistent cells"], rows=rows_t,
-                        data=ctx.data("slices.json")))
+        rows_t.append(
+            [
+                s["label"],
+                f"{s['Psi']:.4f}",
+                str(s["kinematic_case"]),
+                str(s["gb_points"]) + (" (tangency point)" if s["gb_tangency_point"] else ""),
+                "" if s["gb_max_abs_b"] is None else f"{max(s['gb_max_abs_b'], s['gb_max_abs_p']):.1e}",
+                f"{s['min_Theta2_on_b0']:.4f}",
+                str(s["inconsistent_cells"]),
+            ]
+        )
+    blocks.append(
+        Table(
+            caption=f"Each Psi drawn (alpha = {cv['alpha']:g}, mu = {cv['mu']:g}): the GB points in Theta >= 0 and the larger of max |b|, max |p| on them; "
+            "the smallest Theta^2 on b = 0 over theta (<= 0: b = 0 reaches Theta = 0, lift-off with no polar motion); the grid cells of the "
+            "cylinder p < 0 below b = 0 (inconsistent).",
+            header=[
+                "Psi",
+                "value",
+                "case",
+                "GB points",
+                "max |b|, |p| on GB",
+                "min Theta^2 on b = 0",
+                "inconsistent cells",
+            ],
+            rows=rows_t,
+            data=ctx.data("slices.json"),
+        )
+    )
     return blocks
 
 
 def _caption(number: int, panels, slices: dict, cv: dict) -> str:
-    common = (f"b = 0 (red, eq. b: independent of varphi) and p = 0 (blue, eq. p: the cylinder over varphi_-+(theta), independent of Theta and Psi) for "
-              f"Theta >= 0, alpha = {cv['alpha']:g}, mu = {cv['mu']:g}; black: the GB manifold b = p = 0 (crosscheck.theory.gb.gb_manifold). Inside the cylinder "
-              "p < 0: indeterminate above b = 0, inconsistent below; outside: lift-off above, slipping below.")
+    common = (
+        f"b = 0 (red, eq. b: independent of varphi) and p = 0 (blue, eq. p: the cylinder over varphi_-+(theta), independent of Theta and Psi) for "
+        f"Theta >= 0, alpha = {cv['alpha']:g}, mu = {cv['mu']:g}; black: the GB manifold b = p = 0 (crosscheck.theory.gb.gb_manifold). Inside the cylinder "
+        "p < 0: indeterminate above b = 0, inconsistent below; outside: lift-off above, slipping below."
+    )
     if number == 3:
-        return (f"Fig. 3 recomputed ({_LABELS[3]}): (a) the section varphi = -pi/2, shaded by mode (slipping yellow, lift-off orange, inconsistent lime, "
-                f"indeterminate purple), where b = 0 and p = 0 meet at P+ and Q+; (b) the 3D picture at Psi = 0, where they meet in one closed curve. " + common)
+        return (
+            f"Fig. 3 recomputed ({_LABELS[3]}): (a) the section varphi = -pi/2, shaded by mode (slipping yellow, lift-off orange, inconsistent lime, "
+            f"indeterminate purple), where b = 0 and p = 0 meet at P+ and Q+; (b) the 3D picture at Psi = 0, where they meet in one closed curve. "
+            + common
+        )
     if number == 4:
         vals = ", ".join(f"({l}) {slices[p]['label']}" for l, _, p in panels)
-        return (f"Fig. 4 recomputed ({_LABELS[4]}): the 3D picture as Psi grows, Psi = {vals}. From Psi_L = {cv['Psi_L']:.4f} b = 0 reaches Theta = 0 "
-                "(lift-off with no polar motion, (b)); at 2.2 it does so inside the cylinder too (indeterminacy at Theta = 0, (c)); at 5 > Psi_2 "
-                "b = 0 lies above the cylinder's interior everywhere: no inconsistent state (d). " + common)
-    name, value, what = {5: ("Psi_L", cv["Psi_L"], "b = 0 touches Theta = 0 at theta_L = 0.6155 (eqs. thetal, psil): lift-off with Theta = 0 from here on"),
-                         6: ("Psi_1", cv["Psi_1"], f"b = 0 touches the cylinder p = 0 at theta_1 = {cv['theta_1']:.4f}, Theta = 0 (eq. psi1): the GB curve reaches Theta = 0 there"),
-                         7: ("Psi_2", cv["Psi_2"], f"b = 0 touches the cylinder at theta_2 = {cv['theta_2']:.4f}, Theta = 0 (eq. psi2): the GB manifold has shrunk to that point "
-                             "and the inconsistent region is empty")}[number]
-    return f"Fig. {number} recomputed ({_LABELS[number]}): Psi = +-{name} = +-{value:.4f}, (a) the section varphi = -pi/2 shaded by mode, (b) the 3D picture. {what}. " + common
+        return (
+            f"Fig. 4 recomputed ({_LABELS[4]}): the 3D picture as Psi grows, Psi = {vals}. From Psi_L = {cv['Psi_L']:.4f} b = 0 reaches Theta = 0 "
+            "(lift-off with no polar motion, (b)); at 2.2 it does so inside the cylinder too (indeterminacy at Theta = 0, (c)); at 5 > Psi_2 "
+            "b = 0 lies above the cylinder's interior everywhere: no inconsistent state (d). " + common
+        )
+    name, value, what = {
+        5: (
+            "Psi_L",
+            cv["Psi_L"],
+            "b = 0 touches Theta = 0 at theta_L = 0.6155 (eqs. thetal, psil): lift-off with Theta = 0 from here on",
+        ),
+        6: (
+            "Psi_1",
+            cv["Psi_1"],
+            f"b = 0 touches the cylinder p = 0 at theta_1 = {cv['theta_1']:.4f}, Theta = 0 (eq. psi1): the GB curve reaches Theta = 0 there",
+        ),
+        7: (
+            "Psi_2",
+            cv["Psi_2"],
+            f"b = 0 touches the cylinder at theta_2 = {cv['theta_2']:.4f}, Theta = 0 (eq. psi2): the GB manifold has shrunk to that point "
+            "and the inconsistent region is empty",
+        ),
+    }[number]
+    return (
+        f"Fig. {number} recomputed ({_LABELS[number]}): Psi = +-{name} = +-{value:.4f}, (a) the section varphi = -pi/2 shaded by mode, (b) the 3D picture. {what}. "
+        + common
+    )
 
 
-SECTION = Section(slug=SLUG, title="The surfaces b = 0 and p = 0 in 3D: Figs. 3-7", paper="Figs. 3-7 (fig:p3s, fig:p3ss, fig:psi1.6119, fig:psi1.9483, fig:psi3.0097); eqs. b, p, psil, psi1, psi2",
-                  params=params, run=run, render=render, requires=("crosscheck.theory.gb",))
+SECTION = Section(
+    slug=SLUG,
+    title="The surfaces b = 0 and p = 0 in 3D: Figs. 3-7",
+    paper="Figs. 3-7 (fig:p3s, fig:p3ss, fig:psi1.6119, fig:psi1.9483, fig:psi3.0097); eqs. b, p, psil, psi1, psi2",
+    params=params,
+    run=run,
+    render=render,
+    requires=("crosscheck.theory.gb",),
+)

@@ -30,7 +30,13 @@ def run(ctx: RunContext) -> None:
     muP, muL = critical.mu_P(a), critical.mu_L(a)
     ctx.store.write_table("mu_curves", {"alpha": a, "mu_P": muP, "mu_L": muL})
     gap = float(np.min(muL - muP))
-    ctx.check("mu_L(alpha) > mu_P(alpha) on every sampled alpha", gap > 0, value=gap, allowance=0.0, detail="min of mu_L - mu_P over the curve")
+    ctx.check(
+        "mu_L(alpha) > mu_P(alpha) on every sampled alpha",
+        gap > 0,
+        value=gap,
+        allowance=0.0,
+        detail="min of mu_L - mu_P over the curve",
+    )
 
 
 def render(ctx: RenderContext) -> list:
@@ -46,17 +52,27 @@ def render(ctx: RenderContext) -> list:
     for k, name in ((1, "I"), (2, "II"), (3, "III")):
         jj, ii = np.nonzero(mech == k)
         if ii.size:
-            ax.text(np.median(alpha[ii]), np.median(mu[jj]), name, ha="center", va="center", fontsize=13, fontweight="bold")
+            ax.text(
+                np.median(alpha[ii]), np.median(mu[jj]), name, ha="center", va="center", fontsize=13, fontweight="bold"
+            )
     ax.axvline(3.0, color="0.4", lw=0.6, ls=":")
     ax.set_xlim(0, alpha[-1] + (alpha[1] - alpha[0]) / 2)
     ax.set_ylim(0, mu[-1] + (mu[1] - mu[0]) / 2)
     ax.set_xlabel("$\\alpha$")
     ax.set_ylabel("$\\mu$")
     ax.legend(loc="upper right", fontsize=8)
-    caption = ("Fig. 9b recomputed: mechanisms I (mu <= mu_P, no paradox), II (mu_P < mu <= mu_L) and III (mu > mu_L) of section 3.4 "
-               "(crosscheck.theory.critical.mechanism) in (alpha, mu). Dotted: the uniform rod, alpha = 3.")
+    caption = (
+        "Fig. 9b recomputed: mechanisms I (mu <= mu_P, no paradox), II (mu_P < mu <= mu_L) and III (mu > mu_L) of section 3.4 "
+        "(crosscheck.theory.critical.mechanism) in (alpha, mu). Dotted: the uniform rod, alpha = 3."
+    )
     return [ctx.figure("fig9b_mechanisms", fig, caption, ["mechanisms.json", "mu_curves.csv"])]
 
 
-SECTION = Section(slug=SLUG, title="Mechanisms I-III in (alpha, mu)", paper="Fig. 9b (fig:alphamumech); eqs. mup2D, mul",
-                  params=params, run=run, render=render)
+SECTION = Section(
+    slug=SLUG,
+    title="Mechanisms I-III in (alpha, mu)",
+    paper="Fig. 9b (fig:alphamumech); eqs. mup2D, mul",
+    params=params,
+    run=run,
+    render=render,
+)

@@ -52,8 +52,17 @@ CASE_MODES = {
 
 def params(quick: bool) -> dict:
     n = 120 if quick else 360
-    return {"mu": 1.4, "alpha": 3.0, "Psi": [0.0, 1.56, 1.7, 2.2, 5.0], "Psi_named": ["Psi_L", "Psi_1", "Psi_2"],
-            "Theta_max": 2.2, "n_theta": n, "n_Theta": n, "n_varphi": n, "n_curve": 1000 if quick else 4000}
+    return {
+        "mu": 1.4,
+        "alpha": 3.0,
+        "Psi": [0.0, 1.56, 1.7, 2.2, 5.0],
+        "Psi_named": ["Psi_L", "Psi_1", "Psi_2"],
+        "Theta_max": 2.2,
+        "n_theta": n,
+        "n_Theta": n,
+        "n_varphi": n,
+        "n_curve": 1000 if quick else 4000,
+    }
 
 
 def _Theta_on_b0(Psi, theta):
@@ -86,13 +95,19 @@ def run(ctx: RunContext) -> None:
         ctx.store.write_grid(f"theta_varphi_{i}", ("theta", theta), ("varphi", varphi), ("mode", m))
         curves[f"Theta_b0_{i}"] = _Theta_on_b0(Psi, theta_curve)
         present = {Mode(k).name for k in np.unique(m)}
-        summary.append({
-            "index": i, "label": label, "Psi": Psi, "kinematic_case": critical.kinematic_case(mu, Psi, alpha),
-            "modes_theta_Theta": sorted(Mode(k).name for k in np.unique(a)),
-            "modes_at_Theta0": sorted(present),
-            "liftoff_at_Theta0": "LIFTOFF" in present, "indeterminate_at_Theta0": "INDETERMINATE" in present,
-            "inconsistent": "INCONSISTENT" in present,
-        })
+        summary.append(
+            {
+                "index": i,
+                "label": label,
+                "Psi": Psi,
+                "kinematic_case": critical.kinematic_case(mu, Psi, alpha),
+                "modes_theta_Theta": sorted(Mode(k).name for k in np.unique(a)),
+                "modes_at_Theta0": sorted(present),
+                "liftoff_at_Theta0": "LIFTOFF" in present,
+                "indeterminate_at_Theta0": "INDETERMINATE" in present,
+                "inconsistent": "INCONSISTENT" in present,
+            }
+        )
         ctx.store.write_json("slices", summary)
     ctx.store.write_table("b_zero", curves)
     th = np.linspace(cv.theta_1, cv.theta_2, 201)
@@ -100,22 +115,37 @@ def run(ctx: RunContext) -> None:
     ctx.store.write_table("p_zero", {"theta": th, "varphi_minus": vm, "varphi_plus": vp})
     Theta_P = float(np.sqrt(1.0 / np.sin(cv.theta_1)))
     Theta_Q = float(np.sqrt(1.0 / np.sin(cv.theta_2)))
-    ctx.store.write_json("gb_points_planar", {"P+": {"theta": cv.theta_1, "Theta": Theta_P}, "Q+": {"theta": cv.theta_2, "Theta": Theta_Q}})
+    ctx.store.write_json(
+        "gb_points_planar",
+        {"P+": {"theta": cv.theta_1, "Theta": Theta_P}, "Q+": {"theta": cv.theta_2, "Theta": Theta_Q}},
+    )
 
     for s in summary:
         if s["Psi"] in PAPER_STATEMENTS:
             key, text = PAPER_STATEMENTS[s["Psi"]]
-            got = {"no_liftoff_at_Theta0": not s["liftoff_at_Theta0"], "liftoff_at_Theta0": s["liftoff_at_Theta0"],
-                   "indeterminate_at_Theta0": s["indeterminate_at_Theta0"], "no_inconsistent": not s["inconsistent"]}[key]
-            ctx.check(f"paper: {text}", got, detail=f"modes at Theta = 0 on the grid: {', '.join(s['modes_at_Theta0'])}")
+            got = {
+                "no_liftoff_at_Theta0": not s["liftoff_at_Theta0"],
+                "liftoff_at_Theta0": s["liftoff_at_Theta0"],
+                "indeterminate_at_Theta0": s["indeterminate_at_Theta0"],
+                "no_inconsistent": not s["inconsistent"],
+            }[key]
+            ctx.check(
+                f"paper: {text}", got, detail=f"modes at Theta = 0 on the grid: {', '.join(s['modes_at_Theta0'])}"
+            )
         want = CASE_MODES.get(s["kinematic_case"])
         if want is not None and s["label"] not in named:  # on a threshold the case boundary is measure-zero on a grid
             ok = all(s[k] == v for k, v in want.items())
-            ctx.check(f"Psi = {s['label']}: kinematic case {s['kinematic_case']} matches the modes on the maps", ok,
-                      detail=", ".join(f"{k}={s[k]}" for k in want))
+            ctx.check(
+                f"Psi = {s['label']}: kinematic case {s['kinematic_case']} matches the modes on the maps",
+                ok,
+                detail=", ".join(f"{k}={s[k]}" for k in want),
+            )
     a0 = ctx.store.read_grid("theta_Theta_0")[2]
-    ctx.check("Psi = 0 (Fig. 3a): all four modes occur in the (theta, Theta) section", len(np.unique(a0)) == 4,
-              detail=", ".join(summary[0]["modes_theta_Theta"]))
+    ctx.check(
+        "Psi = 0 (Fig. 3a): all four modes occur in the (theta, Theta) section",
+        len(np.unique(a0)) == 4,
+        detail=", ".join(summary[0]["modes_theta_Theta"]),
+    )
 
 
 def render(ctx: RenderContext) -> list:
@@ -148,15 +178,29 @@ def render(ctx: RenderContext) -> list:
     planar(ax, zero["index"])
     for name, pt in gbp.items():
         ax.plot(pt["theta"], pt["Theta"], "ko", ms=5)
-        ax.annotate(name, (pt["theta"], pt["Theta"]), textcoords="offset points", xytext=(-16 if name == "P+" else 6, 6), fontsize=10)
-    ax.set_xticks([0, np.pi / 4, cv["theta_1"], cv["theta_2"], np.pi / 2], ["0", "$\\pi/4$", "$\\theta_1$", "$\\theta_2$", "$\\pi/2$"])
+        ax.annotate(
+            name,
+            (pt["theta"], pt["Theta"]),
+            textcoords="offset points",
+            xytext=(-16 if name == "P+" else 6, 6),
+            fontsize=10,
+        )
+    ax.set_xticks(
+        [0, np.pi / 4, cv["theta_1"], cv["theta_2"], np.pi / 2],
+        ["0", "$\\pi/4$", "$\\theta_1$", "$\\theta_2$", "$\\pi/2$"],
+    )
     ax.set_title(f"$\\varphi=-\\pi/2$, $\\Psi$ = 0, $\\alpha$ = {cv['alpha']:g}, $\\mu$ = {cv['mu']:g}")
     mode_legend(ax, extra=lines, loc="upper left", fontsize=7)
-    blocks.append(ctx.figure("fig3a_modes_planar", fig,
-                             f"Fig. 3a recomputed: the four modes of the LCP (slipping yellow, lift-off orange, inconsistent lime, indeterminate purple) "
-                             f"in (theta, Theta) for the planar problem (varphi = -pi/2, Psi = 0). b = 0 (red) and p = 0 (blue) meet at "
-                             f"P+ = ({gbp['P+']['theta']:.4f}, {gbp['P+']['Theta']:.4f}) and Q+ = ({gbp['Q+']['theta']:.4f}, {gbp['Q+']['Theta']:.4f}), Theta = sqrt(csc theta).",
-                             [f"theta_Theta_{zero['index']}.json", "b_zero.csv", "gb_points_planar.json", "critical_values.json"]))
+    blocks.append(
+        ctx.figure(
+            "fig3a_modes_planar",
+            fig,
+            f"Fig. 3a recomputed: the four modes of the LCP (slipping yellow, lift-off orange, inconsistent lime, indeterminate purple) "
+            f"in (theta, Theta) for the planar problem (varphi = -pi/2, Psi = 0). b = 0 (red) and p = 0 (blue) meet at "
+            f"P+ = ({gbp['P+']['theta']:.4f}, {gbp['P+']['Theta']:.4f}) and Q+ = ({gbp['Q+']['theta']:.4f}, {gbp['Q+']['Theta']:.4f}), Theta = sqrt(csc theta).",
+            [f"theta_Theta_{zero['index']}.json", "b_zero.csv", "gb_points_planar.json", "critical_values.json"],
+        )
+    )
 
     def title(s):
         if s["label"].startswith("Psi_"):
@@ -178,11 +222,16 @@ def render(ctx: RenderContext) -> list:
     for ax in axes.flat[n:]:
         ax.set_visible(False)
     mode_legend(axes.flat[0], extra=lines, loc="upper left", fontsize=6)
-    blocks.append(ctx.figure("slices_theta_Theta", fig,
-                             f"Sections at varphi = -pi/2 of the 3D pictures of section 3.3 (Figs. 3b, 4, 5a, 6a, 7a) as Psi grows, alpha = {cv['alpha']:g}, mu = {cv['mu']:g}: "
-                             f"lift-off reaches Theta = 0 from Psi_L = {cv['Psi_L']:.4f}, b = 0 touches p = 0 at theta_1 at Psi_1 = {cv['Psi_1']:.4f} and at theta_2 at "
-                             f"Psi_2 = {cv['Psi_2']:.4f}. Each panel holds for +Psi and -Psi (b depends on Psi^2).",
-                             [f"theta_Theta_{s['index']}.json" for s in slices] + ["b_zero.csv", "slices.json"]))
+    blocks.append(
+        ctx.figure(
+            "slices_theta_Theta",
+            fig,
+            f"Sections at varphi = -pi/2 of the 3D pictures of section 3.3 (Figs. 3b, 4, 5a, 6a, 7a) as Psi grows, alpha = {cv['alpha']:g}, mu = {cv['mu']:g}: "
+            f"lift-off reaches Theta = 0 from Psi_L = {cv['Psi_L']:.4f}, b = 0 touches p = 0 at theta_1 at Psi_1 = {cv['Psi_1']:.4f} and at theta_2 at "
+            f"Psi_2 = {cv['Psi_2']:.4f}. Each panel holds for +Psi and -Psi (b depends on Psi^2).",
+            [f"theta_Theta_{s['index']}.json" for s in slices] + ["b_zero.csv", "slices.json"],
+        )
+    )
 
     pz = ctx.store.read_table("p_zero")
     fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.5 * rows), sharex=True, sharey=True, squeeze=False)
@@ -201,16 +250,42 @@ def render(ctx: RenderContext) -> list:
         ax.set_ylabel("$\\varphi$")
     for ax in axes.flat[n:]:
         ax.set_visible(False)
-    blocks.append(ctx.figure("slices_theta_varphi", fig,
-                             "Sections at Theta = 0 of the same 3D pictures: every mode possible with no polar motion. The p = 0 cylinder of Fig. 3b is the "
-                             "boundary of the lime/purple disc; the lift-off band (orange) appears at Psi_L, enters the disc (indeterminate, purple) past Psi_1 "
-                             "and covers it past Psi_2 (no inconsistent state left).",
-                             [f"theta_varphi_{s['index']}.json" for s in slices] + ["p_zero.csv", "slices.json"]))
-    rows_t = [[s["label"], f"{s['Psi']:.4f}", str(s["kinematic_case"]), ", ".join(m.lower() for m in s["modes_at_Theta0"]), "yes" if s["inconsistent"] else "no"] for s in slices]
-    blocks.append(Table(caption="Modes present at Theta = 0 (any theta, varphi) for each Psi, and the kinematic case of section 3.4 (crosscheck.theory.critical.kinematic_case).",
-                        header=["Psi", "value", "case", "modes at Theta = 0", "inconsistent exists"], rows=rows_t, data=ctx.data("slices.json")))
+    blocks.append(
+        ctx.figure(
+            "slices_theta_varphi",
+            fig,
+            "Sections at Theta = 0 of the same 3D pictures: every mode possible with no polar motion. The p = 0 cylinder of Fig. 3b is the "
+            "boundary of the lime/purple disc; the lift-off band (orange) appears at Psi_L, enters the disc (indeterminate, purple) past Psi_1 "
+            "and covers it past Psi_2 (no inconsistent state left).",
+            [f"theta_varphi_{s['index']}.json" for s in slices] + ["p_zero.csv", "slices.json"],
+        )
+    )
+    rows_t = [
+        [
+            s["label"],
+            f"{s['Psi']:.4f}",
+            str(s["kinematic_case"]),
+            ", ".join(m.lower() for m in s["modes_at_Theta0"]),
+            "yes" if s["inconsistent"] else "no",
+        ]
+        for s in slices
+    ]
+    blocks.append(
+        Table(
+            caption="Modes present at Theta = 0 (any theta, varphi) for each Psi, and the kinematic case of section 3.4 (crosscheck.theory.critical.kinematic_case).",
+            header=["Psi", "value", "case", "modes at Theta = 0", "inconsistent exists"],
+            rows=rows_t,
+            data=ctx.data("slices.json"),
+        )
+    )
     return blocks
 
 
-SECTION = Section(slug=SLUG, title="The four modes: Fig. 3a and the slices of the 3D picture", paper="Figs. 3a, 3b, 4, 5, 6, 7 (section 3.3); eqs. b, p, psil, psi1, psi2",
-                  params=params, run=run, render=render)
+SECTION = Section(
+    slug=SLUG,
+    title="The four modes: Fig. 3a and the slices of the 3D picture",
+    paper="Figs. 3a, 3b, 4, 5, 6, 7 (section 3.3); eqs. b, p, psil, psi1, psi2",
+    params=params,
+    run=run,
+    render=render,
+)

@@ -14,7 +14,20 @@ One name space for the GB analysis, made of two modules:
 here, as the paper treats the slipping flow and its GB points together.
 """
 
-from crosscheck.theory.gb.linearisation import GBType, K, K_from_AB, Quadrant, classify, eigen, f, jacobian, linear_orbits, matrix_A, matrix_B, quadrant
+from crosscheck.theory.gb.linearisation import (
+    GBType,
+    K,
+    K_from_AB,
+    Quadrant,
+    classify,
+    eigen,
+    f,
+    jacobian,
+    linear_orbits,
+    matrix_A,
+    matrix_B,
+    quadrant,
+)
 from crosscheck.theory.gb.manifold import (
     GBCurve,
     b0_coefficients,
@@ -34,8 +47,35 @@ from crosscheck.theory.gb.manifold import (
 from crosscheck.theory.slipping import X_STATE, SlipResult, slip_outcomes, slip_rhs, slip_until_event
 
 __all__ = [
-    "X_STATE", "SlipResult", "slip_outcomes", "slip_rhs", "slip_until_event",
-    "f", "jacobian", "matrix_A", "matrix_B", "K", "K_from_AB", "GBType", "classify", "eigen", "linear_orbits", "Quadrant", "quadrant",
-    "det_K", "det_K_as_printed", "detK0_coefficients", "detK0_residual", "b0_coefficients", "psi_quartic", "psi_quartic_roots",
-    "psi_quartic_eps", "ghastly", "p_dot_on_p0", "GBCurve", "gb_manifold", "gb_theta_gap", "det_K_zeros",
+    "X_STATE",
+    "SlipResult",
+    "slip_outcomes",
+    "slip_rhs",
+    "slip_until_event",
+    "f",
+    "jacobian",
+    "matrix_A",
+    "matrix_B",
+    "K",
+    "K_from_AB",
+    "GBType",
+    "classify",
+    "eigen",
+    "linear_orbits",
+    "Quadrant",
+    "quadrant",
+    "det_K",
+    "det_K_as_printed",
+    "detK0_coefficients",
+    "detK0_residual",
+    "b0_coefficients",
+    "psi_quartic",
+    "psi_quartic_roots",
+    "psi_quartic_eps",
+    "ghastly",
+    "p_dot_on_p0",
+    "GBCurve",
+    "gb_manifold",
+    "gb_theta_gap",
+    "det_K_zeros",
 ]

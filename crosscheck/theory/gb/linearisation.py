@@ -21,7 +21,20 @@ import numpy as np
 from crosscheck.checks import ALPHA, ETA, MU, THETA, check
 from crosscheck.theory.slipping import X_STATE
 
-__all__ = ["f", "jacobian", "matrix_A", "matrix_B", "K", "K_from_AB", "GBType", "classify", "eigen", "linear_orbits", "Quadrant", "quadrant"]
+__all__ = [
+    "f",
+    "jacobian",
+    "matrix_A",
+    "matrix_B",
+    "K",
+    "K_from_AB",
+    "GBType",
+    "classify",
+    "eigen",
+    "linear_orbits",
+    "Quadrant",
+    "quadrant",
+]
 
 
 # --------------------------------------------------------------------------
@@ -44,14 +57,30 @@ def _terms(varphi, Psi, theta, Theta, mu, alpha):
     out = {
         "b": (W * st - 1, zero, W_Psi * st, W_theta * st + W * ct, W_Theta * st),
         "p": (1 + alpha + alpha * st * g, alpha * st * g_varphi, zero, alpha * (ct * g + st * g_theta), zero),
-        "Q1": (alpha * ct * sp * g - (1 + alpha) * mu, alpha * ct * (cp * g + sp * g_varphi), zero,
-               alpha * sp * (-st * g + ct * g_theta), zero),
-        "Q2": (alpha * ct * cp * g, alpha * ct * (-sp * g + cp * g_varphi), zero,
-               alpha * cp * (-st * g + ct * g_theta), zero),
+        "Q1": (
+            alpha * ct * sp * g - (1 + alpha) * mu,
+            alpha * ct * (cp * g + sp * g_varphi),
+            zero,
+            alpha * sp * (-st * g + ct * g_theta),
+            zero,
+        ),
+        "Q2": (
+            alpha * ct * cp * g,
+            alpha * ct * (-sp * g + cp * g_varphi),
+            zero,
+            alpha * cp * (-st * g + ct * g_theta),
+            zero,
+        ),
         "A1": (W * ct * sp, W * ct * cp, W_Psi * ct * sp, (W_theta * ct - W * st) * sp, W_Theta * ct * sp),
         "A2": (W * ct * cp, -W * ct * sp, W_Psi * ct * cp, (W_theta * ct - W * st) * cp, W_Theta * ct * cp),
         "d1": (-alpha * mu * cp / ct, alpha * mu * sp / ct, zero, -alpha * mu * cp * st / ct**2, zero),
-        "d2": (-alpha * mu * st * sp - alpha * ct, -alpha * mu * st * cp, zero, -alpha * mu * ct * sp + alpha * st, zero),
+        "d2": (
+            -alpha * mu * st * sp - alpha * ct,
+            -alpha * mu * st * cp,
+            zero,
+            -alpha * mu * ct * sp + alpha * st,
+            zero,
+        ),
         "c1": (2 * Psi * Theta * st / ct, zero, 2 * Theta * st / ct, 2 * Psi * Theta / ct**2, 2 * Psi * st / ct),
         "c2": (-(Psi**2) * st * ct, zero, -2 * Psi * st * ct, -(Psi**2) * np.cos(2 * theta), zero),
     }
@@ -221,8 +250,13 @@ def classify(K, *, atol: float = 0.0):
     disc = (K[..., 0, 0] - K[..., 1, 1]) ** 2 + 4 * K[..., 0, 1] * K[..., 1, 0]
     out = np.select(
         [np.abs(det) <= atol, det < 0, (disc < 0) & (np.abs(tr) <= atol), disc < 0, tr < 0],
-        [GBType.DEGENERATE, GBType.SADDLE, GBType.DEGENERATE,
-         np.where(tr < 0, GBType.STABLE_FOCUS, GBType.UNSTABLE_FOCUS), GBType.STABLE_NODE],
+        [
+            GBType.DEGENERATE,
+            GBType.SADDLE,
+            GBType.DEGENERATE,
+            np.where(tr < 0, GBType.STABLE_FOCUS, GBType.UNSTABLE_FOCUS),
+            GBType.STABLE_NODE,
+        ],
         GBType.UNSTABLE_NODE,
     ).astype(np.int8)
     return GBType(int(out)) if out.ndim == 0 else out
@@ -250,7 +284,8 @@ def eigen(K) -> tuple[np.ndarray, np.ndarray]:
     root = np.sqrt((a - d) ** 2 + 4 * bb * c + 0j)
     lam = np.stack([(tr + root) / 2, (tr - root) / 2], axis=-1)
     swap = (lam[..., 0].real < lam[..., 1].real) | (
-        (lam[..., 0].real == lam[..., 1].real) & (lam[..., 0].imag < lam[..., 1].imag))
+        (lam[..., 0].real == lam[..., 1].real) & (lam[..., 0].imag < lam[..., 1].imag)
+    )
     lam = np.where(swap[..., None], lam[..., ::-1], lam)
     vecs = []
     for i in range(2):

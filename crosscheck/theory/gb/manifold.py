@@ -31,8 +31,22 @@ MAX_SAMPLES = 100_000
 from crosscheck.theory.critical import Psi_L, theta_12, varphi_pm
 from crosscheck.theory.gb.linearisation import K, classify
 
-__all__ = ["det_K", "det_K_as_printed", "detK0_coefficients", "detK0_residual", "b0_coefficients", "psi_quartic", "psi_quartic_roots",
-           "psi_quartic_eps", "ghastly", "p_dot_on_p0", "GBCurve", "gb_manifold", "gb_theta_gap", "det_K_zeros"]
+__all__ = [
+    "det_K",
+    "det_K_as_printed",
+    "detK0_coefficients",
+    "detK0_residual",
+    "b0_coefficients",
+    "psi_quartic",
+    "psi_quartic_roots",
+    "psi_quartic_eps",
+    "ghastly",
+    "p_dot_on_p0",
+    "GBCurve",
+    "gb_manifold",
+    "gb_theta_gap",
+    "det_K_zeros",
+]
 
 # --------------------------------------------------------------------------
 # det K and the conics of section 4.2 (eqs. detK, detK0, B, Psiquartic)
@@ -61,7 +75,9 @@ def _det_K(theta, varphi, Psi, Theta, eta, mu, alpha, *, printed):
     s = alpha * mu * st * ct * cp
     pre = eta * alpha * (1.0 if printed else mu) * ct**2 * cp**2
     return pre * (Theta * (-2 * tan - (1 + alpha) * cot) + 2 * Psi * s) + eta**2 * (
-        Theta**2 * (2 * (1 + alpha) - 2 * tan**2) + Theta * Psi * s * (4 * tan - 2 * (1 + alpha) * cot) - 2 * Psi**2 * s**2
+        Theta**2 * (2 * (1 + alpha) - 2 * tan**2)
+        + Theta * Psi * s * (4 * tan - 2 * (1 + alpha) * cot)
+        - 2 * Psi**2 * s**2
     )
 
 
@@ -317,9 +333,17 @@ def gb_manifold(mu, Psi, alpha, *, n: int = 201) -> list[GBCurve]:
                 half_vp = np.concatenate([v_minus, v_plus[::-1][1:]])
             Th = Theta_of(half_th)
             Th[0] = Th[-1] = 0.0  # exactly on the gap edge (the cubic's root leaves ~1e-8 from the sqrt)
-            curves.append(GBCurve(mu, alpha, Psi, np.concatenate([half_th, half_th[::-1][1:]]),
-                                  np.concatenate([half_vp, half_vp[::-1][1:]]),
-                                  np.concatenate([Th, -Th[::-1][1:]]), True))
+            curves.append(
+                GBCurve(
+                    mu,
+                    alpha,
+                    Psi,
+                    np.concatenate([half_th, half_th[::-1][1:]]),
+                    np.concatenate([half_vp, half_vp[::-1][1:]]),
+                    np.concatenate([Th, -Th[::-1][1:]]),
+                    True,
+                )
+            )
     return curves
 
 

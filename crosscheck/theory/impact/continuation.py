@@ -76,14 +76,40 @@ def _segment_dict(s) -> dict:
     if isinstance(s, StickSegment):
         r = s.stick
         start = {**s.start.as_dict(), "eta": 0.0, "varphi": None}  # a tip at rest has no slip direction
-        return {"mode": "stick", "t0": s.t0, "t1": s.t1, "start": start, "event": r.outcome.name, "reason": r.reason,
-                "slip_varphi": _fin(r.varphi), "force": list(r.force), "end": r.state.as_dict()}
-    return {"mode": "slip", "t0": s.t0, "t1": s.t1, "start": s.start.as_dict(), "event": s.slip.outcome.name, "reason": s.slip.reason,
-            "impact": None if s.impact is None else {
-                "normal_impulse": s.impact.normal_impulse, "tangential_impulse": s.impact.tangential_impulse.tolist(),
-                "phases": [(p.name, p.P_start, p.P_end) for p in s.impact.phases], "energy_lost": s.impact.energy_lost,
-                "after": {"Theta": s.impact.Theta, "Psi": s.impact.Psi, "eta": s.impact.eta, "varphi": _fin(s.impact.varphi),
-                          "w": s.impact.w}}}
+        return {
+            "mode": "stick",
+            "t0": s.t0,
+            "t1": s.t1,
+            "start": start,
+            "event": r.outcome.name,
+            "reason": r.reason,
+            "slip_varphi": _fin(r.varphi),
+            "force": list(r.force),
+            "end": r.state.as_dict(),
+        }
+    return {
+        "mode": "slip",
+        "t0": s.t0,
+        "t1": s.t1,
+        "start": s.start.as_dict(),
+        "event": s.slip.outcome.name,
+        "reason": s.slip.reason,
+        "impact": None
+        if s.impact is None
+        else {
+            "normal_impulse": s.impact.normal_impulse,
+            "tangential_impulse": s.impact.tangential_impulse.tolist(),
+            "phases": [(p.name, p.P_start, p.P_end) for p in s.impact.phases],
+            "energy_lost": s.impact.energy_lost,
+            "after": {
+                "Theta": s.impact.Theta,
+                "Psi": s.impact.Psi,
+                "eta": s.impact.eta,
+                "varphi": _fin(s.impact.varphi),
+                "w": s.impact.w,
+            },
+        },
+    }
 
 
 @dataclass(frozen=True, eq=False)
@@ -100,10 +126,17 @@ class HybridResult:
         return [s.impact for s in self.segments if isinstance(s, Segment) and s.impact is not None]
 
     def as_dict(self) -> dict:
-        return {"outcome": self.outcome.name, "time": self.time, "reason": self.reason, "segments": [_segment_dict(s) for s in self.segments]}
+        return {
+            "outcome": self.outcome.name,
+            "time": self.time,
+            "reason": self.reason,
+            "segments": [_segment_dict(s) for s in self.segments],
+        }
 
 
-def run(state: SlipState, mu: float, alpha: float, *, horizon: float, restitution: float = 0.0, max_impacts: int = 8) -> HybridResult:
+def run(
+    state: SlipState, mu: float, alpha: float, *, horizon: float, restitution: float = 0.0, max_impacts: int = 8
+) -> HybridResult:
     """The hybrid rigid model from a slipping (or, with eta = 0, resting) ``state`` up to ``horizon`` (scaled time).
 
     At most ``max_impacts`` impacts without collision: the next jam ends the run (JAM, "more than ... impacts").
@@ -129,7 +162,9 @@ def run(state: SlipState, mu: float, alpha: float, *, horizon: float, restitutio
             t += r.time
             if imp.w > 1e-12 * (1.0 + abs(imp.w)):
                 return HybridResult(tuple(segments), Outcome.LIFTOFF, t, "impact: rebound (w > 0)")
-            at = SlipState(theta=r.state.theta, varphi=r.state.varphi, Theta=imp.Theta, Psi=imp.Psi, eta=0.0, psi=r.state.psi)
+            at = SlipState(
+                theta=r.state.theta, varphi=r.state.varphi, Theta=imp.Theta, Psi=imp.Psi, eta=0.0, psi=r.state.psi
+            )
             why = "impact"
         elif r.outcome is Outcome.STICK:
             segments.append(Segment(t, s, r))
@@ -141,7 +176,9 @@ def run(state: SlipState, mu: float, alpha: float, *, horizon: float, restitutio
         # the tip at rest: stick, lift off or slip again
         rest = at_rest(at, mu, alpha)
         if rest.mode == "liftoff":
-            return HybridResult(tuple(segments), Outcome.LIFTOFF, t, f"{why}: at rest with b > 0 (sticking would need F_n < 0)")
+            return HybridResult(
+                tuple(segments), Outcome.LIFTOFF, t, f"{why}: at rest with b > 0 (sticking would need F_n < 0)"
+            )
         if rest.mode == "inconsistent":
             return HybridResult(tuple(segments), Outcome.JAM, t, f"{why}: at rest with no consistent mode")
         varphi = rest.varphi
@@ -155,7 +192,9 @@ def run(state: SlipState, mu: float, alpha: float, *, horizon: float, restitutio
                 return HybridResult(tuple(segments), k.outcome, t, f"stick: {k.reason}")
             at, varphi = k.state, k.varphi
         if not -math.pi < varphi <= 0.0:
-            return HybridResult(tuple(segments), Outcome.SLIP, t, "slip from rest towards the centre: varphi = pi/2 is outside (-pi, 0]")
+            return HybridResult(
+                tuple(segments), Outcome.SLIP, t, "slip from rest towards the centre: varphi = pi/2 is outside (-pi, 0]"
+            )
         if horizon - t <= 0.0:
             return HybridResult(tuple(segments), Outcome.SLIP, t, "t_max")
         s = SlipState(theta=at.theta, varphi=varphi, Theta=at.Theta, Psi=at.Psi, eta=SLIP_ONSET_SPEED, psi=at.psi)

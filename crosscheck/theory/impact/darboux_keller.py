@@ -235,17 +235,23 @@ def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.
     u0 = J @ v0
     p0 = _p_of(G, u0[:2], mu)
     if boundary and not abs(p0) <= GB_REACHED.atol:
-        raise ValueError(f"p must be in [-{GB_REACHED.atol:g}, {GB_REACHED.atol:g}] for an impact on the boundary p = 0; got p = {p0!r}")
+        raise ValueError(
+            f"p must be in [-{GB_REACHED.atol:g}, {GB_REACHED.atol:g}] for an impact on the boundary p = 0; got p = {p0!r}"
+        )
     if not boundary and p0 > P_TOLERANCE:
-        raise ValueError(f"p must be <= {P_TOLERANCE:g} (at or past the paradox boundary) for an impact without collision; "
-                         f"got p = {p0!r} at this state: it can slip (a state known to be on p = 0, a GB arrival, takes boundary=True)")
+        raise ValueError(
+            f"p must be <= {P_TOLERANCE:g} (at or past the paradox boundary) for an impact without collision; "
+            f"got p = {p0!r} at this state: it can slip (a state known to be on p = 0, a GB arrival, takes boundary=True)"
+        )
     on_boundary = boundary or abs(p0) <= P_TOLERANCE
     scale = 1.0 + float(np.linalg.norm(u0))
     stop = 1e-12 * scale
     f_s = -np.linalg.solve(G[:2, :2], G[:2, 2])
     if not np.linalg.norm(f_s) < mu:
         # unreachable for the slender rod (module docstring): an impulse starts only where mu > |f_s|
-        raise RuntimeError(f"the sticking impulse |f_s| = {np.linalg.norm(f_s)!r} is outside the cone mu = {mu!r} at a state with p <= 0")
+        raise RuntimeError(
+            f"the sticking impulse |f_s| = {np.linalg.norm(f_s)!r} is outside the cone mu = {mu!r} at a state with p <= 0"
+        )
     S = float(G[2, 2] + G[2, :2] @ f_s)
     # On the boundary the slip's du_n/dP is measured from the start's p_0: the limit p_0 -> 0- (module docstring).
     shift = p0 if on_boundary else 0.0
@@ -266,7 +272,9 @@ def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.
     y = np.concatenate([u0, [0.0, 0.0]])  # (u_x, u_y, u_n, L_x, L_y); u_n measured from the start's 0
     y[2] = 0.0
     # 1. slipping compression, to the slip stop (p never increases along the slip: the compression cannot end before it)
-    sol = solve_ivp(slip_rhs, (0.0, 1e3 * scale), y, method="DOP853", rtol=_RTOL, atol=_ATOL * scale, events=[slip_stop])
+    sol = solve_ivp(
+        slip_rhs, (0.0, 1e3 * scale), y, method="DOP853", rtol=_RTOL, atol=_ATOL * scale, events=[slip_stop]
+    )
     if sol.status != 1:
         raise RuntimeError(f"impulse integration failed: {sol.message or 'the slip did not stop within P = 1e3 scale'}")
     P_s, y = float(sol.t[-1]), sol.y[:, -1].copy()
@@ -285,7 +293,21 @@ def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.
     eta1 = float(np.hypot(u1[0], u1[1]))
     stuck = eta1 <= 10 * stop
     energy = 0.5 * float(v0 @ M @ v0 - v1 @ M @ v1)
-    return Impact(state=state, mu=mu, alpha=alpha, restitution=e, Theta=float(d["Theta"]), Psi=float(d["Psi"]), eta=0.0 if stuck else eta1,
-                  varphi=None if stuck else float(d["varphi"]), w=float(y[2]) if on_boundary else float(u1[2]), normal_impulse=float(P),
-                  compression_impulse=float(P_c), tangential_impulse=L[:2].copy(), phases=tuple(phases), energy_lost=energy, v_before=v0,
-                  v_after=v1)
+    return Impact(
+        state=state,
+        mu=mu,
+        alpha=alpha,
+        restitution=e,
+        Theta=float(d["Theta"]),
+        Psi=float(d["Psi"]),
+        eta=0.0 if stuck else eta1,
+        varphi=None if stuck else float(d["varphi"]),
+        w=float(y[2]) if on_boundary else float(u1[2]),
+        normal_impulse=float(P),
+        compression_impulse=float(P_c),
+        tangential_impulse=L[:2].copy(),
+        phases=tuple(phases),
+        energy_lost=energy,
+        v_before=v0,
+        v_after=v1,
+    )

@@ -20,7 +20,19 @@ from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
 from crosscheck.theory.compliant_limit import fast_limit, growth_rates, indeterminate_boundary, time_corrections
 
-__all__ = ["slope_bound", "LimitRun", "limit_run", "impact_tip_velocity", "post_errors", "jam_state_past", "inconsistent_study", "indeterminate_study", "jam_study", "fit_log_slope", "fit_power"]
+__all__ = [
+    "slope_bound",
+    "LimitRun",
+    "limit_run",
+    "impact_tip_velocity",
+    "post_errors",
+    "jam_state_past",
+    "inconsistent_study",
+    "indeterminate_study",
+    "jam_study",
+    "fit_log_slope",
+    "fit_power",
+]
 
 
 def fit_log_slope(eps, t_over_eps) -> tuple[float, float]:
@@ -75,15 +87,27 @@ class LimitRun:
 
     @property
     def outcome(self) -> str:
-        """"impact" (the slip stopped before the contact ended), "liftoff" (the contact ended while slipping) or "open"."""
+        """ "impact" (the slip stopped before the contact ended), "liftoff" (the contact ended while slipping) or "open"."""
         if math.isfinite(self.t_stop) and (not math.isfinite(self.t_end) or self.t_stop <= self.t_end):
             return "impact"
         return "liftoff" if math.isfinite(self.t_end) else "open"
 
     def as_dict(self) -> dict:
-        post = None if self.post is None else {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in self.post.items()}
-        return {"eps": self.eps, "xi": self.xi, "t_stop": self.t_stop, "t_end": self.t_end, "kinds": list(self.kinds), "post": post,
-                "outcome": self.outcome, "seconds": self.seconds}
+        post = (
+            None
+            if self.post is None
+            else {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in self.post.items()}
+        )
+        return {
+            "eps": self.eps,
+            "xi": self.xi,
+            "t_stop": self.t_stop,
+            "t_end": self.t_end,
+            "kinds": list(self.kinds),
+            "post": post,
+            "outcome": self.outcome,
+            "seconds": self.seconds,
+        }
 
 
 def _tip_velocity_of(d: dict) -> np.ndarray:
@@ -91,23 +115,42 @@ def _tip_velocity_of(d: dict) -> np.ndarray:
     return np.array([d["eta"] * math.cos(beta), d["eta"] * math.sin(beta), d["w"]])
 
 
-def limit_run(state: SlipState, mu: float, alpha: float, *, eps: float, xi: float, horizon: float, gap: float = 0.0, gap_rate: float = 0.0,
-              stop_at=("contact_end",)) -> LimitRun:
+def limit_run(
+    state: SlipState,
+    mu: float,
+    alpha: float,
+    *,
+    eps: float,
+    xi: float,
+    horizon: float,
+    gap: float = 0.0,
+    gap_rate: float = 0.0,
+    stop_at=("contact_end",),
+) -> LimitRun:
     """The compliant rod (``crosscheck.engines.compliant.integrate``, Kelvin-Voigt) from ``state`` until its first contact end (or ``horizon``)."""
     import time
 
     from crosscheck.engines.compliant import integrate
 
     t0 = time.perf_counter()
-    tr = integrate(Rod.scaled(alpha), state, mu, horizon=horizon, eps=eps, xi=xi, gap=gap, gap_rate=gap_rate, stop_at=set(stop_at))
+    tr = integrate(
+        Rod.scaled(alpha), state, mu, horizon=horizon, eps=eps, xi=xi, gap=gap, gap_rate=gap_rate, stop_at=set(stop_at)
+    )
     seconds = time.perf_counter() - t0
     end = next((e for e in tr.events if e.kind == "contact_end"), None)
     post = None
     if end is not None:
         post = dict(tr.state_at(end.time))
         post["u"] = _tip_velocity_of(post)
-    return LimitRun(eps=float(eps), xi=float(xi), t_stop=float(tr.slip_stop_time), t_end=math.nan if end is None else float(end.time),
-                    kinds=tuple(e.kind for e in tr.events), post=post, seconds=seconds)
+    return LimitRun(
+        eps=float(eps),
+        xi=float(xi),
+        t_stop=float(tr.slip_stop_time),
+        t_end=math.nan if end is None else float(end.time),
+        kinds=tuple(e.kind for e in tr.events),
+        post=post,
+        seconds=seconds,
+    )
 
 
 def impact_tip_velocity(imp: Impact) -> np.ndarray:
@@ -122,7 +165,12 @@ def post_errors(run: LimitRun, imp: Impact) -> dict:
     if run.post is None:
         return {"Theta": math.nan, "Psi": math.nan, "u": math.nan, "w": math.nan, "max": math.nan}
     du = run.post["u"] - impact_tip_velocity(imp)
-    e = {"Theta": abs(run.post["Theta"] - imp.Theta), "Psi": abs(run.post["Psi"] - imp.Psi), "u": float(np.linalg.norm(du[:2])), "w": abs(du[2])}
+    e = {
+        "Theta": abs(run.post["Theta"] - imp.Theta),
+        "Psi": abs(run.post["Psi"] - imp.Psi),
+        "u": float(np.linalg.norm(du[:2])),
+        "w": abs(du[2]),
+    }
     e["max"] = max(e.values())
     return e
 
@@ -130,6 +178,7 @@ def post_errors(run: LimitRun, imp: Impact) -> dict:
 def jam_state_past(state: SlipState, mu: float, alpha: float, *, depth: float = 1e-9) -> SlipState:
     """``state`` (at or near p = 0) moved in theta to eq. p = -depth: the limit p -> 0- of the rigid impulse (``crosscheck.theory.impact.darboux_keller``
     needs p <= 0; at a GB point the slipping flow stops at a distance 1e-7 from b = p = 0)."""
+
     def p_of(th):
         return float(analytic.p(th, state.varphi, mu, alpha))
 
@@ -162,37 +211,92 @@ def inconsistent_study(state: SlipState, mu: float, alpha: float, *, xi: float, 
     C1, C2 = time_corrections(fast)
     rows = []
     for eps in eps_values:
-        r = limit_run(state, mu, alpha, eps=eps, xi=xi, horizon=min(5.0, eps * (fast.coefficient * math.log(1 / eps) + abs(fast.offset) + 100.0)))
+        r = limit_run(
+            state,
+            mu,
+            alpha,
+            eps=eps,
+            xi=xi,
+            horizon=min(5.0, eps * (fast.coefficient * math.log(1 / eps) + abs(fast.offset) + 100.0)),
+        )
         T = r.t_stop / eps
-        rows.append({**r.as_dict(), "T": T, "predicted": fast.coefficient * math.log(1 / eps) + fast.offset, "correction": C1 * eps * T + C2 * eps * T * T,
-                     "errors": post_errors(r, fast.impact)})
+        rows.append(
+            {
+                **r.as_dict(),
+                "T": T,
+                "predicted": fast.coefficient * math.log(1 / eps) + fast.offset,
+                "correction": C1 * eps * T + C2 * eps * T * T,
+                "errors": post_errors(r, fast.impact),
+            }
+        )
     eps_a = np.array([x["eps"] for x in rows])
     slope, intercept = fit_log_slope(eps_a, [x["T"] for x in rows])
     errs = [x["errors"]["max"] for x in rows]
     # the impulse ends at t_end = O(eps ln(1/eps)) after the rigid one: the O(1) dynamics drift by that much
     t_end = [x["t_end"] for x in rows]
-    return {"state": state.as_dict(), "mu": mu, "alpha": alpha, "xi": xi, "fast": fast.as_dict(), "C1": C1, "C2": C2, "rows": rows,
-            "slope": slope, "intercept": intercept, "post_order": fit_power(eps_a, errs) if len(rows) > 1 else math.nan,
-            "t_end_order": fit_power(eps_a, t_end) if len(rows) > 1 else math.nan}
+    return {
+        "state": state.as_dict(),
+        "mu": mu,
+        "alpha": alpha,
+        "xi": xi,
+        "fast": fast.as_dict(),
+        "C1": C1,
+        "C2": C2,
+        "rows": rows,
+        "slope": slope,
+        "intercept": intercept,
+        "post_order": fit_power(eps_a, errs) if len(rows) > 1 else math.nan,
+        "t_end_order": fit_power(eps_a, t_end) if len(rows) > 1 else math.nan,
+    }
 
 
-def indeterminate_study(state: SlipState, mu: float, alpha: float, *, xi: float, eps: float, D0: float, offsets, horizon: float = 1.0) -> dict:
+def indeterminate_study(
+    state: SlipState, mu: float, alpha: float, *, xi: float, eps: float, D0: float, offsets, horizon: float = 1.0
+) -> dict:
     """Starts a relative distance ``offsets`` (in gap rate) from ``indeterminate_boundary``: positive offsets move outwards (predicted
     lift-off), negative inwards (predicted impact)."""
     gap, rate = indeterminate_boundary(state, mu, alpha, xi=xi, eps=eps, D0=D0)
-    p, b = float(analytic.p(state.theta, state.varphi, mu, alpha)), float(analytic.b(state.Psi, state.Theta, state.theta))
+    p, b = (
+        float(analytic.p(state.theta, state.varphi, mu, alpha)),
+        float(analytic.b(state.Psi, state.Theta, state.theta)),
+    )
     lam, lam2 = growth_rates(p, xi)
     scale = abs(rate)
     rows = []
     for off in offsets:
         gr = rate + off * scale
-        r = limit_run(state, mu, alpha, eps=eps, xi=xi, horizon=horizon, gap=gap, gap_rate=gr, stop_at=("contact_end", "slip_stop"))
+        r = limit_run(
+            state,
+            mu,
+            alpha,
+            eps=eps,
+            xi=xi,
+            horizon=horizon,
+            gap=gap,
+            gap_rate=gr,
+            stop_at=("contact_end", "slip_stop"),
+        )
         rows.append({"offset": off, "gap_rate": gr, "predicted": "liftoff" if off > 0 else "impact", **r.as_dict()})
-    return {"state": state.as_dict(), "mu": mu, "alpha": alpha, "xi": xi, "eps": eps, "D0": D0, "p": p, "b": b, "lambda": lam, "lambda_2": lam2,
-            "gap": gap, "gap_rate_boundary": rate, "rows": rows}
+    return {
+        "state": state.as_dict(),
+        "mu": mu,
+        "alpha": alpha,
+        "xi": xi,
+        "eps": eps,
+        "D0": D0,
+        "p": p,
+        "b": b,
+        "lambda": lam,
+        "lambda_2": lam2,
+        "gap": gap,
+        "gap_rate_boundary": rate,
+        "rows": rows,
+    }
 
 
-def jam_study(state: SlipState, mu: float, alpha: float, *, xi: float, eps_values, t_max: float = 2.0, after: float = 0.3) -> dict:
+def jam_study(
+    state: SlipState, mu: float, alpha: float, *, xi: float, eps_values, t_max: float = 2.0, after: float = 0.3
+) -> dict:
     """A state that slips into p = 0 with b < 0 (Corollary 4.2) or into a GB point: the compliant slip stop against the rigid jam time
     and the post-event state against the limit impact, as eps -> 0.
 
@@ -204,10 +308,14 @@ def jam_study(state: SlipState, mu: float, alpha: float, *, xi: float, eps_value
     """
     r = slip_until_event(state, mu, alpha, t_max=t_max)
     if r.outcome not in (Outcome.JAM, Outcome.GB):
-        raise ValueError(f"state must slip into a jam or a GB point; its first event is {r.outcome.name} at t = {r.time:.6g}")
+        raise ValueError(
+            f"state must slip into a jam or a GB point; its first event is {r.outcome.name} at t = {r.time:.6g}"
+        )
     jam = jam_state_past(r.state, mu, alpha)
     if r.outcome == Outcome.JAM:
-        fast = fast_limit(r.state if float(analytic.p(r.state.theta, r.state.varphi, mu, alpha)) <= 1e-12 else jam, mu, alpha, xi=xi)
+        fast = fast_limit(
+            r.state if float(analytic.p(r.state.theta, r.state.varphi, mu, alpha)) <= 1e-12 else jam, mu, alpha, xi=xi
+        )
         imp, e, fd = fast.impact, fast.restitution, fast.as_dict()
     else:
         imp, e, fd = impact(jam, mu, alpha, restitution=0.0), 0.0, None
@@ -219,8 +327,29 @@ def jam_study(state: SlipState, mu: float, alpha: float, *, xi: float, eps_value
     lag = np.array([x["lag"] for x in rows])
     err = np.array([x["errors"]["max"] for x in rows])
     ok = np.isfinite(lag) & (lag != 0)
-    return {"state": state.as_dict(), "mu": mu, "alpha": alpha, "xi": xi, "event": r.outcome.name, "t_jam": r.time, "jam_state": r.state.as_dict(),
-            "b": r.b, "p": r.p, "restitution": e, "fast": fd,
-            "iwc": {"Theta": imp.Theta, "Psi": imp.Psi, "eta": imp.eta, "varphi": imp.varphi, "w": imp.w, "u": impact_tip_velocity(imp).tolist()},
-            "rows": rows, "lag_order": fit_power(eps_a[ok], lag[ok]) if ok.sum() > 1 else math.nan,
-            "post_order": fit_power(eps_a[np.isfinite(err)], err[np.isfinite(err)]) if np.isfinite(err).sum() > 1 else math.nan}
+    return {
+        "state": state.as_dict(),
+        "mu": mu,
+        "alpha": alpha,
+        "xi": xi,
+        "event": r.outcome.name,
+        "t_jam": r.time,
+        "jam_state": r.state.as_dict(),
+        "b": r.b,
+        "p": r.p,
+        "restitution": e,
+        "fast": fd,
+        "iwc": {
+            "Theta": imp.Theta,
+            "Psi": imp.Psi,
+            "eta": imp.eta,
+            "varphi": imp.varphi,
+            "w": imp.w,
+            "u": impact_tip_velocity(imp).tolist(),
+        },
+        "rows": rows,
+        "lag_order": fit_power(eps_a[ok], lag[ok]) if ok.sum() > 1 else math.nan,
+        "post_order": fit_power(eps_a[np.isfinite(err)], err[np.isfinite(err)])
+        if np.isfinite(err).sum() > 1
+        else math.nan,
+    }

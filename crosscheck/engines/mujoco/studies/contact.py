@@ -57,11 +57,15 @@ def capsule_tip_acceleration(rod: Rod, psi, theta, psi_dot, theta_dot, force, of
     psi, theta, offset = (np.asarray(x, dtype=float) for x in (psi, theta, offset))
     extra = offset * (f[..., 1] * np.cos(psi) - f[..., 0] * np.sin(psi)) / rod.inertia
     l = rod.length
-    lever = np.stack(np.broadcast_arrays(-l * np.sin(theta) * np.sin(psi), l * np.sin(theta) * np.cos(psi), -l * np.cos(theta)), -1)
+    lever = np.stack(
+        np.broadcast_arrays(-l * np.sin(theta) * np.sin(psi), l * np.sin(theta) * np.cos(psi), -l * np.cos(theta)), -1
+    )
     return a + extra[..., None] * lever
 
 
-def contact_acceleration(rod: Rod, n: int, rng: np.random.Generator, *, radius: float = 0.02, depth: float = 1e-4) -> dict[str, np.ndarray]:
+def contact_acceleration(
+    rod: Rod, n: int, rng: np.random.Generator, *, radius: float = 0.02, depth: float = 1e-4
+) -> dict[str, np.ndarray]:
     """MuJoCo's tip acceleration with an active contact against eq. linode2 at the contact point.
 
     n random slipping states (psi random too), the capsule ``depth`` (scaled)
@@ -73,7 +77,14 @@ def contact_acceleration(rod: Rod, n: int, rng: np.random.Generator, *, radius: 
     got, want, scale = np.empty((n, 3)), np.empty((n, 3)), np.empty(n)
     states = {k: np.empty(n) for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi", "mu")}
     for i in range(n):
-        s = SlipState(theta=rng.uniform(0.1, 1.45), varphi=-rng.uniform(0.05, 3.1), Theta=0.7 * rng.normal(), Psi=rng.normal(), eta=rng.uniform(0.2, 3), psi=rng.uniform(-3, 3))
+        s = SlipState(
+            theta=rng.uniform(0.1, 1.45),
+            varphi=-rng.uniform(0.05, 3.1),
+            Theta=0.7 * rng.normal(),
+            Psi=rng.normal(),
+            eta=rng.uniform(0.2, 3),
+            psi=rng.uniform(-3, 3),
+        )
         mu = rng.uniform(0.0, 2.0)
         model = build_model(rod, mu, Options(radius=radius, solver_tolerance=0.0))
         data = mujoco.MjData(model)
@@ -94,7 +105,9 @@ def contact_acceleration(rod: Rod, n: int, rng: np.random.Generator, *, radius: 
     return {"got": got, "want": want, "scale": scale, **states}
 
 
-def friction_skew(states: Sequence[SlipState], mu, *, alpha: float = 3.0, duration: float = 0.1, **options) -> dict[str, np.ndarray]:
+def friction_skew(
+    states: Sequence[SlipState], mu, *, alpha: float = 3.0, duration: float = 0.1, **options
+) -> dict[str, np.ndarray]:
     """MuJoCo's friction force against the rigid Coulomb law, over the first ``duration`` of each run.
 
     For every row with a normal force, the friction force F_t (world frame,
@@ -123,7 +136,10 @@ def friction_skew(states: Sequence[SlipState], mu, *, alpha: float = 3.0, durati
     states = list(states)
     mu = np.broadcast_to(check("mu", mu, MU), (len(states),)).astype(float)
     nstep = n_steps(float(check("duration", duration, POSITIVE)), opts.timestep)
-    out = {k: np.full(len(states), np.nan) for k in ("skew", "saturation", "p", "p_eff", "force", "rigid_force", "rigid_force_eff")}
+    out = {
+        k: np.full(len(states), np.nan)
+        for k in ("skew", "saturation", "p", "p_eff", "force", "rigid_force", "rigid_force_eff")
+    }
     for i, (s, m) in enumerate(zip(states, mu)):
         model = build_model(rod, m, opts)
         layout = SensorLayout.from_model(model)

@@ -50,8 +50,20 @@ from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["BANDS", "MU_BINS", "VARIANTS", "random_states", "skew_of_record", "measured", "predicted", "ablation", "study", "option_effects",
-           "REMOVES", "REDUCES"]
+__all__ = [
+    "BANDS",
+    "MU_BINS",
+    "VARIANTS",
+    "random_states",
+    "skew_of_record",
+    "measured",
+    "predicted",
+    "ablation",
+    "study",
+    "option_effects",
+    "REMOVES",
+    "REDUCES",
+]
 
 #: What a MuJoCo option does to the skew, from the per-band medians against the default's: it removes it when every
 #: band falls below REMOVES of the default, reduces it below REDUCES, and leaves it otherwise.
@@ -75,8 +87,16 @@ VARIANTS = {
 
 def random_states(n: int, rng: np.random.Generator) -> tuple[list[SlipState], np.ndarray]:
     """n random slipping states (as ``mujoco_contact.contact_acceleration`` draws them, psi = 0) and mu ~ U(0.3, 2)."""
-    states = [SlipState(theta=rng.uniform(0.1, 1.45), varphi=-rng.uniform(0.05, 3.1), Theta=0.7 * rng.normal(), Psi=rng.normal(),
-                        eta=rng.uniform(0.2, 3.0)) for _ in range(n)]
+    states = [
+        SlipState(
+            theta=rng.uniform(0.1, 1.45),
+            varphi=-rng.uniform(0.05, 3.1),
+            Theta=0.7 * rng.normal(),
+            Psi=rng.normal(),
+            eta=rng.uniform(0.2, 3.0),
+        )
+        for _ in range(n)
+    ]
     return states, rng.uniform(0.3, 2.0, n)
 
 
@@ -93,8 +113,15 @@ def skew_of_record(rec: Record, mu: float) -> tuple[float, float]:
     return float(np.sum(w * ang) / w.sum()), float(np.sum(np.hypot(Ft[:, 0], Ft[:, 1])) / (mu * w.sum()))
 
 
-def measured(states: Sequence[SlipState], mu, *, alpha: float = 3.0, duration: float = 0.1, model_options: dict | None = None,
-             **options) -> dict[str, np.ndarray]:
+def measured(
+    states: Sequence[SlipState],
+    mu,
+    *,
+    alpha: float = 3.0,
+    duration: float = 0.1,
+    model_options: dict | None = None,
+    **options,
+) -> dict[str, np.ndarray]:
     """MuJoCo's skew and saturation per state (B,), with ``model_options`` set on ``model.opt`` after compiling."""
     opts = Options.from_kwargs(options)
     rod = Rod.scaled(float(check("alpha", alpha, ALPHA)))
@@ -111,11 +138,15 @@ def measured(states: Sequence[SlipState], mu, *, alpha: float = 3.0, duration: f
         layout = SensorLayout.from_model(model)
         data = mujoco.MjData(model) if data is None else data
         _, sd = rollout.rollout(model, data, initial_state(model, rod, s, opts.radius, data=data)[None], nstep=nstep)
-        out["skew"][i], out["saturation"][i] = skew_of_record(record_from_sensordata(sd[0], layout, rod, opts.radius), m)
+        out["skew"][i], out["saturation"][i] = skew_of_record(
+            record_from_sensordata(sd[0], layout, rod, opts.radius), m
+        )
     return out
 
 
-def predicted(states: Sequence[SlipState], mu, *, alpha: float = 3.0, duration: float = 0.1, **options) -> dict[str, np.ndarray]:
+def predicted(
+    states: Sequence[SlipState], mu, *, alpha: float = 3.0, duration: float = 0.1, **options
+) -> dict[str, np.ndarray]:
     """The continuous-time law's skew per state (B,): ``skew`` from its run (as ``measured``); on its rows on the
     cone's surface, ``closed`` the force-weighted mean of angle(u, u + a_t / B) (a_t under the full contact force,
     u and a_t at MuJoCo's contact point) and ``solved`` the same mean of the solved force's angle from -u;
@@ -179,8 +210,13 @@ def ablation(rod: Rod, state: SlipState, mu: float, **options) -> dict[str, floa
         f = solve_cone(A + R, gg, mu)
         return float(np.angle(np.exp(1j * (math.atan2(f[2], f[1]) - math.atan2(-pb.vel[2], -pb.vel[1])))))
 
-    return {"law": angle(pb.A, g), "decoupled": angle(A_dec, g), "isotropic": angle(A_iso, g), "no free acceleration": angle(pb.A, g_free),
-            "neither": angle(A_iso, g_free)}
+    return {
+        "law": angle(pb.A, g),
+        "decoupled": angle(A_dec, g),
+        "isotropic": angle(A_iso, g),
+        "no free acceleration": angle(pb.A, g_free),
+        "neither": angle(A_iso, g_free),
+    }
 
 
 def _medians(x: np.ndarray, key: np.ndarray, bins) -> list[float]:
@@ -191,8 +227,17 @@ def _medians(x: np.ndarray, key: np.ndarray, bins) -> list[float]:
     return out
 
 
-def study(n: int, rng: np.random.Generator, *, alpha: float = 3.0, duration: float = 0.1, variants: Mapping[str, dict] | Sequence[str] = tuple(VARIANTS),
-          friction_timeconsts: Sequence[float] = (0.03, 0.01), n_ablation: int = 20, **options) -> dict:
+def study(
+    n: int,
+    rng: np.random.Generator,
+    *,
+    alpha: float = 3.0,
+    duration: float = 0.1,
+    variants: Mapping[str, dict] | Sequence[str] = tuple(VARIANTS),
+    friction_timeconsts: Sequence[float] = (0.03, 0.01),
+    n_ablation: int = 20,
+    **options,
+) -> dict:
     """The skew on n random states: measured (MuJoCo, each variant), predicted (law run and closed form), by band and mu bin.
 
     ``variants``: names of ``VARIANTS`` or a mapping name -> model.opt settings.
@@ -205,14 +250,21 @@ def study(n: int, rng: np.random.Generator, *, alpha: float = 3.0, duration: flo
     states, mu = random_states(n, rng)
     offset = np.array([abs(s.varphi + math.pi / 2) for s in states])
     rod = Rod.scaled(alpha)
-    out: dict = {"varphi_offset": offset, "mu": mu, "bands": [list(b) for b in BANDS], "mu_bins": [list(b) for b in MU_BINS]}
+    out: dict = {
+        "varphi_offset": offset,
+        "mu": mu,
+        "bands": [list(b) for b in BANDS],
+        "mu_bins": [list(b) for b in MU_BINS],
+    }
     law = predicted(states, mu, alpha=alpha, duration=duration, **options)
     out["predicted"], out["closed"], out["saturation_law"] = law["skew"], law["closed"], law["saturation"]
     runs = {}
     for name, settings in variants.items():
         runs[name] = measured(states, mu, alpha=alpha, duration=duration, model_options=settings, **options)
     for tf in friction_timeconsts:
-        runs[f"friction timeconst {tf:g}"] = measured(states, mu, alpha=alpha, duration=duration, **{**options, "friction_timeconst": tf})
+        runs[f"friction timeconst {tf:g}"] = measured(
+            states, mu, alpha=alpha, duration=duration, **{**options, "friction_timeconst": tf}
+        )
     out["measured"] = {k: r["skew"] for k, r in runs.items()}
     out["saturation"] = {k: r["saturation"] for k, r in runs.items()}
     # compared: states where the law's run has a contact force and stays in theta in (0, pi/2); the others are counted:
@@ -221,17 +273,29 @@ def study(n: int, rng: np.random.Generator, *, alpha: float = 3.0, duration: flo
     out["exits"], out["lifts_off"] = law["exits"], ~np.isfinite(law["skew"])
     compared = np.isfinite(law["skew"]) & ~law["exits"]
     d = np.abs(law["skew"] - runs["default"]["skew"])[compared] if "default" in runs else np.full(1, np.nan)
-    out["n_compared"], out["n_exits"], out["n_lifts_off"] = int(compared.sum()), int(law["exits"].sum()), int(out["lifts_off"].sum())
+    out["n_compared"], out["n_exits"], out["n_lifts_off"] = (
+        int(compared.sum()),
+        int(law["exits"].sum()),
+        int(out["lifts_off"].sum()),
+    )
     out["max_abs_difference_deg"] = float(np.degrees(np.nanmax(d))) if d.size else math.nan
     # medians side by side on the same (compared) states
-    table = {"predicted (law run)": law["skew"], "predicted (closed form)": law["closed"], **{f"MuJoCo {k}": r["skew"] for k, r in runs.items()}}
+    table = {
+        "predicted (law run)": law["skew"],
+        "predicted (closed form)": law["closed"],
+        **{f"MuJoCo {k}": r["skew"] for k, r in runs.items()},
+    }
     out["band_median_deg"] = {k: _medians(np.where(compared, x, np.nan), offset, BANDS) for k, x in table.items()}
     out["mu_median_deg"] = {k: _medians(np.where(compared, x, np.nan), mu, MU_BINS) for k, x in table.items()}
     sat = {"law": law["saturation"], **{k: r["saturation"] for k, r in runs.items()}}
-    out["saturation_median"] = {k: float(np.nanmedian(x[compared])) if compared.any() else math.nan for k, x in sat.items()}
+    out["saturation_median"] = {
+        k: float(np.nanmedian(x[compared])) if compared.any() else math.nan for k, x in sat.items()
+    }
     out["median_abs_difference_deg"] = float(np.degrees(np.nanmedian(d))) if d.size else math.nan
     abl = [ablation(rod, s, float(m), **options) for s, m in zip(states[:n_ablation], mu[:n_ablation])]
-    out["ablation_median_deg"] = {k: float(np.degrees(np.median(np.abs([a[k] for a in abl])))) for k in abl[0]} if abl else {}
+    out["ablation_median_deg"] = (
+        {k: float(np.degrees(np.median(np.abs([a[k] for a in abl])))) for k in abl[0]} if abl else {}
+    )
     return out
 
 
@@ -249,5 +313,5 @@ def option_effects(band_median_deg: Mapping[str, Sequence[float]]) -> dict[str, 
             continue
         r = max((a / m for a, m in zip(x, default) if m > 0), default=math.nan)
         kind = "removes" if r < REMOVES else "reduces" if r < REDUCES else "leaves"
-        out[kind][k[len("MuJoCo "):]] = list(x)
+        out[kind][k[len("MuJoCo ") :]] = list(x)
     return out

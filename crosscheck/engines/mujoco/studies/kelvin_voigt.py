@@ -134,10 +134,14 @@ class KelvinVoigtMatch:
     solimp: tuple
 
     def as_dict(self) -> dict:
-        return {f.name: (list(getattr(self, f.name)) if f.name == "solimp" else getattr(self, f.name)) for f in fields(self)}
+        return {
+            f.name: (list(getattr(self, f.name)) if f.name == "solimp" else getattr(self, f.name)) for f in fields(self)
+        }
 
 
-def mujoco_equivalent(state: SlipState, alpha: float, *, timeconst: float, dampratio: float, solimp: Sequence[float]) -> KelvinVoigtMatch:
+def mujoco_equivalent(
+    state: SlipState, alpha: float, *, timeconst: float, dampratio: float, solimp: Sequence[float]
+) -> KelvinVoigtMatch:
     """Kelvin-Voigt (eps, xi) with MuJoCo's normal stiffness and damping at ``state`` (module docstring).
 
     eps = (dmax / d) timeconst dampratio sqrt(A_nn), xi = 2 dampratio / sqrt(A_nn),
@@ -148,7 +152,7 @@ def mujoco_equivalent(state: SlipState, alpha: float, *, timeconst: float, dampr
     dampratio = float(check("dampratio", dampratio, POSITIVE))
     solimp = tuple(float(v) for v in solimp)
     st, ct = math.sin(state.theta), math.cos(state.theta)
-    b = (state.Psi ** 2 * ct * ct + state.Theta ** 2) * st - 1.0  # eq. b
+    b = (state.Psi**2 * ct * ct + state.Theta**2) * st - 1.0  # eq. b
     A_nn = 1.0 + alpha * ct * ct
     dmax = solimp[1]
     B, K = _stiffness(timeconst, dampratio, dmax)
@@ -156,5 +160,17 @@ def mujoco_equivalent(state: SlipState, alpha: float, *, timeconst: float, dampr
     d = float(impedance(solimp, pen))
     eps = (dmax / d) * timeconst * dampratio * math.sqrt(A_nn)
     xi = 2.0 * dampratio / math.sqrt(A_nn)
-    return KelvinVoigtMatch(eps=eps, xi=xi, A_nn=A_nn, b=b, penetration=pen, d=d, B=B, K=K, frequency=d / (dmax * timeconst * dampratio),
-                            timeconst=timeconst, dampratio=dampratio, solimp=solimp)
+    return KelvinVoigtMatch(
+        eps=eps,
+        xi=xi,
+        A_nn=A_nn,
+        b=b,
+        penetration=pen,
+        d=d,
+        B=B,
+        K=K,
+        frequency=d / (dmax * timeconst * dampratio),
+        timeconst=timeconst,
+        dampratio=dampratio,
+        solimp=solimp,
+    )

@@ -128,8 +128,13 @@ RUNG_TITLES = {
 }
 
 #: The difference from the theory that each rung from 2 on adds: the cause if it is the first to match MuJoCo.
-CAUSE_OF_RUNG = {"capsule": "geometry", "compliant": "compliance", "spring_law": "friction law", "mujoco_law": "feed-forward",
-                 "mujoco": "discretisation"}
+CAUSE_OF_RUNG = {
+    "capsule": "geometry",
+    "compliant": "compliance",
+    "spring_law": "friction law",
+    "mujoco_law": "feed-forward",
+    "mujoco": "discretisation",
+}
 
 #: The causes a ladder names (one per rung from 2 on), in rung order.
 NAMED_CAUSES = tuple(CAUSE_OF_RUNG[r] for r in RUNGS[1:])
@@ -195,9 +200,18 @@ class RungResult:
         return self.status == "ok"
 
     def as_dict(self) -> dict:
-        return {"rung": self.rung, "name": self.name, "status": self.status, "outcome": self.outcome.name if self.outcome is not None else None,
-                "time": self.time, "label": self.label.name if self.label is not None else None, "reason": self.reason, "p": self.p,
-                "detail": self.detail, "wall_time": self.wall_time}
+        return {
+            "rung": self.rung,
+            "name": self.name,
+            "status": self.status,
+            "outcome": self.outcome.name if self.outcome is not None else None,
+            "time": self.time,
+            "label": self.label.name if self.label is not None else None,
+            "reason": self.reason,
+            "p": self.p,
+            "detail": self.detail,
+            "wall_time": self.wall_time,
+        }
 
 
 @dataclass(frozen=True, eq=False)
@@ -259,12 +273,28 @@ class Ladder:
         return [r.name for r in self.rungs if not r.ok]
 
     def as_dict(self) -> dict:
-        return as_json({"state": self.state.as_dict(), "mu": self.mu, "alpha": self.alpha, "options": self.options, "match": self.match.as_dict(),
-                        "horizon": self.horizon, "comparison_time": self.until, "lag": self.lag, "run_until": self.run_until,
-                        "rungs": [r.as_dict() for r in self.rungs],
-                        "reference": self.reference.name if self.reference is not None else None, "reference_source": self.reference_source,
-                        "disagree": self.disagree, "cause": self.cause, "first_change": self.first_change, "missing": self.missing,
-                        "detour": self.detour, "detour_ended_by": self.detour_ended_by})
+        return as_json(
+            {
+                "state": self.state.as_dict(),
+                "mu": self.mu,
+                "alpha": self.alpha,
+                "options": self.options,
+                "match": self.match.as_dict(),
+                "horizon": self.horizon,
+                "comparison_time": self.until,
+                "lag": self.lag,
+                "run_until": self.run_until,
+                "rungs": [r.as_dict() for r in self.rungs],
+                "reference": self.reference.name if self.reference is not None else None,
+                "reference_source": self.reference_source,
+                "disagree": self.disagree,
+                "cause": self.cause,
+                "first_change": self.first_change,
+                "missing": self.missing,
+                "detour": self.detour,
+                "detour_ended_by": self.detour_ended_by,
+            }
+        )
 
     def to_json(self) -> str:
         return json.dumps(self.as_dict(), indent=2, allow_nan=False)
@@ -292,17 +322,50 @@ def _accepts(fn, name: str) -> bool:
 
 
 def _analytic_rung(k: int, name: str, res, t0: float, keep: bool) -> RungResult:
-    return RungResult(k, name, "ok", Outcome(int(res.outcome)), float(res.time), None, str(getattr(res, "reason", "")), float(getattr(res, "p", math.nan)),
-                      wall_time=time.perf_counter() - t0, result=res if keep else None)
+    return RungResult(
+        k,
+        name,
+        "ok",
+        Outcome(int(res.outcome)),
+        float(res.time),
+        None,
+        str(getattr(res, "reason", "")),
+        float(getattr(res, "p", math.nan)),
+        wall_time=time.perf_counter() - t0,
+        result=res if keep else None,
+    )
 
 
 def _engine_rung(k: int, name: str, run, t0: float, keep: bool) -> RungResult:
-    return RungResult(k, name, "ok", Outcome(int(run.outcome)), float(run.event_time), None, "", float(run.jam_p_eff),
-                      wall_time=time.perf_counter() - t0, result=run if keep else None)
+    return RungResult(
+        k,
+        name,
+        "ok",
+        Outcome(int(run.outcome)),
+        float(run.event_time),
+        None,
+        "",
+        float(run.jam_p_eff),
+        wall_time=time.perf_counter() - t0,
+        result=run if keep else None,
+    )
 
 
-def _run_rung(k: int, name: str, *, state: SlipState, mu: float, alpha: float, rod: Rod, opts, th: Thresholds, match: KelvinVoigtMatch,
-              t_analytic: float, t_engine: float, keep: bool) -> RungResult:
+def _run_rung(
+    k: int,
+    name: str,
+    *,
+    state: SlipState,
+    mu: float,
+    alpha: float,
+    rod: Rod,
+    opts,
+    th: Thresholds,
+    match: KelvinVoigtMatch,
+    t_analytic: float,
+    t_engine: float,
+    keep: bool,
+) -> RungResult:
     """Rung k (2-6) of one start; never raises for a missing or failing rung (status says so)."""
     t0 = time.perf_counter()
     try:
@@ -342,8 +405,18 @@ def _cause(rungs: Sequence[RungResult], reference: Outcome | None) -> tuple[bool
     return True, final_stretch_cause(rungs[1:], reference, lambda r: CAUSE_OF_RUNG[r.name]), change
 
 
-def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: float = DEFAULT_HORIZON, thresholds: Thresholds | None = None,
-               reference: Outcome | int | None = None, rungs: Sequence[str] = RUNGS, keep: bool = False, **options) -> Ladder:
+def run_ladder(
+    state: SlipState,
+    mu: float,
+    *,
+    alpha: float = 3.0,
+    horizon: float = DEFAULT_HORIZON,
+    thresholds: Thresholds | None = None,
+    reference: Outcome | int | None = None,
+    rungs: Sequence[str] = RUNGS,
+    keep: bool = False,
+    **options,
+) -> Ladder:
     """Run the six rungs from ``state`` and name the cause of a disagreement (module docstring).
 
     Args:
@@ -385,7 +458,9 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
         try:
             reference = Outcome(int(reference))
         except (TypeError, ValueError):
-            raise ValueError(f"reference must be an Outcome ({', '.join(o.name for o in Outcome)}) or None; got {reference!r}") from None
+            raise ValueError(
+                f"reference must be an Outcome ({', '.join(o.name for o in Outcome)}) or None; got {reference!r}"
+            ) from None
     rod = Rod.scaled(alpha)
     match = mujoco_equivalent(state, alpha, timeconst=opts.timeconst, dampratio=opts.dampratio, solimp=opts.solimp)
 
@@ -401,10 +476,33 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
         if name not in rungs:
             results.append(RungResult(k, name, "not available", detail="not requested"))
             continue
-        results.append(_run_rung(k, name, state=state, mu=mu, alpha=alpha, rod=rod, opts=opts, th=th, match=match, t_analytic=run_until,
-                                 t_engine=run_until + margin, keep=keep))
-    labelled = tuple(r if not r.ok else RungResult(**{**{f.name: getattr(r, f.name) for f in fields(r)}, "label": compared_label(r.outcome, r.time, until + lag, since)})
-                     for r in results)
+        results.append(
+            _run_rung(
+                k,
+                name,
+                state=state,
+                mu=mu,
+                alpha=alpha,
+                rod=rod,
+                opts=opts,
+                th=th,
+                match=match,
+                t_analytic=run_until,
+                t_engine=run_until + margin,
+                keep=keep,
+            )
+        )
+    labelled = tuple(
+        r
+        if not r.ok
+        else RungResult(
+            **{
+                **{f.name: getattr(r, f.name) for f in fields(r)},
+                "label": compared_label(r.outcome, r.time, until + lag, since),
+            }
+        )
+        for r in results
+    )
     if reference is not None:
         ref, source = Outcome(int(reference)), "given"
     else:
@@ -414,28 +512,58 @@ def run_ladder(state: SlipState, mu: float, *, alpha: float = 3.0, horizon: floa
     for r in labelled:
         if r.status != "ok" and r.detail != "not requested":
             warnings.warn(f"ladder rung {r.rung} ({r.name}) {r.status}: {r.detail}", RuntimeWarning, stacklevel=2)
-    return Ladder(state=state, mu=mu, alpha=alpha, options=opts.as_dict(), match=match, horizon=horizon, until=until, lag=lag, run_until=run_until,
-                  rungs=labelled, reference=ref, reference_source=source, disagree=disagree, cause=cause, first_change=change)
+    return Ladder(
+        state=state,
+        mu=mu,
+        alpha=alpha,
+        options=opts.as_dict(),
+        match=match,
+        horizon=horizon,
+        until=until,
+        lag=lag,
+        run_until=run_until,
+        rungs=labelled,
+        reference=ref,
+        reference_source=source,
+        disagree=disagree,
+        cause=cause,
+        first_change=change,
+    )
 
 
 def compliant_rung(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds, options):
     """Rung 3 as a declared rung (``crosscheck.studies.ladder``): the Kelvin-Voigt rod at C with MuJoCo-equivalent (eps, xi)."""
     from crosscheck import engines
 
-    match = mujoco_equivalent(state, rod.alpha, timeconst=options.timeconst, dampratio=options.dampratio, solimp=options.solimp)
-    return engines.get("compliant").simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, eps=match.eps, xi=match.xi,
-                                             radius=options.radius, timestep=options.timestep)
+    match = mujoco_equivalent(
+        state, rod.alpha, timeconst=options.timeconst, dampratio=options.dampratio, solimp=options.solimp
+    )
+    return engines.get("compliant").simulate(
+        rod,
+        state,
+        mu,
+        horizon=horizon,
+        thresholds=thresholds,
+        eps=match.eps,
+        xi=match.xi,
+        radius=options.radius,
+        timestep=options.timestep,
+    )
 
 
 def spring_law_rung(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds, options):
     """Rung 4 as a declared rung: MuJoCo's contact law at C in continuous time without its normal force's feed-forward."""
     from crosscheck import engines
 
-    return engines.get("mujoco_law").simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, feed_forward=False, **options.as_dict())
+    return engines.get("mujoco_law").simulate(
+        rod, state, mu, horizon=horizon, thresholds=thresholds, feed_forward=False, **options.as_dict()
+    )
 
 
 def law_rung(rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds, options):
     """Rung 5 as a declared rung: MuJoCo's contact law at C in continuous time, at the run's options."""
     from crosscheck import engines
 
-    return engines.get("mujoco_law").simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, **options.as_dict())
+    return engines.get("mujoco_law").simulate(
+        rod, state, mu, horizon=horizon, thresholds=thresholds, **options.as_dict()
+    )

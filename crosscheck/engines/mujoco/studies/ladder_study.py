@@ -21,6 +21,7 @@ from crosscheck.studies.comparison import RATED, compared_label, window_margin
 
 __all__ = ["LadderStudy", "ladder_study", "disagreements", "decided_by_rounding", "trajectories"]
 
+
 def disagreements(points: Mapping[str, np.ndarray], analytic_outcome, mujoco_label) -> np.ndarray:
     """Indices of the agreement study's disagreements: rated analytic outcome (SLIP/LIFTOFF/STICK/JAM) and MuJoCo's label different.
 
@@ -70,10 +71,23 @@ class LadderStudy:
         return {"n": len(ended), "ended_by": {c: ended.count(c) for c in dict.fromkeys(ended)}}
 
     def summary(self) -> dict:
-        wall = {name: float(sum(ld.rung(name).wall_time for ld in self.ladders)) for name in RUNGS}  # seconds per rung, over all starts
-        return as_json({"n": len(self.ladders), "n_disagree": self.n_disagree, "attributed": self.attributed, "counts": self.counts,
-                        "fractions": self.fractions(), "missing": self.missing, "reference_mismatch": self.reference_mismatch,
-                        "rounding_decided": self.rounding_decided, "detours": self.detours(), "wall_time": wall})
+        wall = {
+            name: float(sum(ld.rung(name).wall_time for ld in self.ladders)) for name in RUNGS
+        }  # seconds per rung, over all starts
+        return as_json(
+            {
+                "n": len(self.ladders),
+                "n_disagree": self.n_disagree,
+                "attributed": self.attributed,
+                "counts": self.counts,
+                "fractions": self.fractions(),
+                "missing": self.missing,
+                "reference_mismatch": self.reference_mismatch,
+                "rounding_decided": self.rounding_decided,
+                "detours": self.detours(),
+                "wall_time": wall,
+            }
+        )
 
 
 #: Units in the last place by which ``decided_by_rounding`` moves theta.
@@ -105,14 +119,27 @@ def decided_by_rounding(ladder: "Ladder", label: Outcome, *, thresholds: Thresho
         for _ in range(abs(k)):
             theta = float(np.nextafter(theta, math.inf if k > 0 else -math.inf))
         state = SlipState(**{**ladder.state.as_dict(), "theta": theta})
-        run = engines.get("mujoco").simulate(Rod.scaled(ladder.alpha), state, ladder.mu, horizon=ladder.run_until + margin, thresholds=th, **opts)
+        run = engines.get("mujoco").simulate(
+            Rod.scaled(ladder.alpha), state, ladder.mu, horizon=ladder.run_until + margin, thresholds=th, **opts
+        )
         if compared_label(run.outcome, run.event_time, ladder.until + ladder.lag) == label:
             return True
     return False
 
 
-def ladder_study(states: Sequence[SlipState], mu, *, alpha: float = 3.0, horizon: float = DEFAULT_HORIZON, references=None,
-                 thresholds: Thresholds | None = None, progress: bool = False, desc: str = "ladder", keep: bool = False, **options) -> LadderStudy:
+def ladder_study(
+    states: Sequence[SlipState],
+    mu,
+    *,
+    alpha: float = 3.0,
+    horizon: float = DEFAULT_HORIZON,
+    references=None,
+    thresholds: Thresholds | None = None,
+    progress: bool = False,
+    desc: str = "ladder",
+    keep: bool = False,
+    **options,
+) -> LadderStudy:
     """``run_ladder`` at every start (a plain loop with a tqdm bar ``desc``: each rung is one run of one state).
 
     Args:
@@ -130,18 +157,43 @@ def ladder_study(states: Sequence[SlipState], mu, *, alpha: float = 3.0, horizon
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # missing rungs are counted below and reported by the caller
         for s, m, ref in tqdm(list(zip(states, mu, refs)), desc=desc, unit="state", disable=not progress):
-            ladders.append(run_ladder(s, float(m), alpha=alpha, horizon=horizon, thresholds=thresholds, reference=ref, keep=keep, **options))
+            ladders.append(
+                run_ladder(
+                    s,
+                    float(m),
+                    alpha=alpha,
+                    horizon=horizon,
+                    thresholds=thresholds,
+                    reference=ref,
+                    keep=keep,
+                    **options,
+                )
+            )
     counts = {c: sum(ld.cause == c for ld in ladders) for c in CAUSES}
     n_dis = sum(ld.disagree for ld in ladders)
     named = sum(counts[c] for c in NAMED_CAUSES)
     missing = {name: sum(not ld.rung(name).ok for ld in ladders) for name in RUNGS}
-    mismatched = [ld for ld in ladders if ld.reference_source == "given" and ld.rung("mujoco").ok and ld.rung("mujoco").label != ld.reference]
+    mismatched = [
+        ld
+        for ld in ladders
+        if ld.reference_source == "given" and ld.rung("mujoco").ok and ld.rung("mujoco").label != ld.reference
+    ]
     rounding = sum(decided_by_rounding(ld, ld.reference, thresholds=thresholds) for ld in mismatched)
     if any(missing.values()):
-        warnings.warn("ladder rungs that could not run: " + ", ".join(f"{k} at {v} starts" for k, v in missing.items() if v), RuntimeWarning,
-                      stacklevel=2)
-    return LadderStudy(ladders=ladders, counts=counts, n_disagree=n_dis, attributed=named / n_dis if n_dis else math.nan, missing=missing,
-                       reference_mismatch=len(mismatched), rounding_decided=rounding)
+        warnings.warn(
+            "ladder rungs that could not run: " + ", ".join(f"{k} at {v} starts" for k, v in missing.items() if v),
+            RuntimeWarning,
+            stacklevel=2,
+        )
+    return LadderStudy(
+        ladders=ladders,
+        counts=counts,
+        n_disagree=n_dis,
+        attributed=named / n_dis if n_dis else math.nan,
+        missing=missing,
+        reference_mismatch=len(mismatched),
+        rounding_decided=rounding,
+    )
 
 
 def trajectories(ladder: Ladder) -> dict:
@@ -152,6 +204,7 @@ def trajectories(ladder: Ladder) -> dict:
     rungs: the record's contact-point slip speed and normal force.
     """
     from crosscheck.theory import analytic
+
     out = {}
     for r in ladder.rungs:
         res = r.result
@@ -170,7 +223,11 @@ def trajectories(ladder: Ladder) -> dict:
             out[r.name] = {"t": t, "eta": eta, "normal_force": np.asarray(force, float)}
         else:
             rec = res.record
-            out[r.name] = {"t": np.asarray(rec.t, float), "eta": np.asarray(rec.eta, float), "normal_force": np.asarray(rec.normal_force, float)}
+            out[r.name] = {
+                "t": np.asarray(rec.t, float),
+                "eta": np.asarray(rec.eta, float),
+                "normal_force": np.asarray(rec.normal_force, float),
+            }
     return out
 
 
@@ -181,6 +238,9 @@ def _capsule_force(res, Psi, Theta, theta, varphi, ladder: Ladder) -> np.ndarray
         return np.asarray(force, float)
     try:
         from crosscheck.theory import capsule
-        return -np.asarray(capsule.b(Psi, Theta, theta)) / np.asarray(capsule.p(theta, varphi, ladder.mu, ladder.alpha, ladder.options["radius"]))
+
+        return -np.asarray(capsule.b(Psi, Theta, theta)) / np.asarray(
+            capsule.p(theta, varphi, ladder.mu, ladder.alpha, ladder.options["radius"])
+        )
     except (ImportError, AttributeError, TypeError, ValueError):
         return np.full(np.shape(theta), np.nan)

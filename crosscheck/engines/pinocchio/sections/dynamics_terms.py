@@ -33,8 +33,14 @@ SLUG = "pinocchio"
 
 
 def params(quick: bool) -> dict:
-    return {"n_states": 2000 if quick else 100_000, "n_theta": 40 if quick else 200, "draws_per_theta": 4 if quick else 16,
-            "cos_theta_min": 1e-7, "theta_min": 1e-8, "rod": {"mass": 1.0, "length": 0.5, "inertia": 1.0 * 0.5**2 / 3.0, "gravity": 9.81}}
+    return {
+        "n_states": 2000 if quick else 100_000,
+        "n_theta": 40 if quick else 200,
+        "draws_per_theta": 4 if quick else 16,
+        "cos_theta_min": 1e-7,
+        "theta_min": 1e-8,
+        "rod": {"mass": 1.0, "length": 0.5, "inertia": 1.0 * 0.5**2 / 3.0, "gravity": 9.81},
+    }
 
 
 def run(ctx: RunContext) -> None:
@@ -44,15 +50,30 @@ def run(ctx: RunContext) -> None:
     P = ctx.params
     result = dynamics_terms.validate(P["n_states"], ctx.rng, progress=ctx.show_progress)
     (ctx.store.root / "validate.json").write_text(result.to_json() + "\n")
-    ctx.store.write_table("errors_per_quantity", {
-        "quantity": [s.quantity for s in result.stats], "n": [s.n for s in result.stats], "max_abs": [s.max_abs for s in result.stats],
-        "max_rel": [s.max_rel for s in result.stats], "max_over_tolerance": [s.max_ratio for s in result.stats],
-        "passed": [s.passed for s in result.stats],
-        # six significant digits, not six decimals: the near-horizontal rods' theta (down to 1e-8) would read 0, outside (0, pi/2)
-        "worst_state": [json.dumps({k: float(f"{v:.6g}") if isinstance(v, float) else v for k, v in s.worst_state.items()}) for s in result.stats]})
+    ctx.store.write_table(
+        "errors_per_quantity",
+        {
+            "quantity": [s.quantity for s in result.stats],
+            "n": [s.n for s in result.stats],
+            "max_abs": [s.max_abs for s in result.stats],
+            "max_rel": [s.max_rel for s in result.stats],
+            "max_over_tolerance": [s.max_ratio for s in result.stats],
+            "passed": [s.passed for s in result.stats],
+            # six significant digits, not six decimals: the near-horizontal rods' theta (down to 1e-8) would read 0, outside (0, pi/2)
+            "worst_state": [
+                json.dumps({k: float(f"{v:.6g}") if isinstance(v, float) else v for k, v in s.worst_state.items()})
+                for s in result.stats
+            ],
+        },
+    )
     for s in result.stats:
-        ctx.check(f"Pinocchio {s.quantity} within tolerance ({s.n} states)", s.passed, value=s.max_ratio, allowance=1.0,
-                  detail=f"max abs {s.max_abs:.2e}, max rel {s.max_rel:.2e} (ratio to allowance)")
+        ctx.check(
+            f"Pinocchio {s.quantity} within tolerance ({s.n} states)",
+            s.passed,
+            value=s.max_ratio,
+            allowance=1.0,
+            detail=f"max abs {s.max_abs:.2e}, max rel {s.max_rel:.2e} (ratio to allowance)",
+        )
 
     rod = Rod(**P["rod"])
     alpha = rod.alpha
@@ -74,10 +95,22 @@ def run(ctx: RunContext) -> None:
             for route in ("aba", "delassus"):
                 got = pinrod.tip_acceleration(*args, route=route) / rod.gravity
                 errs[route] = float(np.max(np.abs(got - want).max(axis=1) / A))
-            eb = np.abs(pinrod.b(Psi, Theta, theta) - analytic.b(Psi, Theta, theta)) / (1 + np.abs(Psi) + np.abs(Theta)) ** 2
-            ep = np.abs(pinrod.p(theta, varphi, mu, alpha) - analytic.p(theta, varphi, mu, alpha)) / ((1 + alpha) * (1 + mu))
-            for key, v in (("theta", theta), ("cos_theta", np.cos(theta)), ("end", end), ("err_aba", errs["aba"]), ("err_delassus", errs["delassus"]),
-                           ("err_b", float(eb.max())), ("err_p", float(ep.max()))):
+            eb = (
+                np.abs(pinrod.b(Psi, Theta, theta) - analytic.b(Psi, Theta, theta))
+                / (1 + np.abs(Psi) + np.abs(Theta)) ** 2
+            )
+            ep = np.abs(pinrod.p(theta, varphi, mu, alpha) - analytic.p(theta, varphi, mu, alpha)) / (
+                (1 + alpha) * (1 + mu)
+            )
+            for key, v in (
+                ("theta", theta),
+                ("cos_theta", np.cos(theta)),
+                ("end", end),
+                ("err_aba", errs["aba"]),
+                ("err_delassus", errs["delassus"]),
+                ("err_b", float(eb.max())),
+                ("err_p", float(ep.max())),
+            ):
                 cols[key].append(v)
         ctx.store.write_table("error_vs_theta", cols)
 
@@ -90,21 +123,51 @@ def render(ctx: RenderContext) -> list:
     rows, cls = [], []
     for i in range(len(t["quantity"])):
         ok = t["passed"][i] == "True"
-        worst = ", ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}" for k, v in json.loads(t["worst_state"][i]).items() if k != "index")
-        rows.append([t["quantity"][i], f"{t['n'][i]:.0f}", f"{t['max_abs'][i]:.2e}", f"{t['max_rel'][i]:.2e}", f"{t['max_over_tolerance'][i]:.3f}",
-                     "ok" if ok else "FAIL", worst])
+        worst = ", ".join(
+            f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"
+            for k, v in json.loads(t["worst_state"][i]).items()
+            if k != "index"
+        )
+        rows.append(
+            [
+                t["quantity"][i],
+                f"{t['n'][i]:.0f}",
+                f"{t['max_abs'][i]:.2e}",
+                f"{t['max_rel'][i]:.2e}",
+                f"{t['max_over_tolerance'][i]:.3f}",
+                "ok" if ok else "FAIL",
+                worst,
+            ]
+        )
         cls.append("ok" if ok else "fail")
-    blocks = [Text(f"`crosscheck.engines.pinocchio.studies.dynamics_terms.validate` on {int(t['n'][0])} random rods and states ({doc['extra'].get('rods', '?')} rods): "
-                   f"{'every quantity within its tolerance' if doc['passed'] else 'SOME QUANTITIES EXCEED THEIR TOLERANCE'}. "
-                   f"Units: {doc['extra'].get('units', '')}."),
-              Table(caption="Error per quantity: largest absolute and relative error, largest ratio to the allowance (<= 1 passes) and the state where it occurs.",
-                    header=["quantity", "n", "max abs", "max rel", "/ tolerance", "result", "worst state"], rows=rows, data=ctx.data("errors_per_quantity.csv", "validate.json"), row_class=cls)]
+    blocks = [
+        Text(
+            f"`crosscheck.engines.pinocchio.studies.dynamics_terms.validate` on {int(t['n'][0])} random rods and states ({doc['extra'].get('rods', '?')} rods): "
+            f"{'every quantity within its tolerance' if doc['passed'] else 'SOME QUANTITIES EXCEED THEIR TOLERANCE'}. "
+            f"Units: {doc['extra'].get('units', '')}."
+        ),
+        Table(
+            caption="Error per quantity: largest absolute and relative error, largest ratio to the allowance (<= 1 passes) and the state where it occurs.",
+            header=["quantity", "n", "max abs", "max rel", "/ tolerance", "result", "worst state"],
+            rows=rows,
+            data=ctx.data("errors_per_quantity.csv", "validate.json"),
+            row_class=cls,
+        ),
+    ]
     by_decade = doc["extra"].get("tip_acc_error_over_A_by_cos_theta", [])
     if by_decade:
         keys = [k for k in by_decade[0] if k not in ("cos_theta", "n")]
-        blocks.append(Table(caption="Largest tip-acceleration error / A per decade of cos theta (from the validation's random states).",
-                            header=["cos theta in", "n"] + keys, rows=[[f"[{r['cos_theta'][0]:.0e}, {r['cos_theta'][1]:.0e})", str(r["n"])] + [f"{r[k]:.1e}" for k in keys] for r in by_decade],
-                            data=ctx.data("validate.json")))
+        blocks.append(
+            Table(
+                caption="Largest tip-acceleration error / A per decade of cos theta (from the validation's random states).",
+                header=["cos theta in", "n"] + keys,
+                rows=[
+                    [f"[{r['cos_theta'][0]:.0e}, {r['cos_theta'][1]:.0e})", str(r["n"])] + [f"{r[k]:.1e}" for k in keys]
+                    for r in by_decade
+                ],
+                data=ctx.data("validate.json"),
+            )
+        )
     e = ctx.store.read_table("error_vs_theta", text=("end",))
     eps = np.finfo(float).eps
     floor = 1e-18  # exact agreement (error 0) is drawn at the floor of the log axis
@@ -134,14 +197,18 @@ def render(ctx: RenderContext) -> list:
     a2.set_xlabel("$\\theta$ (rod towards horizontal $\\leftarrow$)")
     a2.set_title("$\\theta \\rightarrow 0$")
     a2.legend(fontsize=7)
-    blocks.append(ctx.figure("error_vs_theta", fig,
-                             "Pinocchio against eqs. linode2, b and p as the rod approaches the vertical (left, cos theta -> 0) and the horizontal (right, theta -> 0): "
-                             "largest error over random psi, rates, forces, slip directions and mu at each theta, in units of the term scale A. Dashed and dotted: "
-                             "eps / cos^2 theta (the condition number of M, expected for G F + free) and eps / cos theta. An error of exactly 0 is drawn at 1e-18.",
-                             ["error_vs_theta.csv"]))
+    blocks.append(
+        ctx.figure(
+            "error_vs_theta",
+            fig,
+            "Pinocchio against eqs. linode2, b and p as the rod approaches the vertical (left, cos theta -> 0) and the horizontal (right, theta -> 0): "
+            "largest error over random psi, rates, forces, slip directions and mu at each theta, in units of the term scale A. Dashed and dotted: "
+            "eps / cos^2 theta (the condition number of M, expected for G F + free) and eps / cos theta. An error of exactly 0 is drawn at 1e-18.",
+            ["error_vs_theta.csv"],
+        )
+    )
     blocks.append(Preformatted(json.dumps(doc, indent=1), title="validate JSON (crosscheck validate pinocchio --json)"))
     return blocks
-
 
 
 def finding(data: Path) -> list:
@@ -152,10 +219,25 @@ def finding(data: Path) -> list:
     v = read_json(data / "validate.json")
     if v:
         worst = max(v["stats"], key=lambda s: s["max_ratio"])
-        out.append(Finding("Pinocchio dynamics terms", f"{len(v['stats'])} quantities; worst: {worst['quantity']} at {worst['max_ratio']:.2g} of its "
-                           f"tolerance (relative error {worst['max_rel']:.2g})", "agrees" if v["passed"] else "disagrees", SLUG))
+        out.append(
+            Finding(
+                "Pinocchio dynamics terms",
+                f"{len(v['stats'])} quantities; worst: {worst['quantity']} at {worst['max_ratio']:.2g} of its "
+                f"tolerance (relative error {worst['max_rel']:.2g})",
+                "agrees" if v["passed"] else "disagrees",
+                SLUG,
+            )
+        )
     return out
 
 
-SECTION = Section(slug=SLUG, title="Pinocchio vs analytic", paper="eqs. rotode, linode, linode2, b, p, mup2D",
-                  params=params, run=run, render=render, requires=("crosscheck.engines.pinocchio.studies.dynamics_terms", "crosscheck.engines.pinocchio.model"), finding=finding)
+SECTION = Section(
+    slug=SLUG,
+    title="Pinocchio vs analytic",
+    paper="eqs. rotode, linode, linode2, b, p, mup2D",
+    params=params,
+    run=run,
+    render=render,
+    requires=("crosscheck.engines.pinocchio.studies.dynamics_terms", "crosscheck.engines.pinocchio.model"),
+    finding=finding,
+)

@@ -196,8 +196,12 @@ class _ErrorStats:
             self.max_abs = _max(self.max_abs, max_err)
         atol, rtol = self.tolerance.atol, self.tolerance.rtol
         ratio = max_err / atol if rtol == 0.0 and atol > 0.0 else math.nan
-        abs_want = np.abs(want, out=want if scale is not None else None).reshape(k, -1)  # (want / scale is ours to overwrite)
-        if np.isfinite(ratio) and (ratio == 0.0 or ratio >= _TINY):  # (a subnormal ratio has fewer bits: more may round to it)
+        abs_want = np.abs(want, out=want if scale is not None else None).reshape(
+            k, -1
+        )  # (want / scale is ours to overwrite)
+        if np.isfinite(ratio) and (
+            ratio == 0.0 or ratio >= _TINY
+        ):  # (a subnormal ratio has fewer bits: more may round to it)
             flat = err.reshape(-1)
             near = np.flatnonzero(flat >= max_err * (1.0 - 4.0 * _EPS))
             i = int(near[np.flatnonzero(flat[near] / atol == ratio)[0]]) // err.shape[1]
@@ -225,9 +229,16 @@ class _ErrorStats:
         """The ``ErrorStat`` of all states added, the worst one's entries read from ``states`` ((N,) arrays)."""
         worst = {k: float(np.asarray(v)[self.worst]) for k, v in states.items()}
         worst["index"] = self.worst
-        return ErrorStat(quantity=self.quantity, n=self.n, max_abs=float(self.max_abs),
-                         max_rel=math.nan if self.max_rel is None else float(self.max_rel), max_ratio=float(self.max_ratio),
-                         worst_state=worst, tolerance=self.tolerance.as_dict(), passed=bool(self.max_ratio <= 1.0))
+        return ErrorStat(
+            quantity=self.quantity,
+            n=self.n,
+            max_abs=float(self.max_abs),
+            max_rel=math.nan if self.max_rel is None else float(self.max_rel),
+            max_ratio=float(self.max_ratio),
+            worst_state=worst,
+            tolerance=self.tolerance.as_dict(),
+            passed=bool(self.max_ratio <= 1.0),
+        )
 
 
 def _max(a, b):
@@ -252,7 +263,13 @@ def _by_decade(cos: np.ndarray, errors: dict[str, np.ndarray]) -> list[dict]:
     for d in range(int(decade.min()), 0):
         sel = decade == d
         if sel.any():
-            rows.append({"cos_theta": [10.0**d, 10.0 ** (d + 1)], "n": int(sel.sum()), **{k: float(e[sel].max()) for k, e in errors.items()}})
+            rows.append(
+                {
+                    "cos_theta": [10.0**d, 10.0 ** (d + 1)],
+                    "n": int(sel.sum()),
+                    **{k: float(e[sel].max()) for k, e in errors.items()},
+                }
+            )
     return rows
 
 
@@ -331,16 +348,27 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
     n = n_states
     starts = np.flatnonzero(np.diff(s["rod"], prepend=-1))
     blocks = [slice(a, b) for a, b in zip(starts, [*starts[1:], n])]
-    rods = [Rod(mass=s["m"][b.start], length=s["l"][b.start], inertia=s["I0"][b.start], gravity=s["g"][b.start]) for b in blocks]
+    rods = [
+        Rod(mass=s["m"][b.start], length=s["l"][b.start], inertia=s["I0"][b.start], gravity=s["g"][b.start])
+        for b in blocks
+    ]
     # Each rod's scale factors in its own floats (Python's l**2 and numpy's differ in the last bit now and
     # then), spread to its states; every product with them below is then the one a rod at a time would form.
     of, l, ones = s["rod"], s["l"], np.ones(n)
     omega = _per_state(of, rods, lambda r: r.omega)
-    units = _Units(mass=s["m"], gravity=s["g"], force_scale=_per_state(of, rods, lambda r: r.force_scale), L=np.stack((l, l, l, ones, ones), axis=-1),
-                   ml2=_per_state(of, rods, lambda r: r.mass * r.length**2), ml2_omega=_per_state(of, rods, lambda r: r.mass * r.length**2 * r.omega),
-                   mgl=_per_state(of, rods, lambda r: r.mass * r.gravity * r.length))
+    units = _Units(
+        mass=s["m"],
+        gravity=s["g"],
+        force_scale=_per_state(of, rods, lambda r: r.force_scale),
+        L=np.stack((l, l, l, ones, ones), axis=-1),
+        ml2=_per_state(of, rods, lambda r: r.mass * r.length**2),
+        ml2_omega=_per_state(of, rods, lambda r: r.mass * r.length**2 * r.omega),
+        mgl=_per_state(of, rods, lambda r: r.mass * r.gravity * r.length),
+    )
     L_rates, l_omega = np.stack((ones, ones, ones, l, l), axis=-1), (l * omega)[:, None]  # v_s = v L_rates / (l omega)
-    factors = tuple(_per_state(of, rods, lambda r, j=j: analytic.rod_factors(r)[j]) for j in range(5))  # eq. linode2's, per state
+    factors = tuple(
+        _per_state(of, rods, lambda r, j=j: analytic.rod_factors(r)[j]) for j in range(5)
+    )  # eq. linode2's, per state
     F = s["F"] * units.force_scale[:, None]
     tips = np.stack((s["x"], s["y"], np.zeros(n)), axis=-1)
     theta, Psi, Theta, alpha, mu = s["theta"], s["Psi"], s["Theta"], s["alpha"], s["mu"]
@@ -371,9 +399,22 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
         lo, hi = blocks[chunk[0]].start, blocks[chunk[-1]].stop
         k, now = hi - lo, slice(lo, hi)
         q, v, raw_M, raw_C, raw_J, raw_dJ, raw_g, raw_nle, raw_aba = (x[:k] for x in work)
-        rod_states = [(slice(blocks[r].start - lo, blocks[r].stop - lo), blocks[r], rods[r]) for r in chunk]  # (in chunk, of all, rod)
+        rod_states = [
+            (slice(blocks[r].start - lo, blocks[r].stop - lo), blocks[r], rods[r]) for r in chunk
+        ]  # (in chunk, of all, rod)
         # every rod of the chunk in one call, each state with its rod's own floats (the arithmetic of a call per rod)
-        q[...], v[...] = qv_of(l[now], omega[now], theta[now], s["varphi"][now], Theta[now], Psi[now], s["eta"][now], s["psi"][now], tips[now], 0.0)
+        q[...], v[...] = qv_of(
+            l[now],
+            omega[now],
+            theta[now],
+            s["varphi"][now],
+            Theta[now],
+            Psi[now],
+            s["eta"][now],
+            s["psi"][now],
+            tips[now],
+            0.0,
+        )
         chunk_units = units.at(now)
         outer = chunk_units.outer()
         ref = _reference_chunk(q, v, lo, s, rates_rad, F, chunk_units, outer, tuple(f[now] for f in factors))
@@ -388,15 +429,30 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
             rod_engine.fill_aba_tip_acceleration(q[i], v[i], tau, raw_aba[i])
             if bar is not None:
                 bar.update(idx.stop - idx.start)
-        terms = pinrod.RodTerms(v=v, M=pinrod.symmetrised(raw_M), C=raw_C, g=raw_g, nle=raw_nle,
-                                J=np.ascontiguousarray(raw_J[:, :3]), dJ=np.ascontiguousarray(raw_dJ[:, :3]))
+        terms = pinrod.RodTerms(
+            v=v,
+            M=pinrod.symmetrised(raw_M),
+            C=raw_C,
+            g=raw_g,
+            nle=raw_nle,
+            J=np.ascontiguousarray(raw_J[:, :3]),
+            dJ=np.ascontiguousarray(raw_dJ[:, :3]),
+        )
         pin, nle = _pinocchio_chunk(terms, raw_aba, F[now], chunk_units, outer)
         ref.update(nle)
-        pin_b[now], pin_p[now] = pinrod.slip_coefficients_of(terms, s["psi"][now] + s["varphi"][now], mu[now], mass=chunk_units.mass,
-                                                             gravity=chunk_units.gravity)
-        scales = {"tip acc, aba": A[now] / cos[now], "tip acc, G F + free": kappa[now] * A[now], "Delassus G": kappa[now] * alpha_1[now],
-                  "free tip acc": kappa[now] * V[now], "M (crba)": None, "C (Coriolis matrix)": rates[now], "g (gravity)": None,
-                  "C v + g = nle": V[now]}
+        pin_b[now], pin_p[now] = pinrod.slip_coefficients_of(
+            terms, s["psi"][now] + s["varphi"][now], mu[now], mass=chunk_units.mass, gravity=chunk_units.gravity
+        )
+        scales = {
+            "tip acc, aba": A[now] / cos[now],
+            "tip acc, G F + free": kappa[now] * A[now],
+            "Delassus G": kappa[now] * alpha_1[now],
+            "free tip acc": kappa[now] * V[now],
+            "M (crba)": None,
+            "C (Coriolis matrix)": rates[now],
+            "g (gravity)": None,
+            "C v + g = nle": V[now],
+        }
         for quantity, stat in stats.items():
             stat.add(pin[quantity], ref[quantity], scales[quantity])
         for route, quantity in (("aba", "tip acc, aba"), ("G F + free", "tip acc, G F + free")):
@@ -446,13 +502,20 @@ def _pinocchio_chunk(terms: pinrod.RodTerms, raw_aba, F, units: _Units, outer) -
     ``terms`` and ``raw_aba`` (tip acceleration by aba) in physical units, F (N, 3) [N], ``units`` and ``outer`` the chunk's.
     """
     acc_scale = units.gravity[:, None]
-    pin = {"tip acc, aba": raw_aba / acc_scale, "tip acc, G F + free": terms.tip_acceleration(F) / acc_scale,
-           "Delassus G": terms.delassus() * units.mass[:, None, None],  # per unit scaled force m g, in units of g
-           "free tip acc": terms.free_acceleration() / acc_scale}
+    pin = {
+        "tip acc, aba": raw_aba / acc_scale,
+        "tip acc, G F + free": terms.tip_acceleration(F) / acc_scale,
+        "Delassus G": terms.delassus() * units.mass[:, None, None],  # per unit scaled force m g, in units of g
+        "free tip acc": terms.free_acceleration() / acc_scale,
+    }
     # scaled_matrices' M * outer / ml2 (and so on), in place where the product is a fresh array
-    for quantity, x, by, over in (("M (crba)", terms.M, outer, units.ml2[:, None, None]), ("C (Coriolis matrix)", terms.C, outer, units.ml2_omega[:, None, None]),
-                                  ("g (gravity)", terms.g, units.L, units.mgl[:, None]), ("C v + g = nle", terms.bias, units.L, units.mgl[:, None]),
-                                  ("nle", terms.nle, units.L, units.mgl[:, None])):
+    for quantity, x, by, over in (
+        ("M (crba)", terms.M, outer, units.ml2[:, None, None]),
+        ("C (Coriolis matrix)", terms.C, outer, units.ml2_omega[:, None, None]),
+        ("g (gravity)", terms.g, units.L, units.mgl[:, None]),
+        ("C v + g = nle", terms.bias, units.L, units.mgl[:, None]),
+        ("nle", terms.nle, units.L, units.mgl[:, None]),
+    ):
         pin[quantity] = np.multiply(x, by)
         pin[quantity] /= over
     return pin, {"C v + g = nle": pin.pop("nle")}
@@ -467,7 +530,11 @@ def _reference_chunk(q, v, lo, s, rates_rad, F, units: _Units, outer, factors) -
     k = q.shape[0]
     now = slice(lo, lo + k)
     ref_M, ref_C, ref_g = reference_terms(_Rods(mass=units.mass, inertia=s["I0"][now], gravity=units.gravity), q, v)
-    for x, by, over in ((ref_M, outer, units.ml2[:, None, None]), (ref_C, outer, units.ml2_omega[:, None, None]), (ref_g, units.L, units.mgl[:, None])):
+    for x, by, over in (
+        (ref_M, outer, units.ml2[:, None, None]),
+        (ref_C, outer, units.ml2_omega[:, None, None]),
+        (ref_g, units.L, units.mgl[:, None]),
+    ):
         x *= by
         x /= over
     # eq. linode2 at six (rates, force) pairs per state: (rates, F), (rates, 0), and at rest with 0 and with
@@ -480,9 +547,17 @@ def _reference_chunk(q, v, lo, s, rates_rad, F, units: _Units, outer, factors) -
     forces[0] = F[now]
     for j in range(3):
         forces[3 + j, :, j] = units.force_scale
-    ref = analytic.tip_acceleration_of(factors, s["psi"][now], s["theta"][now], psi_dot, theta_dot,
-                                       (forces[..., 0], forces[..., 1], forces[..., 2]))
+    ref = analytic.tip_acceleration_of(
+        factors, s["psi"][now], s["theta"][now], psi_dot, theta_dot, (forces[..., 0], forces[..., 1], forces[..., 2])
+    )
     ref /= units.gravity[:, None]
     ref_G = np.stack([ref[3 + j] - ref[2] for j in range(3)], axis=-1)
-    return {"tip acc, aba": ref[0], "tip acc, G F + free": ref[0], "Delassus G": ref_G, "free tip acc": ref[1],
-            "M (crba)": ref_M, "C (Coriolis matrix)": ref_C, "g (gravity)": ref_g}
+    return {
+        "tip acc, aba": ref[0],
+        "tip acc, G F + free": ref[0],
+        "Delassus G": ref_G,
+        "free tip acc": ref[1],
+        "M (crba)": ref_M,
+        "C (Coriolis matrix)": ref_C,
+        "g (gravity)": ref_g,
+    }

@@ -38,7 +38,18 @@ from crosscheck.rod import Rod
 from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
 
-__all__ = ["StepCheck", "one_step", "sticking_admissible", "slipping_states", "slip_order", "planar_impasse", "Aftermath", "jam_aftermath", "corollary_aftermath", "order"]
+__all__ = [
+    "StepCheck",
+    "one_step",
+    "sticking_admissible",
+    "slipping_states",
+    "slip_order",
+    "planar_impasse",
+    "Aftermath",
+    "jam_aftermath",
+    "corollary_aftermath",
+    "order",
+]
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
@@ -80,8 +91,14 @@ def one_step(rod: Rod, state: SlipState, mu: float, options: Options | None = No
     cos = -(force[0] * u[0] + force[1] * u[1]) / (ft * math.hypot(u[0], u[1])) if ft > 0 else math.nan
     b = analytic.b(state.Psi, state.Theta, state.theta)
     p = analytic.p(state.theta, varphi, mu, rod.alpha)
-    return StepCheck(normal_force=float(force[2]), slipping_force=float(-b / p), friction_ratio=ft / force[2] if force[2] > 0 else math.nan,
-                     cos_opposite=float(cos), varphi_end=float(varphi), w_end=float(u[2]))
+    return StepCheck(
+        normal_force=float(force[2]),
+        slipping_force=float(-b / p),
+        friction_ratio=ft / force[2] if force[2] > 0 else math.nan,
+        cos_opposite=float(cos),
+        varphi_end=float(varphi),
+        w_end=float(u[2]),
+    )
 
 
 def sticking_admissible(state: SlipState, mu: float, alpha: float) -> bool:
@@ -102,7 +119,9 @@ def sticking_admissible(state: SlipState, mu: float, alpha: float) -> bool:
     return bool(lam[2] > 0.0 and math.hypot(lam[0], lam[1]) <= mu * lam[2])
 
 
-def slipping_states(n: int, rng: np.random.Generator, alpha: float = 3.0, *, min_force: float = 1e-2) -> list[tuple[SlipState, float]]:
+def slipping_states(
+    n: int, rng: np.random.Generator, alpha: float = 3.0, *, min_force: float = 1e-2
+) -> list[tuple[SlipState, float]]:
     """``n`` random (state, mu) that slip at t = 0 (b < 0 < p) with a normal force -b/p of at least ``min_force`` m g,
     and whose time step has the slip as its only solution (not ``sticking_admissible``).
 
@@ -111,8 +130,14 @@ def slipping_states(n: int, rng: np.random.Generator, alpha: float = 3.0, *, min
     """
     out = []
     while len(out) < n:
-        s = SlipState(theta=rng.uniform(0.1, 1.45), varphi=-rng.uniform(0.05, 3.1), Theta=rng.normal(), Psi=rng.normal(),
-                      eta=rng.uniform(0.3, 3), psi=rng.uniform(-3, 3))
+        s = SlipState(
+            theta=rng.uniform(0.1, 1.45),
+            varphi=-rng.uniform(0.05, 3.1),
+            Theta=rng.normal(),
+            Psi=rng.normal(),
+            eta=rng.uniform(0.3, 3),
+            psi=rng.uniform(-3, 3),
+        )
         mu = rng.uniform(0.0, 2.0)
         b, p = analytic.b(s.Psi, s.Theta, s.theta), analytic.p(s.theta, s.varphi, mu, alpha)
         if b < 0 < p and -b / p >= min_force and not sticking_admissible(s, mu, alpha):
@@ -129,8 +154,14 @@ def order(timesteps: Sequence[float], errors: Sequence[float]) -> float:
 SLIP_ORDER_STATE = SlipState(theta=0.6, varphi=-1.2, Theta=0.3, Psi=0.5, eta=1.0)
 
 
-def slip_order(rod: Rod, *, state: SlipState = SLIP_ORDER_STATE, mu: float = 0.5, t_end: float = 0.3,
-               timesteps: Sequence[float] = (4e-3, 2e-3, 1e-3, 5e-4)) -> tuple[float, np.ndarray]:
+def slip_order(
+    rod: Rod,
+    *,
+    state: SlipState = SLIP_ORDER_STATE,
+    mu: float = 0.5,
+    t_end: float = 0.3,
+    timesteps: Sequence[float] = (4e-3, 2e-3, 1e-3, 5e-4),
+) -> tuple[float, np.ndarray]:
     """Order of convergence of the rigid engine's slipping state at ``t_end`` to ``slip_until_event``.
 
     Returns (order, errors): the error at each timestep is the largest of
@@ -138,7 +169,9 @@ def slip_order(rod: Rod, *, state: SlipState = SLIP_ORDER_STATE, mu: float = 0.5
     """
     a = slip_until_event(state, mu, rod.alpha, t_max=t_end)
     if a.outcome != Outcome.SLIP:
-        raise ValueError(f"state must slip without an event up to t_end = {t_end:g}; it ends with {a.outcome.name} at {a.time:g}")
+        raise ValueError(
+            f"state must slip without an event up to t_end = {t_end:g}; it ends with {a.outcome.name} at {a.time:g}"
+        )
     errs = []
     engine = get("pinocchio")
     for dt in timesteps:
@@ -146,8 +179,14 @@ def slip_order(rod: Rod, *, state: SlipState = SLIP_ORDER_STATE, mu: float = 0.5
         k = int(round(t_end / dt))
         if abs(R.t[k] - t_end) > 1e-9 * t_end:
             raise ValueError(f"timesteps must divide t_end = {t_end:g}; got {dt:g} (row {k} is at t = {R.t[k]:g})")
-        errs.append(max(abs(R.theta[k] - a.state.theta), abs(R.eta[k] - a.state.eta), abs(R.Theta[k] - a.state.Theta),
-                        abs(R.Psi[k] - a.state.Psi)))
+        errs.append(
+            max(
+                abs(R.theta[k] - a.state.theta),
+                abs(R.eta[k] - a.state.eta),
+                abs(R.Theta[k] - a.state.Theta),
+                abs(R.Psi[k] - a.state.Psi),
+            )
+        )
     errs = np.array(errs)
     return order(timesteps, errs), errs
 
@@ -183,16 +222,31 @@ class Aftermath:
     def orders(self) -> np.ndarray:
         """Per state jammed at every timestep: the order of convergence of rate_error (NaN otherwise)."""
         ok = self.jammed.all(axis=0) & (self.rate_error > 0).all(axis=0)
-        return np.array([order(self.timesteps, self.rate_error[:, i]) if ok[i] else math.nan for i in range(self.jammed.shape[1])])
+        return np.array(
+            [order(self.timesteps, self.rate_error[:, i]) if ok[i] else math.nan for i in range(self.jammed.shape[1])]
+        )
 
     def as_dict(self) -> dict:
-        return {"timesteps": self.timesteps.tolist(), "jammed": self.jammed.tolist(), "time_error": self.time_error.tolist(),
-                "impulse_error": self.impulse_error.tolist(), "rate_error": self.rate_error.tolist(), "orders": self.orders().tolist(),
-                **({} if self.stop_lead is None else {"stop_lead": self.stop_lead.tolist()})}
+        return {
+            "timesteps": self.timesteps.tolist(),
+            "jammed": self.jammed.tolist(),
+            "time_error": self.time_error.tolist(),
+            "impulse_error": self.impulse_error.tolist(),
+            "rate_error": self.rate_error.tolist(),
+            "orders": self.orders().tolist(),
+            **({} if self.stop_lead is None else {"stop_lead": self.stop_lead.tolist()}),
+        }
 
 
-def jam_aftermath(rod: Rod, states: Sequence[SlipState], mu: float, *, timesteps: Sequence[float] = (1e-3, 3e-4, 1e-4),
-                  after: float = 0.05, t_max: float = 2.0) -> Aftermath:
+def jam_aftermath(
+    rod: Rod,
+    states: Sequence[SlipState],
+    mu: float,
+    *,
+    timesteps: Sequence[float] = (1e-3, 3e-4, 1e-4),
+    after: float = 0.05,
+    t_max: float = 2.0,
+) -> Aftermath:
     """The rigid engine through the analytic jam of each state (Corollary 4.2 states, or impasses at t = 0) against the IWC.
 
     Each state is run analytically to its jam (``slip_until_event``, which must
@@ -212,7 +266,9 @@ def jam_aftermath(rod: Rod, states: Sequence[SlipState], mu: float, *, timesteps
         else:
             a = slip_until_event(s, mu, rod.alpha, t_max=t_max)
             if a.outcome != Outcome.JAM:
-                raise ValueError(f"states[{i}] must jam analytically by t_max = {t_max:g}; it ends with {a.outcome.name}")
+                raise ValueError(
+                    f"states[{i}] must jam analytically by t_max = {t_max:g}; it ends with {a.outcome.name}"
+                )
             t_jam, at = float(a.time), a.state
             stop_lead[i] = _stop_lead(a, mu, rod.alpha)
         iwc = impact(at, mu, rod.alpha)
@@ -225,13 +281,22 @@ def jam_aftermath(rod: Rod, states: Sequence[SlipState], mu: float, *, timesteps
             t_err[j, i] = run.event_time - t_jam
             imp_err[j, i] = run.jam_impulse - iwc.normal_impulse
             rate_err[j, i] = max(abs(R.Theta[k] - iwc.Theta), abs(R.Psi[k] - iwc.Psi), abs(R.eta[k] - iwc.eta))
-    return Aftermath(timesteps=timesteps, jammed=jammed, time_error=t_err, impulse_error=imp_err, rate_error=rate_err, stop_lead=stop_lead)
+    return Aftermath(
+        timesteps=timesteps,
+        jammed=jammed,
+        time_error=t_err,
+        impulse_error=imp_err,
+        rate_error=rate_err,
+        stop_lead=stop_lead,
+    )
 
 
 def _stop_lead(slip, mu: float, alpha: float) -> float:
     """t_jam - the first row of the theory's slip (a ``SlipResult`` ending in JAM) whose step admits the impulsive stop."""
     for t, (eta, varphi, psi, Psi, theta, Theta) in zip(slip.t[:-1], slip.x[:-1]):
-        if sticking_admissible(SlipState(theta=theta, varphi=varphi, Theta=Theta, Psi=Psi, eta=eta, psi=psi), mu, alpha):
+        if sticking_admissible(
+            SlipState(theta=theta, varphi=varphi, Theta=Theta, Psi=Psi, eta=eta, psi=psi), mu, alpha
+        ):
             return float(slip.time - t)
     return math.nan
 

@@ -67,7 +67,7 @@ from scipy.optimize import brentq
 
 from crosscheck.checks import FINITE, MU, POSITIVE, check
 from crosscheck.engines.mujoco.options import Options
-from crosscheck.engines.mujoco.model import AXIAL_INERTIA
+from crosscheck.engines.mujoco.model import axial_inertia
 from crosscheck.rod import Rod
 
 __all__ = [
@@ -210,7 +210,7 @@ def mass_matrix(rod: Rod, q) -> np.ndarray:
     """Diagonal of M(q) for q = (X, Y, Z, psi, theta): (m, m, m, I0 cos^2 + eps sin^2, I0) with eps the axial inertia."""
     st, ct = math.sin(q[4]), math.cos(q[4])
     I0 = rod.inertia
-    return np.array([rod.mass, rod.mass, rod.mass, I0 * ct * ct + AXIAL_INERTIA * I0 * st * st, I0])
+    return np.array([rod.mass, rod.mass, rod.mass, I0 * ct * ct + axial_inertia(I0) * st * st, I0])
 
 
 def smooth_accelerations(rod: Rod, q, v) -> np.ndarray:
@@ -223,7 +223,7 @@ def smooth_accelerations(rod: Rod, q, v) -> np.ndarray:
 def smooth_force(rod: Rod, q, v) -> np.ndarray:
     """Gravity minus the velocity-product terms of the rod's equations of motion (MuJoCo's qfrc_smooth) [N, N m]."""
     st, ct = math.sin(q[4]), math.cos(q[4])
-    dI = (1.0 - AXIAL_INERTIA) * rod.inertia * st * ct  # -1/2 d(I_psi psi)/d theta
+    dI = (rod.inertia - axial_inertia(rod.inertia)) * st * ct  # -1/2 d(I_psi psi)/d theta
     return np.array([0.0, 0.0, -rod.mass * rod.gravity, 2.0 * dI * v[3] * v[4], -dI * v[3] * v[3]])
 
 

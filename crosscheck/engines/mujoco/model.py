@@ -49,6 +49,8 @@ from crosscheck.state import SlipState
 __all__ = [
     "MODEL_FILE",
     "AXIAL_INERTIA",
+    "AXIAL_FLOOR",
+    "axial_inertia",
     "ModelFileError",
     "model_path",
     "build_model",
@@ -85,6 +87,16 @@ def _load_spec(path: str) -> mujoco.MjSpec:
 #: Axial inertia of the slender rod relative to I0 (eq. inertia has 0; MuJoCo
 #: needs > 0).  It only enters the psi inertia I0 cos^2 + eps sin^2.
 AXIAL_INERTIA = 1e-12
+#: The least axial inertia [kg m^2] given to MuJoCo: its compiler refuses a moving body with an inertia below
+#: mjMINVAL = 1e-15, which 1e-12 I0 is for every rod with I0 < 1e-3 kg m^2 (a 10 cm, 200 g rod); 10 mjMINVAL.
+AXIAL_FLOOR = 1e-14
+
+
+def axial_inertia(inertia: float) -> float:
+    """The axial inertia [kg m^2] of a rod of transverse inertia I0 = ``inertia`` in MuJoCo's model: AXIAL_INERTIA I0,
+    at least AXIAL_FLOOR: a relative size eps / I0 of 1e-12, or 1e-14 / I0 below I0 = 1e-2 kg m^2 (1.5e-9 for a 1 cm,
+    200 g rod, still far below the engine's other errors)."""
+    return max(AXIAL_INERTIA * inertia, AXIAL_FLOOR)
 
 
 def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
@@ -117,7 +129,7 @@ def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
     body.explicitinertial = True
     body.mass = rod.mass
     body.ipos = [0.0, 0.0, 0.0]
-    body.inertia = [rod.inertia, AXIAL_INERTIA * rod.inertia, rod.inertia]
+    body.inertia = [rod.inertia, axial_inertia(rod.inertia), rod.inertia]
     geom.fromto = [0.0, -l, 0.0, 0.0, l, 0.0]
     geom.size = [options.radius * l, 0.0, 0.0]
     site.pos = [0.0, -l, 0.0]

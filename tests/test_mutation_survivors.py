@@ -34,7 +34,7 @@ ALPHA = 3.0
 
 
 def _removed_by(cause: str, fixing: set[str], causes=("geometry", "compliance", "friction law")) -> dict:
-    """A laddered start named ``cause`` whose interventions remove the disagreement exactly for the causes ``fixing``."""
+    """A laddered start named ``cause`` whose interventions remove the disagreement for the causes ``fixing`` alone."""
     return {
         "cause": cause,
         "interventions": {
@@ -91,13 +91,13 @@ def test_a_stick_turns_the_heading_as_its_vertical_momentum_says_and_the_engine_
     turned = k.state.psi - state.psi
     assert turned == pytest.approx(_heading_turn(state, k.time), rel=1e-8) and turned > 0.05
     R = engines.get("pinocchio").simulate(Rod.scaled(ALPHA), state, mu, horizon=k.time + 0.15, timestep=DT).record
-    i = int(round(k.time / DT))
+    i = round(k.time / DT)
     assert abs(R.psi[i] - k.state.psi) <= 0.5 * DT
     floor = Thresholds().stick_floor(timestep=DT, friction_timeconst=0.0, rigid=True)
     assert np.abs(R.tip_pos[:i, :2] - R.tip_pos[0, :2]).max() <= floor * k.time
     # the slip after the stick starts from the turned heading: the tip's slip direction in the world, psi + varphi,
     # 0.1 after the cone exit is the engine's (first order in dt: measured 0.62-0.68 dt; allowance 2 dt)
-    j = int(round((k.time + 0.1) / DT))
+    j = round((k.time + 0.1) / DT)
     h = hybrid_run(state, mu, ALPHA, horizon=float(R.t[j]))
     assert [type(x).__name__ for x in h.segments] == ["Segment", "StickSegment", "Segment"]
     assert h.segments[2].start.psi == k.state.psi
@@ -117,7 +117,8 @@ def _heading_turn(state: SlipState, t_end: float) -> float:
         Psi_dot, Theta_dot = stick_rates(y[1], y[2], y[3], ALPHA)
         return [y[2], y[3], Psi_dot, Theta_dot]
 
-    sol = solve_ivp(rhs, (0.0, t_end), [0.0, state.theta, state.Psi, state.Theta], method="Radau", rtol=1e-12, atol=1e-14)
+    y0 = [0.0, state.theta, state.Psi, state.Theta]
+    sol = solve_ivp(rhs, (0.0, t_end), y0, method="Radau", rtol=1e-12, atol=1e-14)
     return float(sol.y[0, -1])
 
 
@@ -204,7 +205,8 @@ def test_a_chunk_and_its_record_from_another_sweep_are_refused_by_an_intact_mani
 
 def test_the_inner_time_is_the_fifth_root_exactly_away_from_k_b_one():
     """T / eps^(4/5) = (k |b|)^(-1/5): at k |b| = 32 it is 1/2 and at 1/32 it is 2, both exact in binary, where any
-    other exponent is off by a factor (2^(1/4) for -1/4); and the lag s* T at eps = 2^-5 is s* (eps^4 / (k |b|))^(1/5)."""
+    other exponent is off by a factor (2^(1/4) for -1/4); and the lag s* T at eps = 2^-5 is
+    s* (eps^4 / (k |b|))^(1/5)."""
     assert inner_scale(-2.0, 16.0) == 0.5 and inner_scale(-0.25, 0.125) == 2.0
     assert inner_scale(-1.0, 32.0) == inner_scale(-32.0, 1.0) == 0.5  # only the product k |b| enters
     eps = 2.0**-5

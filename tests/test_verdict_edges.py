@@ -64,7 +64,7 @@ def _convergence(root: Path, slug: str, agreements: list[float]) -> Path:
         (9000, 9400, "agrees", "lower end 95.3 % >= 95 %, upper end 96.1 % >= 90 %", "96 % [95-96]"),
         (860, 1000, "disagrees", "lower end 83.7 % < 95 %, upper end 88.0 % < 90 %", "86 % [84-88]"),
     ],
-    ids=["point_agrees", "point_at_95", "point_disagrees", "point_at_90_few_starts", "interval_agrees", "interval_below"],
+    ids=["point_agrees", "point_at_95", "point_disagrees", "point_at_90_few", "interval_agrees", "interval_below"],
 )
 def test_the_first_event_verdict_reads_the_interval_not_the_point_estimate(tmp_path, k, n, verdict, why, cell):
     _maps(tmp_path, f"{engines.get(ENGINE).slug}_maps", k, n)
@@ -130,9 +130,7 @@ def test_the_onset_verdict_needs_every_check(tmp_path, failed, verdict):
 # -------------------------------------------------------------------------------- ladder, interventions ---
 
 
-@pytest.mark.parametrize(
-    "attributed, verdict", [(0.9, "explained"), (0.8999, "partly explained"), (1.0, "explained")]
-)
+@pytest.mark.parametrize("attributed, verdict", [(0.9, "explained"), (0.8999, "partly explained"), (1.0, "explained")])
 @pytest.mark.parametrize("engine", ["mujoco", "bullet"], ids=["mujocos_own_ladder", "a_declared_ladder"])
 def test_the_ladder_explains_from_90_percent_attributed(tmp_path, engine, attributed, verdict):
     slug = "ladder" if engine == "mujoco" else f"{engines.get(engine).slug}_ladder"
@@ -162,7 +160,9 @@ def _interventions(root: Path, slug: str, engine: str, confirmed: int, attribute
     "confirmed, attributed, verdict",
     [(4, 5, "confirmed"), (800, 1000, "confirmed"), (799, 1000, "partly confirmed"), (3, 4, "partly confirmed")],
 )
-def test_causes_are_confirmed_from_80_percent_per_engine_and_over_every_engine(tmp_path, confirmed, attributed, verdict):
+def test_causes_are_confirmed_from_80_percent_per_engine_and_over_every_engine(
+    tmp_path, confirmed, attributed, verdict
+):
     assert CONFIRMED_SHARE == 0.8
     _interventions(tmp_path, "bullet_interventions", "bullet", confirmed, attributed)
     (own,) = [f for f in findings(tmp_path) if f.slug == "bullet_interventions"]

@@ -60,6 +60,7 @@ BUILTIN = (
     "crosscheck.engines.drake",
     "crosscheck.engines.bullet",
     "crosscheck.engines.physx",
+    "crosscheck.engines.dart",
 )
 
 #: The engine a study runs when none is named (the studies' ``engine=`` default): MuJoCo, the engine the ladder explains.

@@ -27,9 +27,10 @@ ENGINES = (
         tolerances=None,
         ladder=_LADDER,
         interventions={c: f"crosscheck.engines.dart.interventions:{c}" for c in _LADDER},
-        # Cost (python benchmarks/bench_dart.py): ~85 us a step with the record, a run to horizon 2 at the default
-        # timestep ~0.17 s before stopping at its first event, as PhysX's; so the same grids: 6 x 6 maps (quick),
-        # 12 x 12 (full), convergence in the timestep on 4 x 4 and 6 x 6 (theta, Theta) grids.
+        # Cost (python benchmarks/bench_dart.py, 2 cores shared): DART's bare step ~80 us, ~160 us with the record
+        # and classifier, a run to horizon 2 at the default timestep ~0.3 s, twice PhysX's; so the grids are the
+        # smallest the sections take: 6 x 6 maps (quick), 12 x 12 (full), convergence in the timestep on 4 x 4 and
+        # 6 x 6 (theta, Theta) grids.  The quick report's DART sections ran in ~50 s of wall time, cores shared.
         report=ReportPlan(
             maps={"quick": {"timestep": 1e-3}, "full": {"timestep": 1e-3}},
             convergence={

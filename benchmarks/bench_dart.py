@@ -14,7 +14,6 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
-
 from timing import best_of  # benchmarks/timing.py (the script's directory is on sys.path)
 
 from crosscheck import Rod, SlipState, engines
@@ -66,7 +65,9 @@ def main() -> None:
         runs = []
         t_engine = best_of(
             args.repeat,
-            lambda: runs.append([spec.simulate(rod, s, mu, horizon=args.horizon, timestep=opts.timestep) for s in states]),
+            lambda: runs.append(
+                [spec.simulate(rod, s, mu, horizon=args.horizon, timestep=opts.timestep) for s in states]
+            ),
         )
         contact = np.mean([r.solver.contact_steps / r.nstep for r in runs[-1]])
         sweeps = []
@@ -76,15 +77,21 @@ def main() -> None:
                 spec.sweep(rod, states, mu, horizon=args.horizon, progress=False, workers=1, timestep=opts.timestep)
             ),
         )
-        print(f"{spec.label}: {len(states)} states x {nstep} steps (timestep {opts.timestep:g}, mu {mu:g}, "
-              f"contact in {contact:.0%} of the steps), best of {args.repeat}")
+        print(
+            f"{spec.label}: {len(states)} states x {nstep} steps (timestep {opts.timestep:g}, mu {mu:g}, "
+            f"contact in {contact:.0%} of the steps), best of {args.repeat}"
+        )
         print(f"  step alone:              {total / t_step:9.0f} steps/s  ({1e6 * t_step / total:.1f} us/step)")
         print(f"  step + the row reads:    {total / t_reads:9.0f} steps/s  ({1e6 * t_reads / total:.1f} us/step)")
-        print(f"  engine simulate:         {total / t_engine:9.0f} steps/s  ({1e6 * t_engine / total:.1f} us/step)  "
-              f"bare / engine {t_step / t_engine:.2f}, reads / engine {t_reads / t_engine:.2f}; "
-              f"{t_engine / len(states):.3f} s per run to horizon {args.horizon:g}")
-        print(f"  engine sweep (stops at the first event): {t_sweep:.2f} s, {t_sweep / t_step:.2f} x the bare loop over "
-              f"the whole horizon; {t_sweep / len(states):.3f} s per run")
+        print(
+            f"  engine simulate:         {total / t_engine:9.0f} steps/s  ({1e6 * t_engine / total:.1f} us/step)  "
+            f"bare / engine {t_step / t_engine:.2f}, reads / engine {t_reads / t_engine:.2f}; "
+            f"{t_engine / len(states):.3f} s per run to horizon {args.horizon:g}"
+        )
+        print(
+            f"  engine sweep (stops at the first event): {t_sweep:.2f} s, {t_sweep / t_step:.2f} x the bare loop over "
+            f"the whole horizon; {t_sweep / len(states):.3f} s per run"
+        )
 
 
 if __name__ == "__main__":

@@ -13,6 +13,7 @@ import sys
 
 import numpy as np
 import pytest
+from stopped_runs import stopped_and_whole
 
 from crosscheck import Rod, SlipState, analytic, engines
 from crosscheck.coordinates import to_generalized
@@ -21,7 +22,6 @@ from crosscheck.engines.physx.engine import PhysxHealth
 from crosscheck.engines.physx.model import World
 from crosscheck.engines.physx.options import Options
 from crosscheck.engines.record import FIELDS
-from stopped_runs import stopped_and_whole
 
 ALPHA = 3.0
 ROD = Rod.scaled(ALPHA)

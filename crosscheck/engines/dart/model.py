@@ -30,13 +30,12 @@ slip, a fraction of the force's change per step.  A fresh world per run.  Everyt
 
 from __future__ import annotations
 
+import dartpy as dart
 import numpy as np
 
 from crosscheck.engines.classifier import FIRST_CHECK
 from crosscheck.engines.physx.chain import Raw
 from crosscheck.rod import Rod
-
-import dartpy as dart
 
 __all__ = ["World", "CHAIN_MASS"]
 

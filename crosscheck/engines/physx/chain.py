@@ -37,11 +37,9 @@ class Raw:
     separation: np.ndarray
     computed: int | None = None
 
-    def head(self, k: int) -> "Raw":
+    def head(self, k: int) -> Raw:
         """The first k steps (what a rollout has computed after k steps)."""
-        return Raw(
-            self.q[: k + 1], self.v[: k + 1], self.force[:k], self.points[:k], self.separation[:k], computed=k
-        )
+        return Raw(self.q[: k + 1], self.v[: k + 1], self.force[:k], self.points[:k], self.separation[:k], computed=k)
 
 
 def record_from_raw(raw: Raw, rod: Rod, timestep: float, radius: float) -> Record:

@@ -114,7 +114,16 @@ def simulate(
     record = record_from_raw(raw, rod, opts.timestep, opts.radius)
     c = classify(record, **rules)
     run = Run.from_classification(
-        _name(opts), c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th, horizon=horizon, nstep=n
+        _name(opts),
+        c,
+        record,
+        state=state,
+        mu=mu,
+        alpha=rod.alpha,
+        options=opts,
+        thresholds=th,
+        horizon=horizon,
+        nstep=n,
     )
     return dataclasses.replace(run, solver=health(raw, record, rod))
 

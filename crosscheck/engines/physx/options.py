@@ -88,12 +88,8 @@ class Options:
         object.__setattr__(self, "radius", real_scalar("radius", self.radius, RADIUS))
         if self.solver not in SOLVERS:
             raise ValueError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")
-        object.__setattr__(
-            self, "position_iterations", _iterations("position_iterations", self.position_iterations, 1)
-        )
-        object.__setattr__(
-            self, "velocity_iterations", _iterations("velocity_iterations", self.velocity_iterations, 0)
-        )
+        object.__setattr__(self, "position_iterations", _iterations("position_iterations", self.position_iterations, 1))
+        object.__setattr__(self, "velocity_iterations", _iterations("velocity_iterations", self.velocity_iterations, 0))
         object.__setattr__(self, "contact_offset", real_scalar("contact_offset", self.contact_offset, POSITIVE))
         object.__setattr__(self, "bounce_threshold", real_scalar("bounce_threshold", self.bounce_threshold, BOUNCE))
         object.__setattr__(self, "sleep_threshold", real_scalar("sleep_threshold", self.sleep_threshold, NONNEGATIVE))

@@ -12,13 +12,15 @@ from __future__ import annotations
 import json
 import math
 import shutil
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
 import pytest
 
 from crosscheck import Rod, SlipState, engines, sweeps
-from crosscheck.engines.classifier import Thresholds
+from crosscheck.engines.classifier import Thresholds, classify
+from crosscheck.engines.record import FIELDS, Record
 from crosscheck.engines.spec import EngineSpec
 from crosscheck.outcome import Outcome
 from crosscheck.studies.interventions import summarise
@@ -213,3 +215,80 @@ def test_the_inner_time_is_the_fifth_root_exactly_away_from_k_b_one():
     for b, k in ((-2.0, 16.0), (-0.3, 7.0)):
         want = inner_pole() * (eps**4 / (k * -b)) ** 0.2
         assert spring_jam_lag(eps, inner_scale(b, k)) == pytest.approx(want, rel=1e-14)
+
+
+# --------------------------------------------------------------------------------------- classifier ---
+
+#: A slip of the rigid engine for 0.3 (scaled), without event: the classifier's DIVERGED guards on a clean record.
+CLEAN_SLIP = (SlipState(theta=0.5, varphi=-math.pi / 2, Theta=0.0, Psi=0.5, eta=1.0), 0.5)
+#: The guard on the tip's vertical acceleration: |a_z + 1| < 1e9 (in g, from free fall, eq. b: a free tip has
+#: a_z = b >= -1); a row at or beyond it either way is a divergence, a row just inside is not.
+AZ_GUARD = 1e9
+
+
+def _fault(R, k, name, value, column=None):
+    x = np.array(getattr(R, name), dtype=float)
+    if column is None:
+        x[k] = value
+    else:
+        x[k, column] = value
+    return replace(R, **{name: x})
+
+
+@pytest.mark.parametrize(
+    "name, column, value, diverged",
+    [
+        ("theta", None, math.inf, True),
+        ("theta", None, math.nan, True),
+        ("normal_force", None, math.inf, True),
+        ("tip_acc", 2, math.nan, True),
+        ("tip_acc", 2, -1.0 + AZ_GUARD, True),
+        ("tip_acc", 2, -1.0 - AZ_GUARD, True),
+        ("tip_acc", 2, -1.0 + AZ_GUARD - 1.0, False),
+        ("tip_acc", 2, -1.0 - AZ_GUARD + 1.0, False),
+    ],
+    ids=[
+        "theta_inf",
+        "theta_nan",
+        "force_inf",
+        "az_nan",
+        "az_at_guard_up",
+        "az_at_guard_down",
+        "az_inside_up",
+        "az_inside_down",
+    ],
+)
+def test_a_non_finite_or_runaway_row_of_any_field_is_diverged_at_that_row(name, column, value, diverged):
+    """Each field the classifier guards (theta, the normal force, the tip's vertical acceleration) diverges the run
+    at its faulty row, and the acceleration's guard is exactly |a_z + 1| < 1e9 g on both sides of free fall."""
+    state, mu = CLEAN_SLIP
+    dt = 1e-3
+    run = engines.get("pinocchio").simulate(Rod.scaled(ALPHA), state, mu, horizon=0.3, timestep=dt)
+    assert run.outcome == Outcome.SLIP
+    k = 120
+    c = classify(_fault(run.record, k, name, value, column), mu=mu, alpha=ALPHA, timestep=dt, rigid=True)
+    if diverged:
+        assert (c.outcome, c.event_row) == (Outcome.DIVERGED, k)
+    else:
+        assert c.outcome != Outcome.DIVERGED
+
+
+#: A slow slip of the rigid engine at mu = 0.6 whose slip stops at t = 0.038 and sticks (``test_theory_sticking.py``).
+SLIP_THEN_STICK = (SlipState(theta=1.2, varphi=-math.pi / 2, Theta=-0.3, Psi=0.5, eta=0.05, psi=0.4), 0.6)
+
+
+def test_a_batch_of_records_is_classified_as_each_of_its_runs():
+    """The classifier reads a batch (a leading axis of runs, as a batched sweep gives it) run by run: a STICK, a SLIP
+    and a fault in the same batch each get exactly what they get alone, every field of the classification."""
+    dt = 1e-3
+    pin = engines.get("pinocchio")
+    stick = pin.simulate(Rod.scaled(ALPHA), SLIP_THEN_STICK[0], 0.6, horizon=0.3, timestep=dt).record
+    slip = pin.simulate(Rod.scaled(ALPHA), CLEAN_SLIP[0], 0.6, horizon=0.3, timestep=dt).record
+    runs = [stick, slip, _fault(slip, 150, "theta", math.nan), stick]
+    batch = Record(**{f: np.stack([getattr(r, f) for r in runs]) for f in FIELDS})
+    together = classify(batch, mu=0.6, alpha=ALPHA, timestep=dt, rigid=True)
+    alone = [classify(r, mu=0.6, alpha=ALPHA, timestep=dt, rigid=True) for r in runs]
+    assert [Outcome(int(c.outcome)) for c in alone] == [Outcome.STICK, Outcome.SLIP, Outcome.DIVERGED, Outcome.STICK]
+    for i, c in enumerate(alone):
+        for f in c._fields:
+            np.testing.assert_array_equal(getattr(together, f)[i], getattr(c, f), err_msg=f"run {i}: {f}")

@@ -186,7 +186,7 @@ def test_paper_references_keep_numbers_and_drop_labels():
 def test_a_regression_guard_holds_it_does_not_pass_and_a_listed_check_is_not_tabled_twice():
     """A validate section's own table lists its checks: the generic checks table is replaced by a note that still says which
     are regression guards, and a guard that holds never reads 'passed'."""
-    from crosscheck.report.render import SectionView, _checks_note, _checks_shown, _checks_table
+    from crosscheck.report.format import SectionView, checks_note as _checks_note, checks_shown as _checks_shown, checks_table as _checks_table
     from crosscheck.report.section import Table
 
     checks = [

@@ -33,50 +33,51 @@ def _name(r: dict) -> str:
     return r["label"] + (" (rigid)" if r["rigid"] else "")
 
 
-def _mechanism(r: dict) -> str:
-    """The ladder's most named cause of an engine's disagreements, how many its intervention confirmed, its LAUNCHes."""
-    parts = []
-    if r.get("top_cause_n"):
-        parts.append(f"{r['top_cause']}, {r['top_cause_confirmed']}/{r['top_cause_n']} confirmed")
-    if r["n_launch"]:
-        parts.append(f"LAUNCH {r['n_launch']}/{r['n_rated']}")
-    return f" ({'; '.join(parts)})" if parts else ""
-
-
 _RULE = (
     f"first event: agrees when the 95 % interval's lower end is >= {100 * CONVERGED:.0f} %, disagrees when its upper "
     f"end is < {100 * NOT_CONVERGED:.0f} %, inconclusive otherwise"
 )
 
 
-def _closest(maps: list[dict]) -> Sentence:
+def _closest(maps: list[dict]) -> tuple[dict, Sentence]:
     best = max(maps, key=lambda r: (r["ci_low"], r["agreement"]))
-    return Sentence(
+    return best, Sentence(
         f"Closest to the theory (highest lower end of the 95 % interval): {_name(best)}, the theory's first event on "
         f"{best['n_agree']} of {best['n_rated']} starts, {interval(best)}: {verdict(best)}.",
         "closest: the highest lower end of the Wilson 95 % interval; " + _RULE,
     )
 
 
-def _items(maps: list[dict], word: str, *, mechanism: bool) -> list[str]:
-    group = sorted((r for r in maps if verdict(r) == word), key=lambda r: r["agreement"])
-    return [f"{_name(r)} {interval(r)}" + (_mechanism(r) if mechanism else "") for r in group]
+def _pct(r: dict) -> str:
+    return f"{100 * r['agreement']:.0f} %"
 
 
 def _disagree(maps: list[dict]) -> Sentence | None:
-    items = _items(maps, "disagrees", mechanism=True)
-    if not items:
+    """The engines that disagree, grouped by the ladder's most named cause with the share its interventions confirm."""
+    group = sorted((r for r in maps if verdict(r) == "disagrees"), key=lambda r: r["agreement"])
+    if not group:
         return None
+    by: dict[str, list[dict]] = {}
+    for r in group:
+        by.setdefault(r.get("top_cause") or "no ladder", []).append(r)
+    parts = []
+    for cause, rs in by.items():
+        n, k = sum(r.get("top_cause_n", 0) for r in rs), sum(r.get("top_cause_confirmed", 0) for r in rs)
+        names = ", ".join(
+            f"{_name(r)} {_pct(r)}" + (f" (LAUNCH {r['n_launch']}/{r['n_rated']})" if r["n_launch"] else "") for r in rs
+        )
+        parts.append(f"{cause}" + (f" ({k}/{n} confirmed)" if n else "") + f": {names}")
     return Sentence(
-        f"Disagree (upper end < {100 * NOT_CONVERGED:.0f} %; the ladder's main cause, confirmed by intervention): "
-        + ", ".join(items) + ".",
-        _RULE + "; cause: the ladder's most named, confirmed when its intervention on the engine removes it",
-    )  # fmt: skip
+        f"Disagree (upper end < {100 * NOT_CONVERGED:.0f} %), by the ladder's main cause: " + "; ".join(parts) + ".",
+        _RULE + "; cause: the ladder's most named; confirmed: removed by that cause's intervention on the engine",
+    )
 
 
-def _rest(maps: list[dict]) -> Sentence | None:
-    """The engines that agree, and those neither shown to agree nor ruled out, in one sentence."""
-    agree, open_ = _items(maps, "agrees", mechanism=False), _items(maps, "inconclusive", mechanism=False)
+def _rest(maps: list[dict], closest: dict) -> Sentence | None:
+    """The engines that agree, and those neither shown to agree nor ruled out, in one sentence (the closest aside)."""
+    rest = [r for r in maps if r is not closest]
+    agree = [f"{_name(r)} {_pct(r)}" for r in rest if verdict(r) == "agrees"]
+    open_ = [f"{_name(r)} {_pct(r)}" for r in sorted(rest, key=lambda r: r["agreement"]) if verdict(r) == "inconclusive"]
     parts = ([f"Agree (lower end >= {100 * CONVERGED:.0f} %): {', '.join(agree)}"] if agree else []) + (
         [f"inconclusive (interval across {100 * NOT_CONVERGED:.0f}-{100 * CONVERGED:.0f} %): {', '.join(open_)}"]
         if open_
@@ -89,17 +90,22 @@ def _rest(maps: list[dict]) -> Sentence | None:
 
 
 def _jams(maps: list[dict]) -> Sentence | None:
-    """The rigid engines' jams and every engine that jams at under half the theory's jams, then the LAUNCHes."""
-    shown = [r for r in maps if r["n_theory_jam"] and (r["rigid"] or 2 * r["agree_theory_jam"] < r["n_theory_jam"])]
+    """The rigid engines' jams and every other engine that jams at under half the theory's jams, then the LAUNCHes."""
+    rigid = [r for r in maps if r["n_theory_jam"] and r["rigid"]]
+    low = [r for r in maps if r["n_theory_jam"] and not r["rigid"] and 2 * r["agree_theory_jam"] < r["n_theory_jam"]]
     launch = [r for r in maps if r["n_launch"]]
-    if not shown and not launch:
+    if not rigid and not low and not launch:
         return None
-    jams = ", ".join(f"{_name(r)} {r['agree_theory_jam']}/{r['n_theory_jam']}" for r in shown)
-    tail = ", ".join(f"{_name(r)} {r['n_launch']}/{r['n_rated']}" for r in launch) or "none"
+
+    def counts(rs: list[dict], k: str, n: str) -> str:
+        return ", ".join(f"{r['label']} {r[k]}/{r[n]}" for r in rs) or "none"
+
+    text = f"At the theory's jams the rigid engines jam at {counts(rigid, 'agree_theory_jam', 'n_theory_jam')}"
+    if low:
+        text += f", and under half of them: {counts(low, 'agree_theory_jam', 'n_theory_jam')}"
     return Sentence(
-        f"At the theory's jams (rigid engines, and any jamming at under half): {jams or 'none'}; LAUNCH (thrown off "
-        f"the plane while b < 0): {tail}.",
-        "jams among the starts where the theory jams, for the rigid engines and every engine below half; LAUNCH "
+        text + f"; LAUNCH (thrown off the plane while b < 0): {counts(launch, 'n_launch', 'n_rated')}.",
+        "jams among the starts where the theory jams, for the rigid engines and every other engine below half; LAUNCH "
         "among all rated starts; each engine at its map setting",
     )
 
@@ -125,7 +131,7 @@ def _takeaway(maps: list[dict]) -> Sentence | None:
     if by.get("converges"):
         parts.append(f"a finer timestep or stiffer contact brings {', '.join(by['converges'])} to the theory")
     if by.get("does not converge"):
-        parts.append(f"it does not for {', '.join(by['does not converge'])}: their gap is the contact model's")
+        parts.append(f"not {', '.join(by['does not converge'])}: their gap is the contact model's")
     if by.get("inconclusive"):
         parts.append(f"inconclusive for {', '.join(by['inconclusive'])}")
     return Sentence(
@@ -142,10 +148,11 @@ def bottom_line(records: list[dict]) -> list[Sentence]:
     maps = [r for r in records if r["role"] == "map" and r["n_rated"]]
     if not maps:
         return []
+    closest, first = _closest(maps)
     out = [
-        _closest(maps),
+        first,
         _disagree(maps),
-        _rest(maps),
+        _rest(maps, closest),
         _jams(maps),
         _takeaway(maps),
     ]

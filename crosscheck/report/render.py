@@ -115,14 +115,14 @@ def _view(section: Section, out: Path) -> SectionView:
 # ------------------------------------------------------------------- html ---
 
 _CSS = """
-body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222;line-height:1.45}
-h1{font-size:1.6em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:2em}
+body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;max-width:1100px;margin:1em auto;padding:0 1em;color:#222;line-height:1.45}
+h1{font-size:1.35em;margin:.3em 0}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:2em}
 table{border-collapse:collapse;margin:.6em 0;font-size:.88em}
 th,td{border:1px solid #ccc;padding:.25em .5em;text-align:left;vertical-align:top}
 th{background:#f3f3f3}tr.fail td{background:#fdd}tr.known td{background:#fff3c4}tr.ok td{background:#fff}tr.guard td{background:#e8f0fe}tr.skip td{background:#f2f2f2;color:#666}
-p.bottom{font-size:1.02em;margin:.4em 0 .6em}p.bottom span{display:block;margin:.15em 0}
+p.bottom{font-size:.95em;margin:.3em 0 .4em;line-height:1.35}p.bottom span{display:block;margin:.1em 0}
 ul.notes{font-size:.8em;color:#444;margin:.2em 0 .8em;padding-left:1.2em}
-figure.first{margin:.3em 0}figure.first img{max-height:430px}
+figure.first{margin:.3em 0}figure.first img{max-height:400px}
 .badge{font-weight:bold;padding:0 .4em;border-radius:3px}.b-ok{background:#d4f4d4}.b-skipped{background:#e8e8e8}.b-FAILED,.b-UNFINISHED,.b-NOTRUN{background:#f7c6c6}
 figure{margin:1em 0}figure img{max-width:100%;border:1px solid #eee}figcaption{font-size:.9em;color:#444}
 .data{font-size:.85em}.data a{margin-right:.8em}

@@ -23,6 +23,7 @@ from crosscheck.report.sections import (
     engine_ladder,
     engine_maps,
     engine_onset,
+    engine_psi,
     engine_rounding,
     gb_det_zeros,
     gb_eigenvectors,
@@ -37,6 +38,7 @@ from crosscheck.report.sections import (
     mode_maps,
     p_region,
     printed_numbers,
+    psi_engines,
 )
 
 __all__ = ["SECTIONS", "THEORY_SECTIONS", "all_sections", "cross_engine_sections", "engine_sections", "section_by_slug"]
@@ -73,6 +75,7 @@ def engine_sections(spec) -> tuple[Section, ...]:
             out.append(engine_onset.section(spec, plan.maps))
         out.append(engine_ic.section(spec, plan.maps))
         out.append(engine_impact.section(spec, plan.maps))
+        out.append(engine_psi.section(spec, plan.maps))
         out.append(engine_rounding.section(spec, plan.maps, plan.maps_n))
     if plan.convergence is not None:
         out.append(engine_convergence.section(spec, plan.convergence, plan.convergence_n))
@@ -97,7 +100,7 @@ def all_sections() -> tuple[Section, ...]:
 
 def cross_engine_sections(specs) -> tuple[Section, ...]:
     """The sections that gather every engine's results of one study into one figure (after the engines' own)."""
-    return (impact_engines.section(specs),)
+    return (impact_engines.section(specs), psi_engines.section(specs))
 
 
 def __getattr__(name: str):

@@ -1,4 +1,5 @@
-"""A ladder's cause confirmed on the engine for one start (``crosscheck.studies.confirm``): MuJoCo at the paper's IC2."""
+"""A ladder's cause confirmed on the engine for one start (``crosscheck.studies.confirm``): MuJoCo at the paper's
+IC2."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""The impact without collision in size on an engine (``crosscheck.studies.jam_impact``): theory, energy and the rigid engine."""
+"""The impact without collision in size on an engine (``crosscheck.studies.jam_impact``): theory, energy and the rigid
+engine."""
 
 from __future__ import annotations
 

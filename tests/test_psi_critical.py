@@ -53,7 +53,8 @@ def test_indeterminate_starts_are_indeterminate_and_the_compliant_theory_lifts_a
 
 
 def test_the_rigid_stepper_never_jams_above_Psi_2():
-    """Pinocchio's exact-cone stepper at slipping starts with |Psi| in (3.1, 5): no jam where the theorem rules one out."""
+    """Pinocchio's exact-cone stepper at slipping starts with |Psi| in (3.1, 5): no jam where the theorem rules one
+    out."""
     rng = np.random.default_rng(11)
     S = pc.slipping_starts(12, rng, MU, ALPHA, abs_Psi=(3.1, 5.0))
     e = pc.engine_events(engines.get("pinocchio"), Rod.scaled(ALPHA), S, MU, horizon=0.5, options={"timestep": 3e-3})

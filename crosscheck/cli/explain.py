@@ -56,7 +56,8 @@ def _plot(args, ladder, name: str, state, mu: float, alpha: float) -> None:
     print(f"wrote {path} and {path.with_suffix('.json')}", file=sys.stderr if args.json else sys.stdout)
 
 
-def _confirmation(args, engine: str, state, mu: float, alpha: float, horizon: float, cause: str, reference, options):
+def _confirmation(args, engine: str, state, mu: float, alpha: float, horizon: float, cause: str, reference,
+                  options):
     """The ladder's cause checked on the engine for this start (``crosscheck.studies.confirm``); None with --no-confirm."""
     if getattr(args, "no_confirm", False):
         return None

@@ -1,6 +1,7 @@
 """One start's cause confirmed on the engine: the intervention the ladder's cause implies, then pairs where it fails.
 
-``crosscheck explain`` names a cause from a ladder (``crosscheck.studies.ladder``): the first model in between the theory
+``crosscheck explain`` names a cause from a ladder (``crosscheck.studies.ladder``): the first model in between the
+theory
 and the engine that gives the engine's outcome.  ``confirm`` checks it on the engine itself for that one start, with
 the interventions the engine declares (``EngineSpec.interventions``, run by ``crosscheck.studies.interventions``):
 
@@ -27,7 +28,7 @@ from crosscheck.state import SlipState
 from crosscheck.studies.interventions import attempt_intervention, intervene
 from crosscheck.theory.slipping import slip_until_event
 
-__all__ = ["confirm", "VERDICTS", "strongest"]
+__all__ = ["VERDICTS", "confirm", "strongest"]
 
 #: What ``confirm`` can say, in order of precedence.
 VERDICTS = (
@@ -65,16 +66,28 @@ def confirm(
     Returns a dict: ``engine``, ``cause``, ``verdict`` (one of ``VERDICTS``), ``text`` (the line ``explain`` prints),
     ``theory`` (the label the interventions are judged against), ``confirmed_by`` (the named cause's interventions that
     remove it), ``pair_with`` (the other causes whose pair removes it), ``instead`` (cause -> the texts of the other
-    causes' single interventions that remove it), ``singles`` (``intervene``'s rows per cause) and ``pairs`` (one row per
+    causes' single interventions that remove it), ``singles`` (``intervene``'s rows per cause) and ``pairs`` (one row
+    per
     pair tried, with ``with``).
     """
     spec = engines.get(engine)
-    out = {"engine": engine, "cause": cause, "confirmed_by": [], "pair_with": [], "instead": {}, "singles": {},
-           "pairs": []}
+    out = {
+        "engine": engine,
+        "cause": cause,
+        "confirmed_by": [],
+        "pair_with": [],
+        "instead": {},
+        "singles": {},
+        "pairs": [],
+    }
     if cause not in LADDER_CAUSES:
         return {**out, "verdict": "no disagreement", "text": f"nothing to confirm (the ladder says: {cause})"}
     if cause not in (spec.interventions or {}):
-        return {**out, "verdict": "no intervention declared", "text": f"{spec.label} declares no intervention for {cause}"}
+        return {
+            **out,
+            "verdict": "no intervention declared",
+            "text": f"{spec.label} declares no intervention for {cause}",
+        }
     th = thresholds or Thresholds()
     iv = intervene(engine, state, mu, alpha=alpha, horizon=horizon, thresholds=th, **options)
     out["theory"], out["singles"] = iv["theory"], iv["causes"]
@@ -105,7 +118,15 @@ def _pairs(spec, state, mu, alpha, horizon, th, options, own, singles, cause) ->
                 if set(a["options"]) & set(b["options"]):  # one parameter set two ways: not a pair
                     continue
                 r = attempt_intervention(
-                    spec, rod, state, mu, first, horizon, th, given, f"{a['text']}; {b['text']}",
+                    spec,
+                    rod,
+                    state,
+                    mu,
+                    first,
+                    horizon,
+                    th,
+                    given,
+                    f"{a['text']}; {b['text']}",
                     {**a["options"], **b["options"]},
                 )
                 rows.append({"with": other, **r})
@@ -121,5 +142,8 @@ def _verdict(out: dict) -> tuple[str, str]:
         also = f"; also removed alone by {instead}" if instead else ""
         return "confirmed as a pair", f"{cause}: confirmed as a pair with {', '.join(out['pair_with'])}{also}"
     if instead:
-        return "removed by another cause's intervention instead", f"{cause}: removed by another cause's intervention instead ({instead})"
+        return (
+            "removed by another cause's intervention instead",
+            f"{cause}: removed by another cause's intervention instead ({instead})",
+        )
     return "not removed", f"{cause}: not removed (no intervention, alone or in a pair, removes the disagreement)"

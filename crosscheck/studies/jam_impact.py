@@ -42,14 +42,14 @@ from crosscheck.theory.impact.darboux_keller import impact
 from crosscheck.theory.slipping import slip_until_event
 
 __all__ = [
+    "COLUMNS",
+    "compare_jam",
+    "engine_after_jam",
+    "impact_study",
     "mechanical_energy",
     "settle_time",
-    "theory_after_jam",
-    "engine_after_jam",
-    "compare_jam",
-    "impact_study",
     "stiffness_convergence",
-    "COLUMNS",
+    "theory_after_jam",
 ]
 
 #: The numbers of one start of ``impact_study``, in its table's column order.
@@ -105,8 +105,10 @@ def _state_energy(s: SlipState, alpha: float) -> float:
 
 
 def _free_flight(s: SlipState, duration: float, alpha: float) -> SlipState:
-    """The rod thrown from ``s`` (tip on the plane, w = 0) after ``duration`` of torque-free flight: theta'' = -sin theta
-    cos theta Psi^2, (cos^2 theta Psi)' = 0, the centre's horizontal velocity constant; eta is the tip's horizontal speed
+    """The rod thrown from ``s`` (tip on the plane, w = 0) after ``duration`` of torque-free flight: theta'' = -sin
+    theta
+    cos theta Psi^2, (cos^2 theta Psi)' = 0, the centre's horizontal velocity constant; eta is the tip's horizontal
+    speed
     (energy is conserved: the caller keeps the lift-off's)."""
     from scipy.integrate import solve_ivp
 
@@ -127,7 +129,8 @@ def _free_flight(s: SlipState, duration: float, alpha: float) -> SlipState:
 
 
 def settle_time(options) -> float:
-    """How long after a jam an engine at ``options`` (its ``Options``) is read: ``event_lag``, the lag its events are allowed."""
+    """How long after a jam an engine at ``options`` (its ``Options``) is read: ``event_lag``, the lag its events are
+    allowed."""
     return float(event_lag(float(options.contact_time), float(options.timestep)))
 
 
@@ -213,7 +216,8 @@ def stiffness_convergence(
     engine: str, state: SlipState, mu: float, settings: Sequence[Mapping], *, alpha: float = 3.0
 ) -> list[dict]:
     """``compare_jam`` of one start at each of ``settings``, with each setting's contact time, stiffest (shortest
-    contact time) last: a compliant contact whose jam tends to the theory's impact has |Theta+ error| falling down it."""
+    contact time) last: a compliant contact whose jam tends to the theory's impact has |Theta+ error| falling down
+    it."""
     spec, rod = engines.get(engine), Rod.scaled(alpha)
     rows = []
     for opts in settings:

@@ -1,11 +1,13 @@
-"""The paper's three critical values of Psi as an engine sees them: lift-off above Psi_L, indeterminacy at Theta = 0 above
+"""The paper's three critical values of Psi as an engine sees them: lift-off above Psi_L, indeterminacy at Theta = 0
+above
 Psi_1, and no jam above Psi_2.
 
 At mu = 1.4, alpha = 3 (section 3.3; ``crosscheck.theory.critical``): Psi_L = 1.6119, Psi_1 = 1.9480, Psi_2 = 3.0097.
 
 * Above Psi_1 (mu in (mu_P, mu_L]) a rod with Theta = 0 can be indeterminate, p < 0 < b: the rigid theory allows both a
   lift-off and a slip with an impulsive force (an impact without collision).  ``indeterminate_starts`` draws such starts
-  and ``engine_events`` records which the engine chooses.  For a compliant contact that starts untouched (no penetration,
+  and ``engine_events`` records which the engine chooses.  For a compliant contact that starts untouched (no
+  penetration,
   no normal velocity) the compliant theory decides: the start lies on the lift-off side of the boundary of
   ``crosscheck.theory.compliant_limit.indeterminate_boundary`` whatever the stiffness (``compliant_prediction``).
 * Above Psi_2 the inconsistent region p < 0, b < 0 is empty (b grows with Theta^2, so Theta = 0 is the worst case): a
@@ -32,14 +34,14 @@ from crosscheck.theory import analytic, critical
 from crosscheck.theory.slipping import slip_until_event
 
 __all__ = [
-    "starts_rng",
-    "slipping_starts",
-    "indeterminate_starts",
-    "theory_events",
-    "engine_events",
-    "compliant_prediction",
-    "ruled_out_jams",
     "BANDS",
+    "compliant_prediction",
+    "engine_events",
+    "indeterminate_starts",
+    "ruled_out_jams",
+    "slipping_starts",
+    "starts_rng",
+    "theory_events",
 ]
 
 #: The bands of |Psi| whose slipping starts' jams are counted: below Psi_2 (and above Psi_1) and above it.
@@ -68,7 +70,8 @@ def slipping_starts(
 def indeterminate_starts(
     n: int, rng: np.random.Generator, mu: float, alpha: float, *, abs_Psi: tuple[float, float] | None = None
 ) -> list[SlipState]:
-    """n indeterminate starts at Theta = 0 (p < 0 < b): |Psi| ~ U(Psi_1, 5) by default, random sign, theta ~ U(0.05, 1.5),
+    """n indeterminate starts at Theta = 0 (p < 0 < b): |Psi| ~ U(Psi_1, 5) by default, random sign, theta ~ U(0.05,
+    1.5),
     varphi ~ -U(0, pi), eta ~ U(0.3, 2).  ValueError where none exists (mu <= mu_P: p > 0 everywhere)."""
     if not mu > critical.mu_P(alpha):
         raise ValueError(f"mu must be > mu_P = {critical.mu_P(alpha):.6g} for an indeterminate start; got {mu!r}")
@@ -109,7 +112,11 @@ def engine_events(
         out["outcome"].append(int(run.outcome))
         out["time"].append(t)
         out["Psi_event"].append(psi)
-    return {"outcome": np.array(out["outcome"], np.int8), "time": np.array(out["time"]), "Psi_event": np.array(out["Psi_event"])}
+    return {
+        "outcome": np.array(out["outcome"], np.int8),
+        "time": np.array(out["time"]),
+        "Psi_event": np.array(out["Psi_event"]),
+    }
 
 
 def compliant_prediction(state: SlipState, mu: float, alpha: float) -> str:
@@ -123,6 +130,7 @@ def compliant_prediction(state: SlipState, mu: float, alpha: float) -> str:
 
 
 def ruled_out_jams(outcome: np.ndarray, Psi_event: np.ndarray, mu: float, alpha: float) -> np.ndarray:
-    """Mask of the jams with |Psi| > Psi_2(mu, alpha) at the jam: no inconsistent state exists there (the paper's theorem)."""
+    """Mask of the jams with |Psi| > Psi_2(mu, alpha) at the jam: no inconsistent state exists there (the paper's
+    theorem)."""
     Psi_2 = float(critical.critical_values(mu=mu, alpha=alpha).Psi_2)
     return (np.asarray(outcome) == int(Outcome.JAM)) & (np.abs(np.asarray(Psi_event)) > Psi_2)

@@ -22,8 +22,8 @@ from crosscheck.report.section import RenderContext, RunContext, Section, Table,
 
 #: Map starts where the theory jams, beside IC1, by cost: a start costs one engine run to t_jam + settle (measured
 #: 0.1-0.6 s with the theory's continuation, MuJoCo's slowest at its 0.12 settle) and 8 engines share 2 cores, so 4
-#: keep the quick report's eight sections under ~10 s together and 16 the full report's under ~1 minute.
-MAX_STARTS = {"quick": 4, "full": 16}
+#: keep the quick report's eight sections under ~10 s together and 12 the full report's under ~30 s.
+MAX_STARTS = {"quick": 4, "full": 12}
 
 #: The numbers the table and the engine table read (``summary.json``).
 _IC1 = "IC1"
@@ -64,9 +64,9 @@ def _map_jams(ctx: RunContext, slug: str, n: int) -> list:
 
 def run(ctx: RunContext) -> None:
     from crosscheck import engines
+    from crosscheck.rod import Rod
     from crosscheck.state import SlipState
     from crosscheck.studies.jam_impact import COLUMNS, compare_jam, stiffness_convergence
-    from crosscheck.rod import Rod
     from crosscheck.theory.paper import FIG20_INITIAL_CONDITIONS
 
     P = ctx.params
@@ -81,7 +81,14 @@ def run(ctx: RunContext) -> None:
     ctx.store.write_table("jams", {k: [r[k] for r in rows] for k in ("start", *COLUMNS)})
     conv = stiffness_convergence(spec.name, ic1, 1.4, P["convergence"], alpha=P["alpha"]) if P["convergence"] else []
     if conv:
-        keys = ("contact_time", "timestep", "engine_outcome", "Theta_plus_engine", "Psi_plus_engine", "Theta_plus_error")
+        keys = (
+            "contact_time",
+            "timestep",
+            "engine_outcome",
+            "Theta_plus_engine",
+            "Psi_plus_engine",
+            "Theta_plus_error",
+        )
         ctx.store.write_table("stiffness", {k: [r[k] for r in conv] for k in keys})
     ctx.store.write_json("summary", _summary(spec.name, rows, conv))
 
@@ -155,15 +162,30 @@ def render(ctx: RenderContext) -> list:
     blocks = [
         Table(
             caption=(
-                f"{name} after the theory's jams (options {P['options']}): the theory's impact without collision (Theta+, Psi+, "
-                "P_N) against the engine's state read at t_jam + settle (settle: 2 contact times, at least 3 timesteps) and moved "
-                "back to the impact by the theory's own drift over settle (`crosscheck.studies.jam_impact`); the slip speed eta "
-                "there (the theory's in brackets), the engine's jam impulse ('-': its first event is not a JAM) and its energy "
-                f"minus the theory's at t* [m g l]. Median |Theta+ error| over the {s['n_jammed']} of {s['n']} starts the engine "
-                f"also jams: {_fmt(s['median_abs_Theta_plus_error_jammed'])}; over all: {_fmt(s['median_abs_Theta_plus_error'])}."
+                f"{name} after the theory's jams (options {P['options']}): the theory's impact without collision "
+                "(Theta+, Psi+, "
+                "P_N) against the engine's state read at t_jam + settle (settle: 2 contact times, at least 3 "
+                "timesteps) and moved "
+                "back to the impact by the theory's own drift over settle (`crosscheck.studies.jam_impact`); the slip "
+                "speed eta "
+                "there (the theory's in brackets), the engine's jam impulse ('-': its first event is not a JAM) and "
+                "its energy "
+                f"minus the theory's at t* [m g l]. Median |Theta+ error| over the {s['n_jammed']} of {s['n']} starts "
+                "the engine "
+                f"also jams: {_fmt(s['median_abs_Theta_plus_error_jammed'])}; over all: "
+                f"{_fmt(s['median_abs_Theta_plus_error'])}."
             ),
-            header=["start", "mu", "t_jam", "theory Theta+ / Psi+", name, f"{name} Theta+ / Psi+", "eta after",
-                    "P_N theory / engine", "energy - theory"],
+            header=[
+                "start",
+                "mu",
+                "t_jam",
+                "theory Theta+ / Psi+",
+                name,
+                f"{name} Theta+ / Psi+",
+                "eta after",
+                "P_N theory / engine",
+                "energy - theory",
+            ],
             rows=rows,
             data=ctx.data("jams.csv", "summary.json"),
         )
@@ -173,12 +195,18 @@ def render(ctx: RenderContext) -> list:
         verdict = "tends to" if s["stiffness"]["tends_to_impact"] else "does not tend to"
         blocks.append(
             Table(
-                caption=f"{name} at IC1 over its convergence settings, softest first: its jam {verdict} the theory's impact "
+                caption=f"{name} at IC1 over its convergence settings, softest first: its jam {verdict} the theory's "
+                "impact "
                 "(|Theta+ error| at the stiffest setting against the softest).",
                 header=["contact time", "timestep", "outcome", "Theta+ / Psi+", "Theta+ - theory"],
                 rows=[
-                    [f"{c['contact_time'][i]:.3g}", f"{c['timestep'][i]:.3g}", c["engine_outcome"][i],
-                     f"{c['Theta_plus_engine'][i]:.4f} / {c['Psi_plus_engine'][i]:.4f}", f"{c['Theta_plus_error'][i]:+.3g}"]
+                    [
+                        f"{c['contact_time'][i]:.3g}",
+                        f"{c['timestep'][i]:.3g}",
+                        c["engine_outcome"][i],
+                        f"{c['Theta_plus_engine'][i]:.4f} / {c['Psi_plus_engine'][i]:.4f}",
+                        f"{c['Theta_plus_error'][i]:+.3g}",
+                    ]
                     for i in range(len(c["contact_time"]))
                 ],
                 data=ctx.data("stiffness.csv"),
@@ -198,7 +226,10 @@ def section(spec, options: dict) -> Section:
         title=f"{spec.label}: the impact without collision in size",
         paper="Corollary 4.2, section 6 (impact without collision)",
         params=lambda quick: params(
-            quick, spec.name, options["quick" if quick else "full"], None if conv is None else conv["quick" if quick else "full"]
+            quick,
+            spec.name,
+            options["quick" if quick else "full"],
+            None if conv is None else conv["quick" if quick else "full"],
         ),
         run=run,
         render=render,

@@ -17,8 +17,9 @@ import numpy as np
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 
 #: Starts by cost (measured 15-40 ms per engine run at the maps' options, horizon 0.5; 8 engines share 2 cores): quick
-#: 24 slipping and 4 indeterminate starts (~1-2 s per engine), full 200 and 16 (~8-15 s per engine).
-N_STARTS = {"quick": {"slipping": 24, "indeterminate": 4}, "full": {"slipping": 200, "indeterminate": 16}}
+#: 24 slipping and 4 indeterminate starts (~1-2 s per engine, 5 at most while the other sections run), full 120 and 12
+#: (~5-8 s per engine; the full report's eight sections add ~30 s of its wall time on 2 cores).
+N_STARTS = {"quick": {"slipping": 24, "indeterminate": 4}, "full": {"slipping": 120, "indeterminate": 12}}
 
 
 def params(quick: bool, engine: str, options: dict, convergence: list | None) -> dict:
@@ -65,9 +66,15 @@ def run(ctx: RunContext) -> None:
     bands = []
     for lo, hi in pc.BANDS:
         m = (aP > lo) & (aP < hi)
-        bands.append({"lo": lo, "hi": hi, "n": int(m.sum()),
-                      "theory_jams": int((th["outcome"][m] == Outcome.JAM).sum()),
-                      "engine_jams": int((en["outcome"][m] == Outcome.JAM).sum())})
+        bands.append(
+            {
+                "lo": lo,
+                "hi": hi,
+                "n": int(m.sum()),
+                "theory_jams": int((th["outcome"][m] == Outcome.JAM).sum()),
+                "engine_jams": int((en["outcome"][m] == Outcome.JAM).sum()),
+            }
+        )
     I = pc.indeterminate_starts(P["indeterminate"], rng, mu, alpha)
     icols = {k: [getattr(s, k) for s in I] for k in ("theta", "varphi", "Psi", "eta")}
     icols["compliant_prediction"] = [pc.compliant_prediction(s, mu, alpha) for s in I]
@@ -76,8 +83,14 @@ def run(ctx: RunContext) -> None:
         e = pc.engine_events(spec, rod, I, mu, horizon=P["indeterminate_horizon"], options=opts)
         icols[f"choice_{j}"] = [Outcome(int(o)).name for o in e["outcome"]]
         o = spec.options(**opts)
-        settings.append({"options": opts, "contact_time": float(o.contact_time), "timestep": float(o.timestep),
-                         "choices": {c: icols[f"choice_{j}"].count(c) for c in sorted(set(icols[f"choice_{j}"]))}})
+        settings.append(
+            {
+                "options": opts,
+                "contact_time": float(o.contact_time),
+                "timestep": float(o.timestep),
+                "choices": {c: icols[f"choice_{j}"].count(c) for c in sorted(set(icols[f"choice_{j}"]))},
+            }
+        )
     ctx.store.write_table("indeterminate", icols)
     ctx.store.write_json("summary", _summary(spec, cv, bands, ruled_out, en, cols, icols, settings))
 
@@ -94,7 +107,9 @@ def _summary(spec, cv, bands, ruled_out, en, cols, icols, settings) -> dict:
         agree = sum(c == p for c, p in zip(icols["choice_0"], icols["compliant_prediction"])) / len(icols["theta"])
     return {
         "engine": spec.name,
-        "Psi_L": cv.Psi_L, "Psi_1": cv.Psi_1, "Psi_2": cv.Psi_2,
+        "Psi_L": cv.Psi_L,
+        "Psi_1": cv.Psi_1,
+        "Psi_2": cv.Psi_2,
         "n_slipping": len(cols["theta"]),
         "bands": bands,
         "ruled_out_jams": int(ruled_out.sum()),
@@ -116,13 +131,17 @@ def render(ctx: RenderContext) -> list:
     P = ctx.params
     name = engine_label(P["engine"])
     s = ctx.store.read_json("summary")
-    rows = [[f"|Psi| in ({b['lo']:g}, {b['hi']:g})", str(b["n"]), str(b["theory_jams"]), str(b["engine_jams"])]
-            for b in s["bands"]]
+    rows = [
+        [f"|Psi| in ({b['lo']:g}, {b['hi']:g})", str(b["n"]), str(b["theory_jams"]), str(b["engine_jams"])]
+        for b in s["bands"]
+    ]
     blocks = [
         Table(
             caption=(
-                f"{name}'s jams at {s['n_slipping']} slipping starts (b < 0 < p, mu = {P['mu']:g}, horizon {P['horizon']:g}) "
-                f"across Psi_2 = {s['Psi_2']:.4f}, against the theory's slipping flow. Jams with |Psi| > Psi_2 at the jam row, "
+                f"{name}'s jams at {s['n_slipping']} slipping starts (b < 0 < p, mu = {P['mu']:g}, horizon "
+                f"{P['horizon']:g}) "
+                f"across Psi_2 = {s['Psi_2']:.4f}, against the theory's slipping flow. Jams with |Psi| > Psi_2 at the "
+                "jam row, "
                 f"which the paper's theorem rules out (no inconsistent state exists there): {s['ruled_out_jams']}."
             ),
             header=["band", "starts", "theory jams", f"{name} jams"],
@@ -132,7 +151,8 @@ def render(ctx: RenderContext) -> list:
     ]
     same = s["same_choice_two_finest"]
     pred = (
-        f"; the compliant theory predicts LIFTOFF at every one for a contact that starts untouched, and {name} agrees at "
+        f"; the compliant theory predicts LIFTOFF at every one for a contact that starts untouched, and {name} agrees "
+        "at "
         f"{100 * s['compliant_prediction_agreement']:.0f} %"
         if s["compliant_prediction_applies"] and s["compliant_prediction_agreement"] is not None
         else ""
@@ -141,14 +161,27 @@ def render(ctx: RenderContext) -> list:
         Table(
             caption=(
                 f"{name} at {s['n_indeterminate']} indeterminate starts (Theta = 0, p < 0 < b, |Psi| in (Psi_1 = "
-                f"{s['Psi_1']:.4f}, 5)), where the rigid theory allows both a lift-off and an impulsive stop: its choices "
+                f"{s['Psi_1']:.4f}, 5)), where the rigid theory allows both a lift-off and an impulsive stop: its "
+                "choices "
                 "per setting"
-                + ("" if same is None else f"; the same choice at its two finest settings at {100 * same:.0f} % of them")
-                + pred + "."
+                + (
+                    ""
+                    if same is None
+                    else f"; the same choice at its two finest settings at {100 * same:.0f} % of them"
+                )
+                + pred
+                + "."
             ),
             header=["setting", "contact time", "timestep", "choices"],
-            rows=[[str(x["options"]), f"{x['contact_time']:.3g}", f"{x['timestep']:.3g}",
-                   ", ".join(f"{k} {v}" for k, v in x["choices"].items())] for x in s["settings"]],
+            rows=[
+                [
+                    str(x["options"]),
+                    f"{x['contact_time']:.3g}",
+                    f"{x['timestep']:.3g}",
+                    ", ".join(f"{k} {v}" for k, v in x["choices"].items()),
+                ]
+                for x in s["settings"]
+            ],
             data=ctx.data("indeterminate.csv", "summary.json"),
         )
     )
@@ -164,7 +197,10 @@ def section(spec, options: dict) -> Section:
         title=f"{spec.label}: the critical values Psi_1 and Psi_2",
         paper="section 3.3, eqs. psi1, psi2",
         params=lambda quick: params(
-            quick, spec.name, options["quick" if quick else "full"], None if conv is None else conv["quick" if quick else "full"]
+            quick,
+            spec.name,
+            options["quick" if quick else "full"],
+            None if conv is None else conv["quick" if quick else "full"],
         ),
         run=run,
         render=render,

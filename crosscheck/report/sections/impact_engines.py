@@ -21,8 +21,19 @@ def params(quick: bool, slugs: list) -> dict:
 
 
 def run(ctx: RunContext) -> None:
-    cols = {k: [] for k in ("engine", "start", "Theta_plus", "Psi_plus", "Theta_plus_engine", "Psi_plus_engine",
-                            "engine_jammed", "engine_outcome")}
+    cols = {
+        k: []
+        for k in (
+            "engine",
+            "start",
+            "Theta_plus",
+            "Psi_plus",
+            "Theta_plus_engine",
+            "Psi_plus_engine",
+            "engine_jammed",
+            "engine_outcome",
+        )
+    }
     summaries = []
     for slug in ctx.params["engines"]:
         done = ctx.finished(f"{slug}_impact")
@@ -71,8 +82,10 @@ def render(ctx: RenderContext) -> list:
     axes[0].legend(fontsize=7, loc="best")
     fig.tight_layout()
     cap = (
-        "Each engine's Theta+ and Psi+ (its state once its contact settles after the theory's jam, moved back to the impact by "
-        "the theory's own drift: `crosscheck.studies.jam_impact`) against the theory's 3D Darboux-Keller impact, one colour per "
+        "Each engine's Theta+ and Psi+ (its state once its contact settles after the theory's jam, moved back to the "
+        "impact by "
+        "the theory's own drift: `crosscheck.studies.jam_impact`) against the theory's 3D Darboux-Keller impact, one "
+        "colour per "
         "engine; filled: the engine's first event is a JAM, open: it is not; star: IC1; dashed: equality."
     )
     rows = []
@@ -87,18 +100,31 @@ def render(ctx: RenderContext) -> list:
                 _pair(ic1.get("Theta_plus"), ic1.get("Psi_plus")),
                 f"{s['n_jammed']} of {s['n']}",
                 _num(s.get("median_abs_Theta_plus_error_jammed")),
-                "-" if not stiff else ("tends to it" if stiff["tends_to_impact"] else "does not")
-                + " (" + " -> ".join(f"{e:.2g}" for e in stiff["abs_errors"]) + ")",
+                "-"
+                if not stiff
+                else ("tends to it" if stiff["tends_to_impact"] else "does not")
+                + " ("
+                + " -> ".join(f"{e:.2g}" for e in stiff["abs_errors"])
+                + ")",
             ]
         )
     return [
         ctx.figure("theta_plus", fig, cap, ["jams.csv", "summaries.json"]),
         Table(
             caption="The impact without collision on every engine: at IC1 its state after the theory's jam against the "
-            "impact (Theta+ / Psi+), how many of its map jam starts it also jams, the median |Theta+ - Theta+_theory| over "
-            "those, and for a compliant engine at IC1 over its convergence settings, softest to stiffest, |Theta+ error|.",
-            header=["engine", "IC1 outcome", "IC1 Theta+ / Psi+", "theory", "jams too", "median |Theta+ error|",
-                    "stiffer contact"],
+            "impact (Theta+ / Psi+), how many of its map jam starts it also jams, the median |Theta+ - Theta+_theory| "
+            "over "
+            "those, and for a compliant engine at IC1 over its convergence settings, softest to stiffest, |Theta+ "
+            "error|.",
+            header=[
+                "engine",
+                "IC1 outcome",
+                "IC1 Theta+ / Psi+",
+                "theory",
+                "jams too",
+                "median |Theta+ error|",
+                "stiffer contact",
+            ],
             rows=rows,
             data=ctx.data("summaries.json", "jams.csv"),
         ),
@@ -124,7 +150,8 @@ def finding(data: Path) -> list:
         return []
     th = ic1[0]["ic1"]
     parts = [
-        f"{engine_label(s['engine'])} {s['ic1']['Theta_plus_engine']:.3f} ({s['ic1']['engine_outcome'].lower()})" for s in ic1
+        f"{engine_label(s['engine'])} {s['ic1']['Theta_plus_engine']:.3f} ({s['ic1']['engine_outcome'].lower()})"
+        for s in ic1
     ]
     off = [s for s in ic1 if abs(s["ic1"]["Theta_plus_engine"] - th["Theta_plus"]) > IC1_SIZE * th["Theta_plus"]]
     return [
@@ -134,7 +161,8 @@ def finding(data: Path) -> list:
             f"Theta+: " + ", ".join(parts),
             "all make it" if not off else f"{len(off)} of {len(ic1)} miss it",
             data.name,
-            why=f"an engine makes the impact when its Theta+ is within {100 * IC1_SIZE:.0f} % of the theory's (a jump of "
+            why=f"an engine makes the impact when its Theta+ is within {100 * IC1_SIZE:.0f} % of the theory's (a jump "
+            "of "
             "Theta from 0.9 to 2.26: a soft jam that dissipates the jump, or no jam, is off by far more)",
         )
     ]

@@ -81,7 +81,7 @@ def render(ctx: RenderContext) -> list:
             ax.axvline(v, color="k", lw=0.7, ls=":")
             ax.text(v, 1.02, lab, fontsize=6, ha="center", transform=ax.get_xaxis_transform())
         ax.set_title(engine_label(name), fontsize=8, pad=10)
-    for ax in axes.flat[len(names):]:
+    for ax in axes.flat[len(names) :]:
         ax.set_visible(False)
     for ax in axes[-1]:
         ax.set_xlabel("|Psi| at the start")
@@ -89,7 +89,8 @@ def render(ctx: RenderContext) -> list:
         ax.set_ylabel("share of starts")
     axes.flat[0].legend(fontsize=6)
     cap = (
-        "Outcome shares of the slipping starts (b < 0 < p, mu = 1.4) by |Psi| at the start, each engine (solid) against the "
+        "Outcome shares of the slipping starts (b < 0 < p, mu = 1.4) by |Psi| at the start, each engine (solid) "
+        "against the "
         "theory's slipping flow (dashed), with Psi_L, Psi_1 and Psi_2 marked (section 3.3)."
     )
     return [ctx.figure("outcome_shares", fig, cap, ["outcomes.csv", "summaries.json"]), _table(ctx, summaries)]
@@ -106,32 +107,45 @@ def _table(ctx: RenderContext, summaries: list) -> Table:
         base = s["settings"][0]["choices"] if s["settings"] else {}
         same = s["same_choice_two_finest"]
         onset = s.get("onset_error")
-        rows.append([
-            engine_label(s["engine"]),
-            "-" if onset is None else f"{onset:.2g}",
-            *[f"{x['engine_jams']} of {x['n']}" for x in s["bands"]],
-            str(s["ruled_out_jams"]),
-            ", ".join(f"{k} {v}" for k, v in base.items()) or "-",
-            "-" if same is None else f"{100 * same:.0f} %",
-        ])
+        rows.append(
+            [
+                engine_label(s["engine"]),
+                "-" if onset is None else f"{onset:.2g}",
+                *[f"{x['engine_jams']} of {x['n']}" for x in s["bands"]],
+                str(s["ruled_out_jams"]),
+                ", ".join(f"{k} {v}" for k, v in base.items()) or "-",
+                "-" if same is None else f"{100 * same:.0f} %",
+            ]
+        )
     b = summaries[0]["bands"] if summaries else [{"lo": lo, "hi": hi} for lo, hi in ((1.95, 3.0), (3.1, 5.0))]
     return Table(
         caption=(
-            "The critical values of Psi on every engine: its worst lift-off onset error |onset - Psi_L| (its onset section), "
-            "its jams at the slipping starts of each band of |Psi|, its jams with |Psi| > Psi_2 at the jam (ruled out by the "
-            "paper's theorem: no inconsistent state exists there; an engine that makes one is wrong), what it chooses at the "
-            "indeterminate starts above Psi_1 at its maps' options, and the share of them where its two finest settings "
+            "The critical values of Psi on every engine: its worst lift-off onset error |onset - Psi_L| (its onset "
+            "section), "
+            "its jams at the slipping starts of each band of |Psi|, its jams with |Psi| > Psi_2 at the jam (ruled out "
+            "by the "
+            "paper's theorem: no inconsistent state exists there; an engine that makes one is wrong), what it chooses "
+            "at the "
+            "indeterminate starts above Psi_1 at its maps' options, and the share of them where its two finest "
+            "settings "
             "choose the same."
         ),
-        header=["engine", "onset |Psi - Psi_L|", *[f"jams, |Psi| in ({x['lo']:g}, {x['hi']:g})" for x in b],
-                "jams with |Psi| > Psi_2", "indeterminate: choices", "same choice, two finest settings"],
+        header=[
+            "engine",
+            "onset |Psi - Psi_L|",
+            *[f"jams, |Psi| in ({x['lo']:g}, {x['hi']:g})" for x in b],
+            "jams with |Psi| > Psi_2",
+            "indeterminate: choices",
+            "same choice, two finest settings",
+        ],
         rows=rows,
         data=ctx.data("summaries.json", "outcomes.csv"),
     )
 
 
 def finding(data: Path) -> list:
-    """Two findings lines: each engine's jams above Psi_2 (ruled out by the theorem), and its choices at indeterminate starts."""
+    """Two findings lines: each engine's jams above Psi_2 (ruled out by the theorem), and its choices at indeterminate
+    starts."""
     from crosscheck.engines.base import engine_label
     from crosscheck.report.findings import Finding, read_json
 
@@ -143,20 +157,25 @@ def finding(data: Path) -> list:
     jams = "; ".join(f"{engine_label(s['engine'])} {s['ruled_out_jams']} of {s['n_slipping']}" for s in summaries)
     choices = "; ".join(
         f"{engine_label(s['engine'])} " + ", ".join(f"{k.lower()} {v}" for k, v in s["settings"][0]["choices"].items())
-        for s in summaries if s["settings"]
+        for s in summaries
+        if s["settings"]
     )
     lift = all(set(s["settings"][0]["choices"]) == {"LIFTOFF"} for s in summaries if s["settings"])
     return [
         Finding(
             "jams above Psi_2",
             f"slipping starts whose jam comes with |Psi| > Psi_2 = {psi2:.4f}: {jams}",
-            "none" if not wrong else f"{len(wrong)} engine{'s' if len(wrong) > 1 else ''} jam where the theorem rules it out",
+            "none"
+            if not wrong
+            else f"{len(wrong)} engine{'s' if len(wrong) > 1 else ''} jam where the theorem rules it out",
             data.name,
-            why="section 3.3: for |Psi| >= Psi_2 no state has p < 0 with b < 0, so a slipping rod cannot jam; any such jam is wrong",
+            why="section 3.3: for |Psi| >= Psi_2 no state has p < 0 with b < 0, so a slipping rod cannot jam; any such "
+            "jam is wrong",
         ),
         Finding(
             "indeterminate starts above Psi_1",
-            f"at Theta = 0, p < 0 < b (the theory allows lift-off or an impulsive stop), each engine chooses: {choices}",
+            "at Theta = 0, p < 0 < b (the theory allows lift-off or an impulsive stop), each engine chooses: "
+            f"{choices}",
             "all lift off" if lift else "engines choose differently",
             data.name,
             why="the compliant theory's choice for a contact that starts untouched is lift-off "
@@ -168,8 +187,9 @@ def finding(data: Path) -> list:
 def section(specs) -> Section:
     """The cross-engine section over the engines ``specs`` with a Psi section (``engine_psi``)."""
     slugs = [s.slug for s in specs if s.report is not None and s.report.maps is not None]
-    after = [f"{s}_psi" for s in slugs] + [f"{s.slug}_liftoff" for s in specs if s.report is not None
-                                           and s.report.maps is not None and s.report.onset]
+    after = [f"{s}_psi" for s in slugs] + [
+        f"{s.slug}_liftoff" for s in specs if s.report is not None and s.report.maps is not None and s.report.onset
+    ]
     return Section(
         slug=SLUG,
         title="The critical values Psi_L, Psi_1 and Psi_2, every engine",

@@ -1,7 +1,7 @@
 """An engine across the paper's critical values of Psi: its jams at slipping starts across Psi_2 and its choice at
 indeterminate starts above Psi_1 (``crosscheck.studies.psi_critical``).
 
-Slipping starts (b < 0 < p) at mu = 1.4 with |Psi| spread over (1, 5), the same for every engine (drawn from the
+Slipping starts (b < 0 < p) at mu = 1.4 with |Psi| spread over (1.5, 5), the same for every engine (drawn from the
 report's seed), run on the engine at its maps' options and by the theory's slipping flow to ``horizon``: their
 outcomes by |Psi| (the figure is ``psi_engines``'), the jams in each band of ``BANDS`` and the jams with |Psi| > Psi_2
 at the jam row, which the paper's theorem rules out.  Indeterminate starts at Theta = 0 (p < 0 < b, |Psi| in (Psi_1,
@@ -30,6 +30,7 @@ def params(quick: bool, engine: str, options: dict, convergence: list | None) ->
         "mu": 1.4,
         "horizon": 0.5,
         "indeterminate_horizon": 0.1,
+        "abs_Psi": [1.5, 5.0],  # from just below Psi_L: most starts in the bands around Psi_1 and Psi_2
         "options": dict(options),
         "settings": [dict(options), *[dict(s) for s in convergence or () if dict(s) != dict(options)]],
         **N_STARTS[key],
@@ -47,7 +48,7 @@ def run(ctx: RunContext) -> None:
     spec, rod, mu, alpha = engines.get(P["engine"]), Rod.scaled(P["alpha"]), P["mu"], P["alpha"]
     cv = critical.critical_values(mu=mu, alpha=alpha)
     rng = pc.starts_rng(ctx.seed)
-    S = pc.slipping_starts(P["slipping"], rng, mu, alpha)
+    S = pc.slipping_starts(P["slipping"], rng, mu, alpha, abs_Psi=tuple(P["abs_Psi"]))
     th = pc.theory_events(S, mu, alpha, horizon=P["horizon"])
     en = pc.engine_events(spec, rod, S, mu, horizon=P["horizon"], options=P["options"])
     cols = {k: [getattr(s, k) for s in S] for k in ("theta", "varphi", "Theta", "Psi", "eta")}

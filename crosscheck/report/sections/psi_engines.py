@@ -18,7 +18,7 @@ from crosscheck.report.section import RenderContext, RunContext, Section, Table
 SLUG = "psi_engines"
 
 #: The |Psi| bins of the figure's shares.
-BIN_EDGES = (1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 5.0)
+BIN_EDGES = (1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 5.0)
 
 
 def params(quick: bool, slugs: list) -> dict:

@@ -7,7 +7,8 @@ Each world holds the rod and its own ground plane:
   _dofs``), so its five joint coordinates are exactly q = (X, Y, Z, psi, theta) of ``crosscheck.coordinates`` with the
   body origin at the centre of mass S.  That is the five-joint chain of ``models/rod.xml`` as one joint: no axial spin
   (a free body's friction torque at radius r spins the capsule's tiny axial inertia up to hundreds of rad/s);
-* mass m, inertia diag(I0, 1e-12 I0, I0) about S with the rod along body y (rod.xml's; Newton's inertia check, which
+* mass m, inertia diag(I0, a I0, I0) about S with the rod along body y, a = ``Options.axial_inertia`` (rod.xml's 1e-12 by
+  default; Newton's inertia check, which
   would raise the axial moment to 1e-6 I0 + 1e-6 kg m^2, is told to accept it), kept as given (``lock_inertia``);
 * a capsule along body y with its end caps centred on A = (0, -l, 0) and B = (0, l, 0), radius r l, no density (no
   mass of its own), no torsional or rolling friction, no restitution, margin and gap 0 (a contact exists only while
@@ -28,22 +29,21 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
-import warp as wp
 
-wp.config.quiet = True
+from crosscheck.engines.newton.options import init_warp
+
+wp = init_warp()
 import newton  # noqa: E402  (after warp's configuration)
 
 from newton._src.solvers.mujoco.constants import SOLREF_MODE_RAW  # noqa: E402  (not re-exported by newton)
 
 from crosscheck.rod import Rod  # noqa: E402
 
-__all__ = ["Batch", "Raw", "batch", "compile_seconds", "AXIAL_INERTIA"]
-
-#: The axial moment of inertia as a fraction of I0 (rod.xml's eps: it only keeps the inertia positive definite).
-AXIAL_INERTIA = 1e-12
+__all__ = ["Batch", "Raw", "batch", "compile_seconds"]
 
 #: CPU seconds spent in each solver's first step of this process (Warp compiles or loads its kernels then):
 #: solver -> seconds.  The report's provenance names it; no per-step cost includes it.
@@ -70,13 +70,6 @@ class Raw:
     spin: np.ndarray
 
 
-def _device(name: str):
-    """Warp's device for ``Options.device``; one ValueError line where it does not exist here."""
-    if name == "cuda" and wp.get_cuda_device_count() == 0:
-        raise ValueError("device must be cpu on this machine (Warp finds no CUDA device); got 'cuda'")
-    return wp.get_device(name)
-
-
 def _world(rod: Rod, options) -> newton.ModelBuilder:
     """One world's builder: the rod on its D6 joint, its capsule, its plane (module docstring)."""
     l, m, g, r = rod.length, rod.mass, rod.gravity, options.radius * rod.length
@@ -98,7 +91,7 @@ def _world(rod: Rod, options) -> newton.ModelBuilder:
     )
     I0 = rod.inertia
     body = one.add_link(
-        mass=m, inertia=wp.mat33(I0, 0.0, 0.0, 0.0, AXIAL_INERTIA * I0, 0.0, 0.0, 0.0, I0), lock_inertia=True
+        mass=m, inertia=wp.mat33(I0, 0.0, 0.0, 0.0, options.axial_inertia * I0, 0.0, 0.0, 0.0, I0), lock_inertia=True
     )
     along_y = wp.quat_from_axis_angle(wp.vec3(1.0, 0.0, 0.0), -math.pi / 2)  # the capsule's z axis onto body y
     one.add_shape_capsule(body, xform=wp.transform(wp.vec3(0.0, 0.0, 0.0), along_y), radius=r, half_height=l, cfg=cfg)
@@ -158,7 +151,7 @@ class Batch:
 
     def __init__(self, rod: Rod, options, size: int) -> None:
         self.rod, self.options, self.size = rod, options, size
-        self.device = _device(options.device)
+        self.device = wp.get_device(options.device)  # Options refused a CUDA device that is not here
         top = newton.ModelBuilder(gravity=(0.0, 0.0, -rod.gravity))
         if options.solver == "mujoco":
             newton.solvers.SolverMuJoCo.register_custom_attributes(top)
@@ -168,7 +161,12 @@ class Batch:
         self.model = top.finalize(device=self.device)
         if options.solver == "mujoco":
             _mujoco_contact(self.model, rod, options)
-        self.solver = _solver(self.model, rod, options)
+        with warnings.catch_warnings():
+            # Newton's notes about itself, not about the run: MuJoCo Warp 4.0 beside its declared ~=3.17 (the one
+            # installed with our mujoco 4.0; provenance names both versions) and its own use of deprecated calls
+            warnings.filterwarnings("ignore", message="MuJoCo dependency version mismatch")
+            warnings.filterwarnings("ignore", category=DeprecationWarning)
+            self.solver = _solver(self.model, rod, options)
         self.states = (self.model.state(), self.model.state())
         self.control = self.model.control()
         self.pipeline = None

@@ -1,8 +1,11 @@
-"""Newton's run parameters in the paper's scaled units, one ``Options`` for every Newton solver (imports no warp)."""
+"""Newton's run parameters in the paper's scaled units, one ``Options`` for every Newton solver (imports no warp
+unless a run asks for device "cuda")."""
 
 from __future__ import annotations
 
 import math
+import os
+import sys
 from dataclasses import dataclass, fields
 from typing import Any
 
@@ -38,6 +41,31 @@ MAX_ITERATIONS = 1000
 _PENALTY = ("featherstone", "semi_implicit")
 
 
+def init_warp():
+    """Warp, configured and initialised: no line per module it loads, and not its line about a missing CUDA driver
+    (its C code writes it to stderr at initialisation on a machine without a GPU: a refused ``device="cuda"`` is then
+    one line, ours).  Returns the ``warp`` module."""
+    import warp as wp
+
+    wp.config.quiet = True
+    wp.config.log_level = wp.LOG_WARNING
+    sys.stderr.flush()
+    saved, devnull = os.dup(2), os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 2)
+        wp.init()  # once per process (a no-op afterwards)
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(devnull)
+    return wp
+
+
+def _cuda_present() -> bool:
+    """Whether Warp sees a CUDA device (imports warp: only asked when a run names "cuda")."""
+    return init_warp().get_cuda_device_count() > 0
+
+
 @dataclass(frozen=True)
 class Options:
     """Parameters of a Newton run, in the paper's scaled units (one class for every solver; each reads its own).
@@ -60,6 +88,11 @@ class Options:
       damping: their normal damping c l omega / (m g) (default 200 = 2 sqrt(stiffness), critical for the mass m).
       friction_gain: their friction regularisation kf l omega / (m g): friction = min(mu F_n, kf |u|) opposite the
         slip u (default 1e3: a stuck tip creeps at up to 1e-3 l omega under 1 g).
+      axial_inertia: the rod's moment about its own axis / I0 (default 1e-12, rod.xml's: only positive definite).  No
+        joint turns about the axis, but it adds axial_inertia I0 (Psi sin theta)^2 to the kinetic energy: a relative
+        error of axial_inertia tan^2 theta in the inertia about the vertical.  XPBD projects the D6 joint's locked
+        axis after the contact, and with 1e-12 the contact's friction correction turns the capsule about its axis
+        instead of moving the tip (``crosscheck.engines.newton.model``).
     """
 
     solver: str = "mujoco"
@@ -77,12 +110,15 @@ class Options:
     stiffness: float = 1e4
     damping: float = 200.0
     friction_gain: float = 1e3
+    axial_inertia: float = 1e-12
 
     def __post_init__(self) -> None:
         if self.solver not in SOLVERS:
             raise ValueError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")
         if self.device not in DEVICES:
             raise ValueError(f"device must be one of {', '.join(DEVICES)}; got {self.device!r}")
+        if self.device == "cuda" and not _cuda_present():
+            raise ValueError("device must be cpu on this machine (Warp finds no CUDA device); got 'cuda'")
         set_ = object.__setattr__
         set_(self, "timestep", check_timestep(self.timestep))
         set_(self, "radius", real_scalar("radius", self.radius, RADIUS))
@@ -92,12 +128,14 @@ class Options:
                 raise ValueError(f"{name} must be an integer in [{lo}, {MAX_ITERATIONS}]; got {n!r}")
             set_(self, name, int(n))
         set_(self, "solver_tolerance", real_scalar("solver_tolerance", self.solver_tolerance, NONNEGATIVE))
-        for name in ("timeconst", "dampratio", "impratio", "stiffness", "damping", "friction_gain"):
+        for name in ("timeconst", "dampratio", "impratio", "stiffness", "damping", "friction_gain", "axial_inertia"):
             set_(self, name, real_scalar(name, getattr(self, name), POSITIVE))
         if self.timeconst < 2 * self.timestep:
             raise ValueError(
                 f"timeconst must be >= 2 timestep = {2 * self.timestep:g} (MuJoCo's refsafe); got {self.timeconst!r}"
             )
+        if self.axial_inertia > 1.0:
+            raise ValueError(f"axial_inertia must be in (0, 1] (a fraction of I0); got {self.axial_inertia!r}")
         set_(self, "contact_relaxation", real_scalar("contact_relaxation", self.contact_relaxation, UNIT))
         s = real("solimp", self.solimp)
         if s.shape != (5,) or not (0 < s[0] < 1 and 0 < s[1] < 1 and s[2] > 0 and 0 < s[3] < 1 and s[4] >= 1):

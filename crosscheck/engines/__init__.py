@@ -59,6 +59,8 @@ BUILTIN = (
     "crosscheck.engines.compliant",
     "crosscheck.engines.drake",
     "crosscheck.engines.bullet",
+    "crosscheck.engines.physx",
+    "crosscheck.engines.dart",
     "crosscheck.engines.newton",
 )
 

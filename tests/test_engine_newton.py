@@ -64,7 +64,7 @@ def test_a_physical_rod_gives_the_scaled_record(name):
 def test_each_solver_records_its_kernel_compile_time_apart_from_the_steps(name):
     spec = engines.get(name)
     spec.simulate(ROD, STATE, MU, horizon=0.01)
-    solver = spec.defaults["solver"]
+    solver = spec.Options().solver
     assert solver in compile_seconds() and compile_seconds()[solver] >= 0.0
 
 
@@ -101,7 +101,7 @@ def test_xpbd_holds_the_axial_spin_at_its_declared_axial_inertia_and_not_at_rod_
 @pytest.mark.parametrize(
     "option, value, message",
     [
-        ("solver", "kamino", "solver must be one of mujoco, xpbd, featherstone, semi_implicit; got 'kamino'"),
+        ("solver", "xpbd", "solver must be mujoco for newton_mujoco (one engine per solver); got 'xpbd'"),
         ("device", "gpu", "device must be one of cpu, cuda; got 'gpu'"),
         ("iterations", -1, "iterations must be an integer in [0, 1000]; got -1"),
         ("axial_inertia", 2.0, "axial_inertia must be in (0, 1] (a fraction of I0); got 2.0"),

@@ -1,7 +1,7 @@
 """Newton (PyPI newton, on NVIDIA Warp): the rod of ``models/rod.xml`` under three of Newton's solvers, many worlds at once.
 
-One module (``engine``) serves one registered engine per solver (``Options.solver``, fixed by each record's
-``defaults``):
+One module (``engine``) runs every solver; each registered engine has a module of its own (``mujoco_warp``, ``xpbd``,
+``featherstone``) whose ``Options`` class fixes its solver (``Options.solver``):
 
 * ``newton_mujoco``: ``SolverMuJoCo``, MuJoCo Warp in float32 with the ``mujoco`` engine's contact (elliptic cone,
   solref, solimp, Newton's method): the same model as MuJoCo in C, so the two are compared at the same settings;
@@ -38,43 +38,42 @@ _TAGS = {
     "featherstone": {"compliant", "time_stepping", "batched"},
 }
 
-#: Report settings by cost (benchmarks/bench_newton.py): on CPU a MuJoCo Warp step of a block of worlds costs ~10-20 ms
-#: whatever the block (its kernel launches), XPBD's and Featherstone's ~3-6 ms; a map of n x n starts is one block, so
-#: its cost is the step count: horizon 2 at timestep 1e-3 is 2000 steps, 20-40 s for MuJoCo Warp.  The maps run at
-#: 1e-3 in both reports; convergence at three timesteps on 4 x 4 starts (quick) and 6 x 6 (full).
-_MAPS = {"quick": {"timestep": 1e-3}, "full": {"timestep": 1e-3}}
+#: Report settings by cost, in CPU seconds (the 2 cores were shared ~10-fold while measuring, so wall times were 10-15
+#: x these).  On CPU a MuJoCo Warp step costs ~7 ms of CPU whatever its iteration cap (its solver converges in < 4
+#: iterations: 100/50, 10/10 and 4/4 give the same record) and about as much at 4 worlds as at 64: its cost is its kernel
+#: launches, so a map of n x n starts, one block of worlds, costs its step count, and a single ``simulate`` (the contact
+#: and IC sections call it per start) costs as much as a map.  Featherstone's quick sections at timestep 1e-3 and 6 x 6
+#: maps took 220 s (maps), 211 s (rounding), 67 s (contact), 27 s (IC) of wall time on the shared cores.  Hence: quick
+#: at timestep 3e-3 (667 steps to horizon 2) on 4 x 4 maps and 3 x 3 convergence grids over (6e-3, 3e-3); full at
+#: 2e-3 on 8 x 8 maps and 4 x 4 convergence grids over (4e-3, 2e-3, 1e-3).
+_MAPS = {"quick": {"timestep": 3e-3}, "full": {"timestep": 2e-3}}
 _CONVERGENCE = {
-    "quick": [{"timestep": dt} for dt in (3e-3, 1e-3)],
-    "full": [{"timestep": dt} for dt in (3e-3, 1e-3, 3e-4)],
+    "quick": [{"timestep": dt} for dt in (6e-3, 3e-3)],
+    "full": [{"timestep": dt} for dt in (4e-3, 2e-3, 1e-3)],
 }
 
 
-#: Options each engine runs with beyond ``solver``.  XPBD: an axial moment of 1e-4 I0 (``Options.axial_inertia``): at
-#: rod.xml's 1e-12 its contact projection turns the capsule about its own axis (4.6e3 omega within a horizon of 1 on
-#: theta = 1, varphi = -1.9, mu = 0.5) and launches it; at 1e-6 the spin is 2.8 omega, at 1e-4 0.03 omega (iterations 2),
-#: while the inertia about the vertical errs by 1e-4 tan^2 theta.
-_DEFAULTS = {"mujoco": {}, "xpbd": {"axial_inertia": 1e-4}, "featherstone": {}}
+_MODULES = {"mujoco": "mujoco_warp", "xpbd": "xpbd", "featherstone": "featherstone"}
 
 
 def _engine(solver: str, order: int) -> EngineSpec:
     return EngineSpec(
         name=f"newton_{solver}",
-        module="crosscheck.engines.newton.engine",
+        module=f"crosscheck.engines.newton.{_MODULES[solver]}",
         label=_LABELS[solver],
         libraries=("newton", "warp-lang", "mujoco-warp") if solver == "mujoco" else ("newton", "warp-lang"),
-        defaults={"solver": solver, **_DEFAULTS[solver]},
         tags=_TAGS[solver],
         # no event-tolerance profile: not measured (validate does not judge these engines' events)
         tolerances=None,
         report=ReportPlan(
             maps=_MAPS,
             convergence=_CONVERGENCE,
-            maps_n={"quick": 6, "full": 12},
-            convergence_n={"quick": 4, "full": 6},
+            maps_n={"quick": 4, "full": 8},
+            convergence_n={"quick": 3, "full": 4},
             order=order,
         ),
         sweep_chunk=256,
     )
 
 
-ENGINES = tuple(_engine(s, 60 + i) for i, s in enumerate(_LABELS)) if AVAILABLE else ()
+ENGINES = tuple(_engine(s, 80 + i) for i, s in enumerate(_LABELS)) if AVAILABLE else ()

@@ -20,6 +20,7 @@ from the ``Rod`` (``crosscheck.engines.newton.model``).
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -166,15 +167,22 @@ def _classify(record: Record, mu, rod: Rod, opts: Options, th: Thresholds):
 
 
 def simulate(
-    rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options
+    rod: Rod,
+    state: SlipState,
+    mu: float,
+    *,
+    horizon: float,
+    thresholds: Thresholds | None = None,
+    options_class: type = Options,
+    **options,
 ) -> Run:
     """Run one slipping state in Newton (a sweep of one: the same numbers as its row of ``sweep``).
 
     The capsule starts touching the plane (z_A = r) with the velocities of ``state``; ``ceil(horizon / timestep)``
     steps.  ``Run.solver`` holds ``NewtonHealth``.  ``options``: the fields of ``Options`` (unknown -> ValueError
-    naming it); the registered engine fixes ``solver``.
+    naming it); ``options_class``: the engine's ``Options`` subclass (``crosscheck.engines.newton.solvers``).
     """
-    mu, horizon, opts = run_inputs(state, mu, horizon, options, Options)
+    mu, horizon, opts = run_inputs(state, mu, horizon, options, options_class)
     th = thresholds or Thresholds()
     n = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES * SIZES[0])
     record, health = _rollouts(rod, [state], np.array([mu]), n, opts, False)
@@ -183,8 +191,6 @@ def simulate(
     run = Run.from_classification(
         _name(opts), c, one, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th, horizon=horizon, nstep=n
     )
-    import dataclasses
-
     return dataclasses.replace(run, solver=NewtonHealth(**{k: float(v[0]) for k, v in health.items()}))
 
 
@@ -197,15 +203,16 @@ def sweep(
     thresholds: Thresholds | None = None,
     n_series: int = 200,
     progress: bool | None = None,
+    options_class: type = Options,
     **options,
 ) -> SweepResult:
     """Every state in Newton, in blocks of worlds stepped together (module docstring); one classifier.
 
-    mu: a scalar or one per state (set per world).  ``options``: as for ``simulate``.
+    mu: a scalar or one per state (set per world).  ``options``, ``options_class``: as for ``simulate``.
     """
     states = check_states(states)
     horizon = real_scalar("horizon", horizon, POSITIVE)
-    opts = Options.from_kwargs(options)
+    opts = options_class.from_kwargs(options)
     mu = sweep_mu_workers(mu, len(states), 1)
     th = thresholds or Thresholds()
     B = len(states)

@@ -15,7 +15,7 @@ from crosscheck.checks import NONNEGATIVE, POSITIVE, UNIT, Interval
 from crosscheck.engines.base import options_from_kwargs
 from crosscheck.state import check_timestep, real, real_scalar
 
-__all__ = ["Options", "SOLVERS", "DEVICES", "RADIUS", "CREEP_MARGIN", "MAX_ITERATIONS"]
+__all__ = ["Options", "MuJoCoWarpOptions", "XPBDOptions", "FeatherstoneOptions", "SOLVERS", "DEVICES", "RADIUS", "CREEP_MARGIN", "MAX_ITERATIONS"]
 
 #: The Newton solvers crosscheck runs, by ``Options.solver``: Newton's class of each.
 SOLVERS = {
@@ -71,7 +71,8 @@ class Options:
     """Parameters of a Newton run, in the paper's scaled units (one class for every solver; each reads its own).
 
     Attributes:
-      solver: which Newton solver steps the rod (a key of ``SOLVERS``; fixed per registered engine).
+      solver: which Newton solver steps the rod (a key of ``SOLVERS``), fixed by each registered engine's subclass
+        (``crosscheck.engines.newton.solvers``): its default, so that ``Options()`` of an engine is that engine's.
       device: "cpu" (default) or "cuda"; "cuda" is refused in one line where Warp sees no CUDA device.
       timestep: omega dt (default 1e-3, ~3.2e-4 s for a 1 m rod): Warp on CPU costs ~10 ms per MuJoCo Warp step
         of a batch, so the maps run at 1e-3 (``benchmarks/bench_newton.py``).
@@ -113,8 +114,9 @@ class Options:
     axial_inertia: float = 1e-12
 
     def __post_init__(self) -> None:
-        if self.solver not in SOLVERS:
-            raise ValueError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")
+        own = type(self).__dataclass_fields__["solver"].default
+        if self.solver != own:  # each registered engine is one solver: its Options class fixes it
+            raise ValueError(f"solver must be {own} for newton_{own} (one engine per solver); got {self.solver!r}")
         if self.device not in DEVICES:
             raise ValueError(f"device must be one of {', '.join(DEVICES)}; got {self.device!r}")
         if self.device == "cuda" and not _cuda_present():
@@ -148,7 +150,7 @@ class Options:
     @classmethod
     def from_kwargs(cls, options: dict[str, Any]) -> "Options":
         """``Options(**options)`` with an error naming any unknown option."""
-        return options_from_kwargs(cls, options, f"newton_{options.get('solver', 'mujoco')}")
+        return options_from_kwargs(cls, options, f"newton_{cls.__dataclass_fields__['solver'].default}")
 
     @property
     def solver_iterations(self) -> int:
@@ -182,3 +184,28 @@ class Options:
 
     def as_dict(self) -> dict:
         return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+@dataclass(frozen=True)
+class MuJoCoWarpOptions(Options):
+    """``Options`` of ``newton_mujoco``: MuJoCo Warp."""
+
+    solver: str = "mujoco"
+
+
+@dataclass(frozen=True)
+class XPBDOptions(Options):
+    """``Options`` of ``newton_xpbd``: XPBD, with an axial moment of 1e-4 I0: at rod.xml's 1e-12 its contact projection
+    turns the capsule about its own axis (4.6e3 omega within a horizon of 1 from theta = 1, varphi = -1.9, mu = 0.5)
+    and launches it; at 1e-6 the spin is 2.8 omega, at 1e-4 0.03 omega (iterations 2), while the inertia about the
+    vertical errs by 1e-4 tan^2 theta (``Options.axial_inertia``)."""
+
+    solver: str = "xpbd"
+    axial_inertia: float = 1e-4
+
+
+@dataclass(frozen=True)
+class FeatherstoneOptions(Options):
+    """``Options`` of ``newton_featherstone``: Featherstone with Newton's penalty contact."""
+
+    solver: str = "featherstone"

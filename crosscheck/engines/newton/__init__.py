@@ -56,6 +56,12 @@ _CONVERGENCE = {
 _MODULES = {"mujoco": "mujoco_warp", "xpbd": "xpbd", "featherstone": "featherstone"}
 
 
+def _sections():
+    from crosscheck.engines.newton.sections import mujoco_c
+
+    return (mujoco_c.SECTION,)
+
+
 def _engine(solver: str, order: int) -> EngineSpec:
     return EngineSpec(
         name=f"newton_{solver}",
@@ -71,6 +77,7 @@ def _engine(solver: str, order: int) -> EngineSpec:
             maps_n={"quick": 4, "full": 8},
             convergence_n={"quick": 3, "full": 4},
             order=order,
+            sections=_sections if solver == "mujoco" else None,
         ),
         sweep_chunk=256,
     )

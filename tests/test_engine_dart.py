@@ -77,15 +77,32 @@ def test_free_step_is_the_rods_exact_acceleration():
         assert np.abs(got - want).max() <= allowance * (1 + np.abs(want).max())
 
 
-def test_the_friction_is_a_pyramid():
-    """On the slip the two friction rows, boxed separately, give |F_t| above mu F_n (measured 1.034 mu F_n), never
-    above sqrt(2) mu F_n: the pyramid, not the cone."""
+#: A friction row's force against mu times the frictionless normal force of the same step: DART's boxed LCP (ODE's
+#: Dantzig solver with friction indices) sets each friction row's bound from the normal impulse solved before the
+#: friction rows enter, and does not update it; measured equal to 1e-5 relative at mu 0.2-2 (the rounding of a
+#: solve whose rows are ~1e-3 m g s at dt = 1e-3); allowance 1e-4.
+FROZEN_BOUND = 1e-4
+
+
+@pytest.mark.parametrize("mu", [0.5, 2.0])
+def test_friction_rows_are_boxed_by_mu_times_the_frictionless_normal_force(mu):
+    """On a slip along world y (varphi = -pi/2, psi = 0: one row saturates), |F_y| = mu F_n0 with F_n0 the normal force
+    of the same step at mu = 0, not mu F_n: friction at the tip raises the normal force (here F_n / F_n0 = 1.19 at
+    mu 0.5, 1.78 at mu 2) and DART's bound does not follow it, so the friction falls short of Coulomb's by that ratio;
+    the feedback that makes a rigid rod jam (friction growing with the normal force it raises, eq. p < 0) is cut.
+    On the diagonal slip (varphi = -1.9) both rows saturate: |F_t| = sqrt(2) mu F_n0, the square pyramid."""
     opts = Options()
-    q0, v0 = to_generalized(ROD, SLIPPING, tip=(0.0, 0.0, opts.radius))
-    raw = World(ROD, 0.5, opts).rollout(q0, v0, 200)
-    on = raw.force[:, 2] > 0
-    ratio = np.linalg.norm(raw.force[on, :2], axis=1) / (0.5 * raw.force[on, 2])
-    assert on.sum() > 100 and ratio.max() > 1.01 and ratio.max() <= math.sqrt(2) * (1 + 1e-9)
+    along_y = SlipState(theta=0.5, varphi=-math.pi / 2, Theta=0.0, Psi=0.0, eta=1.0)
+    q0, v0 = to_generalized(ROD, along_y, tip=(0.0, 0.0, opts.radius))
+    F0 = World(ROD, 0.0, opts).rollout(q0, v0, 3).force[1]
+    F = World(ROD, mu, opts).rollout(q0, v0, 3).force[1]
+    assert F0[2] > 0 and F[2] > 1.15 * F0[2] and abs(F[0]) <= 1e-9
+    assert abs(F[1] / (mu * F0[2]) - 1) <= FROZEN_BOUND
+    diagonal = SlipState(theta=0.5, varphi=-1.9, Theta=0.0, Psi=0.0, eta=1.0)
+    q0, v0 = to_generalized(ROD, diagonal, tip=(0.0, 0.0, opts.radius))
+    F0 = World(ROD, 0.0, opts).rollout(q0, v0, 3).force[1]
+    F = World(ROD, mu, opts).rollout(q0, v0, 3).force[1]
+    assert abs(np.linalg.norm(F[:2]) / (math.sqrt(2) * mu * F0[2]) - 1) <= FROZEN_BOUND
 
 
 def test_scaled_units_across_physical_rods():

@@ -13,7 +13,8 @@ engine and setting, ``data/engine_table.csv``.
 * ``n_launch``: rated starts the engine throws off the plane while the theory's b < 0 (``Outcome.LAUNCH``);
 * cost: ``runs_per_s`` (rated starts over the sweep's wall time, one core) and ``us_per_step`` (per record row of a
   continuous engine); ``median_abs_event_time_error``: the median |engine event time - theory's| in scaled time;
-* the map row alone: onset, friction, ladder causes, causes confirmed by intervention, rounding, convergence verdicts.
+* the map row alone: onset, friction, ladder causes, causes confirmed by intervention, rounding, the Theta after its
+  jams against the impact without collision's (``<slug>_impact``), convergence verdicts.
 """
 
 from __future__ import annotations
@@ -123,6 +124,11 @@ def _engine_extras(data: Path, spec) -> dict:
     )
     r = read_json(data / f"{spec.slug}_rounding" / "summary.json") or {}
     out["rounding_changed"], out["rounding_n"] = r.get("changed", 0), r.get("n", 0)
+    # after its jams: |Theta+ - the impact without collision's| over the theory's jams it also jams (<slug>_impact)
+    i = read_json(data / f"{spec.slug}_impact" / "summary.json") or {}
+    m = i.get("median_abs_Theta_plus_error_jammed")
+    out["impact_median_abs_Theta_plus_error"] = math.nan if m is None else m
+    out["impact_n_jammed"], out["impact_n"] = i.get("n_jammed", 0), i.get("n", 0)
     conv = data / f"{spec.slug}_convergence" / "convergence.csv"
     rows = list(csv.DictReader(conv.open())) if conv.is_file() else []
     out["convergence"] = {t.parameter: t.verdict for t in convergence_trends(rows)} if rows else {}
@@ -304,4 +310,7 @@ def engine_facts(r: dict) -> list[str]:
         f"causes (ladder): {ladder or 'none'}; confirmed by intervention: {r['confirmed']} of {r['attributed']}"
         + (f", {r['confirmed_jointly']} more jointly" if r["confirmed_jointly"] else ""),
         f"outcome moves within 2 ulp of theta: {r['rounding_changed']} of {r['rounding_n']} starts",
+        f"after its jams: median |Theta+ - the impact without collision's Theta+| "
+        f"{_number(r['impact_median_abs_Theta_plus_error'])} over the {r['impact_n_jammed']} of {r['impact_n']} "
+        "theory's jam starts it also jams",
     ]

@@ -29,16 +29,16 @@ ENGINES = (
         interventions={c: f"crosscheck.engines.dart.interventions:{c}" for c in _LADDER},
         # Cost (python benchmarks/bench_dart.py, 2 cores shared): DART's bare step ~80 us, ~160 us with the record
         # and classifier, a run to horizon 2 at the default timestep ~0.3 s, twice PhysX's; so the grids are the
-        # smallest the sections take: 6 x 6 maps (quick), 12 x 12 (full), convergence in the timestep on 4 x 4 and
-        # 6 x 6 (theta, Theta) grids.  The quick report's DART sections ran in ~50 s of wall time, cores shared.
+        # smallest the sections take: 4 x 4 maps (quick), 12 x 12 (full), convergence in the timestep on 3 x 3 and
+        # 6 x 6 (theta, Theta) grids.  The quick report's DART sections took 82 s of section time at 6 x 6 and 4 x 4.
         report=ReportPlan(
             maps={"quick": {"timestep": 1e-3}, "full": {"timestep": 1e-3}},
             convergence={
                 "quick": [{"timestep": dt} for dt in (4e-3, 2e-3, 1e-3)],
                 "full": [{"timestep": dt} for dt in (4e-3, 2e-3, 1e-3, 5e-4)],
             },
-            maps_n={"quick": 6, "full": 12},
-            convergence_n={"quick": 4, "full": 6},
+            maps_n={"quick": 4, "full": 12},
+            convergence_n={"quick": 3, "full": 6},
             ladder=True,
             order=70,
         ),

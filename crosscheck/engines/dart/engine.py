@@ -4,14 +4,21 @@
 (``crosscheck.engines.base.sweep_by_simulate``), so a state gives the same numbers either way.  The model and
 its settings are in ``crosscheck.engines.dart.model``.
 
-DART's contact step.  Each step DART finds the capsule-plane contact (penetration or touching), builds one
-normal row and two friction rows per contact point, and solves the step's boxed LCP for the impulses with
-Dantzig's pivoting method (an exact solve of the LCP, not iterations): the normal impulse unilateral, each
-friction impulse boxed to [-mu, mu] times the normal impulse, independently.  That is an impulse-based rigid
-time-stepper (Stewart-Trinkle at velocity level), hence the tags "rigid" and "time_stepping", with
-``Options.contact_time`` = ``friction_time`` = 0; what differs from the rigid engine is the friction cone,
-a square pyramid (|F_t| up to sqrt(2) mu F_n where both rows saturate), and the position error left to
-DART's error reduction.
+DART's contact step.  Each step DART finds the capsule-plane contact (penetration or touching: no
+speculative margin), builds one normal row and two friction rows along world x and y (its default first
+friction direction is the normal's, so it falls back to fixed axes), and solves the step's boxed LCP for the
+impulses with Dantzig's pivoting method (ODE's solver, with friction indices): the normal impulse unilateral,
+each friction impulse boxed to [-mu, mu] times the normal impulse *as solved before the friction rows enter*,
+a bound that is not updated afterwards.  An impulse-based rigid time-stepper (Stewart-Trinkle at velocity
+level), hence the tags "rigid" and "time_stepping", with ``Options.contact_time`` = ``friction_time`` = 0.
+What differs from the rigid theory is its friction law, measured in tests/test_engine_dart.py:
+
+* the bound: a slipping tip's friction row saturates at mu F_n0, F_n0 the step's normal force without friction,
+  while the friction's own moment raises the normal force to F_n > F_n0 (F_n / F_n0 = 1.19 at mu 0.5, 1.78 at
+  mu 2 on theta = 0.5): the friction falls short of Coulomb's mu F_n by that ratio, and the feedback behind a
+  rigid rod's jam (friction growing with the normal force it raises, eq. p < 0) is cut.  In the quick report's
+  maps DART slips from every start where the theory sticks or jams;
+* the cone: the two rows are boxed separately, a square pyramid (|F_t| = sqrt(2) mu F_n0 where both saturate).
 
 Row k of the record is the state after k steps with the contact force of step k -> k+1 (the rod's constraint
 force along the prismatic joints) and the tip acceleration (v_A,k+1 - v_A,k) / dt.  Scaled units (section 2.1)

@@ -18,9 +18,10 @@ local z, turned onto body y) has cap centres A = (0, -l, 0) and B = (0, l, 0), r
 ``PlaneShape`` (normal +z through the origin) on a welded ground skeleton.
 
 Settings: DART's default constraint solver (``BoxedLcpConstraintSolver``, Dantzig's pivoting method on the
-boxed LCP of the step, PGS as its fallback), whose contact has one normal row and two friction rows along two
-fixed tangent directions, each boxed by mu times the normal impulse: a square pyramid, |F_t| up to sqrt(2) mu
-F_n.  The collision detector is DART's Bullet one (``BulletCollisionDetector``): FCL, the default, has no
+boxed LCP of the step, PGS as its fallback), whose contact has one normal row and two friction rows along world
+x and y, each boxed by mu times the frictionless normal impulse (``crosscheck.engines.dart.engine``): a square
+pyramid whose size does not follow the normal force.  dartpy 6.20 exposes neither the friction directions nor
+a cone, so no intervention can change this law on the engine.  The collision detector is DART's Bullet one (``BulletCollisionDetector``): FCL, the default, has no
 capsule and silently puts a sphere of radius 0.1 in its place, and ODE's misses the contact of a capsule that
 starts exactly touching.  Friction mu and restitution 0 on both shapes.  The contact force is read from the
 momentum of the moving bodies, F = M (v_k+1 - v_k) / dt - M g along each prismatic axis (M the masses each

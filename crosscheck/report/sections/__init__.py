@@ -18,10 +18,12 @@ from crosscheck.report.sections import (
     engine_contact,
     engine_convergence,
     engine_ic,
+    engine_impact,
     engine_interventions,
     engine_ladder,
     engine_maps,
     engine_onset,
+    engine_psi,
     engine_rounding,
     gb_det_zeros,
     gb_eigenvectors,
@@ -29,15 +31,17 @@ from crosscheck.report.sections import (
     gb_manifold,
     gb_quartic,
     gb_separatrix,
+    impact_engines,
     kinematic_cases,
     kinematic_surfaces,
     mechanisms,
     mode_maps,
     p_region,
     printed_numbers,
+    psi_engines,
 )
 
-__all__ = ["SECTIONS", "THEORY_SECTIONS", "all_sections", "engine_sections", "section_by_slug"]
+__all__ = ["SECTIONS", "THEORY_SECTIONS", "all_sections", "cross_engine_sections", "engine_sections", "section_by_slug"]
 
 #: The sections of the theory alone (no engine), in report order.
 THEORY_SECTIONS: tuple[Section, ...] = (
@@ -70,6 +74,8 @@ def engine_sections(spec) -> tuple[Section, ...]:
         if plan.onset:
             out.append(engine_onset.section(spec, plan.maps))
         out.append(engine_ic.section(spec, plan.maps))
+        out.append(engine_impact.section(spec, plan.maps))
+        out.append(engine_psi.section(spec, plan.maps))
         out.append(engine_rounding.section(spec, plan.maps, plan.maps_n))
     if plan.convergence is not None:
         out.append(engine_convergence.section(spec, plan.convergence, plan.convergence_n))
@@ -88,7 +94,13 @@ def all_sections() -> tuple[Section, ...]:
     """Every section in report order: the theory's, then each registered engine's (``crosscheck.engines.specs()`` order)."""
     from crosscheck import engines
 
-    return THEORY_SECTIONS + tuple(s for spec in engines.specs() for s in engine_sections(spec))
+    specs = engines.specs()
+    return THEORY_SECTIONS + tuple(s for spec in specs for s in engine_sections(spec)) + cross_engine_sections(specs)
+
+
+def cross_engine_sections(specs) -> tuple[Section, ...]:
+    """The sections that gather every engine's results of one study into one figure (after the engines' own)."""
+    return (impact_engines.section(specs), psi_engines.section(specs))
 
 
 def __getattr__(name: str):

@@ -14,6 +14,8 @@ import json
 import math
 from pathlib import Path
 
+from matplotlib.patches import Patch
+
 from crosscheck.report.plotting import plt, save_figure
 from crosscheck.report.section import Figure
 
@@ -80,8 +82,8 @@ def _jams_and_launch(ax, pts: list[dict], colors: dict) -> None:
     y = range(len(maps))
     jam = [p["agree_theory_jam"] / p["n_theory_jam"] if p["n_theory_jam"] else 0 for p in maps]
     launch = [p["n_launch"] / p["n_rated"] for p in maps]
-    ax.barh([i + 0.2 for i in y], jam, height=0.38, color=[colors[p["engine"]] for p in maps], label="jams where the theory jams")
-    ax.barh([i - 0.2 for i in y], launch, height=0.38, color="#c00", hatch="///", ec="w", label="LAUNCH (b < 0)")
+    ax.barh([i + 0.2 for i in y], jam, height=0.38, color=[colors[p["engine"]] for p in maps])
+    ax.barh([i - 0.2 for i in y], launch, height=0.38, color="#c00", hatch="///", ec="w")
     ax.set_ylim(-0.7, len(maps) - 0.3)
     for i, p, j, la in zip(y, maps, jam, launch):
         ax.text(j + 0.02, i + 0.2, f"{p['agree_theory_jam']}/{p['n_theory_jam']}", va="center", fontsize=7)
@@ -93,7 +95,9 @@ def _jams_and_launch(ax, pts: list[dict], colors: dict) -> None:
     ax.set_xlim(0, 1.3)
     ax.set_xticks([0, 0.5, 1], ["0", "50 %", "100 %"])
     ax.set_title("map setting: at the theory's jams; LAUNCH")
-    ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.06), ncol=2, fontsize=7, frameon=False)
+    handles = [Patch(color="0.55", label="jams where the theory jams (engine's colour)"),
+               Patch(facecolor="#c00", hatch="///", ec="w", label="LAUNCH (b < 0)")]  # fmt: skip
+    ax.legend(handles=handles, loc="lower center", bbox_to_anchor=(0.5, 1.06), ncol=2, fontsize=7, frameon=False)
 
 
 def _draw(pts: list[dict]):

@@ -146,8 +146,8 @@ def test_first_event_stops_early_with_the_whole_runs_outcome_and_event_time(name
 
 
 def test_stops_at_event_must_be_a_bool():
-    from crosscheck.engines.spec import EngineSpec
+    from crosscheck.engines.spec import Execution
 
     for bad in (1, "yes", None):
-        with pytest.raises(ValueError, match=r"^engine 'toy' stops_at_event must be True or False; got "):
-            EngineSpec(name="toy", module="crosscheck.engines.bullet.engine", stops_at_event=bad)
+        with pytest.raises(ValueError, match=r"^stops_at_event must be True or False; got "):
+            Execution(stops_at_event=bad)

@@ -11,6 +11,7 @@ read at attribute access.
 
 from __future__ import annotations
 
+from crosscheck.engines.spec import resolve
 from crosscheck.report.section import Section
 from crosscheck.report.sections import (
     bifurcations,
@@ -76,7 +77,7 @@ def engine_sections(spec) -> tuple[Section, ...]:
     if plan.ladder and plan.maps is not None:  # after its maps: it ladders their disagreements
         out.append(engine_ladder.section(spec, plan.maps, f"{spec.slug}_maps"))
     if plan.sections is not None:
-        out.extend(plan.sections())
+        out.extend(resolve(plan.sections)())
     ladder_slug = plan.ladder_section or (f"{spec.slug}_ladder" if plan.ladder and plan.maps is not None else None)
     ladder = next((s for s in out if s.slug == ladder_slug), None)
     if spec.interventions and ladder is not None:  # after its ladder: it reruns the ladder's starts

@@ -28,7 +28,6 @@ import importlib
 import inspect
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
-from types import MappingProxyType
 from typing import Any
 
 __all__ = [
@@ -92,8 +91,9 @@ def _check_ref(owner: str, what: str, ref, *, optional: bool = True) -> None:
             raise ValueError(f"{owner} {what} must be a reference 'package.module' or 'package.module:attr'; got {ref!r}")
 
 
-def _frozen_map(m) -> Mapping | None:
-    return None if m is None else MappingProxyType(dict(m))
+def _frozen_map(m) -> dict | None:
+    """A copy of a declared mapping (a dict: the spec pickles into worker processes; a mappingproxy does not)."""
+    return None if m is None else dict(m)
 
 
 @dataclass(frozen=True)

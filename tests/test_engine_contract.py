@@ -1,7 +1,9 @@
 """The contract every registered engine keeps (dm_control's ALL_TASKS habit): one test per engine and promise.
 
 Parametrised over ``crosscheck.engines.names()``, so an engine added to the
-registry is held to it without touching this file: its record's shapes, units
+registry (built in, or an installed plugin found through the ``crosscheck.engines``
+entry points: tests/test_engine_plugin.py runs this file with the example installed)
+is held to it without touching this file: its record's shapes, units
 and finiteness, ``simulate`` equal to the matching row of ``sweep``, two runs
 identical, the exact one-line message for a bad option, a well-formed
 tolerance profile and tags, and its libraries in the report's provenance.

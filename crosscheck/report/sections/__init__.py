@@ -85,11 +85,27 @@ def engine_sections(spec) -> tuple[Section, ...]:
     return tuple(out)
 
 
-def all_sections() -> tuple[Section, ...]:
-    """Every section in report order: the theory's, then each registered engine's (``crosscheck.engines.specs()`` order)."""
+def all_sections(names=None) -> tuple[Section, ...]:
+    """Every section in report order: the theory's, then each engine's (``crosscheck.engines.specs()`` order).
+
+    names: the engines whose sections are included (None: every engine); an engine that cannot run here (its library
+    is not installed: ``EngineSpec.unavailable``) has none (``skipped_engines`` says why, one line each).
+    """
     from crosscheck import engines
 
-    return THEORY_SECTIONS + tuple(s for spec in engines.specs() for s in engine_sections(spec))
+    chosen = [s for s in engines.specs() if (names is None or s.name in names) and not s.unavailable()]
+    return THEORY_SECTIONS + tuple(s for spec in chosen for s in engine_sections(spec))
+
+
+def skipped_engines(names=None) -> list[str]:
+    """One line per engine (of ``names``, None: all) whose sections ``all_sections`` leaves out, saying why."""
+    from crosscheck import engines
+
+    return [
+        f"skipped {s.label}'s sections: {s.unavailable()}"
+        for s in engines.specs()
+        if (names is None or s.name in names) and s.unavailable()
+    ]
 
 
 def __getattr__(name: str):

@@ -79,6 +79,7 @@ BUILTIN = (
     "crosscheck.engines.bullet",
     "crosscheck.engines.physx",
     "crosscheck.engines.dart",
+    "crosscheck.engines.newton",
 )
 
 #: The engine a study runs when none is named (the studies' ``engine=`` default): MuJoCo, the engine the ladder explains.

@@ -19,10 +19,12 @@ from crosscheck.report.sections import (
     engine_contact,
     engine_convergence,
     engine_ic,
+    engine_impact,
     engine_interventions,
     engine_ladder,
     engine_maps,
     engine_onset,
+    engine_psi,
     engine_rounding,
     gb_det_zeros,
     gb_eigenvectors,
@@ -30,15 +32,17 @@ from crosscheck.report.sections import (
     gb_manifold,
     gb_quartic,
     gb_separatrix,
+    impact_engines,
     kinematic_cases,
     kinematic_surfaces,
     mechanisms,
     mode_maps,
     p_region,
     printed_numbers,
+    psi_engines,
 )
 
-__all__ = ["SECTIONS", "THEORY_SECTIONS", "all_sections", "engine_sections", "section_by_slug"]
+__all__ = ["SECTIONS", "THEORY_SECTIONS", "all_sections", "cross_engine_sections", "engine_sections", "section_by_slug"]
 
 #: The sections of the theory alone (no engine), in report order.
 THEORY_SECTIONS: tuple[Section, ...] = (
@@ -71,6 +75,8 @@ def engine_sections(spec) -> tuple[Section, ...]:
         if plan.onset:
             out.append(engine_onset.section(spec, plan.maps))
         out.append(engine_ic.section(spec, plan.maps))
+        out.append(engine_impact.section(spec, plan.maps))
+        out.append(engine_psi.section(spec, plan.maps))
         out.append(engine_rounding.section(spec, plan.maps, plan.maps_n))
     if plan.convergence is not None:
         out.append(engine_convergence.section(spec, plan.convergence, plan.convergence_n))
@@ -94,7 +100,12 @@ def all_sections(names=None) -> tuple[Section, ...]:
     from crosscheck import engines
 
     chosen = [s for s in engines.specs() if (names is None or s.name in names) and not s.unavailable()]
-    return THEORY_SECTIONS + tuple(s for spec in chosen for s in engine_sections(spec))
+    return THEORY_SECTIONS + tuple(s for spec in chosen for s in engine_sections(spec)) + cross_engine_sections(chosen)
+
+
+def cross_engine_sections(specs) -> tuple[Section, ...]:
+    """The sections that gather every engine's results of one study into one figure (after the engines' own)."""
+    return (impact_engines.section(specs), psi_engines.section(specs))
 
 
 def skipped_engines(names=None) -> list[str]:

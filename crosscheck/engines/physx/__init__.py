@@ -47,9 +47,7 @@ ENGINES = tuple(
         execution=Execution(
             one_core={"workers": 1}, solver_columns=("contact_steps", "max_points"), stops_at_event=True
         ),
-        ladder=Ladder(
-            rungs=_LADDER, interventions={c: f"crosscheck.engines.physx.interventions:{c}" for c in _LADDER}
-        ),
+        ladder=Ladder(rungs=_LADDER, interventions={c: f"crosscheck.engines.physx.interventions:{c}" for c in _LADDER}),
         report=ReportPlan(**_PLAN, order=60 + i),
     )
     for i, s in enumerate(("tgs", "pgs"))

@@ -26,9 +26,7 @@ ENGINES = (
         execution=Execution(
             one_core={"workers": 1}, solver_columns=("contact_steps", "max_points"), stops_at_event=True
         ),
-        ladder=Ladder(
-            rungs=_LADDER, interventions={c: f"crosscheck.engines.dart.interventions:{c}" for c in _LADDER}
-        ),
+        ladder=Ladder(rungs=_LADDER, interventions={c: f"crosscheck.engines.dart.interventions:{c}" for c in _LADDER}),
         # Cost (python benchmarks/bench_dart.py, 2 cores shared): DART's bare step ~80 us, ~160 us with the record
         # and classifier, a run to horizon 2 at the default timestep ~0.3 s, twice PhysX's; so the grids are the
         # smallest the sections take: 4 x 4 maps (quick), 12 x 12 (full), convergence in the timestep on 3 x 3 and

@@ -6,7 +6,7 @@ import pytest
 
 from crosscheck import engines
 from crosscheck.cli import main
-from crosscheck.engines import EngineSpec
+from crosscheck.engines import EngineSpec, Ladder
 from crosscheck.engines.spec import LADDER_CAUSES
 from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
@@ -40,11 +40,11 @@ def test_a_failing_rung_is_reported_and_leaves_the_cause_undetermined():
     spec = engines.get("bullet")
     broken = EngineSpec(
         name="bullet_broken",
-        module=spec.module,
+        engine=spec.engine,
         label="Bullet (broken ladder)",
         defaults=spec.defaults,
         tags=spec.tags,
-        ladder={"compliance": "test_engine_ladder:boom", "discretisation": "engine"},
+        ladder=Ladder(rungs={"compliance": "test_engine_ladder:boom", "discretisation": "engine"}),
     )
     engines.register(broken)
     try:

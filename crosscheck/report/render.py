@@ -508,8 +508,6 @@ def render(
         json.dumps({"findings": [dataclasses.asdict(f) for f in found], "rules": dict(RULES)}, indent=1) + "\n"
     )
     (out / "data" / BOTTOM_LINE).write_text(json.dumps([dataclasses.asdict(s) for s in pages.bottom], indent=1) + "\n")
-    for stale in [*out.glob("engine_*.html"), *out.glob("engine_*.md")]:  # no page outlives its engine's sections
-        stale.unlink()
     _write_index(out, pages, views)
     for p in engine_pages:
         _write_engine(out, pages, p)

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import importlib.util
 
-from crosscheck.engines.spec import EngineSpec, ReportPlan
+from crosscheck.engines.spec import EngineSpec, Execution, ReportPlan
 
 __all__ = ["ENGINES", "AVAILABLE"]
 
@@ -56,7 +56,8 @@ _CONVERGENCE = {
 _MODULES = {"mujoco": "mujoco_warp", "xpbd": "xpbd", "featherstone": "featherstone"}
 
 
-def _sections():
+def report_sections():
+    """Newton's own report section (imported when the report is built)."""
     from crosscheck.engines.newton.sections import mujoco_c
 
     return (mujoco_c.SECTION,)
@@ -65,21 +66,21 @@ def _sections():
 def _engine(solver: str, order: int) -> EngineSpec:
     return EngineSpec(
         name=f"newton_{solver}",
-        module=f"crosscheck.engines.newton.{_MODULES[solver]}",
+        engine=f"crosscheck.engines.newton.{_MODULES[solver]}",
         label=_LABELS[solver],
         libraries=("newton", "warp-lang", "mujoco-warp") if solver == "mujoco" else ("newton", "warp-lang"),
+        install="crosscheck[newton]",
         tags=_TAGS[solver],
-        # no event-tolerance profile: not measured (validate does not judge these engines' events)
-        tolerances=None,
+        # no event-tolerance profile (validation): not measured (validate does not judge these engines' events)
         report=ReportPlan(
             maps=_MAPS,
             convergence=_CONVERGENCE,
             maps_n={"quick": 4, "full": 8},
             convergence_n={"quick": 3, "full": 4},
             order=order,
-            sections=_sections if solver == "mujoco" else None,
+            sections="crosscheck.engines.newton:report_sections" if solver == "mujoco" else None,
         ),
-        sweep_chunk=256,
+        execution=Execution(sweep_chunk=256),
     )
 
 

@@ -94,8 +94,8 @@ def simulate(
     """Run one slipping state in PhysX and classify its first event.
 
     The capsule starts touching the plane (z_A = r, C on the plane) with the velocities of ``state``
-    (``crosscheck.coordinates.to_generalized``), rounded to float32 as PhysX stores them; ``ceil(horizon /
-    timestep)`` steps.  ``Run.solver`` holds ``PhysxHealth``.
+    (``crosscheck.coordinates.to_generalized``), which PhysX stores rounded to float32 (row 0 holds the start as
+    given); ``ceil(horizon / timestep)`` steps.  ``Run.solver`` holds ``PhysxHealth``.
 
     Args:
       rod: physical rod (``Rod.scaled(alpha)`` for the paper's units).

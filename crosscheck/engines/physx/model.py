@@ -170,7 +170,8 @@ class World:
         force = np.zeros((nstep, 3))
         points = np.zeros(nstep, np.int64)
         separation = np.full(nstep, np.nan)
-        q[0], v[0] = art.get_qpos(), art.get_qvel()
+        # row 0 is the start as given; PhysX holds it rounded to float32 (6e-8 relative), as every later row
+        q[0], v[0] = q0, v0
         check = FIRST_CHECK
         for k in range(nstep):
             if judged is not None and k == check:

@@ -460,11 +460,12 @@ def _views(
     return views, extra
 
 
-def _first_screen(out: Path) -> tuple[list, list[dict], list, list]:
+def _first_screen(out: Path, slugs: set[str]) -> tuple[list, list[dict], list, list]:
     """(findings, engine records, the first screen's blocks, the findings' blocks) from the saved results; the engine
-    table's data files, the first figure and the causes-confirmed figure written on the way."""
+    table's data files, the first figure and the causes-confirmed figure written on the way.  Only the engines whose
+    maps section is among ``slugs`` (the sections rendered: ``report --engines``) are in the table and the figure."""
     found = findings(out / "data")
-    records = engine_records(out / "data")
+    records = [r for r in engine_records(out / "data") if f"{r['slug']}_maps" in slugs]
     first = []
     if records:
         write_engine_data(out, records)
@@ -520,7 +521,7 @@ def render(
         jobs = min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1), 4)
     # the page's own work (findings, the engine table and its figures) done here while the pool draws the sections
     views, (found, records, first, extra) = _views(
-        list(sections), out, jobs=jobs, progress=progress, meanwhile=lambda: _first_screen(out)
+        list(sections), out, jobs=jobs, progress=progress, meanwhile=lambda: _first_screen(out, {s.slug for s in sections})
     )
     index, engine_pages = split(views)
     summary = RenderSummary(html=out / "index.html", markdown=out / "report.md", views=views)

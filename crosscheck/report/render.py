@@ -521,7 +521,11 @@ def render(
         jobs = min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1), 4)
     # the page's own work (findings, the engine table and its figures) done here while the pool draws the sections
     views, (found, records, first, extra) = _views(
-        list(sections), out, jobs=jobs, progress=progress, meanwhile=lambda: _first_screen(out, {s.slug for s in sections})
+        list(sections),
+        out,
+        jobs=jobs,
+        progress=progress,
+        meanwhile=lambda: _first_screen(out, {s.slug for s in sections}),
     )
     index, engine_pages = split(views)
     summary = RenderSummary(html=out / "index.html", markdown=out / "report.md", views=views)
@@ -544,7 +548,10 @@ def render(
     (out / "data" / FINDINGS).write_text(
         json.dumps({"findings": [dataclasses.asdict(f) for f in found], "rules": dict(RULES)}, indent=1) + "\n"
     )
-    (out / "data" / BOTTOM_LINE).write_text(json.dumps([dataclasses.asdict(s) for s in pages.bottom], indent=1) + "\n")
+    if pages.bottom:  # (a render of no engine's maps leaves the saved one as it was, like the engine table)
+        (out / "data" / BOTTOM_LINE).write_text(
+            json.dumps([dataclasses.asdict(s) for s in pages.bottom], indent=1) + "\n"
+        )
     _write_index(out, pages, views)
     for p in engine_pages:
         _write_engine(out, pages, p)

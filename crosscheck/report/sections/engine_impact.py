@@ -37,7 +37,8 @@ DEFAULT_MAPS_N = {"quick": 10, "full": 32}
 def cost_scale(engine: str, key: str) -> float:
     """The share of the default number of starts an engine gets: (its maps' n / the default n)^2, the share of runs its
     own maps make (1 for an engine at the default; Drake's 6 x 6 quick maps 0.36, Newton's 4 x 4 0.16): the engines that
-    declared smaller maps by their measured cost (Newton's psi section took 456-588 s at 120 starts) get fewer starts."""
+    declared smaller maps by their measured cost (Newton's psi section took 456-588 s at 120 starts) get fewer
+    starts."""
     from crosscheck import engines
 
     plan = engines.get(engine).report

@@ -24,7 +24,8 @@ N_STARTS = {"quick": {"slipping": 24, "indeterminate": 4}, "full": {"slipping": 
 
 
 def _scaled(engine: str, key: str) -> dict:
-    """``N_STARTS`` times the engine's cost scale (``engine_impact.cost_scale``), at least 4 slipping and 1 indeterminate."""
+    """``N_STARTS`` times the engine's cost scale (``engine_impact.cost_scale``), at least 4 slipping and 1
+    indeterminate."""
     from crosscheck.report.sections.engine_impact import cost_scale
 
     k = cost_scale(engine, key)

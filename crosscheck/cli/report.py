@@ -1,4 +1,4 @@
-"""``crosscheck report [--out DIR] [--quick] [--from-results] [--seed S] [--only SECTION ...] [--fresh] [--scheduler ADDRESS]``.
+"""``crosscheck report [--out DIR] [--quick] [--engines A,B] [--from-results] [--seed S] [--only SECTION ...] [--fresh] [--scheduler ADDRESS]``.
 
 Runs every section of the report and saves its results under ``DIR/data``,
 then renders ``DIR/index.html`` and ``DIR/report.md`` from the saved results.
@@ -8,6 +8,8 @@ their finished chunks (``DIR/sweeps``, kept only for the same code and library
 versions); ``--fresh`` recomputes everything,
 ``--only`` recomputes the sections named.  ``--scheduler`` sends the engine
 sweeps to a Dask cluster ("local" starts one for the run).
+``--engines a,b`` runs the theory's sections and those engines' only; an engine
+whose library is not installed has its sections skipped, one line each.
 ``--from-results`` skips the run stage (rebuilds the report without
 re-simulating).  Exits 1 when any section failed or any check failed (known
 misprints of the paper excepted), after writing everything that succeeded.
@@ -25,8 +27,11 @@ from crosscheck.cli.options import ascii_number, directory
 
 def _run(args) -> int:
     from crosscheck import report
+    from crosscheck.report.ownership import claim
+    from crosscheck.report.sections import all_sections, skipped_engines
 
-    sections = list(report.SECTIONS)
+    names = _engine_names(args.engines)
+    sections = list(all_sections(names))
     selected = sections
     if args.only:
         selected = [report.section_by_slug(s, sections) for s in args.only]  # ValueError names an unknown section
@@ -46,7 +51,10 @@ def _run(args) -> int:
     # reached before any section starts: an address with nothing listening would fail each engine section in turn
     scheduler = check_scheduler(args.scheduler) if args.from_results else check_reachable(args.scheduler)
     out = directory("out", out)  # before anything runs: a long run never fails at its first write
+    for line in skipped_engines(names):
+        print(line)
     with report.lock(out):
+        claim(out, beside=args.beside_files)  # nothing of a directory crosscheck did not write is replaced
         try:
             return _locked(args, report, out, sections, selected, seed, workers, scheduler, jobs)
         except OSError as e:  # a full disk under a writer that does not say so itself (the render's pages and figures)
@@ -55,6 +63,27 @@ def _run(args) -> int:
             if e.errno not in NO_SPACE:
                 raise
             raise ValueError(no_space(Path(e.filename).parent if e.filename else out, None, e)) from None
+
+
+def _engine_names(text: str | None) -> tuple[str, ...] | None:
+    """The engines of ``--engines a,b`` (None: every engine); one line naming an unknown, broken or missing one."""
+    if text is None:
+        return None
+    from crosscheck import engines
+
+    names = tuple(n.strip() for n in text.split(",") if n.strip())
+    if not names:
+        raise ValueError(f"engines must be a comma-separated list of {', '.join(engines.names())}; got {text!r}")
+    for n in names:
+        try:
+            spec = engines.get(n)
+        except engines.EngineUnavailable:
+            raise
+        except ValueError:
+            raise ValueError(f"engines must be among {', '.join(engines.names())}; got {n!r}") from None
+        if spec.unavailable():
+            raise engines.EngineUnavailable(spec.unavailable())
+    return names
 
 
 def _saved(out: Path) -> bool:
@@ -66,10 +95,12 @@ def _saved(out: Path) -> bool:
 
 
 def _locked(args, report, out: Path, sections, selected, seed: int, workers, scheduler, jobs=None) -> int:
+    from crosscheck.report.ownership import sweeps_owned
+
     progress = not args.no_progress and sys.stderr.isatty()
     t0 = time.perf_counter()
     if not args.from_results:
-        if args.fresh and (out / "sweeps").exists():
+        if args.fresh and sweeps_owned(out / "sweeps"):
             import shutil
 
             shutil.rmtree(out / "sweeps")
@@ -133,9 +164,22 @@ def register(sub) -> None:
         help=f"run only this section (repeatable); the others keep their saved results. SECTION is one of: {', '.join(_section_slugs())}",
     )
     r.add_argument(
+        "--engines",
+        default=None,
+        metavar="A,B",
+        help="the theory's sections and these engines' only (comma-separated names, `crosscheck engines` lists them)",
+    )
+    r.add_argument(
         "--no-progress",
         action="store_true",
         help="no progress bars (nor, when stderr is not a terminal, the log line per section)",
+    )
+    r.add_argument(
+        "--beside-files",
+        action="store_true",
+        help="write into a non-empty directory crosscheck did not write, beside its files: refused if one of the "
+        "report's names (data, figures, sweeps, index.html, report.md) is there; nothing of theirs is deleted or "
+        "overwritten (default: such a directory is refused)",
     )
     r.add_argument(
         "--fresh", action="store_true", help="recompute every section (default: keep those finished by the same code)"

@@ -21,7 +21,7 @@ import pytest
 from crosscheck import Rod, SlipState, engines, sweeps
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.record import FIELDS, Record
-from crosscheck.engines.spec import EngineSpec
+from crosscheck.engines.spec import EngineSpec, Ladder
 from crosscheck.outcome import Outcome
 from crosscheck.studies.interventions import summarise
 from crosscheck.studies.ladder import run_ladder
@@ -137,11 +137,12 @@ def test_a_rung_that_sticks_once_the_theorys_slip_is_below_its_stick_floor_is_la
     crosses its STICK floor, which the classifier cannot tell from the theory's slip; the rung is labelled SLIP, as
     the agreement study labels it (``comparison.stick_from``), and the ladder finds no disagreement."""
     state, mu = SLIP_BELOW_FLOOR
+    pinocchio = engines.get("pinocchio")
     toy = EngineSpec(
         name="toy_rigid_ladder",
-        module=engines.get("pinocchio").module,
-        tags={"rigid", "time_stepping"},
-        ladder={"discretisation": "engine"},
+        engine=pinocchio.engine,
+        tags=pinocchio.tags,
+        ladder=Ladder(rungs={"discretisation": "engine"}),
     )
     engines.register(toy)
     try:

@@ -96,6 +96,19 @@ KNOWN = {
 }
 
 
+#: Engines this test finds not scale-free and whose own numerics are not measured yet (strict: an engine that passes
+#: is noticed): Newton's three solvers run in float32 (Warp), their rows agree to 2e-7-2e-6 only (measured on the
+#: 1 m rod), and a rod with I0 < 1e-3 kg m^2 fails to build (the 1 cm pin: MuJoCo-Warp's compiler refuses the axial
+#: inertia 1e-12 I0 below mjMINVAL, as MuJoCo's did before ``crosscheck.engines.mujoco.model.AXIAL_FLOOR``).
+NOT_YET = {
+    n: "float32 rows (2e-7-2e-6) and no build for I0 < 1e-3 kg m^2 (axial inertia below mjMINVAL)"
+    for n in ("newton_featherstone", "newton_mujoco", "newton_xpbd")
+}
+CASES = [
+    pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=NOT_YET[n])) if n in NOT_YET else n for n in ENGINES
+]
+
+
 def _options(spec) -> dict:
     """The engine's default options with a timestep fine enough for HORIZON to hold ten rows or more."""
     opts = spec.options()
@@ -108,7 +121,7 @@ def _error(got, want) -> float:
     return float(np.abs(got - want).max() / (1.0 + np.abs(want).max()))
 
 
-@pytest.mark.parametrize("name", ENGINES)
+@pytest.mark.parametrize("name", CASES)
 def test_every_field_of_the_record_is_the_same_in_scaled_units_for_every_rod(name):
     spec = engines.get(name)
     tol = KNOWN.get(name, CONTINUOUS if spec.has("continuous") else STEPPED)

@@ -1,6 +1,6 @@
 """Every verdict rule of the findings and the engine table at its edges, from synthetic saved results.
 
-The rules (``crosscheck.report.findings.RULES``) read two numbers where a careless rule reads one: the first event
+The rules (``crosscheck.report.findings.RULES``; the engine table holds the same numbers) read two numbers where a careless rule reads one: the first event
 reads a Wilson interval, not its point estimate; convergence reads the finest setting against the coarsest, not the
 finest alone; the shares of the ladder and the interventions are compared as counts at their threshold.  Each test
 puts the two numbers on opposite sides of a threshold, and puts a value exactly on it.
@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from crosscheck import engines
-from crosscheck.report.engine_table import HEADER, engine_table
+from crosscheck.report.engine_table import engine_records, interval
 from crosscheck.report.findings import CONVERGED, NOT_CONVERGED, convergence_verdict, findings
 from crosscheck.report.sections.engine_interventions import CONFIRMED_SHARE
 
@@ -71,8 +71,8 @@ def test_the_first_event_verdict_reads_the_interval_not_the_point_estimate(tmp_p
     (f,) = [f for f in findings(tmp_path) if f.leg.endswith("first event")]
     assert (f.verdict, f.why) == (verdict, why)
     assert f"same as the analytic one in {k} of {n} rated slipping starts ({100 * k / n:.0f} %" in f.text
-    _, rows, _ = engine_table(tmp_path)  # the engine table shows the same point estimate and interval
-    assert rows[0][HEADER.index("agreement (95 % CI)")] == cell
+    (rec,) = engine_records(tmp_path)  # the engine table holds the same point estimate and interval
+    assert (rec["n_agree"], rec["n_rated"]) == (k, n) and interval(rec) == cell
 
 
 # ------------------------------------------------------------------------------------------ convergence ---
@@ -107,8 +107,8 @@ def test_convergence_reads_the_finest_against_the_coarsest(tmp_path, agreements,
     )
     assert f.why.endswith("; < 90 %") == (agreements[-1] < NOT_CONVERGED)
     _maps(tmp_path, f"{slug}_maps", 95, 100)
-    _, rows_, _ = engine_table(tmp_path)
-    assert rows_[0][HEADER.index("convergence")] == f"timestep: {verdict}"
+    (rec,) = engine_records(tmp_path)
+    assert rec["convergence"] == {"timestep": verdict}
 
 
 # ---------------------------------------------------------------------------------------- lift-off onset ---

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import json
 import math
 
 from crosscheck.checks import ALPHA, ETA, HORIZON, MU, RATE, THETA, VARPHI
 from crosscheck.checks import number as _num
+from crosscheck.cli.json_text import json_text
 from crosscheck.cli.options import add_alpha, add_state, ascii_number
 
 
@@ -52,7 +52,7 @@ def _plot(args, ladder, name: str, state, mu: float, alpha: float) -> None:
         f"mu {mu:g}, alpha {alpha:g}: cause {ladder.cause}"
     )
     plt.close(plot_ladder(ladder, path=path, title=title))
-    path.with_suffix(".json").write_text(json.dumps(ladder.as_dict(), indent=1, allow_nan=False) + "\n")
+    path.with_suffix(".json").write_text(json_text(ladder.as_dict(), indent=1) + "\n")
     print(f"wrote {path} and {path.with_suffix('.json')}", file=sys.stderr if args.json else sys.stdout)
 
 
@@ -88,7 +88,7 @@ def _explain(args) -> int:
         ladder = run_ladder(state, mu, alpha=alpha, horizon=horizon, **options)
     _plot(args, ladder, "MuJoCo", state, mu, alpha)
     if args.json:
-        print(json.dumps(ladder.as_dict(), indent=2, allow_nan=False))
+        print(json_text(ladder.as_dict()))
         return 0
     m = ladder.match
     print(
@@ -138,7 +138,7 @@ def _explain_declared(args) -> int:
     name = engine_label(args.engine)
     _plot(args, ld, name, state, mu, alpha)
     if args.json:
-        print(json.dumps(ld.as_dict(), indent=2, allow_nan=False))
+        print(json_text(ld.as_dict()))
         return 0
     print(
         f"start: theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; mu {mu:g}, alpha {alpha:g}"

@@ -255,6 +255,13 @@ def cli_cases(tmp: Path) -> list:
                 "timestep",
             )
         )
+    cases.append(
+        (
+            "simulate --engine drake_continuous --alpha=650",
+            _argv(["simulate", "--engine", "drake_continuous"], {**STATE, "mu": "0.9", "alpha": "650"}, "", ""),
+            "alpha",
+        )
+    )
     for opt, v in [("Psi", "2_5"), ("eta", "\u0667"), ("Psi", "\uff12"), ("mu", "1\u06f7"), ("alpha", "3_0")]:
         v = v.encode().decode("unicode_escape")
         argv = ["gb", "--mu", "1.7", "--samples", "3"] + ([] if opt == "mu" else []) + [f"--{opt}", v]
@@ -273,6 +280,13 @@ def cli_cases(tmp: Path) -> list:
         cases.append(
             (f"sweep spec {param} (round 3)", ["sweep", spec(f"huge_{param}", **{table: text}), "--out", sweep_out], param)
         )
+    cases.append(
+        (
+            "sweep spec mujoco horizon=7500 (a record no chunk holds)",
+            ["sweep", spec("mujoco_long", sweep='engine = "mujoco"\nhorizon = 7500\nchunk = 2'), "--out", sweep_out],
+            "horizon",
+        )
+    )
     cases.append(("compare missing stores", ["compare", str(tmp / "no_a"), str(tmp / "no_b")], "a"))
     cases.append(("compare non-store", ["compare", str(tmp), str(tmp)], "a"))
     # how a number is written: ASCII only (crosscheck.cli.options), and no longer than a number needs

@@ -53,6 +53,7 @@ from typing import Any
 import numpy as np
 
 from crosscheck.checks import ALPHA_MAX, ALPHA_MIN, HORIZON_MAX, MU_MAX, PSI_MAX, RATE_MAX
+from crosscheck.engines.base import MAX_RECORD_BYTES
 
 __all__ = ["Spec", "SpecError", "load_spec", "parse_spec", "AXES", "ANALYTIC"]
 
@@ -454,7 +455,20 @@ def _options(engine: str, table: dict, horizon: float | None = None) -> dict[str
             raise SpecError(
                 f"options {shown}: timestep must be in (0, sweep.horizon = {horizon:g}]; got {opts.timestep!r}"
             )
+        step = getattr(opts, "timestep", None)
+        if horizon is not None and step and horizon / step * MIN_ROW_BYTES > MAX_RECORD_BYTES:
+            # a record no chunk can hold: each engine refuses it (its own bytes per row are at least MIN_ROW_BYTES)
+            raise SpecError(
+                f"sweep.horizon must be at most {MAX_RECORD_BYTES / MIN_ROW_BYTES * step:.4g} at timestep {step:g} "
+                f"({shown or 'the default options'}: a record of more than {MAX_RECORD_BYTES / 2**30:g} GiB); "
+                f"got {horizon:g}"
+            )
     return out
+
+
+#: The fewest bytes per record row of any engine (MuJoCo's law, ``crosscheck.engines.mujoco.ode.ROW_BYTES``): a
+#: spec whose record needs more than ``MAX_RECORD_BYTES`` at this size is refused by every engine, so by the spec.
+MIN_ROW_BYTES = 512
 
 
 #: Option combinations checked when the spec is read (a sweep of more is checked as far as this).

@@ -29,6 +29,7 @@ COMMAND_MODULES = [
     "crosscheck.cli.gb",
     "crosscheck.cli.sweep",
     "crosscheck.cli.explain",
+    "crosscheck.cli.engines",
 ]
 
 

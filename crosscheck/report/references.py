@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 from crosscheck.report.section import Table
 
 if TYPE_CHECKING:
-    from crosscheck.report.render import SectionView
+    from crosscheck.report.format import SectionView
 
 __all__ = ["paper_reference", "unlabel"]
 

@@ -20,7 +20,7 @@ manifold's start, ``slow_manifold``), ``run`` (``simulate``: the engine's
 ``Run``).
 """
 
-from crosscheck.engines.spec import EngineSpec, ReportPlan
+from crosscheck.engines.spec import EngineSpec, Execution, ReportPlan
 from crosscheck.engines.compliant.trajectory import EVENT_KINDS, Event, Trajectory, integrate
 from crosscheck.engines.compliant.laws import LAWS, NormalLaw
 from crosscheck.engines.compliant.model import Dynamics
@@ -44,7 +44,8 @@ __all__ = [
 ]
 
 
-def _sections():
+def report_sections():
+    """The compliant rod's own report section (imported when the report is built)."""
     from crosscheck.engines.compliant.sections import limit
 
     return (limit.SECTION,)
@@ -53,9 +54,9 @@ def _sections():
 ENGINES = (
     EngineSpec(
         name="compliant",
-        module="crosscheck.engines.compliant.run",
-        one_core={"workers": 1},
+        engine="crosscheck.engines.compliant.run",
         tags={"compliant", "continuous"},
-        report=ReportPlan(sections=_sections, order=30),
+        execution=Execution(one_core={"workers": 1}),
+        report=ReportPlan(sections="crosscheck.engines.compliant:report_sections", order=30),
     ),
 )

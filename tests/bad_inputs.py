@@ -128,6 +128,8 @@ def cli_cases(tmp: Path) -> list:
             )
         cases.append((f"validate {engine} --checks=bogus", ["validate", engine, "--checks", "bogus"], "--checks"))
     cases.append(("validate bogus", ["validate", "bogus"], "engine"))
+    cases.append(("engines mujoco (takes no argument)", ["engines", "mujoco"], "arguments"))
+    cases.append(("engines --jsn", ["engines", "--jsn"], "arguments"))
     # report: a cheap section, so that a wrongly accepted input costs seconds
     quick = ["report", "--quick", "--only", "critical_angles", "--no-progress"]
     a_file = tmp / "a_file"

@@ -92,7 +92,11 @@ def main(argv: list[str] | None = None) -> int:
         pass
     parser = build_parser()
     try:
-        args = parser.parse_args(argv)
+        args, extra = parser.parse_known_args(argv)
+        if extra:  # argparse would say "unrecognized arguments" and nothing of what the command takes
+            sub = parser._subparsers._group_actions[0].choices[args.command]
+            takes = ", ".join(sorted(o for o in sub._option_string_actions if o.startswith("--")))
+            parser.error(f"unrecognized arguments: {' '.join(extra)} (crosscheck {args.command} takes one of: {takes})")
     except SystemExit as e:  # a usage error (already printed on one line) or --help / --version
         return e.code if isinstance(e.code, int) else 0
     try:

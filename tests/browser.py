@@ -33,7 +33,8 @@ window.addEventListener('load', () => {
     bottom_line: box(document.getElementById('bottom-line')),
     figure: box(img), figure_loaded: !!(img && img.complete && img.naturalWidth > 0),
     tables: [...document.querySelectorAll('table')].map(t => ({box: box(t), scrollWidth: t.scrollWidth,
-      container: t.parentElement.clientWidth, caption: (t.parentElement.previousElementSibling || {}).textContent || ''})),
+      container: t.parentElement.clientWidth,
+      caption: (t.parentElement.previousElementSibling || {}).textContent || ''})),
     engine_links: [...document.querySelectorAll('nav.toc a.engine')].map(a => a.getAttribute('href')),
   };
   const pre = document.createElement('pre'); pre.id = 'crosscheck-measure'; pre.textContent = JSON.stringify(out);

@@ -77,7 +77,9 @@ def _rest(maps: list[dict], closest: dict) -> Sentence | None:
     """The engines that agree, and those neither shown to agree nor ruled out, in one sentence (the closest aside)."""
     rest = [r for r in maps if r is not closest]
     agree = [f"{_name(r)} {_pct(r)}" for r in rest if verdict(r) == "agrees"]
-    open_ = [f"{_name(r)} {_pct(r)}" for r in sorted(rest, key=lambda r: r["agreement"]) if verdict(r) == "inconclusive"]
+    open_ = [
+        f"{_name(r)} {_pct(r)}" for r in sorted(rest, key=lambda r: r["agreement"]) if verdict(r) == "inconclusive"
+    ]
     parts = ([f"Agree (lower end >= {100 * CONVERGED:.0f} %): {', '.join(agree)}"] if agree else []) + (
         [f"inconclusive (interval across {100 * NOT_CONVERGED:.0f}-{100 * CONVERGED:.0f} %): {', '.join(open_)}"]
         if open_

@@ -45,6 +45,8 @@ _LADDER = [c for c in CAUSES if c not in ("agree", "not rated")]
 def _key(cause: str) -> str:
     """A ladder cause's column: ``ladder_friction_law``."""
     return "ladder_" + cause.replace(" ", "_")
+
+
 _NONE = "-"
 
 
@@ -254,7 +256,9 @@ def summary_table(records: list[dict]) -> Table:
                 m["label"] + (" (rigid)" if m["rigid"] else ""),
                 _setting_cell(records, m),
                 interval(m),
-                " / ".join(pct(m[f"agree_theory_{w}"] / m[f"n_theory_{w}"] if m[f"n_theory_{w}"] else None) for w in _THEORY),
+                " / ".join(
+                    pct(m[f"agree_theory_{w}"] / m[f"n_theory_{w}"] if m[f"n_theory_{w}"] else None) for w in _THEORY
+                ),
                 _share(m["n_launch"], m["n_rated"]),
                 _cause(m),
                 _number(m["runs_per_s"]),

@@ -31,7 +31,9 @@ _FIELDS = (
 
 
 #: One colour per engine, registry order: tab10 without its red (LAUNCH's) and grey (the frontier's), then tab20's dark.
-_PALETTE = [plt.get_cmap("tab10")(i) for i in (0, 1, 2, 4, 5, 6, 8, 9)] + [plt.get_cmap("tab20b")(i) for i in (0, 4, 8, 12, 16)]
+_PALETTE = [plt.get_cmap("tab10")(i) for i in (0, 1, 2, 4, 5, 6, 8, 9)] + [
+    plt.get_cmap("tab20b")(i) for i in (0, 4, 8, 12, 16)
+]
 
 
 def pareto(points: list[tuple[float, float]]) -> list[bool]:
@@ -56,13 +58,24 @@ def _points(records: list[dict]) -> list[dict]:
 def _frontier(ax, pts: list[dict], x: str, y: str, key: str) -> None:
     on = sorted((p for p in pts if p[key]), key=lambda p: p[x])
     if on:
-        ax.plot([p[x] for p in on], [p[y] for p in on], ls="--", c="0.35", lw=2.2, alpha=0.6, label="Pareto frontier", zorder=1)
+        ax.plot(
+            [p[x] for p in on],
+            [p[y] for p in on],
+            ls="--",
+            c="0.35",
+            lw=2.2,
+            alpha=0.6,
+            label="Pareto frontier",
+            zorder=1,
+        )
 
 
 def _engine_lines(axes, pts: list[dict], colors: dict) -> None:
     left, mid = axes
     for name, color in colors.items():
-        conv = sorted((p for p in pts if p["engine"] == name and p["role"] == "convergence"), key=lambda p: p["runs_per_s"])
+        conv = sorted(
+            (p for p in pts if p["engine"] == name and p["role"] == "convergence"), key=lambda p: p["runs_per_s"]
+        )
         for p in (p for p in pts if p["engine"] == name):
             big = p["role"] == "map"
             style = dict(marker="D" if big else "o", ms=9 if big else 4.5, mfc="none" if big else color, mec=color,

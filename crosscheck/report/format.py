@@ -65,7 +65,6 @@ class SectionView:
         return [c for c in self.checks if not c["passed"] and c.get("known_discrepancy")]
 
 
-
 def unlabelled(b):
     """A block with the paper source's figure labels replaced by figure numbers (``unlabel``)."""
     if isinstance(b, Text):
@@ -75,7 +74,6 @@ def unlabelled(b):
     if isinstance(b, Table):
         return replace(b, caption=unlabel(b.caption), rows=[[unlabel(str(c)) for c in r] for r in b.rows])
     return b
-
 
 
 _CODE = re.compile(r"`([^`]+)`")
@@ -123,14 +121,12 @@ def badge(state: str) -> str:
     ]
 
 
-
 #: Preformatted output longer than this many lines is folded in the HTML and linked, not inlined, in the Markdown.
 LONG_LINES = 15
 
 
 def is_long(b) -> bool:
     return isinstance(b, Preformatted) and b.text.count("\n") > LONG_LINES
-
 
 
 def checks_table(checks: list[dict]):

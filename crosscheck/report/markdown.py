@@ -144,7 +144,10 @@ def _md_findings(pages: Pages, found: list) -> list[str]:
         stem = pages.page_of(slug)
         return slug if stem == "index" else f"[{slug}]({stem}.md)"
 
-    return [f"- **{f.leg}**: {f.text}. *{f.verdict}*" + (f" ({f.why})" if f.why else "") + f" ({where(f.slug)})" for f in found]
+    return [
+        f"- **{f.leg}**: {f.text}. *{f.verdict}*" + (f" ({f.why})" if f.why else "") + f" ({where(f.slug)})"
+        for f in found
+    ]
 
 
 def _md_index_top(pages: Pages) -> list[str]:
@@ -154,7 +157,8 @@ def _md_index_top(pages: Pages) -> list[str]:
     m += [
         "Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painlevé paradox*. Every figure is recomputed "
         f"from the project's model; beside each figure and table is the data behind it. {_NUMBERING} HTML version: "
-        "[index.html](index.html); the bottom line's sentences with their rules: [data/bottom_line.json](data/bottom_line.json).",
+        "[index.html](index.html); the bottom line's sentences with their rules: "
+        "[data/bottom_line.json](data/bottom_line.json).",
         "",
         "Engines, one page each: "
         + ", ".join(f"[{p.title}]({p.stem}.md) [{page_state(p.views)}]" for p in pages.engines),

@@ -27,7 +27,13 @@ from crosscheck.report import plotting  # noqa: F401 - imported once here, not o
 from crosscheck.report import provenance as _provenance
 from crosscheck.report.bottom_line import bottom_line, verdict
 from crosscheck.report.confirmed_overview import confirmed_block
-from crosscheck.report.engine_table import engine_facts, engine_records, settings_table, summary_table, write_engine_data
+from crosscheck.report.engine_table import (
+    engine_facts,
+    engine_records,
+    settings_table,
+    summary_table,
+    write_engine_data,
+)
 from crosscheck.report.findings import RULES, findings
 from crosscheck.report.first_figure import figure_block
 from crosscheck.report.format import (
@@ -111,7 +117,6 @@ def _view(section: Section, out: Path) -> SectionView:
     return view
 
 
-
 # ------------------------------------------------------------------- html ---
 
 _CSS = """
@@ -159,12 +164,15 @@ def _toc(pages: Pages) -> str:
              ("figures", "The paper's figures"), ("provenance", "Provenance")]  # fmt: skip
     items = [f'<a href="#{a}">{t}</a>' for a, t in fixed]
     items += [
-        f'<a href="#{v.section.slug}">{html.escape(v.section.title)}{_badge_html(badge(v.state))}</a>' for v in pages.index
+        f'<a href="#{v.section.slug}">{html.escape(v.section.title)}{_badge_html(badge(v.state))}</a>'
+        for v in pages.index
     ]
     for p in pages.engines:
         first = next((r for r in pages.records if r["engine"] == p.spec.name and r["role"] == "map"), None)
         w = _verdict_html(verdict(first), small=True) if first and first["n_rated"] else ""
-        items.append(f'<a class="engine" href="{p.stem}.html">{html.escape(p.title)}{_badge_html(page_state(p.views))} {w}</a>')
+        items.append(
+            f'<a class="engine" href="{p.stem}.html">{html.escape(p.title)}{_badge_html(page_state(p.views))} {w}</a>'
+        )
     items.append('<a href="#parameters">Parameters and tolerances</a>')
     return '<nav class="toc" id="contents"><b>Contents</b>' + "".join(items) + "</nav>"
 
@@ -194,7 +202,7 @@ def _html_block(b, *, cls: str = "") -> str:
         links = "".join(f'<a href="{d}">data: {html.escape(Path(d).name)}</a>' for d in b.data)
         notes = "<ul class=notes>" + "".join(f"<li>{html_text(n)}</li>" for n in b.notes) + "</ul>" if b.notes else ""
         return (
-            f"<p>{html_text(b.caption)}</p><div class=tw><table class=\"{cls}\"><tr>{head}</tr>{''.join(rows)}</table>"
+            f'<p>{html_text(b.caption)}</p><div class=tw><table class="{cls}"><tr>{head}</tr>{"".join(rows)}</table>'
             f"</div>{notes}<div class=data>{links}</div>"
         )
     raise TypeError(f"unknown block {type(b).__name__}")
@@ -272,17 +280,21 @@ def _index_top(pages: Pages) -> list[str]:
         '<h1 id="top">crosscheck: contact engines against the rigid theory of the 3D Painlevé rod</h1>',
         _bottom_html(pages),
         *[_html_block(b, cls="first" if isinstance(b, Figure) else "engines") for b in pages.first],
-        "<p>Reference: Cheesman, Hogan &amp; Kristiansen, <i>The geometry of the Painlevé paradox</i>. Every figure is "
+        "<p>Reference: Cheesman, Hogan &amp; Kristiansen, <i>The geometry of the Painlevé paradox</i>. Every figure "
+        "is "
         "recomputed from the project's model; beside each figure and table is the data behind it. "
         f"{html.escape(_NUMBERING)} Each engine has its own page (contents). Markdown twin: "
-        f'<a href="report.md">report.md</a>; the bottom line\'s rules: <a href="data/{BOTTOM_LINE}">{BOTTOM_LINE}</a>.</p>',
+        f'<a href="report.md">report.md</a>; the bottom line\'s rules: '
+        f'<a href="data/{BOTTOM_LINE}">{BOTTOM_LINE}</a>.</p>',
         _toc(pages),
         _h2("findings", "Findings"),
         *[_html_block(b) for b in pages.extra],
         *_findings_html(pages, pages.found),
         f'<div class=data><a href="data/{FINDINGS}">data: {FINDINGS}</a></div>',
         f"<p><b>{RULES_TITLE}</b></p>",
-        '<dl class="rules">' + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(r)}</dd>" for k, r in RULES) + "</dl>",
+        '<dl class="rules">'
+        + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(r)}</dd>" for k, r in RULES)
+        + "</dl>",
     ]
     return h
 
@@ -301,7 +313,9 @@ def _index_rest(pages: Pages, views: list[SectionView]) -> list[str]:
     """Summary, failures, known discrepancies, the paper's figures and the provenance."""
     h = [_h2("summary", "Summary"), _linked(_html_block(sections_table(pages.summary_rows)), pages, views)]
     for p in pages.engines:
-        h[-1] = h[-1].replace(f"<td>{html_text(p.title)}</td>", f'<td><a href="{p.stem}.html">{html_text(p.title)}</a></td>', 1)
+        h[-1] = h[-1].replace(
+            f"<td>{html_text(p.title)}</td>", f'<td><a href="{p.stem}.html">{html_text(p.title)}</a></td>', 1
+        )
     if pages.failures:
         h.append(
             '<div class="error"><p><b>Failures</b> (the command exits non-zero):</p><ul>'
@@ -318,10 +332,17 @@ def _index_rest(pages: Pages, views: list[SectionView]) -> list[str]:
         )
     table = _html_block(_figures_table(views))
     for v in views:
-        table = table.replace(html_text(v.section.title), f'<a href="{_href(pages, v.section.slug)}">{html_text(v.section.title)}</a>')
+        table = table.replace(
+            html_text(v.section.title), f'<a href="{_href(pages, v.section.slug)}">{html_text(v.section.title)}</a>'
+        )
     h += [_h2("figures", "The paper's figures"), table, _h2("provenance", "Provenance")]
-    h.append(_html_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"],
-                               rows=provenance_rows(pages.prov), data=[f"data/{PROVENANCE_FILE}.json"])))  # fmt: skip
+    provenance = Table(
+        caption="Versions, revision, date and machine of the run stage.",
+        header=["item", "value"],
+        rows=provenance_rows(pages.prov),
+        data=[f"data/{PROVENANCE_FILE}.json"],
+    )
+    h.append(_html_block(provenance))
     return h
 
 
@@ -357,7 +378,9 @@ def engine_provenance(page: EnginePage, prov: dict, records: list[dict]) -> list
     spec, versions = page.spec, prov.get("versions", {})
     rows = [["registry name", spec.name], ["tags", ", ".join(sorted(spec.tags)) or "-"]]
     rows += [[f"library {lib}", str(versions.get(lib, "not recorded"))] for lib in spec.libraries]
-    rows += [[f"{r['role']} setting: {r['setting']}", json.dumps(r["options"])] for r in records if r["engine"] == spec.name]
+    rows += [
+        [f"{r['role']} setting: {r['setting']}", json.dumps(r["options"])] for r in records if r["engine"] == spec.name
+    ]
     return rows
 
 
@@ -367,8 +390,12 @@ def _write_engine(out: Path, pages: Pages, page: EnginePage) -> Path:
     h = _head(f"crosscheck: {page.title}") + [
         f'<p id="top"><a href="index.html">crosscheck report</a> / {html.escape(page.title)}</p>',
         f"<h1>{html.escape(page.title)} {_badge_html(page_state(page.views))}</h1>",
-        '<nav class="toc"><b>Contents</b>' + "".join(f'<a href="#{v.section.slug}">{html.escape(v.section.title)}'
-        f"{_badge_html(badge(v.state))}</a>" for v in page.views) + "</nav>",  # fmt: skip
+        '<nav class="toc"><b>Contents</b>'
+        + "".join(
+            f'<a href="#{v.section.slug}">{html.escape(v.section.title)}{_badge_html(badge(v.state))}</a>'
+            for v in page.views
+        )
+        + "</nav>",  # fmt: skip
         _h2("findings", "Findings"),
         *_findings_html(pages, found),
     ]
@@ -433,11 +460,12 @@ def _views(
     return views, extra
 
 
-def _first_screen(out: Path) -> tuple[list, list[dict], list, list]:
+def _first_screen(out: Path, slugs: set[str]) -> tuple[list, list[dict], list, list]:
     """(findings, engine records, the first screen's blocks, the findings' blocks) from the saved results; the engine
-    table's data files, the first figure and the causes-confirmed figure written on the way."""
+    table's data files, the first figure and the causes-confirmed figure written on the way.  Only the engines whose
+    maps section is among ``slugs`` (the sections rendered: ``report --engines``) are in the table and the figure."""
     found = findings(out / "data")
-    records = engine_records(out / "data")
+    records = [r for r in engine_records(out / "data") if f"{r['slug']}_maps" in slugs]
     first = []
     if records:
         write_engine_data(out, records)
@@ -461,7 +489,14 @@ def _summary_rows(index: list[SectionView], engine_pages: list[EnginePage], foun
         ws = list(dict.fromkeys(w for v in p.views for w in verdicts(found, v.section.slug)))
         state = page_state(p.views)
         nf = sum(len(v.failed_checks) for v in p.views)
-        row = [p.title, f"{len(p.views)} sections", state, _fmt_seconds(seconds), checks_cell(checks), ", ".join(ws) or "-"]
+        row = [
+            p.title,
+            f"{len(p.views)} sections",
+            state,
+            _fmt_seconds(seconds),
+            checks_cell(checks),
+            ", ".join(ws) or "-",
+        ]
         rows.append((row, "ok" if state == "ok" and not nf else "fail"))
     return rows
 
@@ -486,7 +521,11 @@ def render(
         jobs = min(len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1), 4)
     # the page's own work (findings, the engine table and its figures) done here while the pool draws the sections
     views, (found, records, first, extra) = _views(
-        list(sections), out, jobs=jobs, progress=progress, meanwhile=lambda: _first_screen(out)
+        list(sections),
+        out,
+        jobs=jobs,
+        progress=progress,
+        meanwhile=lambda: _first_screen(out, {s.slug for s in sections}),
     )
     index, engine_pages = split(views)
     summary = RenderSummary(html=out / "index.html", markdown=out / "report.md", views=views)
@@ -501,13 +540,18 @@ def render(
         extra=extra,
         summary_rows=_summary_rows(index, engine_pages, found),
         failures=summary.failures,
-        known=[(v.section.slug, unlabel(c["name"]), unlabel(c["known_discrepancy"])) for v in views for c in v.known_checks],
+        known=[
+            (v.section.slug, unlabel(c["name"]), unlabel(c["known_discrepancy"])) for v in views for c in v.known_checks
+        ],
     )
     _write_references(out)
     (out / "data" / FINDINGS).write_text(
         json.dumps({"findings": [dataclasses.asdict(f) for f in found], "rules": dict(RULES)}, indent=1) + "\n"
     )
-    (out / "data" / BOTTOM_LINE).write_text(json.dumps([dataclasses.asdict(s) for s in pages.bottom], indent=1) + "\n")
+    if pages.bottom:  # (a render of no engine's maps leaves the saved one as it was, like the engine table)
+        (out / "data" / BOTTOM_LINE).write_text(
+            json.dumps([dataclasses.asdict(s) for s in pages.bottom], indent=1) + "\n"
+        )
     _write_index(out, pages, views)
     for p in engine_pages:
         _write_engine(out, pages, p)

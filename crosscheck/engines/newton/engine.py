@@ -12,8 +12,9 @@ contact, and the D6 joint's translations are the centre of mass's own coordinate
 whatever the solver's contact model, without reading any solver's contact buffers.  Its float32 rounding is
 ~ulp(|v|) / dt, 1e-4 m g at |v| = 5 l omega and timestep 1e-3; a force within ``FORCE_ROUNDING`` times that reads
 as none (free flight then records F = 0 exactly, as the engines that read a solver's contact force do).  ``active`` is the solver's contact: the capsule's
-lowest point below the plane at the step's collision detection (MuJoCo Warp's pair and the penalty force exist only
-then; XPBD's pipeline contact exists within ``GAP``).
+lowest point below the plane at the step's collision detection (every shape has margin and gap 0: MuJoCo Warp's
+pair and the penalty force exist only then); for XPBD, whose projection leaves a resting contact point on the plane
+to rounding, within ``RESTING_GAP`` of it.
 
 Units.  Everything this module takes and returns is in the paper's scaled units (section 2.1); the model runs in SI
 from the ``Rod`` (``crosscheck.engines.newton.model``).
@@ -50,7 +51,7 @@ from crosscheck.progress import bar
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState, real_scalar
 
-__all__ = ["Options", "NewtonHealth", "simulate", "sweep", "record_from_raw", "SIZES", "GAP"]
+__all__ = ["Options", "NewtonHealth", "simulate", "sweep", "record_from_raw", "SIZES"]
 
 #: World counts of the Newton models a sweep uses: the smallest that holds the states, else blocks of the largest.
 #: A MuJoCo Warp step on CPU costs ~10 ms at 4 worlds and ~16 ms at 256 (its kernel launches, not its worlds), so
@@ -124,7 +125,7 @@ def record_from_raw(raw: newton_model.Raw, rod: Rod, options: Options, q0: np.nd
         tip_acc=acc,
         force=force,
         normal_force=force[..., 2].copy(),
-        active=gap < (GAP if options.solver == "xpbd" else 0.0),
+        active=gap < (RESTING_GAP if options.solver == "xpbd" else 0.0),
         gap=gap,
         slip_vel=slip,
         psi=psi,
@@ -134,9 +135,10 @@ def record_from_raw(raw: newton_model.Raw, rod: Rod, options: Options, q0: np.nd
     )
 
 
-#: XPBD's contact detection distance [l] (the shapes' gap there): its contact projection acts on the predicted
-#: position, so it needs the contact before the capsule reaches the plane (the other solvers use gap 0).
-GAP = 0.02
+#: XPBD's ``active`` threshold [l]: its projection leaves a resting contact point on the plane to float32 rounding,
+#: on either side, so a flag at gap < 0 flips with the rounding (it differed between a scaled and a physical rod's
+#: same run); a contact point within 1e-6 l of the plane counts as in contact.
+RESTING_GAP = 1e-6
 
 
 def _health(raw: newton_model.Raw, record: Record, rod: Rod) -> dict:

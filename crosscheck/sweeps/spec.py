@@ -444,7 +444,10 @@ def _options(engine: str, table: dict, horizon: float | None = None) -> dict[str
         out[k] = tuple(vals)
     # each combination a chunk will run, checked now (options that bound each other: MuJoCo's timeconst >= 2 timestep)
     combos = itertools.product(*(out[k] for k in out))
+    too_long = []  # the combinations whose record no chunk can hold
+    checked = 0
     for combo in itertools.islice(combos, MAX_OPTION_COMBINATIONS):
+        checked += 1
         shown = ", ".join(f"{k} = {v!r}" for k, v in zip(out, combo))
         try:
             opts = E.Options(**dict(zip(out, combo)))
@@ -458,11 +461,13 @@ def _options(engine: str, table: dict, horizon: float | None = None) -> dict[str
         step = getattr(opts, "timestep", None)
         if horizon is not None and step and horizon / step * MIN_ROW_BYTES > MAX_RECORD_BYTES:
             # a record no chunk can hold: each engine refuses it (its own bytes per row are at least MIN_ROW_BYTES)
-            raise SpecError(
+            too_long.append(
                 f"sweep.horizon must be at most {MAX_RECORD_BYTES / MIN_ROW_BYTES * step:.4g} at timestep {step:g} "
                 f"({shown or 'the default options'}: a record of more than {MAX_RECORD_BYTES / 2**30:g} GiB); "
                 f"got {horizon:g}"
             )
+    if too_long and len(too_long) == checked:  # no chunk could run (one that fails among others is recorded as such)
+        raise SpecError(too_long[0])
     return out
 
 

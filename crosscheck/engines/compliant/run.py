@@ -52,7 +52,7 @@ from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, opt
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState, check_timestep_within
+from crosscheck.state import SlipState, check_timestep, check_timestep_within
 from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION
 
 __all__ = ["Options", "SolverStats", "simulate", "sweep", "record_of", "NAME"]
@@ -94,7 +94,7 @@ class Options:
         object.__setattr__(self, "xi", float(check("xi", self.xi, _laws.XI)))
         object.__setattr__(self, "radius", float(check("radius", self.radius, RADIUS)))
         _laws.get(self.law)
-        object.__setattr__(self, "timestep", float(check("timestep", self.timestep, POSITIVE)))
+        object.__setattr__(self, "timestep", check_timestep(self.timestep))  # the floor every engine has (1e-12)
         object.__setattr__(self, "rtol", float(check("rtol", self.rtol, RTOL)))
         object.__setattr__(self, "atol", float(check("atol", self.atol, ATOL)))
         if self.method not in METHODS:

@@ -50,7 +50,7 @@ from crosscheck.engines.mujoco import warning_counts as mujoco_warnings
 from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import SensorLayout, initial_state, model, record_from_sensordata
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState, real, real_scalar
+from crosscheck.state import SlipState, check_timestep_within, real, real_scalar
 
 __all__ = ["NAME", "Options", "Batch", "simulate", "sweep", "CHUNK_BYTES"]
 
@@ -313,6 +313,7 @@ def simulate(
     state.check_start()
     horizon = real_scalar("horizon", horizon, POSITIVE)
     opts = Options.from_kwargs(options)
+    check_timestep_within(opts.timestep, horizon)  # one step past the horizon records nothing to judge
     mu = real_scalar("mu", mu, MU)
     th = thresholds or Thresholds()
     batch = Batch.build(rod, [state], mu, horizon=horizon, options=opts, nthread=1)

@@ -49,7 +49,6 @@ from crosscheck.state import SlipState
 __all__ = [
     "MODEL_FILE",
     "AXIAL_INERTIA",
-    "AXIAL_FLOOR",
     "axial_inertia",
     "ModelFileError",
     "model_path",
@@ -87,16 +86,16 @@ def _load_spec(path: str) -> mujoco.MjSpec:
 #: Axial inertia of the slender rod relative to I0 (eq. inertia has 0; MuJoCo
 #: needs > 0).  It only enters the psi inertia I0 cos^2 + eps sin^2.
 AXIAL_INERTIA = 1e-12
-#: The least axial inertia [kg m^2] given to MuJoCo: its compiler refuses a moving body with an inertia below
-#: mjMINVAL = 1e-15, which 1e-12 I0 is for every rod with I0 < 1e-3 kg m^2 (a 10 cm, 200 g rod); 10 mjMINVAL.
-AXIAL_FLOOR = 1e-14
+#: MuJoCo refuses a moving body's mass or inertia below its mjMINVAL (1e-15); the axial inertia is held 10 times
+#: above it, so that a 1 cm rod (I0 = 3e-5 kg m^2, 1e-12 I0 = 3e-17) compiles: its relative axial inertia is then
+#: 3e-10, as negligible in the psi inertia as 1e-12.
+MJ_MINVAL = 1e-15
 
 
 def axial_inertia(inertia: float) -> float:
-    """The axial inertia [kg m^2] of a rod of transverse inertia I0 = ``inertia`` in MuJoCo's model: AXIAL_INERTIA I0,
-    at least AXIAL_FLOOR: a relative size eps / I0 of 1e-12, or 1e-14 / I0 below I0 = 1e-2 kg m^2 (1.5e-9 for a 1 cm,
-    200 g rod, still far below the engine's other errors)."""
-    return max(AXIAL_INERTIA * inertia, AXIAL_FLOOR)
+    """The axial inertia [kg m^2] MuJoCo's model gives a rod of transverse inertia I0 = ``inertia``: AXIAL_INERTIA I0,
+    at least 10 MJ_MINVAL (``crosscheck.engines.mujoco.law`` mirrors it)."""
+    return max(AXIAL_INERTIA * inertia, 10.0 * MJ_MINVAL)
 
 
 def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
@@ -143,6 +142,11 @@ def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
     # The keyframe is the viewer's start pose for the file's own parameters.
     for key in list(spec.keys):
         spec.delete(key)
+    if min(rod.mass, rod.inertia) <= 10.0 * MJ_MINVAL:
+        raise ValueError(
+            f"rod must have a mass [kg] and an inertia I0 [kg m^2] above 1e-14 for MuJoCo (its mjMINVAL is 1e-15); "
+            f"got mass {rod.mass:g}, inertia {rod.inertia:g}"
+        )
     try:
         return spec.compile()
     except ValueError as e:

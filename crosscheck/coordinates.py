@@ -17,7 +17,8 @@ import numpy as np
 
 from crosscheck.checks import FINITE, NONNEGATIVE, THETA
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState, real, same_shape
+from crosscheck.checks import real, same_shape
+from crosscheck.state import SlipState
 
 __all__ = [
     "GENERALIZED",

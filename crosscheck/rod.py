@@ -6,7 +6,7 @@ import math
 from dataclasses import dataclass
 
 from crosscheck.checks import ALPHA, Interval
-from crosscheck.state import real_scalar
+from crosscheck.checks import real_scalar
 
 #: Each physical parameter (SI units) in [1e-100, 1e100]: products of two stay finite in double precision.
 PHYSICAL = Interval(1e-100, 1e100, lo_open=False, hi_open=False)

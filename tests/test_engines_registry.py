@@ -45,7 +45,7 @@ def simulate(
     rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options
 ) -> Run:
     """The rigid slipping rod of the paper as an engine: slip with F_z = -b/p, then what the first event says."""
-    opts = options_from_kwargs(ToyOptions, options, "toy")
+    opts = options_from_kwargs(ToyOptions, options, "analytic flow (toy)")
     horizon = float(check("horizon", horizon, POSITIVE))
     th = thresholds or Thresholds()
     alpha = rod.alpha

@@ -22,7 +22,7 @@ from crosscheck.cli import main
 from crosscheck.theory.paper import PRINTED
 from crosscheck.report.section import Figure, Section, Table
 from crosscheck.report.store import SectionStore
-from crosscheck.tolerances import all_tolerances
+from crosscheck.report.provenance import all_tolerances
 
 #: Every figure the report must contain (stem under figures/<section>/), by paper figure.
 EXPECTED_FIGURES = {

@@ -186,7 +186,7 @@ def test_paper_references_keep_numbers_and_drop_labels():
 def test_a_regression_guard_holds_it_does_not_pass_and_a_listed_check_is_not_tabled_twice():
     """A validate section's own table lists its checks: the generic checks table is replaced by a note that still says which
     are regression guards, and a guard that holds never reads 'passed'."""
-    from crosscheck.report.render import SectionView, _checks_note, _checks_shown, _checks_table
+    from crosscheck.report.format import SectionView, checks_note, checks_shown, checks_table
     from crosscheck.report.section import Table
 
     checks = [
@@ -195,18 +195,18 @@ def test_a_regression_guard_holds_it_does_not_pass_and_a_listed_check_is_not_tab
     ]
     own = Table(caption="the checks", header=["check"], rows=[["contact acc"], ["event disagreement"]], data=["x.csv"])
     view = SectionView(section=None, status={"status": "ok"}, blocks=[own], checks=checks)
-    assert _checks_shown(view)
-    note = _checks_note(checks).text
+    assert checks_shown(view)
+    note = checks_note(checks).text
     assert (
         "physics 1/1 passed; regression guards 1/1 held" in note
         and "MuJoCo event disagreement within tolerance: held" in note
     )
-    assert not _checks_shown(
+    assert not checks_shown(
         SectionView(
             section=None, status={"status": "ok"}, blocks=[own], checks=checks + [{"name": "other", "passed": True}]
         )
     )
-    results = {r[0]: r[4] for r in _checks_table(checks).rows}
+    results = {r[0]: r[4] for r in checks_table(checks).rows}
     assert results == {
         "MuJoCo contact acc within tolerance": "passed",
         "MuJoCo event disagreement within tolerance": "held (no change; not a physics check)",

@@ -123,7 +123,7 @@ def _explain(args) -> int:
 
 def _explain_declared(args) -> int:
     """One start through an engine's declared ladder (``crosscheck.studies.ladder``), at its default options and ``--timestep``."""
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
     from crosscheck.studies.ladder import run_ladder
 
     state, mu, alpha, horizon = _start(args)

@@ -25,10 +25,12 @@ from crosscheck.progress import bar
 
 from crosscheck.checks import MU, POSITIVE
 from crosscheck.engines.classifier import Classification, Thresholds, classify
+from crosscheck.engines.options import options_from_kwargs
 from crosscheck.engines.record import Record
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState, check_timestep_within, real, real_scalar
+from crosscheck.checks import check_timestep_within, real, real_scalar
+from crosscheck.state import SlipState
 
 __all__ = [
     "Engine",
@@ -40,7 +42,7 @@ __all__ = [
     "MAX_RECORD_BYTES",
     "n_steps",
     "n_steps_within_memory",
-    "options_from_kwargs",
+    "options_from_kwargs",  # from crosscheck.engines.options
     "run_inputs",
     "check_states",
     "sweep_mu_workers",
@@ -116,24 +118,6 @@ class Engine(Protocol):
         progress: bool | None = None,
         **options,
     ) -> "SweepResult": ...
-
-
-def options_from_kwargs(cls: type, options: dict[str, Any], engine: str):
-    """``cls(**options)`` with an error naming any unknown option and the known ones."""
-    known = {f.name for f in fields(cls)}
-    unknown = sorted(set(options) - known)
-    if unknown:
-        raise ValueError(
-            f"unknown {engine_label(engine)} option {unknown[0]!r}: options must be one of {', '.join(sorted(known))}"
-        )
-    return cls(**options)
-
-
-def engine_label(name: str) -> str:
-    """How messages name an engine: its registered label ("MuJoCo" for "mujoco"), else ``name`` itself."""
-    from crosscheck.engines import labels
-
-    return labels().get(name, name)
 
 
 def n_steps(horizon: float, timestep: float) -> int:

@@ -24,7 +24,7 @@ STEM, DATA = Path("figures") / "overview" / "causes_confirmed", Path("data") / "
 def overview(data: Path) -> list[dict]:
     """Per engine with attributed disagreements: its counts from ``<slug>_interventions/summary.json`` (engine order of
     the files' names)."""
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
     from crosscheck.engines.spec import LADDER_CAUSES
     from crosscheck.report.sections.engine_interventions import other_starts, pairs_confirmed
 

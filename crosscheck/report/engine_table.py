@@ -118,7 +118,7 @@ def _onset(data: Path, slug: str) -> str:
 
 
 def _convergence(data: Path, slug: str) -> str:
-    from crosscheck.report.findings import convergence_trends
+    from crosscheck.report.finding import convergence_trends
 
     path = data / f"{slug}_convergence" / "convergence.csv"
     if not path.is_file():

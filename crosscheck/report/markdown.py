@@ -2,7 +2,7 @@
 
 Lines stay within ``MD_WIDTH`` characters of prose (tables within ``MD_ROW_WIDTH``), a long raw block is written to a
 file and linked, and links and code spans are never broken.  The helpers shared with the HTML writer live in
-``crosscheck.report.render``.
+``crosscheck.report.format``.
 """
 
 from __future__ import annotations
@@ -12,21 +12,21 @@ import re
 from pathlib import Path
 
 from crosscheck.report.findings import RULES
-from crosscheck.report.pipeline import PROVENANCE_FILE
-from crosscheck.report.references import _NUMBERING, _figures_table, paper_reference, unlabel
+from crosscheck.report.store import PROVENANCE_FILE
+from crosscheck.report.references import NUMBERING, figures_table, paper_reference, unlabel
 from crosscheck.report.provenance import provenance_rows
-from crosscheck.report.render import (
-    _FINDINGS,
-    _RULES_TITLE,
+from crosscheck.report.format import (
+    FINDINGS_FILE,
+    RULES_TITLE,
     SectionView,
-    _badge,
-    _checks_note,
-    _checks_shown,
-    _checks_table,
-    _long,
-    _md_cell,
-    _summary_table,
-    _verdicts,
+    badge,
+    checks_note,
+    checks_shown,
+    checks_table,
+    long_block,
+    md_cell,
+    summary_table,
+    verdicts,
 )
 from crosscheck.report.section import Figure, Preformatted, Table, Text
 
@@ -40,12 +40,12 @@ def _md_block(b) -> str:
         return (f"**{b.title}**\n\n" if b.title else "") + "```text\n" + b.text.rstrip() + "\n```\n"
     if isinstance(b, Figure):
         links = " · ".join([f"[SVG]({b.stem}.svg)"] + [f"[data: {Path(d).name}]({d})" for d in b.data])
-        return f"![{_md_cell(b.caption[:80])}]({b.stem}.png)\n\n*{b.caption}*\n\n{links}\n"
+        return f"![{md_cell(b.caption[:80])}]({b.stem}.png)\n\n*{b.caption}*\n\n{links}\n"
     if isinstance(b, Table):
-        lines = [b.caption, "", "| " + " | ".join(_md_cell(x) for x in b.header) + " |", "|" + "---|" * len(b.header)]
+        lines = [b.caption, "", "| " + " | ".join(md_cell(x) for x in b.header) + " |", "|" + "---|" * len(b.header)]
         notes = []
         for r in b.rows:
-            cells = [_md_cell(x) for x in r]
+            cells = [md_cell(x) for x in r]
             while len(" | ".join(cells)) > MD_ROW_WIDTH:  # the longest cell moves to a note under the table
                 i = max(range(len(cells)), key=lambda j: len(cells[j]))
                 notes.append(cells[i])
@@ -119,23 +119,23 @@ def write_md(
         "# crosscheck report: contact engines against the rigid theory of the 3D Painlevé rod",
         "",
         "Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painlevé paradox*. Every figure is recomputed "
-        f"from the project's model; beside each figure and table is the data behind it. {_NUMBERING} HTML version: [index.html](index.html).",
+        f"from the project's model; beside each figure and table is the data behind it. {NUMBERING} HTML version: [index.html](index.html).",
         "",
         "## Findings",
         "",
         *[_md_block(b) for b in table],
         *(f"- **{f.leg}**: {f.text}. *{f.verdict}*" + (f" ({f.why})" if f.why else "") + f" ({f.slug})" for f in found),
         "",
-        f"[data: {_FINDINGS}](data/{_FINDINGS})",
+        f"[data: {FINDINGS_FILE}](data/{FINDINGS_FILE})",
         "",
-        f"**{_RULES_TITLE}**",
+        f"**{RULES_TITLE}**",
         "",
         *(f"- *{k}*: {r}" for k, r in RULES),
         "",
         "## Summary",
         "",
     ]
-    m.append(_md_block(_summary_table(summary_rows)))
+    m.append(_md_block(summary_table(summary_rows)))
     m.append(
         "**Failures** (the command exits non-zero):\n\n" + "\n".join(f"- {f}" for f in failures) + "\n"
         if failures
@@ -148,7 +148,7 @@ def write_md(
             + "\n".join(f"- {s}: {unlabel(c['name'])}: {unlabel(c['known_discrepancy'])}" for s, c in known)
             + "\n"
         )
-    m += ["## The paper's figures", "", _md_block(_figures_table(views))]
+    m += ["## The paper's figures", "", _md_block(figures_table(views))]
     m += [
         "## Provenance",
         "",
@@ -163,23 +163,26 @@ def write_md(
     ]
     for v in views:
         s = v.section
-        verdicts = _verdicts(found, s.slug)
-        m += [f"## {s.title} [{_badge(v.state)}]" + (f" finding: {', '.join(verdicts)}" if verdicts else ""), ""]
+        found_verdicts = verdicts(found, s.slug)
+        m += [
+            f"## {s.title} [{badge(v.state)}]" + (f" finding: {', '.join(found_verdicts)}" if found_verdicts else ""),
+            "",
+        ]
         if s.paper:
             m += [f"*Paper: {paper_reference(s.paper, labels=True)}*", ""]
         if v.error:
-            m += [f"> **{_badge(v.state)}**: {v.error}", ""]
+            m += [f"> **{badge(v.state)}**: {v.error}", ""]
             if s.requires:
                 m += ["> This section needs: " + ", ".join(f"`{r}`" for r in s.requires), ""]
             if v.traceback:
                 m += ["```text", v.traceback.rstrip(), "```", ""]
             if v.files:
                 m += ["Saved before the failure: " + ", ".join(f"[{Path(f).name}]({f})" for f in v.files), ""]
-        m += [_md_raw_link(out, s.slug, b, k) if _long(b) else _md_block(b) for k, b in enumerate(v.blocks)]
-        if v.checks and not _checks_shown(v):
-            m.append(_md_block(_checks_table(v.checks)))
+        m += [_md_raw_link(out, s.slug, b, k) if long_block(b) else _md_block(b) for k, b in enumerate(v.blocks)]
+        if v.checks and not checks_shown(v):
+            m.append(_md_block(checks_table(v.checks)))
         elif v.checks:
-            m.append(_md_block(_checks_note(v.checks)))
+            m.append(_md_block(checks_note(v.checks)))
     m += [
         "## Parameters and tolerances",
         "",

@@ -31,14 +31,19 @@ import traceback
 from pathlib import Path
 from typing import Sequence
 
-from crosscheck.report import integrity, provenance
+from crosscheck.report import provenance
+from crosscheck.report import store as integrity  # the checks of saved results against what the run wrote
 from crosscheck.report.section import RunContext, Section, SkipSection, section_rng
-from crosscheck.report.store import SectionStore
+from crosscheck.report.store import (  # the saved results, read back
+    PROVENANCE_FILE,
+    STATUS_FILE,
+    SectionStore,
+    read_provenance,
+    read_status,
+    verified_status,
+)
 
 __all__ = ["run", "read_status", "read_provenance", "verified_status", "STATUS_FILE", "PROVENANCE_FILE"]
-
-STATUS_FILE = "status"
-PROVENANCE_FILE = "provenance"
 
 
 def _progress_factory(enabled: bool):
@@ -50,30 +55,6 @@ def _progress_factory(enabled: bool):
         return tqdm(iterable, desc=desc, total=total, leave=leave, file=sys.stderr, dynamic_ncols=True)
 
     return progress
-
-
-def read_status(out: Path, slug: str) -> dict | None:
-    """The saved status of a section, None if it never ran in ``out``; ``DamagedResults`` if it is not one."""
-    path = Path(out) / "data" / slug / f"{STATUS_FILE}.json"
-    if not path.exists():
-        return None
-    return integrity.check_status(integrity.read_json(path, "the section status"), path)
-
-
-def read_provenance(out: Path) -> dict | None:
-    """The saved provenance of a report, None if there is none; ``DamagedResults`` if it is not one."""
-    path = Path(out) / "data" / f"{PROVENANCE_FILE}.json"
-    if not path.exists():
-        return None
-    return integrity.check_provenance(integrity.read_json(path, "the provenance"), path)
-
-
-def verified_status(out: Path, slug: str) -> dict | None:
-    """``read_status`` with the section's saved files checked against the manifest in it (``DamagedResults``)."""
-    status = read_status(out, slug)
-    if status is not None and status["status"] != "running":
-        SectionStore(Path(out) / "data" / slug).verify(status["files"])
-    return status
 
 
 LOCK_FILE = ".lock"

@@ -1,23 +1,19 @@
 """How the report names the paper: figure numbers and sections for readers, the source's LaTeX labels kept in the data.
 
 ``paper_reference`` turns a section's ``paper`` string into what a reader finds in the printed paper, ``unlabel``
-removes figure labels from any text, ``_figures_table`` lists the paper's figures and where the report recomputes
-them, and ``_write_references`` writes the labels the tables leave out to ``data/paper_references.json``.
+removes figure labels from any text, ``figures_table`` lists the paper's figures and where the report recomputes
+them, and ``crosscheck.report.render.write_references`` writes the labels the tables leave out to
+``data/paper_references.json`` (``REFERENCES_FILE``).
 """
 
 from __future__ import annotations
 
-import json
 import re
-from pathlib import Path
-from typing import TYPE_CHECKING
 
 from crosscheck.report.section import Table
 
-if TYPE_CHECKING:
-    from crosscheck.report.render import SectionView
 
-__all__ = ["paper_reference", "unlabel"]
+__all__ = ["paper_reference", "unlabel", "NUMBERING", "figures_table", "REFERENCES_FILE"]
 
 
 _FIG_LABELS = re.compile(r"\s*\((?:fig:[^()]*)\)")
@@ -75,14 +71,15 @@ def unlabel(text: str) -> str:
     )
 
 
-_NUMBERING = (
+NUMBERING = (
     "Figure numbers are the printed paper's (the order of its figure environments), with panel letters; "
     "the table of the paper's figures below says which ones this report recomputes."
 )
 
 
-def _figures_table(views: list[SectionView]) -> Table:
-    """The paper's figures: where the report recomputes each, or why it does not (``crosscheck.theory.paper.FIGURES``)."""
+def figures_table(views: list) -> Table:
+    """The paper's figures: where the report recomputes each, or why it does not (``crosscheck.theory.paper.FIGURES``);
+    ``views``: the rendered ``crosscheck.report.format.SectionView`` of each section."""
     from crosscheck.theory.paper import FIGURES
 
     titles = {v.section.slug: v.section.title for v in views}
@@ -97,23 +94,10 @@ def _figures_table(views: list[SectionView]) -> Table:
         "and each section's references to the paper are in the data file.",
         header=["figure", "shows", "recomputed in", "not drawn / why"],
         rows=rows,
-        data=[f"data/{_REFERENCES}"],
+        data=[f"data/{REFERENCES_FILE}"],
         row_class=cls,
     )
 
 
 #: The paper's figures with their LaTeX labels and every section's reference to the paper, written beside the report's data.
-_REFERENCES = "paper_references.json"
-
-
-def _write_references(out: Path) -> None:
-    """The labels the tables leave out (figure and equation labels of the paper's source), derived, not computed: the same
-    file whichever sections are rendered (every registered section), so a partial rebuild leaves the saved data as it was."""
-    from dataclasses import asdict
-
-    from crosscheck.report.sections import all_sections
-    from crosscheck.theory.paper import FIGURES
-
-    refs = {"figures": [asdict(f) for f in FIGURES], "sections": {s.slug: s.paper for s in all_sections()}}
-    (out / "data").mkdir(parents=True, exist_ok=True)
-    (out / "data" / _REFERENCES).write_text(json.dumps(refs, indent=1, default=list) + "\n")
+REFERENCES_FILE = "paper_references.json"

@@ -21,58 +21,37 @@ import os
 import re
 import shutil
 import traceback
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
 
 from crosscheck.report.findings import RULES
-from crosscheck.report.pipeline import PROVENANCE_FILE, read_provenance, read_status, verified_status
+from crosscheck.report.store import PROVENANCE_FILE, read_provenance, read_status, verified_status
 from crosscheck.report.references import (
-    _NUMBERING,
-    _REFERENCES,
-    _figures_table,
-    _write_references,
+    NUMBERING,
+    figures_table,
+    REFERENCES_FILE,
     paper_reference,
     unlabel,
 )
 from crosscheck.report.provenance import provenance_rows, seconds_text as _fmt_seconds
 from crosscheck.report.section import Figure, Preformatted, RenderContext, Section, Table, Text
 from crosscheck.report.store import SectionStore
+from crosscheck.report.format import (
+    FINDINGS_FILE,
+    RULES_TITLE,
+    SectionView,
+    badge,
+    checks_cell,
+    checks_note,
+    checks_shown,
+    checks_table,
+    long_block,
+    summary_table,
+    verdicts,
+)
 
 __all__ = ["render", "RenderSummary", "SectionView"]
-
-
-@dataclass
-class SectionView:
-    """One section as rendered: its status, blocks, checks and any error."""
-
-    section: Section
-    status: dict | None
-    blocks: list = field(default_factory=list)
-    checks: list[dict] = field(default_factory=list)
-    error: str = ""  # run or render error, "" when fine
-    traceback: str = ""
-    files: list[str] = field(default_factory=list)
-
-    @property
-    def state(self) -> str:
-        if self.status is None:
-            return "not run"
-        if self.status["status"] == "running":
-            return "unfinished"
-        if self.error:
-            return "failed"
-        if self.status["status"] == "skipped":
-            return "skipped"
-        return "ok"
-
-    @property
-    def failed_checks(self) -> list[dict]:
-        return [c for c in self.checks if not c["passed"] and not c.get("known_discrepancy")]
-
-    @property
-    def known_checks(self) -> list[dict]:
-        return [c for c in self.checks if not c["passed"] and c.get("known_discrepancy")]
 
 
 @dataclass
@@ -175,16 +154,6 @@ def _html_cell(c) -> str:
     )
 
 
-def _md_cell(s: str) -> str:
-    return str(s).replace("|", "\\|").replace("\n", " ")
-
-
-def _badge(state: str) -> str:
-    return {"ok": "ok", "skipped": "skipped", "failed": "FAILED", "unfinished": "UNFINISHED", "not run": "NOT RUN"}[
-        state
-    ]
-
-
 # ------------------------------------------------------------------- html ---
 
 _CSS = """
@@ -220,8 +189,8 @@ def _toc(views: list[SectionView]) -> str:
     ]
     items = [f'<a href="#{a}">{t}</a>' for a, t in fixed]
     items += [
-        f'<a href="#{v.section.slug}">{html.escape(v.section.title)}<span class="st badge b-{_badge(v.state).replace(" ", "")}">'
-        f"{_badge(v.state)}</span></a>"
+        f'<a href="#{v.section.slug}">{html.escape(v.section.title)}<span class="st badge b-{badge(v.state).replace(" ", "")}">'
+        f"{badge(v.state)}</span></a>"
         for v in views
     ]
     items.append('<a href="#parameters">Parameters and tolerances</a>')
@@ -233,18 +202,11 @@ def _h2(anchor: str, inner: str) -> str:
 
 
 #: Preformatted output longer than this many lines is folded in the HTML and linked, not inlined, in the Markdown.
-_LONG_LINES = 15
-
-
-def _long(b) -> bool:
-    return isinstance(b, Preformatted) and b.text.count("\n") > _LONG_LINES
-
-
 def _html_block(b) -> str:
     if isinstance(b, Text):
         return f"<p>{_html_text(b.text)}</p>"
     if isinstance(b, Preformatted):
-        if _long(b):  # long raw output (JSON, a command's table) folded: the figures and tables come first
+        if long_block(b):  # long raw output (JSON, a command's table) folded: the figures and tables come first
             return f"<details><summary>{html.escape(b.title or 'raw output')}</summary><pre>{html.escape(b.text)}</pre></details>"
         title = f"<p><b>{html.escape(b.title)}</b></p>" if b.title else ""
         return f"{title}<pre>{html.escape(b.text)}</pre>"
@@ -270,7 +232,7 @@ def _html_block(b) -> str:
 def _html_error(v: SectionView) -> str:
     if not v.error:
         return ""
-    parts = [f'<div class="error"><p><b>{_badge(v.state)}</b>: {html.escape(v.error)}</p>']
+    parts = [f'<div class="error"><p><b>{badge(v.state)}</b>: {html.escape(v.error)}</p>']
     if v.section.requires:
         parts.append(f"<p>This section needs: {', '.join(f'<code>{r}</code>' for r in v.section.requires)}</p>")
     if v.traceback:
@@ -285,123 +247,17 @@ def _html_error(v: SectionView) -> str:
     return "".join(parts)
 
 
-def _checks_table(checks: list[dict]):
-    rows, cls = [], []
-    for c in checks:
-        kind = c.get("kind", "physics")
-        if c["passed"]:  # a guard that holds shows no change from its measured spread; it is not a physics pass
-            verdict, k = (
-                ("held (no change; not a physics check)", "guard") if kind == "regression guard" else ("passed", "ok")
-            )
-        elif c.get("known_discrepancy"):
-            verdict, k = "KNOWN DISCREPANCY: " + unlabel(c["known_discrepancy"]), "known"
-        else:
-            verdict, k = "FAILED", "fail"
-        rows.append(
-            [
-                unlabel(c["name"]),
-                kind,
-                _short(c.get("value")),
-                _short(c.get("allowance")),
-                verdict,
-                unlabel(c.get("detail", "")),
-            ]
-        )
-        cls.append(k)
-    return Table(
-        caption="Checks recorded by this section. A physics check's allowance comes from the paper, the integrator or the timestep; "
-        "a regression guard's from a measured spread: it flags a change, it does not prove the physics.",
-        header=["check", "kind", "value", "allowance", "result", "detail"],
-        rows=rows,
-        data=[],
-        row_class=cls,
-    )
+def write_references(out: Path) -> None:
+    """The labels the tables leave out (figure and equation labels of the paper's source), derived, not computed: the same
+    file whichever sections are rendered (every registered section), so a partial rebuild leaves the saved data as it was."""
+    from dataclasses import asdict
 
+    from crosscheck.report.sections import all_sections
+    from crosscheck.theory.paper import FIGURES
 
-def _checks_shown(v: SectionView) -> bool:
-    """Whether one of the section's own tables already lists every check (a validate section's per-quantity table: each
-    check is named "<engine> <quantity> within tolerance" and its table has a row per quantity)."""
-    names = [c["name"] for c in v.checks]
-    for b in v.blocks:
-        if isinstance(b, Table) and b.rows:
-            first = {str(r[0]) for r in b.rows}
-            if all(any(n.endswith(f" {q} within tolerance") or n == q for q in first) for n in names):
-                return True
-    return False
-
-
-def _checks_note(checks: list[dict]) -> Text:
-    """What the checks table would add to a section whose own table lists its checks: their kinds and results."""
-    guards = [c for c in checks if c.get("kind") == "regression guard"]
-    text = (
-        f"The table above lists this section's {len(checks)} checks ({_checks_cell(checks)}); "
-        "a physics check's allowance comes from the paper, the integrator or the timestep."
-    )
-    if guards:
-        text += (
-            " Regression guards (allowance from a measured spread: holding flags no change, it does not show the physics is right): "
-            + "; ".join(f"{c['name']}: {'held' if c['passed'] else 'FAILED'}" for c in guards)
-            + "."
-        )
-    return Text(text)
-
-
-def _short(v) -> str:
-    if v is None:
-        return ""
-    if isinstance(v, float):
-        return f"{v:.4g}"
-    return str(v)
-
-
-#: The findings lines and the rules behind their verdicts, written beside the report's data (derived, not computed).
-_FINDINGS = "findings.json"
-
-_RULES_TITLE = "How the verdicts are given (crosscheck.report.findings.RULES)"
-
-_SUMMARY_CAPTION = (
-    "Sections, in report order. Ran: whether the section's computation finished (ok), not whether an engine agrees "
-    "with the theory. Checks: physics checks (allowance from the paper, the integrator or the timestep) apart from "
-    "regression guards (allowance from a measured spread: holding means nothing changed, not that the physics is right). "
-    "Finding: the verdict of the section's line(s) under Findings, by the rules given there."
-)
-
-
-def _verdicts(found: list, slug: str) -> list[str]:
-    """The distinct verdicts of the findings lines that come from section ``slug``, in order."""
-    out = []
-    for f in found:
-        if f.slug == slug and f.verdict not in out:
-            out.append(f.verdict)
-    return out
-
-
-def _summary_table(summary_rows) -> Table:
-    return Table(
-        caption=_SUMMARY_CAPTION,
-        header=["section", "paper", "ran", "run time", "checks", "finding"],
-        rows=[r[0] for r in summary_rows],
-        data=[f"data/{_REFERENCES}"],
-        row_class=[r[1] for r in summary_rows],
-    )
-
-
-def _checks_cell(checks: list[dict]) -> str:
-    """Physics checks and regression guards counted apart: 'physics 3/3 passed; regression guards 1/1 held'."""
-    out = []
-    for kind, word, held in (("physics", "physics", "passed"), ("regression guard", "regression guards", "held")):
-        cs = [c for c in checks if c.get("kind", "physics") == kind]
-        if not cs:
-            continue
-        ok = sum(bool(c["passed"]) for c in cs)
-        nf = sum(not c["passed"] and not c.get("known_discrepancy") for c in cs)
-        nk = sum(not c["passed"] and bool(c.get("known_discrepancy")) for c in cs)
-        out.append(
-            f"{word} {ok}/{len(cs)} {held}"
-            + (f", {nf} FAILED" if nf else "")
-            + (f", {nk} known discrepanc{'y' if nk == 1 else 'ies'}" if nk else "")
-        )
-    return "; ".join(out)
+    refs = {"figures": [asdict(f) for f in FIGURES], "sections": {s.slug: s.paper for s in all_sections()}}
+    (out / "data").mkdir(parents=True, exist_ok=True)
+    (out / "data" / REFERENCES_FILE).write_text(json.dumps(refs, indent=1, default=list) + "\n")
 
 
 def _write_html(
@@ -413,7 +269,7 @@ def _write_html(
         "<h1>crosscheck report: contact engines against the rigid theory of the 3D Painlevé rod</h1>",
         "<p>Reference: Cheesman, Hogan &amp; Kristiansen, <i>The geometry of the Painlevé paradox</i>. "
         "Every figure is recomputed from the project's model; beside each figure and table is the data behind it. "
-        f"{html.escape(_NUMBERING)} "
+        f"{html.escape(NUMBERING)} "
         'Markdown twin: <a href="report.md">report.md</a>.</p>',
         _toc(views),
         _h2("findings", "Findings"),
@@ -426,14 +282,14 @@ def _write_html(
             for f in found
         )
         + "</ul>",
-        f'<div class=data><a href="data/{_FINDINGS}">data: {_FINDINGS}</a></div>',
-        f"<p><b>{_RULES_TITLE}</b></p>",
+        f'<div class=data><a href="data/{FINDINGS_FILE}">data: {FINDINGS_FILE}</a></div>',
+        f"<p><b>{RULES_TITLE}</b></p>",
         '<dl class="rules">'
         + "".join(f"<dt>{html.escape(k)}</dt><dd>{html.escape(r)}</dd>" for k, r in RULES)
         + "</dl>",
         _h2("summary", "Summary"),
     ]
-    table = _html_block(_summary_table(summary_rows))
+    table = _html_block(summary_table(summary_rows))
     for v in views:  # section names link to their sections
         cell = f"<td>{_html_text(v.section.title)}</td>"
         table = table.replace(cell, f'<td><a href="#{v.section.slug}">{_html_text(v.section.title)}</a></td>', 1)
@@ -457,7 +313,7 @@ def _write_html(
             + "</ul></div>"
         )
     h.append(_h2("figures", "The paper's figures"))
-    table = _html_block(_figures_table(views))
+    table = _html_block(figures_table(views))
     for v in views:  # section names link to their sections
         table = table.replace(
             _html_text(v.section.title), f'<a href="#{v.section.slug}">{_html_text(v.section.title)}</a>'
@@ -476,24 +332,25 @@ def _write_html(
     )
     for v in views:
         s = v.section
-        verdicts = _verdicts(found, s.slug)
+        found_verdicts = verdicts(found, s.slug)
         finding = "".join(
-            f' <span class="v-{w.replace(" ", "")}" style="font-size:.7em">{html.escape(w)}</span>' for w in verdicts
+            f' <span class="v-{w.replace(" ", "")}" style="font-size:.7em">{html.escape(w)}</span>'
+            for w in found_verdicts
         )
         h.append(
             _h2(
                 s.slug,
-                f'{html.escape(s.title)} <span class="badge b-{_badge(v.state).replace(" ", "")}">{_badge(v.state)}</span>{finding}',
+                f'{html.escape(s.title)} <span class="badge b-{badge(v.state).replace(" ", "")}">{badge(v.state)}</span>{finding}',
             )
         )
         if s.paper:
             h.append(f"<p><i>Paper: {html.escape(paper_reference(s.paper, labels=True))}</i></p>")
         h.append(_html_error(v))
         h += [_html_block(b) for b in v.blocks]
-        if v.checks and not _checks_shown(v):
-            h.append(_html_block(_checks_table(v.checks)))
+        if v.checks and not checks_shown(v):
+            h.append(_html_block(checks_table(v.checks)))
         elif v.checks:
-            h.append(_html_block(_checks_note(v.checks)))
+            h.append(_html_block(checks_note(v.checks)))
         if v.status and v.status.get("params"):
             h.append(
                 f"<details><summary>parameters</summary><pre>{html.escape(json.dumps(v.status['params'], indent=1))}</pre></details>"
@@ -508,7 +365,7 @@ def _write_html(
     h.append(
         _html_block(
             Table(
-                caption="Tolerances (`crosscheck.tolerances.all_tolerances()`).",
+                caption="Tolerances (`crosscheck.report.provenance.all_tolerances()`).",
                 header=["name", "atol", "rtol", "why"],
                 rows=[[k, str(t["atol"]), str(t["rtol"]), t["why"]] for k, t in prov.get("tolerances", {}).items()],
                 data=[f"data/{PROVENANCE_FILE}.json"],
@@ -611,16 +468,16 @@ def render(
         row = [
             v.section.title,
             paper_reference(v.section.paper),
-            _badge(v.state),
+            badge(v.state),
             _fmt_seconds((v.status or {}).get("seconds")),
-            _checks_cell(v.checks),
-            ", ".join(_verdicts(found, v.section.slug)) or "-",
+            checks_cell(v.checks),
+            ", ".join(verdicts(found, v.section.slug)) or "-",
         ]
         summary_rows.append((row, "ok" if v.state in ("ok", "skipped") and not nf else "fail"))
     summary = RenderSummary(html=out / "index.html", markdown=out / "report.md", views=views)
     failures = summary.failures
-    _write_references(out)
-    (out / "data" / _FINDINGS).write_text(
+    write_references(out)
+    (out / "data" / FINDINGS_FILE).write_text(
         json.dumps({"findings": [dataclasses.asdict(f) for f in found], "rules": dict(RULES)}, indent=1) + "\n"
     )
     from crosscheck.report.markdown import write_md

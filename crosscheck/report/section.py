@@ -133,8 +133,7 @@ class RunContext:
     def finished(self, slug: str) -> tuple[dict, SectionStore] | None:
         """(status, store) of the section ``slug`` of this report if it finished ok and its saved files are intact
         (a section whose run reads another's results, ``Section.after``); None otherwise."""
-        from crosscheck.report.integrity import DamagedResults
-        from crosscheck.report.pipeline import verified_status
+        from crosscheck.report.store import DamagedResults, verified_status
 
         out = self.store.root.parent.parent
         try:

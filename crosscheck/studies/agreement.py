@@ -424,7 +424,7 @@ def _run_setting(
     points, a, idx, distance, horizon = (base[k] for k in ("points", "analytic", "index", "distance", "horizon"))
     E = engines.get(engine)
     given = {**options, **setting}
-    opts = options_from_kwargs(E.Options, given, E.name)
+    opts = options_from_kwargs(E.Options, given, E.label)
     th = thresholds or Thresholds()
     margin = window_margin(th, opts.timestep)
     offplane = np.abs(points["varphi"][idx] + math.pi / 2)
@@ -526,9 +526,7 @@ def agreement_study(
     if not settings:
         raise ValueError("settings must hold at least one dict of engine options")
     for s in settings:
-        options_from_kwargs(
-            E.Options, {**options, **s}, E.name
-        )  # unknown or invalid option -> ValueError before any work
+        options_from_kwargs(E.Options, {**options, **s}, E.label)  # unknown or invalid option -> ValueError first
     alpha = float(check("alpha", alpha, ALPHA))
     horizon = float(check("horizon", horizon, POSITIVE))
     rng = rng if rng is not None else np.random.default_rng(0)

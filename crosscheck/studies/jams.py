@@ -107,7 +107,7 @@ def jam_check(
     for m in mus_above:
         if not m > muP:
             raise ValueError(f"mus_above must be > mu_P = {muP:.6g}; got {m!r}")
-    opts = options_from_kwargs(E.Options, options, E.name)
+    opts = options_from_kwargs(E.Options, options, E.label)
     th = thresholds or Thresholds()
     kw = {f.name: getattr(opts, f.name) for f in fields(opts)}
     rod = Rod.scaled(alpha)

@@ -31,7 +31,7 @@ from crosscheck.theory.critical import (
     varphi_pm,
 )
 from crosscheck.rod import Rod
-from crosscheck.state import real, same_shape
+from crosscheck.checks import real, same_shape
 
 __all__ = [
     "Mode",

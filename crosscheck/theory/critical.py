@@ -171,7 +171,7 @@ class CriticalValues:
 
 def critical_values(mu: float, alpha: float) -> CriticalValues:
     """All critical values for friction ``mu`` >= 0 and ``alpha`` > 0 (scalars)."""
-    from crosscheck.state import real_scalar
+    from crosscheck.checks import real_scalar
 
     mu = real_scalar("mu", mu, MU)  # one value: a list or an array is refused in one line, not by float()
     alpha = real_scalar("alpha", alpha, ALPHA)

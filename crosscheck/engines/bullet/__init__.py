@@ -6,15 +6,10 @@ that Bullet's defaults get wrong) and one rollout; ``engine``: ``simulate``
 and ``sweep``.  Importing this package does not import pybullet.
 """
 
+from crosscheck.engines.named import Named
 from crosscheck.engines.spec import EngineSpec, ReportPlan
 
 __all__ = ["ENGINES"]
-
-
-def _sections():
-    from crosscheck.engines.bullet.sections import azimuth
-
-    return (azimuth.SECTION,)
 
 
 ENGINES = (
@@ -61,7 +56,7 @@ ENGINES = (
             maps_n={"quick": 10, "full": 24},
             ladder=True,
             order=50,
-            sections=_sections,
+            sections=Named("crosscheck.engines.bullet.sections:sections"),
         ),
         stops_at_event=True,
     ),

@@ -20,6 +20,7 @@ manifold's start, ``slow_manifold``), ``run`` (``simulate``: the engine's
 ``Run``).
 """
 
+from crosscheck.engines.named import Named
 from crosscheck.engines.spec import EngineSpec, ReportPlan
 from crosscheck.engines.compliant.trajectory import EVENT_KINDS, Event, Trajectory, integrate
 from crosscheck.engines.compliant.laws import LAWS, NormalLaw
@@ -44,18 +45,12 @@ __all__ = [
 ]
 
 
-def _sections():
-    from crosscheck.engines.compliant.sections import limit
-
-    return (limit.SECTION,)
-
-
 ENGINES = (
     EngineSpec(
         name="compliant",
         module="crosscheck.engines.compliant.run",
         one_core={"workers": 1},
         tags={"compliant", "continuous"},
-        report=ReportPlan(sections=_sections, order=30),
+        report=ReportPlan(sections=Named("crosscheck.engines.compliant.sections:sections"), order=30),
     ),
 )

@@ -40,6 +40,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, fields
 
+
 import numpy as np
 
 from crosscheck.checks import HORIZON, POSITIVE, check
@@ -48,11 +49,13 @@ from crosscheck.engines.compliant.trajectory import ATOL, METHODS, RADIUS, RTOL,
 from crosscheck.engines.compliant.model import FREE, SLIP, STICK, q_from_y
 from crosscheck.coordinates import tip_position, tip_velocity
 from crosscheck.engines import get
-from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, options_from_kwargs, sweep_by_simulate
+from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
+from crosscheck.engines.options import EngineOptions
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState, check_timestep_within
+from crosscheck.checks import check_timestep_within
+from crosscheck.state import SlipState
 from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION
 
 __all__ = ["Options", "SolverStats", "simulate", "sweep", "record_of", "NAME"]
@@ -65,7 +68,7 @@ ROW_BYTES = 1200
 
 
 @dataclass(frozen=True)
-class Options:
+class Options(EngineOptions):
     """Parameters of the compliant rod, in the paper's scaled units.
 
     Attributes:
@@ -100,9 +103,7 @@ class Options:
         if self.method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}; got {self.method!r}")
 
-    @classmethod
-    def from_kwargs(cls, options: dict) -> "Options":
-        return options_from_kwargs(cls, options, NAME)
+    LABEL = NAME  # the registry's label of this engine is its name
 
     @property
     def contact_time(self) -> float:
@@ -119,9 +120,6 @@ class Options:
     def friction_time(self) -> float:
         """The stick phase is exact (no creep): 0."""
         return 0.0
-
-    def as_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
 @dataclass(frozen=True)

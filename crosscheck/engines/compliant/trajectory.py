@@ -70,7 +70,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from crosscheck.checks import HORIZON, MU, RATE, Interval, check
+from crosscheck.checks import CONTACT_RADIUS, HORIZON, MU, RATE, Interval, check
 from crosscheck.engines.compliant import laws as _laws
 from crosscheck.engines.compliant.model import (
     FREE,
@@ -102,7 +102,7 @@ __all__ = [
 ]
 
 #: Capsule radius r / l: 0 is the tip A itself; at r >= l/2 the end cap reaches the centre of mass.
-RADIUS = Interval(0.0, 0.5, lo_open=False, hi_open=True)
+RADIUS = CONTACT_RADIUS
 #: Initial gap of the contact point [l]: a contact start has C on or in the plane, and a penetration
 #: deeper than l (the tip-to-centre distance) is no contact of this rod.
 GAP = Interval(-1.0, 0.0, lo_open=False, hi_open=False)

@@ -50,7 +50,8 @@ from crosscheck.engines.mujoco import warning_counts as mujoco_warnings
 from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import SensorLayout, initial_state, model, record_from_sensordata
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState, real, real_scalar
+from crosscheck.checks import real, real_scalar
+from crosscheck.state import SlipState
 
 __all__ = ["NAME", "Options", "Batch", "simulate", "sweep", "CHUNK_BYTES"]
 

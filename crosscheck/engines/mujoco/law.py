@@ -84,7 +84,6 @@ __all__ = [
     "contact_force",
     "accelerations",
     "skew_angle",
-    "simulate",
     "MINIMP",
     "MAXIMP",
     "MINVAL",
@@ -462,10 +461,3 @@ def skew_angle(slip, accel, damping) -> np.ndarray:
     w = u + np.asarray(accel, dtype=float) / np.asarray(damping, dtype=float)[..., None]
     ang = np.arctan2(w[..., 1], w[..., 0]) - np.arctan2(u[..., 1], u[..., 0])
     return np.angle(np.exp(1j * ang))
-
-
-def simulate(rod: Rod, state, mu: float, *, horizon: float, **options):
-    """The rod under MuJoCo's contact law with no time discretisation: see ``crosscheck.engines.mujoco.ode.simulate``."""
-    from crosscheck.engines.mujoco.ode import simulate as _simulate
-
-    return _simulate(rod, state, mu, horizon=horizon, **options)

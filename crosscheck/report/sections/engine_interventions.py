@@ -16,10 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
+from crosscheck.report.finding import CONFIRMED_SHARE
 from crosscheck.report.section import RenderContext, RunContext, Section, SkipSection, Table, Text
 
-#: Share of attributed disagreements their own cause's intervention must remove for the verdict "confirmed".
-CONFIRMED_SHARE = 0.8
 
 #: Seconds between two saves of the starts finished so far (the file is rewritten whole: at every one of MuJoCo's 291
 #: starts that cost 127 s of the section's 241 s, profiled).
@@ -196,7 +195,7 @@ def _figure(ctx: RenderContext, name: str, summary: dict):
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
     from crosscheck import engines
 
     P = ctx.params
@@ -455,8 +454,8 @@ def _floor_cell(iv: dict) -> str:
 
 def finding(data: Path) -> list:
     """The findings line: the share of the engine's attributed disagreements its own cause's intervention removes."""
-    from crosscheck.engines.base import engine_label
-    from crosscheck.report.findings import Finding, read_json
+    from crosscheck.report.format import engine_label
+    from crosscheck.report.finding import Finding, read_json
 
     summary = read_json(data / "summary.json")
     if not summary or not summary.get("attributed"):

@@ -119,7 +119,7 @@ def run(ctx: RunContext) -> None:
     from crosscheck.studies.agreement import agreement_study
 
     from crosscheck.theory import critical
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
     from crosscheck.outcome import Outcome
 
     P = ctx.params
@@ -246,7 +246,7 @@ def _beside(ctx: RenderContext, slug: str | None):
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
     from crosscheck.report.interactive import GridMap, Panel, engine_line, outcome_maps_page, start_tooltip, write_page
     from crosscheck.report.plotting import OUTCOME_COLORS, categorical_image, outcome_legend, plt
 

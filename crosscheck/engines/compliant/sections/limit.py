@@ -584,7 +584,7 @@ def render(ctx: RenderContext) -> list:
 
 def finding(data: Path) -> list:
     """The findings line of the compliant rod's eps -> 0 limit: its physics checks and measured rates."""
-    from crosscheck.report.findings import Finding, read_json
+    from crosscheck.report.finding import Finding, read_json
 
     out = []
     limit = read_json(data / "checks.json")

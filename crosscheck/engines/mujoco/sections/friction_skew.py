@@ -257,7 +257,7 @@ def render(ctx: RenderContext) -> list:
 
 def finding(data: Path) -> list:
     """The findings line of MuJoCo's friction direction: measured and predicted skew, its cause, the options."""
-    from crosscheck.report.findings import Finding, read_json
+    from crosscheck.report.finding import Finding, read_json
 
     out = []
     skew = read_json(data / "skew.json")

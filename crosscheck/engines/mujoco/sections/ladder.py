@@ -506,7 +506,7 @@ def render(ctx: RenderContext) -> list:
 
 def finding(data: Path) -> list:
     """The findings line of the ladder: the share of MuJoCo's disagreements attributed to each cause."""
-    from crosscheck.report.findings import Finding, read_json
+    from crosscheck.report.finding import Finding, read_json
 
     from crosscheck.engines.mujoco.studies.ladder import NAMED_CAUSES
 

@@ -30,7 +30,7 @@ from crosscheck.engines.mujoco.model import SensorLayout, build_model, initial_s
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["capsule_tip_acceleration", "contact_acceleration", "friction_skew"]
+__all__ = ["checks", "capsule_tip_acceleration", "contact_acceleration", "friction_skew"]
 
 
 def capsule_tip_acceleration(rod: Rod, psi, theta, psi_dot, theta_dot, force, offset) -> np.ndarray:
@@ -168,3 +168,21 @@ def friction_skew(
         out["rigid_force"][i] = -b_rows.mean() / out["p"][i]
         out["rigid_force_eff"][i] = -b_rows.mean() / out["p_eff"][i]
     return out
+
+
+def checks(rod, n_states, rng):
+    """MuJoCo's contact force at one instant against the rigid tip acceleration (``validate``'s first check)."""
+    from crosscheck.compare import error_stat
+    from crosscheck.engines.mujoco import tolerances as mujoco_tol
+
+    ca = contact_acceleration(rod, min(n_states, 100), rng)
+    where = {k: ca[k] for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi", "mu")}
+    return [
+        error_stat(
+            "tip acceleration with contact",
+            ca["got"] / ca["scale"][:, None],
+            ca["want"] / ca["scale"][:, None],
+            mujoco_tol.MUJOCO_CONTACT_ACCELERATION,
+            where,
+        )
+    ]

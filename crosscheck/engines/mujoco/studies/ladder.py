@@ -19,7 +19,7 @@ rung  name            model
                       force's feed-forward: MuJoCo's friction on its solref spring-damper
                       (``crosscheck.engines.mujoco.ode.simulate(feed_forward=False)``)
 5     ``mujoco_law``  MuJoCo's contact law at C in continuous time:
-                      ``crosscheck.engines.mujoco.law.simulate``
+                      ``crosscheck.engines.mujoco.ode.simulate``
 6     ``mujoco``      MuJoCo at the run's timestep: ``crosscheck.engines.get("mujoco").simulate``
 ====  ==============  =========================================================================
 
@@ -156,7 +156,7 @@ _RUNG_CALLABLE = {
     "capsule": ("crosscheck.theory.capsule", "slip_until_event"),
     "compliant": ("crosscheck.engines.compliant", "simulate"),
     "spring_law": ("crosscheck.engines.mujoco.ode", "simulate"),
-    "mujoco_law": ("crosscheck.engines.mujoco.law", "simulate"),
+    "mujoco_law": ("crosscheck.engines.mujoco.ode", "simulate"),
 }
 
 

@@ -213,7 +213,7 @@ def render(ctx: RenderContext) -> list:
 
 def finding(data: Path) -> list:
     """The findings line of the dynamics terms: the worst error against the analytic terms as a fraction of its tolerance."""
-    from crosscheck.report.findings import Finding, read_json
+    from crosscheck.report.finding import Finding, read_json
 
     out = []
     v = read_json(data / "validate.json")

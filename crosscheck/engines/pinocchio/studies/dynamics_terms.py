@@ -491,7 +491,7 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
         },
         "min_cos_theta": float(cos.min()),
         "tip_acc_error_over_A_by_cos_theta": _by_decade(cos, tip_errors),
-        "tolerances": {k: v for k, v in tol.all_tolerances().items() if k.startswith("PIN_")},
+        "tolerances": {k: v for k, v in tol.named(pinocchio_tol).items() if k.startswith("PIN_")},
     }
     return ValidationResult(engine="pinocchio", stats=stats, extra=extra)
 

@@ -17,7 +17,7 @@ import pytest
 
 from crosscheck import engines, sweeps
 from crosscheck.cli import main
-from crosscheck.sweeps.compare import compare_frames, wilson_interval
+from crosscheck.sweeps.store_diff import compare_frames, wilson_interval
 from crosscheck.sweeps.spec import SpecError, parse_spec
 from crosscheck.sweeps.store import Store, StoreError
 

@@ -53,7 +53,7 @@ def _gb(args) -> int:
         idx = np.unique(np.linspace(0, m - 1, min(n, m)).round().astype(int))
         Kc = c.K(eta)[idx]
         lam, _ = gb.eigen(Kc)
-        types = np.atleast_1d(gb.classify(Kc))
+        types = np.atleast_1d(gb.gb_type(Kc))
         samples = [
             {
                 "theta": float(c.theta[i]),

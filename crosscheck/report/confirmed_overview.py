@@ -59,7 +59,7 @@ def _figure(rows: list[dict]):
     import matplotlib.pyplot as plt
     import numpy as np
 
-    from crosscheck.sweeps.compare import wilson_interval
+    from crosscheck.sweeps.store_diff import wilson_interval
 
     fig, (left, right) = plt.subplots(
         1,

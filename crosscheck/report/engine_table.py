@@ -80,7 +80,7 @@ def _setting(options: dict, defaults: dict) -> str:
 def _confusion_cells(runs: list[dict]) -> list[str]:
     """Agreement with CI, per theory row, LAUNCH share, from the summed confusion of ``runs`` (one map each)."""
     from crosscheck.outcome import Outcome
-    from crosscheck.sweeps.compare import wilson_interval
+    from crosscheck.sweeps.store_diff import wilson_interval
 
     conf, labels = None, runs[0]["labels"]
     for r in runs:

@@ -161,7 +161,7 @@ def _convergence_findings(rows: list[dict], name: str, slug: str, *, compliant: 
 
 def findings(data: Path) -> list[Finding]:
     """The findings of the report whose saved results are in ``data`` (``<out>/data``)."""
-    from crosscheck.sweeps.compare import wilson_interval
+    from crosscheck.sweeps.store_diff import wilson_interval
 
     data = Path(data)
     out: list[Finding] = []

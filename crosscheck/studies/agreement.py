@@ -63,7 +63,7 @@ import numpy as np
 
 from crosscheck import engines
 from crosscheck.checks import ALPHA, POSITIVE, check
-from crosscheck.compare import as_json
+from crosscheck.error_stats import as_json
 from crosscheck.engines.base import options_from_kwargs
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome

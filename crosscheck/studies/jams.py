@@ -17,7 +17,7 @@ import numpy as np
 
 from crosscheck import engines
 from crosscheck.checks import ALPHA, check
-from crosscheck.compare import as_json
+from crosscheck.error_stats import as_json
 from crosscheck.theory.corollary import corollary_states
 from crosscheck.theory.critical import mu_P
 from crosscheck.engines.base import options_from_kwargs

@@ -57,7 +57,7 @@ import importlib
 import numpy as np
 
 from crosscheck import engines
-from crosscheck.compare import ErrorStat, ValidationResult, error_stat
+from crosscheck.error_stats import ErrorStat, ValidationResult, error_stat
 from crosscheck.theory.critical import Psi_L, p_min
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.outcome import Outcome

@@ -59,7 +59,7 @@ def run(ctx: RunContext) -> None:
         Theta = math.sqrt(1 / math.sin(theta))
         Km = gb.K(theta, varphi, Psi, Theta, eta, mu, alpha)
         lam, vec = gb.eigen(Km)
-        kind = gb.classify(Km)
+        kind = gb.gb_type(Km)
         strong = int(np.argmax(np.abs(lam)))
         quads = [gb.quadrant(vec[:, k], atol=1e-12).name for k in range(2)]
         points.append(

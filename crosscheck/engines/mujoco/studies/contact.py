@@ -172,7 +172,7 @@ def friction_skew(
 
 def checks(rod, n_states, rng):
     """MuJoCo's contact force at one instant against the rigid tip acceleration (``validate``'s first check)."""
-    from crosscheck.compare import error_stat
+    from crosscheck.error_stats import error_stat
     from crosscheck.engines.mujoco import tolerances as mujoco_tol
 
     ca = contact_acceleration(rod, min(n_states, 100), rng)

@@ -88,7 +88,7 @@ from typing import Any
 
 
 from crosscheck.checks import ALPHA, HORIZON, MU, check
-from crosscheck.compare import as_json
+from crosscheck.error_stats import as_json
 from crosscheck.engines.base import n_steps_within_memory
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.engines.mujoco.studies.kelvin_voigt import KelvinVoigtMatch, mujoco_equivalent

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 from tqdm.auto import tqdm
 
-from crosscheck.compare import as_json
+from crosscheck.error_stats import as_json
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.engines.mujoco.studies.ladder import CAUSES, NAMED_CAUSES, RUNGS, Ladder, run_ladder
 from crosscheck.outcome import Outcome

@@ -34,7 +34,7 @@ from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
 from crosscheck.theory import analytic
 from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck import tolerances as tol
-from crosscheck.compare import ErrorStat, ValidationResult, error_stat
+from crosscheck.error_stats import ErrorStat, ValidationResult, error_stat
 from crosscheck.coordinates import qv_of
 from crosscheck.theory.critical import mu_P as mu_P_closed_form
 from crosscheck.rod import Rod

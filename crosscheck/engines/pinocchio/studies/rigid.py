@@ -310,7 +310,7 @@ def corollary_aftermath(rod: Rod, mu: float, n: int, rng: np.random.Generator, *
 
 def checks(rod, n_states, rng):
     """One step's impulse against -b/p, the slipping convergence order and the post-jam rates against the impact without collision."""
-    from crosscheck.compare import error_stat
+    from crosscheck.error_stats import error_stat
     from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
 
     stats = []

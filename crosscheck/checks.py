@@ -8,6 +8,7 @@ the same message on one line, so the error text is part of the interface.
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -38,6 +39,8 @@ __all__ = [
     "MIN_TIMESTEP",
     "check_timestep",
     "check_timestep_within",
+    "writable_directory",
+    "writable_file",
 ]
 
 
@@ -229,3 +232,33 @@ def same_shape(**arrays) -> tuple:
         raise ValueError(
             f"{', '.join(arrays)} must have shapes that broadcast (equal, or 1 where they differ); got {shapes}"
         ) from None
+
+
+def writable_file(name: str, value, *, suffixes: tuple[str, ...] = ()) -> Path:
+    """``value`` as a file path this process can write (its directory created if missing, the file not touched);
+    ValueError naming ``name`` otherwise: empty, a directory, a suffix not in ``suffixes`` (when given), a parent
+    that is a file or that the file system refuses (/proc, read-only).  Checked before a run, not after it."""
+    if value is None or not str(value).strip():
+        raise ValueError(f"{name} must be a file path; got {value!r}")
+    path = Path(value)
+    shown = repr(str(value)) if len(str(value)) <= 80 else f"{str(value)[:60]!r}... ({len(str(value))} characters)"
+    try:
+        if path.is_dir():
+            raise ValueError(f"{name} must be a file path; got {shown}, which is a directory")
+        if suffixes and path.suffix.lower() not in suffixes:
+            raise ValueError(f"{name} must be a file ending in {', '.join(suffixes)}; got {shown}")
+        writable_directory(name, path.parent)
+        if path.exists():
+            if not os.access(path, os.W_OK):
+                raise PermissionError(13, "Permission denied")
+        else:  # the name itself (its length, its characters) as the file system takes it; nothing is left behind
+            os.close(os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644))
+            os.unlink(path)
+    except ValueError as e:
+        if str(e).startswith(f"{name} must be a file"):
+            raise
+        why = str(e).rsplit(": ", 1)[-1] if "cannot write in" in str(e) else "a file stands where its directory goes"
+        raise ValueError(f"{name} must be a file path in a writable directory; cannot write {shown}: {why}") from None
+    except OSError as e:
+        raise ValueError(f"{name} must be a writable file path; cannot use {shown}: {e.strerror or e}") from None
+    return path

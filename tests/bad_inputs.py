@@ -138,6 +138,20 @@ def cli_cases(tmp: Path) -> list:
     # (root writes through permission bits: the unwritable directory is a case only for other users)
     for v in ["", str(a_file), "/proc/x", str(a_file / "sub")] + ([str(unwritable / "r")] if os.geteuid() != 0 else []):
         cases.append((f"report --out={v!r}", quick + ["--out", v], "out"))
+    # a directory crosscheck did not write: refused, never emptied (tests/test_never_deletes.py checks every byte)
+    users = tmp / "users_project"
+    (users / "src").mkdir(parents=True, exist_ok=True)
+    (users / "src" / "main.c").write_text("int main;")
+    (users / "report.md").write_text("my notes")
+    cases.append(("report --out=<a user's project>", quick + ["--out", str(users)], "out"))
+    cases.append(("report --out=<a user's project> --fresh", quick + ["--out", str(users), "--fresh"], "out"))
+    cases.append(
+        ("report --beside-files --out=<holding report.md>", quick + ["--out", str(users), "--beside-files"], "out")
+    )
+    import crosscheck
+
+    package = str(Path(crosscheck.__file__).parent / "report")
+    cases.append(("report --out=<the package's report/ source>", quick + ["--out", package, "--fresh"], "out"))
     for v in ["-1", "1.5", "abc", "", "1e30", "99999999999999999999"]:
         cases.append((f"report --seed={v!r}", quick + ["--out", str(tmp / "r_seed"), "--seed", v], "seed"))
     for v in ["0", "-1", "2000", "abc", "1.5"]:
@@ -165,6 +179,7 @@ def cli_cases(tmp: Path) -> list:
         return str(path)
 
     sweep_out = str(tmp / "sweep_out")
+    too_long = str(tmp / ("n" * 300))
     cases.append(("sweep missing spec", ["sweep", str(tmp / "missing.toml"), "--out", sweep_out], "spec"))
     cases.append(("sweep spec is a directory", ["sweep", str(tmp), "--out", sweep_out], "spec"))
     (tmp / "broken.toml").write_text("[sweep\nengine = ")
@@ -193,6 +208,28 @@ def cli_cases(tmp: Path) -> list:
     cases.append(("sweep --workers=0", ["sweep", spec("ok"), "--out", sweep_out, "--workers", "0"], "workers"))
     cases.append(("sweep --out=''", ["sweep", spec("ok"), "--out", ""], "out"))
     cases.append(("sweep --out=a file", ["sweep", spec("ok"), "--out", str(a_file)], "out"))
+    for extra in ([], ["--fresh"]):
+        cases.append(
+            (f"sweep --out=<a user's project> {extra}", ["sweep", spec("ok"), "--out", str(users), *extra], "out")
+        )
+    # simulate's output files: checked before the run, never one written over another
+    sim = _argv(["simulate", "--engine", "pinocchio"], {**STATE, "mu": "0.7", "horizon": "0.04"}, "", "")
+    for outputs, param in [
+        (["--plot", str(tmp / "k.svg"), "--csv", str(tmp / "k.svg")], "csv"),
+        (["--plot", str(tmp / "k.pdf"), "--csv", str(tmp / "k_theory.csv")], "csv"),
+        (["--plot", str(tmp / "k.gif")], "plot"),
+        (["--plot", str(tmp / "k.html")], "plot"),
+        (["--plot", ""], "plot"),
+        (["--csv", "  "], "csv"),
+        (["--csv", str(tmp)], "csv"),
+        (["--plot", str(tmp)], "plot"),
+        (["--plot", "/proc/self/k.svg"], "plot"),
+        (["--csv", "/sys/k.csv"], "csv"),
+        (["--csv", str(a_file / "k.csv")], "csv"),
+        (["--plot", str(a_file / "k.png")], "plot"),
+        (["--csv", too_long], "csv"),
+    ]:
+        cases.append((f"simulate {' '.join(outputs)[-40:]}", sim + outputs, param))
     cases.append(("compare missing stores", ["compare", str(tmp / "no_a"), str(tmp / "no_b")], "a"))
     cases.append(("compare non-store", ["compare", str(tmp), str(tmp)], "a"))
     # how a number is written: ASCII only (crosscheck.cli.options), and no longer than a number needs
@@ -234,7 +271,6 @@ def cli_cases(tmp: Path) -> list:
             )
         )
     # paths the file system refuses, and scheduler addresses crosscheck cannot use
-    too_long = str(tmp / ("n" * 300))
     cases.append(("sweep --out=<300-character name>", ["sweep", spec("ok"), "--out", too_long], "out"))
     cases.append(("report --out=<300-character name>", quick + ["--out", too_long], "out"))
     cases.append(

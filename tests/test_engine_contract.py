@@ -130,7 +130,7 @@ STOPPING = [n for n in ENGINES if engines.get(n).stops_at_event]
 
 
 def test_the_time_stepping_engines_declare_that_they_stop_at_their_first_event():
-    assert {n for n in STOPPING} == {n for n in ENGINES if n.startswith("drake_")} | {"bullet"}
+    assert {n for n in STOPPING} == {n for n in ENGINES if n.startswith(("drake_", "physx_"))} | {"bullet", "dart"}
 
 
 @pytest.mark.parametrize("name", STOPPING)

@@ -25,6 +25,7 @@ from crosscheck.cli.options import ascii_number, directory
 
 def _run(args) -> int:
     from crosscheck import report
+    from crosscheck.report.ownership import claim
 
     sections = list(report.SECTIONS)
     selected = sections
@@ -47,6 +48,7 @@ def _run(args) -> int:
     scheduler = check_scheduler(args.scheduler) if args.from_results else check_reachable(args.scheduler)
     out = directory("out", out)  # before anything runs: a long run never fails at its first write
     with report.lock(out):
+        claim(out, beside=args.beside_files)  # nothing of a directory crosscheck did not write is replaced
         try:
             return _locked(args, report, out, sections, selected, seed, workers, scheduler, jobs)
         except OSError as e:  # a full disk under a writer that does not say so itself (the render's pages and figures)
@@ -66,10 +68,12 @@ def _saved(out: Path) -> bool:
 
 
 def _locked(args, report, out: Path, sections, selected, seed: int, workers, scheduler, jobs=None) -> int:
+    from crosscheck.report.ownership import sweeps_owned
+
     progress = not args.no_progress and sys.stderr.isatty()
     t0 = time.perf_counter()
     if not args.from_results:
-        if args.fresh and (out / "sweeps").exists():
+        if args.fresh and sweeps_owned(out / "sweeps"):
             import shutil
 
             shutil.rmtree(out / "sweeps")
@@ -136,6 +140,13 @@ def register(sub) -> None:
         "--no-progress",
         action="store_true",
         help="no progress bars (nor, when stderr is not a terminal, the log line per section)",
+    )
+    r.add_argument(
+        "--beside-files",
+        action="store_true",
+        help="write into a non-empty directory crosscheck did not write, beside its files: refused if one of the "
+        "report's names (data, figures, sweeps, index.html, report.md) is there; nothing of theirs is deleted or "
+        "overwritten (default: such a directory is refused)",
     )
     r.add_argument(
         "--fresh", action="store_true", help="recompute every section (default: keep those finished by the same code)"

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 
 from crosscheck import engines
 from crosscheck.checks import ALPHA, ETA, MU, POSITIVE, RATE, THETA, VARPHI
@@ -24,6 +25,7 @@ def _simulate(args) -> int:
     )
     mu, alpha = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA)
     options = {} if args.timestep is None else {"timestep": _num("timestep", args.timestep, POSITIVE)}
+    paths = _output_paths(args)  # before the run: a path that cannot be written never costs the run
     run = engine.simulate(Rod.scaled(alpha), state, mu, horizon=_num("horizon", args.horizon, POSITIVE), **options)
     fin = lambda x: x if math.isfinite(x) else None  # noqa: E731
     out = {
@@ -40,7 +42,7 @@ def _simulate(args) -> int:
         "nstep": run.nstep,
         "unjudged_tail": _unjudged_tail(run),
     }
-    written = _write_outputs(run, args)
+    written = _write_outputs(run, paths)
     if args.json:
         print(json.dumps({**out, **({"files": written} if written else {})}, indent=2))
     else:
@@ -68,45 +70,69 @@ def _unjudged_tail(run) -> float:
     return float(min(run.horizon, run.thresholds.window_rows(dt) * dt))
 
 
-def _write_outputs(run, args) -> list[str]:
-    """--csv: the run's record as columns; --plot: the run against the theory (crosscheck.report.trajectory_plot), with the
-    data behind it beside the figure (the run's and the theory's CSV)."""
+#: The figure formats of --plot (matplotlib's, by suffix); a name without a suffix is written as PNG.
+PLOT_SUFFIXES = (".png", ".svg", ".pdf")
+
+
+def _output_paths(args) -> dict:
+    """The files --csv and --plot will write, checked before the run (``crosscheck.checks.writable_file``):
+    ``csv`` (--csv, or FILE's .csv beside the figure), ``plot`` (FILE, .png added to a name without a suffix) and
+    ``theory`` (FILE's _theory.csv).  Two of them naming one file is refused: one would replace the other."""
     from pathlib import Path
 
+    from crosscheck.checks import writable_file
+
+    paths = {}
+    if getattr(args, "plot", None) is not None:
+        plot = Path(args.plot) if str(args.plot).strip() else args.plot
+        if str(plot).strip() and not Path(plot).suffix and not Path(plot).is_dir():
+            plot = Path(plot).with_name(Path(plot).name + ".png")  # what matplotlib writes for a bare name
+        paths["plot"] = writable_file("plot", plot, suffixes=PLOT_SUFFIXES)
+        paths["theory"] = writable_file("plot", paths["plot"].with_name(paths["plot"].stem + "_theory.csv"))
+        paths["csv"] = paths["plot"].with_suffix(".csv")
+    if getattr(args, "csv", None) is not None:
+        paths["csv"] = writable_file("csv", args.csv)
+    elif "csv" in paths:
+        paths["csv"] = writable_file("plot", paths["csv"])
+    real = {k: os.path.realpath(v) for k, v in paths.items()}
+    what = {"plot": "the figure --plot writes", "theory": "the theory's CSV --plot writes beside the figure"}
+    for other in ("plot", "theory"):
+        if other in real and real["csv"] == real[other]:
+            raise ValueError(
+                f"csv must be a file other than {what[other]}; both are {str(paths['csv'])!r}, and one would "
+                "replace the other"
+            )
+    return paths
+
+
+def _write_outputs(run, paths: dict) -> list[str]:
+    """The run's record as columns to ``paths["csv"]``; with ``paths["plot"]``, the run against the theory
+    (crosscheck.report.trajectory_plot) and the theory's columns to ``paths["theory"]``; returns the files written."""
     written = []
-    if getattr(args, "csv", None) or getattr(args, "plot", None):
+    if paths:
         from crosscheck.report import trajectory_plot as tp
 
-        if args.csv:
-            written.append(str(tp.write_csv(args.csv, tp.run_columns(run))))
-        if args.plot:
-            plot = Path(args.plot)
-            fig = tp.plot_run(run, path=plot)
-            th = tp.theory_trajectory(run.state, run.mu, run.alpha, run.horizon)
-            written.append(str(plot))
-            if not args.csv:
-                written.append(str(tp.write_csv(plot.with_suffix(".csv"), tp.run_columns(run))))
-            written.append(
-                str(
-                    tp.write_csv(
-                        plot.with_name(plot.stem + "_theory.csv"),
-                        {
-                            "t": th.t,
-                            "theta": th.theta,
-                            "Theta": th.Theta,
-                            "Psi": th.Psi,
-                            "eta": th.eta,
-                            "varphi": th.varphi,
-                            "b": th.b,
-                            "p": th.p,
-                            "minus_b_over_p": th.normal_force,
-                        },
-                    )
-                )
-            )
+        if "plot" in paths:
+            fig = tp.plot_run(run, path=paths["plot"])
+            written.append(str(paths["plot"]))
             import matplotlib.pyplot as plt
 
             plt.close(fig)
+        written.append(str(tp.write_csv(paths["csv"], tp.run_columns(run))))
+        if "plot" in paths:
+            th = tp.theory_trajectory(run.state, run.mu, run.alpha, run.horizon)
+            columns = {
+                "t": th.t,
+                "theta": th.theta,
+                "Theta": th.Theta,
+                "Psi": th.Psi,
+                "eta": th.eta,
+                "varphi": th.varphi,
+                "b": th.b,
+                "p": th.p,
+                "minus_b_over_p": th.normal_force,
+            }
+            written.append(str(tp.write_csv(paths["theory"], columns)))
     return written
 
 

@@ -59,6 +59,8 @@ BUILTIN = (
     "crosscheck.engines.compliant",
     "crosscheck.engines.drake",
     "crosscheck.engines.bullet",
+    "crosscheck.engines.physx",
+    "crosscheck.engines.dart",
 )
 
 #: The engine a study runs when none is named (the studies' ``engine=`` default): MuJoCo, the engine the ladder explains.

@@ -103,7 +103,7 @@ def _figure(rows: list[dict]):
         right.errorbar(
             at,
             share,
-            yerr=[share - lo_hi[:, 0], lo_hi[:, 1] - share],
+            yerr=np.clip([share - lo_hi[:, 0], lo_hi[:, 1] - share], 0.0, None),  # a share of 0 or 1 is its bound: -1e-17
             color="k",
             lw=2,
             capsize=3,

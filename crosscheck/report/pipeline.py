@@ -105,9 +105,11 @@ def _sweeps_of(out: Path, computed_by: dict, say: bool) -> None:
 
     from crosscheck.files import write_atomic
 
+    from crosscheck.report.ownership import sweeps_owned
+
     root = out / "sweeps"
     stamp = root / "computed_by.json"
-    if root.exists():
+    if sweeps_owned(root):  # someone else's sweeps/ is one line, never deleted
         try:
             same = json.loads(stamp.read_bytes().decode()) == computed_by
         except (OSError, UnicodeDecodeError, ValueError):
@@ -298,7 +300,11 @@ def run(
     """
     from crosscheck.workers import default_workers
 
+    from crosscheck.report.ownership import claim
+
     out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    claim(out)  # a directory someone else wrote is refused before anything of theirs is touched
     data = out / "data"
     data.mkdir(parents=True, exist_ok=True)
     jobs = default_workers() if jobs is None else jobs

@@ -43,7 +43,6 @@ import math
 import os
 import platform
 import re
-import shutil
 import warnings
 from contextlib import ExitStack, contextmanager
 from datetime import datetime, timezone
@@ -63,12 +62,19 @@ FORMAT = 2
 FORMATS = (1, 2)
 
 #: The names of the store's own files in ``chunks``: a chunk's table, its record, its failure, their temporary files.
-_RECORD = re.compile(r"^chunk-(\d{6})\.json$")
-_FAILED = re.compile(r"^chunk-(\d{6})\.failed\.json$")
-_OWN = re.compile(r"^(chunk-\d{6}\.(parquet|json|failed\.json)|\.chunk-\d{6}\.(parquet|json|failed\.json)\.tmp-\d+)$")
+#: A chunk id as ``f"{id:06d}"`` writes it: six digits, or more without a leading zero (chunk 1000000 and on).
+_ID = r"(\d{6}|[1-9]\d{6,})"
+_RECORD = re.compile(rf"^chunk-{_ID}\.json$")
+_FAILED = re.compile(rf"^chunk-{_ID}\.failed\.json$")
+_OWN = re.compile(rf"^(chunk-{_ID}\.(parquet|json|failed\.json)|\.chunk-{_ID}\.(parquet|json|failed\.json)\.tmp-\d+)$")
 _SHA256 = re.compile(r"^[0-9a-f]{64}$")
 
 _REBUILD = "re-run the same crosscheck sweep command to rebuild it (its intact chunks are kept)"
+
+
+def _chunk_id(name: str) -> int:
+    """The chunk id in the name of one of the store's chunk records (``chunk-000123.json``, ``chunk-1000000.json``)."""
+    return int((_RECORD.match(name) or _FAILED.match(name)).group(1))
 
 
 def _seal(body: dict) -> str:
@@ -278,6 +284,8 @@ class Store:
                 m = self.read_manifest()
             except StoreError as e:
                 if not self._is_store():
+                    if self.manifest_path.is_file() and not self._manifest_is_ours():
+                        raise StoreError(self._not_ours()) from None
                     raise
                 rebuilt = str(e).split(f"; {_REBUILD}")[0]
             if m is None and rebuilt is None and self._is_store() and self.chunks.is_dir():
@@ -288,22 +296,10 @@ class Store:
                 f"{spec.digest[:12]}); use --fresh to replace it or choose another directory"
             )
         if m is None:
-            if (
-                not fresh
-                and rebuilt is None
-                and self.root.exists()
-                and any(p.name not in (".lock",) for p in self.root.iterdir())
-            ):
-                raise StoreError(
-                    f"out {str(self.root)!r} is not empty and has no sweep manifest; use --fresh to replace its sweep or choose another directory"
-                )
+            if rebuilt is None and not self._owned():
+                raise StoreError(self._not_ours())
             if rebuilt is None:
-                if self.chunks.is_dir():
-                    shutil.rmtree(self.chunks)
-                elif self.chunks.exists():
-                    self.chunks.unlink()
-                if fresh and self.manifest_path.exists():
-                    self.manifest_path.unlink()
+                self._delete_own_files()
             m = {
                 "format": FORMAT,
                 "spec": spec.source,
@@ -353,6 +349,45 @@ class Store:
         self._write_manifest(m)
         return m
 
+    def _owned(self) -> bool:
+        """Whether ``root`` is empty (its lock aside), a store (``_is_store``) or holds a manifest a store wrote
+        (a JSON object with its format and spec sha256, sealed or not): only then may it be (re)written."""
+        if not self.root.exists():
+            return True
+        if not self.root.is_dir():
+            return False
+        return all(p.name == ".lock" for p in self.root.iterdir()) or self._is_store() or self._manifest_is_ours()
+
+    def _not_ours(self) -> str:
+        return (
+            f"out must be a directory that is empty or a sweep store crosscheck wrote; {str(self.root)!r} holds no "
+            "manifest.json of its own: choose another directory (nothing in it is deleted, with or without --fresh)"
+        )
+
+    def _manifest_is_ours(self) -> bool:
+        """Whether ``manifest.json`` is a JSON object with a store's format and spec sha256 (sealed or not)."""
+        try:
+            m = json.loads(self.manifest_path.read_bytes().decode())
+        except (OSError, UnicodeDecodeError, ValueError):
+            return False
+        return isinstance(m, dict) and "format" in m and "spec_sha256" in m
+
+    def _delete_own_files(self) -> None:
+        """Delete the store's own files (a fresh start): its manifest and, in ``chunks``, the names it writes (``_OWN``);
+        anything else there is someone else's and stays."""
+        if self.chunks.is_dir():
+            for p in self.chunks.iterdir():
+                if _OWN.match(p.name) and p.is_file():
+                    p.unlink()
+        elif self.chunks.exists() and self._manifest_is_ours():
+            self.chunks.unlink()  # the store's own name in a directory its manifest proves is the store's
+        elif self.chunks.exists():
+            raise StoreError(
+                f"out must be a directory that is empty or a sweep store crosscheck wrote; {str(self.root)!r} holds a "
+                "file 'chunks' where the store's chunks go, which crosscheck does not delete: choose another directory"
+            )
+        self.manifest_path.unlink(missing_ok=True)
+
     def _other_sweep(self, digest: str) -> str | None:
         """The first chunk record in ``chunks`` (readable, a table's record) that does not carry the spec sha256 ``digest``."""
         for p in sorted(self.chunks.glob("chunk-*.json")):
@@ -371,9 +406,11 @@ class Store:
         if not self.root.is_dir() or self._chunks_dir_problem():
             return False
         names = {p.name for p in self.root.iterdir()}
-        return "chunks" in names and all(
+        only_ours = "chunks" in names and all(
             n in ("chunks", "manifest.json", ".lock") or n.startswith(".manifest.json.tmp-") for n in names
         )
+        # and something proves it: a manifest.json or chunks of nobody else's (a web app's chunks/ and manifest.json)
+        return only_ours and (self._manifest_is_ours() or any(_OWN.match(p.name) for p in self.chunks.iterdir()))
 
     def warnings(self) -> dict[str, int]:
         """The engine's warnings over the store's finished chunks, by kind (recorded by the process that computed each)."""
@@ -389,7 +426,7 @@ class Store:
         for name in m.get("stray", ()):
             warnings.warn(f"{str(self.chunks / name)!r} is not a file of the sweep store; it is ignored", stacklevel=2)
         for name, why in list(m.get("damaged", {}).items()):
-            cid = int(name[6:12])
+            cid = _chunk_id(name)
             warnings.warn(
                 f"chunk {cid} of {str(self.root)!r} has a damaged record {name} ({why}); it will be recomputed",
                 stacklevel=2,
@@ -469,7 +506,7 @@ class Store:
         if m["damaged"] and not partial:
             name, why = next(iter(m["damaged"].items()))
             raise StoreError(
-                f"chunk {int(name[6:12])} of {str(self.root)!r} has a damaged record {name} ({why}); "
+                f"chunk {_chunk_id(name)} of {str(self.root)!r} has a damaged record {name} ({why}); "
                 "re-run the same crosscheck sweep command to recompute it"
             )
         missing = m["n_chunks"] - len(m["chunks"])

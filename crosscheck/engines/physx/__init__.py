@@ -1,0 +1,56 @@
+"""PhysX (PyPI sapien, SAPIEN 3 on CPU): the capsule rod of ``models/rod.xml`` as a PhysX 5 articulation, TGS or PGS.
+
+``options``: the run parameters (imports no SAPIEN); ``model``: the PhysX scene (the five-joint chain, the
+capsule, the plane, every setting PhysX's defaults get wrong) and one rollout; ``engine``: ``simulate`` and
+``sweep``; ``chain``: the record of a chain rollout in SI.  Two registered names, one per solver:
+``physx_tgs`` (PhysX 5's default, temporal Gauss-Seidel) and ``physx_pgs`` (projected Gauss-Seidel).
+Importing this package does not import SAPIEN.
+"""
+
+from crosscheck.engines.physx.options import LABELS as _LABELS
+from crosscheck.engines.spec import EngineSpec, ReportPlan
+
+__all__ = ["ENGINES"]
+
+
+#: Report settings by cost (python benchmarks/bench_physx.py): a step costs ~60-90 us with the record (a fresh
+#: scene per run, ~2 ms), ~3 x Bullet's, so a run to horizon 2 at the default timestep 1e-3 takes ~0.15 s, cut to
+#: about half by stopping at the first event.  Each of the two solvers gets 6 x 6 maps (quick) and 12 x 12 (full),
+#: as each of Drake's approximations, and convergence in the timestep on 4 x 4 and 6 x 6 (theta, Theta) grids.
+#: Measured: the quick report's sections of both solvers (maps, contact, onset, IC, rounding, convergence, ladder,
+#: interventions) took 95 s of section time at 6 x 6 maps and 4 x 4 convergence grids (2 cores shared by other jobs;
+#: rounding and maps the largest); the quick grids are therefore 4 x 4 maps and 3 x 3 convergence grids, which the
+#: quick report (and tests/test_report.py, which runs it) can afford for three engines more.
+_PLAN = dict(
+    maps={"quick": {"timestep": 1e-3}, "full": {"timestep": 1e-3}},
+    convergence={
+        "quick": [{"timestep": dt} for dt in (4e-3, 2e-3, 1e-3)],
+        "full": [{"timestep": dt} for dt in (4e-3, 2e-3, 1e-3, 5e-4)],
+    },
+    maps_n={"quick": 4, "full": 12},
+    convergence_n={"quick": 3, "full": 6},
+    ladder=True,
+)
+
+#: Its models in between (crosscheck.studies.ladder): the capsule's contact point, then PhysX itself.
+_LADDER = {"geometry": "capsule", "discretisation": "engine"}
+
+ENGINES = tuple(
+    EngineSpec(
+        name=f"physx_{s}",
+        module=f"crosscheck.engines.physx.{'engine' if s == 'tgs' else 'pgs'}",
+        label=_LABELS[s],
+        libraries=("sapien",),
+        defaults={"solver": s},
+        one_core={"workers": 1},
+        solver_columns=("contact_steps", "max_points"),
+        tags={"rigid", "time_stepping"},
+        # no event-tolerance profile: not measured (validate does not judge its events)
+        tolerances=None,
+        ladder=_LADDER,
+        interventions={c: f"crosscheck.engines.physx.interventions:{c}" for c in _LADDER},
+        report=ReportPlan(**_PLAN, order=60 + i),
+        stops_at_event=True,
+    )
+    for i, s in enumerate(("tgs", "pgs"))
+)

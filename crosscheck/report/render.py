@@ -260,6 +260,36 @@ def write_references(out: Path) -> None:
     (out / "data" / REFERENCES_FILE).write_text(json.dumps(refs, indent=1, default=list) + "\n")
 
 
+def _html_section(v: SectionView, found: list) -> list[str]:
+    """One section of the page: its heading with its state and verdicts, the paper's place, any error, its blocks,
+    its checks and its parameters."""
+    out = []
+    s = v.section
+    found_verdicts = verdicts(found, s.slug)
+    finding = "".join(
+        f' <span class="v-{w.replace(" ", "")}" style="font-size:.7em">{html.escape(w)}</span>' for w in found_verdicts
+    )
+    out.append(
+        _h2(
+            s.slug,
+            f'{html.escape(s.title)} <span class="badge b-{badge(v.state).replace(" ", "")}">{badge(v.state)}</span>{finding}',
+        )
+    )
+    if s.paper:
+        out.append(f"<p><i>Paper: {html.escape(paper_reference(s.paper, labels=True))}</i></p>")
+    out.append(_html_error(v))
+    out += [_html_block(b) for b in v.blocks]
+    if v.checks and not checks_shown(v):
+        out.append(_html_block(checks_table(v.checks)))
+    elif v.checks:
+        out.append(_html_block(checks_note(v.checks)))
+    if v.status and v.status.get("params"):
+        out.append(
+            f"<details><summary>parameters</summary><pre>{html.escape(json.dumps(v.status['params'], indent=1))}</pre></details>"
+        )
+    return out
+
+
 def _write_html(
     out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list, table: list
 ) -> Path:
@@ -331,30 +361,7 @@ def _write_html(
         )
     )
     for v in views:
-        s = v.section
-        found_verdicts = verdicts(found, s.slug)
-        finding = "".join(
-            f' <span class="v-{w.replace(" ", "")}" style="font-size:.7em">{html.escape(w)}</span>'
-            for w in found_verdicts
-        )
-        h.append(
-            _h2(
-                s.slug,
-                f'{html.escape(s.title)} <span class="badge b-{badge(v.state).replace(" ", "")}">{badge(v.state)}</span>{finding}',
-            )
-        )
-        if s.paper:
-            h.append(f"<p><i>Paper: {html.escape(paper_reference(s.paper, labels=True))}</i></p>")
-        h.append(_html_error(v))
-        h += [_html_block(b) for b in v.blocks]
-        if v.checks and not checks_shown(v):
-            h.append(_html_block(checks_table(v.checks)))
-        elif v.checks:
-            h.append(_html_block(checks_note(v.checks)))
-        if v.status and v.status.get("params"):
-            h.append(
-                f"<details><summary>parameters</summary><pre>{html.escape(json.dumps(v.status['params'], indent=1))}</pre></details>"
-            )
+        h += _html_section(v, found)
     h.append(_h2("parameters", "Parameters and tolerances"))
     h.append(
         "<p>Every parameter of every section (also in each section's <code>data/&lt;section&gt;/status.json</code>) and every tolerance of <code>crosscheck.tolerances</code>.</p>"

@@ -133,7 +133,6 @@ def _f(x, spec=".1f") -> str:
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.report.plotting import plt
 
     agree = ctx.store.read_json("law_check")
     order = ctx.store.read_json("order")
@@ -227,6 +226,15 @@ def render(ctx: RenderContext) -> list:
             "moves its events off the rigid theory's away from the planar section."
         )
     )
+    blocks.append(_skew_figure(ctx, st))
+    return blocks
+
+
+def _skew_figure(ctx: RenderContext, st: dict):
+    """The law's predicted skew against MuJoCo's, state by state, and |skew| against the distance from the planar
+    section."""
+    from crosscheck.report.plotting import plt
+
     fig, ax = plt.subplots(1, 2, figsize=(10, 3.8))
     keep = st["exits"] == 0  # the rod lying flat within the window: MuJoCo's other end touches, outside the law
     meas = np.where(keep, st["measured default"], np.nan)
@@ -243,16 +251,13 @@ def render(ctx: RenderContext) -> list:
     ax[1].set_xlabel("|varphi + pi/2| [rad]")
     ax[1].set_ylabel("|skew| [deg]")
     ax[1].legend(fontsize=8)
-    blocks.append(
-        ctx.figure(
-            "skew",
-            fig,
-            "Left: the friction skew predicted by MuJoCo's contact law (its continuous-time run) against MuJoCo's, "
-            "state by state. Right: |skew| against the slip's distance from the planar section.",
-            ["states.csv"],
-        )
+    return ctx.figure(
+        "skew",
+        fig,
+        "Left: the friction skew predicted by MuJoCo's contact law (its continuous-time run) against MuJoCo's, "
+        "state by state. Right: |skew| against the slip's distance from the planar section.",
+        ["states.csv"],
     )
-    return blocks
 
 
 def finding(data: Path) -> list:

@@ -13,8 +13,8 @@ from __future__ import annotations
 import errno
 import hashlib
 import os
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 __all__ = ["sha256_file", "write_atomic", "NO_SPACE", "no_space", "StoreError", "store_error", "out_error"]
 

@@ -29,9 +29,9 @@ import fcntl
 import os
 import platform
 import sys
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Callable, Iterator
 
 from crosscheck.files import NO_SPACE, StoreError, no_space
 

@@ -4,10 +4,16 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass
 
-
-from crosscheck.checks import AZIMUTH, ETA, FINITE, NONNEGATIVE, RATE, THETA, VARPHI, check
 from crosscheck.checks import (  # the validators' home is crosscheck.checks; importable from here as before
+    AZIMUTH,
+    ETA,
+    FINITE,
     MIN_TIMESTEP,
+    NONNEGATIVE,
+    RATE,
+    THETA,
+    VARPHI,
+    check,
     check_timestep,
     check_timestep_within,
     real,
@@ -47,7 +53,7 @@ class SlipState:
         for name, interval in limits.items():
             object.__setattr__(self, name, real_scalar(name, getattr(self, name), interval))
 
-    def check_start(self) -> "SlipState":
+    def check_start(self) -> SlipState:
         """This state, if it may start a run: rates and azimuth within ``crosscheck.checks``'s ranges (ValueError otherwise)."""
         for name, interval in (("Theta", RATE), ("Psi", RATE), ("eta", ETA), ("psi", AZIMUTH)):
             check(name, getattr(self, name), interval)

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from crosscheck import Outcome, Rod, SlipState
-from crosscheck.theory import analytic as an
 from crosscheck.engines import Record, Thresholds, classify, get
+from crosscheck.theory import analytic as an
 from crosscheck.theory.slipping import slip_until_event
 
 ALPHA = 3.0

@@ -7,10 +7,10 @@ import json
 import numpy as np
 import pytest
 
-from crosscheck.theory import analytic
-from crosscheck.engines.pinocchio.studies import dynamics_terms
 from crosscheck.cli import main
+from crosscheck.engines.pinocchio.studies import dynamics_terms
 from crosscheck.rod import Rod
+from crosscheck.theory import analytic
 
 QUANTITIES = [
     "tip acc, aba",

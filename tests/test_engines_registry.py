@@ -17,13 +17,13 @@ import numpy as np
 import pytest
 
 from crosscheck import Outcome, Rod, SlipState, engines
-from crosscheck.engines import EngineSpec, Record, ReportPlan, Run, Thresholds, classify, n_steps, sweep_by_simulate
 from crosscheck.checks import POSITIVE, check
+from crosscheck.engines import EngineSpec, Record, ReportPlan, Run, Thresholds, classify, n_steps, sweep_by_simulate
 from crosscheck.engines.base import options_from_kwargs
-from crosscheck.tolerances import EVENT_TOLERANCE_KEYS, Tolerance
-from crosscheck.theory.slipping import X_STATE, slip_until_event
 from crosscheck.studies.agreement import agreement_study
 from crosscheck.studies.grids import EventGrid
+from crosscheck.theory.slipping import X_STATE, slip_until_event
+from crosscheck.tolerances import EVENT_TOLERANCE_KEYS, Tolerance
 
 
 @dataclass(frozen=True)

@@ -6,9 +6,7 @@ import numpy as np
 import pytest
 
 from crosscheck import Outcome, SlipState
-
-from crosscheck.theory import analytic
-from crosscheck.theory import gb
+from crosscheck.theory import analytic, gb
 from crosscheck.theory.critical import Psi_L, critical_values, mu_C, mu_P, theta_12, theta_pm
 from crosscheck.theory.gb import GBType, Quadrant
 from crosscheck.tolerances import CLOSED_FORM, FINITE_DIFFERENCE, GB_IDENTITY

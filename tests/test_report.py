@@ -19,10 +19,10 @@ import pytest
 
 from crosscheck import engines, report
 from crosscheck.cli import main
-from crosscheck.theory.paper import PRINTED
+from crosscheck.report.provenance import all_tolerances
 from crosscheck.report.section import Figure, Section, Table
 from crosscheck.report.store import SectionStore
-from crosscheck.report.provenance import all_tolerances
+from crosscheck.theory.paper import PRINTED
 
 #: Every figure the report must contain (stem under figures/<section>/), by paper figure.
 EXPECTED_FIGURES = {

@@ -7,7 +7,8 @@ import math
 
 import numpy as np
 
-from crosscheck.checks import ALPHA, AZIMUTH, ETA, HORIZON, MU, RATE, THETA, UNIT, VARPHI, integer, number as _num
+from crosscheck.checks import ALPHA, AZIMUTH, ETA, HORIZON, MU, RATE, THETA, UNIT, VARPHI, integer
+from crosscheck.checks import number as _num
 from crosscheck.cli.options import add_alpha, add_psi, add_state, ascii_number
 
 # Numbers are parsed by crosscheck.checks.number (type=str) so that the CLI and the
@@ -96,8 +97,8 @@ def _gb(args) -> int:
 
 
 def _slip(args) -> int:
-    from crosscheck.theory.gb import slip_until_event
     from crosscheck.state import SlipState
+    from crosscheck.theory.gb import slip_until_event
 
     state = SlipState(
         theta=_num("theta", args.theta, THETA),

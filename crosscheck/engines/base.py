@@ -21,15 +21,14 @@ from dataclasses import dataclass, field, fields
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
-from crosscheck.progress import bar
 
-from crosscheck.checks import MU, POSITIVE
+from crosscheck.checks import MU, POSITIVE, check_timestep_within, real, real_scalar
 from crosscheck.engines.classifier import Classification, Thresholds, classify
 from crosscheck.engines.options import options_from_kwargs
 from crosscheck.engines.record import Record
 from crosscheck.outcome import Outcome
+from crosscheck.progress import bar
 from crosscheck.rod import Rod
-from crosscheck.checks import check_timestep_within, real, real_scalar
 from crosscheck.state import SlipState
 
 __all__ = [
@@ -105,7 +104,7 @@ class Engine(Protocol):
 
     def simulate(
         self, rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options
-    ) -> "Run": ...
+    ) -> Run: ...
 
     def sweep(
         self,
@@ -117,7 +116,7 @@ class Engine(Protocol):
         thresholds: Thresholds | None = None,
         progress: bool | None = None,
         **options,
-    ) -> "SweepResult": ...
+    ) -> SweepResult: ...
 
 
 def n_steps(horizon: float, timestep: float) -> int:
@@ -214,7 +213,7 @@ class Run:
     solver: Any = field(default=None, repr=False)
 
     @classmethod
-    def from_classification(cls, engine: str, c: Classification, record: Record, **kw) -> "Run":
+    def from_classification(cls, engine: str, c: Classification, record: Record, **kw) -> Run:
         return cls(
             engine=engine,
             outcome=Outcome(int(c.outcome)),

@@ -20,9 +20,9 @@ from __future__ import annotations
 
 import importlib
 import inspect
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Callable, Mapping
+from typing import Any
 
 __all__ = ["EngineSpec", "ReportPlan", "Intervention", "TAGS", "LADDER_CAUSES"]
 

@@ -31,10 +31,10 @@ import json
 from pathlib import Path
 
 from crosscheck.report.finding import (
-    PARAMETER_WORDS,
     CONFIRMED_SHARE,
     CONVERGED,
     NOT_CONVERGED,
+    PARAMETER_WORDS,
     Finding,
     Trend,
     convergence_trends,

@@ -12,9 +12,6 @@ import re
 from pathlib import Path
 
 from crosscheck.report.findings import RULES
-from crosscheck.report.store import PROVENANCE_FILE
-from crosscheck.report.references import NUMBERING, figures_table, paper_reference, unlabel
-from crosscheck.report.provenance import provenance_rows
 from crosscheck.report.format import (
     FINDINGS_FILE,
     RULES_TITLE,
@@ -28,7 +25,10 @@ from crosscheck.report.format import (
     summary_table,
     verdicts,
 )
+from crosscheck.report.provenance import provenance_rows
+from crosscheck.report.references import NUMBERING, figures_table, paper_reference, unlabel
 from crosscheck.report.section import Figure, Preformatted, Table, Text
+from crosscheck.report.store import PROVENANCE_FILE
 
 __all__ = ["write_md", "MD_WIDTH", "MD_ROW_WIDTH"]
 

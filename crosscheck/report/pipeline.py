@@ -28,8 +28,8 @@ import os
 import sys
 import time
 import traceback
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 from crosscheck.report import provenance
 from crosscheck.report import store as integrity  # the checks of saved results against what the run wrote
@@ -104,7 +104,6 @@ def _sweeps_of(out: Path, computed_by: dict, say: bool) -> None:
     import shutil
 
     from crosscheck.files import write_atomic
-
     from crosscheck.report.ownership import sweeps_owned
 
     root = out / "sweeps"
@@ -358,9 +357,8 @@ def run(
       {"ok", "skipped", "error"}, ``reason`` when skipped, ``error``/``traceback``
       when it failed, and ``seconds``.
     """
-    from crosscheck.workers import default_workers
-
     from crosscheck.report.ownership import claim
+    from crosscheck.workers import default_workers
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -155,7 +155,7 @@ def _cpu_model() -> str:
 
 def now() -> str:
     """Current UTC time, ISO 8601 to the second."""
-    return _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
+    return _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
 
 
 def collect(*, quick: bool, seed: int, parameters: dict, argv: list[str] | None = None) -> dict:

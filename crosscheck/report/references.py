@@ -12,7 +12,6 @@ import re
 
 from crosscheck.report.section import Table
 
-
 __all__ = ["paper_reference", "unlabel", "NUMBERING", "figures_table", "REFERENCES_FILE"]
 
 

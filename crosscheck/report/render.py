@@ -21,22 +21,11 @@ import os
 import re
 import shutil
 import traceback
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Sequence
 
 from crosscheck.report.findings import RULES
-from crosscheck.report.store import PROVENANCE_FILE, read_provenance, read_status, verified_status
-from crosscheck.report.references import (
-    NUMBERING,
-    figures_table,
-    REFERENCES_FILE,
-    paper_reference,
-    unlabel,
-)
-from crosscheck.report.provenance import provenance_rows, seconds_text as _fmt_seconds
-from crosscheck.report.section import Figure, Preformatted, RenderContext, Section, Table, Text
-from crosscheck.report.store import SectionStore
 from crosscheck.report.format import (
     FINDINGS_FILE,
     RULES_TITLE,
@@ -50,6 +39,17 @@ from crosscheck.report.format import (
     summary_table,
     verdicts,
 )
+from crosscheck.report.provenance import provenance_rows
+from crosscheck.report.provenance import seconds_text as _fmt_seconds
+from crosscheck.report.references import (
+    NUMBERING,
+    REFERENCES_FILE,
+    figures_table,
+    paper_reference,
+    unlabel,
+)
+from crosscheck.report.section import Figure, Preformatted, RenderContext, Section, Table, Text
+from crosscheck.report.store import PROVENANCE_FILE, SectionStore, read_provenance, read_status, verified_status
 
 __all__ = ["render", "RenderSummary", "SectionView"]
 

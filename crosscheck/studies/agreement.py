@@ -63,11 +63,12 @@ import numpy as np
 
 from crosscheck import engines
 from crosscheck.checks import ALPHA, POSITIVE, check
-from crosscheck.error_stats import as_json
 from crosscheck.engines.base import options_from_kwargs
 from crosscheck.engines.classifier import Thresholds
+from crosscheck.error_stats import as_json
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
+from crosscheck.studies.agreement_store import engine_runs
 from crosscheck.studies.analytic_events import (
     BOUNDARY_RADII,
     AnalyticEvents,
@@ -75,7 +76,6 @@ from crosscheck.studies.analytic_events import (
     boundary_distance,
     floor_times,
 )
-from crosscheck.studies.agreement_store import engine_runs
 from crosscheck.studies.comparison import (
     EVENTS,
     LAG_STEPS,

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from crosscheck.outcome import Outcome
 from crosscheck.files import out_error, write_atomic
+from crosscheck.outcome import Outcome
 
 __all__ = ["Comparison", "compare_frames", "compare_stores", "wilson_interval", "KEYS"]
 

@@ -56,14 +56,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from crosscheck.theory import analytic
 from crosscheck.checks import ALPHA, BOUNDED, HORIZON, MU, THETA, Interval, check
 from crosscheck.coordinates import tip_velocity, to_generalized
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.theory import slipping
-from crosscheck.theory.slipping import RADIUS, SlipResult, _start_outcome, _state_from
 from crosscheck.state import SlipState
+from crosscheck.theory import analytic, slipping
+from crosscheck.theory.slipping import RADIUS, SlipResult, _start_outcome, _state_from
 from crosscheck.tolerances import SLIP_INTEGRATION
 
 __all__ = ["RADIUS", "CapsuleSlipResult", "b", "p", "contact_slip", "tip_slip", "slip_until_event"]

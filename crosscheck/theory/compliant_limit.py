@@ -59,13 +59,13 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from crosscheck.theory import analytic
 from crosscheck.checks import ALPHA, MU, NONNEGATIVE, POSITIVE, THETA, Interval, check
 from crosscheck.coordinates import tip_velocity, to_generalized
-from crosscheck.theory.impact.darboux_keller import Impact, delassus, impact
 from crosscheck.rod import Rod
-from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
+from crosscheck.theory import analytic
+from crosscheck.theory.impact.darboux_keller import Impact, delassus, impact
+from crosscheck.theory.slipping import slip_until_event
 
 __all__ = [
     "growth_rates",

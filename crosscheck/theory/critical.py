@@ -202,7 +202,7 @@ def critical_values(mu: float, alpha: float) -> CriticalValues:
 class Mechanism(IntEnum):
     """How the GB manifold deforms as |Psi| grows, section 3.4 (Fig. mechanisms)."""
 
-    I = 1  # noqa: E741  (the paper's name) mu <= mu_P: no paradox
+    I = 1
     II = 2  # mu_P < mu <= mu_L
     III = 3  # mu > mu_L
 

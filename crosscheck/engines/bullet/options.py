@@ -4,11 +4,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-
 import numpy as np
 
-from crosscheck.checks import CAPSULE_RADIUS, NONNEGATIVE, POSITIVE, UNIT
-from crosscheck.checks import check_timestep, real_scalar
+from crosscheck.checks import CAPSULE_RADIUS, NONNEGATIVE, POSITIVE, UNIT, check_timestep, real_scalar
 from crosscheck.engines.options import EngineOptions
 
 __all__ = ["Options", "RADIUS", "MU_MAX", "FRICTION_AXES"]

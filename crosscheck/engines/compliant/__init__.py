@@ -20,13 +20,13 @@ manifold's start, ``slow_manifold``), ``run`` (``simulate``: the engine's
 ``Run``).
 """
 
+from crosscheck.engines.compliant.laws import LAWS, NormalLaw
+from crosscheck.engines.compliant.manifold import rigid_normal_force, slow_manifold
+from crosscheck.engines.compliant.model import Dynamics
+from crosscheck.engines.compliant.run import Options, simulate, sweep
+from crosscheck.engines.compliant.trajectory import EVENT_KINDS, Event, Trajectory, integrate
 from crosscheck.engines.named import Named
 from crosscheck.engines.spec import EngineSpec, ReportPlan
-from crosscheck.engines.compliant.trajectory import EVENT_KINDS, Event, Trajectory, integrate
-from crosscheck.engines.compliant.laws import LAWS, NormalLaw
-from crosscheck.engines.compliant.model import Dynamics
-from crosscheck.engines.compliant.manifold import rigid_normal_force, slow_manifold
-from crosscheck.engines.compliant.run import Options, simulate, sweep
 
 __all__ = [
     "ENGINES",

@@ -40,23 +40,21 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, fields
 
-
 import numpy as np
 
-from crosscheck.checks import HORIZON, POSITIVE, check
-from crosscheck.engines.compliant import laws as _laws
-from crosscheck.engines.compliant.trajectory import ATOL, METHODS, RADIUS, RTOL, integrate
-from crosscheck.engines.compliant.model import FREE, SLIP, STICK, q_from_y
+from crosscheck.checks import HORIZON, POSITIVE, check, check_timestep_within
 from crosscheck.coordinates import tip_position, tip_velocity
 from crosscheck.engines import get
 from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
-from crosscheck.engines.options import EngineOptions
 from crosscheck.engines.classifier import Thresholds, classify
+from crosscheck.engines.compliant import laws as _laws
+from crosscheck.engines.compliant.model import FREE, SLIP, STICK, q_from_y
+from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION
+from crosscheck.engines.compliant.trajectory import ATOL, METHODS, RADIUS, RTOL, integrate
+from crosscheck.engines.options import EngineOptions
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
-from crosscheck.checks import check_timestep_within
 from crosscheck.state import SlipState
-from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION
 
 __all__ = ["Options", "SolverStats", "simulate", "sweep", "record_of", "NAME"]
 
@@ -144,7 +142,7 @@ class SolverStats:
     end_time: float
 
     @classmethod
-    def of(cls, traj) -> "SolverStats":
+    def of(cls, traj) -> SolverStats:
         kinds = [e.kind for e in traj.events]
         return cls(
             steps=len(traj.t),

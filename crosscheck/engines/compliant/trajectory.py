@@ -56,6 +56,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from crosscheck.checks import CONTACT_RADIUS, HORIZON, MU, RATE, Interval, check
+from crosscheck.coordinates import paper_to_qv, qv_to_paper
 from crosscheck.engines.compliant import laws as _laws
 from crosscheck.engines.compliant.model import (
     FREE,
@@ -67,11 +68,10 @@ from crosscheck.engines.compliant.model import (
     restart_direction,
     y_from_qv,
 )
-from crosscheck.coordinates import paper_to_qv, qv_to_paper
+from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION, SLIP_FLOOR, SLIP_STOP
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 from crosscheck.tolerances import THETA_MARGIN
-from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION, SLIP_FLOOR, SLIP_STOP
 
 __all__ = [
     "Event",

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from crosscheck.engines.options import EngineOptions
 from crosscheck.checks import CAPSULE_RADIUS, check_timestep, real_scalar
+from crosscheck.engines.options import EngineOptions
 
 __all__ = ["Options", "RADIUS"]
 

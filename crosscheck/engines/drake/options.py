@@ -20,8 +20,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from crosscheck.checks import CAPSULE_RADIUS, Interval
-from crosscheck.checks import check_timestep, real_scalar
+from crosscheck.checks import CAPSULE_RADIUS, Interval, check_timestep, real_scalar
 from crosscheck.engines.options import EngineOptions
 
 __all__ = [
@@ -166,7 +165,10 @@ class Options(EngineOptions):
             raise ValueError(f"approximation must be one of {', '.join(APPROXIMATIONS)}; got {self.approximation!r}")
         if self.integrator not in INTEGRATORS:
             raise ValueError(f"integrator must be one of {', '.join(INTEGRATORS)}; got {self.integrator!r}")
-        set_ = lambda name, value: object.__setattr__(self, name, value)
+
+        def set_(name, value):
+            object.__setattr__(self, name, value)
+
         set_("timestep", check_timestep(self.timestep))
         set_("radius", _check_number("radius", self.radius, RADIUS))
         set_("stiffness", _check_number("stiffness", self.stiffness, STIFFNESS))

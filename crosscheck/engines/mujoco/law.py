@@ -66,8 +66,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 from crosscheck.checks import FINITE, MU, POSITIVE, check
-from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import AXIAL_INERTIA
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.rod import Rod
 
 __all__ = [
@@ -124,9 +124,7 @@ class Parameters:
     feed_forward: bool = True
 
     @classmethod
-    def of(
-        cls, rod: Rod, options: Options, *, impratio: float | None = None, feed_forward: bool = True
-    ) -> "Parameters":
+    def of(cls, rod: Rod, options: Options, *, impratio: float | None = None, feed_forward: bool = True) -> Parameters:
         """Convert scaled ``Options`` as ``crosscheck.engines.mujoco.model.build_model`` does (impratio: the options' unless given;
         ``feed_forward``: as the attribute)."""
         if not isinstance(options, Options):

@@ -49,10 +49,10 @@ from crosscheck.checks import MU, POSITIVE, Interval, check
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get
 from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
-from crosscheck.engines.options import options_from_kwargs
 from crosscheck.engines.classifier import Thresholds, classify
-from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.law import Parameters, accelerations, contact_frame, smooth_accelerations
+from crosscheck.engines.mujoco.options import Options
+from crosscheck.engines.options import options_from_kwargs
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState

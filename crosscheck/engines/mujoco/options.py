@@ -5,9 +5,7 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 
-
-from crosscheck.checks import CAPSULE_RADIUS, FINITE, NONNEGATIVE, POSITIVE
-from crosscheck.checks import check_timestep, real, real_scalar
+from crosscheck.checks import CAPSULE_RADIUS, FINITE, NONNEGATIVE, POSITIVE, check_timestep, real, real_scalar
 from crosscheck.engines.options import EngineOptions
 
 __all__ = ["Options", "RADIUS"]

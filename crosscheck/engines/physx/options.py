@@ -10,9 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from crosscheck.checks import NONNEGATIVE, POSITIVE, Interval
+from crosscheck.checks import CAPSULE_RADIUS, NONNEGATIVE, POSITIVE, Interval, check_timestep, real_scalar
 from crosscheck.engines.options import EngineOptions
-from crosscheck.checks import CAPSULE_RADIUS, check_timestep, real_scalar
 
 __all__ = ["Options", "PgsOptions", "SOLVERS", "RADIUS", "MAX_ITERATIONS"]
 

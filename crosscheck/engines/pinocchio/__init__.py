@@ -7,8 +7,8 @@ Delassus operator (equal to the analytic terms to 1e-14, ``crosscheck.engines.pi
 and the one-contact NCP in closed form (the default for sweeps of 16 states or more).
 """
 
-from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
 from crosscheck.engines.named import Named
+from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
 from crosscheck.engines.spec import EngineSpec, ReportPlan
 
 __all__ = ["ENGINES"]

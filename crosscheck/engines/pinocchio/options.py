@@ -4,11 +4,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-
 import numpy as np
 
-from crosscheck.checks import POSITIVE
-from crosscheck.checks import check_timestep, real_scalar
+from crosscheck.checks import POSITIVE, check_timestep, real_scalar
 from crosscheck.engines.options import EngineOptions
 
 __all__ = ["Options", "SOLVERS"]

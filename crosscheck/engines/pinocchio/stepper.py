@@ -36,14 +36,14 @@ from crosscheck.engines.base import (
     SweepResult,
     check_states,
     n_steps_within_memory,
-    sweep_mu_workers,
     run_inputs,
     summaries,
     sweep_by_simulate,
+    sweep_mu_workers,
 )
 from crosscheck.engines.classifier import Thresholds, classify
-from crosscheck.engines.pinocchio.step import Stepper, StepInfo
 from crosscheck.engines.pinocchio.options import SOLVERS, Options
+from crosscheck.engines.pinocchio.step import StepInfo, Stepper
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState

@@ -34,12 +34,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.theory import analytic
-
-from crosscheck.theory import critical
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 from crosscheck.report.sections.kinematic_surfaces import draw_surfaces, surface_meshes
+from crosscheck.theory import analytic, critical
 from crosscheck.tolerances import CLOSED_FORM, ROOT_RESIDUAL
 
 __all__ = ["SECTION", "CURVES", "POINTS", "CELLS", "defining_function"]

@@ -19,7 +19,6 @@ import numpy as np
 from crosscheck.report.finding import CONFIRMED_SHARE
 from crosscheck.report.section import RenderContext, RunContext, Section, SkipSection, Table, Text
 
-
 #: Seconds between two saves of the starts finished so far (the file is rewritten whole: at every one of MuJoCo's 291
 #: starts that cost 127 s of the section's 241 s, profiled).
 SAVE_EVERY = 10.0
@@ -195,8 +194,8 @@ def _figure(ctx: RenderContext, name: str, summary: dict):
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.report.format import engine_label
     from crosscheck import engines
+    from crosscheck.report.format import engine_label
 
     P = ctx.params
     name = engine_label(P["engine"])
@@ -473,8 +472,8 @@ def _floor_cell(iv: dict) -> str:
 
 def finding(data: Path) -> list:
     """The findings line: the share of the engine's attributed disagreements its own cause's intervention removes."""
-    from crosscheck.report.format import engine_label
     from crosscheck.report.finding import Finding, read_json
+    from crosscheck.report.format import engine_label
 
     summary = read_json(data / "summary.json")
     if not summary or not summary.get("attributed"):

@@ -116,11 +116,10 @@ def _stick_as_slip(maps: list) -> str:
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck.studies.agreement import agreement_study
-
-    from crosscheck.theory import critical
-    from crosscheck.report.format import engine_label
     from crosscheck.outcome import Outcome
+    from crosscheck.report.format import engine_label
+    from crosscheck.studies.agreement import agreement_study
+    from crosscheck.theory import critical
 
     P = ctx.params
     engine = P["engine"]

@@ -24,9 +24,9 @@ import math
 
 import numpy as np
 
+from crosscheck.report.section import RenderContext, RunContext, Section, Table
 from crosscheck.theory import critical
 from crosscheck.theory.paper import GB_POINTS
-from crosscheck.report.section import RenderContext, RunContext, Section, Table
 
 SLUG = "gb_eigenvectors"
 

@@ -24,12 +24,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.theory import analytic
-
-from crosscheck.theory import critical
-from crosscheck.theory.analytic import Mode
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
+from crosscheck.theory import analytic, critical
+from crosscheck.theory.analytic import Mode
 
 SLUG = "mode_maps"
 

@@ -20,9 +20,8 @@ friction):
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -87,8 +86,8 @@ def params(quick: bool) -> dict:
 
 
 def _state(spec, mu, alpha):
-    from crosscheck.state import SlipState
     from crosscheck.engines.pinocchio.studies.rigid import planar_impasse
+    from crosscheck.state import SlipState
 
     kind, x = spec
     return planar_impasse(mu, x, alpha) if kind == "planar" else SlipState(*x)

@@ -14,9 +14,8 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -45,11 +44,11 @@ def params(quick: bool) -> dict:
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck.rod import Rod
-    from crosscheck.state import SlipState
     from crosscheck.engines.mujoco.studies import friction_skew as fs
     from crosscheck.engines.mujoco.studies.law_check import convergence_order, efc_agreement
     from crosscheck.engines.mujoco.tolerances import MUJOCO_LAW_FORCE, MUJOCO_LAW_ORDER, MUJOCO_LAW_SKEW
+    from crosscheck.rod import Rod
+    from crosscheck.state import SlipState
 
     P = ctx.params
     agree = efc_agreement(P["n_contacts"], ctx.rng)

@@ -86,19 +86,18 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field, fields
 from typing import Any
 
-
 from crosscheck.checks import ALPHA, HORIZON, MU, check
-from crosscheck.error_stats import as_json
 from crosscheck.engines.base import n_steps_within_memory
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.engines.mujoco.studies.kelvin_voigt import KelvinVoigtMatch, mujoco_equivalent
+from crosscheck.error_stats import as_json
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState, check_timestep_within
 from crosscheck.studies.agreement import DEFAULT_HORIZON
-from crosscheck.studies.ladder import detour, final_stretch_cause
 from crosscheck.studies.comparison import RATED, compared_label, run_comparison_window, run_stick_from, window_margin
+from crosscheck.studies.ladder import detour, final_stretch_cause
+from crosscheck.theory.slipping import slip_until_event
 
 __all__ = [
     "RUNGS",

@@ -19,15 +19,14 @@ Two parts:
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import json
+from pathlib import Path
 
 import numpy as np
 
-from crosscheck.theory import analytic
 from crosscheck.report.section import Preformatted, RenderContext, RunContext, Section, Table, Text
 from crosscheck.rod import Rod
+from crosscheck.theory import analytic
 
 SLUG = "pinocchio"
 

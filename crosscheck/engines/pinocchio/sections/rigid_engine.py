@@ -41,12 +41,12 @@ def params(quick: bool) -> dict:
 
 def run(ctx: RunContext) -> None:
     from crosscheck import engines
-    from crosscheck.theory.impact import continuation as hybrid
+    from crosscheck.engines.pinocchio.studies import rigid
+    from crosscheck.rod import Rod
+    from crosscheck.studies.onset import liftoff_onset
     from crosscheck.theory.corollary import corollary_states
     from crosscheck.theory.critical import Psi_L
-    from crosscheck.rod import Rod
-    from crosscheck.engines.pinocchio.studies import rigid
-    from crosscheck.studies.onset import liftoff_onset
+    from crosscheck.theory.impact import continuation as hybrid
 
     P = ctx.params
     rod = Rod.scaled(P["alpha"])

@@ -26,17 +26,17 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from crosscheck.theory import analytic
 from crosscheck.coordinates import to_generalized
-from crosscheck.theory.corollary import corollary_states
-from crosscheck.theory.critical import theta_12
 from crosscheck.engines import get
 from crosscheck.engines.pinocchio.stepper import Options, Stepper
-from crosscheck.theory.impact.darboux_keller import delassus, impact
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
+from crosscheck.theory import analytic
+from crosscheck.theory.corollary import corollary_states
+from crosscheck.theory.critical import theta_12
+from crosscheck.theory.impact.darboux_keller import delassus, impact
+from crosscheck.theory.slipping import slip_until_event
 
 __all__ = [
     "checks",
@@ -310,8 +310,8 @@ def corollary_aftermath(rod: Rod, mu: float, n: int, rng: np.random.Generator, *
 
 def checks(rod, n_states, rng):
     """One step's impulse against -b/p, the slipping convergence order and the post-jam rates against the impact without collision."""
-    from crosscheck.error_stats import error_stat
     from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
+    from crosscheck.error_stats import error_stat
 
     stats = []
     steps = [(s, m, one_step(rod, s, m)) for s, m in slipping_states(min(n_states, 40), rng, rod.alpha)]

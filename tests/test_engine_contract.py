@@ -1,7 +1,9 @@
 """The contract every registered engine keeps (dm_control's ALL_TASKS habit): one test per engine and promise.
 
 Parametrised over ``crosscheck.engines.names()``, so an engine added to the
-registry is held to it without touching this file: its record's shapes, units
+registry (built in, or an installed plugin found through the ``crosscheck.engines``
+entry points: tests/test_engine_plugin.py runs this file with the example installed)
+is held to it without touching this file: its record's shapes, units
 and finiteness, ``simulate`` equal to the matching row of ``sweep``, two runs
 identical, the exact one-line message for a bad option, a well-formed
 tolerance profile and tags, and its libraries in the report's provenance.
@@ -146,8 +148,8 @@ def test_first_event_stops_early_with_the_whole_runs_outcome_and_event_time(name
 
 
 def test_stops_at_event_must_be_a_bool():
-    from crosscheck.engines.spec import EngineSpec
+    from crosscheck.engines.spec import Execution
 
     for bad in (1, "yes", None):
-        with pytest.raises(ValueError, match=r"^engine 'toy' stops_at_event must be True or False; got "):
-            EngineSpec(name="toy", module="crosscheck.engines.bullet.engine", stops_at_event=bad)
+        with pytest.raises(ValueError, match=r"^stops_at_event must be True or False; got "):
+            Execution(stops_at_event=bad)

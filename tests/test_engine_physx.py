@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from stopped_runs import stopped_and_whole
 
-from crosscheck import Rod, SlipState, analytic, engines
+from crosscheck import Outcome, Rod, SlipState, analytic, engines
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines.physx import ENGINES
 from crosscheck.engines.physx.engine import PhysxHealth
@@ -155,3 +155,19 @@ def test_bad_options_raise_one_line_naming_option_value_and_range(options, messa
 def test_a_rollout_stopped_once_its_first_event_is_judged_has_the_whole_runs_first_event():
     for whole, cut, _rows in stopped_and_whole(SPECS["physx_pgs"], ROD):
         assert cut.solver.contact_steps <= whole.solver.contact_steps
+
+
+def test_pgs_pyramid_jams_below_mu_P_where_tgs_slips():
+    """theta = 1, varphi = -1.9, Psi = 1.25 at mu = 1.25 < mu_P = 4/3 (alpha = 3): Coulomb's rod cannot jam (p > 0 for
+    every state, eq. mup2D).  PGS's first step saturates both friction rows, |F_t| = sqrt(2) mu F_n = 1.77 F_n, past
+    mu_P, and it jams at once (the maps' check allows it from mu_P / sqrt(2) on: ``Options.friction_excess``); TGS,
+    whose friction is on the cone, keeps slipping."""
+    state = SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=1.25, eta=1.0)
+    mu = 1.25
+    pgs = SPECS["physx_pgs"].simulate(ROD, state, mu, horizon=0.3)
+    F = pgs.record.force[0]
+    assert abs(np.linalg.norm(F[:2]) / (mu * F[2]) - math.sqrt(2)) <= 1e-3
+    assert pgs.outcome == Outcome.JAM and pgs.event_time == 0.0
+    assert SPECS["physx_pgs"].options().friction_excess == math.sqrt(2)
+    tgs = SPECS["physx_tgs"].simulate(ROD, state, mu, horizon=0.3)
+    assert tgs.outcome == Outcome.SLIP and SPECS["physx_tgs"].options().friction_excess == 1.0

@@ -302,10 +302,8 @@ def test_agreement_cuts_the_rigid_engines_store_in_its_own_chunks_and_a_rerun_re
 
 
 def test_sweep_chunk_out_of_range_is_one_line_naming_it():
-    from crosscheck.engines.spec import EngineSpec
+    from crosscheck.engines.spec import Execution
 
     for bad in (0, 2.5, True, "128"):
-        with pytest.raises(
-            ValueError, match=r"^engine 'toy' sweep_chunk must be an integer in \[1, 1000000\] or None; got "
-        ):
-            EngineSpec(name="toy", module=ENGINE.module, sweep_chunk=bad)
+        with pytest.raises(ValueError, match=r"^sweep_chunk must be an integer in \[1, 1000000\] or None; got "):
+            Execution(sweep_chunk=bad)

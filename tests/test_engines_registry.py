@@ -18,7 +18,17 @@ import pytest
 
 from crosscheck import Outcome, Rod, SlipState, engines
 from crosscheck.checks import POSITIVE, check
-from crosscheck.engines import EngineSpec, Record, ReportPlan, Run, Thresholds, classify, n_steps, sweep_by_simulate
+from crosscheck.engines import (
+    EngineSpec,
+    Record,
+    ReportPlan,
+    Run,
+    Thresholds,
+    Validation,
+    classify,
+    n_steps,
+    sweep_by_simulate,
+)
 from crosscheck.engines.base import options_from_kwargs
 from crosscheck.studies.agreement import agreement_study
 from crosscheck.studies.grids import EventGrid
@@ -104,16 +114,19 @@ def sweep(rod, states, mu, *, horizon, thresholds=None, progress=True, **options
 
 #: The toy engine's whole declaration: what it is, its tolerance profile (it is the theory: no event may differ
 #: beyond its first-row rounding) and a map section at a coarse timestep.
+#: The module is what runs it (``Options``, ``simulate``, ``sweep``), named by a lazy reference as a plugin's would be.
+Options = ToyOptions
+
 TOY = EngineSpec(
     name="toy",
-    Options=ToyOptions,
-    simulate=simulate,
-    sweep=sweep,
+    engine=__name__,
     label="analytic flow (toy)",
     tags={"rigid", "continuous"},
-    tolerances={
-        k: Tolerance(atol=1e-12, rtol=0.0, why="the toy engine is the theory itself") for k in EVENT_TOLERANCE_KEYS
-    },
+    validation=Validation(
+        tolerances={
+            k: Tolerance(atol=1e-12, rtol=0.0, why="the toy engine is the theory itself") for k in EVENT_TOLERANCE_KEYS
+        }
+    ),
     report=ReportPlan(maps={"quick": {"timestep": 1e-2}, "full": {"timestep": 1e-3}}),
 )
 
@@ -137,17 +150,16 @@ def test_registry_lists_and_refuses():
     with pytest.raises(ValueError, match="engine must be a crosscheck.engines.EngineSpec; got int"):
         engines.register(3)
     with pytest.raises(ValueError, match="engine 'x' tags must be among .*; got 'soft'"):
-        EngineSpec(name="x", Options=ToyOptions, simulate=simulate, sweep=sweep, tags={"soft"})
-    with pytest.raises(ValueError, match="engine 'x' tolerance profile lacks 'event_time'"):
-        EngineSpec(
-            name="x",
-            Options=ToyOptions,
-            simulate=simulate,
-            sweep=sweep,
-            tolerances={"liftoff_onset": None, "event_disagreement": None},
-        )
-    with pytest.raises(ValueError, match="engine 'x' needs a module or all of Options, simulate and sweep"):
-        EngineSpec(name="x", Options=ToyOptions)
+        EngineSpec(name="x", engine=__name__, tags={"soft"})
+    with pytest.raises(ValueError, match="^tolerance profile lacks 'event_time'"):
+        Validation(tolerances={"liftoff_onset": None, "event_disagreement": None})
+    with pytest.raises(
+        ValueError,
+        match=r"^engine 'x' engine must be a reference 'package.module' or 'package.module:attr'; got 'a b'$",
+    ):
+        EngineSpec(name="x", engine="a b")
+    with pytest.raises(ValueError, match="^engine 'x' ladder must be a Ladder or None; got dict$"):
+        EngineSpec(name="x", engine=__name__, ladder={"geometry": "capsule"})
     with pytest.raises(ValueError, match="no registered engine named 'mujoco'"):
         engines.unregister("mujoco")
 

@@ -9,7 +9,7 @@ import pytest
 
 from crosscheck import Rod, engines
 from crosscheck.engines.classifier import Thresholds
-from crosscheck.engines.spec import LADDER_CAUSES, EngineSpec, Intervention
+from crosscheck.engines.spec import LADDER_CAUSES, EngineSpec, Intervention, Ladder
 from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
 from crosscheck.studies.comparison import LAG_TAU
@@ -88,14 +88,9 @@ def test_a_spring_contact_gets_its_strongest_stiffening_again_at_the_closest_app
 def test_an_intervention_outside_the_ladder_is_refused():
     with pytest.raises(
         ValueError,
-        match=r"^engine 'toy' intervention causes must be among its ladder's \(geometry\); got 'compliance'$",
+        match=r"^intervention causes must be among the ladder's \(geometry\); got 'compliance'$",
     ):
-        EngineSpec(
-            name="toy",
-            module="crosscheck.engines.bullet.engine",
-            ladder={"geometry": "capsule"},
-            interventions={"compliance": "x:y"},
-        )
+        Ladder(rungs={"geometry": "capsule"}, interventions={"compliance": "x:y"})
 
 
 #: A start where Drake SAP launches the tip off the plane while the theory slips (the quick report's SAP ladder: rung 5,
@@ -176,10 +171,9 @@ def test_a_refused_intervention_is_reported_not_raised():
     spec = engines.get("drake_sap")
     toy = EngineSpec(
         name="toy_bad_intervention",
-        module=spec.module,
+        engine=spec.engine,
         defaults=spec.defaults,
-        ladder={"geometry": "capsule"},
-        interventions={"geometry": f"{__name__}:_bad"},
+        ladder=Ladder(rungs={"geometry": "capsule"}, interventions={"geometry": f"{__name__}:_bad"}),
     )
     engines.register(toy)
     try:

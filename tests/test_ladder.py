@@ -215,9 +215,13 @@ def test_explain_prints_each_rung_and_the_cause(ic2, capsys):
     assert rungs[0].endswith(f"LIFTOFF at t = {ic2.rung('tip').time:.6g}") and rungs[1].endswith(
         f"JAM at t = {ic2.rung('capsule').time:.6g}"
     )
-    assert out[-1] == "cause: feed-forward (MuJoCo JAM, theory LIFTOFF)"
+    assert "cause: feed-forward (MuJoCo JAM, theory LIFTOFF)" in out
+    # the cause checked on MuJoCo itself: neither the r/16 capsule nor solimp d = 0.01 alone, the two together
+    assert out[-1].startswith("confirmation: feed-forward: confirmed as a pair with geometry")
+    assert any(line.startswith("pair with    geometry") and line.endswith("LIFTOFF (removes it)") for line in out)
     assert main(argv + ["--json"]) == 0
     got = json.loads(capsys.readouterr().out)
+    assert got["confirmation"]["verdict"] == "confirmed as a pair" and got["confirmation"]["pair_with"] == ["geometry"]
     assert (
         got["cause"] == "feed-forward"
         and got["detour"] == [3, 5]

@@ -20,7 +20,10 @@ Layers, lowest first (a module may import its own layer and the ones below):
 An edge is the module an import names: ``from crosscheck.engines import base`` is an edge to
 ``crosscheck.engines.base`` (a submodule), ``from crosscheck.engines import get`` an edge to the package
 ``crosscheck.engines``.  The parent packages Python runs on the way are not edges of their own: they are the
-importer's choice of path, and every ``__init__`` is itself scanned.
+importer's choice of path, and every ``__init__`` is itself scanned.  A reference by name (``"module:attr"``, as an
+``EngineSpec`` names its engine module, its checks, its report sections, its ladder's rungs and its interventions) is
+not an import: the layer that resolves it imports it, so an engine declares its own studies and sections without
+reaching up to them.
 
 Run ``python tests/test_layers.py`` for the counts and the list of cycles and upward imports.
 """

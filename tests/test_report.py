@@ -63,6 +63,8 @@ for _spec in engines.specs():
         ]
         EXPECTED_FIGURES[f"{_spec.slug}_contact"] = ["contact_quality"]
         EXPECTED_FIGURES[f"{_spec.slug}_ic"] = ["ic"]
+        EXPECTED_FIGURES[f"{_spec.slug}_impact"] = []
+        EXPECTED_FIGURES[f"{_spec.slug}_psi"] = []
         if _plan.onset:
             EXPECTED_FIGURES[f"{_spec.slug}_liftoff"] = []
     if _plan is not None and _plan.convergence is not None:
@@ -73,6 +75,9 @@ for _spec in engines.specs():
         EXPECTED_FIGURES[f"{_spec.slug}_ladder"] = []
     if _plan is not None and _spec.interventions and (_plan.ladder_section or _plan.ladder and _plan.maps is not None):
         EXPECTED_FIGURES[f"{_spec.slug}_interventions"] = ["interventions"]
+
+EXPECTED_FIGURES["impact_engines"] = ["theta_plus"]
+EXPECTED_FIGURES["psi_engines"] = ["outcome_shares"]
 
 #: Sections the quick report skips (shown as skipped, with the reason): full report only.
 FULL_ONLY = {"mujoco_validate"}

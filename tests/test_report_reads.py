@@ -444,6 +444,6 @@ def test_the_readme_counts_the_bad_inputs_the_audit_runs(tmp_path):
 
 def test_the_readmes_first_lines_are_the_two_commands():
     assert (ROOT / "README.md").read_text().splitlines()[:2] == [
-        "python3 -m pip install . && crosscheck report",
+        'python3 -m pip install ".[all]" && crosscheck report',
         'python3 -m pip install ".[test]" && python3 -m pytest -q',
     ]

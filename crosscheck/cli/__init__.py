@@ -27,6 +27,7 @@ COMMAND_MODULES = [
     "crosscheck.cli.gb",
     "crosscheck.cli.sweep",
     "crosscheck.cli.explain",
+    "crosscheck.cli.engines",
 ]
 
 

@@ -56,6 +56,34 @@ def _plot(args, ladder, name: str, state, mu: float, alpha: float) -> None:
     print(f"wrote {path} and {path.with_suffix('.json')}", file=sys.stderr if args.json else sys.stdout)
 
 
+def _confirmation(args, engine: str, state, mu: float, alpha: float, horizon: float, cause: str, reference, options):
+    """The ladder's cause checked on the engine for this start (``crosscheck.studies.confirm``); None with --no-confirm."""
+    if getattr(args, "no_confirm", False):
+        return None
+    from crosscheck import engines
+    from crosscheck.error_stats import as_json
+    from crosscheck.studies.confirm import confirm
+
+    fields = engines.get(engine).Options.__dataclass_fields__
+    ref = getattr(reference, "name", reference)
+    kept = {k: v for k, v in options.items() if k in fields}
+    return as_json(confirm(engine, state, mu, cause=cause, reference=ref, alpha=alpha, horizon=horizon, **kept))
+
+
+def _print_confirmation(c) -> None:
+    """Each intervention's outcome, each pair's, and the verdict line."""
+    if c is None:
+        return
+    for cause, rows in c["singles"].items():
+        for r in rows:
+            got = r.get("label") or r["status"].upper()
+            print(f"intervention {cause:<15} {r['text']}: {got}{' (removes it)' if r['removes'] else ''}")
+    for r in c["pairs"]:
+        got = r.get("label") or r["status"].upper()
+        print(f"pair with    {r['with']:<15} {r['text']}: {got}{' (removes it)' if r['removes'] else ''}")
+    print(f"confirmation: {c['text']}")
+
+
 def _explain(args) -> int:
     import warnings
 
@@ -87,8 +115,9 @@ def _explain(args) -> int:
         warnings.simplefilter("ignore", RuntimeWarning)  # a rung that cannot run is printed below, loudly
         ladder = run_ladder(state, mu, alpha=alpha, horizon=horizon, **options)
     _plot(args, ladder, "MuJoCo", state, mu, alpha)
+    conf = _confirmation(args, "mujoco", state, mu, alpha, horizon, ladder.cause, ladder.reference, options)
     if args.json:
-        print(json.dumps(ladder.as_dict(), indent=2, allow_nan=False))
+        print(json.dumps({**ladder.as_dict(), "confirmation": conf}, indent=2, allow_nan=False))
         return 0
     m = ladder.match
     print(
@@ -118,6 +147,7 @@ def _explain(args) -> int:
         print(f"cause: none (the theory's outcome {ladder.rungs[0].label.name} is not rated)")
     else:
         print(f"cause: {ladder.cause} (MuJoCo {ladder.reference.name}, theory {ladder.rungs[0].label.name})")
+    _print_confirmation(conf)
     return 0
 
 
@@ -137,8 +167,9 @@ def _explain_declared(args) -> int:
     ld = run_ladder(args.engine, state, mu, alpha=alpha, horizon=horizon, **options)
     name = engine_label(args.engine)
     _plot(args, ld, name, state, mu, alpha)
+    conf = _confirmation(args, args.engine, state, mu, alpha, horizon, ld.cause, ld.reference, options)
     if args.json:
-        print(json.dumps(ld.as_dict(), indent=2, allow_nan=False))
+        print(json.dumps({**ld.as_dict(), "confirmation": conf}, indent=2, allow_nan=False))
         return 0
     print(
         f"start: theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; mu {mu:g}, alpha {alpha:g}"
@@ -154,6 +185,7 @@ def _explain_declared(args) -> int:
             print(f"{r.rung} {r.name:<{width}} {what:<15} {r.status.upper()}: {r.detail}")
     ref = ld.reference.name if ld.reference is not None else "-"
     print(f"cause: {ld.cause} ({name} {ref}, theory {ld.rungs[0].label.name})")
+    _print_confirmation(conf)
     return 0
 
 
@@ -189,7 +221,13 @@ def register(sub) -> None:
         default="2",
         help="scaled comparison horizon, in (0, 10000] (default 2, the agreement study's)",
     )
-    s.add_argument("--json", action="store_true", help="print the ladder as JSON")
+    s.add_argument("--json", action="store_true", help="print the ladder (and the confirmation) as JSON")
+    s.add_argument(
+        "--no-confirm",
+        action="store_true",
+        help="do not check the cause on the engine (by default its interventions run for this start, then pairs where "
+        "they fail: confirmed, confirmed as a pair with ..., removed by another cause's intervention instead, not removed)",
+    )
     s.add_argument(
         "--plot",
         metavar="FILE",

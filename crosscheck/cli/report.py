@@ -1,4 +1,4 @@
-"""``crosscheck report [--out DIR] [--quick] [--from-results] [--seed S] [--only SECTION ...] [--fresh] [--scheduler ADDRESS]``.
+"""``crosscheck report [--out DIR] [--quick] [--engines A,B] [--from-results] [--seed S] [--only SECTION ...] [--fresh] [--scheduler ADDRESS]``.
 
 Runs every section of the report and saves its results under ``DIR/data``,
 then renders ``DIR/index.html`` and ``DIR/report.md`` from the saved results.
@@ -8,6 +8,8 @@ their finished chunks (``DIR/sweeps``, kept only for the same code and library
 versions); ``--fresh`` recomputes everything,
 ``--only`` recomputes the sections named.  ``--scheduler`` sends the engine
 sweeps to a Dask cluster ("local" starts one for the run).
+``--engines a,b`` runs the theory's sections and those engines' only; an engine
+whose library is not installed has its sections skipped, one line each.
 ``--from-results`` skips the run stage (rebuilds the report without
 re-simulating).  Exits 1 when any section failed or any check failed (known
 misprints of the paper excepted), after writing everything that succeeded.
@@ -26,8 +28,10 @@ from crosscheck.cli.options import ascii_number, directory
 def _run(args) -> int:
     from crosscheck import report
     from crosscheck.report.ownership import claim
+    from crosscheck.report.sections import all_sections, skipped_engines
 
-    sections = list(report.SECTIONS)
+    names = _engine_names(args.engines)
+    sections = list(all_sections(names))
     selected = sections
     if args.only:
         selected = [report.section_by_slug(s, sections) for s in args.only]  # ValueError names an unknown section
@@ -47,6 +51,8 @@ def _run(args) -> int:
     # reached before any section starts: an address with nothing listening would fail each engine section in turn
     scheduler = check_scheduler(args.scheduler) if args.from_results else check_reachable(args.scheduler)
     out = directory("out", out)  # before anything runs: a long run never fails at its first write
+    for line in skipped_engines(names):
+        print(line)
     with report.lock(out):
         claim(out, beside=args.beside_files)  # nothing of a directory crosscheck did not write is replaced
         try:
@@ -57,6 +63,27 @@ def _run(args) -> int:
             if e.errno not in NO_SPACE:
                 raise
             raise ValueError(no_space(Path(e.filename).parent if e.filename else out, None, e)) from None
+
+
+def _engine_names(text: str | None) -> tuple[str, ...] | None:
+    """The engines of ``--engines a,b`` (None: every engine); one line naming an unknown, broken or missing one."""
+    if text is None:
+        return None
+    from crosscheck import engines
+
+    names = tuple(n.strip() for n in text.split(",") if n.strip())
+    if not names:
+        raise ValueError(f"engines must be a comma-separated list of {', '.join(engines.names())}; got {text!r}")
+    for n in names:
+        try:
+            spec = engines.get(n)
+        except engines.EngineUnavailable:
+            raise
+        except ValueError:
+            raise ValueError(f"engines must be among {', '.join(engines.names())}; got {n!r}") from None
+        if spec.unavailable():
+            raise engines.EngineUnavailable(spec.unavailable())
+    return names
 
 
 def _saved(out: Path) -> bool:
@@ -135,6 +162,12 @@ def register(sub) -> None:
         action="append",
         metavar="SECTION",
         help=f"run only this section (repeatable); the others keep their saved results. SECTION is one of: {', '.join(_section_slugs())}",
+    )
+    r.add_argument(
+        "--engines",
+        default=None,
+        metavar="A,B",
+        help="the theory's sections and these engines' only (comma-separated names, `crosscheck engines` lists them)",
     )
     r.add_argument(
         "--no-progress",

@@ -1,30 +1,47 @@
-"""What an engine declares about itself: one ``EngineSpec`` record, the only place the harness learns an engine.
+"""What an engine declares about itself: one ``EngineSpec``, a short required part and optional parts.
 
-Each engine subpackage (``crosscheck/engines/<name>/``) exposes ``ENGINES``, a
-tuple of ``EngineSpec``: its registered names (one subpackage may register
-several, as Drake's contact approximations do), a label for tables, the
-libraries whose versions go into provenance and into a result store's key,
-its options and thread/process knob, the columns of its solver statistics,
-its event-tolerance profile, the tags studies and report sections select on,
-the models in between it and the theory (for the ladder) and the report
-sections it owns.  ``crosscheck.engines`` (the registry) collects them;
-studies, sweeps, tolerances, findings and provenance read the registry and
-never name an engine.
+An engine subpackage (``crosscheck/engines/<name>/``) or an installed plugin (entry-point group
+``crosscheck.engines``, ``docs/adding-an-engine.md``) exposes ``ENGINES``, a tuple of ``EngineSpec``.  What every
+engine writes is short::
 
-Everything an engine takes and returns is in the paper's scaled units
-(section 2.1): time in 1/omega, lengths in l, velocities in l omega,
-accelerations in g, forces in m g; so are its ``Options``.
+    EngineSpec(name="numpy_rod", engine="numpy_rod.engine:ENGINE", label="numpy penalty rod",
+               libraries=("numpy",), tags={"compliant", "time_stepping"})
+
+and what it may add is grouped in optional parts: ``Ladder`` (the models between it and the theory, and the
+interventions that test each cause), ``ReportPlan`` (its report sections), ``Validation`` (its event-tolerance
+profile and own checks) and ``Execution`` (how sweeps run it).  The registry (``crosscheck.engines``) collects
+them; studies, sweeps, tolerances, findings and provenance read the registry and never name an engine.
+
+Lazy references.  Everything imported only when used is a string in entry-point syntax: ``"package.module"`` (the
+module) or ``"package.module:attribute"`` (an attribute of it, dots for nested ones), so declaring and listing
+engines imports no engine library.  Where a reference is expected, the object itself is accepted too (it is then
+simply not lazy).  ``resolve`` turns either into the object.
+
+Everything an engine's ``simulate`` and ``sweep`` take and return is in the paper's scaled units (section 2.1): time
+in 1/omega, lengths in l, velocities in l omega, accelerations in g, forces in m g; so are its ``Options``.  An
+engine written in SI units goes through ``crosscheck.engines.adapter`` instead.
 """
 
 from __future__ import annotations
 
 import importlib
 import inspect
-from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["EngineSpec", "ReportPlan", "Intervention", "TAGS", "LADDER_CAUSES"]
+__all__ = [
+    "EngineSpec",
+    "Ladder",
+    "ReportPlan",
+    "Validation",
+    "Execution",
+    "Intervention",
+    "EngineUnavailable",
+    "TAGS",
+    "LADDER_CAUSES",
+    "resolve",
+]
 
 #: Tags an engine may carry, and what each promises:
 #:   rigid: the contact is the theory's rigid Coulomb contact (no penetration, no compliance);
@@ -42,10 +59,48 @@ TAGS = frozenset({"rigid", "compliant", "relaxed", "time_stepping", "continuous"
 #: same law and timestep: the mechanism behind SAP's "gliding", its launch of a slipping tip).
 LADDER_CAUSES = ("geometry", "compliance", "friction law", "feed-forward", "discretisation", "relaxation")
 
+#: Rungs that are not references: the theory on the engine's capsule, and the engine itself.
+_NAMED_RUNGS = ("capsule", "engine")
+
+
+class EngineUnavailable(ValueError):
+    """An engine that cannot run here (its library is not installed, or its plugin failed to load): one line."""
+
+
+def resolve(ref):
+    """The object a lazy reference names: ``"pkg.mod"`` -> the module, ``"pkg.mod:attr.sub"`` -> that attribute;
+    anything that is not a string is returned as it is."""
+    if not isinstance(ref, str):
+        return ref
+    module, _, attr = ref.partition(":")
+    obj = importlib.import_module(module)
+    for part in filter(None, attr.split(".")):
+        obj = getattr(obj, part)
+    return obj
+
+
+def _check_ref(owner: str, what: str, ref, *, optional: bool = True) -> None:
+    if ref is None and optional:
+        return
+    if isinstance(ref, str):
+        module, colon, attr = ref.partition(":")
+        ok = all(p.isidentifier() for p in module.split(".")) and (
+            not colon or all(p.isidentifier() for p in attr.split("."))
+        )
+        if not ok:
+            raise ValueError(
+                f"{owner} {what} must be a reference 'package.module' or 'package.module:attr'; got {ref!r}"
+            )
+
+
+def _frozen_map(m) -> dict | None:
+    """A copy of a declared mapping (a dict: the spec pickles into worker processes; a mappingproxy does not)."""
+    return None if m is None else dict(m)
+
 
 @dataclass(frozen=True)
 class Intervention:
-    """One change of the engine itself in the way a cause names (``EngineSpec.interventions``).
+    """One change of the engine itself in the way a cause names (``Ladder.interventions``).
 
     Attributes:
       text: what it does, for tables ("capsule radius 0.01 -> 0.000625").
@@ -59,39 +114,143 @@ class Intervention:
     family: str = ""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True, eq=False)
+class Ladder(Mapping):
+    """The models in between an engine and the theory (``crosscheck.studies.ladder``), and what tests each cause.
+
+    A mapping cause -> rung, causes among ``LADDER_CAUSES`` in their order:
+      rungs: cause -> "capsule" (the theory on the engine's capsule: the contact point C = A - r K), "engine" (the
+        engine itself) or a reference to ``rung(rod, state, mu, *, horizon, thresholds, options) -> Run``, a model
+        that differs from the rung before it by that cause alone.
+      interventions: cause -> reference to ``function(options) -> tuple[Intervention, ...]`` (optionally with a
+        keyword ``p_min``): changes of the engine itself, weakest first, that remove a disagreement of that cause if
+        the cause is right (``crosscheck.studies.interventions``); causes among the rungs'.
+    """
+
+    rungs: Mapping[str, Any]
+    interventions: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        bad = [c for c in self.rungs if c not in LADDER_CAUSES]
+        if bad:
+            raise ValueError(f"ladder causes must be among {', '.join(LADDER_CAUSES)}; got {bad[0]!r}")
+        bad = [c for c in self.interventions if c not in self.rungs]
+        if bad:
+            raise ValueError(
+                f"intervention causes must be among the ladder's ({', '.join(self.rungs)}); got {bad[0]!r}"
+            )
+        for c, rung in self.rungs.items():
+            if rung not in _NAMED_RUNGS:
+                _check_ref("ladder", f"rung {c!r}", rung, optional=False)
+        for c, ref in self.interventions.items():
+            _check_ref("ladder", f"intervention {c!r}", ref, optional=False)
+        object.__setattr__(self, "rungs", _frozen_map({c: self.rungs[c] for c in LADDER_CAUSES if c in self.rungs}))
+        object.__setattr__(self, "interventions", _frozen_map(self.interventions))
+
+    def __getitem__(self, cause: str):
+        return self.rungs[cause]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.rungs)
+
+    def __len__(self) -> int:
+        return len(self.rungs)
+
+
+@dataclass(frozen=True, kw_only=True)
 class ReportPlan:
     """The report sections generated for an engine, with its settings in each report.
 
     Attributes:
+      slug: the prefix of its sections (``<slug>_maps``); the engine's name if empty.
       maps: {"quick": options, "full": options} of its outcome-map section (None: no map section).
       convergence: {"quick": [options, ...], "full": [...]} of its convergence section (None: none).
       convergence_n: {"quick": n, "full": n}, the (theta, Theta) grid size of that section (None: the section's default).
       maps_n: {"quick": n, "full": n}, the size of each n x n outcome map (None: the section's default, 10 and 32);
         smaller for an engine whose runs cost more (the report says so in the section's parameters).
       beside: slug of another map section drawn beside this engine's (None: drawn alone).
-      sections: a callable returning the engine's own sections (``crosscheck.report.section.Section``),
-        placed after its generic ones; called when the report is built, so the engine's report code is
-        imported only then.
+      sections: reference to a function returning the engine's own sections (``crosscheck.report.section.Section``),
+        placed after its generic ones (None: none).
       ladder: whether the generic ladder section (``<slug>_ladder``: the disagreements of its maps through
-        ``crosscheck.studies.ladder``) is generated (False for an engine without a ladder or with its own, as MuJoCo's).
+        ``crosscheck.studies.ladder``) is generated.
       onset: whether the generic lift-off onset section (``<slug>_liftoff``) is generated (False for an engine
         that declares its own, as MuJoCo's over its timestep).
       order: where the engine's sections stand among the engines' (lower first).
       ladder_section: slug of the section whose saved ladders the engine's interventions section reads
-        (None: ``<slug>_ladder`` when ``ladder``; MuJoCo's own ladder section is "ladder").
+        (None: ``<slug>_ladder`` when ``ladder``).
     """
 
+    slug: str = ""
     maps: Mapping[str, Mapping] | None = None
     convergence: Mapping[str, Any] | None = None
     convergence_n: Mapping[str, int] | None = None
     maps_n: Mapping[str, int] | None = None
     beside: str | None = None
-    sections: Callable[[], tuple] | None = None
+    sections: Any = None
     onset: bool = True
     ladder: bool = False
     order: int = 100
     ladder_section: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.slug and not self.slug.isidentifier():
+            raise ValueError(f"report slug must be an identifier; got {self.slug!r}")
+        _check_ref("report", "sections", self.sections)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Validation:
+    """What ``crosscheck validate`` judges of an engine beyond the contract test.
+
+    Attributes:
+      tolerances: its event-tolerance profile, keys ``EVENT_TOLERANCE_KEYS`` of ``crosscheck.tolerances`` (each a
+        ``Tolerance``); None: ``validate`` does not judge its events.
+      checks: reference to ``f(rod, n_states, rng) -> list[ErrorStat]``, checks only this engine has, run first.
+      dynamics: reference to a module with ``DEFAULT_STATES`` and ``validate(n, rng, *, progress)`` checking its
+        dynamics terms against the analytic ones.
+    """
+
+    tolerances: Mapping[str, Any] | None = None
+    checks: Any = None
+    dynamics: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.tolerances is not None:
+            from crosscheck.tolerances import EVENT_TOLERANCE_KEYS
+
+            missing = [k for k in EVENT_TOLERANCE_KEYS if k not in self.tolerances]
+            if missing:
+                raise ValueError(f"tolerance profile lacks {missing[0]!r} (needs {', '.join(EVENT_TOLERANCE_KEYS)})")
+            object.__setattr__(self, "tolerances", _frozen_map(self.tolerances))
+        _check_ref("validation", "checks", self.checks)
+        _check_ref("validation", "dynamics", self.dynamics)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Execution:
+    """How sweeps and studies run an engine.
+
+    Attributes:
+      one_core: keyword arguments of ``sweep`` that keep it on one core (a sweep's parallel unit is then the chunk).
+      solver_columns: fields of its ``Run.solver`` statistics kept per run in sweep tables (``solver_<field>``).
+      sweep_chunk: runs per chunk when a study sends its sweeps through a sweep store (None: the study's default).
+      stops_at_event: its ``simulate`` takes ``until_event=True`` and then stops a run once its first event is
+        judged (``crosscheck.engines.classifier.first_event_final``); ``EngineSpec.first_event`` uses it.
+    """
+
+    one_core: Mapping[str, Any] = field(default_factory=dict)
+    solver_columns: tuple[str, ...] = ()
+    sweep_chunk: int | None = None
+    stops_at_event: bool = False
+
+    def __post_init__(self) -> None:
+        c = self.sweep_chunk
+        if c is not None and not (isinstance(c, int) and not isinstance(c, bool) and 1 <= c <= 1_000_000):
+            raise ValueError(f"sweep_chunk must be an integer in [1, 1000000] or None; got {c!r}")
+        if not isinstance(self.stops_at_event, bool):
+            raise ValueError(f"stops_at_event must be True or False; got {self.stops_at_event!r}")
+        object.__setattr__(self, "one_core", _frozen_map(self.one_core))
+        object.__setattr__(self, "solver_columns", tuple(self.solver_columns))
 
 
 def _check_rod_and_thresholds(rod, thresholds) -> None:
@@ -105,146 +264,154 @@ def _check_rod_and_thresholds(rod, thresholds) -> None:
         raise ValueError(f"thresholds must be a crosscheck.engines.Thresholds or None; got {thresholds!r}")
 
 
+@dataclass(frozen=True, kw_only=True, eq=False)
 class EngineSpec:
-    """One registered engine: how to run it and everything the harness needs to know about it.
+    """One engine: how to run it, what it is, and the optional parts a study or the report reads.
 
-    Construct with keyword arguments (all but ``name`` optional):
+    Required part:
       name: the registry name (``crosscheck.engines.get(name)``), an identifier.
-      module: the module that defines ``Options``, ``simulate`` and ``sweep``
-        (imported on first use, so that listing the engines does not import
-        their libraries); or give them directly:
-      Options: a frozen dataclass of the engine's parameters in scaled units, with
-        the properties ``timestep``, ``contact_time`` and ``friction_time`` (see
-        ``crosscheck.engines.base.Engine``).
-      simulate, sweep: functions with the signatures of ``Engine``
-        (module-level, so that the record pickles into worker processes).
+      engine: reference to what runs it: a module or object with ``Options`` (a frozen dataclass of scaled options
+        with the properties ``timestep``, ``contact_time``, ``friction_time``), ``simulate`` and ``sweep`` (the
+        signatures of ``crosscheck.engines.base.Engine``); an SI engine wrapped by ``crosscheck.engines.adapter``.
       label: how tables and messages name it ("MuJoCo", "Drake SAP"); the name if empty.
-      slug: the prefix of its report sections (``<slug>_maps``); the name if empty.
-      libraries: PyPI distributions whose versions go into provenance and into a result
-        store's record of what computed it (a store is not resumed under other versions:
-        ``crosscheck.sweeps.store``).
-      defaults: options that differ from ``Options()``'s in every run the harness makes
-        of it (e.g. the approximation of one of Drake's registered names).
-      one_core: keyword arguments of ``sweep`` that keep it on one core (a sweep's
-        parallel unit is then the chunk): its thread or process knob.
-      solver_columns: fields of its ``Run.solver`` statistics kept per run in sweep
-        tables (as ``solver_<field>``), integers.
-      tolerances: its event-tolerance profile, keys ``EVENT_TOLERANCE_KEYS`` of
-        ``crosscheck.tolerances`` (each a ``Tolerance``); None: ``validate`` does not
-        judge its events.
+      libraries: PyPI distributions it imports; their versions go into provenance and a result store's key, and
+        ``crosscheck engines`` says "not installed" for a missing one.
       tags: a subset of ``TAGS``.
-      ladder: the models in between it and the theory, cause -> rung (see
-        ``crosscheck.engines.mujoco.studies.ladder``); None: no ladder.
-      interventions: cause -> "module:function", ``function(options) -> tuple[Intervention, ...]``: changes of
-        the engine itself, weakest first, that remove a disagreement of that cause if the cause is right
-        (``crosscheck.studies.interventions``); causes among those of ``ladder``.  None: none.
-      checks: ``f(rod, n_states, rng) -> list[ErrorStat]``, checks only this engine has,
-        run first by ``validate``; None: none.
-      dynamics: module with ``DEFAULT_STATES`` and ``validate(n, rng, *, progress)``
-        checking its dynamics terms against the analytic ones; None: none.
-      report: the report sections generated for it (``ReportPlan``); None: none.
-      sweep_chunk: runs per chunk when a study sends its sweeps through a sweep store
-        (``crosscheck.studies.agreement_store``); None: the study's default.  Larger for an engine whose
-        ``sweep`` steps a chunk as one batch and gets cheaper per step the larger the batch (a killed
-        run loses at most one chunk of finished work).
-      stops_at_event: its ``simulate`` takes ``until_event=True`` and then stops a run once its first event is
-        judged (``crosscheck.engines.classifier.first_event_final``), with the whole run's outcome and event
-        time; ``first_event`` uses it.
+    May add:
+      install: the pip argument that brings its libraries ("crosscheck[drake]"; "" : its libraries themselves).
+      defaults: options that differ from ``Options()``'s in every run the harness makes (Drake's approximation).
+      ladder, report, validation: ``Ladder``, ``ReportPlan``, ``Validation`` (None: none).
+      execution: ``Execution`` (how sweeps run it).
+      origin: where it comes from: "built in", or the plugin's "distribution version" (set by the registry).
+
+    Flat read-only views of the parts keep the readers short: ``slug``, ``interventions``, ``tolerances``,
+    ``checks``, ``dynamics``, ``one_core``, ``solver_columns``, ``sweep_chunk``, ``stops_at_event``, ``module``.
     """
 
-    def __init__(
-        self,
-        *,
-        name: str,
-        module: str | None = None,
-        Options: type | None = None,
-        simulate: Callable | None = None,
-        sweep: Callable | None = None,
-        label: str = "",
-        slug: str = "",
-        libraries: Sequence[str] = (),
-        defaults: Mapping[str, Any] | None = None,
-        one_core: Mapping[str, Any] | None = None,
-        solver_columns: Sequence[str] = (),
-        tolerances: Mapping[str, Any] | None = None,
-        tags: Iterable[str] = (),
-        ladder: Mapping[str, Any] | None = None,
-        checks: Callable | None = None,
-        dynamics: str | None = None,
-        report: ReportPlan | None = None,
-        interventions: Mapping[str, str] | None = None,
-        sweep_chunk: int | None = None,
-        stops_at_event: bool = False,
-    ) -> None:
+    name: str
+    engine: Any
+    label: str = ""
+    libraries: tuple[str, ...] = ()
+    tags: frozenset = frozenset()
+    install: str = ""
+    defaults: Mapping[str, Any] = field(default_factory=dict)
+    ladder: Ladder | None = None
+    report: ReportPlan | None = None
+    validation: Validation | None = None
+    execution: Execution = field(default_factory=Execution)
+    origin: str = "built in"
+
+    def __post_init__(self) -> None:
+        name = self.name
         if not (isinstance(name, str) and name.isidentifier()):
             raise ValueError(f"engine name must be an identifier; got {name!r}")
-        given = {k: v for k, v in (("Options", Options), ("simulate", simulate), ("sweep", sweep)) if v is not None}
-        if module is None and len(given) < 3:
-            raise ValueError(f"engine {name!r} needs a module or all of Options, simulate and sweep")
-        tags = frozenset(tags)
+        if self.engine is None:
+            raise ValueError(f"engine {name!r} needs engine= (a reference 'package.module[:attr]' to what runs it)")
+        _check_ref(f"engine {name!r}", "engine", self.engine, optional=False)
+        tags = frozenset(self.tags)
         unknown = sorted(tags - TAGS)
         if unknown:
             raise ValueError(f"engine {name!r} tags must be among {', '.join(sorted(TAGS))}; got {unknown[0]!r}")
-        if ladder is not None and set(ladder) - set(LADDER_CAUSES):
-            bad = sorted(set(ladder) - set(LADDER_CAUSES))[0]
-            raise ValueError(f"engine {name!r} ladder causes must be among {', '.join(LADDER_CAUSES)}; got {bad!r}")
-        if interventions is not None and set(interventions) - set(ladder or ()):
-            bad = sorted(set(interventions) - set(ladder or ()))[0]
-            raise ValueError(
-                f"engine {name!r} intervention causes must be among its ladder's ({', '.join(ladder or ())}); got {bad!r}"
-            )
-        if tolerances is not None:
-            from crosscheck.tolerances import EVENT_TOLERANCE_KEYS
-
-            missing = [k for k in EVENT_TOLERANCE_KEYS if k not in tolerances]
-            if missing:
+        for part, kind in (("ladder", Ladder), ("report", ReportPlan), ("validation", Validation)):
+            value = getattr(self, part)
+            if value is not None and not isinstance(value, kind):
                 raise ValueError(
-                    f"engine {name!r} tolerance profile lacks {missing[0]!r} (needs {', '.join(EVENT_TOLERANCE_KEYS)})"
+                    f"engine {name!r} {part} must be a {kind.__name__} or None; got {type(value).__name__}"
                 )
-        if sweep_chunk is not None and not (
-            isinstance(sweep_chunk, int) and not isinstance(sweep_chunk, bool) and 1 <= sweep_chunk <= 1_000_000
-        ):
-            raise ValueError(
-                f"engine {name!r} sweep_chunk must be an integer in [1, 1000000] or None; got {sweep_chunk!r}"
-            )
-        if not isinstance(stops_at_event, bool):
-            raise ValueError(f"engine {name!r} stops_at_event must be True or False; got {stops_at_event!r}")
-        d = self.__dict__
-        d.update(
-            name=name,
-            module=module,
-            label=label or name,
-            slug=slug or name,
-            libraries=tuple(libraries),
-            defaults=dict(defaults or {}),
-            one_core=dict(one_core or {}),
-            solver_columns=tuple(solver_columns),
-            tolerances=None if tolerances is None else dict(tolerances),
-            tags=tags,
-            ladder=None if ladder is None else dict(ladder),
-            checks=checks,
-            dynamics=dynamics,
-            report=report,
-            interventions=None if interventions is None else dict(interventions),
-            sweep_chunk=sweep_chunk,
-            stops_at_event=stops_at_event,
-            _given=given,
-        )
-
-    def __setattr__(self, key, value):
-        raise AttributeError(f"EngineSpec is read-only; cannot set {key!r}")
+        if not isinstance(self.execution, Execution):
+            raise ValueError(f"engine {name!r} execution must be an Execution; got {type(self.execution).__name__}")
+        object.__setattr__(self, "tags", tags)
+        object.__setattr__(self, "label", self.label or name)
+        object.__setattr__(self, "libraries", tuple(self.libraries))
+        object.__setattr__(self, "defaults", _frozen_map(self.defaults))
 
     def __repr__(self) -> str:
         return f"EngineSpec(name={self.name!r}, label={self.label!r}, tags={sorted(self.tags)})"
 
-    def _part(self, what: str):
-        if what in self._given:
-            return self._given[what]
-        return getattr(importlib.import_module(self.module), what)
+    # --- flat views of the optional parts -------------------------------------------------------------------------
+    @property
+    def slug(self) -> str:
+        return (self.report.slug if self.report else "") or self.name
+
+    @property
+    def interventions(self) -> Mapping[str, Any] | None:
+        return (self.ladder.interventions or None) if self.ladder else None
+
+    @property
+    def tolerances(self) -> Mapping[str, Any] | None:
+        return self.validation.tolerances if self.validation else None
+
+    @property
+    def checks(self):
+        return resolve(self.validation.checks) if self.validation and self.validation.checks else None
+
+    @property
+    def dynamics(self) -> str | None:
+        return self.validation.dynamics if self.validation else None
+
+    @property
+    def one_core(self) -> Mapping[str, Any]:
+        return self.execution.one_core
+
+    @property
+    def solver_columns(self) -> tuple[str, ...]:
+        return self.execution.solver_columns
+
+    @property
+    def sweep_chunk(self) -> int | None:
+        return self.execution.sweep_chunk
+
+    @property
+    def stops_at_event(self) -> bool:
+        return self.execution.stops_at_event
+
+    @property
+    def module(self) -> str | None:
+        """The module of ``engine`` (what a report section's code digest covers)."""
+        if isinstance(self.engine, str):
+            return self.engine.partition(":")[0]
+        return getattr(self.engine, "__module__", None) or getattr(self.engine, "__name__", None)
+
+    # --- running --------------------------------------------------------------------------------------------------
+    def pip_line(self) -> str:
+        """The command that installs this engine's libraries."""
+        what = self.install or " ".join(self.libraries)
+        return f'python3 -m pip install "{what}"' if "[" in what else f"python3 -m pip install {what}"
+
+    def missing(self) -> tuple[str, ...]:
+        """Its libraries that are not installed (by their distribution metadata: nothing is imported)."""
+        from importlib.metadata import PackageNotFoundError, version
+
+        out = []
+        for lib in self.libraries:
+            try:
+                version(lib)
+            except PackageNotFoundError:
+                out.append(lib)
+        return tuple(out)
+
+    def unavailable(self) -> str:
+        """One line saying why this engine cannot run here ("" when it can)."""
+        missing = self.missing()
+        if missing:
+            return f"engine {self.name!r} needs {', '.join(missing)}, which is not installed: {self.pip_line()}"
+        return ""
+
+    def _runner(self):
+        why = self.unavailable()
+        if why:
+            raise EngineUnavailable(why)
+        try:
+            return resolve(self.engine)
+        except ImportError as e:
+            first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+            raise EngineUnavailable(
+                f"engine {self.name!r} failed to import ({type(e).__name__}: {first}): {self.pip_line()}"
+            ) from e
 
     @property
     def Options(self) -> type:
-        return self._part("Options")
+        return self._runner().Options
 
     def options(self, **options):
         """``Options`` of a run with ``options`` over the engine's ``defaults`` (ValueError naming an unknown or bad one)."""
@@ -255,7 +422,7 @@ class EngineSpec:
     def simulate(self, rod, state, mu, *, horizon, thresholds=None, **options):
         """The engine's ``simulate`` with its ``defaults`` (see ``crosscheck.engines.base.Engine``)."""
         _check_rod_and_thresholds(rod, thresholds)
-        return self._part("simulate")(
+        return self._runner().simulate(
             rod, state, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options}
         )
 
@@ -271,7 +438,7 @@ class EngineSpec:
     def sweep(self, rod, states, mu, *, horizon, thresholds=None, **options):
         """The engine's ``sweep`` with its ``defaults`` (see ``crosscheck.engines.base.Engine``)."""
         _check_rod_and_thresholds(rod, thresholds)
-        return self._part("sweep")(
+        return self._runner().sweep(
             rod, states, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options}
         )
 
@@ -282,11 +449,10 @@ class EngineSpec:
         (a keyword ``p_min``): a compliant contact follows the rod's normal motion more slowly where p is small
         (``crosscheck.engines.drake.interventions.compliance``).  None: the start is not known.
         """
-        rung = (self.interventions or {}).get(cause)
-        if rung is None:
+        ref = (self.interventions or {}).get(cause)
+        if ref is None:
             return ()
-        module, _, attr = rung.partition(":")
-        fn = getattr(importlib.import_module(module), attr)
+        fn = resolve(ref)
         if p_min is not None and "p_min" in inspect.signature(fn).parameters:
             return tuple(fn(options, p_min=p_min))
         return tuple(fn(options))

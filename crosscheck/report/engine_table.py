@@ -49,6 +49,7 @@ HEADER = [
     "causes (ladder)",
     "causes confirmed (intervention)",
     "outcome moves within 2 ulp",
+    "|Theta+ - theory| after its jams",
     "us/step",
     "runs/s",
 ]
@@ -166,6 +167,15 @@ def _confirmed(data: Path, slug: str) -> str:
     return f"{100 * s['confirmed_share']:.0f} % ({s['confirmed']}/{s['attributed']}{joint})"
 
 
+def _impact(data: Path, slug: str) -> str:
+    """Median |Theta+ - Theta+_theory| over the theory's jam starts the engine also jams (``<slug>_impact``)."""
+    s = _read(data / f"{slug}_impact" / "summary.json")
+    if not s or not s.get("n"):
+        return _NONE
+    m = s.get("median_abs_Theta_plus_error_jammed")
+    return f"{m:.2g} ({s['n_jammed']}/{s['n']} jam)" if m is not None else f"- (0/{s['n']} jam)"
+
+
 def _rounding(data: Path, slug: str) -> str:
     s = _read(data / f"{slug}_rounding" / "summary.json")
     return _NONE if not s else f"{s['changed']} of {s['n']}"
@@ -208,13 +218,26 @@ def engine_table(data: Path) -> tuple[list[str], list[list[str]], list[dict]]:
                 causes,
                 _confirmed(data, spec.slug),
                 _rounding(data, spec.slug),
+                _impact(data, spec.slug),
                 *_cost(runs),
             ]
         )
         study = _read(data / f"{spec.slug}_convergence" / "study.json")
         for r in (study or {}).get("runs", []):
             rows.append(
-                [label, _setting(r["options"], defaults), *_confusion_cells([r]), "", "", "", "", "", "", *_cost([r])]
+                [
+                    label,
+                    _setting(r["options"], defaults),
+                    *_confusion_cells([r]),
+                    "",
+                    "",
+                    "",
+                    "",
+                    "",
+                    "",
+                    "",
+                    *_cost([r]),
+                ]
             )
     return HEADER, rows, [dict(zip(HEADER, r)) for r in rows]
 
@@ -235,6 +258,8 @@ CAPTION = (
     "confirmed: the share of those removed by their own cause's intervention on the engine itself (and how many more only "
     "jointly with another cause's: overdetermined); rounding: the starts of its maps "
     "whose outcome changes when theta moves by up to 2 ulp; "
+    "|Theta+ - theory|: the median over the theory's jam starts of its maps and IC1 that the engine also jams of its Theta "
+    "once its contact settles against the impact without collision's Theta+ (`crosscheck.studies.jam_impact`); "
     "cost: engine microseconds per step (per record row for a continuous engine) and runs per second on this machine (one core). "
     "Grids were chosen by each engine's cost; '-' where a section did not run."
 )

@@ -50,7 +50,7 @@ from crosscheck.studies.comparison import (
 )
 from crosscheck.theory.slipping import slip_until_event
 
-__all__ = ["intervene", "summarise", "causes_with_interventions"]
+__all__ = ["intervene", "attempt_intervention", "summarise", "causes_with_interventions"]
 
 
 def causes_with_interventions(engine: str) -> list[str]:
@@ -109,36 +109,7 @@ def intervene(
     given = {k: getattr(base, k) for k in base.__dataclass_fields__}
 
     def attempt(text: str, changed: dict) -> dict:
-        opts_kw = {**given, **changed}
-        t0 = time.perf_counter()
-        try:
-            opts = spec.options(**opts_kw)
-            until, lag, run_until = run_comparison_window(first, horizon, mu, alpha, opts)
-            # a STICK the classifier cannot tell from the theory's slip, at the intervened run's own STICK floor
-            since = run_stick_from(first, until, th, opts)
-            o, t = spec.first_event(
-                rod, state, mu, horizon=run_until + window_margin(th, opts.timestep), thresholds=th, **opts_kw
-            )
-            theory, label = compared_label(o1, t1, until + lag), compared_label(o, t, until + lag, since)
-            return {
-                "text": text,
-                "options": dict(changed),
-                "status": "ok",
-                "outcome": o.name,
-                "time": t,
-                "label": label.name,
-                "removes": label == theory and theory in RATED,
-                "wall_time": time.perf_counter() - t0,
-            }
-        except Exception as e:  # noqa: BLE001 - an intervention the engine refuses is reported, the others go on
-            return {
-                "text": text,
-                "options": dict(changed),
-                "status": "failed",
-                "detail": f"{type(e).__name__}: {e}",
-                "removes": False,
-                "wall_time": time.perf_counter() - t0,
-            }
+        return attempt_intervention(spec, rod, state, mu, first, horizon, th, given, text, changed)
 
     for cause in causes if causes is not None else causes_with_interventions(engine):
         out["causes"][cause] = [
@@ -170,6 +141,55 @@ def intervene(
                 {"with": c, **attempt(f"{own[-1]['text']}; {rows[-1]['text']}", {**strongest, **rows[-1]["options"]})}
             )
     return out
+
+
+def attempt_intervention(
+    spec,
+    rod: Rod,
+    state: SlipState,
+    mu: float,
+    first,
+    horizon: float,
+    th: Thresholds,
+    given: dict,
+    text: str,
+    changed: dict,
+) -> dict:
+    """One intervention on ``spec`` from ``state``: the run's options ``given`` with ``changed`` over them, judged against
+    the theory's slip ``first`` (``slip_until_event``'s result) as ``intervene`` judges every row: {text, options,
+    status, outcome, time, label, removes, wall_time}; an intervention the engine refuses is ``status: failed``."""
+    alpha = rod.alpha
+    o1, t1 = Outcome(int(first.outcome)), float(first.time)
+    opts_kw = {**given, **changed}
+    t0 = time.perf_counter()
+    try:
+        opts = spec.options(**opts_kw)
+        until, lag, run_until = run_comparison_window(first, horizon, mu, alpha, opts)
+        # a STICK the classifier cannot tell from the theory's slip, at the intervened run's own STICK floor
+        since = run_stick_from(first, until, th, opts)
+        o, t = spec.first_event(
+            rod, state, mu, horizon=run_until + window_margin(th, opts.timestep), thresholds=th, **opts_kw
+        )
+        theory, label = compared_label(o1, t1, until + lag), compared_label(o, t, until + lag, since)
+        return {
+            "text": text,
+            "options": dict(changed),
+            "status": "ok",
+            "outcome": o.name,
+            "time": t,
+            "label": label.name,
+            "removes": label == theory and theory in RATED,
+            "wall_time": time.perf_counter() - t0,
+        }
+    except Exception as e:  # noqa: BLE001 - an intervention the engine refuses is reported, the others go on
+        return {
+            "text": text,
+            "options": dict(changed),
+            "status": "failed",
+            "detail": f"{type(e).__name__}: {e}",
+            "removes": False,
+            "wall_time": time.perf_counter() - t0,
+        }
 
 
 def theory_against_floor(first, mu: float, alpha: float, th: Thresholds, opts) -> dict:

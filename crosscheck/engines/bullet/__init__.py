@@ -6,8 +6,7 @@ that Bullet's defaults get wrong) and one rollout; ``engine``: ``simulate``
 and ``sweep``.  Importing this package does not import pybullet.
 """
 
-from crosscheck.engines.named import Named
-from crosscheck.engines.spec import EngineSpec, ReportPlan
+from crosscheck.engines.spec import EngineSpec, Execution, Ladder, ReportPlan
 
 __all__ = ["ENGINES"]
 
@@ -15,11 +14,15 @@ __all__ = ["ENGINES"]
 ENGINES = (
     EngineSpec(
         name="bullet",
-        module="crosscheck.engines.bullet.engine",
+        engine="crosscheck.engines.bullet.engine",
         label="Bullet",
         libraries=("pybullet",),
-        one_core={"workers": 1},
-        solver_columns=("contact_steps", "unconverged_steps", "max_iterations", "max_points"),
+        install="crosscheck[bullet]",
+        execution=Execution(
+            one_core={"workers": 1},
+            solver_columns=("contact_steps", "unconverged_steps", "max_iterations", "max_points"),
+            stops_at_event=True,
+        ),
         # An impulse-based rigid step: PGS on the velocity-level contact problem of each step (a unilateral
         # normal row that lets a gap close within the step, friction clipped to the cone), ERP only removing
         # penetration; no force build-up time and no creep (crosscheck.engines.bullet.engine's docstring).
@@ -27,19 +30,20 @@ ENGINES = (
         # No event-tolerance profile: validate does not judge its events.  Not for want of runs but of a settled
         # engine: at mu >= 1 Bullet's PGS misses its tolerance in 15-27 % of the contact steps (cycling between two
         # impulses in part of them), which a profile would freeze as "measured" (engine.py's docstring).
-        tolerances=None,
         # its models in between (crosscheck.studies.ladder): the capsule's contact point, then Bullet's friction law in
         # continuous time (the capsule whose friction opposes diag(D)^-1 u in world axes rather than the slip u: Bullet's
         # fixed friction rows, crosscheck.engines.bullet.law), then Bullet itself (its PGS step)
-        ladder={
-            "geometry": "capsule",
-            "friction law": "crosscheck.engines.bullet.law:friction_law",
-            "discretisation": "engine",
-        },
-        interventions={
-            c: f"crosscheck.engines.bullet.interventions:{c.replace(' ', '_')}"
-            for c in ("geometry", "friction law", "discretisation")
-        },
+        ladder=Ladder(
+            rungs={
+                "geometry": "capsule",
+                "friction law": "crosscheck.engines.bullet.law:friction_law",
+                "discretisation": "engine",
+            },
+            interventions={
+                c: f"crosscheck.engines.bullet.interventions:{c.replace(' ', '_')}"
+                for c in ("geometry", "friction law", "discretisation")
+            },
+        ),
         # ~28 us per step with the record (benchmarks/bench_bullet.py).  The quick report's three 10 x 10 maps took 7.2 s
         # at the default timestep 1e-3 (the agreement study stops each run after its analytic event), so both reports
         # use it.  Drawn beside the rigid engine's maps: the same rigid Coulomb contact in another time-stepper.
@@ -56,8 +60,7 @@ ENGINES = (
             maps_n={"quick": 10, "full": 24},
             ladder=True,
             order=50,
-            sections=Named("crosscheck.engines.bullet.sections:sections"),
+            sections="crosscheck.engines.bullet.sections:sections",
         ),
-        stops_at_event=True,
     ),
 )

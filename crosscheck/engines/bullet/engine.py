@@ -46,13 +46,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from crosscheck.checks import Interval
-from crosscheck.coordinates import tip_position, tip_velocity, to_generalized
+from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get
+from crosscheck.engines.adapter import record_from_chain
 from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, run_inputs, sweep_by_simulate
 from crosscheck.engines.bullet.model import Raw, world
 from crosscheck.engines.bullet.options import MU_MAX, Options
 from crosscheck.engines.classifier import Thresholds, classify, first_event_final
-from crosscheck.engines.record import Record, row_times
+from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
@@ -95,37 +96,17 @@ class BulletHealth:
 
 
 def record_from_raw(raw: Raw, rod: Rod, options: Options) -> Record:
-    """The scaled, world-frame ``Record`` of a rollout (row k: state k and step k -> k+1)."""
-    n = len(raw.force)
-    L, w, g = rod.length, rod.omega, rod.gravity
-    dt = options.timestep / w
-    q, v = raw.q, raw.v
-    pos = tip_position(rod, q)  # (n + 1, 3) [m]
-    vel = tip_velocity(rod, q, v)  # [m/s]
-    acc = (vel[1:] - vel[:-1]) / (dt * g)  # [g], gravity included: (v_A,k+1 - v_A,k) / dt
-    psi, theta = np.ascontiguousarray(q[:n, 3]), np.ascontiguousarray(q[:n, 4])
-    Psi, Theta = v[:n, 3] / w, v[:n, 4] / w
-    tip_pos, tip_vel = pos[:n] / L, vel[:n] / (L * w)
-    force = raw.force / rod.force_scale
-    # the material point of the capsule at C = A - r K: v_A + Omega x (-r K), Omega = theta' i + psi' K
-    r = options.radius
-    slip = np.zeros((n, 3))
-    slip[:, 0] = tip_vel[:, 0] - r * Theta * np.sin(psi)
-    slip[:, 1] = tip_vel[:, 1] + r * Theta * np.cos(psi)
-    return Record(
-        t=row_times(n, options.timestep, raw.computed),
-        tip_pos=tip_pos,
-        tip_vel=tip_vel,
-        tip_acc=acc,
-        force=force,
-        normal_force=force[:, 2].copy(),
-        active=raw.points > 0,
-        gap=tip_pos[:, 2] - r,
-        slip_vel=slip,
-        psi=psi,
-        theta=theta,
-        Psi=Psi,
-        Theta=Theta,
+    """The scaled, world-frame ``Record`` of a rollout (row k: state k and step k -> k+1; the shared conversion
+    ``crosscheck.engines.adapter.record_from_chain``, tip acceleration (v_A,k+1 - v_A,k) / dt)."""
+    return record_from_chain(
+        rod,
+        raw.q,
+        raw.v,
+        raw.force,
+        raw.points > 0,
+        timestep=options.timestep,
+        radius=options.radius,
+        computed=raw.computed,
     )
 
 

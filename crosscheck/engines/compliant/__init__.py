@@ -25,8 +25,7 @@ from crosscheck.engines.compliant.manifold import rigid_normal_force, slow_manif
 from crosscheck.engines.compliant.model import Dynamics
 from crosscheck.engines.compliant.run import Options, simulate, sweep
 from crosscheck.engines.compliant.trajectory import EVENT_KINDS, Event, Trajectory, integrate
-from crosscheck.engines.named import Named
-from crosscheck.engines.spec import EngineSpec, ReportPlan
+from crosscheck.engines.spec import EngineSpec, Execution, ReportPlan
 
 __all__ = [
     "ENGINES",
@@ -48,9 +47,9 @@ __all__ = [
 ENGINES = (
     EngineSpec(
         name="compliant",
-        module="crosscheck.engines.compliant.run",
-        one_core={"workers": 1},
+        engine="crosscheck.engines.compliant.run",
         tags={"compliant", "continuous"},
-        report=ReportPlan(sections=Named("crosscheck.engines.compliant.sections:sections"), order=30),
+        execution=Execution(one_core={"workers": 1}),
+        report=ReportPlan(sections="crosscheck.engines.compliant.sections:sections", order=30),
     ),
 )

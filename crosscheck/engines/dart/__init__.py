@@ -7,7 +7,7 @@ capsule, the plane, the collision detector that has a capsule) and one rollout; 
 import dartpy.
 """
 
-from crosscheck.engines.spec import EngineSpec, ReportPlan
+from crosscheck.engines.spec import EngineSpec, Execution, Ladder, ReportPlan
 
 __all__ = ["ENGINES"]
 
@@ -17,16 +17,16 @@ _LADDER = {"geometry": "capsule", "discretisation": "engine"}
 ENGINES = (
     EngineSpec(
         name="dart",
-        module="crosscheck.engines.dart.engine",
+        engine="crosscheck.engines.dart.engine",
         label="DART",
         libraries=("dartpy",),
-        one_core={"workers": 1},
-        solver_columns=("contact_steps", "max_points"),
+        install="crosscheck[dart]",
         tags={"rigid", "time_stepping"},
-        # no event-tolerance profile: not measured (validate does not judge its events)
-        tolerances=None,
-        ladder=_LADDER,
-        interventions={c: f"crosscheck.engines.dart.interventions:{c}" for c in _LADDER},
+        # no event-tolerance profile (validation): not measured (validate does not judge its events)
+        execution=Execution(
+            one_core={"workers": 1}, solver_columns=("contact_steps", "max_points"), stops_at_event=True
+        ),
+        ladder=Ladder(rungs=_LADDER, interventions={c: f"crosscheck.engines.dart.interventions:{c}" for c in _LADDER}),
         # Cost (python benchmarks/bench_dart.py, 2 cores shared): DART's bare step ~80 us, ~160 us with the record
         # and classifier, a run to horizon 2 at the default timestep ~0.3 s, twice PhysX's; so the grids are the
         # smallest the sections take: 4 x 4 maps (quick), 12 x 12 (full), convergence in the timestep on 3 x 3 and
@@ -42,6 +42,5 @@ ENGINES = (
             ladder=True,
             order=70,
         ),
-        stops_at_event=True,
     ),
 )

@@ -18,7 +18,7 @@ package does not import pydrake either.
 """
 
 from crosscheck.engines.drake.options import LABELS
-from crosscheck.engines.spec import EngineSpec, ReportPlan
+from crosscheck.engines.spec import EngineSpec, Execution, Ladder, ReportPlan
 
 __all__ = ["ENGINES"]
 
@@ -109,27 +109,33 @@ _LADDER_CONTINUOUS = {
     "friction law": "engine",
 }
 
+
+def _ladder(a: str) -> Ladder:
+    rungs = _LADDER_CONTINUOUS if a == "continuous" else _LADDER_RELAXED if "relaxed" in _TAGS[a] else _LADDER
+    return Ladder(
+        rungs=rungs,
+        interventions={c: f"crosscheck.engines.drake.interventions:{c.replace(' ', '_')}" for c in rungs},
+    )
+
+
 ENGINES = tuple(
     EngineSpec(
         name=f"drake_{a}",
-        module="crosscheck.engines.drake.engine",
+        engine="crosscheck.engines.drake.engine",
         label=LABELS[a],
-        slug=f"drake_{a}",
         libraries=("drake",),
+        install="crosscheck[drake]",
         defaults={"approximation": a},
-        one_core={"workers": 1},
-        solver_columns=("contact_rows", "steps", "derivative_evaluations", "error_shrinkages", "failed"),
         tags=_TAGS[a],
-        # no event-tolerance profile: not measured yet (validate does not judge these engines' events)
-        tolerances=None,
-        ladder=_LADDER_CONTINUOUS if a == "continuous" else _LADDER_RELAXED if "relaxed" in _TAGS[a] else _LADDER,
-        interventions={
-            c: f"crosscheck.engines.drake.interventions:{c.replace(' ', '_')}"
-            for c in (
-                _LADDER_CONTINUOUS if a == "continuous" else _LADDER_RELAXED if "relaxed" in _TAGS[a] else _LADDER
-            )
-        },
+        # no event-tolerance profile (validation): not measured yet (validate does not judge these engines' events)
+        execution=Execution(
+            one_core={"workers": 1},
+            solver_columns=("contact_rows", "steps", "derivative_evaluations", "error_shrinkages", "failed"),
+            stops_at_event=True,
+        ),
+        ladder=_ladder(a),
         report=ReportPlan(
+            slug=f"drake_{a}",
             maps=_MAPS[a],
             convergence=_CONVERGENCE[a],
             maps_n=_MAPS_N,
@@ -137,7 +143,6 @@ ENGINES = tuple(
             ladder=True,
             order=40 + i,
         ),
-        stops_at_event=True,
     )
     for i, a in enumerate(("sap", "continuous", "similar", "lagged", "tamsi"))
 )

@@ -27,7 +27,7 @@ what ran before it in the same process):
   plant's generalised acceleration at that state (its output port).
 
 tip_acc = J v' + J' v of the tip A from those generalised accelerations
-(``model.tip_kinematics``), gravity included (a free rod has tip_acc_z = b).
+(``crosscheck.engines.adapter.tip_acceleration``), gravity included (a free rod has tip_acc_z = b).
 The force is Drake's point-pair force on the rod (``PointPairContactInfo``:
 the force on body B, negated when the rod is body A), world frame.  A run that
 Drake aborts (a solver or integrator failure) keeps its rows up to there and
@@ -68,6 +68,7 @@ import numpy as np
 from pydrake.systems.analysis import ResetIntegratorFromFlags, Simulator
 
 from crosscheck.coordinates import to_generalized
+from crosscheck.engines.adapter import record_from_chain
 from crosscheck.engines.base import (
     Run,
     SweepResult,
@@ -76,9 +77,9 @@ from crosscheck.engines.base import (
     sweep_by_simulate,
 )
 from crosscheck.engines.classifier import FIRST_CHECK, Thresholds, classify, first_event_final
-from crosscheck.engines.drake.model import Model, model, new_context, tip_kinematics
+from crosscheck.engines.drake.model import Model, model, new_context
 from crosscheck.engines.drake.options import APPROXIMATIONS, Options, engine_name
-from crosscheck.engines.record import Record, row_times
+from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
@@ -296,34 +297,19 @@ def raw_run(m: Model, x0: np.ndarray, n: int, dt: float, speed_scale: np.ndarray
 
 
 def record(rod: Rod, raw: Raw, opts: Options) -> Record:
-    """The scaled, world-frame ``Record`` of a run (the fields of ``crosscheck.engines.record``)."""
+    """The scaled, world-frame ``Record`` of a run (the shared conversion ``crosscheck.engines.adapter.record_from_chain``
+    with the plant's generalised accelerations: tip_acc = J v' + J' v)."""
     n = len(raw.active)
-    q, v = raw.x[:n, :5], raw.x[:n, 5:]
-    l, w, g = rod.length, rod.omega, rod.gravity
-    pos, vel, acc = tip_kinematics(rod, q, v, raw.vdot)
-    r = opts.radius
-    tip_pos, tip_vel = pos / l, vel / (l * w)
-    psi, theta = q[:, 3].copy(), q[:, 4].copy()
-    Theta = v[:, 4] / w
-    # velocity of the rod's material point at C = A - r K: v_A + (theta' i + psi' K) x (-r K) = v_A + r theta' j
-    slip = np.zeros((n, 3))
-    slip[:, 0] = tip_vel[:, 0] - r * Theta * np.sin(psi)
-    slip[:, 1] = tip_vel[:, 1] + r * Theta * np.cos(psi)
-    force = raw.force / rod.force_scale
-    return Record(
-        t=row_times(n, opts.timestep, raw.computed),
-        tip_pos=tip_pos,
-        tip_vel=tip_vel,
-        tip_acc=acc / g,
-        force=force,
-        normal_force=force[:, 2].copy(),
-        active=raw.active.copy(),
-        gap=tip_pos[:, 2] - r,
-        slip_vel=slip,
-        psi=psi,
-        theta=theta,
-        Psi=v[:, 3] / w,
-        Theta=Theta,
+    return record_from_chain(
+        rod,
+        raw.x[:n, :5],
+        raw.x[:n, 5:],
+        raw.force,
+        raw.active,
+        timestep=opts.timestep,
+        radius=opts.radius,
+        vdot=raw.vdot,
+        computed=raw.computed,
     )
 
 

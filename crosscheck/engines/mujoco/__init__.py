@@ -14,8 +14,7 @@ and ``crosscheck.report.sections``; they are declared here.
 """
 
 from crosscheck.engines.mujoco import tolerances as mujoco_tol
-from crosscheck.engines.named import Named
-from crosscheck.engines.spec import EngineSpec, ReportPlan
+from crosscheck.engines.spec import EngineSpec, Execution, Ladder, ReportPlan, Validation
 
 __all__ = ["ENGINES"]
 
@@ -23,34 +22,38 @@ __all__ = ["ENGINES"]
 ENGINES = (
     EngineSpec(
         name="mujoco",
-        module="crosscheck.engines.mujoco.engine",
+        engine="crosscheck.engines.mujoco.engine",
         label="MuJoCo",
         libraries=("mujoco",),
-        one_core={"nthread": 1},
         tags={"compliant", "relaxed", "time_stepping", "batched"},
-        tolerances={
-            "liftoff_onset": mujoco_tol.MUJOCO_LIFTOFF_ONSET,
-            "event_disagreement": mujoco_tol.MUJOCO_EVENT_DISAGREEMENT,
-            "event_time": mujoco_tol.MUJOCO_EVENT_TIME,
-            "no_jam_below_mu_P": mujoco_tol.MUJOCO_NO_JAM_BELOW_MU_P,
-            "corollary_stop": mujoco_tol.MUJOCO_COROLLARY_STOP,
-        },
-        checks=Named("crosscheck.engines.mujoco.studies.contact:checks"),
+        execution=Execution(one_core={"nthread": 1}),
+        validation=Validation(
+            tolerances={
+                "liftoff_onset": mujoco_tol.MUJOCO_LIFTOFF_ONSET,
+                "event_disagreement": mujoco_tol.MUJOCO_EVENT_DISAGREEMENT,
+                "event_time": mujoco_tol.MUJOCO_EVENT_TIME,
+                "no_jam_below_mu_P": mujoco_tol.MUJOCO_NO_JAM_BELOW_MU_P,
+                "corollary_stop": mujoco_tol.MUJOCO_COROLLARY_STOP,
+            },
+            checks="crosscheck.engines.mujoco.studies.contact:checks",
+        ),
         # the models between the theory and MuJoCo: its capsule's contact point, the compliant rod with MuJoCo's matched
         # Kelvin-Voigt law, MuJoCo's own law in continuous time without and with its normal force's feed-forward, MuJoCo
         # itself (crosscheck.studies.ladder runs them; MuJoCo's own study, crosscheck.engines.mujoco.studies.ladder, is the
         # same ladder written out, for its section and explain)
-        ladder={
-            "geometry": "capsule",
-            "compliance": "crosscheck.engines.mujoco.studies.ladder:compliant_rung",
-            "friction law": "crosscheck.engines.mujoco.studies.ladder:spring_law_rung",
-            "feed-forward": "crosscheck.engines.mujoco.studies.ladder:law_rung",
-            "discretisation": "engine",
-        },
-        interventions={
-            c: f"crosscheck.engines.mujoco.interventions:{c.replace(' ', '_').replace('-', '_')}"
-            for c in ("geometry", "compliance", "friction law", "feed-forward", "discretisation")
-        },
+        ladder=Ladder(
+            rungs={
+                "geometry": "capsule",
+                "compliance": "crosscheck.engines.mujoco.studies.ladder:compliant_rung",
+                "friction law": "crosscheck.engines.mujoco.studies.ladder:spring_law_rung",
+                "feed-forward": "crosscheck.engines.mujoco.studies.ladder:law_rung",
+                "discretisation": "engine",
+            },
+            interventions={
+                c: f"crosscheck.engines.mujoco.interventions:{c.replace(' ', '_').replace('-', '_')}"
+                for c in ("geometry", "compliance", "friction law", "feed-forward", "discretisation")
+            },
+        ),
         report=ReportPlan(
             maps={"quick": {"timestep": 3e-4, "timeconst": 0.06}, "full": {"timestep": 3e-4, "timeconst": 0.06}},
             convergence={
@@ -63,7 +66,7 @@ ENGINES = (
                     for dt, tc in ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02), (1e-4, 0.02), (1e-4, 0.006))
                 ],
             },
-            sections=Named("crosscheck.engines.mujoco.sections:sections"),
+            sections="crosscheck.engines.mujoco.sections:sections",
             onset=False,
             order=10,
             ladder_section="ladder",
@@ -71,7 +74,7 @@ ENGINES = (
     ),
     EngineSpec(
         name="mujoco_law",
-        module="crosscheck.engines.mujoco.ode",
+        engine="crosscheck.engines.mujoco.ode",
         label="MuJoCo's law in continuous time",
         libraries=("mujoco",),
         tags={"compliant", "relaxed", "continuous"},

@@ -8,7 +8,7 @@ Importing this package does not import SAPIEN.
 """
 
 from crosscheck.engines.physx.options import LABELS as _LABELS
-from crosscheck.engines.spec import EngineSpec, ReportPlan
+from crosscheck.engines.spec import EngineSpec, Execution, Ladder, ReportPlan
 
 __all__ = ["ENGINES"]
 
@@ -38,19 +38,18 @@ _LADDER = {"geometry": "capsule", "discretisation": "engine"}
 ENGINES = tuple(
     EngineSpec(
         name=f"physx_{s}",
-        module=f"crosscheck.engines.physx.{'engine' if s == 'tgs' else 'pgs'}",
+        engine=f"crosscheck.engines.physx.{'engine' if s == 'tgs' else 'pgs'}",
         label=_LABELS[s],
         libraries=("sapien",),
+        install="crosscheck[physx]",
         defaults={"solver": s},
-        one_core={"workers": 1},
-        solver_columns=("contact_steps", "max_points"),
         tags={"rigid", "time_stepping"},
-        # no event-tolerance profile: not measured (validate does not judge its events)
-        tolerances=None,
-        ladder=_LADDER,
-        interventions={c: f"crosscheck.engines.physx.interventions:{c}" for c in _LADDER},
+        # no event-tolerance profile (validation): not measured (validate does not judge its events)
+        execution=Execution(
+            one_core={"workers": 1}, solver_columns=("contact_steps", "max_points"), stops_at_event=True
+        ),
+        ladder=Ladder(rungs=_LADDER, interventions={c: f"crosscheck.engines.physx.interventions:{c}" for c in _LADDER}),
         report=ReportPlan(**_PLAN, order=60 + i),
-        stops_at_event=True,
     )
     for i, s in enumerate(("tgs", "pgs"))
 )

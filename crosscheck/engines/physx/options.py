@@ -111,6 +111,14 @@ class Options(EngineOptions):
         return 0.0
 
     @property
+    def friction_excess(self) -> float:
+        """The largest |F_t| / (mu F_n) PhysX's friction reaches: sqrt(2) for PGS, whose two patch-friction rows are
+        clipped each to mu F_n (both saturate when the slip turns within the step: measured |F_t| = 1.414 mu F_n on the
+        first steps from theta = 1, varphi = -1.9, Psi = 1.25, mu = 1.25, where PGS jams at once below mu_P), 1 for TGS
+        (measured on the cone, |F_t| = mu F_n to 1e-4).  Read by the maps' check of no impact without collision."""
+        return 2.0**0.5 if self.solver == "pgs" else 1.0
+
+    @property
     def friction_time(self) -> float:
         """0: no creep time constant is declared (PhysX's friction anchors are its patch friction's, not a spring)."""
         return 0.0

@@ -11,6 +11,7 @@ read at attribute access.
 
 from __future__ import annotations
 
+from crosscheck.engines.spec import resolve
 from crosscheck.report.section import Section
 from crosscheck.report.sections import (
     bifurcations,
@@ -18,10 +19,12 @@ from crosscheck.report.sections import (
     engine_contact,
     engine_convergence,
     engine_ic,
+    engine_impact,
     engine_interventions,
     engine_ladder,
     engine_maps,
     engine_onset,
+    engine_psi,
     engine_rounding,
     gb_det_zeros,
     gb_eigenvectors,
@@ -29,15 +32,17 @@ from crosscheck.report.sections import (
     gb_manifold,
     gb_quartic,
     gb_separatrix,
+    impact_engines,
     kinematic_cases,
     kinematic_surfaces,
     mechanisms,
     mode_maps,
     p_region,
     printed_numbers,
+    psi_engines,
 )
 
-__all__ = ["SECTIONS", "THEORY_SECTIONS", "all_sections", "engine_sections", "section_by_slug"]
+__all__ = ["SECTIONS", "THEORY_SECTIONS", "all_sections", "cross_engine_sections", "engine_sections", "section_by_slug"]
 
 #: The sections of the theory alone (no engine), in report order.
 THEORY_SECTIONS: tuple[Section, ...] = (
@@ -70,13 +75,15 @@ def engine_sections(spec) -> tuple[Section, ...]:
         if plan.onset:
             out.append(engine_onset.section(spec, plan.maps))
         out.append(engine_ic.section(spec, plan.maps))
+        out.append(engine_impact.section(spec, plan.maps))
+        out.append(engine_psi.section(spec, plan.maps))
         out.append(engine_rounding.section(spec, plan.maps, plan.maps_n))
     if plan.convergence is not None:
         out.append(engine_convergence.section(spec, plan.convergence, plan.convergence_n))
     if plan.ladder and plan.maps is not None:  # after its maps: it ladders their disagreements
         out.append(engine_ladder.section(spec, plan.maps, f"{spec.slug}_maps"))
     if plan.sections is not None:
-        out.extend(plan.sections())
+        out.extend(resolve(plan.sections)())
     ladder_slug = plan.ladder_section or (f"{spec.slug}_ladder" if plan.ladder and plan.maps is not None else None)
     ladder = next((s for s in out if s.slug == ladder_slug), None)
     if spec.interventions and ladder is not None:  # after its ladder: it reruns the ladder's starts
@@ -84,11 +91,32 @@ def engine_sections(spec) -> tuple[Section, ...]:
     return tuple(out)
 
 
-def all_sections() -> tuple[Section, ...]:
-    """Every section in report order: the theory's, then each registered engine's (``crosscheck.engines.specs()`` order)."""
+def all_sections(names=None) -> tuple[Section, ...]:
+    """Every section in report order: the theory's, then each engine's (``crosscheck.engines.specs()`` order).
+
+    names: the engines whose sections are included (None: every engine); an engine that cannot run here (its library
+    is not installed: ``EngineSpec.unavailable``) has none (``skipped_engines`` says why, one line each).
+    """
     from crosscheck import engines
 
-    return THEORY_SECTIONS + tuple(s for spec in engines.specs() for s in engine_sections(spec))
+    chosen = [s for s in engines.specs() if (names is None or s.name in names) and not s.unavailable()]
+    return THEORY_SECTIONS + tuple(s for spec in chosen for s in engine_sections(spec)) + cross_engine_sections(chosen)
+
+
+def cross_engine_sections(specs) -> tuple[Section, ...]:
+    """The sections that gather every engine's results of one study into one figure (after the engines' own)."""
+    return (impact_engines.section(specs), psi_engines.section(specs))
+
+
+def skipped_engines(names=None) -> list[str]:
+    """One line per engine (of ``names``, None: all) whose sections ``all_sections`` leaves out, saying why."""
+    from crosscheck import engines
+
+    return [
+        f"skipped {s.label}'s sections: {s.unavailable()}"
+        for s in engines.specs()
+        if (names is None or s.name in names) and s.unavailable()
+    ]
 
 
 def __getattr__(name: str):

@@ -116,6 +116,7 @@ def _stick_as_slip(maps: list) -> str:
 
 
 def run(ctx: RunContext) -> None:
+    from crosscheck import engines
     from crosscheck.outcome import Outcome
     from crosscheck.report.format import engine_label
     from crosscheck.studies.agreement import agreement_study
@@ -123,7 +124,10 @@ def run(ctx: RunContext) -> None:
 
     P = ctx.params
     engine = P["engine"]
-    mu_P = float(critical.mu_P(P["alpha"]))
+    # an engine whose friction can exceed mu F_n (a pyramid's corners: sqrt(2) mu F_n) may have p < 0 from
+    # mu_P / that factor on: the theory's guarantee below mu_P is Coulomb's cone's (Options.friction_excess, 1 if absent)
+    excess = float(getattr(engines.get(engine).options(**P["options"]), "friction_excess", 1.0))
+    mu_P = float(critical.mu_P(P["alpha"])) / excess
     below_mu_P, jams_below = 0, []
     summary = []
     for m in ctx.progress(P["maps"], desc="agreement maps"):
@@ -199,7 +203,10 @@ def run(ctx: RunContext) -> None:
     landings = sum(_landed(engine, P, *j) for j in jams_below)
     iwc = len(jams_below) - landings
     ctx.check(
-        f"{engine_label(engine)}: no impact without collision below mu_P = {mu_P:.4f} (p > 0 for every state there, eq. mup2D)",
+        f"{engine_label(engine)}: no impact without collision below mu_P = {mu_P:.4f} (p > 0 for every state there, eq. mup2D)"
+        if excess == 1.0
+        else f"{engine_label(engine)}: no impact without collision below mu_P / {excess:.4g} = {mu_P:.4f} (its friction "
+        f"reaches {excess:.4g} mu F_n; p > 0 for every state there, eq. mup2D with that friction)",
         iwc == 0,
         value=iwc,
         allowance=0,

@@ -1,0 +1,80 @@
+"""Newton (PyPI newton, on NVIDIA Warp): the rod of ``models/rod.xml`` under three of Newton's solvers, many worlds at once.
+
+One module (``engine``) runs every solver; each registered engine has a module of its own (``mujoco_warp``, ``xpbd``,
+``featherstone``) whose ``Options`` class fixes its solver (``Options.solver``):
+
+* ``newton_mujoco``: ``SolverMuJoCo``, MuJoCo Warp in float32 with the ``mujoco`` engine's contact (elliptic cone,
+  solref, solimp, Newton's method): the same model as MuJoCo in C, so the two are compared at the same settings;
+* ``newton_xpbd``: ``SolverXPBD``, position-based dynamics: the contact a position projection within the step;
+* ``newton_featherstone``: ``SolverFeatherstone``, reduced coordinates with Newton's penalty contact (a spring-damper
+  normal force and friction regularised by a viscous slope).
+
+The rod is one body on a D6 joint with the five coordinates of ``models/rod.xml`` (no axial spin:
+``crosscheck.engines.newton.model``).  Warp compiles every solver's kernels at their first use and caches them on
+disk (``~/.cache/warp``); ``crosscheck.engines.newton.model.compile_seconds`` says how long a process spent on them.
+``options`` holds the scaled ``Options`` (importing it imports no warp); ``model`` the Newton model, ``engine`` the
+runs.  The engines are listed only where ``newton`` is installed (``pip install crosscheck[newton]``).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+
+from crosscheck.engines.newton.options import LABELS as _LABELS
+from crosscheck.engines.spec import EngineSpec, Execution, ReportPlan
+
+__all__ = ["ENGINES", "AVAILABLE"]
+
+#: Whether Newton, Warp and MuJoCo Warp are installed (the extra ``crosscheck[newton]``).
+AVAILABLE = all(importlib.util.find_spec(m) is not None for m in ("newton", "warp", "mujoco_warp"))
+
+
+_TAGS = {
+    # MuJoCo's soft, convex contact (as the mujoco engine's tags)
+    "mujoco": {"compliant", "relaxed", "time_stepping", "batched"},
+    # a position projection of a non-penetration constraint within the step: no force build-up time
+    "xpbd": {"rigid", "time_stepping", "batched"},
+    # a penalty spring-damper
+    "featherstone": {"compliant", "time_stepping", "batched"},
+}
+
+#: Report settings by cost, in CPU seconds (the 2 cores were shared ~10-fold while measuring, so wall times were 10-15
+#: x these).  On CPU a MuJoCo Warp step costs ~7 ms of CPU whatever its iteration cap (its solver converges in < 4
+#: iterations: 100/50, 10/10 and 4/4 give the same record) and about as much at 4 worlds as at 64: its cost is its kernel
+#: launches, so a map of n x n starts, one block of worlds, costs its step count, and a single ``simulate`` (the contact
+#: and IC sections call it per start) costs as much as a map.  Featherstone's quick sections at timestep 1e-3 and 6 x 6
+#: maps took 220 s (maps), 211 s (rounding), 67 s (contact), 27 s (IC) of wall time on the shared cores.  Hence: quick
+#: at timestep 3e-3 (667 steps to horizon 2) on 4 x 4 maps and 3 x 3 convergence grids over (6e-3, 3e-3); full at
+#: 2e-3 on 8 x 8 maps and 4 x 4 convergence grids over (4e-3, 2e-3, 1e-3).
+_MAPS = {"quick": {"timestep": 3e-3}, "full": {"timestep": 2e-3}}
+_CONVERGENCE = {
+    "quick": [{"timestep": dt} for dt in (6e-3, 3e-3)],
+    "full": [{"timestep": dt} for dt in (4e-3, 2e-3, 1e-3)],
+}
+
+
+_MODULES = {"mujoco": "mujoco_warp", "xpbd": "xpbd", "featherstone": "featherstone"}
+
+
+def _engine(solver: str, order: int) -> EngineSpec:
+    return EngineSpec(
+        name=f"newton_{solver}",
+        engine=f"crosscheck.engines.newton.{_MODULES[solver]}",
+        label=_LABELS[solver],
+        libraries=("newton", "warp-lang", "mujoco-warp") if solver == "mujoco" else ("newton", "warp-lang"),
+        install="crosscheck[newton]",
+        tags=_TAGS[solver],
+        # no event-tolerance profile (validation): not measured (validate does not judge these engines' events)
+        report=ReportPlan(
+            maps=_MAPS,
+            convergence=_CONVERGENCE,
+            maps_n={"quick": 4, "full": 8},
+            convergence_n={"quick": 3, "full": 4},
+            order=order,
+            sections="crosscheck.engines.newton.sections:sections" if solver == "mujoco" else None,
+        ),
+        execution=Execution(sweep_chunk=256),
+    )
+
+
+ENGINES = tuple(_engine(s, 80 + i) for i, s in enumerate(_LABELS)) if AVAILABLE else ()

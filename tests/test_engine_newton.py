@@ -1,0 +1,147 @@
+"""The Newton engines (MuJoCo Warp, XPBD, Featherstone on Warp's CPU device): scaled units, MuJoCo in C, bad options.
+
+Every check runs real Newton.  Warp compiles each solver's kernels at their first use in a process and loads them
+from its disk cache afterwards; the models are kept per process (``crosscheck.engines.newton.model.batch``), so
+the tests of this file and the contract test share them and no test compiles a kernel another has compiled.  The
+file needs the extra ``crosscheck[newton]`` (Newton is not in ``crosscheck[test]``: its cold compile alone,
+measured in ``benchmarks/bench_newton.py --cold``, would take most of the suite's 5 minutes on a fresh machine).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+pytest.importorskip("newton")
+
+from crosscheck import Rod, SlipState, engines
+from crosscheck.engines.newton import ENGINES
+from crosscheck.engines.newton.model import compile_seconds
+from crosscheck.engines.record import FIELDS
+from crosscheck.outcome import Outcome
+
+NAMES = [s.name for s in ENGINES]
+ALPHA = 3.0
+ROD = Rod.scaled(ALPHA)
+
+#: The contract test's slipping start (b < 0 < p at mu = 0.5).
+STATE = SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=0.0, eta=1.0)
+MU = 0.5
+
+#: The same scaled run on a physical rod (2 kg, tip to centre 0.5 m, g = 9.81) against ``Rod.scaled``, relative to
+#: 1 + max |field|: Warp steps in float32 in SI, so the two runs round differently.  States (positions, velocities,
+#: angles, rates) agree to a few float32 eps carried along the run: 64 eps32 = 7.6e-6 (measured over 100 steps of
+#: STATE: 4.1e-6 MuJoCo Warp, 2.2e-7 Featherstone).  Difference quotients over a step (tip_acc, force, normal_force)
+#: lose the digits of v to the subtraction, eps32 |v| / dt: 2 eps32 / timestep = 2.4e-4 at 1e-3 (measured 5.6e-5 and
+#: 4.0e-5).  XPBD's contact impulses alternate from step to step, so a rounding moves which step takes one: its states
+#: agree to 9.7e-4 and its forces not step by step (0.47); its guard is on the states, 3 x the measured.
+EPS32 = float(np.finfo(np.float32).eps)
+STATE_RTOL = {"newton_mujoco": 64 * EPS32, "newton_featherstone": 64 * EPS32, "newton_xpbd": 3e-3}
+QUOTIENTS = ("tip_acc", "force", "normal_force")
+QUOTIENT_RTOL = {"newton_mujoco": 2 * EPS32 / 1e-3, "newton_featherstone": 2 * EPS32 / 1e-3, "newton_xpbd": None}
+
+#: MuJoCo Warp's first contact step against MuJoCo in C at the same settings (timestep 1e-3): the normal force of
+#: the step the capsule first penetrates is the converged solution of the same convex problem, in float32 against
+#: float64: measured 6.1e-6 relative (12.59009 against 12.59001 m g); 1e-4 allows ~1e3 float32 eps.
+FIRST_FORCE_RTOL = 1e-4
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_a_physical_rod_gives_the_scaled_record(name):
+    spec = engines.get(name)
+    physical = Rod.uniform(2.0, 0.5)
+    a = spec.simulate(ROD, STATE, MU, horizon=0.1)
+    b = spec.simulate(physical, STATE, MU, horizon=0.1)
+    assert a.outcome == b.outcome
+    for f in FIELDS:
+        x, y = np.asarray(getattr(a.record, f), float), np.asarray(getattr(b.record, f), float)
+        rtol = QUOTIENT_RTOL[name] if f in QUOTIENTS else STATE_RTOL[name]
+        if rtol is not None:
+            assert np.max(np.abs(x - y)) <= rtol * (1 + np.max(np.abs(x))), f
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_each_solver_records_its_kernel_compile_time_apart_from_the_steps(name):
+    spec = engines.get(name)
+    spec.simulate(ROD, STATE, MU, horizon=0.01)
+    solver = spec.Options().solver
+    assert solver in compile_seconds() and compile_seconds()[solver] >= 0.0
+
+
+def test_mujoco_warp_makes_mujoco_s_first_contact_force_in_float32():
+    """The same model in float32 (MuJoCo Warp through Newton) and float64 (MuJoCo in C): the first step with a
+    contact gives the same force to float32 rounding."""
+    a = engines.get("newton_mujoco").simulate(ROD, STATE, MU, horizon=0.01)
+    b = engines.get("mujoco").simulate(ROD, STATE, MU, horizon=0.01, timestep=1e-3)
+    k = int(np.argmax(b.record.normal_force > 0))
+    assert k > 0 and a.record.normal_force[k] > 1.0
+    assert a.record.normal_force[k] == pytest.approx(b.record.normal_force[k], rel=FIRST_FORCE_RTOL)
+
+
+def test_the_penalty_solver_slips_under_a_spring_normal_force():
+    """Featherstone's penalty contact: the normal force builds up over the contact spring's time 1/sqrt(stiffness) and
+    holds the slipping tip near -b/p; the contact point stays within the spring's static penetration of the plane."""
+    run = engines.get("newton_featherstone").simulate(ROD, STATE, MU, horizon=0.3)
+    r = run.record
+    assert run.outcome == Outcome.SLIP
+    assert r.normal_force[1] < 0.5 * r.normal_force[10]  # a spring: built over steps, not one impulse
+    assert np.all(r.gap[1:] > -10.0 / 1e4)  # within 10 m g / stiffness of the plane
+
+
+def test_xpbd_holds_the_axial_spin_at_its_declared_axial_inertia_and_not_at_rod_xml_s():
+    """XPBD projects the D6 joint's locked axis after the contact: at 1e-4 I0 about the axis the spin stays small;
+    at rod.xml's 1e-12 the contact's friction correction turns the capsule about its axis instead."""
+    spec = engines.get("newton_xpbd")
+    held = spec.simulate(ROD, STATE, MU, horizon=0.3)
+    assert held.solver.max_spin < 0.1
+    loose = spec.simulate(ROD, STATE, MU, horizon=0.3, axial_inertia=1e-12)
+    assert loose.solver.max_spin > 100 * held.solver.max_spin
+
+
+@pytest.mark.parametrize(
+    "option, value, message",
+    [
+        ("solver", "xpbd", "solver must be mujoco for newton_mujoco (one engine per solver); got 'xpbd'"),
+        ("device", "gpu", "device must be one of cpu, cuda; got 'gpu'"),
+        ("iterations", -1, "iterations must be an integer in [0, 1000]; got -1"),
+        ("axial_inertia", 2.0, "axial_inertia must be in (0, 1] (a fraction of I0); got 2.0"),
+        ("timeconst", 1e-3, "timeconst must be >= 2 timestep = 0.002 (MuJoCo's refsafe); got 0.001"),
+    ],
+)
+def test_a_bad_option_is_refused_in_one_line(option, value, message):
+    with pytest.raises(ValueError) as e:
+        engines.get("newton_mujoco").simulate(ROD, STATE, MU, horizon=0.01, **{option: value})
+    assert str(e.value) == message
+
+
+def test_cuda_is_refused_in_one_line_where_warp_finds_no_cuda_device():
+    import warp as wp
+
+    if wp.get_cuda_device_count() > 0:  # a machine with a GPU runs it instead
+        run = engines.get("newton_mujoco").simulate(ROD, STATE, MU, horizon=0.01, device="cuda")
+        assert run.outcome in set(Outcome)
+        return
+    with pytest.raises(ValueError) as e:
+        engines.get("newton_mujoco").simulate(ROD, STATE, MU, horizon=0.01, device="cuda")
+    assert str(e.value) == "device must be cpu on this machine (Warp finds no CUDA device); got 'cuda'"
+
+
+def test_cuda_in_a_sweep_file_exits_2_with_one_line(tmp_path):
+    import subprocess
+    import sys
+
+    import warp as wp
+    from conftest import small
+
+    if wp.get_cuda_device_count() > 0:
+        pytest.skip("a CUDA device is present: the refusal is for machines without one")
+    spec = tmp_path / "s.toml"
+    spec.write_text(small("newton_mujoco", horizon=0.01, device="cuda"))
+    p = subprocess.run(
+        [sys.executable, "-m", "crosscheck", "sweep", str(spec), "--out", str(tmp_path / "o"), "--no-progress"],
+        capture_output=True,
+        text=True,
+    )
+    assert p.returncode == 2 and "Traceback" not in p.stderr
+    lines = [x for x in p.stderr.splitlines() if x.strip()]
+    assert len(lines) == 1 and "device must be cpu on this machine" in lines[0], p.stderr

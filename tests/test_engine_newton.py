@@ -3,8 +3,10 @@
 Every check runs real Newton.  Warp compiles each solver's kernels at their first use in a process and loads them
 from its disk cache afterwards; the models are kept per process (``crosscheck.engines.newton.model.batch``), so
 the tests of this file and the contract test share them and no test compiles a kernel another has compiled.  The
-file needs the extra ``crosscheck[newton]`` (Newton is not in ``crosscheck[test]``: its cold compile alone,
-measured in ``benchmarks/bench_newton.py --cold``, would take most of the suite's 5 minutes on a fresh machine).
+file needs the extra ``crosscheck[newton]``.  Newton is not in ``crosscheck[test]``: from an empty kernel cache
+each solver's first model, solver and step cost 48 (Featherstone), 53 (XPBD) and 62 (MuJoCo Warp) CPU seconds here
+(``benchmarks/bench_newton.py --cold``), ~2 CPU minutes together on a fresh machine, against the suite's 5 minutes on
+2 cores that the other engines already nearly fill.
 """
 
 from __future__ import annotations
@@ -145,3 +147,16 @@ def test_cuda_in_a_sweep_file_exits_2_with_one_line(tmp_path):
     assert p.returncode == 2 and "Traceback" not in p.stderr
     lines = [x for x in p.stderr.splitlines() if x.strip()]
     assert len(lines) == 1 and "device must be cpu on this machine" in lines[0], p.stderr
+
+
+def test_a_rod_that_lifts_off_at_once_records_no_force_in_flight_and_mujoco_s_event():
+    """b > 0 at the start: MuJoCo in C lifts off at once.  MuJoCo Warp's force, read from float32 velocities, is rounding
+    in free flight (~3e-6 m g); below the engine's floor (``FORCE_ROUNDING``) it reads 0 exactly, so the classifier sees
+    the same lift-off (with the rounding left in, this start was a STICK at 0.093)."""
+    s = SlipState(theta=0.820, varphi=-1.650, Theta=0.547, Psi=-2.431, eta=0.249)
+    a = engines.get("newton_mujoco").simulate(ROD, s, 1.22, horizon=0.3, timestep=3e-3)
+    b = engines.get("mujoco").simulate(ROD, s, 1.22, horizon=0.3, timestep=3e-3)
+    assert b.outcome == Outcome.LIFTOFF and b.event_time == 0.0
+    assert a.outcome == b.outcome and a.event_time == b.event_time
+    flying = a.record.gap > 1e-6
+    assert flying.sum() > 50 and np.all(a.record.force[flying] == 0.0)

@@ -143,8 +143,22 @@ def test_scaled_units_across_physical_rods(solver):
         ({"bounce_threshold": 0.0}, "bounce_threshold must be in (0, 1e+30]; got 0.0"),
         ({"sleep_threshold": -1.0}, "sleep_threshold must be in [0, inf); got -1.0"),
         ({"friction_every_iteration": 1}, "friction_every_iteration must be True or False; got 1"),
+        ({"static_ratio": 0.5}, "static_ratio must be in [1, 100]; got 0.5"),
+        ({"patch_radius": -0.1}, "patch_radius must be in [0, inf); got -0.1"),
     ],
-    ids=["timestep", "radius", "solver", "position", "velocity", "offset", "bounce", "sleep", "friction"],
+    ids=[
+        "timestep",
+        "radius",
+        "solver",
+        "position",
+        "velocity",
+        "offset",
+        "bounce",
+        "sleep",
+        "friction",
+        "static",
+        "patch",
+    ],
 )
 def test_bad_options_raise_one_line_naming_option_value_and_range(options, message):
     with pytest.raises(ValueError) as e:

@@ -42,8 +42,9 @@ from crosscheck.engines.spec import EngineSpec
 
 NOT_A_SPEC = 42
 TAKEN = (EngineSpec(name="mujoco", engine="broken_plugin:nowhere"),)
+from crosscheck.engines.spec import ReportPlan
 MISSING = EngineSpec(name="missing_lib", engine="broken_plugin:nowhere", libraries=("crosscheck-no-such-library",),
-                     tags={"rigid", "time_stepping"})
+                     tags={"rigid", "time_stepping"}, report=ReportPlan(maps={"quick": {}, "full": {}}))
 """
 
 ORIGIN = "crosscheck-broken-plugin 0.1.0"
@@ -165,3 +166,21 @@ def test_a_quick_report_of_the_plugin_alone_holds_its_sections_and_no_other_engi
     runs = [mp["runs"][0] for mp in maps]
     assert all(r["engine"] == "numpy_rod" and r["n_rated"] > 0 for r in runs)
     assert "numpy penalty rod" in (out_dir / "report.md").read_text()
+
+
+def test_a_full_report_leaves_out_an_engine_whose_library_is_missing_with_one_line(site):
+    """The full report's section list (what ``crosscheck report`` runs) has none of missing_lib's sections, and the one
+    line it prints for it; the plugin that is installed keeps its sections."""
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(site), str(ROOT)])}
+    code = (
+        "import json; from crosscheck.report.sections import all_sections, skipped_engines; "
+        "print(json.dumps({'slugs': [s.slug for s in all_sections()], 'skipped': skipped_engines()}))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300, cwd=site)
+    assert out.returncode == 0, out.stderr
+    got = json.loads(out.stdout)
+    assert got["skipped"] == [
+        "skipped missing_lib's sections: engine 'missing_lib' needs crosscheck-no-such-library, which is not "
+        "installed: python3 -m pip install crosscheck-no-such-library"
+    ]
+    assert "numpy_rod_maps" in got["slugs"] and not any(s.startswith("missing_lib") for s in got["slugs"])

@@ -225,7 +225,10 @@ def test_a_registered_engine_gets_its_own_map_section_in_a_report(toy, tmp_path)
         slip, lift, stick, jam = (labels.index(o) for o in ("SLIP", "LIFTOFF", "STICK", "JAM"))
         slowed = off[slip, stick] + off[lift, stick]
         assert off.sum() == slowed + off[jam, slip] and slowed <= 0.1 * conf.sum(), (labels, conf)
-    assert "analytic flow (toy) vs analytic" in (tmp_path / "r" / "report.md").read_text()
+    # on the engine's own page, linked from the index's contents and from report.md
+    assert "analytic flow (toy) vs analytic" in (tmp_path / "r" / "engine_toy.md").read_text()
+    assert 'href="engine_toy.html"' in (tmp_path / "r" / "index.html").read_text()
+    assert "](engine_toy.md)" in (tmp_path / "r" / "report.md").read_text()
 
 
 @pytest.mark.parametrize(

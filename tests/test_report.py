@@ -196,8 +196,8 @@ def test_every_figure_and_table_has_its_files(quick, views, section):
         assert p.suffix in (".csv", ".json") or (
             p.suffix == ".html" and "<script" not in p.read_text() and " src=" not in p.read_text()
         ), path
-    # the HTML and the Markdown twin link every figure and data file
-    html, md = (out / "index.html").read_text(), (out / "report.md").read_text()
+    # the HTML and the Markdown twin of the section's page (the index, or its engine's page) link every figure and data file
+    html, md = (out / f"{_page(section.slug)}.html").read_text(), _md_of(out, section.slug)
     for f in figures:
         assert f'src="{f.stem}.png"' in html and f"]({f.stem}.png)" in md
         for d in f.data:
@@ -208,10 +208,25 @@ def test_every_figure_and_table_has_its_files(quick, views, section):
 REBUILT = ("p_region", "gb_eigenvectors", "mujoco_liftoff")
 
 
+def _page(slug: str) -> str:
+    """The stem of the page a section is on: its engine's page, or the index (``crosscheck.report.pages``)."""
+    from crosscheck.report.sections import engine_sections
+
+    for spec in engines.specs():
+        if slug in {s.slug for s in engine_sections(spec)}:
+            return f"engine_{spec.slug}"
+    return "index"
+
+
+def _md_of(out: Path, slug: str) -> str:
+    stem = _page(slug)
+    return (out / ("report.md" if stem == "index" else f"{stem}.md")).read_text()
+
+
 def _md_section(md: str, title: str) -> str:
     start = md.index(f"## {title} [")
     end = md.find("\n## ", start + 1)
-    return md[start:end]
+    return md[start : end if end >= 0 else len(md)].rstrip()  # the page's last section ends at the page's end
 
 
 def test_report_rebuilds_from_saved_results_without_running(quick, views, tmp_path, monkeypatch):
@@ -219,9 +234,9 @@ def test_report_rebuilds_from_saved_results_without_running(quick, views, tmp_pa
     copy = tmp_path / "copy"
     shutil.copytree(out, copy)
     data_before = _digest(copy / "data")
-    md_before = (copy / "report.md").read_text()
+    md_before = {slug: _md_of(copy, slug) for slug in REBUILT}
     figures_before = _digest(copy / "figures")
-    for p in [copy / "index.html", copy / "report.md"]:
+    for p in [copy / "index.html", copy / "report.md", *copy.glob("engine_*.*")]:
         p.unlink()
     shutil.rmtree(copy / "figures")
 
@@ -233,10 +248,9 @@ def test_report_rebuilds_from_saved_results_without_running(quick, views, tmp_pa
     monkeypatch.setattr(report, "run", lambda *a, **k: pytest.fail("the run stage was called"))
     assert main(["report", "--from-results", "--out", str(copy), "--no-progress"]) == 0
     assert _digest(copy / "data") == data_before  # saved results untouched
-    md = (copy / "report.md").read_text()
     rebuilt = _digest(copy / "figures")
     for s in subset:
-        assert _md_section(md, s.title) == _md_section(md_before, s.title)  # same text, tables and links
+        assert _md_section(_md_of(copy, s.slug), s.title) == _md_section(md_before[s.slug], s.title)  # same text, links
         pngs = {k: v for k, v in figures_before.items() if k.startswith(s.slug + "/") and k.endswith(".png")}
         assert pngs and all(rebuilt[k] == v for k, v in pngs.items())  # same figures, byte for byte
 
@@ -471,10 +485,12 @@ def test_findings_come_first_with_a_line_per_engine(quick):
     assert md.index("## Findings") < md.index("## Summary") and all(" ".join(f.text.split()) in flat for f in found)
 
 
-def test_the_engine_table_heads_the_findings_with_a_row_per_engine_and_setting(quick):
-    """The engine table: first under Findings, a maps row and one row per convergence setting for every engine with maps, its
-    agreement the findings line's k of n, its LAUNCH share the LAUNCH column of the saved confusion matrices."""
-    from crosscheck.report.engine_table import HEADER
+def test_the_engine_table_holds_numbers_a_row_per_engine_and_setting(quick):
+    """The engine table's data: one record per engine and setting (a map row, one per convergence setting), numbers only
+    (its agreement the findings line's k of n, its LAUNCH count the saved confusion matrices'), the same rows in the
+    tidy CSV."""
+    import csv
+
     from crosscheck.report.findings import findings
 
     out, _ = quick
@@ -483,28 +499,112 @@ def test_the_engine_table_heads_the_findings_with_a_row_per_engine_and_setting(q
     assert len(records) == sum(1 + len(e.report.convergence["quick"] if e.report.convergence else []) for e in plans)
     first = {f.slug: f for f in findings(out / "data") if f.leg.endswith("first event")}
     for e in plans:
-        row = next(r for r in records if r["setting"].endswith("(maps)") and r["engine"].startswith(e.label))
+        row = next(r for r in records if r["role"] == "map" and r["engine"] == e.name)
         k, n = (int(x) for x in re.search(r"in (\d+) of (\d+) rated", first[f"{e.slug}_maps"].text).groups())
-        assert row["agreement (95 % CI)"].startswith(f"{100 * k / n:.0f} %")
+        assert (row["n_agree"], row["n_rated"]) == (k, n) and row["agreement"] == k / n
+        assert row["ci_low"] <= row["agreement"] <= row["ci_high"]
         conf = sum(
             np.asarray(mp["runs"][0]["confusion"])
             for mp in json.loads((out / "data" / f"{e.slug}_maps" / "maps.json").read_text())
         )
-        launch = int(conf[:4, 6].sum())
-        assert row["LAUNCH"] == (f"{100 * launch / n:.0f} % ({launch}/{n})" if n else "-")
+        assert row["n_launch"] == int(conf[:4, 6].sum()) and row["n_theory_jam"] == int(conf[3].sum())
         iv = out / "data" / f"{e.slug}_interventions" / "summary.json"
-        if iv.exists() and json.loads(iv.read_text())["attributed"]:
+        if iv.exists():
             s = json.loads(iv.read_text())
-            joint = f", {s['jointly']} more jointly" if s["jointly"] else ""
-            assert (
-                row["causes confirmed (intervention)"]
-                == f"{100 * s['confirmed_share']:.0f} % ({s['confirmed']}/{s['attributed']}{joint})"
-            )
+            assert (row["confirmed"], row["attributed"]) == (s["confirmed"], s["attributed"])
         rounding = json.loads((out / "data" / f"{e.slug}_rounding" / "summary.json").read_text())
-        assert row["outcome moves within 2 ulp"] == f"{rounding['changed']} of {rounding['n']}"
-    md = (out / "report.md").read_text()
-    findings_at = md.index("## Findings")
-    assert findings_at < md.index("| " + " | ".join(HEADER[:3])) < md.index("- **", findings_at)
+        assert (row["rounding_changed"], row["rounding_n"]) == (rounding["changed"], rounding["n"])
+    for r in records:  # numbers, not display strings
+        for key in ("agreement", "ci_low", "ci_high", "runs_per_s", "us_per_step", "wall_time_s"):
+            assert isinstance(r[key], float), (key, r[key])
+        assert all(isinstance(r[k], int) for k in r if k.startswith(("n_", "agree_theory_")))
+    tidy = list(csv.DictReader((out / "data" / "engine_table.csv").open()))
+    assert [(t["engine"], t["role"], t["setting"]) for t in tidy] == [
+        (r["engine"], r["role"], r["setting"]) for r in records
+    ]
+    assert [float(t["agreement"]) for t in tidy] == [r["agreement"] for r in records]
+
+
+def _between(doc: str, *marks: str) -> bool:
+    at = [doc.index(m) for m in marks]
+    return at == sorted(at)
+
+
+def test_the_first_screen_is_the_bottom_line_the_figure_and_one_row_per_engine(quick):
+    """index.html and report.md open with the bottom line (<= 5 sentences, each with numbers and its rule), the
+    agreement-against-cost figure (its data numbers), the table of one row per engine (<= 9 columns, footnoted), then
+    the contents and the findings."""
+    from html import escape
+
+    from crosscheck.report.engine_table import FOOTNOTES
+
+    out, _ = quick
+    html, md = (out / "index.html").read_text(), (out / "report.md").read_text()
+    bottom = json.loads((out / "data" / "bottom_line.json").read_text())
+    assert 1 <= len(bottom) <= 5
+    for s in bottom:
+        assert re.search(r"\d", s["text"]) and s["rule"] and html.count(escape(s["text"])) == 1
+    assert _between(html, 'id="bottom-line"', "figures/overview/agreement_cost.png", 'class="engines"', 'id="contents"',
+                    'id="findings"')  # fmt: skip
+    assert _between(
+        md, bottom[0]["text"][:40], "(figures/overview/agreement_cost.png)", "| engine | setting |", "## Findings"
+    )
+    points = json.loads((out / "data" / "first_figure.json").read_text())["points"]
+    assert all(isinstance(p["runs_per_s"], float) and isinstance(p["agreement"], float) for p in points)
+    assert any(p["pareto_agreement_cost"] for p in points)
+    mapped = [e for e in engines.specs() if e.report and e.report.maps]
+    table = html[html.index('class="engines"') :]
+    table = table[: table.index("</table>")]
+    assert table.count("<tr") == 1 + len(mapped) and table.count("<th>") <= 9
+    assert all(f"{k}: " in html[html.index("class=notes") :] for k, _ in FOOTNOTES)
+
+
+def test_every_engine_has_its_own_page_linked_from_the_contents(quick):
+    """Each engine's sections are on engine_<slug>.html and .md (with its per-setting rows and provenance), not on the
+    index; the index's contents list the theory's sections then one entry per engine (<= 40 entries)."""
+    from crosscheck.report.sections import THEORY_SECTIONS, engine_sections
+
+    out, _ = quick
+    html, md = (out / "index.html").read_text(), (out / "report.md").read_text()
+    nav = html[html.index('<nav class="toc" id="contents">') :]
+    nav = nav[: nav.index("</nav>")]
+    assert nav.count("<a ") <= 40 and all(f'href="#{s.slug}"' in nav for s in THEORY_SECTIONS)
+    for spec in engines.specs():
+        own = engine_sections(spec)
+        if not own:
+            continue
+        page, page_md = (out / f"engine_{spec.slug}.html").read_text(), (out / f"engine_{spec.slug}.md").read_text()
+        assert f'href="engine_{spec.slug}.html"' in nav and f"](engine_{spec.slug}.md)" in md
+        for s in own:
+            assert f'id="{s.slug}"' in page and f'id="{s.slug}"' not in html and f"## {s.title} [" in page_md
+        assert "Provenance" in page and spec.name in page
+        if spec.report.maps:
+            assert "Every setting the report ran" in page
+    assert _between(nav, *(f'href="#{s.slug}"' for s in THEORY_SECTIONS), 'class="engine"')
+
+
+def test_the_first_screen_in_chromium_at_1400_by_900(quick):
+    """As a reader opens it in Chromium at 1400 x 900: the bottom line and the whole figure are on the first screen,
+    nothing is wider than the page, and an engine page opens from the contents."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from browser import HEIGHT, WIDTH, measure
+
+    out, _ = quick
+    m = measure(out / "index.html")
+    screen = min(HEIGHT, m["innerHeight"])
+    assert m["scrollWidth"] <= m["clientWidth"] <= WIDTH, m
+    assert 0 < m["bottom_line"]["top"] < m["bottom_line"]["bottom"] < m["figure"]["top"], m
+    assert m["figure_loaded"] and m["figure"]["bottom"] <= screen and m["figure"]["width"] >= 0.6 * WIDTH, m
+    for t in m["tables"]:
+        assert t["box"]["right"] <= m["clientWidth"] and t["scrollWidth"] <= t["container"] + 1, t
+    assert m["engine_links"]
+    link = out / m["engine_links"][0]
+    page = measure(link)
+    assert page["scrollWidth"] <= page["clientWidth"] and page["h1_text"].startswith(
+        next(e.label for e in engines.specs() if link.name == f"engine_{e.slug}.html")
+    )
 
 
 def test_the_committed_quick_report_is_current(quick):

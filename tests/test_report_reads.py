@@ -150,8 +150,8 @@ def test_the_rules_behind_the_verdicts_are_in_the_report(rendered):
 
 
 def test_no_line_of_the_markdown_is_over_400_characters(rendered):
-    """Long raw JSON is linked, not inlined; prose is wrapped; a long table cell moves to a note."""
-    lines = (rendered / "report.md").read_text().splitlines()
+    """Long raw JSON is linked, not inlined; prose is wrapped; a long table cell moves to a note (every page)."""
+    lines = [ln for p in sorted(rendered.glob("*.md")) for ln in p.read_text().splitlines()]
     assert max(map(len, lines)) <= 400, max(lines, key=len)[:200]
     assert "validate JSON (crosscheck validate pinocchio --json): [raw_" in "\n".join(lines)
     linked = list((rendered / "figures" / "pinocchio").glob("raw_*.json"))
@@ -163,9 +163,10 @@ def test_the_summary_names_no_latex_label_and_separates_ran_from_agrees(rendered
     summary = md[md.index("## Summary") : md.index("## The paper's figures")]
     assert "fig:" not in summary and "ghastly" not in summary
     assert "| section | paper | ran | run time | checks | finding |" in summary
-    row = next(line for line in summary.splitlines() if line.startswith("| MuJoCo vs analytic: outcome maps"))
-    assert row.endswith("| disagrees |") and "| ok |" in row
-    assert "fig:" not in md  # captions and check names give the figure's number instead
+    row = next(line for line in summary.splitlines() if line.startswith("| MuJoCo |"))  # one row per engine page
+    assert "| disagrees" in row and "| ok |" in row
+    for page in rendered.glob("*.md"):  # captions and check names give the figure's number instead
+        assert "fig:" not in page.read_text()
     refs = json.loads((rendered / "data" / "paper_references.json").read_text())
     assert "fig:my_ugly_simulations" in refs["sections"]["gb_separatrix"]  # the labels are kept in the data
 
@@ -186,7 +187,10 @@ def test_paper_references_keep_numbers_and_drop_labels():
 def test_a_regression_guard_holds_it_does_not_pass_and_a_listed_check_is_not_tabled_twice():
     """A validate section's own table lists its checks: the generic checks table is replaced by a note that still says which
     are regression guards, and a guard that holds never reads 'passed'."""
-    from crosscheck.report.format import SectionView, checks_note, checks_shown, checks_table
+    from crosscheck.report.format import SectionView
+    from crosscheck.report.format import checks_note as _checks_note
+    from crosscheck.report.format import checks_shown as _checks_shown
+    from crosscheck.report.format import checks_table as _checks_table
     from crosscheck.report.section import Table
 
     checks = [
@@ -195,18 +199,18 @@ def test_a_regression_guard_holds_it_does_not_pass_and_a_listed_check_is_not_tab
     ]
     own = Table(caption="the checks", header=["check"], rows=[["contact acc"], ["event disagreement"]], data=["x.csv"])
     view = SectionView(section=None, status={"status": "ok"}, blocks=[own], checks=checks)
-    assert checks_shown(view)
-    note = checks_note(checks).text
+    assert _checks_shown(view)
+    note = _checks_note(checks).text
     assert (
         "physics 1/1 passed; regression guards 1/1 held" in note
         and "MuJoCo event disagreement within tolerance: held" in note
     )
-    assert not checks_shown(
+    assert not _checks_shown(
         SectionView(
             section=None, status={"status": "ok"}, blocks=[own], checks=checks + [{"name": "other", "passed": True}]
         )
     )
-    results = {r[0]: r[4] for r in checks_table(checks).rows}
+    results = {r[0]: r[4] for r in _checks_table(checks).rows}
     assert results == {
         "MuJoCo contact acc within tolerance": "passed",
         "MuJoCo event disagreement within tolerance": "held (no change; not a physics check)",
@@ -447,3 +451,19 @@ def test_the_readmes_first_lines_are_the_two_commands():
         'python3 -m pip install ".[all]" && crosscheck report',
         'python3 -m pip install ".[test]" && python3 -m pytest -q',
     ]
+
+
+def test_the_readme_opens_short_with_the_figure_and_links_every_concept_in_docs():
+    """At most 250 words before the README's first section, among them the report's first figure (the path the report
+    writes) and a link to each concept page; the reading guide defines every column the engine table footnotes."""
+    from crosscheck.report.engine_table import FOOTNOTES
+    from crosscheck.report.first_figure import STEM
+
+    readme = (ROOT / "README.md").read_text()
+    opening = readme[: readme.index("\n## ")]
+    assert len(opening.split()) <= 250
+    assert f"](reports/quick/{STEM}.png)" in opening
+    for doc in ("theory", "engines", "ladder-and-interventions", "reading-the-report"):
+        assert f"](docs/{doc}.md)" in opening and (ROOT / "docs" / f"{doc}.md").is_file()
+    guide = (ROOT / "docs" / "reading-the-report.md").read_text()
+    assert all(f"| {k} |" in guide for k, _ in FOOTNOTES)

@@ -104,3 +104,34 @@ def test_only_section_into_a_new_directory_renders_that_section_alone(tmp_path, 
     assert "FAILED" not in printed and "not run" not in printed
     md = (out / "report.md").read_text()
     assert "## Critical angles" in md and "## Region p < 0" not in md
+
+
+def _readme_examples() -> list[str]:
+    """The `crosscheck ...` lines of the README's ```sh blocks (the sweep block's run into a store aside: its own test)."""
+    import re
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    lines = [ln for block in re.findall(r"```sh\n(.*?)```", readme, re.S) for ln in block.splitlines()]
+    return [ln for ln in lines if ln.startswith("crosscheck ") and " sweep " not in f" {ln} "]
+
+
+@pytest.mark.parametrize("line", _readme_examples(), ids=lambda s: " ".join(s.split()[:3]))
+def test_every_readme_example_runs_as_written_and_prints_what_its_comment_says(line, tmp_path, monkeypatch, capsys):
+    """Each example line of the README runs as it is (exit 0) and prints the event its comment promises."""
+    import shlex
+
+    command, _, comment = line.partition("#")
+    monkeypatch.chdir(tmp_path)  # --plot files land here
+    assert main(shlex.split(command)[1:]) == 0
+    printed = capsys.readouterr().out
+    words = comment.replace(",", " ").split()
+    for outcome in ("SLIP", "JAM", "LIFTOFF"):
+        if outcome in words:
+            assert outcome in printed, (line, printed)
+    import re
+
+    shown = [float(x) for x in re.findall(r"-?\d+\.\d+(?:e[-+]?\d+)?", printed)]
+    for number in (w for w in words if w.replace(".", "", 1).isdigit() and "." in w):
+        half = 0.5 * 10.0 ** -len(number.split(".")[1])  # the comment's number is the printed one rounded
+        assert any(abs(x - float(number)) <= half for x in shown), (line, number, printed)

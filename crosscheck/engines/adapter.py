@@ -50,8 +50,9 @@ A run that fails leaves NaN in the rows after it: the classifier calls it DIVERG
 
 ``Options`` is the base of an adapted engine's options (scaled units, like every engine's): ``timestep`` omega dt,
 ``radius`` r / l; ``contact_time`` (the scaled time over which a compliant normal force builds up, 0 for an
-impulse-based contact) and ``friction_time`` (0 unless friction builds up too) are properties to override.  A
-subclass adds its own fields.  ``record_from_chain`` is the shared conversion into the ``Record``, which Drake and
+impulse-based contact) and ``friction_time`` (0 unless friction builds up too) are properties to override, and a
+contact whose normal force is a spring adds ``spring_time`` (its eps, the time whose square divides the penetration:
+a jam is then allowed the lag ``crosscheck.theory.jam_lag`` gives it).  A subclass adds its own fields.  ``record_from_chain`` is the shared conversion into the ``Record``, which Drake and
 Bullet use too.
 """
 

@@ -1,34 +1,36 @@
-"""What the HTML page and its Markdown twin share: a section's view, its checks table and notes, the summary table.
+"""What the report's HTML and Markdown writers share: a section as rendered, cells, badges and the checks tables.
 
-``crosscheck.report.render`` writes ``index.html`` and ``crosscheck.report.markdown`` writes ``report.md`` from
-the same ``SectionView`` blocks through these helpers.
+Both ``crosscheck.report.render`` (the HTML pages) and ``crosscheck.report.markdown`` (their Markdown twins) read these;
+neither imports the other's writer.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import html
+import re
+from dataclasses import dataclass, field, replace
 
 from crosscheck import engines
-from crosscheck.report.references import REFERENCES_FILE, unlabel
-from crosscheck.report.section import Preformatted, Section, Table, Text
+from crosscheck.report.references import _REFERENCES, unlabel
+from crosscheck.report.section import Figure, Preformatted, Section, Table, Text
 
 __all__ = [
     "engine_label",
     "SectionView",
-    "md_cell",
     "badge",
-    "LONG_LINES",
-    "long_block",
-    "checks_table",
-    "checks_shown",
-    "checks_note",
     "checks_cell",
-    "short",
-    "FINDINGS_FILE",
-    "RULES_TITLE",
-    "SUMMARY_CAPTION",
-    "verdicts",
+    "checks_note",
+    "checks_shown",
+    "checks_table",
+    "html_cell",
+    "html_text",
+    "is_long",
+    "md_cell",
     "summary_table",
+    "unlabelled",
+    "verdicts",
+    "FINDINGS",
+    "RULES_TITLE",
 ]
 
 
@@ -70,6 +72,52 @@ class SectionView:
         return [c for c in self.checks if not c["passed"] and c.get("known_discrepancy")]
 
 
+def unlabelled(b):
+    """A block with the paper source's figure labels replaced by figure numbers (``unlabel``)."""
+    if isinstance(b, Text):
+        return replace(b, text=unlabel(b.text))
+    if isinstance(b, Figure):
+        return replace(b, caption=unlabel(b.caption))
+    if isinstance(b, Table):
+        return replace(b, caption=unlabel(b.caption), rows=[[unlabel(str(c)) for c in r] for r in b.rows])
+    return b
+
+
+_CODE = re.compile(r"`([^`]+)`")
+
+
+def html_text(s: str) -> str:
+    return _CODE.sub(lambda m: f"<code>{m.group(1)}</code>", html.escape(s))
+
+
+#: A number with an exponent, or a number with its unit or percentage: kept on one line in a table cell.
+_NUMBER_TOKEN = re.compile(
+    r"(?<![\w.])[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?(?: ?%)?(?![\w.])"
+)  # a whole number, not digits inside a word or hash
+_NUMERIC_CELL = re.compile(
+    r"[-+]?(?:\d[\d.]*(?:e[-+]?\d+)?|nan|inf)(?: ?%| deg)?(?: ?[\[(][-+\d.e/ %,]*[\])])?(?:, [-+]?\d[\d.]*(?:e[-+]?\d+)?)?"
+)
+
+
+def html_cell(c) -> str:
+    """A table cell: a numeric cell never wraps; inside text, a number (``1e-12``, ``83 %``) does not break at its sign."""
+    text = str(c)
+    if _NUMERIC_CELL.fullmatch(text.strip()):
+        return f'<td class="num">{html_text(text)}</td>'
+    if "<" in text or "`" in text:
+        return f"<td>{html_text(text)}</td>"
+    return (
+        "<td>"
+        + _NUMBER_TOKEN.sub(
+            lambda m: (
+                f'<span class="num">{m.group(0)}</span>' if "e" in m.group(0) or "%" in m.group(0) else m.group(0)
+            ),
+            html.escape(text),
+        )
+        + "</td>"
+    )
+
+
 def md_cell(s: str) -> str:
     return str(s).replace("|", "\\|").replace("\n", " ")
 
@@ -80,10 +128,11 @@ def badge(state: str) -> str:
     ]
 
 
+#: Preformatted output longer than this many lines is folded in the HTML and linked, not inlined, in the Markdown.
 LONG_LINES = 15
 
 
-def long_block(b) -> bool:
+def is_long(b) -> bool:
     return isinstance(b, Preformatted) and b.text.count("\n") > LONG_LINES
 
 
@@ -103,8 +152,8 @@ def checks_table(checks: list[dict]):
             [
                 unlabel(c["name"]),
                 kind,
-                short(c.get("value")),
-                short(c.get("allowance")),
+                _short(c.get("value")),
+                _short(c.get("allowance")),
                 verdict,
                 unlabel(c.get("detail", "")),
             ]
@@ -148,7 +197,7 @@ def checks_note(checks: list[dict]) -> Text:
     return Text(text)
 
 
-def short(v) -> str:
+def _short(v) -> str:
     if v is None:
         return ""
     if isinstance(v, float):
@@ -157,11 +206,11 @@ def short(v) -> str:
 
 
 #: The findings lines and the rules behind their verdicts, written beside the report's data (derived, not computed).
-FINDINGS_FILE = "findings.json"
+FINDINGS = "findings.json"
 
 RULES_TITLE = "How the verdicts are given (crosscheck.report.findings.RULES)"
 
-SUMMARY_CAPTION = (
+_SUMMARY_CAPTION = (
     "Sections, in report order. Ran: whether the section's computation finished (ok), not whether an engine agrees "
     "with the theory. Checks: physics checks (allowance from the paper, the integrator or the timestep) apart from "
     "regression guards (allowance from a measured spread: holding means nothing changed, not that the physics is right). "
@@ -180,10 +229,10 @@ def verdicts(found: list, slug: str) -> list[str]:
 
 def summary_table(summary_rows) -> Table:
     return Table(
-        caption=SUMMARY_CAPTION,
+        caption=_SUMMARY_CAPTION,
         header=["section", "paper", "ran", "run time", "checks", "finding"],
         rows=[r[0] for r in summary_rows],
-        data=[f"data/{REFERENCES_FILE}"],
+        data=[f"data/{_REFERENCES}"],
         row_class=[r[1] for r in summary_rows],
     )
 

@@ -1,8 +1,9 @@
 """The report's Markdown twin, ``report.md``: the same blocks as ``index.html``, wrapped for reading as plain text.
 
 Lines stay within ``MD_WIDTH`` characters of prose (tables within ``MD_ROW_WIDTH``), a long raw block is written to a
-file and linked, and links and code spans are never broken.  The helpers shared with the HTML writer live in
-``crosscheck.report.format``.
+file and linked, and links and code spans are never broken.  ``report.md`` keeps the bottom line, the first figure,
+the engine table and the findings and links to each engine's page, ``engine_<slug>.md``.  The helpers shared with the
+HTML writer live in ``crosscheck.report.format``.
 """
 
 from __future__ import annotations
@@ -11,24 +12,26 @@ import json
 import re
 from pathlib import Path
 
+from crosscheck.report.engine_table import engine_facts, settings_table
 from crosscheck.report.findings import RULES
 from crosscheck.report.format import (
-    FINDINGS_FILE,
+    FINDINGS,
     RULES_TITLE,
     SectionView,
     badge,
     checks_note,
     checks_shown,
     checks_table,
-    long_block,
+    is_long,
     md_cell,
     summary_table,
     verdicts,
 )
+from crosscheck.report.pages import EnginePage, Pages, page_state
+from crosscheck.report.pipeline import PROVENANCE_FILE
 from crosscheck.report.provenance import provenance_rows
-from crosscheck.report.references import NUMBERING, figures_table, paper_reference, unlabel
+from crosscheck.report.references import _NUMBERING, _figures_table, paper_reference
 from crosscheck.report.section import Figure, Preformatted, Table, Text
-from crosscheck.report.store import PROVENANCE_FILE
 
 __all__ = ["write_md", "MD_WIDTH", "MD_ROW_WIDTH"]
 
@@ -53,6 +56,8 @@ def _md_block(b) -> str:
             lines.append("| " + " | ".join(cells) + " |")
         if notes:
             lines += [""] + [f"- note {k}: {t}" for k, t in enumerate(notes, 1)]
+        if b.notes:
+            lines += [""] + [f"- {n}" for n in b.notes]
         if b.data:
             lines += ["", " · ".join(f"[data: {Path(d).name}]({d})" for d in b.data)]
         return "\n".join(lines) + "\n"
@@ -112,21 +117,58 @@ def _md_raw_link(out: Path, slug: str, b: Preformatted, k: int) -> str:
     return f"{b.title or 'raw output'}: [{path.name}]({path}) ({b.text.count(chr(10)) + 1} lines)\n"
 
 
-def write_md(
-    out: Path, views: list[SectionView], prov: dict, summary_rows, failures: list[str], found: list, table
-) -> Path:
-    m = [
-        "# crosscheck report: contact engines against the rigid theory of the 3D Painlevé rod",
-        "",
+def _md_section(out: Path, v: SectionView, found: list) -> list[str]:
+    s = v.section
+    ws = verdicts(found, s.slug)
+    m = [f"## {s.title} [{badge(v.state)}]" + (f" finding: {', '.join(ws)}" if ws else ""), ""]
+    if s.paper:
+        m += [f"*Paper: {paper_reference(s.paper, labels=True)}*", ""]
+    if v.error:
+        m += [f"> **{badge(v.state)}**: {v.error}", ""]
+        if s.requires:
+            m += ["> This section needs: " + ", ".join(f"`{r}`" for r in s.requires), ""]
+        if v.traceback:
+            m += ["```text", v.traceback.rstrip(), "```", ""]
+        if v.files:
+            m += ["Saved before the failure: " + ", ".join(f"[{Path(f).name}]({f})" for f in v.files), ""]
+    m += [_md_raw_link(out, s.slug, b, k) if is_long(b) else _md_block(b) for k, b in enumerate(v.blocks)]
+    if v.checks and not checks_shown(v):
+        m.append(_md_block(checks_table(v.checks)))
+    elif v.checks:
+        m.append(_md_block(checks_note(v.checks)))
+    return m
+
+
+def _md_findings(pages: Pages, found: list) -> list[str]:
+    def where(slug: str) -> str:
+        stem = pages.page_of(slug)
+        return slug if stem == "index" else f"[{slug}]({stem}.md)"
+
+    return [
+        f"- **{f.leg}**: {f.text}. *{f.verdict}*" + (f" ({f.why})" if f.why else "") + f" ({where(f.slug)})"
+        for f in found
+    ]
+
+
+def _md_index_top(pages: Pages) -> list[str]:
+    m = ["# crosscheck: contact engines against the rigid theory of the 3D Painlevé rod", ""]
+    m += [" ".join(s.text for s in pages.bottom), ""] if pages.bottom else []
+    m += [_md_block(b) for b in pages.first]
+    m += [
         "Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painlevé paradox*. Every figure is recomputed "
-        f"from the project's model; beside each figure and table is the data behind it. {NUMBERING} HTML version: [index.html](index.html).",
+        f"from the project's model; beside each figure and table is the data behind it. {_NUMBERING} HTML version: "
+        "[index.html](index.html); the bottom line's sentences with their rules: "
+        "[data/bottom_line.json](data/bottom_line.json).",
+        "",
+        "Engines, one page each: "
+        + ", ".join(f"[{p.title}]({p.stem}.md) [{page_state(p.views)}]" for p in pages.engines),
         "",
         "## Findings",
         "",
-        *[_md_block(b) for b in table],
-        *(f"- **{f.leg}**: {f.text}. *{f.verdict}*" + (f" ({f.why})" if f.why else "") + f" ({f.slug})" for f in found),
+        *[_md_block(b) for b in pages.extra],
+        *_md_findings(pages, pages.found),
         "",
-        f"[data: {FINDINGS_FILE}](data/{FINDINGS_FILE})",
+        f"[data: {FINDINGS}](data/{FINDINGS})",
         "",
         f"**{RULES_TITLE}**",
         "",
@@ -134,56 +176,31 @@ def write_md(
         "",
         "## Summary",
         "",
+        _md_block(summary_table(pages.summary_rows)),
     ]
-    m.append(_md_block(summary_table(summary_rows)))
-    m.append(
-        "**Failures** (the command exits non-zero):\n\n" + "\n".join(f"- {f}" for f in failures) + "\n"
-        if failures
+    return m
+
+
+def _md_index_rest(pages: Pages, views: list[SectionView]) -> list[str]:
+    m = [
+        "**Failures** (the command exits non-zero):\n\n" + "\n".join(f"- {f}" for f in pages.failures) + "\n"
+        if pages.failures
         else "No failures.\n"
-    )
-    known = [(v.section.slug, c) for v in views for c in v.known_checks]
-    if known:
+    ]
+    if pages.known:
         m.append(
             "**Known discrepancies of the paper** (shown, not hidden):\n\n"
-            + "\n".join(f"- {s}: {unlabel(c['name'])}: {unlabel(c['known_discrepancy'])}" for s, c in known)
+            + "\n".join(f"- {s}: {n}: {k}" for s, n, k in pages.known)
             + "\n"
         )
-    m += ["## The paper's figures", "", _md_block(figures_table(views))]
-    m += [
-        "## Provenance",
-        "",
-        _md_block(
-            Table(
-                caption="Versions, revision, date and machine of the run stage.",
-                header=["item", "value"],
-                rows=provenance_rows(prov),
-                data=[f"data/{PROVENANCE_FILE}.json"],
-            )
-        ),
-    ]
-    for v in views:
-        s = v.section
-        found_verdicts = verdicts(found, s.slug)
-        m += [
-            f"## {s.title} [{badge(v.state)}]" + (f" finding: {', '.join(found_verdicts)}" if found_verdicts else ""),
-            "",
-        ]
-        if s.paper:
-            m += [f"*Paper: {paper_reference(s.paper, labels=True)}*", ""]
-        if v.error:
-            m += [f"> **{badge(v.state)}**: {v.error}", ""]
-            if s.requires:
-                m += ["> This section needs: " + ", ".join(f"`{r}`" for r in s.requires), ""]
-            if v.traceback:
-                m += ["```text", v.traceback.rstrip(), "```", ""]
-            if v.files:
-                m += ["Saved before the failure: " + ", ".join(f"[{Path(f).name}]({f})" for f in v.files), ""]
-        m += [_md_raw_link(out, s.slug, b, k) if long_block(b) else _md_block(b) for k, b in enumerate(v.blocks)]
-        if v.checks and not checks_shown(v):
-            m.append(_md_block(checks_table(v.checks)))
-        elif v.checks:
-            m.append(_md_block(checks_note(v.checks)))
-    m += [
+    m += ["## The paper's figures", "", _md_block(_figures_table(views)), "## Provenance", ""]
+    m.append(_md_block(Table(caption="Versions, revision, date and machine of the run stage.", header=["item", "value"],
+                             rows=provenance_rows(pages.prov), data=[f"data/{PROVENANCE_FILE}.json"])))  # fmt: skip
+    return m
+
+
+def _md_parameters(prov: dict) -> list[str]:
+    return [
         "## Parameters and tolerances",
         "",
         "Every parameter of every section is in "
@@ -199,6 +216,32 @@ def write_md(
             )
         ),
     ]
+
+
+def _md_engine(out: Path, pages: Pages, page: EnginePage, provenance: list[list[str]]) -> Path:
+    rec = next((r for r in pages.records if r["engine"] == page.spec.name and r["role"] == "map"), None)
+    m = [f"# {page.title} [{page_state(page.views)}]", "", "[crosscheck report](report.md)", "", "## Findings", ""]
+    m += _md_findings(pages, [f for f in pages.found if f.slug in page.slugs]) + [""]
+    if rec is not None:
+        m += [f"- {x}" for x in engine_facts(rec)] + ["", _md_block(settings_table(pages.records, page.spec.name))]
+    m += ["## Provenance", "", _md_block(Table(caption="The engine's libraries, tags and the options of every setting.",
+                                               header=["item", "value"], rows=provenance, data=[]))]  # fmt: skip
+    for v in page.views:
+        m += _md_section(out, v, pages.found)
+    path = out / f"{page.stem}.md"
+    path.write_text(_wrap_md("\n".join(m)))
+    return path
+
+
+def write_md(out: Path, pages: Pages, views: list[SectionView], provenance: dict | None = None) -> Path:
+    """``report.md`` (the index's twin) and ``engine_<slug>.md`` per engine page; ``provenance``: each page's
+    provenance rows by its stem (``render.engine_provenance``)."""
+    m = _md_index_top(pages) + _md_index_rest(pages, views)
+    for v in pages.index:
+        m += _md_section(out, v, pages.found)
+    m += _md_parameters(pages.prov)
     path = out / "report.md"
     path.write_text(_wrap_md("\n".join(m)))
+    for p in pages.engines:
+        _md_engine(out, pages, p, (provenance or {}).get(p.stem, []))
     return path

@@ -16,15 +16,18 @@ holds the report's own ``computed_by.json`` (``sweeps_owned``).
 
 from __future__ import annotations
 
+import fnmatch
 import json
 from pathlib import Path
 
-__all__ = ["claim", "sweeps_owned", "STAMP", "OWN_NAMES", "BESIDE_FLAG"]
+__all__ = ["claim", "sweeps_owned", "STAMP", "OWN_NAMES", "OWN_PATTERNS", "BESIDE_FLAG"]
 
 #: The report's stamp file in its directory: its presence is the proof that crosscheck report wrote the directory.
 STAMP = ".crosscheck-report"
 #: What a report writes at the top of its directory (the lock and the stamp aside).
 OWN_NAMES = ("data", "figures", "sweeps", "index.html", "report.md")
+#: ... and the engines' pages beside them (``crosscheck.report.pages``).
+OWN_PATTERNS = ("engine_*.html", "engine_*.md")
 #: The command-line flag that lets a report share a directory with files that are not its own.
 BESIDE_FLAG = "--beside-files"
 _IGNORED = (".lock", STAMP)
@@ -51,7 +54,9 @@ def claim(out: Path, *, beside: bool = False) -> None:
                     f"{len(others)} entries it did not write (first: {others[0]!r}); choose another --out, or pass "
                     f"{BESIDE_FLAG} to add the report beside them (nothing of theirs is deleted or overwritten)"
                 )
-            taken = [n for n in OWN_NAMES if n in others]
+            taken = [n for n in OWN_NAMES if n in others] + [
+                n for n in others if any(fnmatch.fnmatch(n, pat) for pat in OWN_PATTERNS)
+            ]
             if taken:
                 raise ValueError(
                     f"out must be a directory where the report's names are free; {str(out)!r} already holds "

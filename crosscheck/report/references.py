@@ -1,9 +1,8 @@
 """How the report names the paper: figure numbers and sections for readers, the source's LaTeX labels kept in the data.
 
 ``paper_reference`` turns a section's ``paper`` string into what a reader finds in the printed paper, ``unlabel``
-removes figure labels from any text, ``figures_table`` lists the paper's figures and where the report recomputes
-them, and ``crosscheck.report.render.write_references`` writes the labels the tables leave out to
-``data/paper_references.json`` (``REFERENCES_FILE``).
+removes figure labels from any text, ``_figures_table`` lists the paper's figures and where the report recomputes
+them, and ``crosscheck.report.render._write_references`` writes the labels the tables leave out to ``data/paper_references.json``.
 """
 
 from __future__ import annotations
@@ -12,7 +11,7 @@ import re
 
 from crosscheck.report.section import Table
 
-__all__ = ["paper_reference", "unlabel", "NUMBERING", "figures_table", "REFERENCES_FILE"]
+__all__ = ["paper_reference", "unlabel"]
 
 
 _FIG_LABELS = re.compile(r"\s*\((?:fig:[^()]*)\)")
@@ -70,15 +69,14 @@ def unlabel(text: str) -> str:
     )
 
 
-NUMBERING = (
+_NUMBERING = (
     "Figure numbers are the printed paper's (the order of its figure environments), with panel letters; "
     "the table of the paper's figures below says which ones this report recomputes."
 )
 
 
-def figures_table(views: list) -> Table:
-    """The paper's figures: where the report recomputes each, or why it does not (``crosscheck.theory.paper.FIGURES``);
-    ``views``: the rendered ``crosscheck.report.format.SectionView`` of each section."""
+def _figures_table(views: list) -> Table:
+    """The paper's figures: where the report recomputes each, or why it does not (``crosscheck.theory.paper.FIGURES``)."""
     from crosscheck.theory.paper import FIGURES
 
     titles = {v.section.slug: v.section.title for v in views}
@@ -93,10 +91,10 @@ def figures_table(views: list) -> Table:
         "and each section's references to the paper are in the data file.",
         header=["figure", "shows", "recomputed in", "not drawn / why"],
         rows=rows,
-        data=[f"data/{REFERENCES_FILE}"],
+        data=[f"data/{_REFERENCES}"],
         row_class=cls,
     )
 
 
 #: The paper's figures with their LaTeX labels and every section's reference to the paper, written beside the report's data.
-REFERENCES_FILE = "paper_references.json"
+_REFERENCES = "paper_references.json"

@@ -69,6 +69,7 @@ class Table:
     rows: list[list[str]]
     data: list[str]
     row_class: list[str] = field(default_factory=list)  # per row: "", "fail", "known", "ok"
+    notes: list[str] = field(default_factory=list)  # one-line footnotes under the table (column definitions)
 
 
 @dataclass

@@ -35,11 +35,12 @@ import numpy as np
 
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get
+from crosscheck.engines.adapter import record_from_chain
 from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, run_inputs, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds, classify, first_event_final
 from crosscheck.engines.dart.model import World
 from crosscheck.engines.dart.options import Options
-from crosscheck.engines.physx.chain import Raw, record_from_raw
+from crosscheck.engines.physx.chain import Raw
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
@@ -64,6 +65,13 @@ class DartHealth:
     contact_steps: int
     max_points: int
     max_penetration: float
+
+
+def _record(raw: Raw, rod: Rod, opts):
+    """The scaled ``Record`` of a rollout (the shared conversion ``crosscheck.engines.adapter.record_from_chain``)."""
+    return record_from_chain(
+        rod, raw.q, raw.v, raw.force, raw.points > 0, timestep=opts.timestep, radius=opts.radius, computed=raw.computed
+    )
 
 
 def simulate(
@@ -93,11 +101,11 @@ def simulate(
     )
 
     def judged(raw: Raw) -> bool:
-        record = record_from_raw(raw, rod, opts.timestep, opts.radius)
+        record = _record(raw, rod, opts)
         return first_event_final(classify(record, **rules), raw.computed, th, opts.timestep)
 
     raw = World(rod, mu, opts).rollout(q0, v0, n, judged if until_event else None)
-    record = record_from_raw(raw, rod, opts.timestep, opts.radius)
+    record = _record(raw, rod, opts)
     c = classify(record, **rules)
     run = Run.from_classification(
         NAME, c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th, horizon=horizon, nstep=n

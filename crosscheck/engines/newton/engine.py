@@ -10,9 +10,11 @@ k steps (row 0 the exact start in float64, as given) and the contact force of st
 of mass's change of velocity, F = m (v_S,k+1 - v_S,k) / dt + m g e_z (the only forces on the rod are gravity and the
 contact, and the D6 joint's translations are the centre of mass's own coordinates): the impulse of the step / dt,
 whatever the solver's contact model, without reading any solver's contact buffers.  Its float32 rounding is
-~ulp(|v|) / dt, 1e-4 m g at |v| = 5 l omega and timestep 1e-3.  ``active`` is the solver's contact: the capsule's
-lowest point below the plane at the step's collision detection (MuJoCo Warp's pair and the penalty force exist only
-then; XPBD's pipeline contact exists within ``GAP``).
+~ulp(|v|) / dt, 1e-4 m g at |v| = 5 l omega and timestep 1e-3; a force within ``FORCE_ROUNDING`` times that reads
+as none (free flight then records F = 0 exactly, as the engines that read a solver's contact force do).  ``active`` is the solver's contact: the capsule's
+lowest point below the plane at the step's collision detection (every shape has margin and gap 0: MuJoCo Warp's
+pair and the penalty force exist only then); for XPBD, whose projection leaves a resting contact point on the plane
+to rounding, within ``RESTING_GAP`` of it.
 
 Units.  Everything this module takes and returns is in the paper's scaled units (section 2.1); the model runs in SI
 from the ``Rod`` (``crosscheck.engines.newton.model``).
@@ -47,7 +49,7 @@ from crosscheck.progress import bar
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState, real_scalar
 
-__all__ = ["Options", "NewtonHealth", "simulate", "sweep", "record_from_raw", "SIZES", "GAP"]
+__all__ = ["Options", "NewtonHealth", "simulate", "sweep", "record_from_raw", "SIZES"]
 
 #: World counts of the Newton models a sweep uses: the smallest that holds the states, else blocks of the largest.
 #: A MuJoCo Warp step on CPU costs ~10 ms at 4 worlds and ~16 ms at 256 (its kernel launches, not its worlds), so
@@ -57,6 +59,17 @@ SIZES = (4, 64, 256)
 #: Bytes per state and row: the float32 poses and twists read back (52), the float64 generalized arrays, the Record
 #: and the classifier's temporaries; ~3 x the Record's 8-byte columns as a margin.
 ROW_BYTES = 1024
+
+
+#: float32's machine epsilon: Warp's states are float32.
+EPS32 = float(np.finfo(np.float32).eps)
+
+#: A step's force within this many eps32 (|v_k| + |v_k+1| + g dt) / (g dt) of zero is rounding: no force.  The
+#: difference of two float32 velocities errs by up to eps32 (|v_k| + |v_k+1|) / 2 per component; 4 x that leaves room
+#: for the solver's own rounding of the step's v_k+1 (measured in free flight: 2.9e-6 m g at |v| ~ 1, timestep 3e-3,
+#: where eps32 |v| / (g dt) = 4e-5).  The floor is 3e-4 m g at |v| ~ 1 and timestep 3e-3: the force resolution of a
+#: float32 engine read from its velocities.
+FORCE_ROUNDING = 4.0
 
 
 def _name(opts: Options) -> str:
@@ -87,6 +100,12 @@ def record_from_raw(raw: newton_model.Raw, rod: Rod, options: Options, q0: np.nd
     acc = (vel[:, 1:] - vel[:, :-1]) / (dt * g)
     force = (v[:, 1:, :3] - v[:, :-1, :3]) / (dt * g)  # [m g]: (F - m g) / (m g) ...
     force[..., 2] += 1.0  # ... plus gravity's m g: the contact force alone
+    # a step without contact leaves rounding here, not 0: v_k+1 - v_k of float32 velocities is exact only to
+    # ~eps32 (|v_k| + |v_k+1|), so a force within FORCE_ROUNDING times that / (dt g) reads as no force (the classifier's
+    # lift-off asks for F_n <= 0 exactly; +3e-6 m g of rounding in free flight made a lifted rod STICK)
+    speed = np.abs(v[:, 1:, :3]).max(axis=-1) + np.abs(v[:, :-1, :3]).max(axis=-1) + dt * g
+    floor = FORCE_ROUNDING * EPS32 * speed / (dt * g)
+    force[np.all(np.abs(force) <= floor[..., None], axis=-1)] = 0.0
     q[:, 0], v[:, 0] = q0, v0
     pos, vel = tip_position(rod, q[:, :n]), tip_velocity(rod, q[:, :n], v[:, :n])
     psi, theta = np.ascontiguousarray(q[:, :n, 3]), np.ascontiguousarray(q[:, :n, 4])
@@ -104,7 +123,7 @@ def record_from_raw(raw: newton_model.Raw, rod: Rod, options: Options, q0: np.nd
         tip_acc=acc,
         force=force,
         normal_force=force[..., 2].copy(),
-        active=gap < (GAP if options.solver == "xpbd" else 0.0),
+        active=gap < (RESTING_GAP if options.solver == "xpbd" else 0.0),
         gap=gap,
         slip_vel=slip,
         psi=psi,
@@ -114,9 +133,10 @@ def record_from_raw(raw: newton_model.Raw, rod: Rod, options: Options, q0: np.nd
     )
 
 
-#: XPBD's contact detection distance [l] (the shapes' gap there): its contact projection acts on the predicted
-#: position, so it needs the contact before the capsule reaches the plane (the other solvers use gap 0).
-GAP = 0.02
+#: XPBD's ``active`` threshold [l]: its projection leaves a resting contact point on the plane to float32 rounding,
+#: on either side, so a flag at gap < 0 flips with the rounding (it differed between a scaled and a physical rod's
+#: same run); a contact point within 1e-6 l of the plane counts as in contact.
+RESTING_GAP = 1e-6
 
 
 def _health(raw: newton_model.Raw, record: Record, rod: Rod) -> dict:

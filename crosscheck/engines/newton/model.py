@@ -193,7 +193,7 @@ class Batch:
         B = self.size
         self._set_mu(mu)
         s0 = self.states[0]
-        self.solver.reset(s0) if hasattr(self.solver, "reset") else None
+        self.solver.reset(s0)  # MuJoCo Warp's warm start and applied forces zeroed: no run carries into the next
         s0.joint_q.assign(np.asarray(q0, dtype=np.float32).ravel())
         s0.joint_qd.assign(np.asarray(v0, dtype=np.float32).ravel())
         newton.eval_fk(self.model, s0.joint_q, s0.joint_qd, s0)

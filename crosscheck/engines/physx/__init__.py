@@ -15,9 +15,8 @@ __all__ = ["ENGINES"]
 
 #: Report settings by cost (python benchmarks/bench_physx.py): a step costs ~60-90 us with the record (a fresh
 #: scene per run, ~2 ms), ~3 x Bullet's, so a run to horizon 2 at the default timestep 1e-3 takes ~0.15 s, cut to
-#: about half by stopping at the first event.  Each of the two solvers gets 6 x 6 maps (quick) and 12 x 12 (full),
-#: as each of Drake's approximations, and convergence in the timestep on 4 x 4 and 6 x 6 (theta, Theta) grids.
-#: Measured: the quick report's sections of both solvers (maps, contact, onset, IC, rounding, convergence, ladder,
+#: about half by stopping at the first event.  Each of the two solvers gets 12 x 12 maps in the full report, as
+#: each of Drake's approximations, and convergence in the timestep on 6 x 6 (theta, Theta) grids.  Measured: the quick report's sections of both solvers (maps, contact, onset, IC, rounding, convergence, ladder,
 #: interventions) took 95 s of section time at 6 x 6 maps and 4 x 4 convergence grids (2 cores shared by other jobs;
 #: rounding and maps the largest); the quick grids are therefore 4 x 4 maps and 3 x 3 convergence grids, which the
 #: quick report (and tests/test_report.py, which runs it) can afford for three engines more.

@@ -35,9 +35,10 @@ import numpy as np
 
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get
+from crosscheck.engines.adapter import record_from_chain
 from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, run_inputs, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds, classify, first_event_final
-from crosscheck.engines.physx.chain import Raw, record_from_raw
+from crosscheck.engines.physx.chain import Raw
 from crosscheck.engines.physx.model import World
 from crosscheck.engines.physx.options import Options, PgsOptions
 from crosscheck.rod import Rod
@@ -73,6 +74,13 @@ def _name(opts: Options) -> str:
     return f"physx_{opts.solver}"
 
 
+def _record(raw: Raw, rod: Rod, opts):
+    """The scaled ``Record`` of a rollout (the shared conversion ``crosscheck.engines.adapter.record_from_chain``)."""
+    return record_from_chain(
+        rod, raw.q, raw.v, raw.force, raw.points > 0, timestep=opts.timestep, radius=opts.radius, computed=raw.computed
+    )
+
+
 def simulate(
     rod: Rod,
     state: SlipState,
@@ -86,8 +94,8 @@ def simulate(
     """Run one slipping state in PhysX and classify its first event.
 
     The capsule starts touching the plane (z_A = r, C on the plane) with the velocities of ``state``
-    (``crosscheck.coordinates.to_generalized``), rounded to float32 as PhysX stores them; ``ceil(horizon /
-    timestep)`` steps.  ``Run.solver`` holds ``PhysxHealth``.
+    (``crosscheck.coordinates.to_generalized``), which PhysX stores rounded to float32 (row 0 holds the start as
+    given); ``ceil(horizon / timestep)`` steps.  ``Run.solver`` holds ``PhysxHealth``.
 
     Args:
       rod: physical rod (``Rod.scaled(alpha)`` for the paper's units).
@@ -107,11 +115,11 @@ def simulate(
     )
 
     def judged(raw: Raw) -> bool:
-        record = record_from_raw(raw, rod, opts.timestep, opts.radius)
+        record = _record(raw, rod, opts)
         return first_event_final(classify(record, **rules), raw.computed, th, opts.timestep)
 
     raw = World(rod, mu, opts).rollout(q0, v0, n, judged if until_event else None)
-    record = record_from_raw(raw, rod, opts.timestep, opts.radius)
+    record = _record(raw, rod, opts)
     c = classify(record, **rules)
     run = Run.from_classification(
         _name(opts),

@@ -27,10 +27,12 @@ PhysX), which is exact up to float32 rounding; PhysX's contact report gives norm
 The capsule (PhysX's lies along its local x, turned onto body y) has its end caps centred on A = (0, -l, 0)
 and B = (0, l, 0), radius r l, so it touches the plane at C = A - r K.  Settings, each because PhysX's or
 SAPIEN's default is wrong here (``crosscheck.engines.physx.options.Options`` for the ones that are options):
-friction static = dynamic = mu on both shapes (PhysX averages the two shapes' coefficients), restitution 0;
+friction dynamic = mu and static = ``static_ratio`` mu (1: Coulomb's one coefficient) on both shapes (PhysX
+averages the two shapes' coefficients), restitution 0;
 link linear and angular damping 0 (0.05); joint friction 0 (SAPIEN's 0.05), damping and armature 0, no
 drives; link velocity clamps (10 m/s, 50 rad/s) and joint velocity clamps (100) at 1e30; torsional patch
-radius 0; rest offset 0; sleep, bounce threshold, contact offset, solver and iterations from the options.
+radius ``patch_radius`` l (0); rest offset 0; sleep, bounce threshold, contact offset, solver and
+iterations from the options.
 
 PhysX computes in float32: the state read back each step is float32 (relative rounding 6e-8), converted to
 float64.  A fresh system per run: PhysX keeps contact manifolds and friction anchors between steps, so a
@@ -91,7 +93,7 @@ class World:
         self.system = px.PhysxCpuSystem()
         self.system.timestep = self.dt
         self.scene = sapien.Scene([self.system])
-        material = px.PhysxMaterial(static_friction=mu, dynamic_friction=mu, restitution=0.0)
+        material = px.PhysxMaterial(static_friction=options.static_ratio * mu, dynamic_friction=mu, restitution=0.0)
         ground = px.PhysxRigidStaticComponent()
         ground.attach(self._shaped(px.PhysxCollisionShapePlane(material), "z"))
         self._add(ground)
@@ -108,7 +110,7 @@ class World:
         shape.local_pose = _onto(axis)
         shape.contact_offset = self.options.contact_offset * self.rod.length
         shape.rest_offset = 0.0
-        shape.patch_radius = 0.0
+        shape.patch_radius = self.options.patch_radius * self.rod.length
         shape.min_patch_radius = 0.0
         return shape
 
@@ -168,7 +170,8 @@ class World:
         force = np.zeros((nstep, 3))
         points = np.zeros(nstep, np.int64)
         separation = np.full(nstep, np.nan)
-        q[0], v[0] = art.get_qpos(), art.get_qvel()
+        # row 0 is the start as given; PhysX holds it rounded to float32 (6e-8 relative), as every later row
+        q[0], v[0] = q0, v0
         check = FIRST_CHECK
         for k in range(nstep):
             if judged is not None and k == check:

@@ -29,6 +29,10 @@ RADIUS = CAPSULE_RADIUS
 #: 0..255 velocity).
 MAX_ITERATIONS = 255
 
+#: The ratio of the static to the dynamic friction coefficient: Coulomb's law has one coefficient (1); PhysX keeps
+#: two, and a static one above mu would hold a contact that Coulomb's law lets slip.
+STATIC_RATIO = Interval(1.0, 100.0, lo_open=False, hi_open=False)
+
 #: The bounce threshold's range [l omega]: PhysX keeps it in float32 and needs it positive.
 BOUNCE = Interval(0.0, 1e30, lo_open=True, hi_open=False)
 
@@ -64,13 +68,17 @@ class Options(EngineOptions):
       sleep_threshold: the articulation's sleep threshold, a kinetic energy per unit mass [(l omega)^2]
         (default 0: PhysX's 5e-5 (m/s)^2 per kg, SAPIEN's 5e-3, would freeze a rod that slows down before it
         sticks).
+      static_ratio: PhysX's static friction coefficient / mu (default 1: static = dynamic = mu, Coulomb's single
+        coefficient; PhysX's materials take the two separately and average each over the two shapes).
+      patch_radius: the torsional patch radius / l of PhysX's patch friction (default 0: the paper's point contact,
+        no torsional friction; SAPIEN's default is 0 too, recorded here because patch friction would otherwise add a
+        friction torque about the normal).
       friction_every_iteration: PhysX's ``eENABLE_FRICTION_EVERY_ITERATION`` (default True, SAPIEN's; PhysX's
         own default False solves friction only in the last position iterations).
 
-    Fixed, not options (each PhysX default wrong here; ``crosscheck.engines.physx.model``): static friction =
-    dynamic friction = mu (PhysX keeps two coefficients and combines them by average); restitution 0; link and
+    Fixed, not options (each PhysX default wrong here; ``crosscheck.engines.physx.model``): restitution 0; link and
     joint damping 0; joint friction 0 (SAPIEN's 0.05); the velocity clamps (10 m/s and 50 rad/s per link,
-    100 per joint) out of reach; torsional patch radius 0 (the paper's point contact).  PhysX's friction is its
+    100 per joint) out of reach.  PhysX's friction is its
     patch friction, one anchor pair per contact patch with two friction rows along two tangent axes, each
     clipped to mu times the normal impulse (SAPIEN 3.0 exposes no other friction model).
     """
@@ -83,6 +91,8 @@ class Options(EngineOptions):
     contact_offset: float = 0.02
     bounce_threshold: float = 1e6
     sleep_threshold: float = 0.0
+    static_ratio: float = 1.0
+    patch_radius: float = 0.0
     friction_every_iteration: bool = True
 
     def __post_init__(self) -> None:
@@ -95,6 +105,8 @@ class Options(EngineOptions):
         object.__setattr__(self, "contact_offset", real_scalar("contact_offset", self.contact_offset, POSITIVE))
         object.__setattr__(self, "bounce_threshold", real_scalar("bounce_threshold", self.bounce_threshold, BOUNCE))
         object.__setattr__(self, "sleep_threshold", real_scalar("sleep_threshold", self.sleep_threshold, NONNEGATIVE))
+        object.__setattr__(self, "static_ratio", real_scalar("static_ratio", self.static_ratio, STATIC_RATIO))
+        object.__setattr__(self, "patch_radius", real_scalar("patch_radius", self.patch_radius, NONNEGATIVE))
         if not isinstance(self.friction_every_iteration, (bool, np.bool_)):
             raise ValueError(f"friction_every_iteration must be True or False; got {self.friction_every_iteration!r}")
         object.__setattr__(self, "friction_every_iteration", bool(self.friction_every_iteration))

@@ -23,10 +23,27 @@ from crosscheck.report.section import RenderContext, RunContext, Section, Table,
 #: Map starts where the theory jams, beside IC1, by cost: a start costs one engine run to t_jam + settle (measured
 #: 0.1-0.6 s with the theory's continuation, MuJoCo's slowest at its 0.12 settle) and 8 engines share 2 cores, so 4
 #: keep the quick report's eight sections under ~10 s together and 12 the full report's under ~30 s.
+#: An engine with smaller maps gets fewer (``cost_scale``).
 MAX_STARTS = {"quick": 4, "full": 12}
 
 #: The numbers the table and the engine table read (``summary.json``).
 _IC1 = "IC1"
+
+
+#: The map sections' default size (``engine_maps.params``): an engine whose runs cost more declares smaller maps.
+DEFAULT_MAPS_N = {"quick": 10, "full": 32}
+
+
+def cost_scale(engine: str, key: str) -> float:
+    """The share of the default number of starts an engine gets: (its maps' n / the default n)^2, the share of runs its
+    own maps make (1 for an engine at the default; Drake's 6 x 6 quick maps 0.36, Newton's 4 x 4 0.16): the engines that
+    declared smaller maps by their measured cost (Newton's psi section took 456-588 s at 120 starts) get fewer
+    starts."""
+    from crosscheck import engines
+
+    plan = engines.get(engine).report
+    n = (plan.maps_n or {}).get(key) if plan is not None else None
+    return 1.0 if not n else min(1.0, (n / DEFAULT_MAPS_N[key]) ** 2)
 
 
 def params(quick: bool, engine: str, options: dict, convergence: list | None) -> dict:
@@ -36,7 +53,8 @@ def params(quick: bool, engine: str, options: dict, convergence: list | None) ->
         "alpha": 3.0,
         "t_max": 2.0,
         "options": dict(options),
-        "max_starts": MAX_STARTS[key],
+        # one run per start (the Psi section's are many): the linear share, the square root of the cost scale
+        "max_starts": max(1, round(MAX_STARTS[key] * cost_scale(engine, key) ** 0.5)),
         "convergence": [dict(s) for s in convergence or ()],
     }
 

@@ -19,7 +19,18 @@ from crosscheck.report.section import RenderContext, RunContext, Section, Table
 #: Starts by cost (measured 15-40 ms per engine run at the maps' options, horizon 0.5; 8 engines share 2 cores): quick
 #: 24 slipping and 4 indeterminate starts (~1-2 s per engine, 5 at most while the other sections run), full 120 and 12
 #: (~5-8 s per engine; the full report's eight sections add ~30 s of its wall time on 2 cores).
+#: These are an engine's at the default map size; an engine with smaller maps gets its share (``_scaled``).
 N_STARTS = {"quick": {"slipping": 24, "indeterminate": 4}, "full": {"slipping": 120, "indeterminate": 12}}
+
+
+def _scaled(engine: str, key: str) -> dict:
+    """``N_STARTS`` times the engine's cost scale (``engine_impact.cost_scale``), at least 4 slipping and 1
+    indeterminate."""
+    from crosscheck.report.sections.engine_impact import cost_scale
+
+    k = cost_scale(engine, key)
+    n = N_STARTS[key]
+    return {"slipping": max(4, round(n["slipping"] * k)), "indeterminate": max(1, round(n["indeterminate"] * k))}
 
 
 def params(quick: bool, engine: str, options: dict, convergence: list | None) -> dict:
@@ -33,7 +44,7 @@ def params(quick: bool, engine: str, options: dict, convergence: list | None) ->
         "abs_Psi": [1.5, 5.0],  # from just below Psi_L: most starts in the bands around Psi_1 and Psi_2
         "options": dict(options),
         "settings": [dict(options), *[dict(s) for s in convergence or () if dict(s) != dict(options)]],
-        **N_STARTS[key],
+        **_scaled(engine, key),
     }
 
 

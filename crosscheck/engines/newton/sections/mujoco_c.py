@@ -4,7 +4,10 @@ The two run the same model: the capsule rod of ``models/rod.xml``, Euler, Newton
 solref, solimp, impratio, condim and timestep (``crosscheck.engines.newton.model``); MuJoCo Warp runs it in float32 on
 Warp's CPU device, MuJoCo in C in float64.  From seeded random slipping starts this section runs both and counts
 the starts whose first event is the same, and how far apart the event times are.  Where they differ the rounding of
-float32 (~6e-8 relative per operation) is the only difference of model: the section lists those starts.  It also
+float32 (~6e-8 relative per operation) is the only difference of model: the section lists those starts.  One
+mechanism is the start itself: placed touching (z_A = r, the capsule at distance 0 from the plane), its float32
+copy can sit ~1e-8 l inside the plane, and MuJoCo's contact at margin 0 exists iff the distance is negative, so
+MuJoCo Warp can take a contact step that MuJoCo in C does not (a lift-off one step late).  It also
 records the CPU seconds this report's process spent in each Newton solver's first step (Warp compiles the solver's
 kernels there when its disk cache is cold, else loads them), kept out of every per-step cost.
 

@@ -34,6 +34,12 @@ class Options(adapter.Options):
         """The spring's time constant 1 / sqrt(k) in scaled time (its frequency is sqrt(k) omega)."""
         return 1.0 / math.sqrt(self.stiffness)
 
+    @property
+    def spring_time(self) -> float:
+        """eps of a normal force that is a spring delta / eps^2 (damping aside): a jam lags the rigid one by
+        s* (eps^4 / (k |b|))^(1/5) (``crosscheck.theory.jam_lag``), which the comparison allows it."""
+        return self.contact_time
+
 
 def _forces(p: adapter.Problem, k: float, c: float, eps: float, q, v):
     """(generalised force Q (5,), contact force F (3,) [N], contact point C (3,) [m] or None) at (q, v)."""

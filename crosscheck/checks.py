@@ -126,6 +126,11 @@ def check(name: str, value, interval: Interval = FINITE) -> np.ndarray:
             return np.asarray(v)
     if value is None:
         raise ValueError(f"{name} is required and must be in {interval}")
+    if isinstance(value, str) and (not value.isascii() or "_" in value):
+        # one rule for text everywhere (crosscheck.cli.options): float() would read "1_0" as 10, "٣" as 3, "１" as 1
+        raise ValueError(
+            f"{name} must be a number in {interval} written with ASCII digits (no underscores); got {value[:40]!r}"
+        )
     try:
         x = np.asarray(value, dtype=float)
     except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond any float

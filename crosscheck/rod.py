@@ -53,7 +53,13 @@ class Rod:
     def uniform(cls, mass: float, length: float, gravity: float = 9.81) -> Rod:
         """A uniform rod (alpha = 3) with tip-to-centre distance ``length``."""
         mass, length = real_scalar("mass", mass, PHYSICAL), real_scalar("length", length, PHYSICAL)
-        return cls(mass=mass, length=length, inertia=mass * length**2 / 3.0, gravity=gravity)
+        inertia = mass * length**2 / 3.0
+        if not PHYSICAL.lo <= inertia <= PHYSICAL.hi:  # name what the caller gave, not the inertia derived from it
+            raise ValueError(
+                f"mass and length must give a uniform rod's inertia m l^2 / 3 in [{PHYSICAL.lo:g}, {PHYSICAL.hi:g}] "
+                f"kg m^2; got mass {mass!r}, length {length!r} (m l^2 / 3 = {inertia:.3g})"
+            )
+        return cls(mass=mass, length=length, inertia=inertia, gravity=gravity)
 
     @property
     def alpha(self) -> float:

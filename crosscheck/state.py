@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass
 
 from crosscheck.checks import (  # the validators' home is crosscheck.checks; importable from here as before
@@ -13,6 +14,7 @@ from crosscheck.checks import (  # the validators' home is crosscheck.checks; im
     RATE,
     THETA,
     VARPHI,
+    Interval,
     check,
     check_timestep,
     check_timestep_within,
@@ -20,8 +22,14 @@ from crosscheck.checks import (  # the validators' home is crosscheck.checks; im
     real_scalar,
     same_shape,
 )
+from crosscheck.tolerances import THETA_MARGIN
 
 __all__ = ["SlipState", "real", "real_scalar", "same_shape", "MIN_TIMESTEP", "check_timestep", "check_timestep_within"]
+
+#: The polar angles a run may start from: ``THETA_MARGIN`` (1e-6) inside (0, pi/2), where the theory's runs stop.
+THETA_START = Interval(
+    THETA_MARGIN.atol, math.pi / 2 - THETA_MARGIN.atol, lo_open=False, hi_open=False, text="[1e-06, pi/2 - 1e-06]"
+)
 
 
 @dataclass(frozen=True)
@@ -54,8 +62,10 @@ class SlipState:
             object.__setattr__(self, name, real_scalar(name, getattr(self, name), interval))
 
     def check_start(self) -> SlipState:
-        """This state, if it may start a run: rates and azimuth within ``crosscheck.checks``'s ranges (ValueError otherwise)."""
-        for name, interval in (("Theta", RATE), ("Psi", RATE), ("eta", ETA), ("psi", AZIMUTH)):
+        """This state, if it may start a run: theta at least ``THETA_MARGIN`` from 0 and pi/2 (where every run stops:
+        a start nearer the vertical made the compliant rod crawl for minutes and MuJoCo's law meet a singular
+        matrix), rates and azimuth within ``crosscheck.checks``'s ranges (ValueError otherwise)."""
+        for name, interval in (("theta", THETA_START), ("Theta", RATE), ("Psi", RATE), ("eta", ETA), ("psi", AZIMUTH)):
             check(name, getattr(self, name), interval)
         return self
 

@@ -39,7 +39,7 @@ from concurrent.futures import ProcessPoolExecutor
 
 from crosscheck import locking
 
-__all__ = ["pool", "process_pool", "default_workers", "adopt"]
+__all__ = ["pool", "process_pool", "default_workers", "adopt", "stop"]
 
 _PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
 
@@ -68,11 +68,36 @@ def adopt(parent: int) -> None:
         os._exit(1)
 
 
-def pool(workers: int) -> ProcessPoolExecutor:
-    """A ``ProcessPoolExecutor`` of ``workers`` forked processes that die with this one (module docstring)."""
+def _adopt_deaf(parent: int) -> None:
+    """``adopt``, and ignore SIGINT: a Ctrl-C reaches the whole process group, and the parent alone answers it
+    (``stop``) instead of every worker printing its own KeyboardInterrupt."""
+    adopt(parent)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def pool(workers: int, *, deaf: bool = False) -> ProcessPoolExecutor:
+    """A ``ProcessPoolExecutor`` of ``workers`` forked processes that die with this one (module docstring);
+    ``deaf``: they ignore SIGINT, and the parent stops them (``stop``)."""
     return ProcessPoolExecutor(
-        workers, mp_context=multiprocessing.get_context("fork"), initializer=adopt, initargs=(os.getpid(),)
+        workers,
+        mp_context=multiprocessing.get_context("fork"),
+        initializer=_adopt_deaf if deaf else adopt,
+        initargs=(os.getpid(),),
     )
+
+
+def stop(executor: ProcessPoolExecutor) -> None:
+    """End ``executor`` now: its queued tasks cancelled, its running ones killed (SIGKILL: their partial work is lost,
+    what they finished before is the caller's).  For a Ctrl-C, which must not wait for every queued task."""
+    processes = list((getattr(executor, "_processes", None) or {}).values())
+    executor.shutdown(wait=False, cancel_futures=True)
+    for p in processes:
+        try:
+            p.kill()
+        except (OSError, ValueError):
+            pass
+    for p in processes:
+        p.join(5.0)
 
 
 def process_pool(workers: int):

@@ -128,6 +128,8 @@ def cli_cases(tmp: Path) -> list:
             )
         cases.append((f"validate {engine} --checks=bogus", ["validate", engine, "--checks", "bogus"], "--checks"))
     cases.append(("validate bogus", ["validate", "bogus"], "engine"))
+    cases.append(("engines mujoco (takes no argument)", ["engines", "mujoco"], "arguments"))
+    cases.append(("engines --jsn", ["engines", "--jsn"], "arguments"))
     # report: a cheap section, so that a wrongly accepted input costs seconds
     quick = ["report", "--quick", "--only", "critical_angles", "--no-progress"]
     a_file = tmp / "a_file"
@@ -230,6 +232,75 @@ def cli_cases(tmp: Path) -> list:
         (["--csv", too_long], "csv"),
     ]:
         cases.append((f"simulate {' '.join(outputs)[-40:]}", sim + outputs, param))
+    # round 3 of the audit, with values of its own: starts within THETA_MARGIN of the vertical or the plane, the
+    # compliant rod's timestep floor, MuJoCo's timestep past the horizon or past timeconst / 2, digits of other scripts
+    for engine in ("compliant", "mujoco_law", "pinocchio"):
+        for v in ["1.5707958", "1.5707963267948961", "3e-7"]:
+            argv = _argv(["simulate", "--engine", engine], {**STATE, "mu": "0.9", "horizon": "0.03"}, "theta", v)
+            cases.append((f"simulate --engine {engine} --theta={v!r}", argv, "theta"))
+    cases.append(
+        ("explain --theta=1.57079631", _argv(["explain"], {**STATE, "mu": "0.9"}, "theta", "1.57079631"), "theta")
+    )
+    cases.append(("slip --theta=8e-7", _argv(["slip"], {**STATE, "mu": "0.9", "t-max": "1"}, "theta", "8e-7"), "theta"))
+    for engine, horizon, timestep in [
+        ("compliant", "4e-13", "4e-13"),
+        ("compliant", "0.05", "1e-320"),
+        ("mujoco", "0.3", "0.045"),
+        ("mujoco_law", "0.4", "0.031"),
+        ("mujoco", "0.003", "0.01"),
+        ("mujoco_law", "0.001", "0.002"),
+    ]:
+        cases.append(
+            (
+                f"simulate --engine {engine} --horizon={horizon} --timestep={timestep}",
+                _argv(
+                    ["simulate", "--engine", engine],
+                    {**STATE, "mu": "0.9", "horizon": horizon, "timestep": timestep},
+                    "",
+                    "",
+                ),
+                "timestep",
+            )
+        )
+    cases.append(
+        (
+            "simulate --engine drake_continuous --alpha=650",
+            _argv(["simulate", "--engine", "drake_continuous"], {**STATE, "mu": "0.9", "alpha": "650"}, "", ""),
+            "alpha",
+        )
+    )
+    for opt, v in [("Psi", "2_5"), ("eta", "\u0667"), ("Psi", "\uff12"), ("mu", "1\u06f7"), ("alpha", "3_0")]:
+        v = v.encode().decode("unicode_escape")
+        argv = ["gb", "--mu", "1.7", "--samples", "3"] + ([] if opt == "mu" else []) + [f"--{opt}", v]
+        cases.append((f"gb --{opt}={v!r}", argv, opt))
+    # spec files: integers beyond float range, and more runs than any sweep may list
+    huge = "9" * 330
+    for param, (table, text) in {
+        "horizon": ("sweep", f'engine = "analytic"\nhorizon = {huge}\nchunk = 4'),
+        "seed": ("sweep", f'engine = "analytic"\nhorizon = 0.5\nseed = -{huge}\nchunk = 4'),
+        "chunk": ("sweep", f'engine = "analytic"\nhorizon = 0.5\nchunk = {huge}'),
+        "theta": ("states", f"theta = [0.8, {huge}]\nvarphi = -1.5\nTheta = 0.0\nPsi = 0.0\neta = 1.0"),
+        "num": (
+            "states",
+            f"theta = {{start = 0.4, stop = 1.2, num = {huge}}}\nvarphi = -1.5\nTheta = 0.0\nPsi = 0.0\neta = 1.0",
+        ),
+        "mu": ("parameters", f"mu = {{start = -{huge}, stop = 1.0, num = 3}}"),
+        "runs": ("parameters", "mu = {start = 0.1, stop = 2.0, num = 4000000}\nalpha = [1.0, 2.0, 3.0]"),
+    }.items():
+        cases.append(
+            (
+                f"sweep spec {param} (round 3)",
+                ["sweep", spec(f"huge_{param}", **{table: text}), "--out", sweep_out],
+                param,
+            )
+        )
+    cases.append(
+        (
+            "sweep spec mujoco horizon=7500 (a record no chunk holds)",
+            ["sweep", spec("mujoco_long", sweep='engine = "mujoco"\nhorizon = 7500\nchunk = 2'), "--out", sweep_out],
+            "horizon",
+        )
+    )
     cases.append(("compare missing stores", ["compare", str(tmp / "no_a"), str(tmp / "no_b")], "a"))
     cases.append(("compare non-store", ["compare", str(tmp), str(tmp)], "a"))
     # how a number is written: ASCII only (crosscheck.cli.options), and no longer than a number needs
@@ -709,6 +780,26 @@ def api_cases() -> list:
         for v in (True, [1.0, 2.0], np.complex128(1 + 1j)):
             add(f"Rod({k}={v!r})", lambda k=k, v=v: Rod(**{k: v}), k)
     add("Rod.scaled([3, 4])", lambda: Rod.scaled([3, 4]), "alpha")
+    # round 3: the rod a uniform rod's mass and length give, text digits of other scripts, a rod MuJoCo cannot hold
+    add("Rod.uniform(1e60, 1e30)", lambda: Rod.uniform(1e60, 1e30), "mass")
+    add("Rod.uniform(1e-70, 1e-20)", lambda: Rod.uniform(1e-70, 1e-20), "length")
+    for k, v in [("Theta", "2_0"), ("eta", "\u0665"), ("Psi", "\uff13"), ("theta", "0.\u0669")]:
+        add(f"SlipState({k}={v!r})", lambda k=k, v=v: SlipState(**{**ok_state, k: v}), k)
+    add(
+        "get('mujoco').simulate(Rod.uniform(1e-16, 2.0))",
+        lambda: registry.get("mujoco").simulate(Rod.uniform(1e-16, 2.0), s, 1.4, horizon=0.05),
+        "rod",
+    )
+    add(
+        "get('mujoco').simulate(timestep=0.02 past horizon=0.005)",
+        lambda: registry.get("mujoco").simulate(rod, s, 1.4, horizon=0.005, timestep=0.02),
+        "timestep",
+    )
+    add(
+        "slip_until_event(theta=pi/2 - 1 ulp)",
+        lambda: slip_until_event(SlipState(**{**ok_state, "theta": math.nextafter(math.pi / 2, 0)}), 1.4, 3.0),
+        "theta",
+    )
     add("Rod.uniform([1, 2], 1)", lambda: Rod.uniform([1, 2], 1), "mass")
     add("analytic.p(theta complex)", lambda: analytic.p(np.array([1 + 1j]), -1.0, 1.0, 3.0), "theta")
     add("analytic.p(mu=True)", lambda: analytic.p(1.0, -1.0, True, 3.0), "mu")

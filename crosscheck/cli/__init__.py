@@ -12,7 +12,9 @@ printed as one line ``crosscheck: error: <message>`` with exit status 2.
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
+import os
 import re
 import sys
 
@@ -72,20 +74,53 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _stdout_lost(e: OSError) -> int:
+    """One line for a standard output the system refuses (``> /dev/full``: ENOSPC); later flushes go to /dev/null, so
+    that Python's own flush at exit does not print a second error."""
+    try:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):
+        pass
+    sys.stderr.write(f"crosscheck: error: standard output cannot be written: {e.strerror or e}\n")
+    return 1
+
+
 def main(argv: list[str] | None = None) -> int:
+    try:  # a path or a name the terminal's encoding cannot show is shown escaped, never an error after the work
+        sys.stdout.reconfigure(errors="backslashreplace")
+    except (AttributeError, ValueError):
+        pass
     parser = build_parser()
     try:
-        args = parser.parse_args(argv)
+        args, extra = parser.parse_known_args(argv)
+        if extra:  # argparse would say "unrecognized arguments" and nothing of what the command takes
+            sub = parser._subparsers._group_actions[0].choices[args.command]
+            takes = ", ".join(sorted(o for o in sub._option_string_actions if o.startswith("--")))
+            parser.error(f"unrecognized arguments: {' '.join(extra)} (crosscheck {args.command} takes one of: {takes})")
     except SystemExit as e:  # a usage error (already printed on one line) or --help / --version
         return e.code if isinstance(e.code, int) else 0
     try:
-        return int(args.func(args) or 0)
+        code = int(args.func(args) or 0)
+        sys.stdout.flush()  # here, not at exit: a full device is one line
+        return code
     except ValueError as e:
         sys.stderr.write(f"crosscheck: error: {e}\n")
         return 2
     except BrokenPipeError:  # output piped into `head`: not an error of ours
         sys.stderr.close()
         return 0
+    except KeyboardInterrupt:  # Ctrl-C: one line; a sweep's written chunks and a report's finished sections stay
+        sys.stderr.write(
+            "crosscheck: interrupted; finished sweep chunks and report sections are kept (the same command resumes)\n"
+        )
+        return 130
+    except OSError as e:
+        if e.errno not in (errno.ENOSPC, errno.EDQUOT, errno.EIO, errno.EFBIG):
+            raise
+        if e.filename is not None:
+            sys.stderr.write(f"crosscheck: error: {str(e.filename)!r} cannot be written: {e.strerror or e}\n")
+            return 1
+        return _stdout_lost(e)
 
 
 if __name__ == "__main__":

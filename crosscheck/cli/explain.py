@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import json
 import math
 
 from crosscheck.checks import ALPHA, ETA, HORIZON, MU, RATE, THETA, VARPHI
 from crosscheck.checks import number as _num
+from crosscheck.cli.json_text import json_text
 from crosscheck.cli.options import add_alpha, add_state, ascii_number
 
 
@@ -52,7 +52,7 @@ def _plot(args, ladder, name: str, state, mu: float, alpha: float) -> None:
         f"mu {mu:g}, alpha {alpha:g}: cause {ladder.cause}"
     )
     plt.close(plot_ladder(ladder, path=path, title=title))
-    path.with_suffix(".json").write_text(json.dumps(ladder.as_dict(), indent=1, allow_nan=False) + "\n")
+    path.with_suffix(".json").write_text(json_text(ladder.as_dict(), indent=1) + "\n")
     print(f"wrote {path} and {path.with_suffix('.json')}", file=sys.stderr if args.json else sys.stdout)
 
 
@@ -117,7 +117,7 @@ def _explain(args) -> int:
     _plot(args, ladder, "MuJoCo", state, mu, alpha)
     conf = _confirmation(args, "mujoco", state, mu, alpha, horizon, ladder.cause, ladder.reference, options)
     if args.json:
-        print(json.dumps({**ladder.as_dict(), "confirmation": conf}, indent=2, allow_nan=False))
+        print(json_text({**ladder.as_dict(), "confirmation": conf}))
         return 0
     m = ladder.match
     print(
@@ -169,7 +169,7 @@ def _explain_declared(args) -> int:
     _plot(args, ld, name, state, mu, alpha)
     conf = _confirmation(args, args.engine, state, mu, alpha, horizon, ld.cause, ld.reference, options)
     if args.json:
-        print(json.dumps({**ld.as_dict(), "confirmation": conf}, indent=2, allow_nan=False))
+        print(json_text({**ld.as_dict(), "confirmation": conf}))
         return 0
     print(
         f"start: theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; mu {mu:g}, alpha {alpha:g}"

@@ -59,8 +59,23 @@ from crosscheck.checks import NONNEGATIVE, check
 from crosscheck.engines.record import Record
 from crosscheck.engines.thresholds import Thresholds
 from crosscheck.outcome import Outcome
+from crosscheck.theory.sticking import stick_force
 
 __all__ = ["Thresholds", "Classification", "classify", "window_sum"]
+
+
+def held_at_rest(record: Record, mu, alpha: float, stick_speed: float) -> np.ndarray:
+    """The rows the STICK rule may judge: every row once the tip has slid (its slip speed reached ``stick_speed``),
+    and the rows of a start at rest only if the friction can hold it there, |F_t| <= mu F_n with the stuck rod's
+    forces at the first row (``crosscheck.theory.sticking.stick_force``, eq. linode2 at a = 0).  A start at rest
+    that the friction cannot hold slides from its first step, however slowly: its first slow rows are not a STICK.
+    (..., n) bool, ``mu`` a scalar or one per run."""
+    eta = np.where(np.isfinite(record.eta), record.eta, 0.0)
+    slid = np.logical_or.accumulate(eta >= stick_speed, axis=-1)
+    _, F_j, F_n = stick_force(record.theta[..., 0], record.Psi[..., 0], record.Theta[..., 0], alpha)
+    with np.errstate(invalid="ignore"):
+        held = (F_n >= 0.0) & (np.abs(F_j) <= np.asarray(mu, dtype=float) * F_n)
+    return slid | np.asarray(held)[..., None]
 
 
 def _first(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -447,7 +462,8 @@ def classify(
         has_jam, k_jam = _first(jam)
         has_lift, k_lift = _first(liftoff_rows(R, s, th, rigid=rigid))
         has_launch, k_launch = _first(launch_rows(R, s, th, w=w, timestep=timestep))
-        has_stick, k_stick = _first(stick_rows(s, w=w, stick_speed=stick_speed))
+        held = held_at_rest(R, mu[..., 0], alpha, stick_speed)  # a start at rest sticks only if friction holds it
+        has_stick, k_stick = _first(stick_rows(s, w=w, stick_speed=stick_speed) & held)
         if contact_time and not rigid:
             m = th.stop_rows(float(contact_time), timestep)
             stop_jam = stop_jam_rows(

@@ -53,6 +53,7 @@ Everything is in the paper's scaled units (m = l = g = 1, time 1/omega).
 from __future__ import annotations
 
 import importlib
+import math
 
 import numpy as np
 
@@ -171,10 +172,16 @@ def contact_events(
     stats.append(
         error_stat("event disagreement", [1.0 - run.agreement_jam_as_stop], [0.0], T["event_disagreement"], where_c)
     )
-    stats.append(
-        error_stat("median |event time difference|", [run.median_abs_time_difference], [0.0], T["event_time"], where_c)
-    )
+    if math.isfinite(run.median_abs_time_difference):  # a median of no shared event (one state) is not a failure
+        stats.append(
+            error_stat(
+                "median |event time difference|", [run.median_abs_time_difference], [0.0], T["event_time"], where_c
+            )
+        )
     extra["event_agreement"] = {
+        "median_abs_time_difference": run.median_abs_time_difference
+        if math.isfinite(run.median_abs_time_difference)
+        else "not measured: no event shared with the theory",
         "n_states": n_states,
         "horizon": DEFAULT_HORIZON,
         "analytic_outcomes": {o.name: int((study.analytic.outcome[study.index] == o).sum()) for o in Outcome},

@@ -188,15 +188,20 @@ def _results(spec: Spec, todo: list[int], workers: int, scheduler: str | None):
     from concurrent.futures import as_completed as done
 
     from crosscheck.workers import pool as worker_pool
+    from crosscheck.workers import stop
 
-    with worker_pool(workers) as pool:
-        futures = {pool.submit(_timed_chunk, spec, c): c for c in todo}
-        for fut in done(futures):
-            c = futures[fut]
-            try:
-                yield c, fut.result()
-            except Exception as e:  # noqa: BLE001
-                yield c, e
+    with worker_pool(workers, deaf=True) as pool:
+        try:
+            futures = {pool.submit(_timed_chunk, spec, c): c for c in todo}
+            for fut in done(futures):
+                c = futures[fut]
+                try:
+                    yield c, fut.result()
+                except Exception as e:  # noqa: BLE001
+                    yield c, e
+        except BaseException:  # Ctrl-C (or the caller stopped): the chunks written stay, the running ones are killed
+            stop(pool)
+            raise
 
 
 def run(

@@ -53,6 +53,7 @@ from typing import Any
 import numpy as np
 
 from crosscheck.checks import ALPHA_MAX, ALPHA_MIN, HORIZON_MAX, MU_MAX, PSI_MAX, RATE_MAX
+from crosscheck.engines.base import MAX_RECORD_BYTES
 
 __all__ = ["Spec", "SpecError", "load_spec", "parse_spec", "AXES", "ANALYTIC"]
 
@@ -86,11 +87,36 @@ def _number(
     ok_type = isinstance(value, int) if integer else isinstance(value, (int, float))
     if isinstance(value, bool) or not ok_type:
         raise SpecError(f"{key} must be {'an integer' if integer else 'a number'}; got {value!r}")
-    v = float(value)
+    try:
+        v = float(value)
+    except OverflowError:  # a TOML integer beyond float range (10**400): refused as out of range, not a traceback
+        v = math.inf if value > 0 else -math.inf
     if not math.isfinite(v) or not ((low < v) if low_open else (low <= v)) or not v <= high:
         rng = f"{'(' if low_open else '['}{low:g}, {high:g}]"
-        raise SpecError(f"{key} must be in {rng}; got {value!r}")
+        shown = (
+            repr(value)
+            if math.isfinite(v) or not isinstance(value, int)
+            else f"an integer of {len(str(abs(value)))} digits"
+        )
+        raise SpecError(f"{key} must be in {rng}; got {shown}")
     return int(value) if integer else v
+
+
+def _count(value: Any) -> int:
+    """How many values ``_values`` will list for ``value`` (1 for anything it will refuse)."""
+    if isinstance(value, dict) and isinstance(value.get("num"), int) and not isinstance(value["num"], bool):
+        return max(1, value["num"])
+    return max(1, len(value)) if isinstance(value, list) else 1
+
+
+def _check_runs(sizes: list[int]) -> None:
+    """SpecError unless the product of ``sizes`` (states, mu, alpha, each option's values) is at most ``MAX_RUNS``:
+    checked before any chunk id is listed (1e14 runs once took 4 GB in 53 s)."""
+    if math.prod(sizes) > MAX_RUNS:
+        raise SpecError(
+            f"runs (states x mu x alpha x option values) must be at most {MAX_RUNS}; got "
+            f"{' x '.join(map(str, sizes))} = {math.prod(sizes):.3g}"
+        )
 
 
 def _values(key: str, value: Any, **limits) -> list[float]:
@@ -297,6 +323,9 @@ def _states(table: dict, seed: int, base: Path | None) -> dict[str, np.ndarray]:
     return {a: grid[:, i].copy() for i, a in enumerate((*AXES, "psi"))}
 
 
+#: The most runs of one sweep (as many as states): its chunk ids are listed in memory.
+MAX_RUNS = MAX_STATES
+
 #: The most bytes of a states file (a row of six 17-digit numbers is ~110 bytes).
 MAX_STATES_FILE_BYTES = 128 * MAX_STATES
 
@@ -419,7 +448,10 @@ def _options(engine: str, table: dict, horizon: float | None = None) -> dict[str
         out[k] = tuple(vals)
     # each combination a chunk will run, checked now (options that bound each other: MuJoCo's timeconst >= 2 timestep)
     combos = itertools.product(*(out[k] for k in out))
+    too_long = []  # the combinations whose record no chunk can hold
+    checked = 0
     for combo in itertools.islice(combos, MAX_OPTION_COMBINATIONS):
+        checked += 1
         shown = ", ".join(f"{k} = {v!r}" for k, v in zip(out, combo))
         try:
             opts = E.Options(**dict(zip(out, combo)))
@@ -430,7 +462,22 @@ def _options(engine: str, table: dict, horizon: float | None = None) -> dict[str
             raise SpecError(
                 f"options {shown}: timestep must be in (0, sweep.horizon = {horizon:g}]; got {opts.timestep!r}"
             )
+        step = getattr(opts, "timestep", None)
+        if horizon is not None and step and horizon / step * MIN_ROW_BYTES > MAX_RECORD_BYTES:
+            # a record no chunk can hold: each engine refuses it (its own bytes per row are at least MIN_ROW_BYTES)
+            too_long.append(
+                f"sweep.horizon must be at most {MAX_RECORD_BYTES / MIN_ROW_BYTES * step:.4g} at timestep {step:g} "
+                f"({shown or 'the default options'}: a record of more than {MAX_RECORD_BYTES / 2**30:g} GiB); "
+                f"got {horizon:g}"
+            )
+    if too_long and len(too_long) == checked:  # no chunk could run (one that fails among others is recorded as such)
+        raise SpecError(too_long[0])
     return out
+
+
+#: The fewest bytes per record row of any engine (MuJoCo's law, ``crosscheck.engines.mujoco.ode.ROW_BYTES``): a
+#: spec whose record needs more than ``MAX_RECORD_BYTES`` at this size is refused by every engine, so by the spec.
+MIN_ROW_BYTES = 512
 
 
 #: Option combinations checked when the spec is read (a sweep of more is checked as far as this).
@@ -453,9 +500,13 @@ def parse_spec(doc: dict, *, base: Path | None = None) -> Spec:
     chunk = _number("sweep.chunk", sw.get("chunk", 64), low=1, integer=True)
     states = _states(doc["states"], seed, base)
     par = doc.get("parameters", {})
+    _check_runs(
+        [len(states["theta"]), _count(par.get("mu", 1.0)), _count(par.get("alpha", 3.0))]
+    )  # before listing them
     mu = tuple(_values("parameters.mu", par["mu"], **_MU)) if "mu" in par else ()
     alpha = tuple(_values("parameters.alpha", par.get("alpha", 3.0), **_ALPHA))
     options = _options(engine, doc.get("options", {}), horizon)
+    _check_runs([len(states["theta"]), 1 if "mu" in states else len(mu), len(alpha), *map(len, options.values())])
     return Spec(
         engine=engine,
         horizon=horizon,

@@ -23,6 +23,9 @@ __all__ = ["Comparison", "compare_frames", "compare_stores", "wilson_interval", 
 
 #: The input columns that identify a run across stores.
 KEYS = ("theta", "varphi", "Theta", "Psi", "eta", "psi", "mu", "alpha")
+#: Inputs equal to this many decimals are one run's (the inputs are O(1) to O(1e3): 1e-12 is ~1e4 ulps, far below any
+#: step of a grid, far above the last-bit differences of numpy.linspace against a list).
+KEY_DECIMALS = 12
 
 _NAMES = [o.name for o in Outcome]
 
@@ -50,6 +53,7 @@ class Comparison:
     interval: tuple
     time_difference: dict  # per event name: n, median, median |d|, 95th percentile |d| of t_B - t_A
     disagreeing: object  # pandas.DataFrame of the runs whose outcomes differ
+    caveats: tuple = ()  # what the agreement does not say: runs without a match, unequal or short horizons
 
     def as_dict(self) -> dict:
         fin = lambda x: None if isinstance(x, float) and not math.isfinite(x) else x  # noqa: E731
@@ -63,6 +67,7 @@ class Comparison:
             "agreement_95": [fin(x) for x in self.interval],
             "time_difference": self.time_difference,
             "n_disagreeing": len(self.disagreeing),
+            "caveats": list(self.caveats),
         }
 
     def table(self) -> str:
@@ -81,6 +86,7 @@ class Comparison:
                     f"{ev}: {d['n']} shared, t_B - t_A median {d['median']:+.3g}, median |.| {d['median_abs']:.3g}, 95th pct |.| {d['p95_abs']:.3g}"
                 )
         lines.append(f"{len(self.disagreeing)} runs disagree")
+        lines += [f"caveat: {c}" for c in self.caveats]
         return "\n".join(lines)
 
 
@@ -91,7 +97,17 @@ def compare_frames(a, b, *, name_a: str = "A", name_b: str = "B") -> Comparison:
             raise ValueError(
                 f"{name} has several runs per input (an option swept); compare needs one: filter its table and use compare_frames"
             )
-    j = a.merge(b, on=list(KEYS), suffixes=("_a", "_b"))
+    # matched on the inputs to KEY_DECIMALS decimals: a range and a list of one grid differ in the last bit
+    # (numpy.linspace's 0.6000000000000001 against 0.6), and exact keys once matched 9 of 12 runs without a word
+    ka, kb = (df.assign(**{f"_key_{k}": df[k].round(KEY_DECIMALS) for k in KEYS}) for df in (a, b))
+    on = [f"_key_{k}" for k in KEYS]
+    j = ka.merge(kb.drop(columns=list(KEYS)), on=on, suffixes=("_a", "_b")).drop(columns=on)
+    caveats = []
+    if len(j) < max(len(a), len(b)):
+        caveats.append(
+            f"{len(a) - len(j)} runs of {name_a} and {len(b) - len(j)} of {name_b} have no run with the same inputs "
+            f"(to {KEY_DECIMALS} decimals) in the other store and are not compared"
+        )
     if not len(j):
         raise ValueError(
             f"{name_a} and {name_b} share no runs (no equal theta, varphi, Theta, Psi, eta, psi, mu, alpha)"
@@ -122,7 +138,34 @@ def compare_frames(a, b, *, name_a: str = "A", name_b: str = "B") -> Comparison:
         interval=wilson_interval(k, n),
         time_difference=td,
         disagreeing=j.loc[~agree, cols].reset_index(drop=True),
+        caveats=tuple(caveats),
     )
+
+
+def _horizon_caveats(dir_a: Path, dir_b: Path) -> tuple:
+    """The caveats of two stores' horizons: unequal (outcomes of runs of unequal length), or shorter than the
+    classifier's window (``Thresholds.window``: an event in the window at the end of a run is not judged)."""
+    from crosscheck.engines.thresholds import Thresholds
+    from crosscheck.sweeps.store import Store
+
+    horizons = []
+    for d in (dir_a, dir_b):
+        spec = (Store(d).read_manifest() or {}).get("spec") or {}
+        h = (spec.get("sweep") or {}).get("horizon")
+        horizons.append(float(h) if isinstance(h, (int, float)) and not isinstance(h, bool) else math.nan)
+    out = []
+    if horizons[0] != horizons[1] and all(map(math.isfinite, horizons)):
+        out.append(
+            f"the horizons differ ({horizons[0]:g} against {horizons[1]:g}): outcomes of runs of unequal length are "
+            "compared as they are"
+        )
+    window = Thresholds().window
+    if any(h < window for h in horizons):
+        out.append(
+            f"a horizon ({min(horizons):g}) is shorter than the classifier's window ({window:g}): an engine's event "
+            "in it can be missed, so agreement there says little"
+        )
+    return tuple(out)
 
 
 def compare_stores(
@@ -145,6 +188,7 @@ def compare_stores(
                 f"{name} must be a sweep store (a directory with the manifest.json of crosscheck sweep); got {str(d)!r}"
             )
     c = compare_frames(load(dir_a), load(dir_b), name_a=str(dir_a), name_b=str(dir_b))
+    c.caveats = c.caveats + _horizon_caveats(dir_a, dir_b)
     if out is not None and (not str(out).strip() or str(out).endswith("/")):
         raise ValueError(
             f"out must be a file name prefix (the JSON and CSV are <out>.json and <out>-disagreeing.csv); got {str(out)!r}"

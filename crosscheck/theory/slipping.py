@@ -36,6 +36,13 @@ SLIP       none of the above before ``t_max``; also (with ``reason`` saying
 DIVERGED   the integrator failed (step size underflow, non-finite values).
 =========  ======================================================================
 
+A start at rest (eta below ``STICK_SPEED``) is judged by the forces that would
+hold it (``crosscheck.theory.sticking.at_rest``): STICK only when the stuck
+rod's friction fits in the cone, |F_t| <= mu F_n; otherwise it lifts off, or
+the slip starts in the direction the forces give (varphi = -pi/2, from eta =
+``SLIP_ONSET_SPEED``; towards S, varphi = +pi/2, is SLIP at t = 0 with reason
+"varphi=pi/2", outside the domain).  ``continue_slip`` (a state the model
+reached) keeps the speed rule: its caller decides the mode at rest.
 A start that is not slipping returns at once with t = 0 and an empty-ish
 trajectory (the start alone), decided in this order: eta = 0 -> STICK;
 hypot(p, b) < GB_REACHED.atol -> GB; b > 0 -> LIFTOFF (with p <= 0 this is the
@@ -291,7 +298,40 @@ def slip_until_event(state: SlipState, mu, alpha, *, t_max: float = 10.0, s_max:
     """
     if not isinstance(state, SlipState):
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
-    return continue_slip(state.check_start(), mu, alpha, t_max=t_max, s_max=s_max)
+    state = state.check_start()
+    if state.eta < STICK_SPEED.atol:
+        onset = _from_rest(state, mu, alpha)
+        if isinstance(onset, SlipResult):
+            return onset
+        state = onset or state
+    return continue_slip(state, mu, alpha, t_max=t_max, s_max=s_max)
+
+
+def _from_rest(state: SlipState, mu, alpha) -> SlipResult | SlipState | None:
+    """A start at rest judged by the stuck rod's forces (``crosscheck.theory.sticking.at_rest``), not by its speed.
+
+    None when the friction holds it (|F_t| <= mu F_n, F_n >= 0: the STICK at the start stands); a ``SlipResult`` at
+    t = 0 when it lifts off (b > 0), has no rigid mode (JAM), or starts slipping towards S (varphi = +pi/2, outside
+    the paper's domain (-pi, 0]: SLIP, reason "varphi=pi/2"); otherwise the slip onset, the start with varphi =
+    -pi/2 (outwards) and eta = ``SLIP_ONSET_SPEED``, from which the flow runs.  The given varphi of a tip at rest
+    means nothing: the forces choose the direction.
+    """
+    from crosscheck.theory.sticking import SLIP_ONSET_SPEED, at_rest
+
+    rest = at_rest(state, mu, alpha)
+    if rest.mode == "stick":
+        return None
+    b0, p0, *_ = _coefficients(state.varphi, state.Psi, state.theta, state.Theta, float(mu), float(alpha), 0.0)
+    x0 = np.array([[state.eta, state.varphi, state.psi, state.Psi, state.theta, state.Theta]])
+    if rest.mode != "slip" or rest.varphi > 0.0:
+        outcome, reason = {
+            "liftoff": (Outcome.LIFTOFF, "start"),
+            "inconsistent": (Outcome.JAM, "start: at rest with no consistent mode"),
+        }.get(rest.mode, (Outcome.SLIP, "varphi=pi/2"))
+        return SlipResult(outcome, 0.0, state, reason, b0, p0, np.zeros(1), np.zeros(1), x0)
+    return SlipState(
+        theta=state.theta, varphi=rest.varphi, Theta=state.Theta, Psi=state.Psi, eta=SLIP_ONSET_SPEED, psi=state.psi
+    )
 
 
 def continue_slip(state: SlipState, mu, alpha, *, t_max: float = 10.0, s_max: float = 1e4) -> SlipResult:

@@ -83,7 +83,12 @@ _HALF_PI = 0.5 * math.pi
 
 
 def stick_force(theta, Psi, Theta, alpha) -> tuple[float, float, float]:
-    """(F_i, F_j, F_n): the contact force [m g] that keeps the tip at rest, in the rod's frame (module docstring)."""
+    """(F_i, F_j, F_n): the contact force [m g] that keeps the tip at rest, in the rod's frame (module docstring);
+    floats for floats, arrays (F_i still 0.0) for arrays of states."""
+    if np.ndim(theta) or np.ndim(Psi) or np.ndim(Theta):
+        s, c = np.sin(theta), np.cos(theta)
+        W = Psi * Psi * c * c + Theta * Theta
+        return 0.0, alpha * s * c / (1.0 + alpha) - c * W, (1.0 + alpha * s * s) / (1.0 + alpha) - s * W
     s, c = math.sin(theta), math.cos(theta)
     W = Psi * Psi * c * c + Theta * Theta
     return 0.0, alpha * s * c / (1.0 + alpha) - c * W, (1.0 + alpha * s * s) / (1.0 + alpha) - s * W

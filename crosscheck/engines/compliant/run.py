@@ -42,7 +42,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from crosscheck.checks import HORIZON, POSITIVE, check, check_timestep_within
+from crosscheck.checks import HORIZON, check, check_timestep, check_timestep_within
 from crosscheck.coordinates import tip_position, tip_velocity
 from crosscheck.engines import get
 from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
@@ -95,7 +95,7 @@ class Options(EngineOptions):
         object.__setattr__(self, "xi", float(check("xi", self.xi, _laws.XI)))
         object.__setattr__(self, "radius", float(check("radius", self.radius, RADIUS)))
         _laws.get(self.law)
-        object.__setattr__(self, "timestep", float(check("timestep", self.timestep, POSITIVE)))
+        object.__setattr__(self, "timestep", check_timestep(self.timestep))  # the floor every engine has (1e-12)
         object.__setattr__(self, "rtol", float(check("rtol", self.rtol, RTOL)))
         object.__setattr__(self, "atol", float(check("atol", self.atol, ATOL)))
         if self.method not in METHODS:

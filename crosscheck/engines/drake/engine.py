@@ -313,6 +313,12 @@ def record(rod: Rod, raw: Raw, opts: Options) -> Record:
     )
 
 
+#: The largest alpha the continuous plant runs: its stiffest mode (the rod's rotation, inertia I0 = m l^2 / alpha)
+#: sets its error-controlled step, so its time grows with alpha (measured on one loaded core at horizon 0.5: 18 s at
+#: 3, 37 s at 10, 98 s at 30; the audit's: 37 s at 100, more than 120 s at 1000, every other engine under 2 s).
+CONTINUOUS_ALPHA_MAX = 100.0
+
+
 def simulate(
     rod: Rod,
     state: SlipState,
@@ -342,6 +348,11 @@ def simulate(
       ``crosscheck.engines.Run``, engine ``drake_<approximation>``, with ``Health`` in ``solver``.
     """
     mu, horizon, opts = run_inputs(state, mu, horizon, options, Options)
+    if opts.approximation == "continuous" and rod.alpha > CONTINUOUS_ALPHA_MAX:
+        raise ValueError(
+            f"alpha must be at most {CONTINUOUS_ALPHA_MAX:g} for drake_continuous (its error-controlled steps shrink "
+            f"as 1/alpha: 37 s at alpha 100 for a horizon of 0.5, more than 120 s at 1000); got {rod.alpha:g}"
+        )
     th = thresholds or Thresholds()
     n = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES)  # the record holds every row: refuse before allocating
     m = model(rod, mu, opts)

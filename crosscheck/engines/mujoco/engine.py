@@ -32,7 +32,7 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from crosscheck.checks import MU, POSITIVE, real, real_scalar
+from crosscheck.checks import MU, POSITIVE, check_timestep_within, real, real_scalar
 from crosscheck.engines.base import (
     SERIES,
     STATE_KEYS,
@@ -313,6 +313,7 @@ def simulate(
     state.check_start()
     horizon = real_scalar("horizon", horizon, POSITIVE)
     opts = Options.from_kwargs(options)
+    check_timestep_within(opts.timestep, horizon)  # one step past the horizon records nothing to judge
     mu = real_scalar("mu", mu, MU)
     th = thresholds or Thresholds()
     batch = Batch.build(rod, [state], mu, horizon=horizon, options=opts, nthread=1)

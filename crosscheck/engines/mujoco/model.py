@@ -85,6 +85,10 @@ def _load_spec(path: str) -> mujoco.MjSpec:
 #: Axial inertia of the slender rod relative to I0 (eq. inertia has 0; MuJoCo
 #: needs > 0).  It only enters the psi inertia I0 cos^2 + eps sin^2.
 AXIAL_INERTIA = 1e-12
+#: MuJoCo refuses a moving body's mass or inertia below its mjMINVAL (1e-15); the axial inertia is held 10 times
+#: above it, so that a 1 cm rod (I0 = 3e-5 kg m^2, 1e-12 I0 = 3e-17) compiles: its relative axial inertia is then
+#: 3e-10, as negligible in the psi inertia as 1e-12.
+MJ_MINVAL = 1e-15
 
 
 def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
@@ -117,7 +121,7 @@ def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
     body.explicitinertial = True
     body.mass = rod.mass
     body.ipos = [0.0, 0.0, 0.0]
-    body.inertia = [rod.inertia, AXIAL_INERTIA * rod.inertia, rod.inertia]
+    body.inertia = [rod.inertia, max(AXIAL_INERTIA * rod.inertia, 10.0 * MJ_MINVAL), rod.inertia]
     geom.fromto = [0.0, -l, 0.0, 0.0, l, 0.0]
     geom.size = [options.radius * l, 0.0, 0.0]
     site.pos = [0.0, -l, 0.0]
@@ -131,6 +135,11 @@ def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
     # The keyframe is the viewer's start pose for the file's own parameters.
     for key in list(spec.keys):
         spec.delete(key)
+    if min(rod.mass, rod.inertia) <= 10.0 * MJ_MINVAL:
+        raise ValueError(
+            f"rod must have a mass [kg] and an inertia I0 [kg m^2] above 1e-14 for MuJoCo (its mjMINVAL is 1e-15); "
+            f"got mass {rod.mass:g}, inertia {rod.inertia:g}"
+        )
     try:
         return spec.compile()
     except ValueError as e:

@@ -55,7 +55,7 @@ from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.options import options_from_kwargs
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState
+from crosscheck.state import SlipState, check_timestep_within
 
 __all__ = ["NAME", "Trajectory", "integrate", "record", "simulate", "sweep", "RTOL", "ROW_BYTES"]
 
@@ -368,6 +368,7 @@ def simulate(
         raise ValueError(
             f"model_file must be None for the mujoco_law engine (its law is rod.xml's); got {opts.model_file!r}"
         )
+    check_timestep_within(opts.timestep, horizon)  # one step past the horizon records nothing to judge
     mu = float(check("mu", mu, MU))
     rtol = float(check("rtol", rtol, RELATIVE_TOLERANCE))
     if not isinstance(feed_forward, bool):

@@ -67,6 +67,12 @@ class Options(EngineOptions):
         for name in ("timeconst", "friction_timeconst"):
             tc = getattr(self, name)
             if tc is not None and tc < 2 * self.timestep:
+                if name == "timeconst" and tc == type(self).__dataclass_fields__["timeconst"].default:
+                    # the default time constant: the option given was the timestep (the CLI has no --timeconst)
+                    raise ValueError(
+                        f"timestep must be at most timeconst / 2 = {tc / 2:g} (MuJoCo's refsafe, with its default "
+                        f"contact time constant timeconst = {tc:g}); got {self.timestep!r}"
+                    )
                 raise ValueError(f"{name} must be >= 2 timestep = {2 * self.timestep:g} (MuJoCo's refsafe); got {tc!r}")
         solimp = real("solimp", self.solimp, FINITE)
         if solimp.shape != (5,):

@@ -17,7 +17,6 @@ import argparse
 
 import numpy as np
 import pybullet as pb
-
 from timing import best_of  # benchmarks/timing.py (the script's directory is on sys.path)
 
 from crosscheck import Rod, SlipState, engines

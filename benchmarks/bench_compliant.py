@@ -36,14 +36,14 @@ import time
 import numpy as np
 import scipy.integrate
 
-from crosscheck.theory import analytic
 from crosscheck.engines import get, n_steps
 from crosscheck.engines.compliant import integrate
 from crosscheck.engines.compliant import trajectory as _trajectory
 from crosscheck.engines.compliant.run import Options
 from crosscheck.rod import Rod
-from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
+from crosscheck.theory import analytic
+from crosscheck.theory.slipping import slip_until_event
 
 KEYS = ("eta", "varphi", "Psi", "theta", "Theta")
 

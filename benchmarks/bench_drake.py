@@ -25,8 +25,8 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
-
 from bench_drake_bare import bare_advance, cpu_time
+
 from crosscheck import Rod, SlipState
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines.drake import ENGINES
@@ -35,7 +35,10 @@ from crosscheck.engines.drake.model import model
 
 def map_starts(every: int) -> list[tuple[SlipState, float]]:
     """Slipping starts (b < 0 < p) on every ``every``-th cell of the three quick maps, with their mu."""
-    centres = lambda lo, hi, n=10: lo + (np.arange(n) + 0.5) * (hi - lo) / n
+
+    def centres(lo, hi, n=10):
+        return lo + (np.arange(n) + 0.5) * (hi - lo) / n
+
     starts = []
     for Psi in centres(0.0, 3.0):
         for mu in centres(0.0, 3.0):

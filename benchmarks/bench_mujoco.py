@@ -40,8 +40,8 @@ from mujoco import rollout
 
 from crosscheck import Rod, SlipState
 from crosscheck.engines import get, n_steps
-from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import build_model, initial_state
+from crosscheck.engines.mujoco.options import Options
 
 
 def main() -> None:

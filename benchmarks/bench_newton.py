@@ -29,7 +29,6 @@ import tempfile
 import time
 
 import numpy as np
-
 from timing import best_of  # benchmarks/timing.py (the script's directory is on sys.path)
 
 from crosscheck import Rod, engines

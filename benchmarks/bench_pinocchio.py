@@ -24,9 +24,9 @@ import time
 import numpy as np
 import pinocchio as pin
 
+from crosscheck.coordinates import paper_to_qv
 from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck.engines.pinocchio.studies import dynamics_terms
-from crosscheck.coordinates import paper_to_qv
 from crosscheck.rod import Rod
 
 

@@ -40,8 +40,8 @@ import pinocchio as pin
 from crosscheck import Rod, SlipState
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get, n_steps
-from crosscheck.engines.pinocchio.stepper import Options
 from crosscheck.engines.pinocchio.model import TIP_FRAME, build_model
+from crosscheck.engines.pinocchio.stepper import Options
 from crosscheck.studies.agreement_store import STORE_CHUNK, store_chunk
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED

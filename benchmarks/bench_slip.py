@@ -19,7 +19,6 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from crosscheck import SlipState
-
 from crosscheck.theory import analytic
 from crosscheck.theory.gb import slip_until_event
 from crosscheck.tolerances import SLIP_INTEGRATION

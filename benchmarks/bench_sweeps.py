@@ -24,7 +24,6 @@ import time
 import tomllib
 from pathlib import Path
 
-
 from timing import best_of  # benchmarks/timing.py (the script's directory is on sys.path)
 
 from crosscheck import Rod, SlipState, sweeps
@@ -82,15 +81,12 @@ def main() -> None:
     # warm up (imports of pyarrow and the engine, MuJoCo's first compile): a one-time cost, not per sweep
     warm = sweeps.parse_spec(tomllib.loads(SPEC.format(states=2, chunk=2, horizon=0.01)))
     sweeps.run(warm, tmp / "warm", workers=1, progress=False)
-    base = lambda: get("mujoco").sweep(
-        Rod.scaled(3.0),
-        states,
-        cols["mu"],
-        horizon=spec.horizon,
-        timestep=1e-3,
-        nthread=1,  # noqa: E731
-        progress=False,
-    )
+
+    def base():
+        return get("mujoco").sweep(
+            Rod.scaled(3.0), states, cols["mu"], horizon=spec.horizon, timestep=1e-3, nthread=1, progress=False
+        )
+
     # interleaved repetitions (baseline, 1 worker, 2 workers, ...): the machine's speed drifts by 20 % and more
     # between minutes (measured: the same rollout took 1.4 s and 2.0 s), which best-of blocks would attribute to the layer
     times = {"base": [], "1": [], "2": []}

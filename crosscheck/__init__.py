@@ -3,12 +3,12 @@
 Reference: Cheesman, Hogan & Kristiansen, *The geometry of the Painleve paradox*.
 """
 
-from crosscheck.theory import analytic
-from crosscheck.theory.analytic import Mode, critical_values, mode
 from crosscheck.coordinates import from_generalized, to_generalized
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
+from crosscheck.theory import analytic
+from crosscheck.theory.analytic import Mode, critical_values, mode
 
 __version__ = "0.1.0"
 

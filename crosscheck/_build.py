@@ -60,7 +60,7 @@ def write_build_info(package_dir: Path | str, root: Path | str) -> Path | None:
     rev = source_revision(root)
     if rev is None or not Path(package_dir).is_dir():
         return None
-    built = _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
+    built = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     path = Path(package_dir) / BUILD_INFO
     path.write_text(
         json.dumps(

@@ -31,6 +31,14 @@ __all__ = [
     "NONNEGATIVE",
     "FINITE",
     "BOUNDED",
+    "CAPSULE_RADIUS",
+    "CONTACT_RADIUS",
+    "real",
+    "real_scalar",
+    "same_shape",
+    "MIN_TIMESTEP",
+    "check_timestep",
+    "check_timestep_within",
     "writable_directory",
     "writable_file",
 ]
@@ -86,6 +94,11 @@ HORIZON = Interval(0.0, HORIZON_MAX, lo_open=True, hi_open=False)
 POSITIVE = Interval(0.0, math.inf, lo_open=True, hi_open=True, text="(0, inf)")
 NONNEGATIVE = Interval(0.0, math.inf, lo_open=False, hi_open=True, text="[0, inf)")
 FINITE = Interval(-math.inf, math.inf, lo_open=True, hi_open=True, text="(-inf, inf)")
+#: A capsule's radius r / l (MuJoCo's, Drake's, Bullet's rod): at r >= l/2 the end cap reaches the centre of mass.
+CAPSULE_RADIUS = Interval(0.0, 0.5, lo_open=True, hi_open=True)
+#: The contact point's distance r below the tip A, in units of l (the theory's capsule, the compliant rod): 0 is the
+#: tip itself; a thicker capsule is no longer the paper's slender rod.
+CONTACT_RADIUS = Interval(0.0, 0.5, lo_open=False, hi_open=True)
 #: Values whose squares and products stay finite: arguments of the closed forms (eqs. b, p), which also
 #: see states a flow reached (their rates are not held to the ranges of a start).
 BOUNDED = Interval(-1e100, 1e100, lo_open=False, hi_open=False)
@@ -169,6 +182,61 @@ def writable_directory(name: str, value) -> Path:
             f"{name} must be a writable directory; cannot write in {str(path)!r}: {e.strerror or e}"
         ) from None
     return path
+
+
+#: The smallest scaled timestep of any engine: the longest horizon (``crosscheck.checks.HORIZON_MAX`` = 1e4)
+#: resolves times only to 1e4 x 2.2e-16 ~ 2e-12, so a smaller step is lost in the rounding of the time it
+#: advances (and a denormal one, 5e-324, overflows the count of steps in a window).
+MIN_TIMESTEP = 1e-12
+
+
+def real(name: str, value, interval: Interval = FINITE) -> np.ndarray:
+    """``check`` for values that must be real numbers: a complex number (whose imaginary part ``float`` would drop),
+    a bool, bytes or an object array is refused with one line naming ``name``, as a value out of range is."""
+    if value is None or type(value) in NUMBERS:  # None: check's message; a plain float or int is real
+        return check(name, value, interval)
+    x = np.asarray(value) if not isinstance(value, (str, bytes, bytearray)) else None
+    if isinstance(value, (bool, np.bool_, bytes, bytearray)) or (
+        x is not None and (x.dtype.kind in "cbSUVO" and x.size) and not (x.dtype.kind == "U" and x.ndim == 0)
+    ):
+        raise ValueError(f"{name} must be a real number in {interval}; got {value!r}"[:300])
+    return check(name, value, interval)
+
+
+def real_scalar(name: str, value, interval: Interval = FINITE) -> float:
+    """``real`` for one number (a list or an array of several is refused, naming ``name``)."""
+    x = real(name, value, interval)
+    if x.ndim:
+        raise ValueError(f"{name} must be one number in {interval}; got an array of shape {x.shape}")
+    return float(x)
+
+
+def check_timestep(value) -> float:
+    """A timestep: one real number > 0 and at least ``MIN_TIMESTEP`` (ValueError naming timestep)."""
+    dt = real_scalar("timestep", value, POSITIVE)
+    if dt < MIN_TIMESTEP:
+        raise ValueError(
+            f"timestep must be at least {MIN_TIMESTEP:g} (below it a step is lost in the rounding of the time); got {dt!r}"
+        )
+    return dt
+
+
+def check_timestep_within(timestep: float, horizon: float) -> None:
+    """A run's (checked) timestep not past its (checked) horizon: a step past the horizon records nothing to judge
+    (ValueError naming timestep and the horizon)."""
+    if timestep > horizon:
+        raise ValueError(f"timestep must be in (0, horizon = {horizon:g}]; got {timestep!r}")
+
+
+def same_shape(**arrays) -> tuple:
+    """The arrays broadcast together; ValueError naming them and their shapes when they do not broadcast."""
+    try:
+        return np.broadcast_arrays(*arrays.values())
+    except ValueError:
+        shapes = ", ".join(f"{k} {np.shape(v)}" for k, v in arrays.items())
+        raise ValueError(
+            f"{', '.join(arrays)} must have shapes that broadcast (equal, or 1 where they differ); got {shapes}"
+        ) from None
 
 
 def writable_file(name: str, value, *, suffixes: tuple[str, ...] = ()) -> Path:

@@ -15,9 +15,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.checks import FINITE, NONNEGATIVE, THETA
+from crosscheck.checks import FINITE, NONNEGATIVE, THETA, real, same_shape
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState, real, same_shape
+from crosscheck.state import SlipState
 
 __all__ = [
     "GENERALIZED",

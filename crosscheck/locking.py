@@ -29,9 +29,11 @@ import fcntl
 import os
 import platform
 import sys
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Callable, Iterator
+
+from crosscheck.files import NO_SPACE, StoreError, no_space
 
 __all__ = ["exclusive", "HELD", "owner_text", "holders"]
 
@@ -140,9 +142,6 @@ def exclusive(path: Path | str, holder: str, refuse: Callable[[str], Exception])
         try:
             os.pwrite(fd, holder.encode(), 0)
         except OSError as e:  # a full disk: one line naming the directory, not a traceback from the lock
-            from crosscheck.files import NO_SPACE, no_space
-            from crosscheck.sweeps.store import StoreError
-
             if e.errno in NO_SPACE:
                 raise StoreError(no_space(path.parent, len(holder.encode()), e)) from None
             raise

@@ -5,8 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from crosscheck.checks import ALPHA, Interval
-from crosscheck.state import real_scalar
+from crosscheck.checks import ALPHA, Interval, real_scalar
 
 #: Each physical parameter (SI units) in [1e-100, 1e100]: products of two stay finite in double precision.
 PHYSICAL = Interval(1e-100, 1e100, lo_open=False, hi_open=False)
@@ -45,13 +44,13 @@ class Rod:
             )
 
     @classmethod
-    def scaled(cls, alpha: float = 3.0) -> "Rod":
+    def scaled(cls, alpha: float = 3.0) -> Rod:
         """The rod in the paper's scaled units: m = l = g = 1, I0 = 1/alpha."""
         alpha = real_scalar("alpha", alpha, ALPHA)
         return cls(mass=1.0, length=1.0, inertia=1.0 / alpha, gravity=1.0)
 
     @classmethod
-    def uniform(cls, mass: float, length: float, gravity: float = 9.81) -> "Rod":
+    def uniform(cls, mass: float, length: float, gravity: float = 9.81) -> Rod:
         """A uniform rod (alpha = 3) with tip-to-centre distance ``length``."""
         mass, length = real_scalar("mass", mass, PHYSICAL), real_scalar("length", length, PHYSICAL)
         inertia = mass * length**2 / 3.0

@@ -8,7 +8,8 @@ the allowance, so reports can say "0.3 of tolerance" rather than "passed".
 Sections: analytic reference, GB manifold and slipping flow, the capsule
 point, and the keys of an engine's event profile.  Each engine keeps its own
 tolerances (its checks, its event profile, its solver's settings) in its
-subpackage's ``tolerances`` module; ``all_tolerances`` collects them all.
+subpackage's ``tolerances`` module; ``all_tolerances`` collects them all from the modules it is given
+(``crosscheck.report.provenance.all_tolerances`` gives every registered engine's).
 """
 
 from __future__ import annotations
@@ -185,17 +186,16 @@ CAPSULE_JAM_FORCE_LAW = Tolerance(
 )
 
 
-def all_tolerances() -> dict[str, dict]:
-    """Every named tolerance, for reports' provenance blocks: this module's comparison allowances and each built-in
-    engine's own (its subpackage's ``tolerances`` module)."""
-    import importlib
-    import importlib.util
+def named(module=None) -> dict[str, dict]:
+    """Every ``Tolerance`` defined at the top of ``module`` (this one by default), by name, as ``as_dict``."""
+    scope = globals() if module is None else vars(module)
+    return {k: v.as_dict() for k, v in scope.items() if isinstance(v, Tolerance)}
 
-    from crosscheck import engines
 
-    out = {k: v.as_dict() for k, v in globals().items() if isinstance(v, Tolerance)}
-    for package in engines.BUILTIN:
-        if importlib.util.find_spec(f"{package}.tolerances") is not None:
-            mod = importlib.import_module(f"{package}.tolerances")
-            out.update({k: v.as_dict() for k, v in vars(mod).items() if isinstance(v, Tolerance)})
+def all_tolerances(modules=()) -> dict[str, dict]:
+    """Every named tolerance, for reports' provenance blocks: this module's comparison allowances and those of each
+    of ``modules`` (an engine's ``tolerances`` module)."""
+    out = named()
+    for module in modules:
+        out.update(named(module))
     return out

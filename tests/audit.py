@@ -23,8 +23,9 @@ import io
 import re
 import signal
 import traceback
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 __all__ = ["Verdict", "judge_message", "judge_cli", "judge_api", "run_cli", "VERDICTS"]
 

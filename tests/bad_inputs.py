@@ -253,7 +253,12 @@ def cli_cases(tmp: Path) -> list:
         cases.append(
             (
                 f"simulate --engine {engine} --horizon={horizon} --timestep={timestep}",
-                _argv(["simulate", "--engine", engine], {**STATE, "mu": "0.9", "horizon": horizon, "timestep": timestep}, "", ""),
+                _argv(
+                    ["simulate", "--engine", engine],
+                    {**STATE, "mu": "0.9", "horizon": horizon, "timestep": timestep},
+                    "",
+                    "",
+                ),
                 "timestep",
             )
         )
@@ -275,12 +280,19 @@ def cli_cases(tmp: Path) -> list:
         "seed": ("sweep", f'engine = "analytic"\nhorizon = 0.5\nseed = -{huge}\nchunk = 4'),
         "chunk": ("sweep", f'engine = "analytic"\nhorizon = 0.5\nchunk = {huge}'),
         "theta": ("states", f"theta = [0.8, {huge}]\nvarphi = -1.5\nTheta = 0.0\nPsi = 0.0\neta = 1.0"),
-        "num": ("states", f"theta = {{start = 0.4, stop = 1.2, num = {huge}}}\nvarphi = -1.5\nTheta = 0.0\nPsi = 0.0\neta = 1.0"),
+        "num": (
+            "states",
+            f"theta = {{start = 0.4, stop = 1.2, num = {huge}}}\nvarphi = -1.5\nTheta = 0.0\nPsi = 0.0\neta = 1.0",
+        ),
         "mu": ("parameters", f"mu = {{start = -{huge}, stop = 1.0, num = 3}}"),
         "runs": ("parameters", "mu = {start = 0.1, stop = 2.0, num = 4000000}\nalpha = [1.0, 2.0, 3.0]"),
     }.items():
         cases.append(
-            (f"sweep spec {param} (round 3)", ["sweep", spec(f"huge_{param}", **{table: text}), "--out", sweep_out], param)
+            (
+                f"sweep spec {param} (round 3)",
+                ["sweep", spec(f"huge_{param}", **{table: text}), "--out", sweep_out],
+                param,
+            )
         )
     cases.append(
         (
@@ -425,19 +437,18 @@ def _simulate(engine, rod, state, key: str, value):
 
 def api_cases() -> list:
     """Every (id, call, param) of the Python API."""
-    from crosscheck.theory import analytic
-    from crosscheck.theory import critical
-    from crosscheck.theory.impact import continuation as hybrid
-    from crosscheck.theory.impact import darboux_keller as iwc
     from crosscheck.coordinates import paper_to_qv
-    from crosscheck.theory.corollary import corollary_states
     from crosscheck.engines import classifier
     from crosscheck.engines.mujoco import engine as mujoco
     from crosscheck.engines.pinocchio import stepper as pinocchio
-    from crosscheck.theory.gb import det_K_zeros, gb_manifold
     from crosscheck.rod import Rod
-    from crosscheck.theory.slipping import slip_until_event
     from crosscheck.state import SlipState
+    from crosscheck.theory import analytic, critical
+    from crosscheck.theory.corollary import corollary_states
+    from crosscheck.theory.gb import det_K_zeros, gb_manifold
+    from crosscheck.theory.impact import continuation as hybrid
+    from crosscheck.theory.impact import darboux_keller as iwc
+    from crosscheck.theory.slipping import slip_until_event
 
     ok_state = dict(theta=1.1031, varphi=-1.9233, Theta=0.9, Psi=0.0, eta=2.0)
     out_of_range = {
@@ -612,9 +623,9 @@ def api_cases() -> list:
     add("corollary_states(rng=0)", lambda: corollary_states(1.7, 2, 0), "rng")
     for k, v in [("theta", 2.0), ("eta", -1.0), ("Theta", math.nan), ("w", math.inf)]:
         add(f"paper_to_qv({k}={v!r})", lambda k=k, v=v: paper_to_qv(rod, **{**ok_state, k: v}), k)
-    from crosscheck.theory import capsule
     from crosscheck.engines import compliant
     from crosscheck.engines.mujoco import ode as mujoco_ode
+    from crosscheck.theory import capsule
 
     for k, v in [
         ("eps", 0.0),

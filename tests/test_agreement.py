@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 
 from crosscheck import Outcome, Rod, SlipState, engines
-from crosscheck.theory.critical import Psi_on_b0
-from crosscheck.theory.slipping import slip_until_event
+from crosscheck.engines.mujoco.tolerances import MUJOCO_EVENT_DISAGREEMENT
 from crosscheck.studies.agreement import agreement_study, boundary_distance, comparison_labels, convergence_table
 from crosscheck.studies.grids import AXES, EventGrid
 from crosscheck.studies.jams import jam_check
-from crosscheck.engines.mujoco.tolerances import MUJOCO_EVENT_DISAGREEMENT
+from crosscheck.theory.critical import Psi_on_b0
+from crosscheck.theory.slipping import slip_until_event
 
 ALPHA = 3.0
 ROD = Rod.scaled(ALPHA)

@@ -16,11 +16,10 @@ import shutil
 import tempfile
 from pathlib import Path
 
-import numpy as np
-import pytest
-
 import audit
 import bad_inputs
+import numpy as np
+import pytest
 
 _TMP = Path(tempfile.mkdtemp(prefix="crosscheck-bad-inputs-"))
 atexit.register(shutil.rmtree, _TMP, ignore_errors=True)
@@ -124,11 +123,10 @@ def _finite_numbers(obj) -> bool:
 
 
 def _api_functions():
-    from crosscheck.theory import analytic
-    from crosscheck.theory import critical
+    from crosscheck.state import SlipState
+    from crosscheck.theory import analytic, critical
     from crosscheck.theory.impact import continuation as hybrid
     from crosscheck.theory.slipping import slip_until_event
-    from crosscheck.state import SlipState
 
     ok = dict(theta=1.1031, varphi=-1.9233, Theta=0.9, Psi=0.0, eta=2.0, mu=1.4, alpha=3.0)
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from crosscheck import Rod, SlipState, engines
-from crosscheck.coordinates import to_generalized, tip_velocity
+from crosscheck.coordinates import tip_velocity, to_generalized
 from crosscheck.engines.bullet.law import friction_angle, slip_until_event
 from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck.theory import capsule

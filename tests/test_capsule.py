@@ -9,16 +9,12 @@ import pinocchio as pin
 import pytest
 from scipy.optimize import brentq
 
-from crosscheck.theory import analytic
-
-from crosscheck.theory import capsule
-
-from crosscheck.theory import gb, slipping
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
+from crosscheck.theory import analytic, capsule, gb, slipping
 from crosscheck.tolerances import (
     CAPSULE_JAM_CONVERGENCE,
     CAPSULE_JAM_FORCE_LAW,

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from crosscheck import Outcome, Rod, SlipState
-from crosscheck.theory import analytic as an
 from crosscheck.engines import Record, Thresholds, classify, get
+from crosscheck.theory import analytic as an
 from crosscheck.theory.slipping import slip_until_event
 
 ALPHA = 3.0
@@ -529,3 +529,106 @@ def test_a_run_cut_once_its_first_event_is_judged_keeps_that_event_and_nothing_a
             np.testing.assert_array_equal(getattr(cut, f), getattr(whole, f), err_msg=f)
         assert math.isnan(cut.diverged_time) and (math.isnan(cut.exit_time) or cut.exit_time < k * dt)
     assert seen == {int(Outcome.JAM), int(Outcome.LIFTOFF), int(Outcome.STICK)}
+
+
+# ------------------------------------------------------------ one rule at a time ---
+
+
+def _rows_of(R: Record):
+    from crosscheck.engines import classifier
+
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        return classifier, classifier.rows_of(R)
+
+
+def _marked(mask: np.ndarray) -> list[int]:
+    return [int(k) for k in np.flatnonzero(mask)]
+
+
+def test_rule_diverged_marks_the_faulty_rows_and_no_clean_one():
+    cl, s = _rows_of(slipping_record())
+    assert _marked(cl.diverged_rows(slipping_record(), s, Thresholds())) == []
+    R = with_rows(slipping_record(), 300, theta=np.nan)
+    cl, s = _rows_of(R)
+    assert _marked(cl.diverged_rows(R, s, Thresholds()))[:2] == [300, 301]
+    t = slipping_record().t.copy()
+    t[250] = t[249]  # a stopped clock: the row that repeats its predecessor's time
+    R = replace(slipping_record(), t=t)
+    cl, s = _rows_of(R)
+    assert _marked(cl.diverged_rows(R, s, Thresholds())) == [250]
+
+
+def test_rule_window_jam_marks_the_windows_holding_the_impulse_at_negative_p_eff():
+    R = compliant_stop_record(slip_friction=2.5, k=200)
+    cl, s = _rows_of(R)
+    w = Thresholds().window_rows(1e-3)
+    jam, p_eff, _ = cl.window_jam_rows(s, Thresholds(), alpha=ALPHA, w=w)
+    assert jam.any() and all(200 - w < k <= 200 for k in _marked(jam))
+    assert (p_eff[jam] <= Thresholds().jam_p_eff).all()
+    along_axis = compliant_stop_record(slip_friction=0.0, k=200)
+    cl, s = _rows_of(along_axis)
+    assert not cl.window_jam_rows(s, Thresholds(), alpha=ALPHA, w=w)[0].any()
+
+
+def test_rule_impulse_jam_marks_the_rigid_impulse_row_at_eq_p_below_zero():
+    R = compliant_stop_record(slip_friction=2.5, k=200)
+    cl, s = _rows_of(R)
+    impulse, p_row = cl.impulse_jam_rows(R, s, Thresholds(), mu=np.asarray(2.5)[..., None], alpha=ALPHA)
+    assert _marked(impulse)[0] == 200 and (p_row[impulse] <= Thresholds().jam_p_eff).all()
+    # below mu_P eq. p stays positive and the same record holds no rigid jam
+    assert not cl.impulse_jam_rows(R, s, Thresholds(), mu=np.asarray(0.5)[..., None], alpha=ALPHA)[0].any()
+
+
+def test_rule_liftoff_needs_lift_steps_free_upward_rows_or_one_for_a_rigid_contact():
+    R = slipping_record()
+    acc, F = R.tip_acc.copy(), R.force.copy()
+    acc[150:152, 2], F[150:152] = 0.3, 0.0
+    R = replace(R, tip_acc=acc, force=F, normal_force=F[:, 2].copy())
+    cl, s = _rows_of(R)
+    assert _marked(cl.liftoff_rows(R, s, Thresholds(), rigid=False)) == []
+    assert _marked(cl.liftoff_rows(R, s, Thresholds(), rigid=True)) == [150, 151]
+
+
+def test_rule_launch_marks_the_contact_step_that_throws_the_tip_up():
+    cl, s = _rows_of(_launched(0.45))
+    assert _marked(
+        cl.launch_rows(_launched(0.45), s, Thresholds(), w=Thresholds().window_rows(1e-3), timestep=1e-3)
+    ) == [100]
+    slow = _launched(0.5 * Thresholds().launch_ratio)  # below launch_ratio eta
+    cl, s = _rows_of(slow)
+    assert not cl.launch_rows(slow, s, Thresholds(), w=Thresholds().window_rows(1e-3), timestep=1e-3).any()
+
+
+def test_rule_stick_marks_slow_rows_with_a_touch_in_the_last_window():
+    R = slipping_record()
+    vel = R.tip_vel.copy()
+    vel[200:, 0] = 0.005
+    R = replace(R, tip_vel=vel, slip_vel=np.column_stack([vel[:, :2], np.zeros(len(R))]))
+    cl, s = _rows_of(R)
+    w = Thresholds().window_rows(1e-3)
+    assert _marked(cl.stick_rows(s, w=w, stick_speed=0.01))[0] == 200
+    F = R.force.copy()
+    F[:] = 0.0  # no force at all: a slow free rod is not stuck
+    R = replace(R, force=F, normal_force=F[:, 2].copy())
+    cl, s = _rows_of(R)
+    assert not cl.stick_rows(s, w=w, stick_speed=0.01).any()
+
+
+def test_rule_stop_jam_relabels_the_stop_row_and_writes_its_p_eff_and_impulse():
+    R = compliant_stop_record(slip_friction=2.5)
+    cl, s = _rows_of(R)
+    w = Thresholds().window_rows(1e-3)
+    has, k = cl._first(cl.stick_rows(s, w=w, stick_speed=0.01))
+    p_eff, sF = np.zeros(len(R)), np.zeros(len(R))
+    stop = cl.stop_jam_rows(
+        s, Thresholds(), has_stick=has, k_stick=k, m=15, stick_speed=0.01, alpha=ALPHA, radius=0.0, p_eff=p_eff, sF=sF
+    )
+    assert _marked(stop) == [10] and p_eff[10] < 0 and sF[10] == pytest.approx(10 * 40.0)
+
+
+def test_first_event_takes_the_earliest_and_breaks_ties_by_the_order_given():
+    from crosscheck.engines.classifier import first_event
+
+    yes, no = np.array([True, True, False]), np.array([False, True, False])
+    outcome, row = first_event([(Outcome.JAM, no, np.array([0, 5, 0])), (Outcome.STICK, yes, np.array([3, 5, 0]))])
+    assert list(outcome) == [Outcome.STICK, Outcome.JAM, Outcome.SLIP] and list(row[:2]) == [3, 5]

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from crosscheck import SlipState
-from crosscheck.theory import gb
 from crosscheck.cli import main
+from crosscheck.theory import gb
 
 SLIP_ARGS = [
     "slip",
@@ -142,8 +142,8 @@ def test_a_start_on_p_0_at_mu_P_is_on_the_boundary_and_does_not_jam(capsys):
 
 def test_a_start_slower_than_the_stick_speed_is_stuck():
     """eta = 1e-300 once gave a JAM at t = 1.7e-304: a start below the run's own stick speed is STICK at t = 0."""
-    from crosscheck.theory.slipping import slip_until_event
     from crosscheck.state import SlipState
+    from crosscheck.theory.slipping import slip_until_event
     from crosscheck.tolerances import STICK_SPEED
 
     for eta in (1e-300, 0.5 * STICK_SPEED.atol):

@@ -12,18 +12,9 @@ import numpy as np
 import pytest
 
 from crosscheck import engines
-
-from crosscheck.theory import analytic
+from crosscheck.coordinates import tip_position, tip_velocity, to_generalized
 from crosscheck.engines.compliant import integrate, simulate, slow_manifold
 from crosscheck.engines.compliant.model import SLIP, STICK, y_from_qv
-from crosscheck.engines.compliant.trajectory import make_dynamics
-from crosscheck.coordinates import tip_position, tip_velocity, to_generalized
-from crosscheck.theory.impact.darboux_keller import delassus
-from crosscheck.outcome import Outcome
-from crosscheck.rod import Rod
-from crosscheck.theory.slipping import slip_until_event
-from crosscheck.state import SlipState
-from crosscheck.tolerances import CLOSED_FORM
 from crosscheck.engines.compliant.tolerances import (
     COMPLIANT_ENERGY,
     COMPLIANT_INTEGRATION,
@@ -31,6 +22,14 @@ from crosscheck.engines.compliant.tolerances import (
     COMPLIANT_ORDER,
     COMPLIANT_RESTART,
 )
+from crosscheck.engines.compliant.trajectory import make_dynamics
+from crosscheck.outcome import Outcome
+from crosscheck.rod import Rod
+from crosscheck.state import SlipState
+from crosscheck.theory import analytic
+from crosscheck.theory.impact.darboux_keller import delassus
+from crosscheck.theory.slipping import slip_until_event
+from crosscheck.tolerances import CLOSED_FORM
 
 ALPHA = 3.0
 ROD = Rod.scaled(ALPHA)

@@ -15,15 +15,7 @@ import math
 import numpy as np
 import pytest
 
-from crosscheck.theory import analytic
-from crosscheck.theory.corollary import corollary_states
-from crosscheck.theory.impact.darboux_keller import delassus, impact
-from crosscheck.state import SlipState
 from crosscheck.engines.compliant.studies import limit as cl
-from crosscheck.theory import compliant_limit as asymptotics
-from crosscheck.theory.jam_lag import inner_scale, jam_stiffness, spring_jam_lag
-from crosscheck.engines.pinocchio.studies.rigid import planar_impasse
-from crosscheck.tolerances import CLOSED_FORM
 from crosscheck.engines.compliant.tolerances import (
     COMPLIANT_LIMIT_FAST,
     COMPLIANT_LIMIT_JAM_LAG_ORDER,
@@ -31,6 +23,14 @@ from crosscheck.engines.compliant.tolerances import (
     COMPLIANT_LIMIT_POST_ORDER,
     COMPLIANT_LIMIT_SLIP_TIME,
 )
+from crosscheck.engines.pinocchio.studies.rigid import planar_impasse
+from crosscheck.state import SlipState
+from crosscheck.theory import analytic
+from crosscheck.theory import compliant_limit as asymptotics
+from crosscheck.theory.corollary import corollary_states
+from crosscheck.theory.impact.darboux_keller import delassus, impact
+from crosscheck.theory.jam_lag import inner_scale, jam_stiffness, spring_jam_lag
+from crosscheck.tolerances import CLOSED_FORM
 
 ALPHA = 3.0
 EPS = (1e-2, 1e-3, 1e-4, 1e-5)

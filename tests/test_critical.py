@@ -7,8 +7,8 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from crosscheck.theory import analytic as an
 from crosscheck.checks import MU_MAX
+from crosscheck.theory import analytic as an
 from crosscheck.theory import critical as cr
 from crosscheck.theory.analytic import Mode
 from crosscheck.tolerances import CLOSED_FORM, FINITE_DIFFERENCE, ROOT_RESIDUAL

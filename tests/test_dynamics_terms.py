@@ -7,10 +7,10 @@ import json
 import numpy as np
 import pytest
 
-from crosscheck.theory import analytic
-from crosscheck.engines.pinocchio.studies import dynamics_terms
 from crosscheck.cli import main
+from crosscheck.engines.pinocchio.studies import dynamics_terms
 from crosscheck.rod import Rod
+from crosscheck.theory import analytic
 
 QUANTITIES = [
     "tip acc, aba",
@@ -141,7 +141,7 @@ def test_progress_bar_goes_to_stderr(capsys):
 def test_chunked_error_statistics_equal_error_stat_on_the_whole(rtol):
     """``validate``'s chunked statistics give exactly ``compare.error_stat``'s numbers: random errors with ties at the
     maximum, structural zeros of the reference, NaN and inf, split into random chunks (rtol > 0: its fallback steps)."""
-    from crosscheck.compare import error_stat
+    from crosscheck.error_stats import error_stat
     from crosscheck.tolerances import Tolerance
 
     rng = np.random.default_rng(7)

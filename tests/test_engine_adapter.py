@@ -22,9 +22,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def _random_chain(rng: np.random.Generator, n: int) -> tuple[np.ndarray, np.ndarray]:
-    q = np.column_stack(
-        (rng.normal(size=(n, 3)), rng.uniform(-np.pi, np.pi, n), rng.uniform(-1.4, 1.4, n))
-    )
+    q = np.column_stack((rng.normal(size=(n, 3)), rng.uniform(-np.pi, np.pi, n), rng.uniform(-1.4, 1.4, n)))
     return q, rng.normal(size=(n, 5))
 
 
@@ -71,8 +69,12 @@ def test_record_from_chain_gives_the_papers_slip_and_the_difference_of_the_tip_v
 
 def test_an_engine_returning_a_wrong_shape_is_refused_in_one_line():
     def run(p):
-        return adapter.Rows(q=np.zeros((p.steps, 5)), v=np.zeros((p.steps, 5)), force=np.zeros((p.steps, 3)),
-                            point=np.zeros((p.steps, 3)))
+        return adapter.Rows(
+            q=np.zeros((p.steps, 5)),
+            v=np.zeros((p.steps, 5)),
+            force=np.zeros((p.steps, 3)),
+            point=np.zeros((p.steps, 3)),
+        )
 
     eng = adapter.Adapted(name="short", run=run)
     state = SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=0.0, eta=1.0)

@@ -13,6 +13,7 @@ import sys
 
 import numpy as np
 import pytest
+from stopped_runs import stopped_and_whole
 
 from crosscheck import Outcome, Rod, SlipState, analytic, engines
 from crosscheck.coordinates import tip_position, tip_velocity, to_generalized
@@ -20,7 +21,6 @@ from crosscheck.engines.bullet import ENGINES
 from crosscheck.engines.bullet.engine import BulletHealth, Options, record_from_raw
 from crosscheck.engines.bullet.model import world
 from crosscheck.engines.record import FIELDS
-from stopped_runs import stopped_and_whole
 
 ALPHA = 3.0
 ROD = Rod.scaled(ALPHA)
@@ -416,5 +416,5 @@ def test_a_rollout_stopped_once_its_first_event_is_judged_has_the_whole_runs_fir
     """From starts that lift off, jam, stick and keep slipping (mu 1.4, varphi -1.9): ``until_event`` stops the rollout
     early where an event settles it, with the whole run's outcome, time and JAM numbers, and health over the steps taken;
     a run that keeps slipping is never cut."""
-    for whole, cut, rows in stopped_and_whole(registered, ROD):
+    for whole, cut, _rows in stopped_and_whole(registered, ROD):
         assert cut.solver.contact_steps <= whole.solver.contact_steps

@@ -18,8 +18,8 @@ import pytest
 
 from crosscheck import engines
 from crosscheck.engines import TAGS
-from crosscheck.outcome import Outcome
 from crosscheck.engines.record import FIELDS
+from crosscheck.outcome import Outcome
 from crosscheck.report.provenance import package_versions
 from crosscheck.state import SlipState
 from crosscheck.tolerances import EVENT_TOLERANCE_KEYS, Tolerance

@@ -12,13 +12,13 @@ import sys
 
 import numpy as np
 import pytest
+from stopped_runs import stopped_and_whole
 
 from crosscheck import Outcome, Rod, SlipState, engines
 from crosscheck.engines.classifier import classify, window_sum
 from crosscheck.engines.drake import ENGINES
 from crosscheck.engines.drake.options import APPROXIMATIONS, Options
 from crosscheck.theory import analytic, capsule
-from stopped_runs import stopped_and_whole
 
 ALPHA = 3.0
 ROD = Rod.scaled(ALPHA)

@@ -16,11 +16,11 @@ import pytest
 
 pytest.importorskip("newton")
 
-from crosscheck import Rod, SlipState, engines  # noqa: E402
-from crosscheck.engines.newton import ENGINES  # noqa: E402
-from crosscheck.engines.newton.model import compile_seconds  # noqa: E402
-from crosscheck.engines.record import FIELDS  # noqa: E402
-from crosscheck.outcome import Outcome  # noqa: E402
+from crosscheck import Rod, SlipState, engines
+from crosscheck.engines.newton import ENGINES
+from crosscheck.engines.newton.model import compile_seconds
+from crosscheck.engines.record import FIELDS
+from crosscheck.outcome import Outcome
 
 NAMES = [s.name for s in ENGINES]
 ALPHA = 3.0

@@ -167,7 +167,7 @@ def test_bad_options_raise_one_line_naming_option_value_and_range(options, messa
 
 
 def test_a_rollout_stopped_once_its_first_event_is_judged_has_the_whole_runs_first_event():
-    for whole, cut, rows in stopped_and_whole(SPECS["physx_pgs"], ROD):
+    for whole, cut, _rows in stopped_and_whole(SPECS["physx_pgs"], ROD):
         assert cut.solver.contact_steps <= whole.solver.contact_steps
 
 

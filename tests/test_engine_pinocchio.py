@@ -9,16 +9,15 @@ import pinocchio as pin
 import pytest
 
 from crosscheck import Outcome, Rod, SlipState
-
-from crosscheck.theory import analytic
 from crosscheck.coordinates import to_generalized
-from crosscheck.theory.corollary import corollary_states
-from crosscheck.theory.critical import Psi_L
 from crosscheck.engines import get
 from crosscheck.engines.pinocchio.stepper import Options, Stepper
-from crosscheck.studies.onset import liftoff_onset
 from crosscheck.engines.pinocchio.studies.rigid import slip_order, slipping_states
 from crosscheck.engines.pinocchio.tolerances import RIGID_LIFTOFF_ONSET, RIGID_SLIP_ORDER, RIGID_STEP_FORCE
+from crosscheck.studies.onset import liftoff_onset
+from crosscheck.theory import analytic
+from crosscheck.theory.corollary import corollary_states
+from crosscheck.theory.critical import Psi_L
 
 ALPHA = 3.0
 ROD = Rod.scaled(ALPHA)

@@ -87,7 +87,9 @@ def test_engines_lists_the_plugin_with_its_origin_and_each_broken_plugin_in_one_
     assert rod["installed"] and rod["libraries"] == [{"name": "numpy", "version": np.__version__}]
     assert rod["tags"] == ["compliant", "time_stepping"] and rod["studies"] == ["maps", "ladder", "interventions"]
     missing = by["missing_lib"]
-    assert missing["libraries"] == [{"name": "crosscheck-no-such-library", "version": None}] and not missing["installed"]
+    assert (
+        missing["libraries"] == [{"name": "crosscheck-no-such-library", "version": None}] and not missing["installed"]
+    )
     assert missing["install"] == "python3 -m pip install crosscheck-no-such-library"
     assert by["mujoco"]["origin"] == "built in"  # the plugin that took its name did not replace it
     assert data["broken"] == [
@@ -111,10 +113,16 @@ def test_simulate_runs_the_plugin_and_a_broken_or_missing_engine_exits_2_in_one_
     run = json.loads(out.stdout)
     assert run["engine"] == "numpy_rod" and run["outcome"] == "SLIP"  # b < 0 < p: the theory slips
     for name, line in (
-        ("broken_import", "plugin 'broken_import' (crosscheck-broken-plugin 0.1.0, broken_plugin.missing:ENGINES) is "
-         "broken: ModuleNotFoundError: No module named 'broken_plugin.missing'"),
-        ("missing_lib", "engine 'missing_lib' needs crosscheck-no-such-library, which is not installed: "
-         "python3 -m pip install crosscheck-no-such-library"),
+        (
+            "broken_import",
+            "plugin 'broken_import' (crosscheck-broken-plugin 0.1.0, broken_plugin.missing:ENGINES) is "
+            "broken: ModuleNotFoundError: No module named 'broken_plugin.missing'",
+        ),
+        (
+            "missing_lib",
+            "engine 'missing_lib' needs crosscheck-no-such-library, which is not installed: "
+            "python3 -m pip install crosscheck-no-such-library",
+        ),
     ):
         bad = crosscheck(site, *args, "--engine", name)
         assert bad.returncode == 2 and bad.stderr == f"crosscheck: error: {line}\n" and bad.stdout == ""
@@ -126,9 +134,22 @@ def test_the_engine_contract_holds_for_the_installed_plugin(site):
     """tests/test_engine_contract.py, parametrised over every engine the registry finds, finds the plugin too."""
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(site), str(ROOT)])}
     out = subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-k", "numpy_rod",
-         str(ROOT / "tests" / "test_engine_contract.py")],
-        env=env, capture_output=True, text=True, timeout=600, cwd=ROOT,
+        [
+            sys.executable,
+            "-m",
+            "pytest",
+            "-q",
+            "-p",
+            "no:cacheprovider",
+            "-k",
+            "numpy_rod",
+            str(ROOT / "tests" / "test_engine_contract.py"),
+        ],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+        cwd=ROOT,
     )
     assert out.returncode == 0, out.stdout[-3000:]
     assert "4 passed" in out.stdout, out.stdout[-3000:]

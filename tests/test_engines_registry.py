@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from crosscheck import Outcome, Rod, SlipState, engines
+from crosscheck.checks import POSITIVE, check
 from crosscheck.engines import (
     EngineSpec,
     Record,
@@ -28,12 +29,11 @@ from crosscheck.engines import (
     n_steps,
     sweep_by_simulate,
 )
-from crosscheck.checks import POSITIVE, check
 from crosscheck.engines.base import options_from_kwargs
-from crosscheck.tolerances import EVENT_TOLERANCE_KEYS, Tolerance
-from crosscheck.theory.slipping import X_STATE, slip_until_event
 from crosscheck.studies.agreement import agreement_study
 from crosscheck.studies.grids import EventGrid
+from crosscheck.theory.slipping import X_STATE, slip_until_event
+from crosscheck.tolerances import EVENT_TOLERANCE_KEYS, Tolerance
 
 
 @dataclass(frozen=True)
@@ -55,7 +55,7 @@ def simulate(
     rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options
 ) -> Run:
     """The rigid slipping rod of the paper as an engine: slip with F_z = -b/p, then what the first event says."""
-    opts = options_from_kwargs(ToyOptions, options, "toy")
+    opts = options_from_kwargs(ToyOptions, options, "analytic flow (toy)")
     horizon = float(check("horizon", horizon, POSITIVE))
     th = thresholds or Thresholds()
     alpha = rod.alpha
@@ -153,7 +153,10 @@ def test_registry_lists_and_refuses():
         EngineSpec(name="x", engine=__name__, tags={"soft"})
     with pytest.raises(ValueError, match="^tolerance profile lacks 'event_time'"):
         Validation(tolerances={"liftoff_onset": None, "event_disagreement": None})
-    with pytest.raises(ValueError, match=r"^engine 'x' engine must be a reference 'package.module' or 'package.module:attr'; got 'a b'$"):
+    with pytest.raises(
+        ValueError,
+        match=r"^engine 'x' engine must be a reference 'package.module' or 'package.module:attr'; got 'a b'$",
+    ):
         EngineSpec(name="x", engine="a b")
     with pytest.raises(ValueError, match="^engine 'x' ladder must be a Ladder or None; got dict$"):
         EngineSpec(name="x", engine=__name__, ladder={"geometry": "capsule"})

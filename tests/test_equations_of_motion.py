@@ -13,8 +13,8 @@ import pytest
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-from crosscheck.theory import analytic as an
 from crosscheck.rod import Rod
+from crosscheck.theory import analytic as an
 from crosscheck.tolerances import DERIVATION
 
 

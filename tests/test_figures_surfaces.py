@@ -7,14 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from crosscheck.theory import analytic
-
-from crosscheck.theory import critical
-
-from crosscheck.theory import gb
 from crosscheck.report.section import RunContext, section_rng
-from crosscheck.report.sections import bifurcations, kinematic_surfaces as ks
+from crosscheck.report.sections import bifurcations
+from crosscheck.report.sections import kinematic_surfaces as ks
 from crosscheck.report.store import SectionStore
+from crosscheck.theory import analytic, critical, gb
 from crosscheck.tolerances import CLOSED_FORM, GB_IDENTITY, ROOT_RESIDUAL
 
 MU, ALPHA, TMAX = 1.4, 3.0, 2.2

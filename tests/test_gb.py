@@ -6,9 +6,7 @@ import numpy as np
 import pytest
 
 from crosscheck import Outcome, SlipState
-
-from crosscheck.theory import analytic
-from crosscheck.theory import gb
+from crosscheck.theory import analytic, gb
 from crosscheck.theory.critical import Psi_L, critical_values, mu_C, mu_P, theta_12, theta_pm
 from crosscheck.theory.gb import GBType, Quadrant
 from crosscheck.tolerances import CLOSED_FORM, FINITE_DIFFERENCE, GB_IDENTITY
@@ -233,7 +231,7 @@ def test_ghastly_locates_the_zeros_of_det_K_at_Psi_0(mu, eta):
     ids=["snode", "unode", "saddle", "sfocus", "ufocus", "zero-eig", "centre", "jordan"],
 )
 def test_classify_known_matrices(Km, want):
-    assert gb.classify(np.array(Km, float)) is want
+    assert gb.gb_type(np.array(Km, float)) is want
 
 
 def _planar(mu, which):
@@ -273,10 +271,10 @@ def test_lambda1_vanishes_at_mu_P_and_e11_at_mu_C():
 
 @pytest.mark.parametrize("mu", [1.4, 1.5, 1.6, 1.7, 6.0])
 def test_planar_P_plus_stable_node_Q_saddles_and_e1_quadrants(mu):
-    assert gb.classify(_planar(mu, "P+")[2]) is GBType.STABLE_NODE
-    assert gb.classify(_planar(mu, "P-")[2]) is GBType.UNSTABLE_NODE
-    assert gb.classify(_planar(mu, "Q+")[2]) is GBType.SADDLE
-    assert gb.classify(_planar(mu, "Q-")[2]) is GBType.SADDLE
+    assert gb.gb_type(_planar(mu, "P+")[2]) is GBType.STABLE_NODE
+    assert gb.gb_type(_planar(mu, "P-")[2]) is GBType.UNSTABLE_NODE
+    assert gb.gb_type(_planar(mu, "Q+")[2]) is GBType.SADDLE
+    assert gb.gb_type(_planar(mu, "Q-")[2]) is GBType.SADDLE
     theta, _, Km = _planar(mu, "P+")
     lam, vec = gb.eigen(Km)
     lam1 = _planar(mu, "P+")[1] * (math.tan(theta) - (1 + ALPHA) / math.tan(theta))
@@ -329,7 +327,7 @@ def test_theorem_4_1_Theta_positive_eigenvectors_in_different_quadrants():
     # Theorem 4.1 (1): e_- (stable / strong / weakly unstable) in quadrants II-IV, e_+ in I-III
     assert np.all(gb.quadrant(vec[:, :, 1]) == Quadrant.II_IV)
     assert np.all(gb.quadrant(vec[:, :, 0]) == Quadrant.I_III)
-    types = set(gb.classify(Km).tolist())
+    types = set(gb.gb_type(Km).tolist())
     assert types <= {GBType.STABLE_NODE, GBType.SADDLE, GBType.UNSTABLE_NODE}
     assert {GBType.STABLE_NODE, GBType.SADDLE, GBType.UNSTABLE_NODE} <= types  # all three are realised
 
@@ -337,7 +335,7 @@ def test_theorem_4_1_Theta_positive_eigenvectors_in_different_quadrants():
 def test_theorem_4_1_Theta_negative_no_stable_node_or_focus():
     pts = _off_planar_points(-1)
     theta, varphi, Psi, Theta, eta, mu = pts.T
-    types = gb.classify(gb.K(theta, varphi, Psi, Theta, eta, mu, ALPHA))
+    types = gb.gb_type(gb.K(theta, varphi, Psi, Theta, eta, mu, ALPHA))
     assert len(types) > 1000
     assert not np.any((types == GBType.STABLE_NODE) | (types == GBType.STABLE_FOCUS))
     assert np.any(types == GBType.UNSTABLE_FOCUS)  # the paper's numerical unstable foci at Psi != 0

@@ -7,11 +7,10 @@ import socket
 from pathlib import Path
 
 import pytest
+from conftest import tmpfs
 
 from crosscheck import sweeps
 from crosscheck.cli import main
-
-from conftest import tmpfs
 
 SPEC = """
 [sweep]

@@ -7,9 +7,8 @@ import numpy as np
 import pytest
 
 from crosscheck import Rod, SlipState, critical_values
-
-from crosscheck.theory import analytic
 from crosscheck.coordinates import from_generalized, paper_to_qv, qv_to_paper, to_generalized
+from crosscheck.theory import analytic
 
 
 @pytest.mark.parametrize(

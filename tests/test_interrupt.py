@@ -37,10 +37,22 @@ def _finished(out: Path) -> set[str]:
 def test_a_sigint_stops_a_sweep_with_one_line_and_the_rerun_resumes(tmp_path):
     spec, out = tmp_path / "spec.toml", tmp_path / "store"
     spec.write_text(SPEC)
-    argv = [sys.executable, "-m", "crosscheck", "sweep", str(spec), "--out", str(out), "--workers", "2", "--no-progress"]
+    argv = [
+        sys.executable,
+        "-m",
+        "crosscheck",
+        "sweep",
+        str(spec),
+        "--out",
+        str(out),
+        "--workers",
+        "2",
+        "--no-progress",
+    ]
     env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1])}
-    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
-                            start_new_session=True)
+    proc = subprocess.Popen(
+        argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, start_new_session=True
+    )
     deadline = time.monotonic() + 120
     while len(_finished(out)) < 2 and time.monotonic() < deadline and proc.poll() is None:
         time.sleep(0.05)

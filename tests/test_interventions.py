@@ -13,9 +13,9 @@ from crosscheck.engines.spec import LADDER_CAUSES, EngineSpec, Intervention, Lad
 from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
 from crosscheck.studies.comparison import LAG_TAU
-from crosscheck.theory.jam_lag import P_FLOOR
 from crosscheck.studies.interventions import intervene, summarise
 from crosscheck.studies.ladder import run_ladder
+from crosscheck.theory.jam_lag import P_FLOOR
 from crosscheck.theory.slipping import slip_until_event
 
 LADDERED = [s.name for s in engines.specs() if s.ladder is not None and s.report is not None]
@@ -53,11 +53,7 @@ def test_each_intervention_moves_the_engine_the_way_its_cause_names(name, p_min)
     """Geometry: a thinner capsule; compliance: a shorter contact time; discretisation: a shorter step; weakest first."""
     spec = engines.get(name)
     for base in _settings(spec):
-        for cause, attr, smaller in (
-            ("geometry", "radius", True),
-            ("compliance", "contact_time", True),
-            ("discretisation", "timestep", True),
-        ):
+        for cause, attr in (("geometry", "radius"), ("compliance", "contact_time"), ("discretisation", "timestep")):
             if cause not in (spec.interventions or {}):
                 continue
             given = {k: getattr(base, k) for k in base.__dataclass_fields__}

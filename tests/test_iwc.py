@@ -8,15 +8,14 @@ import numpy as np
 import pytest
 
 from crosscheck import Rod, SlipState
-
-from crosscheck.theory import analytic
 from crosscheck.coordinates import to_generalized
-from crosscheck.theory.corollary import corollary_states
 from crosscheck.engines import get
 from crosscheck.engines.pinocchio.stepper import Options, Stepper
+from crosscheck.engines.pinocchio.studies.rigid import planar_impasse
+from crosscheck.theory import analytic
+from crosscheck.theory.corollary import corollary_states
 from crosscheck.theory.impact.darboux_keller import delassus, impact
 from crosscheck.theory.slipping import slip_until_event
-from crosscheck.engines.pinocchio.studies.rigid import planar_impasse
 
 ALPHA = 3.0
 

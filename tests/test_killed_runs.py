@@ -16,12 +16,11 @@ import time
 from pathlib import Path
 
 import pytest
+from conftest import small, tmpfs
 
 from crosscheck import sweeps
 from crosscheck.locking import exclusive, holders
 from crosscheck.sweeps.store import Store
-
-from conftest import small, tmpfs
 
 #: Seconds a killed run's workers may take to go (they get SIGKILL from the kernel when their parent dies).
 ORPHAN_GRACE = 5.0

@@ -10,20 +10,20 @@ import pytest
 from crosscheck import engines
 from crosscheck.cli import main
 from crosscheck.engines.classifier import Thresholds
-from crosscheck.engines.mujoco.options import Options
-from crosscheck.engines.mujoco.model import START_GAP, build_model, initial_state
-from crosscheck.outcome import Outcome
-from crosscheck.theory.paper import FIG20_INITIAL_CONDITIONS
-from crosscheck.rod import Rod
-from crosscheck.theory.slipping import slip_until_event
-from crosscheck.state import SlipState
 from crosscheck.engines.mujoco.law import impedance
+from crosscheck.engines.mujoco.model import START_GAP, build_model, initial_state
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.studies import kelvin_voigt as KV
 from crosscheck.engines.mujoco.studies import ladder as L
 from crosscheck.engines.mujoco.studies import ladder_study as LS
-from crosscheck.studies.agreement import comparison_labels
-from crosscheck.tolerances import CLOSED_FORM, EVENT_TIME
 from crosscheck.engines.mujoco.tolerances import LADDER_QUOTED_TIME
+from crosscheck.outcome import Outcome
+from crosscheck.rod import Rod
+from crosscheck.state import SlipState
+from crosscheck.studies.agreement import comparison_labels
+from crosscheck.theory.paper import FIG20_INITIAL_CONDITIONS
+from crosscheck.theory.slipping import slip_until_event
+from crosscheck.tolerances import CLOSED_FORM, EVENT_TIME
 
 IC2 = SlipState(**FIG20_INITIAL_CONDITIONS[1])
 #: A start of the quick report's (theta, Theta) map at which the rigid rod jams at A and at C, MuJoCo sticks.
@@ -262,9 +262,9 @@ def test_a_start_once_decided_by_rounding_now_has_one_outcome_at_every_last_bit(
     """A start of the maps whose MuJoCo outcome was decided by rounding (a JAM at t = 0.0027 or a LIFTOFF at 0.0186 as
     theta moved by one ulp, while the capsule started exactly on the plane): with the start START_GAP above the plane
     MuJoCo jams from it and from every start 1 or 2 ulp of theta away, so the probe finds no other outcome there."""
-    from crosscheck.outcome import Outcome
     from crosscheck.engines.mujoco.studies.ladder import run_ladder
     from crosscheck.engines.mujoco.studies.ladder_study import decided_by_rounding
+    from crosscheck.outcome import Outcome
 
     s = SlipState(theta=0.9515625, varphi=-1.9, Theta=0.890625, Psi=0.0, eta=1.0)
     ld = run_ladder(s, 1.4, reference=Outcome.JAM, rungs=("mujoco",))

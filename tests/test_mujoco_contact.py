@@ -9,11 +9,9 @@ import numpy as np
 import pytest
 
 from crosscheck import Outcome, Rod, SlipState
-from crosscheck.theory import analytic as an
-from crosscheck.theory.critical import Psi_L, Psi_on_b0, theta_L
 from crosscheck.engines import Thresholds, get
-from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import SensorLayout, build_model, initial_state, record_from_sensordata
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.studies.contact import capsule_tip_acceleration, friction_skew
 from crosscheck.engines.mujoco.tolerances import (
     MUJOCO_CONTACT_ACCELERATION,
@@ -21,6 +19,8 @@ from crosscheck.engines.mujoco.tolerances import (
     MUJOCO_LIFTOFF_ONSET,
     MUJOCO_LIFTOFF_ONSET_COARSE,
 )
+from crosscheck.theory import analytic as an
+from crosscheck.theory.critical import Psi_L, Psi_on_b0, theta_L
 
 ROD = Rod(mass=1.0, length=1.0, inertia=1.0 / 3.0, gravity=9.81)
 MS = 1e-3 * ROD.omega  # 1 ms in scaled time

@@ -10,8 +10,6 @@ import pytest
 from crosscheck import Rod, SlipState
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get
-from crosscheck.engines.mujoco.options import Options
-from crosscheck.tolerances import CLOSED_FORM
 from crosscheck.engines.mujoco.law import (
     NO_FEED_FORWARD_IMPEDANCE,
     Parameters,
@@ -23,9 +21,10 @@ from crosscheck.engines.mujoco.law import (
     solve_cone,
 )
 from crosscheck.engines.mujoco.ode import integrate
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.studies import friction_skew as fs
-from crosscheck.engines.mujoco.studies.law_check import convergence_order, random_contact
 from crosscheck.engines.mujoco.studies.contact import friction_skew
+from crosscheck.engines.mujoco.studies.law_check import convergence_order, random_contact
 from crosscheck.engines.mujoco.tolerances import (
     MUJOCO_LAW_FORCE,
     MUJOCO_LAW_KKT,
@@ -34,6 +33,7 @@ from crosscheck.engines.mujoco.tolerances import (
     MUJOCO_LAW_SKEW,
     MUJOCO_LAW_SKEW_IDENTITY,
 )
+from crosscheck.tolerances import CLOSED_FORM
 
 
 def test_force_R_aref_equal_mujoco_solver_arrays():

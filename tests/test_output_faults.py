@@ -28,7 +28,9 @@ def _crosscheck(argv, **kw):
 
 
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="no /dev/full on this system")
-@pytest.mark.parametrize("argv", [["critical", "--mu", "0.83", "--alpha", "5"], ["gb", "--mu", "2.3", "--json"]], ids=str)
+@pytest.mark.parametrize(
+    "argv", [["critical", "--mu", "0.83", "--alpha", "5"], ["gb", "--mu", "2.3", "--json"]], ids=str
+)
 def test_a_full_standard_output_is_one_line(argv):
     with open("/dev/full", "w") as full:
         r = _crosscheck(argv, stdout=full, stderr=subprocess.PIPE, timeout=120)
@@ -44,8 +46,12 @@ def test_a_sweep_into_a_full_standard_output_keeps_its_store(tmp_path):
         "varphi = -2.1\nTheta = 0.3\nPsi = 0.1\neta = 0.7\n[parameters]\nmu = 0.25\n"
     )
     with open("/dev/full", "w") as full:
-        r = _crosscheck(["sweep", str(spec), "--out", str(tmp_path / "o"), "--workers", "1"], stdout=full,
-                        stderr=subprocess.PIPE, timeout=120)
+        r = _crosscheck(
+            ["sweep", str(spec), "--out", str(tmp_path / "o"), "--workers", "1"],
+            stdout=full,
+            stderr=subprocess.PIPE,
+            timeout=120,
+        )
     assert r.returncode == 1 and "Traceback" not in r.stderr
     assert r.stderr.splitlines()[-1] == "crosscheck: error: standard output cannot be written: No space left on device"
     assert len(load(tmp_path / "o")) == 3  # the work was done and saved before the summary line failed
@@ -54,9 +60,30 @@ def test_a_sweep_into_a_full_standard_output_keeps_its_store(tmp_path):
 def test_a_non_ascii_path_under_an_ascii_terminal_is_written_and_shown_escaped(tmp_path):
     target = tmp_path / "r\u00e9sultats" / "\u0440\u043e\u0434.csv"
     r = _crosscheck(
-        ["simulate", "--engine", "pinocchio", "--theta", "0.92", "--varphi", "-1.2", "--Theta", "0.1", "--Psi", "0.4",
-         "--eta", "0.8", "--mu", "0.35", "--horizon", "0.03", "--csv", str(target)],
-        capture_output=True, env={**ENV, "PYTHONIOENCODING": "ascii"}, timeout=120,
+        [
+            "simulate",
+            "--engine",
+            "pinocchio",
+            "--theta",
+            "0.92",
+            "--varphi",
+            "-1.2",
+            "--Theta",
+            "0.1",
+            "--Psi",
+            "0.4",
+            "--eta",
+            "0.8",
+            "--mu",
+            "0.35",
+            "--horizon",
+            "0.03",
+            "--csv",
+            str(target),
+        ],
+        capture_output=True,
+        env={**ENV, "PYTHONIOENCODING": "ascii"},
+        timeout=120,
     )
     assert r.returncode == 0, r.stderr
     assert target.read_text().startswith("t,")

@@ -14,14 +14,14 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
-from crosscheck.theory import analytic
-from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck import tolerances as tol
 from crosscheck.coordinates import GENERALIZED, paper_to_qv, tip_position
-from crosscheck.theory.critical import mu_P
-from crosscheck.rod import Rod
+from crosscheck.engines.pinocchio import model as pinrod
+from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
 from crosscheck.engines.pinocchio.studies.dynamics_terms import scaled_matrices
+from crosscheck.rod import Rod
+from crosscheck.theory import analytic
+from crosscheck.theory.critical import mu_P
 
 EPS = np.finfo(float).eps
 

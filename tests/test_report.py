@@ -19,10 +19,10 @@ import pytest
 
 from crosscheck import engines, report
 from crosscheck.cli import main
-from crosscheck.theory.paper import PRINTED
+from crosscheck.report.provenance import all_tolerances
 from crosscheck.report.section import Figure, Section, Table
 from crosscheck.report.store import SectionStore
-from crosscheck.tolerances import all_tolerances
+from crosscheck.theory.paper import PRINTED
 
 #: Every figure the report must contain (stem under figures/<section>/), by paper figure.
 EXPECTED_FIGURES = {
@@ -519,7 +519,9 @@ def test_the_engine_table_holds_numbers_a_row_per_engine_and_setting(quick):
             assert isinstance(r[key], float), (key, r[key])
         assert all(isinstance(r[k], int) for k in r if k.startswith(("n_", "agree_theory_")))
     tidy = list(csv.DictReader((out / "data" / "engine_table.csv").open()))
-    assert [(t["engine"], t["role"], t["setting"]) for t in tidy] == [(r["engine"], r["role"], r["setting"]) for r in records]
+    assert [(t["engine"], t["role"], t["setting"]) for t in tidy] == [
+        (r["engine"], r["role"], r["setting"]) for r in records
+    ]
     assert [float(t["agreement"]) for t in tidy] == [r["agreement"] for r in records]
 
 
@@ -544,7 +546,9 @@ def test_the_first_screen_is_the_bottom_line_the_figure_and_one_row_per_engine(q
         assert re.search(r"\d", s["text"]) and s["rule"] and html.count(escape(s["text"])) == 1
     assert _between(html, 'id="bottom-line"', "figures/overview/agreement_cost.png", 'class="engines"', 'id="contents"',
                     'id="findings"')  # fmt: skip
-    assert _between(md, bottom[0]["text"][:40], "(figures/overview/agreement_cost.png)", "| engine | setting |", "## Findings")
+    assert _between(
+        md, bottom[0]["text"][:40], "(figures/overview/agreement_cost.png)", "| engine | setting |", "## Findings"
+    )
     points = json.loads((out / "data" / "first_figure.json").read_text())["points"]
     assert all(isinstance(p["runs_per_s"], float) and isinstance(p["agreement"], float) for p in points)
     assert any(p["pareto_agreement_cost"] for p in points)

@@ -13,14 +13,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-from crosscheck.locking import owner_text
+from conftest import tmpfs
 
 from crosscheck import report
 from crosscheck.cli import main
+from crosscheck.locking import owner_text
 from crosscheck.report.section import Section, Table
-
-from conftest import tmpfs
 
 
 def _run(ctx):

@@ -414,7 +414,7 @@ def test_explain_plots_every_rung(tmp_path, capsys):
 
 def test_the_validate_table_stays_aligned_and_prints_no_nan():
     """A quantity name longer than the old 28-character column and a count check (no relative error) keep every column in place."""
-    from crosscheck.compare import ErrorStat, ValidationResult
+    from crosscheck.error_stats import ErrorStat, ValidationResult
 
     stats = [
         ErrorStat("median |event time difference|", 300, 0.012, 0.5, 0.4, {"theta": 1.0}, {}, True),

@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import random_slip_states
 
 from crosscheck.studies.rounding import ulp_sensitivity, ulp_shifted
 from crosscheck.theory import analytic
-
-from conftest import random_slip_states
 
 
 def test_ulp_shift_steps_one_representable_number_at_a_time():

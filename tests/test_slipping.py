@@ -7,7 +7,6 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from crosscheck import Outcome, SlipState
-
 from crosscheck.theory import analytic
 from crosscheck.theory.critical import mu_C, mu_P, theta_12
 from crosscheck.theory.slipping import X_STATE, slip_outcomes, slip_until_event

@@ -9,12 +9,11 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
+from conftest import tmpfs
 
 from crosscheck import sweeps
 from crosscheck.cli import main
 from crosscheck.sweeps.store import StoreError
-
-from conftest import tmpfs
 
 SPEC = """
 [sweep]

@@ -14,14 +14,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import small
 
 from crosscheck import engines, sweeps
 from crosscheck.cli import main
-from crosscheck.sweeps.compare import compare_frames, wilson_interval
 from crosscheck.sweeps.spec import SpecError, parse_spec
 from crosscheck.sweeps.store import Store, StoreError
-
-from conftest import small
+from crosscheck.sweeps.store_diff import compare_frames, wilson_interval
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "sweep.toml"
 

@@ -8,15 +8,14 @@ import numpy as np
 import pytest
 
 from crosscheck import Outcome, Rod
-
-from crosscheck.theory import analytic
 from crosscheck.cli import main
-from crosscheck.theory.critical import Psi_L
 from crosscheck.engines.mujoco.studies import contact as mujoco_contact
+from crosscheck.engines.mujoco.tolerances import MUJOCO_CONTACT_ACCELERATION
 from crosscheck.studies import validate as validation
 from crosscheck.studies.grids import random_event_points
 from crosscheck.studies.onset import liftoff_onset
-from crosscheck.engines.mujoco.tolerances import MUJOCO_CONTACT_ACCELERATION
+from crosscheck.theory import analytic
+from crosscheck.theory.critical import Psi_L
 
 RIGID_QUANTITIES = [
     "one-step normal impulse / dt vs -b/p",

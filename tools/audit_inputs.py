@@ -14,8 +14,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-import audit  # noqa: E402
-import bad_inputs  # noqa: E402
+import audit
+import bad_inputs
 
 
 def main() -> int:

@@ -32,9 +32,16 @@ REST = ["--theta", "0.97", "--varphi", "-2.2", "--Theta", "0", "--Psi", "0", "--
 def cli(argv, *, timeout=60, env=None, stdout=None, cwd=None):
     """(exit code or None on timeout, stdout, stderr) of ``crosscheck argv`` in its own process."""
     try:
-        r = subprocess.run([sys.executable, "-m", "crosscheck", *argv], capture_output=stdout is None, text=True,
-                           timeout=timeout, env={**os.environ, **(env or {})}, stdout=stdout, cwd=cwd,
-                           stderr=subprocess.PIPE if stdout is not None else None)
+        r = subprocess.run(
+            [sys.executable, "-m", "crosscheck", *argv],
+            capture_output=stdout is None,
+            text=True,
+            timeout=timeout,
+            env={**os.environ, **(env or {})},
+            stdout=stdout,
+            cwd=cwd,
+            stderr=subprocess.PIPE if stdout is not None else None,
+        )
     except subprocess.TimeoutExpired:
         return None, "", ""
     return r.returncode, r.stdout or "", r.stderr or ""
@@ -56,12 +63,20 @@ def refusal(code, err, param) -> str:
 
 
 def snapshot(root: Path) -> dict:
-    return {str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest() for p in root.rglob("*") if p.is_file()}
+    return {
+        str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest() for p in root.rglob("*") if p.is_file()
+    }
 
 
 def users_dir(root: Path) -> Path:
-    for name, text in {"index.html": "<p>site</p>", "notes.md": "n", "sweeps/mine/a.txt": "a", "chunks/app.js": "js",
-                       "manifest.json": '{"app": 1}', "chunks/chunk-000000.parquet": "mine"}.items():
+    for name, text in {
+        "index.html": "<p>site</p>",
+        "notes.md": "n",
+        "sweeps/mine/a.txt": "a",
+        "chunks/app.js": "js",
+        "manifest.json": '{"app": 1}',
+        "chunks/chunk-000000.parquet": "mine",
+    }.items():
         (root / name).parent.mkdir(parents=True, exist_ok=True)
         (root / name).write_text(text)
     return root
@@ -71,30 +86,48 @@ def data_loss(tmp: Path) -> list:
     out = []
     quick = ["report", "--quick", "--only", "critical_angles", "--no-progress"]
     spec = tmp / "s.toml"
-    spec.write_text('[sweep]\nengine = "analytic"\nhorizon = 0.2\nchunk = 2\n[states]\ntheta = [0.7, 1.2]\n'
-                    "varphi = -1.1\nTheta = 0.2\nPsi = 0.0\neta = 0.6\n[parameters]\nmu = 0.4\n")
-    for i, argv in enumerate([quick + ["--out"], quick + ["--fresh", "--out"],
-                              ["sweep", str(spec), "--fresh", "--workers", "1", "--out"],
-                              ["sweep", str(spec), "--workers", "1", "--out"]]):
+    spec.write_text(
+        '[sweep]\nengine = "analytic"\nhorizon = 0.2\nchunk = 2\n[states]\ntheta = [0.7, 1.2]\n'
+        "varphi = -1.1\nTheta = 0.2\nPsi = 0.0\neta = 0.6\n[parameters]\nmu = 0.4\n"
+    )
+    for i, argv in enumerate(
+        [
+            quick + ["--out"],
+            quick + ["--fresh", "--out"],
+            ["sweep", str(spec), "--fresh", "--workers", "1", "--out"],
+            ["sweep", str(spec), "--workers", "1", "--out"],
+        ]
+    ):
         d = users_dir(tmp / f"user{i}")
         before = snapshot(d)
         code, _, err = cli(argv + [str(d)], timeout=120)
-        out.append((f"{' '.join(argv[:2])} into a user's dir", "data loss" if snapshot(d) != before else
-                    ("ok" if code == 2 else refusal(code, err, "out"))))
+        out.append(
+            (
+                f"{' '.join(argv[:2])} into a user's dir",
+                "data loss" if snapshot(d) != before else ("ok" if code == 2 else refusal(code, err, "out")),
+            )
+        )
     for i, (plot, csv) in enumerate([("k.svg", "k.svg"), ("m.pdf", "m_theory.csv")]):
         d = tmp / f"sim{i}"
         d.mkdir()
         (d / csv).write_text("the user's")
         before = snapshot(d)
-        code, _, err = cli(["simulate", "--engine", "pinocchio", *IC2, "--horizon", "0.05", "--plot", plot, "--csv", csv],
-                           cwd=d)
-        out.append((f"simulate --plot {plot} --csv {csv}", "data loss" if snapshot(d) != before else refusal(code, err, "csv")))
+        code, _, err = cli(
+            ["simulate", "--engine", "pinocchio", *IC2, "--horizon", "0.05", "--plot", plot, "--csv", csv], cwd=d
+        )
+        out.append(
+            (f"simulate --plot {plot} --csv {csv}", "data loss" if snapshot(d) != before else refusal(code, err, "csv"))
+        )
     from crosscheck.sweeps import Store
     from crosscheck.sweeps.spec import parse_spec
 
-    sp = parse_spec({"sweep": {"engine": "analytic", "horizon": 0.2, "chunk": 1},
-                     "states": {"theta": 0.9, "varphi": -1.0, "Theta": 0.0, "Psi": 0.0, "eta": 0.5},
-                     "parameters": {"mu": {"start": 0.0, "stop": 1.0, "num": 1_000_003}}})
+    sp = parse_spec(
+        {
+            "sweep": {"engine": "analytic", "horizon": 0.2, "chunk": 1},
+            "states": {"theta": 0.9, "varphi": -1.0, "Theta": 0.0, "Psi": 0.0, "eta": 0.5},
+            "parameters": {"mu": {"start": 0.0, "stop": 1.0, "num": 1_000_003}},
+        }
+    )
     st = Store(tmp / "big")
     m = st.open(sp)
     st.write_chunk(m, 1_000_002, {"run": [1_000_002], "chunk": [1_000_002], "x": [1.0]}, 0.1)
@@ -117,19 +150,24 @@ def hangs(tmp: Path) -> list:
     out = []
     code, _, err = cli(["simulate", "--engine", "compliant", *IC2[:1], "1.5707962", *IC2[2:]], timeout=30)
     out.append(("compliant at theta = pi/2 - 1e-7", refusal(code, err, "theta")))
-    code, _, err = cli(["simulate", "--engine", "drake_continuous", *IC2, "--alpha", "700", "--horizon", "0.5"],
-                       timeout=60)
+    code, _, err = cli(
+        ["simulate", "--engine", "drake_continuous", *IC2, "--alpha", "700", "--horizon", "0.5"], timeout=60
+    )
     out.append(("drake_continuous at alpha 700", refusal(code, err, "alpha")))
     big = tmp / "big.toml"
-    big.write_text('[sweep]\nengine = "analytic"\nhorizon = 0.2\nchunk = 3\n[states]\ntheta = 1.0\nvarphi = -1.0\n'
-                   "Theta = 0.0\nPsi = 0.0\neta = 1.0\n[parameters]\nmu = {start = 0.1, stop = 2.0, num = 8000000}\n"
-                   "alpha = {start = 1.0, stop = 4.0, num = 5000000}\n")
+    big.write_text(
+        '[sweep]\nengine = "analytic"\nhorizon = 0.2\nchunk = 3\n[states]\ntheta = 1.0\nvarphi = -1.0\n'
+        "Theta = 0.0\nPsi = 0.0\neta = 1.0\n[parameters]\nmu = {start = 0.1, stop = 2.0, num = 8000000}\n"
+        "alpha = {start = 1.0, stop = 4.0, num = 5000000}\n"
+    )
     code, _, err = cli(["sweep", str(big), "--out", str(tmp / "bigout")], timeout=60)
     out.append(("a spec of 4e13 runs", refusal(code, err, "runs")))
     spec = tmp / "int.toml"
-    spec.write_text('[sweep]\nengine = "pinocchio"\nhorizon = 0.4\nchunk = 1\n[states]\n'
-                    "theta = {start = 0.55, stop = 1.25, num = 12}\nvarphi = -1.7\nTheta = 0.2\nPsi = 0.0\neta = 1.5\n"
-                    "[parameters]\nmu = 0.45\n")
+    spec.write_text(
+        '[sweep]\nengine = "pinocchio"\nhorizon = 0.4\nchunk = 1\n[states]\n'
+        "theta = {start = 0.55, stop = 1.25, num = 12}\nvarphi = -1.7\nTheta = 0.2\nPsi = 0.0\neta = 1.5\n"
+        "[parameters]\nmu = 0.45\n"
+    )
     argv = [sys.executable, "-m", "crosscheck", "sweep", str(spec), "--out", str(tmp / "intout"), "--workers", "2"]
     p = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
     t0 = time.monotonic()
@@ -144,8 +182,15 @@ def hangs(tmp: Path) -> list:
         p.kill()
         err, stopped = "", math.inf
     kept = len(list((tmp / "intout").glob("chunks/chunk-*.json")))
-    verdict = ("hang" if stopped > 5 else "traceback" if "Traceback" in err else
-               "ok" if len(err.strip().splitlines()) == 1 and kept else "unnamed")
+    verdict = (
+        "hang"
+        if stopped > 5
+        else "traceback"
+        if "Traceback" in err
+        else "ok"
+        if len(err.strip().splitlines()) == 1 and kept
+        else "unnamed"
+    )
     out.append((f"Ctrl-C of a sweep (stopped in {stopped:.1f} s, {kept} chunks kept)", verdict))
     return out
 
@@ -156,34 +201,52 @@ def tracebacks(tmp: Path) -> list:
     for key, line in [("horizon", f"horizon = {huge}"), ("seed", f"seed = {huge}"), ("chunk", f"chunk = {huge}")]:
         spec = tmp / f"ov_{key}.toml"
         rest = "".join(f"{k} = {v}\n" for k, v in {"horizon": "0.3", "seed": "1", "chunk": "2"}.items() if k != key)
-        spec.write_text(f'[sweep]\nengine = "analytic"\n{line}\n{rest}[states]\ntheta = 0.9\nvarphi = -1.0\n'
-                        "Theta = 0.0\nPsi = 0.0\neta = 1.0\n[parameters]\nmu = 0.3\n")
+        spec.write_text(
+            f'[sweep]\nengine = "analytic"\n{line}\n{rest}[states]\ntheta = 0.9\nvarphi = -1.0\n'
+            "Theta = 0.0\nPsi = 0.0\neta = 1.0\n[parameters]\nmu = 0.3\n"
+        )
         code, _, err = cli(["sweep", str(spec), "--out", str(tmp / f"o_{key}")])
         out.append((f"TOML {key} of 340 digits", refusal(code, err, key)))
-    code, _, err = cli(["simulate", "--engine", "compliant", *IC2, "--horizon", "2e-13", "--timestep", "2e-13"], timeout=60)
+    code, _, err = cli(
+        ["simulate", "--engine", "compliant", *IC2, "--horizon", "2e-13", "--timestep", "2e-13"], timeout=60
+    )
     out.append(("compliant timestep 2e-13", refusal(code, err, "timestep")))
     for engine in ("mujoco", "mujoco_law"):
         code, _, err = cli(["simulate", "--engine", engine, *IC2, "--horizon", "0.4", "--timestep", "0.2"])
         out.append((f"{engine} --timestep 0.2 (refsafe)", refusal(code, err, "timestep")))
         code, _, err = cli(["simulate", "--engine", engine, *IC2, "--horizon", "0.004", "--timestep", "0.01"])
         out.append((f"{engine} timestep past horizon", refusal(code, err, "timestep")))
-    code, _, err = cli(["simulate", "--engine", "mujoco_law", "--theta", repr(math.nextafter(math.pi / 2, 0)), *IC2[2:]],
-                       timeout=60)
+    code, _, err = cli(
+        ["simulate", "--engine", "mujoco_law", "--theta", repr(math.nextafter(math.pi / 2, 0)), *IC2[2:]], timeout=60
+    )
     out.append(("mujoco_law at pi/2 - 1 ulp", refusal(code, err, "theta")))
     with open("/dev/full", "w") as full:
         code, _, err = cli(["critical", "--mu", "0.77"], stdout=full)
-    out.append(("critical > /dev/full", "ok" if code and len(err.strip().splitlines()) == 1 and "Traceback" not in err
-                else "traceback"))
-    code, o, err = cli(["simulate", "--engine", "pinocchio", *IC2, "--horizon", "0.03", "--csv",
-                        str(tmp / "d\u00e9j\u00e0.csv")], env={"PYTHONIOENCODING": "ascii"})
+    out.append(
+        (
+            "critical > /dev/full",
+            "ok" if code and len(err.strip().splitlines()) == 1 and "Traceback" not in err else "traceback",
+        )
+    )
+    code, o, err = cli(
+        ["simulate", "--engine", "pinocchio", *IC2, "--horizon", "0.03", "--csv", str(tmp / "d\u00e9j\u00e0.csv")],
+        env={"PYTHONIOENCODING": "ascii"},
+    )
     out.append(("non-ASCII --csv under PYTHONIOENCODING=ascii", "ok" if code == 0 else "traceback"))
     from crosscheck import Rod, SlipState, engines
 
     for name, call, param in [
         ("Rod.uniform(1e70, 1e20)", lambda: Rod.uniform(1e70, 1e20), "mass"),
-        ("mujoco with a 2 cm rod", lambda: engines.get("mujoco").simulate(
-            Rod.uniform(0.3, 0.02), SlipState(theta=0.9, varphi=-1.0, Theta=0.1, Psi=0.0, eta=0.8), 0.5, horizon=0.05),
-         None),
+        (
+            "mujoco with a 2 cm rod",
+            lambda: engines.get("mujoco").simulate(
+                Rod.uniform(0.3, 0.02),
+                SlipState(theta=0.9, varphi=-1.0, Theta=0.1, Psi=0.0, eta=0.8),
+                0.5,
+                horizon=0.05,
+            ),
+            None,
+        ),
     ]:
         try:
             call()
@@ -208,17 +271,23 @@ def silent(tmp: Path) -> list:
         out.append(("SlipState(Theta='2_0')", "silent wrong"))
     except ValueError:
         out.append(("SlipState(Theta='2_0')", "ok"))
-    head = '[sweep]\nengine = "analytic"\nhorizon = {h}\nchunk = 5\n[states]\ntheta = {t}\nvarphi = -1.3\n' \
-           "Theta = [0.0, 0.45]\nPsi = 0.2\neta = 0.8\n[parameters]\nmu = 0.7\n"
+    head = (
+        '[sweep]\nengine = "analytic"\nhorizon = {h}\nchunk = 5\n[states]\ntheta = {t}\nvarphi = -1.3\n'
+        "Theta = [0.0, 0.45]\nPsi = 0.2\neta = 0.8\n[parameters]\nmu = 0.7\n"
+    )
     stores = {}
-    for name, t, h in [("range", "{start = 0.3, stop = 1.2, num = 7}", 0.3),
-                       ("list", "[0.3, 0.45, 0.6, 0.75, 0.9, 1.05, 1.2]", 0.3),
-                       ("short", "[0.3, 0.45, 0.6, 0.75, 0.9, 1.05, 1.2]", 0.02)]:
+    for name, t, h in [
+        ("range", "{start = 0.3, stop = 1.2, num = 7}", 0.3),
+        ("list", "[0.3, 0.45, 0.6, 0.75, 0.9, 1.05, 1.2]", 0.3),
+        ("short", "[0.3, 0.45, 0.6, 0.75, 0.9, 1.05, 1.2]", 0.02),
+    ]:
         (tmp / f"{name}.toml").write_text(head.format(h=h, t=t))
         cli(["sweep", str(tmp / f"{name}.toml"), "--out", str(tmp / name), "--workers", "1"])
         stores[name] = str(tmp / name)
-    (tmp / "long.toml").write_text('[sweep]\nengine = "mujoco"\nhorizon = 8000\nchunk = 2\n[states]\ntheta = 1.0\n'
-                                   "varphi = -1.5\nTheta = 0.0\nPsi = 0.0\neta = 1.0\n[parameters]\nmu = 0.5\n")
+    (tmp / "long.toml").write_text(
+        '[sweep]\nengine = "mujoco"\nhorizon = 8000\nchunk = 2\n[states]\ntheta = 1.0\n'
+        "varphi = -1.5\nTheta = 0.0\nPsi = 0.0\neta = 1.0\n[parameters]\nmu = 0.5\n"
+    )
     code, _, err = cli(["sweep", str(tmp / "long.toml"), "--out", str(tmp / "longout"), "--workers", "1"], timeout=120)
     out.append(("mujoco spec of horizon 8000", refusal(code, err, "horizon")))
     code, o, _ = cli(["compare", stores["range"], stores["list"]])

@@ -5,9 +5,10 @@ from __future__ import annotations
 import json
 import math
 
-from crosscheck.theory import analytic
-from crosscheck.checks import ALPHA, MU, RATE, THETA, VARPHI, number as _num
+from crosscheck.checks import ALPHA, MU, RATE, THETA, VARPHI
+from crosscheck.checks import number as _num
 from crosscheck.cli.options import add_alpha, add_state
+from crosscheck.theory import analytic
 
 # Number arguments are parsed by ``crosscheck.checks.number`` (type=str here) so
 # that the CLI and the Python API give the same message for the same mistake.

@@ -56,13 +56,12 @@ def _plot(args, ladder, name: str, state, mu: float, alpha: float) -> None:
     print(f"wrote {path} and {path.with_suffix('.json')}", file=sys.stderr if args.json else sys.stdout)
 
 
-def _confirmation(args, engine: str, state, mu: float, alpha: float, horizon: float, cause: str, reference,
-                  options):
+def _confirmation(args, engine: str, state, mu: float, alpha: float, horizon: float, cause: str, reference, options):
     """The ladder's cause checked on the engine for this start (``crosscheck.studies.confirm``); None with --no-confirm."""
     if getattr(args, "no_confirm", False):
         return None
     from crosscheck import engines
-    from crosscheck.compare import as_json
+    from crosscheck.error_stats import as_json
     from crosscheck.studies.confirm import confirm
 
     fields = engines.get(engine).Options.__dataclass_fields__
@@ -154,7 +153,7 @@ def _explain(args) -> int:
 
 def _explain_declared(args) -> int:
     """One start through an engine's declared ladder (``crosscheck.studies.ladder``), at its default options and ``--timestep``."""
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
     from crosscheck.studies.ladder import run_ladder
 
     state, mu, alpha, horizon = _start(args)

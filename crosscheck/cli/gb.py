@@ -7,7 +7,8 @@ import math
 
 import numpy as np
 
-from crosscheck.checks import ALPHA, AZIMUTH, ETA, HORIZON, MU, RATE, THETA, UNIT, VARPHI, integer, number as _num
+from crosscheck.checks import ALPHA, AZIMUTH, ETA, HORIZON, MU, RATE, THETA, UNIT, VARPHI, integer
+from crosscheck.checks import number as _num
 from crosscheck.cli.options import add_alpha, add_psi, add_state, ascii_number
 
 # Numbers are parsed by crosscheck.checks.number (type=str) so that the CLI and the
@@ -53,7 +54,7 @@ def _gb(args) -> int:
         idx = np.unique(np.linspace(0, m - 1, min(n, m)).round().astype(int))
         Kc = c.K(eta)[idx]
         lam, _ = gb.eigen(Kc)
-        types = np.atleast_1d(gb.classify(Kc))
+        types = np.atleast_1d(gb.gb_type(Kc))
         samples = [
             {
                 "theta": float(c.theta[i]),
@@ -96,8 +97,8 @@ def _gb(args) -> int:
 
 
 def _slip(args) -> int:
-    from crosscheck.theory.gb import slip_until_event
     from crosscheck.state import SlipState
+    from crosscheck.theory.gb import slip_until_event
 
     state = SlipState(
         theta=_num("theta", args.theta, THETA),

@@ -122,7 +122,7 @@ def _locked(args, report, out: Path, sections, selected, seed: int, workers, sch
             print(f"kept {len(kept)} finished sections ({', '.join(kept)}); --fresh recomputes them")
     t1 = time.perf_counter()
     if args.only:  # a partial run into a new directory renders what it has, not the sections it was not asked for
-        from crosscheck.report.pipeline import read_status
+        from crosscheck.report.store import read_status
 
         sections = [s for s in sections if s in selected or read_status(out, s.slug) is not None]
     summary = report.render(out, sections, progress=progress)

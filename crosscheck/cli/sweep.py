@@ -31,7 +31,7 @@ def _sweep(args) -> int:
 
 
 def _compare(args) -> int:
-    from crosscheck.sweeps.compare import compare_stores
+    from crosscheck.sweeps.store_diff import compare_stores
 
     if args.out is not None:
         if not args.out.strip() or args.out.endswith("/"):

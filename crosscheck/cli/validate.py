@@ -11,13 +11,12 @@ tolerance.
 
 from __future__ import annotations
 
-from crosscheck.cli.options import ascii_number
-
 import sys
 
 import numpy as np
 
 from crosscheck.checks import integer
+from crosscheck.cli.options import ascii_number
 from crosscheck.studies import validate as validation
 
 #: The largest --states: beyond a million states a run belongs in ``crosscheck sweep`` (resumable, chunked).

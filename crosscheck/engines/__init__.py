@@ -114,7 +114,7 @@ def _load_plugin(ep) -> None:
         taken = [s.name for s in specs_ if s.name in _builtin]
         if taken:
             raise ValueError(f"engine name {taken[0]!r} is already taken")
-    except Exception as e:  # a plugin that fails costs one line, never the host
+    except Exception as e:  # noqa: BLE001  (a plugin that fails costs one line, never the host)
         first = (str(e).strip().splitlines() or [""])[0]
         _broken[ep.name] = f"plugin {ep.name!r} ({origin}, {ep.value}) is broken: {type(e).__name__}: {first}"
         return

@@ -64,13 +64,19 @@ from typing import Any
 
 import numpy as np
 
+from crosscheck.checks import Interval
 from crosscheck.coordinates import tip_position, tip_velocity, to_generalized
-from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, options_from_kwargs, run_inputs
-from crosscheck.engines.base import sweep_by_simulate
+from crosscheck.engines.base import (
+    Run,
+    SweepResult,
+    n_steps_within_memory,
+    options_from_kwargs,
+    run_inputs,
+    sweep_by_simulate,
+)
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.record import Record, row_times
 from crosscheck.rod import Rod
-from crosscheck.checks import Interval
 from crosscheck.state import SlipState, check_timestep, real_scalar
 
 __all__ = [
@@ -328,9 +334,7 @@ class Adapted:
         rows = self.run(p)
         q, v, force, point = _checked(self.name, rows, p.steps)
         active = np.isfinite(point).all(axis=-1)
-        record = record_from_chain(
-            rod, q, v, force, active, timestep=opts.timestep, radius=opts.radius, vdot=rows.vdot
-        )
+        record = record_from_chain(rod, q, v, force, active, timestep=opts.timestep, radius=opts.radius, vdot=rows.vdot)
         c = classify(
             record,
             mu=mu,
@@ -343,8 +347,16 @@ class Adapted:
             thresholds=th,
         )
         run = Run.from_classification(
-            self.name, c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th,
-            horizon=horizon, nstep=p.steps,
+            self.name,
+            c,
+            record,
+            state=state,
+            mu=mu,
+            alpha=rod.alpha,
+            options=opts,
+            thresholds=th,
+            horizon=horizon,
+            nstep=p.steps,
         )
         return replace(run, solver=rows.solver) if rows.solver is not None else run
 
@@ -364,4 +376,3 @@ class Adapted:
         return sweep_by_simulate(
             self, rod, states, mu, horizon=horizon, thresholds=thresholds, progress=progress, workers=workers, **options
         )
-

@@ -21,14 +21,15 @@ from dataclasses import dataclass, field, fields
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
-from crosscheck.progress import bar
 
-from crosscheck.checks import MU, POSITIVE
+from crosscheck.checks import MU, POSITIVE, check_timestep_within, real, real_scalar
 from crosscheck.engines.classifier import Classification, Thresholds, classify
+from crosscheck.engines.options import options_from_kwargs
 from crosscheck.engines.record import Record
 from crosscheck.outcome import Outcome
+from crosscheck.progress import bar
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState, check_timestep_within, real, real_scalar
+from crosscheck.state import SlipState
 
 __all__ = [
     "Engine",
@@ -40,7 +41,7 @@ __all__ = [
     "MAX_RECORD_BYTES",
     "n_steps",
     "n_steps_within_memory",
-    "options_from_kwargs",
+    "options_from_kwargs",  # from crosscheck.engines.options
     "run_inputs",
     "check_states",
     "sweep_mu_workers",
@@ -103,7 +104,7 @@ class Engine(Protocol):
 
     def simulate(
         self, rod: Rod, state: SlipState, mu: float, *, horizon: float, thresholds: Thresholds | None = None, **options
-    ) -> "Run": ...
+    ) -> Run: ...
 
     def sweep(
         self,
@@ -115,25 +116,7 @@ class Engine(Protocol):
         thresholds: Thresholds | None = None,
         progress: bool | None = None,
         **options,
-    ) -> "SweepResult": ...
-
-
-def options_from_kwargs(cls: type, options: dict[str, Any], engine: str):
-    """``cls(**options)`` with an error naming any unknown option and the known ones."""
-    known = {f.name for f in fields(cls)}
-    unknown = sorted(set(options) - known)
-    if unknown:
-        raise ValueError(
-            f"unknown {engine_label(engine)} option {unknown[0]!r}: options must be one of {', '.join(sorted(known))}"
-        )
-    return cls(**options)
-
-
-def engine_label(name: str) -> str:
-    """How messages name an engine: its registered label ("MuJoCo" for "mujoco"), else ``name`` itself."""
-    from crosscheck.engines import labels
-
-    return labels().get(name, name)
+    ) -> SweepResult: ...
 
 
 def n_steps(horizon: float, timestep: float) -> int:
@@ -230,7 +213,7 @@ class Run:
     solver: Any = field(default=None, repr=False)
 
     @classmethod
-    def from_classification(cls, engine: str, c: Classification, record: Record, **kw) -> "Run":
+    def from_classification(cls, engine: str, c: Classification, record: Record, **kw) -> Run:
         return cls(
             engine=engine,
             outcome=Outcome(int(c.outcome)),

@@ -30,52 +30,20 @@ rule cannot mistake a mere direction change for a jam.
 A compliant contact (force built up over a contact time tau_c > 0: the
 compliant rod's eps, Drake's 1/sqrt(stiffness), MuJoCo's solref time
 constant) resolves an impact without collision in a time O(tau_c), not in a
-step, and ends it in a slip stop.  The window rule above misses that stop:
-its window W is fixed while the stop shrinks with tau_c, and the window
-that holds the stop also holds the stuck contact after it, whose static
-friction lifts the window's p_eff above jam_p_eff (the compliant rod from
-the inconsistent start mu = 2, theta = pi/4, Theta = 0, eta = 1: p_eff -0.5
-while slipping, +1.6 stuck; window p_eff ~0.5).  ``classify`` therefore also
-judges the first slip stop itself when it is given ``contact_time``
-(``Thresholds.stop_rows``): the stop is a JAM when, over the last
-jam_contact_times tau_c before it, the contact slipped at the engine's own
-p_eff <= jam_p_eff and the mean normal force exceeded jam_ratio times what
-slipping there needs (and jam_ratio jam_force).  Derivation from
-``crosscheck.theory.compliant_limit`` (tau_c = eps):
+step, and ends it in a slip stop that a fixed window misses.  ``classify``
+therefore also judges the first slip stop itself when it is given
+``contact_time`` (``stop_jam_rows``): over the last jam_contact_times tau_c
+before it, the contact slipped at the engine's own p_eff <= jam_p_eff (read
+at the capsule's contact point, r below the tip: the friction's arm is
+sin theta + r) under jam_ratio times the slipping force.  As tau_c -> 0 this
+tends to the rigid rule.  The derivation from
+``crosscheck.theory.compliant_limit`` and the measurements behind the
+contact point are in ``docs/classifier.md``.
 
-* inconsistent start: the slip stops at t_stop = (eps/lambda) ln(1/eps) +
-  C eps, under an impulse P_stop = O(1) that grows as e^(lambda t/eps), so
-  a look-back of 3 eps holds a fraction 1 - e^(-3 lambda) of it (95 % at
-  lambda = 1, the start above with xi = 1) and a mean force
-  ~ P_stop/(3 eps) = O(1/eps), while the slipping rows have p_eff = p < 0;
-* Corollary 4.2 jam: the slip stops O(eps^(4/5)) after p crosses 0, under
-  F_n ~ eps^(-2/5): the last slipping rows have p_eff < 0 and the mean
-  force over 3 eps is ~ eps^(2/5)/(3 eps) = O(eps^(-3/5));
-* a slow stick ends a slip at p = O(1) > jam_p_eff under -b/p: never a JAM.
-
-As tau_c -> 0 the look-back shrinks to lift_steps rows, the force to a
-row's impulse and p_eff to the row's eq. p: the rigid rule.  The stop's
-JAM keeps the stop's row and time, so the rule changes an outcome only
-where the first slip stop was the first event: a STICK (or an event tied
-with it) becomes a JAM at the same instant, the engines' jam being their
-first slip stop as in their trajectories.  The rule's slip-loss test is
-the rigid rule's; at a stop it only asks that the look-back start
-slipping, and the stop's speed is judged through the force it took.
-
-The stop's p_eff is read at the engine's contact point.  A capsule of
-radius r touches at C = A - r K, r below the tip, so its friction's moment
-arm about S is sin theta + r, not sin theta (``crosscheck.theory.capsule.p``):
-p_eff = 1 + alpha - alpha sin^2 theta - alpha (sin theta + r) cos theta (F_t . e) / F_z,
-which reaches 0 at a smaller friction than the tip's, and where the capsule
-jams.  Measured: Drake's TAMSI at 1000 x its stiffness and a tenth of its
-step, from theta 1, varphi -1.9, Theta 0, Psi 0.125, mu 1.375, r 0.01, stops
-slipping at t 0.0088, after the rigid capsule's jam (0.0076) and before the
-tip's (0.0133), under 274 m g; the tip's arm still gave p_eff 0.0067 > 0 there,
-and a slipping force -b/p_eff of 114 m g to beat thrice, so the jam passed for
-a STICK.  The window rule keeps the tip's arm: its jam_p_eff was measured on
-it (MuJoCo's Corollary 4.2 jams against its landings below mu_P), and read at
-C it labelled three quick-map starts of Drake's SAP and Similar below mu_P as
-jams at t = 0.
+Each rule is one function (``diverged_rows``, ``window_jam_rows``,
+``impulse_jam_rows``, ``liftoff_rows``, ``launch_rows``, ``stick_rows``,
+``stop_jam_rows``) over the series ``rows_of`` computes once; ``first_event``
+takes the earliest.
 
 All quantities are in the paper's scaled units (section 2.1).
 """
@@ -191,6 +159,247 @@ def first_event_final(c: Classification, rows: int, thresholds: Thresholds, time
     return k >= 0 and k + thresholds.window_rows(timestep) + max(2, thresholds.lift_steps) <= rows
 
 
+class Rows(NamedTuple):
+    """What every rule reads from a record, computed once; each field has the record's shape (..., n).
+
+    computed: the rows a run computed (a run stopped once its first event is judged leaves NaN times after).
+    end: (..., 1) the first row no rule may read: the domain exit, else the first row not computed, else n.
+    st, ct: sin and cos theta.  b: eq. b.  eta: the slip speed.  Fn: the normal force.
+    Fz: the force's z component where it presses (0 elsewhere); Fe: F_t . e on those rows (0 elsewhere).
+    """
+
+    n: int
+    index: np.ndarray
+    computed: np.ndarray
+    has_exit: np.ndarray
+    k_exit: np.ndarray
+    end: np.ndarray
+    st: np.ndarray
+    ct: np.ndarray
+    b: np.ndarray
+    eta: np.ndarray
+    Fn: np.ndarray
+    Fz: np.ndarray
+    Fe: np.ndarray
+
+
+def rows_of(record: Record) -> Rows:
+    """The shared series of ``record`` (call under ``np.errstate(invalid="ignore", divide="ignore", over="ignore")``)."""
+    n = len(record)
+    t, theta, psi = record.t, record.theta, record.psi
+    computed = np.isfinite(t)
+    # Domain: theta in (0, pi/2).  Windows must end before the exit (or the last computed row).
+    has_exit, k_exit = _first(~((theta > 0.0) & (theta < math.pi / 2)) & computed)
+    has_cut, k_cut = _first(~computed)
+    end = np.where(has_exit, k_exit, np.where(has_cut, k_cut, n))[..., None]
+    st, ct = np.sin(theta), np.cos(theta)
+    b = (record.Psi * record.Psi * ct * ct + record.Theta * record.Theta) * st - 1.0  # eq. b
+    F = record.force
+    pressed = F[..., 2] > 0
+    Fz = np.where(pressed, F[..., 2], 0.0)
+    # F_t . e only on the pressed rows (0 elsewhere): sin and cos cost 20-30 cheap passes each
+    Fe = np.zeros(Fz.shape)
+    psi_p = psi[pressed]
+    Fe[pressed] = -np.sin(psi_p) * F[..., 0][pressed] + np.cos(psi_p) * F[..., 1][pressed]
+    return Rows(
+        n=n,
+        index=np.arange(n),
+        computed=computed,
+        has_exit=has_exit,
+        k_exit=k_exit,
+        end=end,
+        st=st,
+        ct=ct,
+        b=b,
+        eta=record.eta,
+        Fn=record.normal_force,
+        Fz=Fz,
+        Fe=Fe,
+    )
+
+
+def diverged_rows(record: Record, s: Rows, th: Thresholds) -> np.ndarray:
+    """DIVERGED: non-finite values (NaN fails every comparison), runaway speed, or a stopped clock (mujoco.rollout
+    repeats the last row after a warning); only computed rows, but past the domain exit too."""
+    vel, az = record.tip_vel, record.tip_acc[..., 2]
+    speed2 = vel[..., 0] * vel[..., 0] + vel[..., 1] * vel[..., 1] + vel[..., 2] * vel[..., 2]
+    bad = ~(speed2 <= th.diverged_speed**2) | ~(np.abs(az + 1.0) < 1e9) | ~(np.abs(s.Fn) < np.inf)
+    bad |= ~(np.abs(record.theta) < np.inf)
+    bad[..., 1:] |= ~(np.diff(record.t, axis=-1) > 0.0)
+    return bad & s.computed
+
+
+def window_jam_rows(s: Rows, th: Thresholds, *, alpha: float, w: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """JAM over a window: an impulsive window-mean force beyond what slipping with the engine's own friction needs
+    (-b/p_eff), an abrupt loss of slip speed, at the engine's own p_eff ~ 0 (module docstring).
+
+    Returns (rows, window p_eff, window normal impulse / timestep).
+    """
+    n, st, ct, eta = s.n, s.st, s.ct, s.eta
+    sF = window_sum(s.Fz, w)
+    p_eff = (window_sum(s.Fz * (1 + alpha - alpha * st * st), w) - alpha * window_sum(st * ct * s.Fe, w)) / sF
+    Fbar = sF / w
+    slipping_force = np.where(p_eff > 0, window_sum(np.maximum(0.0, -s.b), w) / w / p_eff, 0.0)
+    eta_end = np.full(eta.shape, np.nan)
+    if w <= n:
+        eta_end[..., : n - w + 1] = eta[..., w - 1 :]
+    jam = (
+        (Fbar >= th.jam_force)
+        & (Fbar >= th.jam_ratio * slipping_force)
+        & (eta - eta_end >= th.jam_slip_loss * eta)
+        & (p_eff <= th.jam_p_eff)
+    )
+    jam &= s.index + w <= s.end
+    return jam, p_eff, sF
+
+
+def impulse_jam_rows(
+    record: Record, s: Rows, th: Thresholds, *, mu: np.ndarray, alpha: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """JAM as one row's impulse, for a rigid contact (it resolves the impact without collision within a step): eq. p on
+    the row's own state (a rigid contact's friction is exactly Coulomb's) at most jam_p_eff, the row's force beyond
+    jam_ratio times the slipping force -b/p (and jam_force), and the slip speed falling by jam_slip_loss within
+    lift_steps rows.  ``mu`` has a trailing axis of 1.  Returns (rows, eq. p of each row)."""
+    n, st, ct, eta = s.n, s.st, s.ct, s.eta
+    p_row = 1.0 + alpha + alpha * st * (mu * ct * np.sin(record.varphi) - st)
+    after = np.full(eta.shape, np.nan)
+    m = th.lift_steps
+    if m < n:
+        after[..., : n - m] = eta[..., m:]
+    # Where p <= 0 no slipping force exists (Corollary 4.2's impasse): any impulse beyond jam_force is the IWC.
+    need = th.jam_ratio * np.maximum(th.jam_force, np.where(p_row > 0, np.maximum(0.0, -s.b) / p_row, 0.0))
+    impulse = (
+        (s.Fn >= need) & (p_row <= th.jam_p_eff) & (eta - after >= th.jam_slip_loss * eta) & (s.index + m <= s.end)
+    )
+    return impulse, p_row
+
+
+def liftoff_rows(record: Record, s: Rows, th: Thresholds, *, rigid: bool) -> np.ndarray:
+    """LIFTOFF: lift_steps force-free rows in a row with the tip accelerating upwards (b > 0).  A rigid contact decides
+    this exactly in one step (its impulse is 0 iff b >= 0): one row suffices."""
+    n = s.n
+    lift_steps = 1 if rigid else th.lift_steps
+    free_up = (s.Fn <= 0.0) & (record.tip_acc[..., 2] > 0.0)
+    run = np.zeros(free_up.shape, dtype=bool)
+    if lift_steps <= n:
+        run[..., : n - lift_steps + 1] = _window_count(free_up, lift_steps) == lift_steps
+    return run & (s.index + lift_steps <= s.end)
+
+
+def launch_rows(record: Record, s: Rows, th: Thresholds, *, w: int, timestep: float) -> np.ndarray:
+    """LAUNCH: a contact row with b < 0 whose step leaves the contact point rising at launch_ratio eta (and fast enough
+    to fly a window under b), followed by a window with no contact force and b < 0 throughout."""
+    n, Fn, b, eta = s.n, s.Fn, s.b, s.eta
+    vz = record.tip_vel[..., 2]  # C = A - r K moves vertically with A
+    rising = np.full(vz.shape, -np.inf)
+    rising[..., :-1] = vz[..., 1:]
+    in_contact, falling = Fn > 0.0, b < 0.0
+    pushed = in_contact & falling
+    fast = (rising >= th.launch_ratio * eta) & (rising >= th.launch_speed) & (rising >= 0.5 * np.abs(b) * w * timestep)
+    ahead_free = np.full(Fn.shape, False)
+    ahead_down = np.full(Fn.shape, False)
+    if w + 1 <= n:
+        ahead_free[..., : n - w] = _window_count(in_contact, w)[..., 1:] == 0
+        ahead_down[..., : n - w] = _window_count(falling, w)[..., 1:] == w
+    return pushed & fast & ahead_free & ahead_down & (s.index + 1 + w <= s.end)
+
+
+def stick_rows(s: Rows, *, w: int, stick_speed: float) -> np.ndarray:
+    """STICK: slip speed below ``stick_speed`` (``Thresholds.stick_floor``) with some normal force in the last
+    window (rows k < w - 1: the window is rows 0..k)."""
+    n, Fn = s.n, s.Fn
+    c = np.zeros(Fn.shape[:-1] + (n + 1,), dtype=np.int64)
+    np.cumsum(Fn > 0.0, axis=-1, out=c[..., 1:])
+    touched = c[..., 1:] > 0
+    if w <= n:
+        touched[..., w - 1 :] = c[..., w:] > c[..., : n - w + 1]
+    return (s.eta < stick_speed) & touched & (s.index < s.end)
+
+
+def stop_jam_rows(
+    s: Rows,
+    th: Thresholds,
+    *,
+    has_stick: np.ndarray,
+    k_stick: np.ndarray,
+    m: int,
+    stick_speed: float,
+    alpha: float,
+    radius: float,
+    p_eff: np.ndarray,
+    sF: np.ndarray,
+) -> np.ndarray:
+    """Compliant JAM: the first slip stop (``k_stick``), judged on its ``m`` rows before it (jam_contact_times contact
+    times, ``Thresholds.stop_rows``).
+
+    The rigid rule's one row becomes that look-back: its loaded slipping rows (eta at or above the STICK threshold,
+    F_z >= jam_force, so that F_t / F_z is a friction direction and not the noise of a grazing row) reach the
+    engine's own p_eff <= jam_p_eff (read at the capsule's contact point, ``radius`` below the tip), their mean force
+    is jam_ratio times the slipping force -b/p_eff of the row of least p_eff (0 where p_eff <= 0: no slipping
+    solution) and jam_ratio jam_force, and the slip speed fell by jam_slip_loss over the look-back.  It keeps the
+    stop's row, so it only relabels the stop.  Writes the JAM's p_eff and normal impulse / timestep into ``p_eff``
+    and ``sF`` at its row; returns the rows.
+    """
+    st, ct, eta, b, Fn, Fz, Fe = s.st, s.ct, s.eta, s.b, s.Fn, s.Fz, s.Fe
+    stop_jam = np.zeros(p_eff.shape, dtype=bool)
+    for idx in zip(*np.nonzero(np.atleast_1d(has_stick))):
+        idx = idx if has_stick.ndim else ()
+        j = int(k_stick[idx])
+        a = max(0, j - m)
+        if j == a:
+            continue
+        loaded = (eta[idx][a:j] >= stick_speed) & (Fz[idx][a:j] >= th.jam_force)
+        if not loaded.any():
+            continue
+        # the row's own p_eff (eq. linode2 with its force), only on the look-back: inf where it carries no load
+        st_a, ct_a, Fz_a = st[idx][a:j], ct[idx][a:j], Fz[idx][a:j]
+        p_row = np.where(
+            Fz_a > 0.0,
+            1.0
+            + alpha
+            - alpha * st_a * st_a
+            - alpha * (st_a + radius) * ct_a * Fe[idx][a:j] / np.where(Fz_a > 0.0, Fz_a, 1.0),
+            np.inf,
+        )
+        pr = np.where(loaded, p_row, np.inf)
+        i = int(np.argmin(pr))
+        p_min = float(pr[i])
+        slipping_force = max(0.0, -float(b[idx][a + i])) / p_min if p_min > 0.0 else 0.0
+        Fn_rows = np.where(Fn[idx][a:j] > 0.0, Fn[idx][a:j], 0.0)
+        Fmean = float(Fn_rows.mean())
+        e0 = float(eta[idx][a])
+        if (
+            p_min <= th.jam_p_eff
+            and Fmean >= th.jam_ratio * max(th.jam_force, slipping_force)
+            and e0 - float(eta[idx][j]) >= th.jam_slip_loss * e0
+        ):
+            stop_jam[idx + (j,)] = True
+            p_eff[idx + (j,)] = p_min
+            sF[idx + (j,)] = float(Fn_rows.sum())
+    return stop_jam
+
+
+def _at(x: np.ndarray, k: np.ndarray, has: np.ndarray) -> np.ndarray:
+    """x at row k of each run where ``has``, NaN elsewhere."""
+    idx = np.where(has, k, 0)
+    xk = np.take_along_axis(x, np.asarray(idx)[..., None], axis=-1)[..., 0]
+    return np.where(has, xk, np.nan)
+
+
+def first_event(found: list[tuple[Outcome, np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
+    """(outcome, row) of the earliest of ``found``'s events, (outcome, has, first row) each; on a tie the earlier
+    in ``found`` wins; SLIP and the largest int64 where none happened."""
+    has0 = found[0][1]
+    big = np.iinfo(np.int64).max
+    best_k = np.full(has0.shape, big, dtype=np.int64)
+    outcome = np.full(has0.shape, int(Outcome.SLIP), dtype=np.int8)
+    for oc, has, k in found:
+        better = has & (k < best_k)
+        best_k = np.where(better, k, best_k)
+        outcome = np.where(better, np.int8(oc), outcome)
+    return outcome, best_k
+
+
 def classify(
     record: Record,
     *,
@@ -215,15 +424,12 @@ def classify(
       rigid: the engine resolves contact by impulses within a step (no force
         build-up time).  Its lift-off is decided exactly in one step (the
         impulse is 0 iff b >= 0), so LIFTOFF needs one force-free upward row,
-        not lift_steps.  A JAM can then also be one row's impulse: a normal
-        force of at least jam_ratio times the slipping force -b/p (and
-        jam_force) at a state with eq. p <= jam_p_eff, after which the slip
-        speed falls by jam_slip_loss within lift_steps rows.
+        not lift_steps.  A JAM can then also be one row's impulse
+        (``impulse_jam_rows``).
       contact_time: scaled time over which the engine's normal force builds
         up (``Options.contact_time``); with a value > 0 (and not ``rigid``)
         the first slip stop is also judged as a compliant JAM (module
-        docstring; ``Thresholds.jam_contact_times``).  None or 0: the window
-        rule only.
+        docstring; ``stop_jam_rows``).  None or 0: the window rule only.
       radius: the capsule radius r [l] of the engine's rod (0: it touches at the tip), the friction's extra moment arm
         in the slip stop's p_eff (module docstring).
       thresholds: criteria (``Thresholds()`` by default; see there for why).
@@ -237,198 +443,64 @@ def classify(
     th = thresholds or Thresholds()
     r = float(check("radius", radius, NONNEGATIVE))
     w = th.window_rows(timestep)
-    n = len(record)
-    rows = np.arange(n)
+    stick_speed = th.stick_floor(timestep=timestep, friction_timeconst=friction_timeconst, rigid=rigid)
+    if contact_time is not None and not rigid:
+        check("contact_time", contact_time, NONNEGATIVE)
     R = record
-    t, theta, psi = R.t, R.theta, R.psi
-    Psi, Theta = R.Psi, R.Theta
-    Fn = R.normal_force
-    az = R.tip_acc[..., 2]
-    vel = R.tip_vel
     mu = np.asarray(mu, dtype=float)[..., None]  # broadcast over rows
 
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        # DIVERGED: non-finite values (NaN fails every comparison), runaway speed,
-        # or a stopped clock (mujoco.rollout repeats the last row after a warning).
-        # A record may end early: rows with a NaN time were not computed (an engine that stops a run once its first
-        # event is judged, ``first_event_final``); they are neither judged nor read, as rows past a domain exit.
-        computed = np.isfinite(t)
-        speed2 = vel[..., 0] * vel[..., 0] + vel[..., 1] * vel[..., 1] + vel[..., 2] * vel[..., 2]
-        bad = (
-            ~(speed2 <= th.diverged_speed**2)
-            | ~(np.abs(az + 1.0) < 1e9)
-            | ~(np.abs(Fn) < np.inf)
-            | ~(np.abs(theta) < np.inf)
-        )
-        bad[..., 1:] |= ~(np.diff(t, axis=-1) > 0.0)
-        has_div, k_div = _first(bad & computed)
-
-        # Domain: theta in (0, pi/2).  Windows must end before the exit (or the last computed row).
-        has_exit, k_exit = _first(~((theta > 0.0) & (theta < math.pi / 2)) & computed)
-        has_cut, k_cut = _first(~computed)
-        end = np.where(has_exit, k_exit, np.where(has_cut, k_cut, n))[..., None]
-
-        eta = R.eta
-        st, ct = np.sin(theta), np.cos(theta)
-        b = (Psi * Psi * ct * ct + Theta * Theta) * st - 1.0  # eq. b
-
-        # JAM: impulsive window-mean force beyond what slipping with the engine's own friction
-        # needs, an abrupt loss of slip speed, at the engine's own p_eff ~ 0.
-        F = R.force
-        pressed = F[..., 2] > 0
-        Fz = np.where(pressed, F[..., 2], 0.0)
-        # F_t . e only on the pressed rows (0 elsewhere): sin and cos cost 20-30 cheap passes each
-        Fe = np.zeros(Fz.shape)
-        psi_p = psi[pressed]
-        Fe[pressed] = -np.sin(psi_p) * F[..., 0][pressed] + np.cos(psi_p) * F[..., 1][pressed]
-        sF = window_sum(Fz, w)
-        p_eff = (window_sum(Fz * (1 + alpha - alpha * st * st), w) - alpha * window_sum(st * ct * Fe, w)) / sF
-        Fbar = sF / w
-        slipping_force = np.where(p_eff > 0, window_sum(np.maximum(0.0, -b), w) / w / p_eff, 0.0)
-        eta_end = np.full(eta.shape, np.nan)
-        if w <= n:
-            eta_end[..., : n - w + 1] = eta[..., w - 1 :]
-        jam = (
-            (Fbar >= th.jam_force)
-            & (Fbar >= th.jam_ratio * slipping_force)
-            & (eta - eta_end >= th.jam_slip_loss * eta)
-            & (p_eff <= th.jam_p_eff)
-        )
-        jam &= rows + w <= end
+        s = rows_of(R)
+        n = s.n
+        has_div, k_div = _first(diverged_rows(R, s, th))
+        jam, p_eff, sF = window_jam_rows(s, th, alpha=alpha, w=w)
         if rigid:
-            # One row's impulse: a rigid contact resolves the impact without collision within a step.
-            # Eq. p on the row's own state (a rigid contact's friction is exactly Coulomb's), the row's
-            # force beyond jam_ratio times the slipping force -b/p, and the slip speed falling by
-            # jam_slip_loss within lift_steps rows.
-            p_row = 1.0 + alpha + alpha * st * (mu * ct * np.sin(R.varphi) - st)
-            after = np.full(eta.shape, np.nan)
-            m = th.lift_steps
-            if m < n:
-                after[..., : n - m] = eta[..., m:]
-            # Where p <= 0 no slipping force exists (Corollary 4.2's impasse): any impulse beyond jam_force is the IWC.
-            need = th.jam_ratio * np.maximum(th.jam_force, np.where(p_row > 0, np.maximum(0.0, -b) / p_row, 0.0))
-            impulse = (
-                (Fn >= need) & (p_row <= th.jam_p_eff) & (eta - after >= th.jam_slip_loss * eta) & (rows + m <= end)
-            )
+            impulse, p_row = impulse_jam_rows(R, s, th, mu=mu, alpha=alpha)
             jam |= impulse
             p_eff = np.where(impulse, p_row, p_eff)
-            sF = np.where(impulse, Fn, sF)
+            sF = np.where(impulse, s.Fn, sF)
         has_jam, k_jam = _first(jam)
-
-        # LIFTOFF: lift_steps force-free rows in a row with the tip accelerating upwards (b > 0).  A rigid
-        # contact decides this exactly in one step (its impulse is 0 iff b >= 0): one row suffices.
-        lift_steps = 1 if rigid else th.lift_steps
-        free_up = (Fn <= 0.0) & (az > 0.0)
-        run = np.zeros(free_up.shape, dtype=bool)
-        if lift_steps <= n:
-            run[..., : n - lift_steps + 1] = _window_count(free_up, lift_steps) == lift_steps
-        has_lift, k_lift = _first(run & (rows + lift_steps <= end))
-
-        # LAUNCH: a contact row with b < 0 whose step leaves the contact point rising at launch_ratio eta (and fast
-        # enough to fly a window under b), followed by a window with no contact force and b < 0 throughout.
-        vz = vel[..., 2]  # C = A - r K moves vertically with A
-        rising = np.full(vz.shape, -np.inf)
-        rising[..., :-1] = vz[..., 1:]
-        in_contact, falling = Fn > 0.0, b < 0.0
-        pushed = in_contact & falling
-        fast = (
-            (rising >= th.launch_ratio * eta) & (rising >= th.launch_speed) & (rising >= 0.5 * np.abs(b) * w * timestep)
-        )
-        ahead_free = np.full(Fn.shape, False)
-        ahead_down = np.full(Fn.shape, False)
-        if w + 1 <= n:
-            ahead_free[..., : n - w] = _window_count(in_contact, w)[..., 1:] == 0
-            ahead_down[..., : n - w] = _window_count(falling, w)[..., 1:] == w
-        has_launch, k_launch = _first(pushed & fast & ahead_free & ahead_down & (rows + 1 + w <= end))
-
-        # STICK: slip speed below the threshold with some normal force in the last window.
-        c = np.zeros(Fn.shape[:-1] + (n + 1,), dtype=np.int64)
-        np.cumsum(in_contact, axis=-1, out=c[..., 1:])
-        touched = c[..., 1:] > 0  # rows k < w - 1: the window is rows 0..k
-        if w <= n:
-            touched[..., w - 1 :] = c[..., w:] > c[..., : n - w + 1]
-        stick_speed = th.stick_floor(timestep=timestep, friction_timeconst=friction_timeconst, rigid=rigid)
+        has_lift, k_lift = _first(liftoff_rows(R, s, th, rigid=rigid))
+        has_launch, k_launch = _first(launch_rows(R, s, th, w=w, timestep=timestep))
         held = held_at_rest(R, mu[..., 0], alpha, stick_speed)  # a start at rest sticks only if friction holds it
-        has_stick, k_stick = _first((eta < stick_speed) & touched & (rows < end) & held)
-
-        # Compliant JAM: the first slip stop, judged on the rows of the last jam_contact_times contact times before
-        # it.  The rigid rule's one row becomes that look-back: its loaded slipping rows (eta at or above the STICK
-        # threshold, F_z >= jam_force, so that F_t / F_z is a friction direction and not the noise of a grazing row)
-        # reach the engine's own p_eff <= jam_p_eff, their mean force is jam_ratio times the slipping force -b/p_eff
-        # of the row of least p_eff (0 where p_eff <= 0: no slipping solution) and jam_ratio jam_force, and the slip
-        # speed fell by jam_slip_loss over the look-back.  It keeps the stop's row, so it only relabels the stop.
-        if contact_time is not None and not rigid:
-            check("contact_time", contact_time, NONNEGATIVE)
+        has_stick, k_stick = _first(stick_rows(s, w=w, stick_speed=stick_speed) & held)
         if contact_time and not rigid:
             m = th.stop_rows(float(contact_time), timestep)
-            stop_jam = np.zeros(jam.shape, dtype=bool)
-            for idx in zip(*np.nonzero(np.atleast_1d(has_stick))):
-                idx = idx if has_stick.ndim else ()
-                j = int(k_stick[idx])
-                a = max(0, j - m)
-                if j == a:
-                    continue
-                loaded = (eta[idx][a:j] >= stick_speed) & (Fz[idx][a:j] >= th.jam_force)
-                if not loaded.any():
-                    continue
-                # the row's own p_eff (eq. linode2 with its force), only on the look-back: inf where it carries no load
-                st_a, ct_a, Fz_a = st[idx][a:j], ct[idx][a:j], Fz[idx][a:j]
-                p_row = np.where(
-                    Fz_a > 0.0,
-                    1.0
-                    + alpha
-                    - alpha * st_a * st_a
-                    - alpha * (st_a + r) * ct_a * Fe[idx][a:j] / np.where(Fz_a > 0.0, Fz_a, 1.0),
-                    np.inf,
-                )
-                pr = np.where(loaded, p_row, np.inf)
-                i = int(np.argmin(pr))
-                p_min = float(pr[i])
-                slipping_force = max(0.0, -float(b[idx][a + i])) / p_min if p_min > 0.0 else 0.0
-                Fn_rows = np.where(Fn[idx][a:j] > 0.0, Fn[idx][a:j], 0.0)
-                Fmean = float(Fn_rows.mean())
-                e0 = float(eta[idx][a])
-                if (
-                    p_min <= th.jam_p_eff
-                    and Fmean >= th.jam_ratio * max(th.jam_force, slipping_force)
-                    and e0 - float(eta[idx][j]) >= th.jam_slip_loss * e0
-                ):
-                    stop_jam[idx + (j,)] = True
-                    p_eff[idx + (j,)] = p_min
-                    sF[idx + (j,)] = float(Fn_rows.sum())
+            stop_jam = stop_jam_rows(
+                s,
+                th,
+                has_stick=has_stick,
+                k_stick=k_stick,
+                m=m,
+                stick_speed=stick_speed,
+                alpha=alpha,
+                radius=r,
+                p_eff=p_eff,
+                sF=sF,
+            )
             if stop_jam.any():
                 has_jam, k_jam = _first(jam | stop_jam)
 
-    big = np.iinfo(np.int64).max
-    order = [  # precedence on ties: earlier in the list wins
-        (Outcome.DIVERGED, has_div, k_div),
-        (Outcome.JAM, has_jam, k_jam),
-        (Outcome.LAUNCH, has_launch, k_launch),
-        (Outcome.LIFTOFF, has_lift, k_lift),
-        (Outcome.STICK, has_stick, k_stick),
-    ]
-    best_k = np.full(has_div.shape, big, dtype=np.int64)
-    outcome = np.full(has_div.shape, int(Outcome.SLIP), dtype=np.int8)
-    for oc, has, k in order:
-        better = has & (k < best_k)
-        best_k = np.where(better, k, best_k)
-        outcome = np.where(better, np.int8(oc), outcome)
-
-    def at(x, k, has):
-        idx = np.where(has, k, 0)
-        xk = np.take_along_axis(x, np.asarray(idx)[..., None], axis=-1)[..., 0]
-        return np.where(has, xk, np.nan)
-
-    found_event = best_k != big
+    outcome, best_k = first_event(
+        [  # precedence on ties: earlier in the list wins
+            (Outcome.DIVERGED, has_div, k_div),
+            (Outcome.JAM, has_jam, k_jam),
+            (Outcome.LAUNCH, has_launch, k_launch),
+            (Outcome.LIFTOFF, has_lift, k_lift),
+            (Outcome.STICK, has_stick, k_stick),
+        ]
+    )
+    found_event = best_k != np.iinfo(np.int64).max
+    Fn, t, computed = s.Fn, R.t, s.computed
     with np.errstate(invalid="ignore"):
         return Classification(
             outcome=outcome,
-            event_time=at(t, best_k, found_event),
+            event_time=_at(t, best_k, found_event),
             event_row=np.where(found_event, best_k, -1),
-            exit_time=at(t, k_exit, has_exit),
-            diverged_time=at(t, k_div, has_div),
-            jam_p_eff=at(p_eff, k_jam, outcome == Outcome.JAM),
-            jam_impulse=at(sF * timestep, k_jam, outcome == Outcome.JAM),
+            exit_time=_at(t, s.k_exit, s.has_exit),
+            diverged_time=_at(t, k_div, has_div),
+            jam_p_eff=_at(p_eff, k_jam, outcome == Outcome.JAM),
+            jam_impulse=_at(sF * timestep, k_jam, outcome == Outcome.JAM),
             # fmax skips NaN as nanmax does, without nanmax's RuntimeWarning for a run with no finite row (diverged at once)
             max_normal_force=np.fmax.reduce(np.where(np.isfinite(Fn), Fn, np.nan), axis=-1) if n else np.nan,
             max_window_force=np.fmax.reduce(window_sum(Fn, w) / w, axis=-1)

@@ -104,7 +104,7 @@ class Record:
         with np.errstate(invalid="ignore"):
             return 1.0 + alpha + alpha * st * (mu * ct * np.sin(self.varphi) - st)
 
-    def rows(self, index) -> "Record":
+    def rows(self, index) -> Record:
         """The record restricted to ``index`` along the row axis (a slice, an int array, ...)."""
         out = {}
         for name in FIELDS:
@@ -113,11 +113,11 @@ class Record:
             out[name] = x[..., index, :] if vector else x[..., index]
         return Record(**out)
 
-    def run(self, i: int) -> "Record":
+    def run(self, i: int) -> Record:
         """Run ``i`` of a batch with one batch axis, as a record of its own (copies)."""
         return Record(**{name: np.array(getattr(self, name)[i]) for name in FIELDS})
 
-    def at(self, row: np.ndarray) -> "Record":
+    def at(self, row: np.ndarray) -> Record:
         """One row per run of a batch: ``row`` has the batch shape; returns a record with N = 1."""
         row = np.asarray(row)
         out = {}

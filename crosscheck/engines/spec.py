@@ -88,7 +88,9 @@ def _check_ref(owner: str, what: str, ref, *, optional: bool = True) -> None:
             not colon or all(p.isidentifier() for p in attr.split("."))
         )
         if not ok:
-            raise ValueError(f"{owner} {what} must be a reference 'package.module' or 'package.module:attr'; got {ref!r}")
+            raise ValueError(
+                f"{owner} {what} must be a reference 'package.module' or 'package.module:attr'; got {ref!r}"
+            )
 
 
 def _frozen_map(m) -> dict | None:
@@ -134,7 +136,9 @@ class Ladder(Mapping):
             raise ValueError(f"ladder causes must be among {', '.join(LADDER_CAUSES)}; got {bad[0]!r}")
         bad = [c for c in self.interventions if c not in self.rungs]
         if bad:
-            raise ValueError(f"intervention causes must be among the ladder's ({', '.join(self.rungs)}); got {bad[0]!r}")
+            raise ValueError(
+                f"intervention causes must be among the ladder's ({', '.join(self.rungs)}); got {bad[0]!r}"
+            )
         for c, rung in self.rungs.items():
             if rung not in _NAMED_RUNGS:
                 _check_ref("ladder", f"rung {c!r}", rung, optional=False)
@@ -216,9 +220,7 @@ class Validation:
 
             missing = [k for k in EVENT_TOLERANCE_KEYS if k not in self.tolerances]
             if missing:
-                raise ValueError(
-                    f"tolerance profile lacks {missing[0]!r} (needs {', '.join(EVENT_TOLERANCE_KEYS)})"
-                )
+                raise ValueError(f"tolerance profile lacks {missing[0]!r} (needs {', '.join(EVENT_TOLERANCE_KEYS)})")
             object.__setattr__(self, "tolerances", _frozen_map(self.tolerances))
         _check_ref("validation", "checks", self.checks)
         _check_ref("validation", "dynamics", self.dynamics)
@@ -313,7 +315,9 @@ class EngineSpec:
         for part, kind in (("ladder", Ladder), ("report", ReportPlan), ("validation", Validation)):
             value = getattr(self, part)
             if value is not None and not isinstance(value, kind):
-                raise ValueError(f"engine {name!r} {part} must be a {kind.__name__} or None; got {type(value).__name__}")
+                raise ValueError(
+                    f"engine {name!r} {part} must be a {kind.__name__} or None; got {type(value).__name__}"
+                )
         if not isinstance(self.execution, Execution):
             raise ValueError(f"engine {name!r} execution must be an Execution; got {type(self.execution).__name__}")
         object.__setattr__(self, "tags", tags)

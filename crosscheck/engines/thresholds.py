@@ -16,113 +16,36 @@ __all__ = ["Thresholds"]
 class Thresholds:
     """Quantitative criteria of ``classify``, in the paper's scaled units.
 
+    Each number's derivation and the measurements behind it are in ``docs/thresholds.md``; in short:
+
     Attributes:
-      window: W, the averaging window (scaled time).  A slipping soft
-        contact cycles spike -> flight -> landing; measured cycle lengths in
-        MuJoCo are ~0.1 (timestep 3e-3, i.e. dt = 1e-3 s for a 1 m rod),
-        ~0.04 (3e-4) and ~0.01 (3e-5).  W = 0.05 (16 ms for a 1 m rod) averages
-        over whole cycles at the default timestep and finer, and is still
-        short against the O(1) time on which the rigid slipping state
-        changes.  W is never fewer than ``window_steps`` rows, which covers
-        coarse timesteps (40 x 3e-3 = 0.12 > one cycle).  With W = 0.02 and 10
-        rows, landings of the chatter at dt = 1e-3 s were classified as jams
-        below mu_P.
-      window_steps: lower bound of W in rows (see ``window``).
-      jam_force: JAM needs a window-mean normal force >= this [m g].  One
-        m g, the weight: a slipping rod's window-mean force is the rigid
-        -b/p = O(1) (below 1 unless b < -1 or p < 1), so this floor only
-        rules out small forces whose ratio to a near-zero rigid force is big.
-      jam_ratio: ... and >= this multiple of the window's rigid slipping
-        force mean(max(0, -b)) / p_eff_W (p_eff_W: the force-weighted window
-        mean of p_eff; the force counts as 0 where p_eff_W <= 0, as no
-        slipping solution with the engine's friction holds the tip there).
-        -b is clipped per row: a window mean of b itself is pulled to 0 by the
-        b > 0 rows of a lift-off later in the window, and then the rigid force
-        of a slip at small p_eff passed for 3x the rigid force.
-      jam_slip_loss: ... and the contact point's slip speed eta falls by at
-        least this fraction of its value within the window: the abrupt loss
-        of slip speed of an impact without collision.  A rigid slipping rod
-        loses speed at |eta'| = |Q1 F_z + A1| = O(1), i.e. a fraction
-        O(W / eta) = O(0.05 / eta) per window.
-      jam_p_eff: ... and p_eff_W <= this: the engine's rod is at its own
-        p = 0, where the theory's jam happens.  0.2 is 5 % of the range
-        1 + alpha = 4 of eq. p for the uniform rod, i.e. the slipping force
-        -b/p_eff is already >= 5 |b| m g.  Measured in MuJoCo: the jams of
-        Corollary 4.2 states it reproduces have p_eff 0.088-0.093; landings of
-        a hopping (chattering) tip at mu = 1.3 < mu_P that pass the force and
-        slip-loss tests have p_eff 0.45.
-      lift_steps: LIFTOFF needs this many consecutive rows with zero normal
-        force and upward tip acceleration.  During a force-free row the tip
-        acceleration is exactly the free acceleration b of eq. b, so an upward
-        acceleration there is the paper's lift-off condition b > 0; chatter
-        flights of a slipping tip have b < 0 and never qualify.  More than one
-        row, because the first row after a start without contact force is free
-        even when the next position step then closes the gap.
-      stick_speed: STICK when the contact point's slip speed eta falls below
-        max(stick_speed, stick_creep tau_f) while the rod is in contact (some
-        normal force in the last window); tau_f is the friction time constant
-        of the run (0 for a rigid contact).  A stuck soft contact creeps at
-        v ~ a_t dmax tau_f / 2 (a_t the tangential acceleration friction has
-        to cancel, O(1) g): measured in MuJoCo 0.024, 0.008 and 0.002 for
-        tau_f = 0.06, 0.02, 0.006, i.e. 0.4 tau_f, so a fixed 1e-2 reads a
-        stuck rod as slipping at the default tau_f = 0.06.  The event time is
-        early by at most the threshold / |eta'|, |eta'| = O(mu F_z).
-      stick_creep: the multiple of tau_f in the STICK threshold: 1, i.e.
-        2.5 x the measured creep.
-      rigid_stick_steps: the STICK threshold of a rigid contact (``classify``'s
-        ``rigid``) in units of the timestep.  A rigid tip sticks exactly at the
-        end of a step (its NCP makes J v + dt dJ v vanish), so the velocity a
-        record holds at the start of the next step is -dt dJ v_t, with
-        |dJ v| = O(Theta^2 + Psi^2) <= ~10 in the paper's ranges: 10 dt.  The
-        soft floor 1e-2 would read a slow slip whose direction swings round as
-        eta -> 0 (the analytic run leaves the domain through varphi = 0 or
-        -pi there) as STICK.
-      launch_ratio: LAUNCH when a row with a contact force and b < 0 (the
-        theory's free acceleration pulls the tip down: a rigid contact keeps
-        it on the plane) is followed by an upward normal speed of the contact
-        point of at least launch_ratio times the row's slip speed eta, at
-        least launch_speed, and at least |b| W / 2 (so that a ballistic flight
-        under b outlasts the window), then by a whole window with no contact
-        force while b stays negative.  The scale is the slip speed because a convex relaxation of
-        Coulomb's law separates a sliding contact at v_n = mu |v_t|
-        (Anitescu's relaxation; Drake's SAP "gliding", Castro et al. 2023):
-        0.45 l omega at eta = 1, mu = 1.4 in a probe of SAP at Psi just below
-        Psi_L.  0.1 is a quarter of that at mu = 0.4.  MuJoCo's soft contact
-        hops too: on 40 random slipping starts (mu = 1, horizon 1), runs with
-        such a flight before their first event were 8, 4, 1, 7 and 8 at
-        (timestep, timeconst) = (3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06),
-        (3e-4, 0.02) and (1e-4, 0.006), with speeds 0.01-0.26 l omega; with
-        launch_ratio 0.2, 3, 1, 0, 4, 7.  A regression-guard choice from
-        these measurements, not a derived bound.
-      launch_speed: the floor of a LAUNCH's upward speed [l omega].  As a
-        slip slows to a stop, eta -> 0 and a soft contact's last hop passes
-        launch_ratio eta at speeds of 0.01 l omega (MuJoCo and its law in
-        continuous time, rising 2e-4 l, at the ladder test's STICKS start);
-        MuJoCo's hops at its default (timestep 3e-4, timeconst 0.06) were at
-        most 0.045 on the 40 starts above.  0.05 lies just above them and
-        well below the 0.45 of SAP's gliding: a regression-guard choice.
-      jam_contact_times: the look-back of a compliant slip stop's JAM test
-        (``classify``'s ``contact_time`` tau_c > 0), in contact times: the
-        stop is judged on the rows of the last jam_contact_times tau_c before
-        it (at least lift_steps rows, the rigid rule's look-ahead).  3: the
-        compliant rod's impulse grows as e^(lambda t / tau_c) up to the stop
-        (``crosscheck.theory.compliant_limit``), so 3 tau_c hold a fraction
-        1 - e^(-3 lambda) of it, 95 % at lambda = 1 (|p| = 0.5, xi = 1), and
-        its mean force ~ P_stop / (3 tau_c) is O(1/tau_c) >> -b/p; a longer
-        look-back only dilutes the mean towards the slipping force of the
-        rows before the jam.  Measured: from the inconsistent start mu = 2,
-        theta = pi/4 the compliant rod's slip falls from 80 % to 0 in
-        1.0-1.5 eps (eps = 0.03-0.001), and the look-back holds 93-97 % of
-        the fast problem's P_stop; Drake's continuous Hunt-Crossley contact
-        at stiffness 1e6 (tau_c = 1e-3) from a Corollary 4.2 start falls
-        from 77 % to 0 in 2 tau_c.
-      diverged_speed: DIVERGED when the scaled tip speed exceeds this (energy
-        is bounded: a slipping rod of the paper's ranges never exceeds O(10)),
-        when any value is not finite, or when the engine's clock stops
-        advancing (``mujoco.rollout`` stops stepping after a MuJoCo warning
-        and repeats the last row).  A divergence is the outcome also after
-        theta has left (0, pi/2) (with ``exit_time`` before it): an engine
-        that blows up is never hidden as a censored SLIP.
+      window: W, the averaging window (scaled time): whole cycles of a soft contact's chatter (MuJoCo's last ~0.04
+        at timestep 3e-4), short against the O(1) time of the rigid slip.
+      window_steps: lower bound of W in rows (coarse timesteps: 40 x 3e-3 = 0.12 > one cycle).
+      jam_force: JAM needs a window-mean normal force >= this [m g], the weight: rules out small forces whose ratio
+        to a near-zero rigid force is big.
+      jam_ratio: ... and >= this multiple of the window's rigid slipping force mean(max(0, -b)) / p_eff_W (0 where
+        p_eff_W <= 0: no slipping solution with the engine's friction).
+      jam_slip_loss: ... and the slip speed eta falls by at least this fraction within the window (a rigid slip
+        loses O(W / eta) per window).
+      jam_p_eff: ... and p_eff_W <= this: the engine's rod at its own p = 0 (5 % of 1 + alpha; MuJoCo's
+        reproduced Corollary 4.2 jams read 0.09, its hopping landings below mu_P 0.45).
+      lift_steps: LIFTOFF needs this many consecutive force-free rows with upward tip acceleration (then the free
+        acceleration b > 0); more than one, as the first row after a force-free start is free anyway.
+      stick_speed: STICK when eta < max(stick_speed, stick_creep tau_f) with some normal force in the last window
+        (tau_f the run's friction time constant, 0 for a rigid contact).
+      stick_creep: the multiple of tau_f in that threshold: 2.5 x the creep measured in MuJoCo (0.4 tau_f).
+      rigid_stick_steps: a rigid contact's STICK threshold in timesteps: its record holds -dt dJ v_t after it
+        sticks, |dJ v| <= ~10.
+      launch_ratio: LAUNCH when a contact row with b < 0 is followed by an upward speed >= launch_ratio eta (and
+        launch_speed, and |b| W / 2), then a window without contact force under b < 0: a convex relaxation's
+        separation at v_n = mu |v_t| (SAP's "gliding").  A regression-guard choice from measurements.
+      launch_speed: the floor of that upward speed [l omega], above a soft contact's last hops as a slip stops
+        (MuJoCo's at most 0.045) and below SAP's 0.45.  A regression-guard choice.
+      jam_contact_times: the look-back of a compliant slip stop's JAM test in contact times (at least lift_steps
+        rows): 3 tau_c hold 95 % of the stop's impulse at lambda = 1 (``crosscheck.theory.compliant_limit``).
+      diverged_speed: DIVERGED beyond this scaled tip speed (a slipping rod never exceeds O(10)), at a non-finite
+        value, or when the engine's clock stops; reported also after theta left (0, pi/2).
     """
 
     window: float = 0.05

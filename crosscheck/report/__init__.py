@@ -17,10 +17,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from crosscheck.report import sections as _sections
 from crosscheck.report.pipeline import lock, run
 from crosscheck.report.render import RenderSummary, render
 from crosscheck.report.section import Section
-from crosscheck.report import sections as _sections
 from crosscheck.report.sections import section_by_slug
 
 __all__ = ["SECTIONS", "Section", "RenderSummary", "run", "render", "lock", "default_out", "section_by_slug"]

@@ -24,8 +24,8 @@ STEM, DATA = Path("figures") / "overview" / "causes_confirmed", Path("data") / "
 def overview(data: Path) -> list[dict]:
     """Per engine with attributed disagreements: its counts from ``<slug>_interventions/summary.json`` (engine order of
     the files' names)."""
-    from crosscheck.engines.base import engine_label
     from crosscheck.engines.spec import LADDER_CAUSES
+    from crosscheck.report.format import engine_label
     from crosscheck.report.sections.engine_interventions import other_starts, pairs_confirmed
 
     rows = []
@@ -59,7 +59,7 @@ def _figure(rows: list[dict]):
     import matplotlib.pyplot as plt
     import numpy as np
 
-    from crosscheck.sweeps.compare import wilson_interval
+    from crosscheck.sweeps.store_diff import wilson_interval
 
     fig, (left, right) = plt.subplots(
         1,
@@ -103,7 +103,9 @@ def _figure(rows: list[dict]):
         right.errorbar(
             at,
             share,
-            yerr=np.clip([share - lo_hi[:, 0], lo_hi[:, 1] - share], 0.0, None),  # a share of 0 or 1 is its bound: -1e-17
+            yerr=np.clip(
+                [share - lo_hi[:, 0], lo_hi[:, 1] - share], 0.0, None
+            ),  # a share of 0 or 1 is its bound: -1e-17
             color="k",
             lw=2,
             capsize=3,

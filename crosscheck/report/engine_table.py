@@ -30,7 +30,7 @@ from crosscheck.outcome import Outcome
 from crosscheck.report.findings import convergence_trends, read_json
 from crosscheck.report.section import Table
 from crosscheck.studies.ladder import CAUSES
-from crosscheck.sweeps.compare import wilson_interval
+from crosscheck.sweeps.store_diff import wilson_interval
 
 __all__ = ["engine_records", "write_engine_data", "summary_table", "settings_table", "FOOTNOTES", "pct", "JSON", "CSV"]
 

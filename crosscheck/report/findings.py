@@ -28,8 +28,19 @@ from __future__ import annotations
 
 import csv
 import json
-from dataclasses import dataclass
 from pathlib import Path
+
+from crosscheck.report.finding import (
+    CONFIRMED_SHARE,
+    CONVERGED,
+    NOT_CONVERGED,
+    PARAMETER_WORDS,
+    Finding,
+    Trend,
+    convergence_trends,
+    convergence_verdict,
+    read_json,
+)
 
 __all__ = [
     "Finding",
@@ -43,26 +54,8 @@ __all__ = [
     "NOT_CONVERGED",
 ]
 
-#: Agreement at the finest timestep above which (and not below the coarsest) a convergence table "converges".
-CONVERGED = 0.95
-#: ... and below which it "does not converge".
-NOT_CONVERGED = 0.90
-
 _OUTCOMES = ("SLIP", "LIFTOFF", "STICK", "JAM")
 
-
-@dataclass(frozen=True)
-class Finding:
-    """One line: the leg, what was found, the verdict, and the section it comes from (its anchor)."""
-
-    leg: str
-    text: str
-    verdict: str
-    slug: str
-    why: str = ""  # the rule applied to this line's numbers (shown beside the verdict)
-
-
-from crosscheck.report.sections.engine_interventions import CONFIRMED_SHARE  # noqa: E402  (its section's verdict rule)
 
 #: The rules behind the verdicts, shown where the verdicts are (the report's findings).
 RULES = (
@@ -110,30 +103,10 @@ RULES = (
 )
 
 
-@dataclass(frozen=True)
-class Trend:
-    """One parameter of a convergence table varied with the others held fixed: ``rows`` coarsest first."""
-
-    parameter: str  # the column varied: "timestep" or "timeconst"
-    fixed: dict  # the other varied columns and the value they are held at
-    rows: list
-    verdict: str
-    why: str
-
-
-#: A convergence table's columns that a setting varies, and their words.
-_PARAMETERS = {"timestep": "timestep", "timeconst": "contact time constant"}
-
-
-def read_json(path: Path):
-    """The JSON file at ``path``, or None when it is absent."""
-    return json.loads(path.read_text()) if path.is_file() else None
-
-
 def _engine_name(status: dict | None) -> str:
     """The engine's label, marked rigid for an engine without contact compliance (``Options().contact_time == 0``)."""
     from crosscheck import engines
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
 
     name = (status or {}).get("params", {}).get("engine", "?")
     try:
@@ -153,57 +126,11 @@ def _compliant(status: dict | None) -> bool:
         return False
 
 
-def convergence_verdict(rows: list[dict]) -> tuple[str, str]:
-    """(verdict, trend) of a convergence table's rows (coarsest setting first): *converges* when the finest agrees on
-    >= ``CONVERGED`` and at least as much as the coarsest, *does not converge* when it is below ``NOT_CONVERGED`` or below
-    the coarsest, *inconclusive* otherwise."""
-    first, last = float(rows[0]["agreement"]), float(rows[-1]["agreement"])
-    verdict = (
-        "converges"
-        if last >= CONVERGED and last >= first
-        else "does not converge"
-        if last < NOT_CONVERGED or last < first
-        else "inconclusive"
-    )
-    return verdict, " -> ".join(f"{100 * float(r['agreement']):.1f} %" for r in rows)
-
-
-def _why_convergence(rows: list[dict]) -> str:
-    first, last = 100 * float(rows[0]["agreement"]), 100 * float(rows[-1]["agreement"])
-    return (
-        f"finest {last:.1f} % {'>=' if last >= 100 * CONVERGED else '<'} {100 * CONVERGED:.0f} % and {'>=' if last >= first else '<'} "
-        f"the coarsest {first:.1f} %" + (f"; < {100 * NOT_CONVERGED:.0f} %" if last < 100 * NOT_CONVERGED else "")
-    )
-
-
-def convergence_trends(rows: list[dict]) -> list[Trend]:
-    """One ``Trend`` per parameter (timestep, contact time constant) that the rows of a convergence table vary.
-
-    Each parameter is read with the other varied parameters held at the value that has the most settings of it (ties:
-    the finest), so a timestep trend is never mixed with a change of stiffness.  A parameter with no two settings at
-    one value of the others has no trend.  A table whose settings vary nothing gives one trend in the timestep.
-    """
-    varied = [k for k in _PARAMETERS if len({float(r[k]) for r in rows if r.get(k) not in (None, "")}) > 1]
-    out = []
-    for k in varied or ["timestep"]:
-        others = [o for o in varied if o != k]
-        groups: dict[tuple, list[dict]] = {}
-        for r in rows:
-            groups.setdefault(tuple(float(r[o]) for o in others), []).append(r)
-        key = min(groups, key=lambda g: (-len({float(r[k]) for r in groups[g]}), g))
-        group = sorted(groups[key], key=lambda r: -float(r[k]))
-        if len(group) < 2 and varied:
-            continue
-        verdict, _ = convergence_verdict(group)
-        out.append(Trend(k, dict(zip(others, key)), group, verdict, _why_convergence(group)))
-    return out
-
-
 def _convergence_findings(rows: list[dict], name: str, slug: str, *, compliant: bool) -> list[Finding]:
     out = []
     for t in convergence_trends(rows):
-        word = _PARAMETERS[t.parameter]
-        at = ", ".join(f"{_PARAMETERS[o]} {v:g}" for o, v in t.fixed.items())
+        word = PARAMETER_WORDS[t.parameter]
+        at = ", ".join(f"{PARAMETER_WORDS[o]} {v:g}" for o, v in t.fixed.items())
         seq = " -> ".join(f"{float(r[t.parameter]):g}" for r in t.rows)
         trend = " -> ".join(f"{100 * float(r['agreement']):.1f} %" for r in t.rows)
         pl = t.rows[-1].get("agreement_planar") or "nan"
@@ -234,7 +161,7 @@ def _convergence_findings(rows: list[dict], name: str, slug: str, *, compliant: 
 
 def findings(data: Path) -> list[Finding]:
     """The findings of the report whose saved results are in ``data`` (``<out>/data``)."""
-    from crosscheck.sweeps.compare import wilson_interval
+    from crosscheck.sweeps.store_diff import wilson_interval
 
     data = Path(data)
     out: list[Finding] = []
@@ -337,7 +264,7 @@ def findings(data: Path) -> list[Finding]:
 def _interventions_overall(data: Path) -> list[Finding]:
     """One line over every engine's interventions section: the attributed disagreements their own cause's intervention
     removes, all engines together, and the engine with the lowest share (each engine's own line comes from its section)."""
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
     from crosscheck.report.sections.engine_interventions import pairs_confirmed
 
     summaries = [(p.parent.name, read_json(p)) for p in sorted(data.glob("*_interventions/summary.json"))]

@@ -10,10 +10,12 @@ import html
 import re
 from dataclasses import dataclass, field, replace
 
+from crosscheck import engines
 from crosscheck.report.references import _REFERENCES, unlabel
 from crosscheck.report.section import Figure, Preformatted, Section, Table, Text
 
 __all__ = [
+    "engine_label",
     "SectionView",
     "badge",
     "checks_cell",
@@ -30,6 +32,11 @@ __all__ = [
     "FINDINGS",
     "RULES_TITLE",
 ]
+
+
+def engine_label(name: str) -> str:
+    """How the report names an engine: its registered label ("MuJoCo" for "mujoco"), else ``name`` itself."""
+    return engines.labels().get(name, name)
 
 
 @dataclass

@@ -28,17 +28,22 @@ import os
 import sys
 import time
 import traceback
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
-from crosscheck.report import integrity, provenance
+from crosscheck.report import provenance
+from crosscheck.report import store as integrity  # the checks of saved results against what the run wrote
 from crosscheck.report.section import RunContext, Section, SkipSection, section_rng
-from crosscheck.report.store import SectionStore
+from crosscheck.report.store import (  # the saved results, read back
+    PROVENANCE_FILE,
+    STATUS_FILE,
+    SectionStore,
+    read_provenance,
+    read_status,
+    verified_status,
+)
 
 __all__ = ["run", "read_status", "read_provenance", "verified_status", "STATUS_FILE", "PROVENANCE_FILE"]
-
-STATUS_FILE = "status"
-PROVENANCE_FILE = "provenance"
 
 
 def _progress_factory(enabled: bool):
@@ -50,30 +55,6 @@ def _progress_factory(enabled: bool):
         return tqdm(iterable, desc=desc, total=total, leave=leave, file=sys.stderr, dynamic_ncols=True)
 
     return progress
-
-
-def read_status(out: Path, slug: str) -> dict | None:
-    """The saved status of a section, None if it never ran in ``out``; ``DamagedResults`` if it is not one."""
-    path = Path(out) / "data" / slug / f"{STATUS_FILE}.json"
-    if not path.exists():
-        return None
-    return integrity.check_status(integrity.read_json(path, "the section status"), path)
-
-
-def read_provenance(out: Path) -> dict | None:
-    """The saved provenance of a report, None if there is none; ``DamagedResults`` if it is not one."""
-    path = Path(out) / "data" / f"{PROVENANCE_FILE}.json"
-    if not path.exists():
-        return None
-    return integrity.check_provenance(integrity.read_json(path, "the provenance"), path)
-
-
-def verified_status(out: Path, slug: str) -> dict | None:
-    """``read_status`` with the section's saved files checked against the manifest in it (``DamagedResults``)."""
-    status = read_status(out, slug)
-    if status is not None and status["status"] != "running":
-        SectionStore(Path(out) / "data" / slug).verify(status["files"])
-    return status
 
 
 LOCK_FILE = ".lock"
@@ -123,7 +104,6 @@ def _sweeps_of(out: Path, computed_by: dict, say: bool) -> None:
     import shutil
 
     from crosscheck.files import write_atomic
-
     from crosscheck.report.ownership import sweeps_owned
 
     root = out / "sweeps"
@@ -272,6 +252,66 @@ def _run_parallel(jobs_of: dict, order: list[Section], jobs: int, outer, results
             proc.join()
 
 
+def _resumed(out: Path, s: Section, results: dict, params: dict, quick: bool, seed: int, code: str) -> bool:
+    """Whether section ``s`` finished in ``out`` with the same code, parameters, seed and size (its results intact):
+    then its status goes into ``results`` as resumed."""
+    try:
+        prev = verified_status(out, s.slug)
+    except integrity.DamagedResults:
+        return False  # damaged results are recomputed, never kept
+    same = (
+        prev is not None
+        and prev.get("status") == "ok"
+        and prev.get("quick") == quick
+        and prev.get("seed") == seed
+        and json.loads(json.dumps(prev.get("params"), default=str)) == json.loads(json.dumps(params, default=str))
+        and prev.get("code_sha256") == code
+    )
+    if same:
+        results[s.slug] = {**prev, "resumed": True}
+    return same
+
+
+def _job(s: Section, out: Path, params: dict, started: dict, sweeps: dict, inner, *, show_progress: bool, log: bool):
+    """Section ``s`` made ready to run: its directory emptied, its status "running" written (a section killed before
+    it started reads as unfinished, never as its old result) and its ``RunContext``; returns the call that runs it.
+
+    ``started``: the status fields every section of this run shares (git, versions, code, quick, seed); ``sweeps``:
+    the scheduler and workers of its engine sweeps; ``inner``: the progress factory of its own bars."""
+    store = SectionStore(out / "data" / s.slug)
+    store.reset()
+    status = {
+        "slug": s.slug,
+        "title": s.title,
+        "status": "running",
+        "quick": started["quick"],
+        "seed": started["seed"],
+        "params": params,
+        "requires": list(s.requires),
+        "git": started["git"],
+        "crosscheck_version": started["crosscheck_version"],
+        "code_sha256": started["code_sha256"],
+        "date": provenance.now(),
+    }
+    store.write_json(STATUS_FILE, status)
+
+    def named(iterable, *, desc: str = "", **kw):  # a section's bars say whose they are
+        return inner(iterable, desc=f"{s.slug}: {desc}" if desc else s.slug, **kw)
+
+    ctx = RunContext(
+        slug=s.slug,
+        params=params,
+        quick=started["quick"],
+        rng=section_rng(started["seed"], s.slug),
+        store=store,
+        progress=named,
+        show_progress=show_progress,
+        sweeps={"store": out / "sweeps" / s.slug, **sweeps},
+        seed=started["seed"],
+    )
+    return lambda: _compute(s, out, status, ctx, log)
+
+
 def run(
     out: Path | str,
     sections: Sequence[Section],
@@ -317,9 +357,8 @@ def run(
       {"ok", "skipped", "error"}, ``reason`` when skipped, ``error``/``traceback``
       when it failed, and ``seconds``.
     """
-    from crosscheck.workers import default_workers
-
     from crosscheck.report.ownership import claim
+    from crosscheck.workers import default_workers
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -346,25 +385,7 @@ def run(
     t_all = time.perf_counter()
     version, code = provenance.package_versions(("crosscheck",))["crosscheck"], code_digest()
     _sweeps_of(out, {"code_sha256": code, "crosscheck_version": version}, say=log or progress)
-    todo: list[Section] = []
-    for s in sections:
-        try:
-            prev = verified_status(out, s.slug)
-        except integrity.DamagedResults:
-            prev = None  # damaged results are recomputed, never kept
-        if (
-            resume
-            and prev is not None
-            and prev.get("status") == "ok"
-            and prev.get("quick") == quick
-            and prev.get("seed") == seed
-            and json.loads(json.dumps(prev.get("params"), default=str))
-            == json.loads(json.dumps(params[s.slug], default=str))
-            and prev.get("code_sha256") == code
-        ):
-            results[s.slug] = {**prev, "resumed": True}
-        else:
-            todo.append(s)
+    todo = [s for s in sections if not (resume and _resumed(out, s, results, params[s.slug], quick, seed, code))]
     parallel = jobs > 1 and len(todo) > 1
     inner = bar if not parallel else _progress_factory(False)
     order = _order(todo, out) if parallel else todo
@@ -373,43 +394,12 @@ def run(
         # competing for them, forked from a large process at every sweep (the quick report's 264 sweeps cost
         # 16 s of system time and 9 s of wall time that way).
         workers = max(1, default_workers() // min(jobs, len(todo)))
-    jobs_of = {}
-    for s in order:
-        store = SectionStore(data / s.slug)
-        store.reset()
-        status = {
-            "slug": s.slug,
-            "title": s.title,
-            "status": "running",
-            "quick": quick,
-            "seed": seed,
-            "params": params[s.slug],
-            "requires": list(s.requires),
-            "git": prov["git"],
-            "crosscheck_version": version,
-            "code_sha256": code,
-            "date": provenance.now(),
-        }
-        store.write_json(
-            STATUS_FILE, status
-        )  # a section killed before it started reads as unfinished, never as its old result
-        sweeps = {"store": out / "sweeps" / s.slug, "scheduler": scheduler, "workers": workers}
-
-        def named(iterable, *, desc: str = "", _slug=s.slug, **kw):  # a section's bars say whose they are
-            return inner(iterable, desc=f"{_slug}: {desc}" if desc else _slug, **kw)
-
-        ctx = RunContext(
-            slug=s.slug,
-            params=params[s.slug],
-            quick=quick,
-            rng=section_rng(seed, s.slug),
-            store=store,
-            progress=named,
-            show_progress=progress and not parallel,
-            sweeps=sweeps,
-            seed=seed,
-        )
-        jobs_of[s.slug] = lambda s=s, status=status, ctx=ctx: _compute(s, out, status, ctx, log)
+    started = {"git": prov["git"], "crosscheck_version": version, "code_sha256": code, "quick": quick, "seed": seed}
+    sweeps = {"scheduler": scheduler, "workers": workers}
+    jobs_of = {
+        s.slug: _job(s, out, params[s.slug], started, sweeps, inner, show_progress=progress and not parallel, log=log)
+        for s in order
+    }
     outer = bar(range(len(todo)), desc="report", total=len(todo), leave=True)
     if parallel:
         _preload(todo)

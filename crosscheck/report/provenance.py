@@ -9,19 +9,22 @@ report assembled from runs of different revisions says so.
 from __future__ import annotations
 
 import datetime as _dt
-import functools
+import importlib
+import importlib.util
 import os
 import platform
 import subprocess
 import sys
-from importlib import metadata
 from pathlib import Path
+
+from crosscheck import engines, tolerances, versions
 
 __all__ = [
     "PACKAGES",
     "collect",
     "git_revision",
     "package_versions",
+    "all_tolerances",
     "machine",
     "provenance_rows",
     "revision_text",
@@ -33,25 +36,11 @@ PACKAGES = ("crosscheck", "numpy", "scipy", "matplotlib", "tqdm")
 
 
 def package_versions(packages=None) -> dict[str, str | None]:
-    """Installed version of each distribution, None when it is not installed (default: ``PACKAGES`` and every
-    registered engine's libraries)."""
+    """Installed version of each distribution, None when it is not installed (``crosscheck.versions``; default:
+    ``PACKAGES`` and every registered engine's libraries)."""
     if packages is None:
-        from crosscheck import engines
-
         packages = PACKAGES[:1] + engines.libraries() + PACKAGES[1:]
-    out = {name: _version(name) for name in packages}
-    out["python"] = platform.python_version()
-    return out
-
-
-@functools.lru_cache(maxsize=None)
-def _version(name: str) -> str | None:
-    # Read once per process: every sweep store stamps its versions, and reading a distribution's metadata
-    # costs ~1 ms (2.4 s of a serial quick report's 1865 reads).  Forked sections inherit the parent's reads.
-    try:
-        return metadata.version(name)
-    except metadata.PackageNotFoundError:
-        return None
+    return versions.package_versions(packages)
 
 
 def _repo_root() -> Path:
@@ -166,7 +155,7 @@ def _cpu_model() -> str:
 
 def now() -> str:
     """Current UTC time, ISO 8601 to the second."""
-    return _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
+    return _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
 
 
 def collect(*, quick: bool, seed: int, parameters: dict, argv: list[str] | None = None) -> dict:
@@ -178,8 +167,6 @@ def collect(*, quick: bool, seed: int, parameters: dict, argv: list[str] | None 
       parameters: ``{section slug: {parameter: value}}``, every parameter of every section.
       argv: the command line, for the record.
     """
-    from crosscheck.tolerances import all_tolerances
-
     return {
         "date": now(),
         "command": argv,
@@ -191,6 +178,21 @@ def collect(*, quick: bool, seed: int, parameters: dict, argv: list[str] | None 
         "parameters": parameters,
         "tolerances": all_tolerances(),
     }
+
+
+def all_tolerances() -> dict[str, dict]:
+    """Every named tolerance: ``crosscheck.tolerances``' and each registered engine's (the ``tolerances`` module of
+    the package that holds its ``module``), as the registry lists them."""
+    found = []
+    for spec in engines.specs():
+        package = (spec.module or "").rpartition(".")[0]
+        try:
+            has = bool(package) and importlib.util.find_spec(f"{package}.tolerances") is not None
+        except ModuleNotFoundError:  # its module is not in a package
+            has = False
+        if has and f"{package}.tolerances" not in found:
+            found.append(f"{package}.tolerances")
+    return tolerances.all_tolerances([importlib.import_module(m) for m in found])
 
 
 def seconds_text(s) -> str:

@@ -2,20 +2,14 @@
 
 ``paper_reference`` turns a section's ``paper`` string into what a reader finds in the printed paper, ``unlabel``
 removes figure labels from any text, ``_figures_table`` lists the paper's figures and where the report recomputes
-them, and ``_write_references`` writes the labels the tables leave out to ``data/paper_references.json``.
+them, and ``crosscheck.report.render._write_references`` writes the labels the tables leave out to ``data/paper_references.json``.
 """
 
 from __future__ import annotations
 
-import json
 import re
-from pathlib import Path
-from typing import TYPE_CHECKING
 
 from crosscheck.report.section import Table
-
-if TYPE_CHECKING:
-    from crosscheck.report.format import SectionView
 
 __all__ = ["paper_reference", "unlabel"]
 
@@ -81,7 +75,7 @@ _NUMBERING = (
 )
 
 
-def _figures_table(views: list[SectionView]) -> Table:
+def _figures_table(views: list) -> Table:
     """The paper's figures: where the report recomputes each, or why it does not (``crosscheck.theory.paper.FIGURES``)."""
     from crosscheck.theory.paper import FIGURES
 
@@ -104,16 +98,3 @@ def _figures_table(views: list[SectionView]) -> Table:
 
 #: The paper's figures with their LaTeX labels and every section's reference to the paper, written beside the report's data.
 _REFERENCES = "paper_references.json"
-
-
-def _write_references(out: Path) -> None:
-    """The labels the tables leave out (figure and equation labels of the paper's source), derived, not computed: the same
-    file whichever sections are rendered (every registered section), so a partial rebuild leaves the saved data as it was."""
-    from dataclasses import asdict
-
-    from crosscheck.report.sections import all_sections
-    from crosscheck.theory.paper import FIGURES
-
-    refs = {"figures": [asdict(f) for f in FIGURES], "sections": {s.slug: s.paper for s in all_sections()}}
-    (out / "data").mkdir(parents=True, exist_ok=True)
-    (out / "data" / _REFERENCES).write_text(json.dumps(refs, indent=1, default=list) + "\n")

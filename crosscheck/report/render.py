@@ -19,9 +19,9 @@ import multiprocessing
 import os
 import shutil
 import traceback
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Sequence
 
 from crosscheck.report import plotting  # noqa: F401 - imported once here, not once per forked worker
 from crosscheck.report import provenance as _provenance
@@ -48,15 +48,18 @@ from crosscheck.report.format import (
     html_cell,
     html_text,
     is_long,
-    summary_table as sections_table,
     unlabelled,
     verdicts,
+)
+from crosscheck.report.format import (
+    summary_table as sections_table,
 )
 from crosscheck.report.markdown import write_md
 from crosscheck.report.pages import EnginePage, Pages, page_state, split
 from crosscheck.report.pipeline import PROVENANCE_FILE, read_provenance, read_status, verified_status
-from crosscheck.report.provenance import provenance_rows, seconds_text as _fmt_seconds
-from crosscheck.report.references import _NUMBERING, _figures_table, _write_references, paper_reference, unlabel
+from crosscheck.report.provenance import provenance_rows
+from crosscheck.report.provenance import seconds_text as _fmt_seconds
+from crosscheck.report.references import _NUMBERING, _REFERENCES, _figures_table, paper_reference, unlabel
 from crosscheck.report.section import Figure, Preformatted, RenderContext, Section, Table, Text
 from crosscheck.report.store import SectionStore
 from crosscheck.workers import process_pool
@@ -499,6 +502,19 @@ def _summary_rows(index: list[SectionView], engine_pages: list[EnginePage], foun
         ]
         rows.append((row, "ok" if state == "ok" and not nf else "fail"))
     return rows
+
+
+def _write_references(out: Path) -> None:
+    """The labels the tables leave out (figure and equation labels of the paper's source), derived, not computed: the same
+    file whichever sections are rendered (every registered section), so a partial rebuild leaves the saved data as it was."""
+    from dataclasses import asdict
+
+    from crosscheck.report.sections import all_sections
+    from crosscheck.theory.paper import FIGURES
+
+    refs = {"figures": [asdict(f) for f in FIGURES], "sections": {s.slug: s.paper for s in all_sections()}}
+    (out / "data").mkdir(parents=True, exist_ok=True)
+    (out / "data" / _REFERENCES).write_text(json.dumps(refs, indent=1, default=list) + "\n")
 
 
 def render(

@@ -17,9 +17,10 @@ and does not fail the report.
 from __future__ import annotations
 
 import zlib
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -134,8 +135,7 @@ class RunContext:
     def finished(self, slug: str) -> tuple[dict, SectionStore] | None:
         """(status, store) of the section ``slug`` of this report if it finished ok and its saved files are intact
         (a section whose run reads another's results, ``Section.after``); None otherwise."""
-        from crosscheck.report.integrity import DamagedResults
-        from crosscheck.report.pipeline import verified_status
+        from crosscheck.report.store import DamagedResults, verified_status
 
         out = self.store.root.parent.parent
         try:

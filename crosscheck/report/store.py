@@ -20,8 +20,15 @@ Every file is written to a temporary file and renamed into place, so a reader
 never sees half of one.  The documents that describe the others (a section's
 ``status.json``, the report's ``provenance.json``: ``SEALED``) get a
 ``<name>.json.sha256`` beside them, ``{"bytes", "sha256"}`` of what was
-written, against which ``crosscheck.report.integrity`` checks them; the other
-files are checked against the manifest in their section's status.  A full
+written, against which ``check_seal`` checks them; the other files are
+checked against the manifest in their section's status (``verify_files``).
+Before a render (and before a finished section is kept by a resumed run)
+each file is checked, and ``status.json`` and ``provenance.json`` against
+their schema and then their seal, so that an edit that keeps the shape (one
+digit, one flipped bit) is caught as well.  A mismatch is one
+``DamagedResults`` (a ``ValueError``) naming the file and what is wrong: a
+report is never rendered from a truncated, edited or foreign file, and
+``crosscheck report --from-results`` exits 2 on it.  A full
 disk is one ``ValueError`` naming the directory and the bytes it needed.
 """
 
@@ -32,12 +39,34 @@ import io
 import json
 import math
 import shutil
+from collections.abc import Iterable, Mapping
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import Any
 
 import numpy as np
 
-__all__ = ["SectionStore", "to_jsonable", "FLOAT_DIGITS", "SEALED", "SEAL_SUFFIX"]
+from crosscheck import files
+from crosscheck.files import sha256_file
+
+__all__ = [
+    "SectionStore",
+    "to_jsonable",
+    "FLOAT_DIGITS",
+    "SEALED",
+    "SEAL_SUFFIX",
+    "DamagedResults",
+    "manifest",
+    "check_status",
+    "check_provenance",
+    "check_seal",
+    "verify_files",
+    "STATES",
+    "STATUS_FILE",
+    "PROVENANCE_FILE",
+    "read_status",
+    "read_provenance",
+    "verified_status",
+]
 
 #: Significant digits of floats in saved tables and grids.
 FLOAT_DIGITS = 12
@@ -55,21 +84,112 @@ def seal_of(data: bytes) -> dict:
     return {"bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
 
 
-def write_atomic(path: Path, data: bytes) -> None:
-    """Write ``data`` to ``path`` through a temporary file renamed into place; a full disk or an unwritable
-    directory is a ``ValueError`` naming the directory (and the bytes needed), leaving no temporary file."""
-    from crosscheck import files
+# ------------------------------------------------------------- integrity ---
 
+#: The states a section's status may record.
+STATES = ("running", "ok", "skipped", "error")
+
+
+class DamagedResults(ValueError):
+    """A saved result does not match what the run wrote (the message names the file)."""
+
+
+def manifest(root: Path, names: list[str]) -> dict[str, dict]:
+    """{name: {"bytes", "sha256"}} of the files ``names`` under ``root``."""
+    return {n: {"bytes": (root / n).stat().st_size, "sha256": sha256_file(root / n)} for n in names}
+
+
+def read_json(path: Path, what: str):
+    """The JSON document at ``path``; ``DamagedResults`` naming it when it cannot be read or parsed."""
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        files.write_atomic(path, data)
-    except OSError as e:
-        if e.errno in files.NO_SPACE:
-            raise ValueError(files.no_space(path.parent, len(data), e)) from None
-        name = path.name if len(path.name) <= 60 else f"{path.name[:40]}... ({len(path.name)} characters)"
-        raise ValueError(
-            f"out must be a writable path; cannot write {name} in {str(path.parent)[:200]!r}: {e.strerror or e}"
+        return json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+        raise DamagedResults(
+            f"{path}: {what} is not readable JSON ({e}); rerun the report without --from-results"
         ) from None
+
+
+def check_status(doc, path: Path) -> dict:
+    """``doc`` if it is a section status the run stage writes; ``DamagedResults`` naming ``path`` otherwise."""
+
+    def bad(why: str):
+        return DamagedResults(
+            f"{path}: not a section status written by crosscheck report ({why}); rerun the section with --only"
+        )
+
+    if not isinstance(doc, dict):
+        raise bad(f"a JSON {type(doc).__name__}, expected an object")
+    if doc.get("status") not in STATES:
+        raise bad(f"status {doc.get('status')!r}, expected one of {', '.join(STATES)}")
+    if not isinstance(doc.get("params"), dict):
+        raise bad("no params object")
+    if doc["status"] != "running":
+        files = doc.get("files")
+        if not isinstance(files, dict) or not all(
+            isinstance(v, dict) and isinstance(v.get("bytes"), int) and isinstance(v.get("sha256"), str)
+            for v in files.values()
+        ):
+            raise bad("no manifest of the files it saved")
+    check_seal(path, "the section status", "rerun the section with --only")
+    return doc
+
+
+def check_seal(path: Path, what: str, fix: str) -> None:
+    """``DamagedResults`` naming ``path`` unless its bytes are what the seal beside it records."""
+    seal_path = path.with_name(path.name + SEAL_SUFFIX)
+    try:
+        data = path.read_bytes()
+        want = json.loads(seal_path.read_bytes().decode())
+    except FileNotFoundError:
+        raise DamagedResults(
+            f"{path}: {what} has no seal {seal_path.name} (size and sha256 of what the run wrote); {fix}"
+        ) from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+        raise DamagedResults(f"{path}: the seal {seal_path.name} of {what} is not readable ({e}); {fix}") from None
+    if not isinstance(want, dict) or not isinstance(want.get("bytes"), int) or not isinstance(want.get("sha256"), str):
+        raise DamagedResults(f"{path}: the seal {seal_path.name} of {what} is not one (no bytes and sha256); {fix}")
+    got = seal_of(data)
+    if got["bytes"] != want["bytes"]:
+        raise DamagedResults(
+            f"{path}: {got['bytes']} bytes, the run wrote {want['bytes']} (truncated or edited after the run); {fix}"
+        )
+    if got["sha256"] != want["sha256"]:
+        raise DamagedResults(f"{path}: sha256 differs from what the run wrote (edited after the run); {fix}")
+
+
+def check_provenance(doc, path: Path) -> dict:
+    """``doc`` if it has the provenance's shape; ``DamagedResults`` naming ``path`` otherwise."""
+    expected = {"date": str, "git": dict, "parameters": dict, "tolerances": dict, "versions": dict}
+    if not isinstance(doc, dict):
+        raise DamagedResults(
+            f"{path}: not the provenance written by crosscheck report (a JSON {type(doc).__name__}, expected an object)"
+        )
+    for key, kind in expected.items():
+        if not isinstance(doc.get(key), kind):
+            raise DamagedResults(
+                f"{path}: not the provenance written by crosscheck report ({key} is {type(doc.get(key)).__name__}, "
+                f"expected {kind.__name__}); rerun the report without --from-results"
+            )
+    check_seal(path, "the provenance", "rerun the report without --from-results")
+    return doc
+
+
+def verify_files(root: Path, files: dict[str, dict], present: list[str]) -> None:
+    """Check the saved files of one section (``present``: those on disk) against its manifest ``files``."""
+    for name in present:
+        if name not in files:
+            raise DamagedResults(f"{root / name}: not written by the run of this section (not in its manifest)")
+    for name, want in files.items():
+        path = root / name
+        if not path.is_file():
+            raise DamagedResults(f"{path}: missing; the run wrote {want['bytes']} bytes")
+        size = path.stat().st_size
+        if size != want["bytes"]:
+            raise DamagedResults(
+                f"{path}: {size} bytes, the run wrote {want['bytes']} (truncated or edited after the run)"
+            )
+        if sha256_file(path) != want["sha256"]:
+            raise DamagedResults(f"{path}: sha256 differs from what the run wrote (edited after the run)")
 
 
 def _fmt(v: Any, digits: int) -> Any:
@@ -152,7 +272,7 @@ class SectionStore:
                 x = _fmt(v[i], FLOAT_DIGITS)
                 row.append("nan" if x is None else x)
             w.writerow(row)
-        write_atomic(path, buf.getvalue().encode())
+        files.write_atomic(path, buf.getvalue().encode(), mkdir=True, error=files.out_error)
         return path
 
     def write_json(self, name: str, obj: Any) -> Path:
@@ -160,8 +280,13 @@ class SectionStore:
         path = self.root / f"{name}.json"
         data = (json.dumps(to_jsonable(obj), indent=1) + "\n").encode()
         if name in SEALED:
-            write_atomic(path.with_name(path.name + SEAL_SUFFIX), (json.dumps(seal_of(data)) + "\n").encode())
-        write_atomic(path, data)  # a reader never sees half a file
+            files.write_atomic(
+                path.with_name(path.name + SEAL_SUFFIX),
+                (json.dumps(seal_of(data)) + "\n").encode(),
+                mkdir=True,
+                error=files.out_error,
+            )
+        files.write_atomic(path, data, mkdir=True, error=files.out_error)  # a reader never sees half a file
         return path
 
     def write_grid(
@@ -184,7 +309,9 @@ class SectionStore:
             "z": {"name": zn, "values": [[_fmt(v, digits) for v in row] for row in zv.tolist()]},
         }
         path = self.root / f"{name}.json"
-        write_atomic(path, (json.dumps(doc, separators=(",", ":")) + "\n").encode())
+        files.write_atomic(
+            path, (json.dumps(doc, separators=(",", ":")) + "\n").encode(), mkdir=True, error=files.out_error
+        )
         return path
 
     # ------------------------------------------------------------ reading ---
@@ -205,15 +332,11 @@ class SectionStore:
         )
 
     def manifest(self) -> dict[str, dict]:
-        """Size and sha256 of every saved file (``crosscheck.report.integrity``), recorded in the status when the section ends."""
-        from crosscheck.report.integrity import manifest
-
+        """Size and sha256 of every saved file (``manifest``), recorded in the status when the section ends."""
         return manifest(self.root, self.files())
 
     def verify(self, files: dict[str, dict]) -> None:
         """Check the saved files against the manifest ``files``; ``DamagedResults`` names the first that differs."""
-        from crosscheck.report.integrity import verify_files
-
         verify_files(self.root, files, self.files())
 
     def read_table(self, name: str, *, text: Iterable[str] = ()) -> dict[str, np.ndarray]:
@@ -244,3 +367,34 @@ class SectionStore:
         y = np.asarray(doc["y"]["values"], dtype=float)
         z = np.array([[np.nan if v is None else v for v in row] for row in doc["z"]["values"]], dtype=float)
         return x, y, z, {"x": doc["x"]["name"], "y": doc["y"]["name"], "z": doc["z"]["name"]}
+
+
+# ------------------------------------------------------------- a report's saved documents ---
+
+#: The name of each section's status document and of the report's provenance (``<name>.json``).
+STATUS_FILE = "status"
+PROVENANCE_FILE = "provenance"
+
+
+def read_status(out: Path, slug: str) -> dict | None:
+    """The saved status of a section, None if it never ran in ``out``; ``DamagedResults`` if it is not one."""
+    path = Path(out) / "data" / slug / f"{STATUS_FILE}.json"
+    if not path.exists():
+        return None
+    return check_status(read_json(path, "the section status"), path)
+
+
+def read_provenance(out: Path) -> dict | None:
+    """The saved provenance of a report, None if there is none; ``DamagedResults`` if it is not one."""
+    path = Path(out) / "data" / f"{PROVENANCE_FILE}.json"
+    if not path.exists():
+        return None
+    return check_provenance(read_json(path, "the provenance"), path)
+
+
+def verified_status(out: Path, slug: str) -> dict | None:
+    """``read_status`` with the section's saved files checked against the manifest in it (``DamagedResults``)."""
+    status = read_status(out, slug)
+    if status is not None and status["status"] != "running":
+        SectionStore(Path(out) / "data" / slug).verify(status["files"])
+    return status

@@ -146,7 +146,7 @@ def plot_run(run, *, theory: bool = True, path: Path | str | None = None, title:
     """A figure of ``run`` (an engine's ``Run``): theta, Theta, Psi, slip speed, contact height, normal force against -b/p,
     the theory's trajectory from the same start overlaid (dashed) with its event time; saved to ``path`` if given
     (PNG, SVG or PDF by its suffix).  Returns the matplotlib figure."""
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
     from crosscheck.report.plotting import LINE_COLORS, plt
 
     name = engine_label(run.engine)

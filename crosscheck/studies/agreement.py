@@ -63,11 +63,12 @@ import numpy as np
 
 from crosscheck import engines
 from crosscheck.checks import ALPHA, POSITIVE, check
-from crosscheck.compare import as_json
 from crosscheck.engines.base import options_from_kwargs
 from crosscheck.engines.classifier import Thresholds
+from crosscheck.error_stats import as_json
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
+from crosscheck.studies.agreement_store import engine_runs
 from crosscheck.studies.analytic_events import (
     BOUNDARY_RADII,
     AnalyticEvents,
@@ -75,7 +76,6 @@ from crosscheck.studies.analytic_events import (
     boundary_distance,
     floor_times,
 )
-from crosscheck.studies.agreement_store import engine_runs
 from crosscheck.studies.comparison import (
     EVENTS,
     LAG_STEPS,
@@ -424,7 +424,7 @@ def _run_setting(
     points, a, idx, distance, horizon = (base[k] for k in ("points", "analytic", "index", "distance", "horizon"))
     E = engines.get(engine)
     given = {**options, **setting}
-    opts = options_from_kwargs(E.Options, given, E.name)
+    opts = options_from_kwargs(E.Options, given, E.label)
     th = thresholds or Thresholds()
     margin = window_margin(th, opts.timestep)
     offplane = np.abs(points["varphi"][idx] + math.pi / 2)
@@ -526,9 +526,7 @@ def agreement_study(
     if not settings:
         raise ValueError("settings must hold at least one dict of engine options")
     for s in settings:
-        options_from_kwargs(
-            E.Options, {**options, **s}, E.name
-        )  # unknown or invalid option -> ValueError before any work
+        options_from_kwargs(E.Options, {**options, **s}, E.label)  # unknown or invalid option -> ValueError first
     alpha = float(check("alpha", alpha, ALPHA))
     horizon = float(check("horizon", horizon, POSITIVE))
     rng = rng if rng is not None else np.random.default_rng(0)

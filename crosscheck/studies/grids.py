@@ -14,8 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from crosscheck.checks import ETA, MU, RATE, THETA, VARPHI, check
-from crosscheck.theory.critical import theta_L
 from crosscheck.state import SlipState
+from crosscheck.theory.critical import theta_L
 
 __all__ = [
     "AXES",

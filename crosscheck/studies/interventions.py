@@ -143,8 +143,18 @@ def intervene(
     return out
 
 
-def attempt_intervention(spec, rod: Rod, state: SlipState, mu: float, first, horizon: float, th: Thresholds,
-                         given: dict, text: str, changed: dict) -> dict:
+def attempt_intervention(
+    spec,
+    rod: Rod,
+    state: SlipState,
+    mu: float,
+    first,
+    horizon: float,
+    th: Thresholds,
+    given: dict,
+    text: str,
+    changed: dict,
+) -> dict:
     """One intervention on ``spec`` from ``state``: the run's options ``given`` with ``changed`` over them, judged against
     the theory's slip ``first`` (``slip_until_event``'s result) as ``intervene`` judges every row: {text, options,
     status, outcome, time, label, removes, wall_time}; an intervention the engine refuses is ``status: failed``."""

@@ -17,16 +17,16 @@ import numpy as np
 
 from crosscheck import engines
 from crosscheck.checks import ALPHA, check
-from crosscheck.compare import as_json
-from crosscheck.theory.corollary import corollary_states
-from crosscheck.theory.critical import mu_P
 from crosscheck.engines.base import options_from_kwargs
 from crosscheck.engines.classifier import Thresholds
+from crosscheck.error_stats import as_json
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.theory.slipping import slip_until_event
 from crosscheck.studies.agreement import DEFAULT_HORIZON, EVENTS, quantiles
 from crosscheck.studies.grids import random_slipping_states
+from crosscheck.theory.corollary import corollary_states
+from crosscheck.theory.critical import mu_P
+from crosscheck.theory.slipping import slip_until_event
 
 __all__ = ["JamCheck", "jam_check", "outcome_counts"]
 
@@ -107,7 +107,7 @@ def jam_check(
     for m in mus_above:
         if not m > muP:
             raise ValueError(f"mus_above must be > mu_P = {muP:.6g}; got {m!r}")
-    opts = options_from_kwargs(E.Options, options, E.name)
+    opts = options_from_kwargs(E.Options, options, E.label)
     th = thresholds or Thresholds()
     kw = {f.name: getattr(opts, f.name) for f in fields(opts)}
     rod = Rod.scaled(alpha)

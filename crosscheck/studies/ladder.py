@@ -46,7 +46,6 @@ import math
 import time
 from dataclasses import dataclass
 
-
 from crosscheck import engines
 from crosscheck.checks import ALPHA, HORIZON, MU, check
 from crosscheck.engines.classifier import Thresholds

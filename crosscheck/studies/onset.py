@@ -14,10 +14,10 @@ import math
 import numpy as np
 
 from crosscheck import engines
-from crosscheck.theory.critical import Psi_L, theta_L
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
+from crosscheck.theory.critical import Psi_L, theta_L
 
 __all__ = ["liftoff_onset"]
 

@@ -58,15 +58,15 @@ import math
 import numpy as np
 
 from crosscheck import engines
-from crosscheck.compare import ErrorStat, ValidationResult, error_stat
-from crosscheck.theory.critical import Psi_L, p_min
 from crosscheck.engines.classifier import Thresholds
+from crosscheck.error_stats import ErrorStat, ValidationResult, error_stat
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.studies.agreement import DEFAULT_HORIZON, agreement_study, convergence_table
 from crosscheck.studies.grids import random_event_points
 from crosscheck.studies.jams import jam_check
 from crosscheck.studies.onset import liftoff_onset
+from crosscheck.theory.critical import Psi_L, p_min
 
 __all__ = [
     "names",

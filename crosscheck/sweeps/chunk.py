@@ -53,8 +53,8 @@ def _state(cols: dict, i: int):
 def _analytic(cols: dict, horizon: float) -> dict:
     """The paper's first event (``slip_until_event``); with the option hybrid, the hybrid flow's last outcome
     (``crosscheck.theory.impact.continuation.run``: through impacts without collision) and the first impact's normal impulse."""
-    from crosscheck.theory.impact import continuation as hybrid
     from crosscheck.outcome import Outcome
+    from crosscheck.theory.impact import continuation as hybrid
     from crosscheck.theory.slipping import slip_until_event
 
     n = len(cols["run"])

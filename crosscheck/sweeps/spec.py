@@ -93,7 +93,11 @@ def _number(
         v = math.inf if value > 0 else -math.inf
     if not math.isfinite(v) or not ((low < v) if low_open else (low <= v)) or not v <= high:
         rng = f"{'(' if low_open else '['}{low:g}, {high:g}]"
-        shown = repr(value) if math.isfinite(v) or not isinstance(value, int) else f"an integer of {len(str(abs(value)))} digits"
+        shown = (
+            repr(value)
+            if math.isfinite(v) or not isinstance(value, int)
+            else f"an integer of {len(str(abs(value)))} digits"
+        )
         raise SpecError(f"{key} must be in {rng}; got {shown}")
     return int(value) if integer else v
 
@@ -496,7 +500,9 @@ def parse_spec(doc: dict, *, base: Path | None = None) -> Spec:
     chunk = _number("sweep.chunk", sw.get("chunk", 64), low=1, integer=True)
     states = _states(doc["states"], seed, base)
     par = doc.get("parameters", {})
-    _check_runs([len(states["theta"]), _count(par.get("mu", 1.0)), _count(par.get("alpha", 3.0))])  # before listing them
+    _check_runs(
+        [len(states["theta"]), _count(par.get("mu", 1.0)), _count(par.get("alpha", 3.0))]
+    )  # before listing them
     mu = tuple(_values("parameters.mu", par["mu"], **_MU)) if "mu" in par else ()
     alpha = tuple(_values("parameters.alpha", par.get("alpha", 3.0), **_ALPHA))
     options = _options(engine, doc.get("options", {}), horizon)

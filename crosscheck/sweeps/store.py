@@ -45,12 +45,14 @@ import platform
 import re
 import warnings
 from contextlib import ExitStack, contextmanager
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
 
 import numpy as np
 
-from crosscheck.files import NO_SPACE, exclusive, no_space, sha256_file, write_atomic
+from crosscheck.files import StoreError, sha256_file, store_error, write_atomic
+from crosscheck.locking import exclusive
+from crosscheck.versions import package_versions
 
 __all__ = ["Store", "StoreError", "versions", "computing_versions", "FORMATS"]
 
@@ -73,24 +75,6 @@ _REBUILD = "re-run the same crosscheck sweep command to rebuild it (its intact c
 def _chunk_id(name: str) -> int:
     """The chunk id in the name of one of the store's chunk records (``chunk-000123.json``, ``chunk-1000000.json``)."""
     return int((_RECORD.match(name) or _FAILED.match(name)).group(1))
-
-
-class StoreError(ValueError):
-    """A store that cannot be used as asked (another writer, another spec, a damaged manifest)."""
-
-
-def _write_atomic(path: Path, data: bytes) -> None:
-    try:
-        write_atomic(path, data, sync=True)
-    except OSError as e:
-        raise StoreError(_os_error(path.parent, e, len(data))) from None
-
-
-def _os_error(directory: Path, e: OSError, needed: int) -> str:
-    """The one line of a failed write into ``directory`` (``needed``: the bytes it was writing)."""
-    if e.errno in NO_SPACE:
-        return no_space(directory, needed, e)
-    return f"out {str(directory)!r} cannot be written: {e.strerror or e}"
 
 
 def _seal(body: dict) -> str:
@@ -124,7 +108,6 @@ def versions(engine: str | None = None) -> dict:
     """Versions of what computes a sweep of ``engine`` (recorded in the manifest): crosscheck, numpy, scipy, the
     engine's own libraries (none for the analytic reference or an unknown name) and the store's."""
     from crosscheck import engines
-    from crosscheck.report.provenance import package_versions
 
     libs = engines.get(engine).libraries if engine in engines.names() else ()
     return package_versions(("crosscheck", "numpy", "scipy", *libs, "pyarrow", "dask", "distributed"))
@@ -160,12 +143,12 @@ def import_libraries() -> None:
     report's sections, each forked from one process, was 3 s of the quick report's 62 s of section CPU.
     """
     import pandas  # noqa: F401
-    import pyarrow.dataset  # noqa: F401
+    import pyarrow.dataset
     import pyarrow.parquet  # noqa: F401
 
 
 def _now() -> str:
-    return datetime.now(timezone.utc).isoformat(timespec="seconds")
+    return datetime.now(UTC).isoformat(timespec="seconds")
 
 
 class Store:
@@ -191,7 +174,7 @@ class Store:
             self.root.mkdir(parents=True, exist_ok=True)
             stack.enter_context(exclusive(self.root / ".lock", f"pid {os.getpid()} on {platform.node()}", refuse))
         except OSError as e:
-            raise StoreError(_os_error(self.root, e, 4096)) from None
+            raise store_error(self.root / ".lock", e, 4096) from None  # the message names self.root
         with stack:
             yield self
 
@@ -279,7 +262,12 @@ class Store:
         body["updated"] = _now()
         body = json.loads(json.dumps(body, default=str))  # sealed as it will be read back
         body["sha256"] = _seal(body)
-        _write_atomic(self.manifest_path, (json.dumps(body, indent=1, sort_keys=True, default=str) + "\n").encode())
+        write_atomic(
+            self.manifest_path,
+            (json.dumps(body, indent=1, sort_keys=True, default=str) + "\n").encode(),
+            sync=True,
+            error=store_error,
+        )
 
     def open(self, spec, *, fresh: bool = False) -> dict:
         """The manifest for ``spec``: a new one, or the existing one if it is for the same spec.
@@ -344,7 +332,7 @@ class Store:
         try:
             self.chunks.mkdir(parents=True, exist_ok=True)
         except OSError as e:
-            raise StoreError(_os_error(self.root, e, 4096)) from None
+            raise store_error(self.chunks, e, 4096) from None  # the message names self.root
         now = versions(spec.engine)
         if m.get("chunks"):
             # chunks of other versions mixed with new ones would be a sweep that no one set of versions computes
@@ -476,7 +464,7 @@ class Store:
         buf = pa.BufferOutputStream()
         pq.write_table(table, buf)
         data = buf.getvalue().to_pybytes()  # hashed as written: no second read of the file
-        _write_atomic(self.chunks / name, data)
+        write_atomic(self.chunks / name, data, sync=True, error=store_error)
         rec = {
             "file": name,
             "rows": table.num_rows,
@@ -486,13 +474,18 @@ class Store:
             "warnings": dict(warnings or {}),
             "computed_with": computing_versions(m["versions"]),
         }
-        _write_atomic(self.chunks / f"chunk-{chunk_id:06d}.json", json.dumps(rec).encode())
+        write_atomic(self.chunks / f"chunk-{chunk_id:06d}.json", json.dumps(rec).encode(), sync=True, error=store_error)
         (self.chunks / f"chunk-{chunk_id:06d}.failed.json").unlink(missing_ok=True)
         m["chunks"][str(chunk_id)] = rec
         m["failed"].pop(str(chunk_id), None)
 
     def record_failure(self, m: dict, chunk_id: int, error: str) -> None:
-        _write_atomic(self.chunks / f"chunk-{chunk_id:06d}.failed.json", json.dumps({"error": error}).encode())
+        write_atomic(
+            self.chunks / f"chunk-{chunk_id:06d}.failed.json",
+            json.dumps({"error": error}).encode(),
+            sync=True,
+            error=store_error,
+        )
         m["failed"][str(chunk_id)] = error
 
     # ------------------------------------------------------------- reader ---

@@ -19,7 +19,8 @@ from enum import IntEnum
 
 import numpy as np
 
-from crosscheck.checks import ALPHA, BOUNDED, FINITE, MU, THETA, check
+from crosscheck.checks import ALPHA, BOUNDED, FINITE, MU, THETA, check, real, same_shape
+from crosscheck.rod import Rod
 from crosscheck.theory.critical import (
     CriticalValues,
     Mechanism,
@@ -30,8 +31,6 @@ from crosscheck.theory.critical import (
     theta_pm,
     varphi_pm,
 )
-from crosscheck.rod import Rod
-from crosscheck.state import real, same_shape
 
 __all__ = [
     "Mode",

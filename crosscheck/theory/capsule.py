@@ -46,44 +46,8 @@ radius as a parameter (``slipping.slip_rhs(x, mu, alpha, radius=r)``; r = 0
 is the paper's rod): this module adds the capsule's start (C's slip from the
 tip's state), its domain rule and its result.
 
-Time.  ``slip_until_event`` integrates these equations in the desingularised
-time of eq. f, eta_C p_C ds = dt, exactly as ``crosscheck.theory.slipping`` does at A
-(and the same vector field at r = 0).  What it buys: near a JAM, p_C ~
-(t_jam - t)^(1/2) and F_z = -b/p_C ~ (t_jam - t)^(-1/2), so in real time the
-right-hand side is unbounded, an adaptive integrator must shrink its steps
-towards t_jam and the event p_C = 0 is a root with infinite slope; in s the
-field is smooth through p_C = 0, the crossing is transversal and located to
-the integrator's tolerance, and t is an ordinary state.  Measured on a JAM at
-t = 0.285 (r = 0.01, mu = 1.6, tests/test_capsule.py): in s, DOP853 takes 23
-steps at rtol 1e-10 and the event time converges as rtol (error <= 0.12 rtol t
-for rtol 1e-5 ... 1e-11); the same equations in real time take 629 (rtol 1e-6)
-and 1313 (rtol 1e-8) evaluations to land 1e-9 and 5e-11 short of the event,
-and at rtol 1e-10 stop with a step-size underflow before reaching it.  So the
-desingularised time is needed here, as at A.  Near eta_C = 0
-(STICK) the 1/eta_C of varphi_C' is likewise removed.  Event rules, domain
-exits and start rules are those of ``crosscheck.theory.slipping`` (its module
-docstring), judged at C: LIFTOFF b = 0 with p_C > 0, JAM p_C below
--``P_RESOLVED`` with b < 0 (reported at the last crossing of p_C = 0), GB,
-STICK when eta_C falls below ``STICK_SPEED``, SLIP at t_max or when
-varphi_C reaches 0 or -pi or theta comes within ``THETA_MARGIN`` of 0 or
-pi/2.  A start whose varphi_C lies outside (-pi, 0] (r Theta tips C's slip
-across the rod's plane) is outside the paper's domain: SLIP at t = 0 with
-reason "varphi=0" or "varphi=-pi", as a run reaching that boundary would end.
-
-What the offset changes.  Near p = 0 the shift p_C - p_A at one physical state
-is alpha mu r cos theta (sin varphi + sin theta Theta cos^2 varphi / eta) to
-first order (the longer lever, then C's turned slip), so a start within O(r)
-of p = 0 can change between slipping and jamming (tests/test_capsule.py has
-one each way).  Along a run the largest effect is near the end of a slip:
-C's slip angle differs from A's by O(r Theta / eta), large as eta -> 0 (when A
-stops, C still slips at r |Theta| straight across the rod's plane), and runs
-that stick at A jam at C, at varphi_C near -pi/2 where p_C is smallest,
-before A would have stopped.  On 7000 starts of ``crosscheck.studies.grids.random_event_points``
-(seeds 0, 1, 2; mu in [0.3, 6], alpha = 3) at r = 0.01, the outcome at C
-differs from the outcome at A in 1.7 % (0.9 % - 2.2 % by seed); 0.9 % are
-two different events of the paper (mostly STICK at A, JAM at C), the rest
-runs of which one leaves the paper's domain varphi in (-pi, 0] near a stick.
-"""
+How ``slip_until_event`` desingularises time near eta = 0 and what the offset r changes near p = 0 (measured):
+``docs/capsule.md``."""
 
 from __future__ import annotations
 
@@ -92,14 +56,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from crosscheck.theory import analytic
 from crosscheck.checks import ALPHA, BOUNDED, HORIZON, MU, THETA, Interval, check
 from crosscheck.coordinates import tip_velocity, to_generalized
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.theory import slipping
-from crosscheck.theory.slipping import RADIUS, SlipResult, _start_outcome, _state_from
 from crosscheck.state import SlipState
+from crosscheck.theory import analytic, slipping
+from crosscheck.theory.slipping import RADIUS, SlipResult, _start_outcome, _state_from
 from crosscheck.tolerances import SLIP_INTEGRATION
 
 __all__ = ["RADIUS", "CapsuleSlipResult", "b", "p", "contact_slip", "tip_slip", "slip_until_event"]

@@ -49,25 +49,7 @@ in 3-D on the rotation of the slip during the impulse.  For large xi the
 release comes as the overdamped slow mode decays, f ~ d - xi u_n -> 0 with
 u_n ~ d/xi, so e -> 0: the compliant limit tends to the plastic IWC.
 
-Corollary 4.2 jams (p -> 0 with b < 0).  The rigid rod meets p = 0 along
-p ~ (t_jam - t)^(1/2).  Near the jam p is linear in the impulse,
-p ~ -k (P - P_jam), and the three terms of delta'' = -b - p F_n balance at
-t - t_jam ~ eps^(4/5), P - P_jam ~ eps^(2/5), F_n ~ eps^(-2/5) (the damping
-term is smaller by eps^(3/5)); the slip stop therefore lags the rigid jam by
-O(eps^(4/5)) with corrections of relative order eps^(1/5).  The fast
-problem starts on its self-similar solution P = 12/(k (tau* - tau)^2),
-d = sqrt(k/3) P^(3/2), u_n = -k P^2/2.  Along the impulse path d(P) obeys
-dd/dP = -u_n/(d - xi u_n), whose d-derivative u_n/f^2 < 0 makes every
-start attract to that solution: the limit impact (its e) does not depend
-on the details of the eps^(4/5) inner region (a start amplitude off by a
-factor 2 changes e by < 1e-13).
-
-Indeterminate start (p < 0, b > 0).  D* = b/|p| > 0 is the (unstable)
-slipping force.  Starts (D0, D0_t) with x0_t - lambda_2 x0 > 0 (above the
-stable manifold x_t = lambda_2 x of the fixed point) grow into an impact
-without collision; below it the force falls to zero and the tip lifts off.
-``indeterminate_boundary`` gives the boundary's gap rate for a given gap.
-"""
+Corollary 4.2 jams (p -> 0 with b < 0) and indeterminate starts (p < 0, b > 0): ``docs/compliant_limit.md``."""
 
 from __future__ import annotations
 
@@ -77,13 +59,13 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from crosscheck.theory import analytic
 from crosscheck.checks import ALPHA, MU, NONNEGATIVE, POSITIVE, THETA, Interval, check
 from crosscheck.coordinates import tip_velocity, to_generalized
-from crosscheck.theory.impact.darboux_keller import Impact, delassus, impact
 from crosscheck.rod import Rod
-from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
+from crosscheck.theory import analytic
+from crosscheck.theory.impact.darboux_keller import Impact, delassus, impact
+from crosscheck.theory.slipping import slip_until_event
 
 __all__ = [
     "growth_rates",

@@ -20,10 +20,10 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from crosscheck.checks import ALPHA, HORIZON, MU, check, integer
-from crosscheck.theory.critical import mu_P, theta_pm
 from crosscheck.outcome import Outcome
-from crosscheck.theory.slipping import slip_rhs, slip_until_event
 from crosscheck.state import SlipState
+from crosscheck.theory.critical import mu_P, theta_pm
+from crosscheck.theory.slipping import slip_rhs, slip_until_event
 
 __all__ = ["backward_from", "corollary_states"]
 

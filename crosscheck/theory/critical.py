@@ -171,7 +171,7 @@ class CriticalValues:
 
 def critical_values(mu: float, alpha: float) -> CriticalValues:
     """All critical values for friction ``mu`` >= 0 and ``alpha`` > 0 (scalars)."""
-    from crosscheck.state import real_scalar
+    from crosscheck.checks import real_scalar
 
     mu = real_scalar("mu", mu, MU)  # one value: a list or an array is refused in one line, not by float()
     alpha = real_scalar("alpha", alpha, ALPHA)
@@ -202,7 +202,7 @@ def critical_values(mu: float, alpha: float) -> CriticalValues:
 class Mechanism(IntEnum):
     """How the GB manifold deforms as |Psi| grows, section 3.4 (Fig. mechanisms)."""
 
-    I = 1  # noqa: E741  (the paper's name) mu <= mu_P: no paradox
+    I = 1
     II = 2  # mu_P < mu <= mu_L
     III = 3  # mu > mu_L
 

@@ -11,8 +11,8 @@ the discrepancy is shown, never hidden.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 from crosscheck.theory import critical as cr
 

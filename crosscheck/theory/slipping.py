@@ -59,7 +59,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from crosscheck.checks import ALPHA, HORIZON, MU, Interval, check
+from crosscheck.checks import ALPHA, CONTACT_RADIUS, HORIZON, MU, Interval, check
 from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
 from crosscheck.tolerances import GB_REACHED, P_RESOLVED, SLIP_INTEGRATION, STICK_SPEED, THETA_MARGIN
@@ -67,7 +67,7 @@ from crosscheck.tolerances import GB_REACHED, P_RESOLVED, SLIP_INTEGRATION, STIC
 __all__ = ["X_STATE", "RADIUS", "SlipResult", "slip_rhs", "slip_until_event", "slip_outcomes", "integrate"]
 
 #: The contact point's distance r below the tip A, in units of l: a thicker capsule is no longer the paper's slender rod.
-RADIUS = Interval(0.0, 0.5, lo_open=False, hi_open=True)
+RADIUS = CONTACT_RADIUS
 
 #: Order of the desingularised state, eq. x.
 X_STATE = ("eta", "varphi", "psi", "Psi", "theta", "Theta")

@@ -11,13 +11,6 @@ from crosscheck.engines.spec import EngineSpec, Execution, Ladder, ReportPlan
 __all__ = ["ENGINES"]
 
 
-def report_sections():
-    """Bullet's own report sections (imported when the report is built)."""
-    from crosscheck.engines.bullet.sections import azimuth
-
-    return (azimuth.SECTION,)
-
-
 ENGINES = (
     EngineSpec(
         name="bullet",
@@ -67,7 +60,7 @@ ENGINES = (
             maps_n={"quick": 10, "full": 24},
             ladder=True,
             order=50,
-            sections="crosscheck.engines.bullet:report_sections",
+            sections="crosscheck.engines.bullet.sections:sections",
         ),
     ),
 )

@@ -23,37 +23,9 @@ then v_k+1 = v_free + M^-1 J^T lambda and q_k+1 = q_k + dt v_k+1.  That is an
 impulse-based rigid time-stepper (Moreau / Stewart-Trinkle at velocity level,
 like the rigid engine's), hence the tags "rigid" and "time_stepping", and
 ``Options.contact_time`` = ``friction_time`` = 0 (the classifier's rigid
-rules).  What differs from the rigid engine, all measured in
-tests/test_engine_bullet.py:
-
-* no dt dJ v term: the row holds J v = 0 at q_k, so the first step from a
-  touching start decides lift-off on b - Theta^2 sin theta (eq. b minus the
-  centripetal part of the tip's vertical acceleration) and its force is
-  -(b - Theta^2 sin theta) / p_eff (p_eff below).  Afterwards the position step
-  leaves the gap at ~ sin theta (dt Theta)^2 / 2 and the speculative row closes
-  it, which puts the missing term back: from the third step on, lift-off is
-  b >= 0 and the force -b/p_eff, up to O(dt);
-* the friction direction: PGS updates the two friction rows each by its own
-  diagonal of the Delassus operator D and then projects the pair radially
-  onto the disk, so at its fixed point the friction is opposite
-  diag(D)^-1 u_t, u_t the end-of-step slip, not opposite u_t: Coulomb's
-  magnitude |F_t| = mu F_n exactly, but a direction skewed from -u_t wherever
-  D_xx != D_yy in the world axes (1-26 degrees on 8 random slipping states
-  at alpha = 3, 3.7 degrees on the state theta = 1, varphi = -1.9,
-  Theta = Psi = 0, mu = 0.5).  The normal force is then -b/p_eff with the engine's
-  own friction (the classifier's p_eff), not -b/p;
-* the solve itself: PGS sweeps the normal row, then the friction pair, until
-  no row's velocity changes by ``Options.solver_tolerance``.  Below mu = 1 it
-  gets there in ~36 sweeps; at mu >= 1 it misses the tolerance within 50
-  sweeps in 15-27 % of the contact steps of random slipping states (measured
-  on 150 states of ``random_event_points``, seed 11, horizon 1: 0.8 % of
-  the contact steps at mu < 1, 15 % at [1, 4/3), 23 % at [4/3, 2), 27 % above),
-  mostly while slipping with p_C > 0.2.  Part of it is slow convergence
-  (a step that needs 52 sweeps), part a cycle: on one state (mu = 2.44) the
-  iterates alternate between a normal impulse of 0.02 m g and one of 11 m g
-  at even and odd sweeps, for ever, so the parity of ``solver_iterations``
-  picks the impulse and the capsule may sink (2.2e-4 l at 50 sweeps).
-  ``Run.solver`` counts such steps (``unconverged_steps``, ``max_residual``).
+rules).  What differs from the rigid engine (no dt dJ v term, the friction
+direction of two separately updated rows, ...), all measured in
+tests/test_engine_bullet.py, is listed in ``docs/bullet_engine.md``.
 
 Row k of the record is the state after k steps (t_k = k timestep) with the
 contact force of step k -> k+1 (its impulse / dt, as Bullet reports it in
@@ -75,8 +47,8 @@ import numpy as np
 
 from crosscheck.checks import Interval
 from crosscheck.coordinates import to_generalized
-from crosscheck.engines.adapter import record_from_chain
 from crosscheck.engines import get
+from crosscheck.engines.adapter import record_from_chain
 from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, run_inputs, sweep_by_simulate
 from crosscheck.engines.bullet.model import Raw, world
 from crosscheck.engines.bullet.options import MU_MAX, Options
@@ -127,7 +99,13 @@ def record_from_raw(raw: Raw, rod: Rod, options: Options) -> Record:
     """The scaled, world-frame ``Record`` of a rollout (row k: state k and step k -> k+1; the shared conversion
     ``crosscheck.engines.adapter.record_from_chain``, tip acceleration (v_A,k+1 - v_A,k) / dt)."""
     return record_from_chain(
-        rod, raw.q, raw.v, raw.force, raw.points > 0, timestep=options.timestep, radius=options.radius,
+        rod,
+        raw.q,
+        raw.v,
+        raw.force,
+        raw.points > 0,
+        timestep=options.timestep,
+        radius=options.radius,
         computed=raw.computed,
     )
 

@@ -25,41 +25,8 @@ C = A - r K.  Free dynamics: one Bullet step is v' = v + dt a(q, v),
 q' = q + dt v' with a the rod's exact acceleration (eqs. rotode, linode2;
 measured to 1.6e-13 relative over random states, tests/test_engine_bullet.py).
 
-Settings, each because Bullet's default is wrong for this problem:
-
-* friction: Bullet's contact friction is the product of the two bodies'
-  (clamped to 10): the plane has 1 and the rod mu;
-* damping: btMultiBody has linear and angular damping 0.04 by default: 0;
-  joint damping 0 (``createMultiBody`` already has it);
-* joint motors: every joint gets a velocity motor; ``VELOCITY_CONTROL``
-  with force 0 turns them off;
-* velocity clamp: btMultiBody clamps every joint velocity to 100 (m/s or
-  rad/s) after each constraint impulse: ``maxJointVelocity`` 1e30;
-* sleeping: off (a slow rod would otherwise freeze);
-* restitution 0 (both bodies; their product is Bullet's), no rolling or
-  spinning friction (the paper's point contact);
-* ``contactSlop`` 0: pybullet's 1e-5 m makes the normal row aim at a
-  penetration of 1e-5 m instead of touching;
-* ``solverResidualThreshold``: ``Options.solver_tolerance`` (pybullet's
-  1e-7 (m/s)^2 stops PGS early);
-* ``enableConeFriction`` from ``Options.cone``; ``numSolverIterations``,
-  ``contactERP``, ``contactBreakingThreshold`` from the options; the
-  solver is Bullet's default for multibodies (btMultiBodyConstraintSolver,
-  sequential impulses = PGS).  ``useSplitImpulse`` is not set: the multibody
-  solver ignores it (its split branch in
-  ``btMultiBodyConstraintSolver::setupMultiBodyContactConstraint`` is
-  commented out), so a penetration is removed through the velocity by ERP.
-
-Reset.  A run starts from a world with no contact point: the rod is moved
-far above the plane and Bullet's collision detection run once, which drops
-the old points (their distance exceeds the margin); then the start state is
-set.  (Defensive: in the cases tried, a stale point was in any case replaced
-by the new start's point or dropped by Bullet's own drift rule.)  The
-multibody solver warm-starts only with SOLVER_USE_ARTICULATED_WARMSTARTING,
-which the server sets only when asked and pybullet's
-``setPhysicsEngineParameter`` has no keyword for, so every step's PGS starts
-from zero and nothing else of a previous run carries over: a state gives the
-same record bit for bit after any other run (tests/test_engine_bullet.py).
+Settings, each because Bullet's default is wrong for this problem (friction,
+and the others), and the reset between runs: ``docs/bullet_model.md``.
 
 Solver analytics (``reportSolverAnalytics``) are on: ``stepSimulation``
 then returns the sweeps PGS took and its last residual, which

@@ -2,19 +2,17 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
-from typing import Any
+from dataclasses import dataclass
 
 import numpy as np
 
-from crosscheck.checks import NONNEGATIVE, POSITIVE, UNIT, Interval
-from crosscheck.state import check_timestep, real_scalar
-from crosscheck.engines.base import options_from_kwargs
+from crosscheck.checks import CAPSULE_RADIUS, NONNEGATIVE, POSITIVE, UNIT, check_timestep, real_scalar
+from crosscheck.engines.options import EngineOptions
 
 __all__ = ["Options", "RADIUS", "MU_MAX", "FRICTION_AXES"]
 
 #: The capsule radius r / l (as MuJoCo's: at r >= l/2 the end cap reaches the centre of mass).
-RADIUS = Interval(0.0, 0.5, lo_open=True, hi_open=True)
+RADIUS = CAPSULE_RADIUS
 
 #: Bullet clamps the combined friction coefficient (the product of the two bodies' frictions) to
 #: [-10, 10] (``btManifoldResult::calculateCombinedFriction``, MAX_FRICTION): a larger mu would be run
@@ -30,7 +28,7 @@ MAX_ITERATIONS = 100_000
 
 
 @dataclass(frozen=True)
-class Options:
+class Options(EngineOptions):
     """Bullet parameters of a run, in the paper's scaled units.
 
     Attributes:
@@ -98,10 +96,7 @@ class Options:
         if self.friction_axes not in FRICTION_AXES:
             raise ValueError(f"friction_axes must be one of {', '.join(FRICTION_AXES)}; got {self.friction_axes!r}")
 
-    @classmethod
-    def from_kwargs(cls, options: dict[str, Any]) -> Options:
-        """``Options(**options)`` with an error naming any unknown option."""
-        return options_from_kwargs(cls, options, "bullet")
+    LABEL = "Bullet"
 
     @property
     def contact_time(self) -> float:
@@ -119,6 +114,3 @@ class Options:
     def friction_time(self) -> float:
         """0: the friction rows have no position error (no friction anchors), so a stuck contact does not creep."""
         return 0.0
-
-    def as_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self)}

@@ -20,12 +20,12 @@ manifold's start, ``slow_manifold``), ``run`` (``simulate``: the engine's
 ``Run``).
 """
 
-from crosscheck.engines.spec import EngineSpec, Execution, ReportPlan
-from crosscheck.engines.compliant.trajectory import EVENT_KINDS, Event, Trajectory, integrate
 from crosscheck.engines.compliant.laws import LAWS, NormalLaw
-from crosscheck.engines.compliant.model import Dynamics
 from crosscheck.engines.compliant.manifold import rigid_normal_force, slow_manifold
+from crosscheck.engines.compliant.model import Dynamics
 from crosscheck.engines.compliant.run import Options, simulate, sweep
+from crosscheck.engines.compliant.trajectory import EVENT_KINDS, Event, Trajectory, integrate
+from crosscheck.engines.spec import EngineSpec, Execution, ReportPlan
 
 __all__ = [
     "ENGINES",
@@ -44,19 +44,12 @@ __all__ = [
 ]
 
 
-def report_sections():
-    """The compliant rod's own report section (imported when the report is built)."""
-    from crosscheck.engines.compliant.sections import limit
-
-    return (limit.SECTION,)
-
-
 ENGINES = (
     EngineSpec(
         name="compliant",
         engine="crosscheck.engines.compliant.run",
         tags={"compliant", "continuous"},
         execution=Execution(one_core={"workers": 1}),
-        report=ReportPlan(sections="crosscheck.engines.compliant:report_sections", order=30),
+        report=ReportPlan(sections="crosscheck.engines.compliant.sections:sections", order=30),
     ),
 )

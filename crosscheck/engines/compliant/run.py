@@ -42,18 +42,19 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from crosscheck.checks import HORIZON, POSITIVE, check
-from crosscheck.engines.compliant import laws as _laws
-from crosscheck.engines.compliant.trajectory import ATOL, METHODS, RADIUS, RTOL, integrate
-from crosscheck.engines.compliant.model import FREE, SLIP, STICK, q_from_y
+from crosscheck.checks import HORIZON, check, check_timestep, check_timestep_within
 from crosscheck.coordinates import tip_position, tip_velocity
 from crosscheck.engines import get
-from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, options_from_kwargs, sweep_by_simulate
+from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds, classify
+from crosscheck.engines.compliant import laws as _laws
+from crosscheck.engines.compliant.model import FREE, SLIP, STICK, q_from_y
+from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION
+from crosscheck.engines.compliant.trajectory import ATOL, METHODS, RADIUS, RTOL, integrate
+from crosscheck.engines.options import EngineOptions
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState, check_timestep, check_timestep_within
-from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION
+from crosscheck.state import SlipState
 
 __all__ = ["Options", "SolverStats", "simulate", "sweep", "record_of", "NAME"]
 
@@ -65,7 +66,7 @@ ROW_BYTES = 1200
 
 
 @dataclass(frozen=True)
-class Options:
+class Options(EngineOptions):
     """Parameters of the compliant rod, in the paper's scaled units.
 
     Attributes:
@@ -100,9 +101,7 @@ class Options:
         if self.method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}; got {self.method!r}")
 
-    @classmethod
-    def from_kwargs(cls, options: dict) -> "Options":
-        return options_from_kwargs(cls, options, NAME)
+    LABEL = NAME  # the registry's label of this engine is its name
 
     @property
     def contact_time(self) -> float:
@@ -119,9 +118,6 @@ class Options:
     def friction_time(self) -> float:
         """The stick phase is exact (no creep): 0."""
         return 0.0
-
-    def as_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
 @dataclass(frozen=True)
@@ -146,7 +142,7 @@ class SolverStats:
     end_time: float
 
     @classmethod
-    def of(cls, traj) -> "SolverStats":
+    def of(cls, traj) -> SolverStats:
         kinds = [e.kind for e in traj.events]
         return cls(
             steps=len(traj.t),

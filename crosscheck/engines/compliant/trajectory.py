@@ -45,22 +45,7 @@ solver_failure   the solver failed (step size underflow): the run ends;
                  mode, C's slip speed and gap there.
 ===============  ==========================================================
 
-Radau or BDF.  Both are scipy's stiff methods; measured on 12 random
-slipping states of ``benchmarks/bench_compliant.py`` (mu = 0.5, eps = 1e-2,
-to the rigid flow's first event), against Radau at rtol 1e-11 / atol 1e-13:
-at the default tolerances (``COMPLIANT_INTEGRATION``) Radau's median error
-of the slow variables is 6e-12 (largest 4e-7), BDF's 4e-8 (largest 2e-3) in
-0.67x Radau's CPU time; BDF at 100x tighter tolerances is still at 9e-10
-(largest 4e-5) and takes 1.3x Radau's time.  Radau (order 5, L-stable, one
-step per collocation) is the default; BDF (order <= 5 multistep, restarted
-at first order after every event) loses its accuracy at the many mode
-switches.
-
-Cost: 90-115 ms CPU per state at eps = 1e-1 to 1e-3 (median, 0.5 time units),
-about 40x ``crosscheck.theory.slipping.slip_until_event`` on the same states; the
-cost hardly depends on eps (the implicit method steps over the fast contact
-time scale once its transient has decayed).
-"""
+The choice of Radau or BDF and the cost per state, measured: ``docs/compliant_trajectory.md``."""
 
 from __future__ import annotations
 
@@ -70,7 +55,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from crosscheck.checks import HORIZON, MU, RATE, Interval, check
+from crosscheck.checks import CONTACT_RADIUS, HORIZON, MU, RATE, Interval, check
+from crosscheck.coordinates import paper_to_qv, qv_to_paper
 from crosscheck.engines.compliant import laws as _laws
 from crosscheck.engines.compliant.model import (
     FREE,
@@ -82,11 +68,10 @@ from crosscheck.engines.compliant.model import (
     restart_direction,
     y_from_qv,
 )
-from crosscheck.coordinates import paper_to_qv, qv_to_paper
+from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION, SLIP_FLOOR, SLIP_STOP
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 from crosscheck.tolerances import THETA_MARGIN
-from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION, SLIP_FLOOR, SLIP_STOP
 
 __all__ = [
     "Event",
@@ -102,7 +87,7 @@ __all__ = [
 ]
 
 #: Capsule radius r / l: 0 is the tip A itself; at r >= l/2 the end cap reaches the centre of mass.
-RADIUS = Interval(0.0, 0.5, lo_open=False, hi_open=True)
+RADIUS = CONTACT_RADIUS
 #: Initial gap of the contact point [l]: a contact start has C on or in the plane, and a penetration
 #: deeper than l (the tip-to-centre distance) is no contact of this rod.
 GAP = Interval(-1.0, 0.0, lo_open=False, hi_open=False)

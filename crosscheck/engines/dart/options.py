@@ -2,21 +2,19 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
-from typing import Any
+from dataclasses import dataclass
 
-from crosscheck.checks import Interval
-from crosscheck.engines.base import options_from_kwargs
-from crosscheck.state import check_timestep, real_scalar
+from crosscheck.checks import CAPSULE_RADIUS, check_timestep, real_scalar
+from crosscheck.engines.options import EngineOptions
 
 __all__ = ["Options", "RADIUS"]
 
 #: The capsule radius r / l (as MuJoCo's, Bullet's and PhysX's).
-RADIUS = Interval(0.0, 0.5, lo_open=True, hi_open=True)
+RADIUS = CAPSULE_RADIUS
 
 
 @dataclass(frozen=True)
-class Options:
+class Options(EngineOptions):
     """DART parameters of a run, in the paper's scaled units.
 
     Attributes:
@@ -39,10 +37,7 @@ class Options:
         object.__setattr__(self, "timestep", check_timestep(self.timestep))
         object.__setattr__(self, "radius", real_scalar("radius", self.radius, RADIUS))
 
-    @classmethod
-    def from_kwargs(cls, options: dict[str, Any]) -> Options:
-        """``Options(**options)`` with an error naming any unknown option."""
-        return options_from_kwargs(cls, options, "dart")
+    LABEL = "DART"
 
     @property
     def contact_time(self) -> float:
@@ -53,6 +48,3 @@ class Options:
     def friction_time(self) -> float:
         """0: DART's friction rows have no position error, so a stuck contact does not creep."""
         return 0.0
-
-    def as_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self)}

@@ -17,6 +17,7 @@ pydrake), ``model`` the diagram and ``engine`` the runs.  Importing this
 package does not import pydrake either.
 """
 
+from crosscheck.engines.drake.options import LABELS
 from crosscheck.engines.spec import EngineSpec, Execution, Ladder, ReportPlan
 
 __all__ = ["ENGINES"]
@@ -29,13 +30,6 @@ _TAGS = {
     "tamsi": {"compliant", "time_stepping"},
 }
 
-_LABELS = {
-    "continuous": "Drake continuous",
-    "sap": "Drake SAP",
-    "similar": "Drake Similar",
-    "lagged": "Drake Lagged",
-    "tamsi": "Drake TAMSI",
-}
 
 #: Report settings by cost (python benchmarks/bench_drake.py --every 3: 50 of the quick maps' slipping starts, one
 #: core, while other jobs shared the 2 cores): the quick map section runs 3 maps of 10 x 10 starts at horizon 2, half
@@ -115,6 +109,7 @@ _LADDER_CONTINUOUS = {
     "friction law": "engine",
 }
 
+
 def _ladder(a: str) -> Ladder:
     rungs = _LADDER_CONTINUOUS if a == "continuous" else _LADDER_RELAXED if "relaxed" in _TAGS[a] else _LADDER
     return Ladder(
@@ -127,7 +122,7 @@ ENGINES = tuple(
     EngineSpec(
         name=f"drake_{a}",
         engine="crosscheck.engines.drake.engine",
-        label=_LABELS[a],
+        label=LABELS[a],
         libraries=("drake",),
         install="crosscheck[drake]",
         defaults={"approximation": a},

@@ -68,6 +68,7 @@ import numpy as np
 from pydrake.systems.analysis import ResetIntegratorFromFlags, Simulator
 
 from crosscheck.coordinates import to_generalized
+from crosscheck.engines.adapter import record_from_chain
 from crosscheck.engines.base import (
     Run,
     SweepResult,
@@ -76,7 +77,6 @@ from crosscheck.engines.base import (
     sweep_by_simulate,
 )
 from crosscheck.engines.classifier import FIRST_CHECK, Thresholds, classify, first_event_final
-from crosscheck.engines.adapter import record_from_chain
 from crosscheck.engines.drake.model import Model, model, new_context
 from crosscheck.engines.drake.options import APPROXIMATIONS, Options, engine_name
 from crosscheck.engines.record import Record
@@ -301,8 +301,15 @@ def record(rod: Rod, raw: Raw, opts: Options) -> Record:
     with the plant's generalised accelerations: tip_acc = J v' + J' v)."""
     n = len(raw.active)
     return record_from_chain(
-        rod, raw.x[:n, :5], raw.x[:n, 5:], raw.force, raw.active, timestep=opts.timestep, radius=opts.radius,
-        vdot=raw.vdot, computed=raw.computed,
+        rod,
+        raw.x[:n, :5],
+        raw.x[:n, 5:],
+        raw.force,
+        raw.active,
+        timestep=opts.timestep,
+        radius=opts.radius,
+        vdot=raw.vdot,
+        computed=raw.computed,
     )
 
 

@@ -17,12 +17,11 @@ for a rod of mass m, tip-to-centre length l, gravity g and omega = sqrt(g / l):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any
 
-from crosscheck.checks import Interval
-from crosscheck.state import check_timestep, real_scalar
-from crosscheck.engines.base import options_from_kwargs
+from crosscheck.checks import CAPSULE_RADIUS, Interval, check_timestep, real_scalar
+from crosscheck.engines.options import EngineOptions
 
 __all__ = [
     "ACCURACY",
@@ -67,7 +66,7 @@ INTEGRATORS = (
 # Ranges.  Each is where the number still means what its name says for the paper's rod (forces O(1) m g,
 # speeds O(1) l omega, times O(1) / omega):
 #: r / l: as MuJoCo's capsule (at r >= l/2 the end cap reaches the centre of mass).
-RADIUS = Interval(0.0, 0.5, lo_open=True, hi_open=True)
+RADIUS = CAPSULE_RADIUS
 #: k l / (m g): at 1e2 the weight compresses the contact by 0.01 l, the default radius (a softer contact
 #: sinks the tip A itself below the plane); at 1e10 the contact time 1/sqrt(k) is 1e-5, and the
 #: continuous integrator needs ~1e5 steps per unit time.
@@ -96,6 +95,16 @@ SAP_SIGMA = 1e-3
 CREEP_MARGIN = 2.5
 
 
+#: How tables and messages name the engine of each approximation.
+LABELS = {
+    "continuous": "Drake continuous",
+    "sap": "Drake SAP",
+    "similar": "Drake Similar",
+    "lagged": "Drake Lagged",
+    "tamsi": "Drake TAMSI",
+}
+
+
 def engine_name(approximation: str) -> str:
     """The registered name of an approximation's engine: ``drake_<approximation>``."""
     return f"drake_{approximation}"
@@ -106,7 +115,7 @@ def _check_number(name: str, value, interval: Interval) -> float:
 
 
 @dataclass(frozen=True)
-class Options:
+class Options(EngineOptions):
     """Drake parameters of a run, in the paper's scaled units (module docstring: their SI values).
 
     Attributes:
@@ -156,7 +165,10 @@ class Options:
             raise ValueError(f"approximation must be one of {', '.join(APPROXIMATIONS)}; got {self.approximation!r}")
         if self.integrator not in INTEGRATORS:
             raise ValueError(f"integrator must be one of {', '.join(INTEGRATORS)}; got {self.integrator!r}")
-        set_ = lambda name, value: object.__setattr__(self, name, value)
+
+        def set_(name, value):
+            object.__setattr__(self, name, value)
+
         set_("timestep", check_timestep(self.timestep))
         set_("radius", _check_number("radius", self.radius, RADIUS))
         set_("stiffness", _check_number("stiffness", self.stiffness, STIFFNESS))
@@ -172,9 +184,14 @@ class Options:
         )
 
     @classmethod
-    def from_kwargs(cls, options: dict[str, Any]) -> Options:
-        """``Options(**options)`` with an error naming any unknown option and the engine of the options' approximation."""
-        return options_from_kwargs(cls, options, engine_name(options.get("approximation", cls.approximation)))
+    def label_of(cls, options: dict[str, Any]) -> str:
+        """The label of the engine of the options' approximation ("Drake SAP")."""
+        approximation = options.get("approximation", cls.approximation)
+        return (
+            LABELS.get(approximation, engine_name(approximation))
+            if isinstance(approximation, str)
+            else engine_name(approximation)
+        )
 
     @property
     def name(self) -> str:
@@ -230,6 +247,3 @@ class Options:
         if self.approximation == "sap":
             return CREEP_MARGIN * SAP_SIGMA * self.timestep
         return CREEP_MARGIN * self.stiction_tolerance
-
-    def as_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self)}

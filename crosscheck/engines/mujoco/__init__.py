@@ -19,32 +19,6 @@ from crosscheck.engines.spec import EngineSpec, Execution, Ladder, ReportPlan, V
 __all__ = ["ENGINES"]
 
 
-def checks(rod, n_states, rng):
-    """MuJoCo's contact force at one instant against the rigid tip acceleration (``validate``'s first check)."""
-    from crosscheck.compare import error_stat
-    from crosscheck.engines.mujoco.studies.contact import contact_acceleration
-
-    ca = contact_acceleration(rod, min(n_states, 100), rng)
-    where = {k: ca[k] for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi", "mu")}
-    return [
-        error_stat(
-            "tip acceleration with contact",
-            ca["got"] / ca["scale"][:, None],
-            ca["want"] / ca["scale"][:, None],
-            mujoco_tol.MUJOCO_CONTACT_ACCELERATION,
-            where,
-        )
-    ]
-
-
-def report_sections():
-    """MuJoCo's own report sections (imported when the report is built)."""
-    from crosscheck.engines.mujoco.sections import friction_skew, ladder, liftoff, trajectories, validate
-
-    # the ladder last: it reads the saved results of MuJoCo's map section
-    return (liftoff.SECTION, trajectories.SECTION, validate.SECTION, friction_skew.SECTION, ladder.SECTION)
-
-
 ENGINES = (
     EngineSpec(
         name="mujoco",
@@ -61,7 +35,7 @@ ENGINES = (
                 "no_jam_below_mu_P": mujoco_tol.MUJOCO_NO_JAM_BELOW_MU_P,
                 "corollary_stop": mujoco_tol.MUJOCO_COROLLARY_STOP,
             },
-            checks="crosscheck.engines.mujoco:checks",
+            checks="crosscheck.engines.mujoco.studies.contact:checks",
         ),
         # the models between the theory and MuJoCo: its capsule's contact point, the compliant rod with MuJoCo's matched
         # Kelvin-Voigt law, MuJoCo's own law in continuous time without and with its normal force's feed-forward, MuJoCo
@@ -92,7 +66,7 @@ ENGINES = (
                     for dt, tc in ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02), (1e-4, 0.02), (1e-4, 0.006))
                 ],
             },
-            sections="crosscheck.engines.mujoco:report_sections",
+            sections="crosscheck.engines.mujoco.sections:sections",
             onset=False,
             order=10,
             ladder_section="ladder",

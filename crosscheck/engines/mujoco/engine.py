@@ -31,9 +31,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 from mujoco import rollout
-from crosscheck.progress import bar
 
-from crosscheck.checks import MU, POSITIVE
+from crosscheck.checks import MU, POSITIVE, check_timestep_within, real, real_scalar
 from crosscheck.engines.base import (
     SERIES,
     STATE_KEYS,
@@ -47,10 +46,11 @@ from crosscheck.engines.base import (
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.mujoco import rollouts
 from crosscheck.engines.mujoco import warning_counts as mujoco_warnings
-from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import SensorLayout, initial_state, model, record_from_sensordata
+from crosscheck.engines.mujoco.options import Options
+from crosscheck.progress import bar
 from crosscheck.rod import Rod
-from crosscheck.state import SlipState, check_timestep_within, real, real_scalar
+from crosscheck.state import SlipState
 
 __all__ = ["NAME", "Options", "Batch", "simulate", "sweep", "CHUNK_BYTES"]
 
@@ -107,7 +107,7 @@ class Batch:
     @classmethod
     def build(
         cls, rod: Rod, states: Sequence[SlipState], mu, *, horizon: float, options: Options, nthread: int = 2
-    ) -> "Batch":
+    ) -> Batch:
         """Validate the inputs and compile one model per distinct mu (the states are placed by ``starts``)."""
         states = check_states(states)
         B = len(states)

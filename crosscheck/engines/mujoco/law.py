@@ -66,8 +66,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 from crosscheck.checks import FINITE, MU, POSITIVE, check
-from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import axial_inertia
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.rod import Rod
 
 __all__ = [
@@ -84,7 +84,6 @@ __all__ = [
     "contact_force",
     "accelerations",
     "skew_angle",
-    "simulate",
     "MINIMP",
     "MAXIMP",
     "MINVAL",
@@ -125,9 +124,7 @@ class Parameters:
     feed_forward: bool = True
 
     @classmethod
-    def of(
-        cls, rod: Rod, options: Options, *, impratio: float | None = None, feed_forward: bool = True
-    ) -> "Parameters":
+    def of(cls, rod: Rod, options: Options, *, impratio: float | None = None, feed_forward: bool = True) -> Parameters:
         """Convert scaled ``Options`` as ``crosscheck.engines.mujoco.model.build_model`` does (impratio: the options' unless given;
         ``feed_forward``: as the attribute)."""
         if not isinstance(options, Options):
@@ -462,10 +459,3 @@ def skew_angle(slip, accel, damping) -> np.ndarray:
     w = u + np.asarray(accel, dtype=float) / np.asarray(damping, dtype=float)[..., None]
     ang = np.arctan2(w[..., 1], w[..., 0]) - np.arctan2(u[..., 1], u[..., 0])
     return np.angle(np.exp(1j * ang))
-
-
-def simulate(rod: Rod, state, mu: float, *, horizon: float, **options):
-    """The rod under MuJoCo's contact law with no time discretisation: see ``crosscheck.engines.mujoco.ode.simulate``."""
-    from crosscheck.engines.mujoco.ode import simulate as _simulate
-
-    return _simulate(rod, state, mu, horizon=horizon, **options)

@@ -235,7 +235,7 @@ class SensorLayout:
     clock: int
 
     @classmethod
-    def from_model(cls, model: mujoco.MjModel) -> "SensorLayout":
+    def from_model(cls, model: mujoco.MjModel) -> SensorLayout:
         def adr(name: str, dim: int) -> int:
             try:
                 s = model.sensor(name)

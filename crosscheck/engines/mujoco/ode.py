@@ -48,10 +48,11 @@ from scipy.integrate import solve_ivp
 from crosscheck.checks import MU, POSITIVE, Interval, check
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines import get
-from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, options_from_kwargs, sweep_by_simulate
+from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds, classify
-from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.law import Parameters, accelerations, contact_frame, smooth_accelerations
+from crosscheck.engines.mujoco.options import Options
+from crosscheck.engines.options import options_from_kwargs
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState, check_timestep_within
@@ -60,6 +61,8 @@ __all__ = ["NAME", "Trajectory", "integrate", "record", "simulate", "sweep", "RT
 
 #: The engine's registry name.
 NAME = "mujoco_law"
+#: How messages name this engine.
+LABEL = "MuJoCo's law in continuous time"
 
 #: DOP853's relative tolerance; atol is RTOL times the state's scale (l, l omega, 1 rad, omega).
 RTOL = 1e-10
@@ -360,7 +363,7 @@ def simulate(
         raise ValueError(f"state must be a SlipState; got {type(state).__name__}")
     state.check_start()
     horizon = float(check("horizon", horizon, POSITIVE))
-    opts = options_from_kwargs(Options, options, NAME)  # the options are MuJoCo's; the message names this engine
+    opts = options_from_kwargs(Options, options, LABEL)  # the options are MuJoCo's; the message names this engine
     if opts.model_file is not None:
         raise ValueError(
             f"model_file must be None for the mujoco_law engine (its law is rod.xml's); got {opts.model_file!r}"

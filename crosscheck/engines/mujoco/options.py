@@ -3,21 +3,19 @@
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, fields
-from typing import Any
+from dataclasses import dataclass
 
-from crosscheck.checks import FINITE, NONNEGATIVE, POSITIVE, Interval
-from crosscheck.state import check_timestep, real, real_scalar
-from crosscheck.engines.base import options_from_kwargs
+from crosscheck.checks import CAPSULE_RADIUS, FINITE, NONNEGATIVE, POSITIVE, check_timestep, real, real_scalar
+from crosscheck.engines.options import EngineOptions
 
 __all__ = ["Options", "RADIUS"]
 
 #: The capsule radius r / l (see Options.radius).
-RADIUS = Interval(0.0, 0.5, lo_open=True, hi_open=True)
+RADIUS = CAPSULE_RADIUS
 
 
 @dataclass(frozen=True)
-class Options:
+class Options(EngineOptions):
     """MuJoCo parameters of a run, in the paper's scaled units.
 
     Attributes:
@@ -93,10 +91,7 @@ class Options:
         if self.model_file is not None:
             object.__setattr__(self, "model_file", os.fspath(self.model_file))
 
-    @classmethod
-    def from_kwargs(cls, options: dict[str, Any]) -> "Options":
-        """``Options(**options)`` with an error naming any unknown option."""
-        return options_from_kwargs(cls, options, "MuJoCo")
+    LABEL = "MuJoCo"
 
     @property
     def contact_time(self) -> float:
@@ -107,6 +102,3 @@ class Options:
     def friction_time(self) -> float:
         """Time constant of the friction directions (a stuck contact creeps at ~0.4 of it)."""
         return self.friction_timeconst if self.friction_timeconst is not None else self.timeconst
-
-    def as_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self)}

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import importlib.util
 
+from crosscheck.engines.newton.options import LABELS as _LABELS
 from crosscheck.engines.spec import EngineSpec, Execution, ReportPlan
 
 __all__ = ["ENGINES", "AVAILABLE"]
@@ -27,7 +28,6 @@ __all__ = ["ENGINES", "AVAILABLE"]
 #: Whether Newton, Warp and MuJoCo Warp are installed (the extra ``crosscheck[newton]``).
 AVAILABLE = all(importlib.util.find_spec(m) is not None for m in ("newton", "warp", "mujoco_warp"))
 
-_LABELS = {"mujoco": "Newton MuJoCo Warp", "xpbd": "Newton XPBD", "featherstone": "Newton Featherstone"}
 
 _TAGS = {
     # MuJoCo's soft, convex contact (as the mujoco engine's tags)
@@ -56,13 +56,6 @@ _CONVERGENCE = {
 _MODULES = {"mujoco": "mujoco_warp", "xpbd": "xpbd", "featherstone": "featherstone"}
 
 
-def report_sections():
-    """Newton's own report section (imported when the report is built)."""
-    from crosscheck.engines.newton.sections import mujoco_c
-
-    return (mujoco_c.SECTION,)
-
-
 def _engine(solver: str, order: int) -> EngineSpec:
     return EngineSpec(
         name=f"newton_{solver}",
@@ -78,7 +71,7 @@ def _engine(solver: str, order: int) -> EngineSpec:
             maps_n={"quick": 4, "full": 8},
             convergence_n={"quick": 3, "full": 4},
             order=order,
-            sections="crosscheck.engines.newton:report_sections" if solver == "mujoco" else None,
+            sections="crosscheck.engines.newton.sections:sections" if solver == "mujoco" else None,
         ),
         execution=Execution(sweep_chunk=256),
     )

@@ -29,10 +29,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from crosscheck.checks import POSITIVE
+from crosscheck.coordinates import tip_position, tip_velocity, to_generalized
 from crosscheck.engines.base import (
-    SERIES,
     STATE_KEYS,
-    SUMMARY,
     Run,
     SweepResult,
     check_states,
@@ -41,8 +41,6 @@ from crosscheck.engines.base import (
     summaries,
     sweep_mu_workers,
 )
-from crosscheck.checks import POSITIVE
-from crosscheck.coordinates import tip_position, tip_velocity, to_generalized
 from crosscheck.engines.classifier import Thresholds, classify
 from crosscheck.engines.newton import model as newton_model
 from crosscheck.engines.newton.options import Options
@@ -165,8 +163,10 @@ def _rollouts(rod: Rod, states: list, mu: np.ndarray, n: int, opts: Options, pro
         record = record_from_raw(raw, rod, opts, q0[a : a + m], v0[a : a + m])
         records.append(record)
         healths.append(_health(raw, record, rod))
-    record = records[0] if len(records) == 1 else Record(
-        **{f: np.concatenate([getattr(r, f) for r in records]) for f in Record.__dataclass_fields__}
+    record = (
+        records[0]
+        if len(records) == 1
+        else Record(**{f: np.concatenate([getattr(r, f) for r in records]) for f in Record.__dataclass_fields__})
     )
     health = {k: np.concatenate([h[k] for h in healths]) for k in healths[0]}
     return record, health

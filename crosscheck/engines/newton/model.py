@@ -38,7 +38,6 @@ from crosscheck.engines.newton.options import init_warp
 
 wp = init_warp()
 import newton  # noqa: E402  (after warp's configuration)
-
 from newton._src.solvers.mujoco.constants import SOLREF_MODE_RAW  # noqa: E402  (not re-exported by newton)
 
 from crosscheck.rod import Rod  # noqa: E402

@@ -6,16 +6,29 @@ from __future__ import annotations
 import math
 import os
 import sys
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from crosscheck.checks import NONNEGATIVE, POSITIVE, UNIT, Interval
-from crosscheck.engines.base import options_from_kwargs
+from crosscheck.engines.options import EngineOptions
 from crosscheck.state import check_timestep, real, real_scalar
 
-__all__ = ["Options", "MuJoCoWarpOptions", "XPBDOptions", "FeatherstoneOptions", "SOLVERS", "DEVICES", "RADIUS", "CREEP_MARGIN", "MAX_ITERATIONS"]
+#: How tables and messages name the engine of each solver.
+LABELS = {"mujoco": "Newton MuJoCo Warp", "xpbd": "Newton XPBD", "featherstone": "Newton Featherstone"}
+
+__all__ = [
+    "Options",
+    "MuJoCoWarpOptions",
+    "XPBDOptions",
+    "FeatherstoneOptions",
+    "SOLVERS",
+    "DEVICES",
+    "RADIUS",
+    "CREEP_MARGIN",
+    "MAX_ITERATIONS",
+]
 
 #: The Newton solvers crosscheck runs, by ``Options.solver``: Newton's class of each.
 SOLVERS = {
@@ -67,7 +80,7 @@ def _cuda_present() -> bool:
 
 
 @dataclass(frozen=True)
-class Options:
+class Options(EngineOptions):
     """Parameters of a Newton run, in the paper's scaled units (one class for every solver; each reads its own).
 
     Attributes:
@@ -148,9 +161,10 @@ class Options:
         set_(self, "solimp", tuple(float(x) for x in s))
 
     @classmethod
-    def from_kwargs(cls, options: dict[str, Any]) -> "Options":
-        """``Options(**options)`` with an error naming any unknown option."""
-        return options_from_kwargs(cls, options, f"newton_{cls.__dataclass_fields__['solver'].default}")
+    def label_of(cls, options: dict[str, Any]) -> str:
+        """The label of the engine of this class's solver (each registered engine has its own ``Options`` class)."""
+        solver = cls.__dataclass_fields__["solver"].default
+        return LABELS.get(solver, f"newton_{solver}")
 
     @property
     def solver_iterations(self) -> int:
@@ -181,9 +195,6 @@ class Options:
         if self.solver in _PENALTY:
             return CREEP_MARGIN / self.friction_gain
         return 0.0
-
-    def as_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
 @dataclass(frozen=True)

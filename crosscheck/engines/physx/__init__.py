@@ -7,11 +7,11 @@ capsule, the plane, every setting PhysX's defaults get wrong) and one rollout; `
 Importing this package does not import SAPIEN.
 """
 
+from crosscheck.engines.physx.options import LABELS as _LABELS
 from crosscheck.engines.spec import EngineSpec, Execution, Ladder, ReportPlan
 
 __all__ = ["ENGINES"]
 
-_LABELS = {"tgs": "PhysX TGS", "pgs": "PhysX PGS"}
 
 #: Report settings by cost (python benchmarks/bench_physx.py): a step costs ~60-90 us with the record (a fresh
 #: scene per run, ~2 ms), ~3 x Bullet's, so a run to horizon 2 at the default timestep 1e-3 takes ~0.15 s, cut to

@@ -5,14 +5,13 @@ Importing this does not import SAPIEN.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from crosscheck.checks import NONNEGATIVE, POSITIVE, Interval
-from crosscheck.engines.base import options_from_kwargs
-from crosscheck.state import check_timestep, real_scalar
+from crosscheck.checks import CAPSULE_RADIUS, NONNEGATIVE, POSITIVE, Interval, check_timestep, real_scalar
+from crosscheck.engines.options import EngineOptions
 
 __all__ = ["Options", "PgsOptions", "SOLVERS", "RADIUS", "MAX_ITERATIONS"]
 
@@ -21,7 +20,10 @@ __all__ = ["Options", "PgsOptions", "SOLVERS", "RADIUS", "MAX_ITERATIONS"]
 SOLVERS = ("tgs", "pgs")
 
 #: The capsule radius r / l (as MuJoCo's and Bullet's).
-RADIUS = Interval(0.0, 0.5, lo_open=True, hi_open=True)
+#: How tables and messages name the engine of each solver.
+LABELS = {"tgs": "PhysX TGS", "pgs": "PhysX PGS"}
+
+RADIUS = CAPSULE_RADIUS
 
 #: PhysX stores solver iteration counts in 8 bits (``PxArticulation::setSolverIterationCounts``: 1..255 position,
 #: 0..255 velocity).
@@ -42,7 +44,7 @@ def _iterations(name: str, n, lo: int) -> int:
 
 
 @dataclass(frozen=True)
-class Options:
+class Options(EngineOptions):
     """PhysX parameters of a run, in the paper's scaled units (lengths in l, velocities in l omega).
 
     Attributes:
@@ -110,9 +112,10 @@ class Options:
         object.__setattr__(self, "friction_every_iteration", bool(self.friction_every_iteration))
 
     @classmethod
-    def from_kwargs(cls, options: dict[str, Any]) -> Options:
-        """``Options(**options)`` with an error naming any unknown option."""
-        return options_from_kwargs(cls, options, f"physx_{options.get('solver', cls.solver)}")
+    def label_of(cls, options: dict[str, Any]) -> str:
+        """The label of the engine of the options' solver ("PhysX TGS")."""
+        solver = options.get("solver", cls.solver)
+        return LABELS.get(solver, f"physx_{solver}") if isinstance(solver, str) else f"physx_{solver}"
 
     @property
     def contact_time(self) -> float:
@@ -131,9 +134,6 @@ class Options:
     def friction_time(self) -> float:
         """0: no creep time constant is declared (PhysX's friction anchors are its patch friction's, not a spring)."""
         return 0.0
-
-    def as_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
 @dataclass(frozen=True)

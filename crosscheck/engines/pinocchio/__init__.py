@@ -13,59 +13,6 @@ from crosscheck.engines.spec import EngineSpec, Execution, ReportPlan, Validatio
 __all__ = ["ENGINES"]
 
 
-def checks(rod, n_states, rng):
-    """One step's impulse against -b/p, the slipping convergence order and the post-jam rates against the impact without collision."""
-    from crosscheck.compare import error_stat
-    from crosscheck.engines.pinocchio.studies import rigid
-    import numpy as np
-
-    stats = []
-    steps = [(s, m, rigid.one_step(rod, s, m)) for s, m in rigid.slipping_states(min(n_states, 40), rng, rod.alpha)]
-    where = {
-        k: np.array([getattr(s, k) for s, _, _ in steps]) for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi")
-    }
-    where["mu"] = np.array([m for _, m, _ in steps])
-    stats.append(
-        error_stat(
-            "one-step normal impulse / dt vs -b/p",
-            [c.normal_force for _, _, c in steps],
-            [c.slipping_force for _, _, c in steps],
-            pinocchio_tol.RIGID_STEP_FORCE,
-            where,
-        )
-    )
-    rate, errs = rigid.slip_order(rod)
-    stats.append(
-        error_stat(
-            "slipping convergence order",
-            [rate],
-            [1.0],
-            pinocchio_tol.RIGID_SLIP_ORDER,
-            {"error_at_smallest_dt": errs[-1:]},
-        )
-    )
-    impasses = [rigid.planar_impasse(m, T, rod.alpha) for m, T in ((1.4, 0.5), (1.4, -0.3), (2.0, 0.5))]
-    after = [rigid.jam_aftermath(rod, [s], m) for s, m in zip(impasses, (1.4, 1.4, 2.0))]
-    stats.append(
-        error_stat(
-            "post-jam rates vs IWC order (planar impasse)",
-            [a.orders()[0] for a in after],
-            [1.0] * len(after),
-            pinocchio_tol.RIGID_IWC_ORDER,
-            {"mu": np.array([1.4, 1.4, 2.0]), "Theta": np.array([0.5, -0.3, 0.5])},
-        )
-    )
-    return stats
-
-
-def report_sections():
-    """The rigid engine's own report sections (imported when the report is built)."""
-    from crosscheck.engines.pinocchio.sections import dynamics_terms
-    from crosscheck.engines.pinocchio.sections import rigid_engine
-
-    return (dynamics_terms.SECTION, rigid_engine.SECTION)
-
-
 ENGINES = (
     EngineSpec(
         name="pinocchio",
@@ -81,7 +28,7 @@ ENGINES = (
                 "no_jam_below_mu_P": pinocchio_tol.RIGID_NO_JAM_BELOW_MU_P,
                 "corollary_stop": pinocchio_tol.RIGID_COROLLARY_STOP,
             },
-            checks="crosscheck.engines.pinocchio:checks",
+            checks="crosscheck.engines.pinocchio.studies.rigid:checks",
             dynamics="crosscheck.engines.pinocchio.studies.dynamics_terms",
         ),
         # A chunk is one closed-form batch, whose step costs ~0.3 ms of numpy calls almost whatever its size: 128 states
@@ -102,7 +49,7 @@ ENGINES = (
                 "full": [{"timestep": dt} for dt in (3e-3, 1e-3, 3e-4)],
             },
             convergence_n={"quick": 5, "full": 14},
-            sections="crosscheck.engines.pinocchio:report_sections",
+            sections="crosscheck.engines.pinocchio.sections:sections",
             order=20,
         ),
     ),

@@ -28,6 +28,7 @@ import numpy as np
 from crosscheck.engines.pinocchio import ncp
 from crosscheck.engines.pinocchio.closed_form import angles, free_velocity, jacobian_times, tip_terms, velocity_change
 from crosscheck.engines.pinocchio.options import Options
+from crosscheck.engines.pinocchio.step import Stepper
 from crosscheck.rod import Rod
 
 __all__ = ["BatchStepper", "run_batch"]
@@ -48,8 +49,6 @@ class BatchStepper:
         )  # a closed-form step: 0 iterations, complementarity 0, converged
 
     def _stepper(self, mu: float):
-        from crosscheck.engines.pinocchio.stepper import Stepper
-
         if mu not in self._pgs:
             self._pgs[mu] = Stepper(self.rod, mu, dataclasses.replace(self.options, solver="pgs"))
         return self._pgs[mu]

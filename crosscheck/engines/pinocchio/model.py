@@ -53,12 +53,12 @@ import numpy as np
 import pinocchio as pin
 from scipy.optimize import minimize_scalar
 
-from crosscheck.engines.pinocchio import spd
-from crosscheck.theory import analytic
-from crosscheck.theory.analytic import _force_components  # same check and message as the reference
 from crosscheck.checks import ALPHA, MU, check
 from crosscheck.coordinates import GENERALIZED, paper_to_qv
+from crosscheck.engines.pinocchio import spd
 from crosscheck.rod import Rod
+from crosscheck.theory import analytic
+from crosscheck.theory.analytic import _force_components  # same check and message as the reference
 
 __all__ = [
     "TIP_FRAME",

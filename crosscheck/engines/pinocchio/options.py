@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
-from crosscheck.checks import POSITIVE
-from crosscheck.state import check_timestep, real_scalar
-from crosscheck.engines.base import options_from_kwargs
+from crosscheck.checks import POSITIVE, check_timestep, real_scalar
+from crosscheck.engines.options import EngineOptions
 
 __all__ = ["Options", "SOLVERS"]
 
@@ -19,7 +18,7 @@ SOLVERS = ("auto", "closed_form", "pgs", "admm")
 
 
 @dataclass(frozen=True)
-class Options:
+class Options(EngineOptions):
     """Parameters of the rigid engine, in the paper's scaled units.
 
     Attributes:
@@ -83,9 +82,7 @@ class Options:
             # Pinocchio 4.1's PGS solves the NCP whatever solve_ncp says (measured); ADMM follows it.
             raise ValueError(f"ncp=False (the convex relaxation) needs solver='admm'; got solver={self.solver!r}")
 
-    @classmethod
-    def from_kwargs(cls, options: dict) -> "Options":
-        return options_from_kwargs(cls, options, "pinocchio")
+    LABEL = "Pinocchio"
 
     @property
     def gap(self) -> float:
@@ -101,6 +98,3 @@ class Options:
     def friction_time(self) -> float:
         """A rigid contact does not creep."""
         return 0.0
-
-    def as_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self)}

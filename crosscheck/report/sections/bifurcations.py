@@ -34,12 +34,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.theory import analytic
-
-from crosscheck.theory import critical
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 from crosscheck.report.sections.kinematic_surfaces import draw_surfaces, surface_meshes
+from crosscheck.theory import analytic, critical
 from crosscheck.tolerances import CLOSED_FORM, ROOT_RESIDUAL
 
 __all__ = ["SECTION", "CURVES", "POINTS", "CELLS", "defining_function"]
@@ -203,9 +201,30 @@ def run(ctx: RunContext) -> None:
         "cases", ("mu", mu), ("Psi", Psi), ("case", critical.kinematic_case(mu[None, :], Psi[:, None], alpha))
     )
 
+    summary = _curves(ctx, c)
+    points = []
+    for name, (pm, pP, through) in POINTS.items():
+        m, s = c[pm], c[pP]
+        kinds = sorted({CURVES[cid][1] for cid in through})
+        res = {k: float(abs(defining_function(k, m, s, alpha))) for k in kinds}
+        allow = {k: float(CLOSED_FORM.allowance(_scale(k, m, s, alpha))) for k in kinds}
+        points.append(
+            {"point": name, "mu": m, "Psi": s, "curves": list(through), "residuals": res, "allowances": allow}
+        )
+    ctx.store.write_json("points", points)
+
+    cells = _cells(ctx, c)
+    _checks(ctx, c, summary, points, cells)
+
+
+def _curves(ctx: RunContext, c: dict) -> list[dict]:
+    """Each codimension-1 curve sampled (``curve_samples``): its residuals against CLOSED_FORM, the cases either side
+    of it and, on Psi_1,2, the residual of p = 0 at theta_1,2; the summary (``curves``)."""
+    P = ctx.params
+    alpha = P["alpha"]
     cols = {k: [] for k in ("curve", "mu", "Psi", "residual", "allowance")}
     summary = []
-    for cid, (label, kind, along, _, (below, above)) in CURVES.items():
+    for cid, (label, kind, _along, _, (below, above)) in CURVES.items():
         m, s = _curve_samples(cid, c, P["n_curve"])
         res = np.abs(defining_function(kind, m, s, alpha))
         allow = CLOSED_FORM.allowance(_scale(kind, m, s, alpha))
@@ -239,17 +258,14 @@ def run(ctx: RunContext) -> None:
         ctx.store.write_json("curves", summary)
     ctx.store.write_table("curve_samples", cols)
 
-    points = []
-    for name, (pm, pP, through) in POINTS.items():
-        m, s = c[pm], c[pP]
-        kinds = sorted({CURVES[cid][1] for cid in through})
-        res = {k: float(abs(defining_function(k, m, s, alpha))) for k in kinds}
-        allow = {k: float(CLOSED_FORM.allowance(_scale(k, m, s, alpha))) for k in kinds}
-        points.append(
-            {"point": name, "mu": m, "Psi": s, "curves": list(through), "residuals": res, "allowances": allow}
-        )
-    ctx.store.write_json("points", points)
+    return summary
 
+
+def _cells(ctx: RunContext, c: dict) -> list[dict]:
+    """The paper's grid of pictures: each cell's (mu, Psi), its case or the cases across its curve, and its b = 0,
+    p = 0 and GB meshes."""
+    P = ctx.params
+    alpha = P["alpha"]
     cells = []
     for col, row, what in CELLS:
         m, s = _cell_point(col, row, what, c, P["mu_examples"])
@@ -282,6 +298,14 @@ def run(ctx: RunContext) -> None:
         cells.append(cell)
         ctx.store.write_json("cells", cells)
 
+    return cells
+
+
+def _checks(ctx: RunContext, c: dict, summary: list, points: list, cells: list) -> None:
+    """The section's checks: every curve a zero of its function and a boundary of its cases, every codimension-2 point
+    on its curves, Psi_1 touching Psi_L at mu_L, and every cell's case."""
+    P = ctx.params
+    alpha = P["alpha"]
     for s_ in summary:
         ctx.check(
             f"{s_['label']} ({s_['curve']}): its {s_['samples']} samples are zeros of F_{s_['function']}",
@@ -367,15 +391,19 @@ def _case_colors():
 
 
 def render(ctx: RenderContext) -> list:
+    c = ctx.store.read_json("constants")
+    points = ctx.store.read_json("points")
+    return [_curves_figure(ctx, c, points), _strata_figure(ctx), _points_table(ctx, points)]
+
+
+def _curves_figure(ctx: RenderContext, c: dict, points: list):
+    """Fig. 21's (mu, |Psi|) plane: the codimension-1 curves over the cases of Fig. 9a, the codimension-2 points."""
     from matplotlib.lines import Line2D
 
     from crosscheck.report.plotting import LINE_COLORS, categorical_image, plt
 
-    c = ctx.store.read_json("constants")
     t = ctx.store.read_table("curve_samples", text=("curve",))
-    points = ctx.store.read_json("points")
     curves = ctx.store.read_json("curves")
-    cells = ctx.store.read_json("cells")
     mu, Psi, cases, _ = ctx.store.read_grid("cases")
 
     fig, ax = plt.subplots(figsize=(7.0, 5.4))
@@ -453,15 +481,19 @@ def render(ctx: RenderContext) -> list:
         f"and the codimension-2 points where they meet (black): (mu_P, Psi_L), (mu_P, Psi_P = {c['Psi_P']:.4f}) (eq. psip) and (mu_L = {c['mu_L']:.4f}, Psi_L) (eq. mul), "
         f"where Psi_1 touches Psi_L and cases 4 and 5 meet. mu = mu_L (dotted) is no boundary elsewhere. Pale shading: the cases of Fig. 9a. Curves and the cases either side: {curve_rows}."
     )
-    blocks = [
-        ctx.figure(
-            "fig21_curves",
-            fig,
-            cap_a,
-            ["curve_samples.csv", "curves.json", "points.json", "cases.json", "constants.json"],
-        )
-    ]
+    return ctx.figure(
+        "fig21_curves",
+        fig,
+        cap_a,
+        ["curve_samples.csv", "curves.json", "points.json", "cases.json", "constants.json"],
+    )
 
+
+def _strata_figure(ctx: RenderContext):
+    """Fig. 21 in the paper's layout: one picture of b = 0, p = 0 and the GB manifold per cell of the strata."""
+    from crosscheck.report.plotting import LINE_COLORS, plt
+
+    cells = ctx.store.read_json("cells")
     # the paper's layout: mu strata across, |Psi| strata up, one picture per cell
     # read at the report's 1100 px: labels of 9-11 pt (the thumbnails' own 6-7.5 pt were unreadable), and the strata
     # without a picture marked as such instead of left blank
@@ -514,14 +546,16 @@ def render(ctx: RenderContext) -> list:
         "Titles: the case of a generic cell, a codimension-1 curve (coloured as in the (mu, Psi) plane) with the cases just either side, or a "
         'codimension-2 point. "no picture": the paper draws none for that pair of strata, or a cell of a neighbouring stratum spans it.'
     )
-    blocks.append(
-        ctx.figure(
-            "fig21_strata",
-            fig,
-            cap_b,
-            ["cells.json"] + [f"cell_{cl['col']}_{cl['row']}_{p}.csv" for cl in cells for p in ("b0", "p0", "gb")],
-        )
+    return ctx.figure(
+        "fig21_strata",
+        fig,
+        cap_b,
+        ["cells.json"] + [f"cell_{cl['col']}_{cl['row']}_{p}.csv" for cl in cells for p in ("b0", "p0", "gb")],
     )
+
+
+def _points_table(ctx: RenderContext, points: list) -> Table:
+    """The codimension-2 points and the residuals of the curves' functions there."""
     rows = [
         [
             pt["point"],
@@ -532,16 +566,13 @@ def render(ctx: RenderContext) -> list:
         ]
         for pt in points
     ]
-    blocks.append(
-        Table(
-            caption="Codimension-2 points and the residuals there of the functions whose zeros are the curves through them (F_L = b(Psi, 0, theta_L), "
-            "F_1,2 = b(Psi, 0, theta_1,2(mu)), F_P = p_min(mu)).",
-            header=["point", "mu", "Psi", "curves", "residuals"],
-            rows=rows,
-            data=ctx.data("points.json"),
-        )
+    return Table(
+        caption="Codimension-2 points and the residuals there of the functions whose zeros are the curves through them (F_L = b(Psi, 0, theta_L), "
+        "F_1,2 = b(Psi, 0, theta_1,2(mu)), F_P = p_min(mu)).",
+        header=["point", "mu", "Psi", "curves", "residuals"],
+        rows=rows,
+        data=ctx.data("points.json"),
     )
-    return blocks
 
 
 SECTION = Section(

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.theory import critical
 from crosscheck.report.section import RenderContext, RunContext, Section
+from crosscheck.theory import critical
 from crosscheck.tolerances import CLOSED_FORM
 
 SLUG = "critical_angles"

@@ -59,7 +59,7 @@ def _fmt(x) -> str:
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
     from crosscheck.report.plotting import LINE_COLORS, plt
 
     P = ctx.params

@@ -75,7 +75,7 @@ def run(ctx: RunContext) -> None:
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
     from crosscheck.report.plotting import LINE_COLORS, plt
 
     P = ctx.params
@@ -94,7 +94,7 @@ def render(ctx: RenderContext) -> list:
         )
     from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLocator
 
-    from crosscheck.report.findings import CONVERGED, NOT_CONVERGED
+    from crosscheck.report.finding import CONVERGED, NOT_CONVERGED
 
     # the whole 0-100 % range, with the verdict rule's two thresholds: a few points of change are not drawn as a cliff
     a1.set_ylim(0, 100)
@@ -177,7 +177,7 @@ def _angle(v: float) -> str:
 def _trends(c: dict, engine: str) -> Text:
     """The table read one parameter at a time (``findings.convergence_trends``), with the verdict and the rule that gave it."""
     from crosscheck import engines
-    from crosscheck.report.findings import convergence_trends
+    from crosscheck.report.finding import convergence_trends
 
     rows = [{k: c[k][i] for k in ("timestep", "timeconst", "agreement")} for i in range(len(c["timestep"]))]
     words = {"timestep": "timestep", "timeconst": "contact time constant"}

@@ -68,7 +68,7 @@ def run(ctx: RunContext) -> None:
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
     from crosscheck.report.plotting import LINE_COLORS, plt
 
     P = ctx.params

@@ -157,7 +157,7 @@ def _fmt(x, f=".3g") -> str:
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
 
     P = ctx.params
     name = engine_label(P["engine"])

@@ -16,10 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
+from crosscheck.report.finding import CONFIRMED_SHARE
 from crosscheck.report.section import RenderContext, RunContext, Section, SkipSection, Table, Text
-
-#: Share of attributed disagreements their own cause's intervention must remove for the verdict "confirmed".
-CONFIRMED_SHARE = 0.8
 
 #: Seconds between two saves of the starts finished so far (the file is rewritten whole: at every one of MuJoCo's 291
 #: starts that cost 127 s of the section's 241 s, profiled).
@@ -196,8 +194,8 @@ def _figure(ctx: RenderContext, name: str, summary: dict):
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.engines.base import engine_label
     from crosscheck import engines
+    from crosscheck.report.format import engine_label
 
     P = ctx.params
     name = engine_label(P["engine"])
@@ -216,6 +214,33 @@ def render(ctx: RenderContext) -> list:
             "launch in the first step)."
         )
     ]
+    rows = _cause_rows(summary)
+    if summary["per_cause"]:
+        blocks.append(_figure(ctx, name, summary))
+    head = _headline(summary)
+    blocks.append(
+        Table(
+            caption=f"{name}: {head} Per cause named by the ladder: starts, confirmed by its own intervention, removed by "
+            "another cause's interventions instead (a misattribution to look into), removed only jointly with "
+            "another cause of the ladder, removed by none.",
+            header=[
+                "cause (ladder)",
+                "starts",
+                "confirmed",
+                "removed by another cause instead",
+                "removed only jointly",
+                "removed by none",
+            ],
+            rows=rows or [["(no laddered disagreement)", "0", "0", "-", "-", "0"]],
+            data=ctx.data("summary.json"),
+        )
+    )
+    blocks += _detail_tables(ctx, name, summary, results)
+    return blocks
+
+
+def _cause_rows(summary: dict) -> list[list[str]]:
+    """One row per cause the ladder named: starts, confirmed (with notes), removed by another cause, jointly, by none."""
     rows = []
     for cause, r in summary["per_cause"].items():
         other = ", ".join(f"{c} {n}" for c, n in sorted(r["by_other"].items())) or "-"
@@ -240,8 +265,11 @@ def render(ctx: RenderContext) -> list:
                 str(r["none"]),
             ]
         )
-    if summary["per_cause"]:
-        blocks.append(_figure(ctx, name, summary))
+    return rows
+
+
+def _headline(summary: dict) -> str:
+    """The caption's first sentences: the share confirmed, what any intervention removes, the overdetermined pairs."""
     share = summary["confirmed_share"]
     head = (
         f"{summary['confirmed']} of {summary['attributed']} attributed disagreements ({100 * share:.0f} %) confirmed by their own cause's "
@@ -272,23 +300,12 @@ def render(ctx: RenderContext) -> list:
     head += _by_p_sentence(summary)
     clause = _by_distance_clause(summary)
     head += f" {clause[:1].upper()}{clause[1:]}." if clause else ""
-    blocks.append(
-        Table(
-            caption=f"{name}: {head} Per cause named by the ladder: starts, confirmed by its own intervention, removed by "
-            "another cause's interventions instead (a misattribution to look into), removed only jointly with "
-            "another cause of the ladder, removed by none.",
-            header=[
-                "cause (ladder)",
-                "starts",
-                "confirmed",
-                "removed by another cause instead",
-                "removed only jointly",
-                "removed by none",
-            ],
-            rows=rows or [["(no laddered disagreement)", "0", "0", "-", "-", "0"]],
-            data=ctx.data("summary.json"),
-        )
-    )
+    return head
+
+
+def _detail_tables(ctx: RenderContext, name: str, summary: dict, results: list) -> list:
+    """The tables below the summary: by distance to the theory's boundary, by intervention, and start by start."""
+    blocks = []
     if summary.get("by_distance"):
         blocks.append(
             Table(
@@ -455,8 +472,8 @@ def _floor_cell(iv: dict) -> str:
 
 def finding(data: Path) -> list:
     """The findings line: the share of the engine's attributed disagreements its own cause's intervention removes."""
-    from crosscheck.engines.base import engine_label
-    from crosscheck.report.findings import Finding, read_json
+    from crosscheck.report.finding import Finding, read_json
+    from crosscheck.report.format import engine_label
 
     summary = read_json(data / "summary.json")
     if not summary or not summary.get("attributed"):

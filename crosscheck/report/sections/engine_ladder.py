@@ -51,10 +51,10 @@ def _saved_events(ctx: RunContext) -> dict:
 
 
 def run(ctx: RunContext) -> None:
+    from crosscheck.engines.spec import LADDER_CAUSES
     from crosscheck.outcome import Outcome
     from crosscheck.state import SlipState
     from crosscheck.studies.comparison import RATED
-    from crosscheck.engines.spec import LADDER_CAUSES
     from crosscheck.studies.ladder import CAUSES, run_ladder
 
     P = ctx.params
@@ -96,7 +96,7 @@ def run(ctx: RunContext) -> None:
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
     from crosscheck.studies.ladder import CAUSES
 
     P = ctx.params
@@ -141,8 +141,8 @@ def render(ctx: RenderContext) -> list:
 
 def finding(data: Path) -> list:
     """The findings line: the split of the engine's laddered disagreements by cause."""
-    from crosscheck.engines.base import engine_label
-    from crosscheck.report.findings import Finding, read_json
+    from crosscheck.report.finding import Finding, read_json
+    from crosscheck.report.format import engine_label
 
     summary = read_json(data / "summary.json")
     if not summary or not summary.get("n_disagree"):

@@ -138,7 +138,7 @@ def _summary(spec, cv, bands, ruled_out, en, cols, icols, settings) -> dict:
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
 
     P = ctx.params
     name = engine_label(P["engine"])

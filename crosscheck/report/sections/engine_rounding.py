@@ -80,7 +80,7 @@ def run(ctx: RunContext) -> None:
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
     from crosscheck.studies.rounding import ULPS
 
     P = ctx.params
@@ -116,8 +116,8 @@ def render(ctx: RenderContext) -> list:
 
 def finding(data: Path) -> list:
     """The findings line: the count of the engine's map starts whose outcome moves with the last bits of theta."""
-    from crosscheck.engines.base import engine_label
-    from crosscheck.report.findings import Finding, read_json
+    from crosscheck.report.finding import Finding, read_json
+    from crosscheck.report.format import engine_label
 
     s = read_json(data / "summary.json")
     if not s:

@@ -17,8 +17,8 @@ import math
 
 import numpy as np
 
-from crosscheck.theory import critical
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
+from crosscheck.theory import critical
 
 SLUG = "gb_det_zeros"
 
@@ -150,7 +150,7 @@ def _pandora(ctx: RunContext) -> None:
                 "lambda": [[float(l.real), float(l.imag)] for l in lam],
                 "e_plus": [float(v.real) for v in vec[:, 0]],
                 "e_minus": [float(v.real) for v in vec[:, 1]],
-                "type": gb.classify(Km).name,
+                "type": gb.gb_type(Km).name,
                 "strong": "plus" if np.abs(lam[0]) >= np.abs(lam[1]) else "minus",
             }
         )

@@ -24,9 +24,9 @@ import math
 
 import numpy as np
 
+from crosscheck.report.section import RenderContext, RunContext, Section, Table
 from crosscheck.theory import critical
 from crosscheck.theory.paper import GB_POINTS
-from crosscheck.report.section import RenderContext, RunContext, Section, Table
 
 SLUG = "gb_eigenvectors"
 
@@ -59,7 +59,7 @@ def run(ctx: RunContext) -> None:
         Theta = math.sqrt(1 / math.sin(theta))
         Km = gb.K(theta, varphi, Psi, Theta, eta, mu, alpha)
         lam, vec = gb.eigen(Km)
-        kind = gb.classify(Km)
+        kind = gb.gb_type(Km)
         strong = int(np.argmax(np.abs(lam)))
         quads = [gb.quadrant(vec[:, k], atol=1e-12).name for k in range(2)]
         points.append(
@@ -99,74 +99,82 @@ def run(ctx: RunContext) -> None:
     ctx.store.write_table("orbits", orbits)
 
     by = {p["where"]: p for p in points}
+    for mu, fig in ((1.4, "12"), (1.7, "13")):
+        _check_figure(ctx, by, mu, fig)
+
+
+def _check_figure(ctx: RunContext, by: dict, mu: float, fig: str) -> None:
+    """Section 4's checks of Fig. ``fig`` (at ``mu``) on its points ``by`` their place: the types of P+, Q+, (b) and
+    (d), the eigenvectors' quadrants (eq. evecK2D and the figure's text), and the zero of det K at (c)."""
+    from crosscheck.theory import gb
+
+    P = ctx.params
+    alpha, eta, Psi = P["alpha"], P["eta"], P["Psi"]
 
     def expect(where, name, ok, detail):
         ctx.check(f"{where}: {name}", ok, detail=detail)
 
-    for mu, fig in ((1.4, "12"), (1.7, "13")):
-        a, e = (
-            by[next(w for w in by if w.startswith(f"Fig. {fig}(a)"))],
-            by[next(w for w in by if w.startswith(f"Fig. {fig}(e)"))],
-        )
-        expect(a["where"], "P+ is a stable node", a["type"] == "STABLE_NODE", a["type"])
-        expect(e["where"], "Q+ is a saddle", e["type"] == "SADDLE", e["type"])
-        # eq. evecK2D: e_1 = (3 tan^2 theta - (1 + alpha), 1) for lambda_1 = K11, e_2 = (0, 1) for lambda_2 = K22;
-        # section 4's summary: e_1 in quadrants I/III for mu < mu_C, II/IV for mu > mu_C; e_2 on the b axis.
-        e1_quadrant = "I_III" if mu < critical.mu_C(alpha) else "II_IV"
-        e1, e2 = (
-            (a["quadrant_strong"], a["quadrant_weak"])
-            if a["quadrant_strong"] != "B_AXIS"
-            else (a["quadrant_weak"], a["quadrant_strong"])
-        )
+    a, e = (
+        by[next(w for w in by if w.startswith(f"Fig. {fig}(a)"))],
+        by[next(w for w in by if w.startswith(f"Fig. {fig}(e)"))],
+    )
+    expect(a["where"], "P+ is a stable node", a["type"] == "STABLE_NODE", a["type"])
+    expect(e["where"], "Q+ is a saddle", e["type"] == "SADDLE", e["type"])
+    # eq. evecK2D: e_1 = (3 tan^2 theta - (1 + alpha), 1) for lambda_1 = K11, e_2 = (0, 1) for lambda_2 = K22;
+    # section 4's summary: e_1 in quadrants I/III for mu < mu_C, II/IV for mu > mu_C; e_2 on the b axis.
+    e1_quadrant = "I_III" if mu < critical.mu_C(alpha) else "II_IV"
+    e1, e2 = (
+        (a["quadrant_strong"], a["quadrant_weak"])
+        if a["quadrant_strong"] != "B_AXIS"
+        else (a["quadrant_weak"], a["quadrant_strong"])
+    )
+    expect(
+        a["where"],
+        f"eq. evecK2D: e_1 in quadrants {e1_quadrant.replace('_', '/')}, e_2 on the b axis",
+        e1 == e1_quadrant and e2 == "B_AXIS",
+        f"e_1 {e1}, e_2 {e2}; strong {a['quadrant_strong']}, weak {a['quadrant_weak']}",
+    )
+    if mu < critical.mu_C(alpha):
         expect(
             a["where"],
-            f"eq. evecK2D: e_1 in quadrants {e1_quadrant.replace('_', '/')}, e_2 on the b axis",
-            e1 == e1_quadrant and e2 == "B_AXIS",
-            f"e_1 {e1}, e_2 {e2}; strong {a['quadrant_strong']}, weak {a['quadrant_weak']}",
+            "text of Fig. 12: strong direction on the b axis, weak in quadrants I/III",
+            a["quadrant_strong"] == "B_AXIS" and a["quadrant_weak"] == "I_III",
+            f"strong {a['quadrant_strong']}, weak {a['quadrant_weak']}",
         )
-        if mu < critical.mu_C(alpha):
-            expect(
-                a["where"],
-                "text of Fig. 12: strong direction on the b axis, weak in quadrants I/III",
-                a["quadrant_strong"] == "B_AXIS" and a["quadrant_weak"] == "I_III",
-                f"strong {a['quadrant_strong']}, weak {a['quadrant_weak']}",
-            )
-        else:
-            ok = a["quadrant_strong"] == "I_III" and a["quadrant_weak"] == "B_AXIS"
-            ctx.check(
-                f"{a['where']}: text of Fig. 13: strong direction in quadrants I/III, weak on the b axis",
-                ok,
-                detail=f"strong {a['quadrant_strong']}, weak {a['quadrant_weak']}",
-                known=""
-                if ok
-                else (
-                    "the paper contradicts itself: its eq. evecK2D gives e_1 = (3 tan^2 theta_1 - (1 + alpha), 1), negative first "
-                    "component for mu > mu_C (its own summary: 'e_1 in the second and fourth quadrants'); the strong "
-                    "eigenvector here is e_1, so it lies in quadrants II/IV, not I/III as the text of Fig. 13 says"
-                ),
-            )
-        b_, d_ = (
-            by[next(w for w in by if w.startswith(f"Fig. {fig}(b)"))],
-            by[next(w for w in by if w.startswith(f"Fig. {fig}(d)"))],
-        )
-        expect(b_["where"], "a stable node before the bifurcation", b_["type"] == "STABLE_NODE", b_["type"])
-        expect(d_["where"], "a saddle after the bifurcation", d_["type"] == "SADDLE", d_["type"])
-        c_where = next(w for w in by if w.startswith(f"Fig. {fig}(c)"))
-        th_c, vp_c = next((float(t), float(v)) for m, t, v, w in GB_POINTS if w == c_where)
-        curves = [c for c in gb.gb_manifold(mu, Psi, alpha, n=401) if c.sign > 0]
-        zeros = np.vstack([gb.det_K_zeros(c, eta) for c in curves])
-        z = zeros[np.argmin(np.hypot(zeros[:, 0] - th_c, zeros[:, 1] - vp_c))]
-        err = max(abs(z[0] - th_c), abs(z[1] - vp_c))
+    else:
+        ok = a["quadrant_strong"] == "I_III" and a["quadrant_weak"] == "B_AXIS"
         ctx.check(
-            f"{c_where}: the zero of det K along the manifold (lambda_+ = 0) is the printed point",
-            err <= 0.5e-4,
-            value=err,
-            allowance=0.5e-4,
-            detail=f"det K = 0 at theta = {z[0]:.6f}, varphi = {z[1]:.6f}; printed ({th_c}, {vp_c})",
+            f"{a['where']}: text of Fig. 13: strong direction in quadrants I/III, weak on the b axis",
+            ok,
+            detail=f"strong {a['quadrant_strong']}, weak {a['quadrant_weak']}",
+            known=""
+            if ok
+            else (
+                "the paper contradicts itself: its eq. evecK2D gives e_1 = (3 tan^2 theta_1 - (1 + alpha), 1), negative first "
+                "component for mu > mu_C (its own summary: 'e_1 in the second and fourth quadrants'); the strong "
+                "eigenvector here is e_1, so it lies in quadrants II/IV, not I/III as the text of Fig. 13 says"
+            ),
         )
-        ctx.store.write_json(
-            f"det_zero_fig{fig}", {"theta": z[0], "varphi": z[1], "Theta": z[2], "printed": [th_c, vp_c]}
-        )
+    b_, d_ = (
+        by[next(w for w in by if w.startswith(f"Fig. {fig}(b)"))],
+        by[next(w for w in by if w.startswith(f"Fig. {fig}(d)"))],
+    )
+    expect(b_["where"], "a stable node before the bifurcation", b_["type"] == "STABLE_NODE", b_["type"])
+    expect(d_["where"], "a saddle after the bifurcation", d_["type"] == "SADDLE", d_["type"])
+    c_where = next(w for w in by if w.startswith(f"Fig. {fig}(c)"))
+    th_c, vp_c = next((float(t), float(v)) for m, t, v, w in GB_POINTS if w == c_where)
+    curves = [c for c in gb.gb_manifold(mu, Psi, alpha, n=401) if c.sign > 0]
+    zeros = np.vstack([gb.det_K_zeros(c, eta) for c in curves])
+    z = zeros[np.argmin(np.hypot(zeros[:, 0] - th_c, zeros[:, 1] - vp_c))]
+    err = max(abs(z[0] - th_c), abs(z[1] - vp_c))
+    ctx.check(
+        f"{c_where}: the zero of det K along the manifold (lambda_+ = 0) is the printed point",
+        err <= 0.5e-4,
+        value=err,
+        allowance=0.5e-4,
+        detail=f"det K = 0 at theta = {z[0]:.6f}, varphi = {z[1]:.6f}; printed ({th_c}, {vp_c})",
+    )
+    ctx.store.write_json(f"det_zero_fig{fig}", {"theta": z[0], "varphi": z[1], "Theta": z[2], "printed": [th_c, vp_c]})
 
 
 def render(ctx: RenderContext) -> list:

@@ -46,7 +46,7 @@ def run(ctx: RunContext) -> None:
             for curve in gb.gb_manifold(mu, Psi, alpha, n=P["n_curve"]):
                 for eta in P["eta"]:
                     Ks = gb.K(curve.theta, curve.varphi, Psi, curve.Theta, eta, mu, alpha)
-                    types = np.atleast_1d(gb.classify(Ks))
+                    types = np.atleast_1d(gb.gb_type(Ks))
                     for i, t in enumerate(types):
                         kind = gb.GBType(int(t))
                         sign = 1 if curve.Theta[i] > 0 else -1

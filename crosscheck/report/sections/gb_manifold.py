@@ -18,8 +18,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.theory import critical
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
+from crosscheck.theory import critical
 
 SLUG = "gb_manifold"
 
@@ -141,8 +141,8 @@ def run(ctx: RunContext) -> None:
 def render(ctx: RenderContext) -> list:
     from matplotlib.lines import Line2D
 
-    from crosscheck.theory import gb
     from crosscheck.report.plotting import GB_TYPE_COLORS, LINE_COLORS, plt
+    from crosscheck.theory import gb
 
     P = ctx.params
     psi_colors = {

@@ -26,8 +26,8 @@ import math
 
 import numpy as np
 
-from crosscheck.theory import critical
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
+from crosscheck.theory import critical
 
 SLUG = "gb_quartic"
 

@@ -20,9 +20,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from crosscheck.report.section import RenderContext, RunContext, Section, Table
 from crosscheck.theory import analytic
 from crosscheck.theory.paper import FIG20_INITIAL_CONDITIONS
-from crosscheck.report.section import RenderContext, RunContext, Section, Table
 
 SLUG = "gb_separatrix"
 
@@ -42,8 +42,8 @@ def params(quick: bool) -> dict:
 def run(ctx: RunContext) -> None:
     from scipy.integrate import solve_ivp
 
-    from crosscheck.theory import gb
     from crosscheck.state import SlipState
+    from crosscheck.theory import gb
 
     P = ctx.params
     mu, alpha = P["mu"], P["alpha"]

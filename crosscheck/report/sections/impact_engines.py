@@ -55,7 +55,7 @@ def run(ctx: RunContext) -> None:
 def render(ctx: RenderContext) -> list:
     import numpy as np
 
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
     from crosscheck.report.plotting import LINE_COLORS, plt
 
     t = ctx.store.read_table("jams", text=("engine", "start", "engine_outcome"))
@@ -141,8 +141,8 @@ def _pair(a, b) -> str:
 
 def finding(data: Path) -> list:
     """One findings line: each engine's Theta+ at IC1 against the theory's."""
-    from crosscheck.engines.base import engine_label
-    from crosscheck.report.findings import Finding, read_json
+    from crosscheck.report.finding import Finding, read_json
+    from crosscheck.report.format import engine_label
 
     summaries = read_json(data / "summaries.json") or []
     ic1 = [s for s in summaries if s.get("ic1")]

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.theory import critical
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
+from crosscheck.theory import critical
 from crosscheck.tolerances import CLOSED_FORM
 
 SLUG = "kinematic_cases"

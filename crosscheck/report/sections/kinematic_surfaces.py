@@ -34,11 +34,9 @@ import math
 
 import numpy as np
 
-from crosscheck.theory import analytic
-
-from crosscheck.theory import critical
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
+from crosscheck.theory import analytic, critical
 from crosscheck.tolerances import CLOSED_FORM, GB_IDENTITY
 
 __all__ = ["SECTION", "FIGURE_PANELS", "Theta2_on_b0", "b0_pieces", "p0_cylinder", "surface_meshes", "draw_surfaces"]

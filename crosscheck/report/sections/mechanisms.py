@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.theory import critical
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section
+from crosscheck.theory import critical
 
 SLUG = "mechanisms"
 

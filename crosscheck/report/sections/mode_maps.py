@@ -24,12 +24,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.theory import analytic
-
-from crosscheck.theory import critical
-from crosscheck.theory.analytic import Mode
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
+from crosscheck.theory import analytic, critical
+from crosscheck.theory.analytic import Mode
 
 SLUG = "mode_maps"
 
@@ -202,19 +200,13 @@ def render(ctx: RenderContext) -> list:
         )
     )
 
-    def title(s):
-        if s["label"].startswith("Psi_"):
-            return f"$\\Psi_{{{s['label'][4:]}}}$ = $\\pm${s['Psi']:.4f} (case {s['kinematic_case']})"
-        sign = "" if s["Psi"] == 0 else "$\\pm$"
-        return f"$\\Psi$ = {sign}{s['label']} (case {s['kinematic_case']})"
-
     n = len(slices)
     cols = 4
     rows = (n + cols - 1) // cols
     fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.5 * rows), sharex=True, sharey=True, squeeze=False)
     for ax, s in zip(axes.flat, slices):
         planar(ax, s["index"], labels=False)
-        ax.set_title(title(s))
+        ax.set_title(_slice_title(s))
     for ax in axes[-1]:
         ax.set_xlabel("$\\theta$")
     for ax in axes[:, 0]:
@@ -233,6 +225,24 @@ def render(ctx: RenderContext) -> list:
         )
     )
 
+    blocks.append(_theta_varphi_figure(ctx, slices, rows, cols))
+    blocks.append(_modes_table(ctx, slices))
+    return blocks
+
+
+def _slice_title(s: dict) -> str:
+    """A slice's panel title: its Psi (a critical value by name) and its kinematic case."""
+    if s["label"].startswith("Psi_"):
+        return f"$\\Psi_{{{s['label'][4:]}}}$ = $\\pm${s['Psi']:.4f} (case {s['kinematic_case']})"
+    sign = "" if s["Psi"] == 0 else "$\\pm$"
+    return f"$\\Psi$ = {sign}{s['label']} (case {s['kinematic_case']})"
+
+
+def _theta_varphi_figure(ctx: RenderContext, slices: list, rows: int, cols: int):
+    """The sections at Theta = 0 of the slices, with p = 0."""
+    from crosscheck.report.plotting import P_COLOR, mode_image, plt
+
+    n = len(slices)
     pz = ctx.store.read_table("p_zero")
     fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.5 * rows), sharex=True, sharey=True, squeeze=False)
     for ax, s in zip(axes.flat, slices):
@@ -240,7 +250,7 @@ def render(ctx: RenderContext) -> list:
         mode_image(ax, x, y, z)
         ax.plot(pz["theta"], pz["varphi_minus"], color=P_COLOR, lw=1.0)
         ax.plot(pz["theta"], pz["varphi_plus"], color=P_COLOR, lw=1.0)
-        ax.set_title(title(s))
+        ax.set_title(_slice_title(s))
         ax.set_xlim(0, np.pi / 2)
         ax.set_ylim(-np.pi, 0)
         ax.set_yticks([-np.pi, -np.pi / 2, 0], ["$-\\pi$", "$-\\pi/2$", "0"])
@@ -250,16 +260,18 @@ def render(ctx: RenderContext) -> list:
         ax.set_ylabel("$\\varphi$")
     for ax in axes.flat[n:]:
         ax.set_visible(False)
-    blocks.append(
-        ctx.figure(
-            "slices_theta_varphi",
-            fig,
-            "Sections at Theta = 0 of the same 3D pictures: every mode possible with no polar motion. The p = 0 cylinder of Fig. 3b is the "
-            "boundary of the lime/purple disc; the lift-off band (orange) appears at Psi_L, enters the disc (indeterminate, purple) past Psi_1 "
-            "and covers it past Psi_2 (no inconsistent state left).",
-            [f"theta_varphi_{s['index']}.json" for s in slices] + ["p_zero.csv", "slices.json"],
-        )
+    return ctx.figure(
+        "slices_theta_varphi",
+        fig,
+        "Sections at Theta = 0 of the same 3D pictures: every mode possible with no polar motion. The p = 0 cylinder of Fig. 3b is the "
+        "boundary of the lime/purple disc; the lift-off band (orange) appears at Psi_L, enters the disc (indeterminate, purple) past Psi_1 "
+        "and covers it past Psi_2 (no inconsistent state left).",
+        [f"theta_varphi_{s['index']}.json" for s in slices] + ["p_zero.csv", "slices.json"],
     )
+
+
+def _modes_table(ctx: RenderContext, slices: list) -> Table:
+    """The modes at Theta = 0 and the kinematic case of each slice."""
     rows_t = [
         [
             s["label"],
@@ -270,15 +282,12 @@ def render(ctx: RenderContext) -> list:
         ]
         for s in slices
     ]
-    blocks.append(
-        Table(
-            caption="Modes present at Theta = 0 (any theta, varphi) for each Psi, and the kinematic case of section 3.4 (crosscheck.theory.critical.kinematic_case).",
-            header=["Psi", "value", "case", "modes at Theta = 0", "inconsistent exists"],
-            rows=rows_t,
-            data=ctx.data("slices.json"),
-        )
+    return Table(
+        caption="Modes present at Theta = 0 (any theta, varphi) for each Psi, and the kinematic case of section 3.4 (crosscheck.theory.critical.kinematic_case).",
+        header=["Psi", "value", "case", "modes at Theta = 0", "inconsistent exists"],
+        rows=rows_t,
+        data=ctx.data("slices.json"),
     )
-    return blocks
 
 
 SECTION = Section(

@@ -10,11 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.theory import analytic
-
-from crosscheck.theory import critical
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
+from crosscheck.theory import analytic, critical
 from crosscheck.tolerances import ROOT_RESIDUAL
 
 SLUG = "p_region"
@@ -73,8 +71,9 @@ def run(ctx: RunContext) -> None:
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.report.plotting import P_COLOR, plt
     from matplotlib.colors import ListedColormap
+
+    from crosscheck.report.plotting import P_COLOR, plt
 
     theta, varphi, p, _ = ctx.store.read_grid("p_grid")
     cv = ctx.store.read_json("critical_values")

@@ -22,11 +22,9 @@ import math
 
 import numpy as np
 
-from crosscheck.theory import analytic
-
-from crosscheck.theory import critical
-from crosscheck.theory.paper import GB_POINTS, PRINTED
 from crosscheck.report.section import RenderContext, RunContext, Section, Table, Text
+from crosscheck.theory import analytic, critical
+from crosscheck.theory.paper import GB_POINTS, PRINTED
 from crosscheck.tolerances import ROOT_RESIDUAL
 
 SLUG = "printed_numbers"

@@ -55,8 +55,8 @@ def _shares(outcome: np.ndarray, abs_Psi: np.ndarray, edges: np.ndarray, code: i
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.engines.base import engine_label
     from crosscheck.outcome import Outcome
+    from crosscheck.report.format import engine_label
     from crosscheck.report.plotting import OUTCOME_COLORS, plt
 
     t = ctx.store.read_table("outcomes", text=("engine",))
@@ -97,7 +97,7 @@ def render(ctx: RenderContext) -> list:
 
 
 def _table(ctx: RenderContext, summaries: list) -> Table:
-    from crosscheck.engines.base import engine_label
+    from crosscheck.report.format import engine_label
 
     rows = []
     if summaries:
@@ -146,8 +146,8 @@ def _table(ctx: RenderContext, summaries: list) -> Table:
 def finding(data: Path) -> list:
     """Two findings lines: each engine's jams above Psi_2 (ruled out by the theorem), and its choices at indeterminate
     starts."""
-    from crosscheck.engines.base import engine_label
-    from crosscheck.report.findings import Finding, read_json
+    from crosscheck.report.finding import Finding, read_json
+    from crosscheck.report.format import engine_label
 
     summaries = read_json(data / "summaries.json") or []
     if not summaries:

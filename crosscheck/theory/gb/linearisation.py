@@ -8,7 +8,7 @@ x = (eta, varphi, psi, Psi, theta, Theta) (eq. x, ``crosscheck.theory.slipping.X
   eta p ds = dt) and its analytic Jacobian, vectorised over (..., 6) states.
 * ``matrix_A``, ``matrix_B``, ``K``: J = A B on the GB manifold (eqs. matA,
   matB) and K = B A in closed form (eq. K).
-* ``classify``, ``eigen``, ``quadrant``: node / saddle / focus from K's
+* ``gb_type``, ``eigen``, ``quadrant``: node / saddle / focus from K's
   eigenvalues; eigenvectors e+- in the (p, b) plane (Theorem 4.1).
 """
 
@@ -29,7 +29,7 @@ __all__ = [
     "K",
     "K_from_AB",
     "GBType",
-    "classify",
+    "gb_type",
     "eigen",
     "linear_orbits",
     "Quadrant",
@@ -233,7 +233,7 @@ class GBType(IntEnum):
     DEGENERATE = 5  # a zero eigenvalue (det K = 0) or a centre (trace 0, complex pair)
 
 
-def classify(K, *, atol: float = 0.0):
+def gb_type(K, *, atol: float = 0.0):
     """GBType of each 2x2 matrix in K (shape (..., 2, 2)), from trace and determinant.
 
     det < 0: saddle.  det > 0 with real eigenvalues: node (stable if trace < 0);

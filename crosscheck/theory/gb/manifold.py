@@ -25,11 +25,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from crosscheck.checks import ALPHA, ETA, MU, RATE, THETA, check, integer
+from crosscheck.theory.critical import Psi_L, theta_12, varphi_pm
+from crosscheck.theory.gb.linearisation import K, gb_type
 
 #: The most samples per theta interval of ``gb_manifold`` (each curve then has up to 4e5 points).
 MAX_SAMPLES = 100_000
-from crosscheck.theory.critical import Psi_L, theta_12, varphi_pm
-from crosscheck.theory.gb.linearisation import K, classify
 
 __all__ = [
     "det_K",
@@ -237,7 +237,7 @@ class GBCurve:
 
     def types(self, eta) -> np.ndarray:
         """(n,) ``GBType`` values along the curve."""
-        return np.atleast_1d(classify(self.K(eta)))
+        return np.atleast_1d(gb_type(self.K(eta)))
 
 
 def gb_theta_gap(Psi) -> tuple[float, float] | None:

@@ -21,74 +21,10 @@ friction per unit normal impulse:
   f_s = -G_tt^-1 G_tn, and du_n/dP = G_nn + G_nt f_s = S > 0 (the Schur
   complement of G, positive since G is).
 
-Why a stopped slip always sticks (no re-slip, "reversal", for this rod).  In
-the rod's frame (i, j, n), i horizontal and normal to the rod, j along its
-horizontal projection from the tip to the centre, eq. linode2 gives
-
-    G = [[1 + alpha, 0, 0], [0, 1 + alpha s^2, -alpha s c], [0, -alpha s c, 1 + alpha c^2]]
-
-(s, c = sin, cos theta), so G_tn = (0, -alpha s c) is an eigenvector of G_tt
-with eigenvalue g = 1 + alpha s^2 and |f_s| = |G_tn| / g.  An impulse starts
-only where p = G_nn - mu G_nt . u_hat <= 0 for the slip direction u_hat,
-hence mu |G_tn| >= G_nn, i.e. mu >= G_nn / |G_tn|.  Since the (j, n) block
-of G is positive definite, |G_tn|^2 < g G_nn, i.e. |f_s| = |G_tn| / g <
-G_nn / |G_tn| <= mu (the gap, (1 + alpha) / (g |G_tn|), is the block's
-determinant over g |G_tn|: O(1)).  The sticking impulse is therefore always
-inside the cone when the slip stops, and the slip never restarts within an
-impulse.  (A body whose G_tn is not an eigenvector of G_tt can re-slip, in
-the direction u_hat with (mu G_tt + lambda I) u_hat = G_tn, lambda > 0; the
-slender rod cannot.)
-
-Why the compression never ends while the tip slips.  Along the slip the
-direction turns as d varphi/dP = alpha c cos varphi (mu c sin varphi - s) /
-eta (the component of du_t/dP normal to u_hat, over eta): towards -pi/2 from
-either side, so varphi stays in (-pi, 0).  There s - mu c sin varphi > 0 and
-p changes as dp/dP = -k <= 0 (k below), so p <= p_0 <= 0 for the whole slip
-and u_n = int p dP never rises: an impulse is always a slip phase to the
-slip stop (P_s) and a stick phase after it.  Compression ends in the stick
-phase, where u_n comes back to 0 (P = P_c = P_s + |u_n(P_s)| / S); Poisson's
-hypothesis ends the impulse at P_f = (1 + e) P_c (e the restitution
-coefficient; e = 0 leaves the tip on the plane with u_n = 0, e > 0 gives
-w = S e P_c).  What follows (slip, stick or
-lift-off) is decided from the post-impulse state by the rigid model again.
-
-A start on the boundary p = 0: the limit p -> 0- (the GB point of Genot and
-Brogliato, or a jam state computed to rounding).  There du_n/dP = p = 0 at
-P = 0 and the impulse is defined as the limit of the impulses from states
-inside the inconsistent region, p_0 = -delta, delta -> 0+.  How p moves along
-the impulse: only the slip direction changes, d u_hat/dP = (I - u_hat
-u_hat^T) du_t/dP / |u_t|, and in the rod's frame (u_hat = (cos varphi,
-sin varphi)) this gives
-
-    dp/dP = -mu G_nt . d u_hat/dP = -mu alpha^2 s c^2 cos^2 varphi (s - mu c sin varphi) / eta =: -k,
-
-which on p = 0 (mu c sin varphi = -(1 + alpha c^2)/(alpha s)) is
-k = (1 + alpha) alpha mu c^2 cos^2 varphi / eta, the paper's K_12 / eta
-(eq. K): k >= 0, so p never increases along an impulse started on p = 0.
-Two cases follow:
-
-* k > 0 (varphi != -pi/2): u_n = -k P^2 / 2 + O(P^3) < 0 at once; the impulse
-  from p_0 = -delta differs from this one by O(delta) and the limit is the
-  impulse integrated from the boundary state with its rounding removed
-  (du_n/dP = p(u_hat(P)) - p_0: p starts at exactly 0);
-* k = 0 (varphi = -pi/2, the planar section): d u_hat/dP = 0, the direction
-  and p stay fixed, so from p_0 = -delta, u_n = -delta P while slipping.  The
-  slip stops at P_s = eta / (mu u_hat G_tt u_hat - u_hat . G_tn) with u_n =
-  -delta P_s, then the stuck tip's u_n rises at S: compression ends at P_c =
-  P_s (1 + delta / S) -> P_s.  The limit: the tip slides along p = 0 with
-  u_n = 0 until its slip stops, and compression ends there (P_c = P_s: the
-  tip is stopped, not driven into the plane).
-
-Both cases are one computation, since the slip phase ends only at its stop
-(never at a compression end, see above): the slip is integrated with du_n/dP
-= p(u_hat(P)) - p_0 (the start's rounding removed, so p starts at exactly 0)
-and the compression ends in the stick phase at P_c = P_s + max(0, -u_n(P_s))
-/ S, which is P_s where the turning is zero (u_n(P_s) = 0 to rounding).  A
-state with |p_0| <= ``P_TOLERANCE`` is on the boundary; a caller that knows
-its state is on p = 0 to a coarser resolution (the slipping flow stops a GB
-arrival within ``crosscheck.tolerances.GB_REACHED`` of b = p = 0, where p_0
-is still > 0 to 1e-11) says so with ``boundary=True``.  Off the boundary the
-same integration runs with p_0 kept (p_0 < 0: the tip is driven in at once).
+Why a stopped slip always sticks (no re-slip for this rod), why the compression never ends while the tip slips
+(an impulse is a slip phase to its stop, then a stick phase where compression ends at P_c and Poisson's hypothesis
+ends the impulse at P_f = (1 + e) P_c), and how a start on the boundary p = 0 is the limit of starts inside it
+(``P_TOLERANCE``; ``boundary=True`` for a GB arrival): ``docs/darboux_keller.md``.
 
 Everything is in the paper's scaled units (m = l = g = 1, I0 = 1/alpha;
 impulses in m g / omega, velocities in l omega).  The mass matrix and the

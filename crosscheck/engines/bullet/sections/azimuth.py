@@ -192,7 +192,7 @@ def render(ctx: RenderContext) -> list:
 
 def finding(data: Path) -> list:
     """The findings line: how far Bullet's event moves with the rod's azimuth, and what predicts it."""
-    from crosscheck.report.findings import Finding, read_json
+    from crosscheck.report.finding import Finding, read_json
 
     s = read_json(data / "summary.json")
     if not s:

@@ -20,9 +20,8 @@ friction):
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -87,24 +86,26 @@ def params(quick: bool) -> dict:
 
 
 def _state(spec, mu, alpha):
-    from crosscheck.state import SlipState
     from crosscheck.engines.pinocchio.studies.rigid import planar_impasse
+    from crosscheck.state import SlipState
 
     kind, x = spec
     return planar_impasse(mu, x, alpha) if kind == "planar" else SlipState(*x)
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck.theory.corollary import corollary_states
-    from crosscheck.theory.impact.darboux_keller import delassus
-    from crosscheck.state import SlipState
+    studies = _run_inconsistent(ctx)
+    _run_xi_post(ctx)
+    _run_restitution(ctx, studies)
+    _run_indeterminate(ctx)
+    _run_gb(ctx)
+    _run_corollary(ctx)
+
+
+def _run_inconsistent(ctx: RunContext) -> list:
+    """Inconsistent starts: the eps ln(1/eps) law of the slip stop and the post-event state; returns the studies."""
     from crosscheck.engines.compliant.studies import limit as cl
-    from crosscheck.theory import compliant_limit as asymptotics
-    from crosscheck.engines.compliant.tolerances import (
-        COMPLIANT_LIMIT_JAM_LAG_ORDER,
-        COMPLIANT_LIMIT_POST_ORDER,
-        COMPLIANT_LIMIT_SLIP_TIME,
-    )
+    from crosscheck.engines.compliant.tolerances import COMPLIANT_LIMIT_POST_ORDER, COMPLIANT_LIMIT_SLIP_TIME
 
     P = ctx.params
     alpha, xi = P["alpha"], P["xi"]
@@ -159,6 +160,16 @@ def run(ctx: RunContext) -> None:
         allowance=f"+- {COMPLIANT_LIMIT_POST_ORDER.atol}",
         detail="[post-event error order, t_end order]; crosscheck.engines.compliant.tolerances.COMPLIANT_LIMIT_POST_ORDER",
     )
+    return studies
+
+
+def _run_xi_post(ctx: RunContext) -> None:
+    """The post-event state follows the restitution of its own xi."""
+    from crosscheck.engines.compliant.studies import limit as cl
+    from crosscheck.theory import compliant_limit as asymptotics
+
+    P = ctx.params
+    alpha = P["alpha"]
 
     # the post-event state follows the restitution of its own xi (the 3-D inconsistent start, at the smallest eps of the quick list)
     X = P["xi_post"]
@@ -190,6 +201,16 @@ def run(ctx: RunContext) -> None:
         allowance=0.05 * spread,
     )
 
+
+def _run_restitution(ctx: RunContext, studies: list) -> None:
+    """The law's restitution e(xi) of each inconsistent start (the fast problem only)."""
+    from crosscheck.state import SlipState
+    from crosscheck.theory import compliant_limit as asymptotics
+    from crosscheck.theory.impact.darboux_keller import delassus
+
+    P = ctx.params
+    alpha = P["alpha"]
+
     # the law's restitution e(xi), per state (fast problem only)
     rest = {"xi": P["xi_grid"]}
     for k, d in enumerate(studies):
@@ -200,6 +221,15 @@ def run(ctx: RunContext) -> None:
         S = float(G[2, 2] - G[2, :2] @ np.linalg.solve(G[:2, :2], G[:2, 2]))
         rest[f"tail_{k}"] = [1.0 / (S * x * x) if x > 0 else math.nan for x in P["xi_grid"]]
     ctx.store.write_table("restitution", rest)
+
+
+def _run_indeterminate(ctx: RunContext) -> None:
+    """Indeterminate starts: lift-off or impact as the slipping force's stable manifold predicts."""
+    from crosscheck.engines.compliant.studies import limit as cl
+    from crosscheck.state import SlipState
+
+    P = ctx.params
+    alpha, xi = P["alpha"], P["xi"]
 
     # indeterminate boundary
     I = P["indeterminate"]
@@ -217,6 +247,16 @@ def run(ctx: RunContext) -> None:
         value=f"{sum(flips)} of {len(flips)}",
         allowance="all",
     )
+
+
+def _run_gb(ctx: RunContext) -> None:
+    """The planar GB point: the slip stop tends to the rigid arrival, the post-event state to the plastic impact."""
+    from crosscheck.engines.compliant.studies import limit as cl
+    from crosscheck.state import SlipState
+    from crosscheck.theory import compliant_limit as asymptotics
+
+    P = ctx.params
+    alpha, xi = P["alpha"], P["xi"]
 
     # the planar GB point
     g = P["gb"]
@@ -241,6 +281,16 @@ def run(ctx: RunContext) -> None:
         value={"lag_order": gb["lag_order"], "post_order": gb["post_order"]},
         allowance="monotone decrease",
     )
+
+
+def _run_corollary(ctx: RunContext) -> None:
+    """Corollary 4.2 jams in 3-D: the slip-stop lag ~ eps^(4/5) and the post-event state tending to the limit impact."""
+    from crosscheck.engines.compliant.studies import limit as cl
+    from crosscheck.engines.compliant.tolerances import COMPLIANT_LIMIT_JAM_LAG_ORDER
+    from crosscheck.theory.corollary import corollary_states
+
+    P = ctx.params
+    alpha, xi = P["alpha"], P["xi"]
 
     # Corollary 4.2 jams in 3-D
     C = P["corollary"]
@@ -322,10 +372,20 @@ def _fmt(x, spec=".3g") -> str:
 
 
 def render(ctx: RenderContext) -> list:
+    inc = ctx.store.read_json("inconsistent")
+    return [
+        *_inconsistent_blocks(ctx, inc),
+        *_restitution_blocks(ctx, inc),
+        *_indeterminate_blocks(ctx),
+        *_gb_blocks(ctx),
+    ]
+
+
+def _inconsistent_blocks(ctx: RenderContext, inc: list) -> list:
+    """Inconsistent starts: the compliant rod's slip stop and impulse against the IWC's as eps -> 0."""
     from crosscheck.report.plotting import LINE_COLORS, plt
 
     blocks: list = []
-    inc = ctx.store.read_json("inconsistent")
     fig, ax = plt.subplots(1, 2, figsize=(10, 3.6))
     rows = []
     for k, d in enumerate(inc):
@@ -399,6 +459,14 @@ def render(ctx: RenderContext) -> list:
         )
     )
 
+    return blocks
+
+
+def _restitution_blocks(ctx: RenderContext, inc: list) -> list:
+    """The restitution the compliant contact gives after the impulse, and the post-impact state against xi."""
+    from crosscheck.report.plotting import LINE_COLORS, plt
+
+    blocks: list = []
     rest = ctx.store.read_table("restitution")
     fig, ax = plt.subplots(figsize=(5, 3.6))
     xi = np.asarray(rest["xi"], float)
@@ -446,6 +514,12 @@ def render(ctx: RenderContext) -> list:
         )
     )
 
+    return blocks
+
+
+def _indeterminate_blocks(ctx: RenderContext) -> list:
+    """Indeterminate starts (p < 0, b > 0)."""
+    blocks: list = []
     ind = ctx.store.read_json("indeterminate")
     rows = [
         [
@@ -473,6 +547,14 @@ def render(ctx: RenderContext) -> list:
         )
     )
 
+    return blocks
+
+
+def _gb_blocks(ctx: RenderContext) -> list:
+    """Starts that slip into the GB point and Corollary 4.2 jams: the compliant rod against the theory."""
+    from crosscheck.report.plotting import plt
+
+    blocks: list = []
     gb = ctx.store.read_json("gb")
     cor = ctx.store.read_json("corollary")
     scan = ctx.store.read_table("gb_scan")
@@ -515,48 +597,7 @@ def render(ctx: RenderContext) -> list:
             ["gb.json", "gb_scan.csv", "corollary.json", "corollary.csv"],
         )
     )
-    rows = []
-    for k, d in enumerate([gb] + cor):
-        name = "GB P+" if k == 0 else f"mu={d['mu']:g} #{k - 1}"
-        for r in d["rows"]:
-            post = r["post"] or {}
-            rows.append(
-                [
-                    name,
-                    f"{r['eps']:g}",
-                    f"{d['t_jam']:.6f}",
-                    _fmt(r["t_stop"], ".6f"),
-                    _fmt(r["lag"]),
-                    f"{_fmt(post.get('Theta'), '.5f')} / {d['iwc']['Theta']:.5f}",
-                    f"{_fmt(post.get('Psi'), '.5f')} / {d['iwc']['Psi']:.5f}",
-                    f"{_fmt(post.get('w'), '.4g')} / {d['iwc']['w']:.4g}",
-                    _fmt(r["errors"]["max"]),
-                    f"{d['restitution']:.4f}",
-                    f"{_fmt(d['lag_order'], '.3f')}, {_fmt(d['post_order'], '.3f')}",
-                ]
-            )
-    blocks.append(
-        Table(
-            caption="Slips into p = 0, per state and eps: the compliant slip stop against the rigid jam (GB arrival) time, the post-event rates "
-            "and the tip's normal velocity w against the limit impact (compliant / rigid), the restitution e the law implies there, "
-            "and the fitted orders of the lag and of the post-event error over eps.",
-            header=[
-                "state",
-                "eps",
-                "t_jam",
-                "t_stop",
-                "lag",
-                "Theta",
-                "Psi",
-                "w",
-                "post error",
-                "e",
-                "orders (lag, post)",
-            ],
-            rows=rows,
-            data=ctx.data("gb.json", "corollary.json", "corollary.csv"),
-        )
-    )
+    blocks.append(_gb_table(ctx, gb, cor))
     failed = [
         (("GB P+" if k == 0 else f"mu={d['mu']:g} #{k - 1}"), r["eps"], r["kinds"][-1] if r["kinds"] else "-")
         for k, d in enumerate([gb] + cor)
@@ -582,9 +623,53 @@ def render(ctx: RenderContext) -> list:
     return blocks
 
 
+def _gb_table(ctx: RenderContext, gb: dict, cor: list) -> Table:
+    """The GB start and the Corollary 4.2 starts, eps by eps: the compliant rod against the theory's IWC."""
+    rows = []
+    for k, d in enumerate([gb] + cor):
+        name = "GB P+" if k == 0 else f"mu={d['mu']:g} #{k - 1}"
+        for r in d["rows"]:
+            post = r["post"] or {}
+            rows.append(
+                [
+                    name,
+                    f"{r['eps']:g}",
+                    f"{d['t_jam']:.6f}",
+                    _fmt(r["t_stop"], ".6f"),
+                    _fmt(r["lag"]),
+                    f"{_fmt(post.get('Theta'), '.5f')} / {d['iwc']['Theta']:.5f}",
+                    f"{_fmt(post.get('Psi'), '.5f')} / {d['iwc']['Psi']:.5f}",
+                    f"{_fmt(post.get('w'), '.4g')} / {d['iwc']['w']:.4g}",
+                    _fmt(r["errors"]["max"]),
+                    f"{d['restitution']:.4f}",
+                    f"{_fmt(d['lag_order'], '.3f')}, {_fmt(d['post_order'], '.3f')}",
+                ]
+            )
+    return Table(
+        caption="Slips into p = 0, per state and eps: the compliant slip stop against the rigid jam (GB arrival) time, the post-event rates "
+        "and the tip's normal velocity w against the limit impact (compliant / rigid), the restitution e the law implies there, "
+        "and the fitted orders of the lag and of the post-event error over eps.",
+        header=[
+            "state",
+            "eps",
+            "t_jam",
+            "t_stop",
+            "lag",
+            "Theta",
+            "Psi",
+            "w",
+            "post error",
+            "e",
+            "orders (lag, post)",
+        ],
+        rows=rows,
+        data=ctx.data("gb.json", "corollary.json", "corollary.csv"),
+    )
+
+
 def finding(data: Path) -> list:
     """The findings line of the compliant rod's eps -> 0 limit: its physics checks and measured rates."""
-    from crosscheck.report.findings import Finding, read_json
+    from crosscheck.report.finding import Finding, read_json
 
     out = []
     limit = read_json(data / "checks.json")

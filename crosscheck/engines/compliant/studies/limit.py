@@ -11,14 +11,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from crosscheck.theory import analytic
 from crosscheck.coordinates import tip_velocity, to_generalized
-from crosscheck.theory.impact.darboux_keller import Impact, impact
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
+from crosscheck.theory import analytic
 from crosscheck.theory.compliant_limit import fast_limit, growth_rates, indeterminate_boundary, time_corrections
+from crosscheck.theory.impact.darboux_keller import Impact, impact
+from crosscheck.theory.slipping import slip_until_event
 
 __all__ = [
     "slope_bound",

@@ -14,9 +14,8 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -45,11 +44,11 @@ def params(quick: bool) -> dict:
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck.rod import Rod
-    from crosscheck.state import SlipState
     from crosscheck.engines.mujoco.studies import friction_skew as fs
     from crosscheck.engines.mujoco.studies.law_check import convergence_order, efc_agreement
     from crosscheck.engines.mujoco.tolerances import MUJOCO_LAW_FORCE, MUJOCO_LAW_ORDER, MUJOCO_LAW_SKEW
+    from crosscheck.rod import Rod
+    from crosscheck.state import SlipState
 
     P = ctx.params
     agree = efc_agreement(P["n_contacts"], ctx.rng)
@@ -133,7 +132,6 @@ def _f(x, spec=".1f") -> str:
 
 
 def render(ctx: RenderContext) -> list:
-    from crosscheck.report.plotting import plt
 
     agree = ctx.store.read_json("law_check")
     order = ctx.store.read_json("order")
@@ -227,6 +225,15 @@ def render(ctx: RenderContext) -> list:
             "moves its events off the rigid theory's away from the planar section."
         )
     )
+    blocks.append(_skew_figure(ctx, st))
+    return blocks
+
+
+def _skew_figure(ctx: RenderContext, st: dict):
+    """The law's predicted skew against MuJoCo's, state by state, and |skew| against the distance from the planar
+    section."""
+    from crosscheck.report.plotting import plt
+
     fig, ax = plt.subplots(1, 2, figsize=(10, 3.8))
     keep = st["exits"] == 0  # the rod lying flat within the window: MuJoCo's other end touches, outside the law
     meas = np.where(keep, st["measured default"], np.nan)
@@ -243,21 +250,18 @@ def render(ctx: RenderContext) -> list:
     ax[1].set_xlabel("|varphi + pi/2| [rad]")
     ax[1].set_ylabel("|skew| [deg]")
     ax[1].legend(fontsize=8)
-    blocks.append(
-        ctx.figure(
-            "skew",
-            fig,
-            "Left: the friction skew predicted by MuJoCo's contact law (its continuous-time run) against MuJoCo's, "
-            "state by state. Right: |skew| against the slip's distance from the planar section.",
-            ["states.csv"],
-        )
+    return ctx.figure(
+        "skew",
+        fig,
+        "Left: the friction skew predicted by MuJoCo's contact law (its continuous-time run) against MuJoCo's, "
+        "state by state. Right: |skew| against the slip's distance from the planar section.",
+        ["states.csv"],
     )
-    return blocks
 
 
 def finding(data: Path) -> list:
     """The findings line of MuJoCo's friction direction: measured and predicted skew, its cause, the options."""
-    from crosscheck.report.findings import Finding, read_json
+    from crosscheck.report.finding import Finding, read_json
 
     out = []
     skew = read_json(data / "skew.json")

@@ -19,9 +19,8 @@ initial condition IC2 is followed through all six rungs on one figure.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -50,9 +49,9 @@ CAUSE_COLORS = {
 
 
 def params(quick: bool) -> dict:
-    from crosscheck.theory.paper import FIG20_INITIAL_CONDITIONS
     from crosscheck import engines
     from crosscheck.report.sections import engine_maps
+    from crosscheck.theory.paper import FIG20_INITIAL_CONDITIONS
 
     spec = engines.get("mujoco")
     base = engine_maps.params(quick, spec.name, spec.report.maps["quick" if quick else "full"])
@@ -140,10 +139,10 @@ def _events(ctx: RunContext) -> tuple[dict, str]:
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck.state import SlipState
     from crosscheck.engines.mujoco.studies.ladder import CAUSE_CODES, NAMED_CAUSES, RUNGS, run_ladder
-    from crosscheck.engines.mujoco.studies.ladder_study import ladder_study, trajectories
     from crosscheck.engines.mujoco.studies.ladder_study import disagreements as find_disagreements
+    from crosscheck.engines.mujoco.studies.ladder_study import ladder_study, trajectories
+    from crosscheck.state import SlipState
 
     P = ctx.params
     events, source = _events(ctx)
@@ -266,8 +265,8 @@ def run(ctx: RunContext) -> None:
 def render(ctx: RenderContext) -> list:
     from matplotlib.patches import Patch
 
-    from crosscheck.report.plotting import LINE_COLORS, categorical_image, plt
     from crosscheck.engines.mujoco.studies.ladder import CAUSE_CODES, CAUSES, NAMED_CAUSES, RUNG_TITLES, RUNGS
+    from crosscheck.report.plotting import LINE_COLORS, categorical_image, plt
 
     P = ctx.params
     summary = ctx.store.read_json("summary")
@@ -506,9 +505,8 @@ def render(ctx: RenderContext) -> list:
 
 def finding(data: Path) -> list:
     """The findings line of the ladder: the share of MuJoCo's disagreements attributed to each cause."""
-    from crosscheck.report.findings import Finding, read_json
-
     from crosscheck.engines.mujoco.studies.ladder import NAMED_CAUSES
+    from crosscheck.report.finding import Finding, read_json
 
     out = []
     ladder = read_json(data / "summary.json")

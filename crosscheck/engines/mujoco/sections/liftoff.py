@@ -23,8 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from crosscheck.theory import critical
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
+from crosscheck.theory import critical
 
 SLUG = "mujoco_liftoff"
 
@@ -42,8 +42,8 @@ def params(quick: bool) -> dict:
 
 
 def run(ctx: RunContext) -> None:
-    from crosscheck.rod import Rod
     from crosscheck.engines.mujoco.tolerances import MUJOCO_LIFTOFF_ONSET, MUJOCO_LIFTOFF_ONSET_COARSE
+    from crosscheck.rod import Rod
     from crosscheck.studies.onset import liftoff_onset
 
     P = ctx.params

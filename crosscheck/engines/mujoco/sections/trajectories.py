@@ -23,10 +23,10 @@ import itertools
 
 import numpy as np
 
-from crosscheck.theory import analytic
 from crosscheck.outcome import Outcome
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
 from crosscheck.state import SlipState
+from crosscheck.theory import analytic
 
 SLUG = "mujoco_trajectories"
 
@@ -65,9 +65,9 @@ def _window_mean(x: np.ndarray, w: int) -> np.ndarray:
 
 def run(ctx: RunContext) -> None:
     from crosscheck import engines
+    from crosscheck.rod import Rod
     from crosscheck.theory import gb
     from crosscheck.theory.corollary import corollary_states
-    from crosscheck.rod import Rod
 
     P = ctx.params
     alpha, horizon = P["alpha"], P["horizon"]

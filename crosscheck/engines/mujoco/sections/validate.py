@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import json
 
-from crosscheck.engines.base import engine_label
+from crosscheck.report.format import engine_label
 from crosscheck.report.section import Preformatted, RenderContext, RunContext, Section, SkipSection, Table, Text
 
 SLUG = "mujoco_validate"

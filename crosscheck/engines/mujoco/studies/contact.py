@@ -22,15 +22,15 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from crosscheck.theory.analytic import tip_acceleration
 from crosscheck.checks import ALPHA, MU, POSITIVE, check
 from crosscheck.engines.base import n_steps
-from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.model import SensorLayout, build_model, initial_state, record_from_sensordata
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
+from crosscheck.theory.analytic import tip_acceleration
 
-__all__ = ["capsule_tip_acceleration", "contact_acceleration", "friction_skew"]
+__all__ = ["checks", "capsule_tip_acceleration", "contact_acceleration", "friction_skew"]
 
 
 def capsule_tip_acceleration(rod: Rod, psi, theta, psi_dot, theta_dot, force, offset) -> np.ndarray:
@@ -168,3 +168,21 @@ def friction_skew(
         out["rigid_force"][i] = -b_rows.mean() / out["p"][i]
         out["rigid_force_eff"][i] = -b_rows.mean() / out["p_eff"][i]
     return out
+
+
+def checks(rod, n_states, rng):
+    """MuJoCo's contact force at one instant against the rigid tip acceleration (``validate``'s first check)."""
+    from crosscheck.engines.mujoco import tolerances as mujoco_tol
+    from crosscheck.error_stats import error_stat
+
+    ca = contact_acceleration(rod, min(n_states, 100), rng)
+    where = {k: ca[k] for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi", "mu")}
+    return [
+        error_stat(
+            "tip acceleration with contact",
+            ca["got"] / ca["scale"][:, None],
+            ca["want"] / ca["scale"][:, None],
+            mujoco_tol.MUJOCO_CONTACT_ACCELERATION,
+            where,
+        )
+    ]

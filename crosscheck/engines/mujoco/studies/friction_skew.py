@@ -41,11 +41,11 @@ from mujoco import rollout
 from crosscheck.checks import ALPHA, MU, POSITIVE, check
 from crosscheck.coordinates import to_generalized
 from crosscheck.engines.base import n_steps
-from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.law import accelerations, contact_problem, skew_angle, solve_cone
 from crosscheck.engines.mujoco.model import SensorLayout, build_model, initial_state, record_from_sensordata
 from crosscheck.engines.mujoco.model import model as cached_model
 from crosscheck.engines.mujoco.ode import integrate, record
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.record import Record
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState

@@ -65,7 +65,6 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, fields
 
-
 from crosscheck.checks import ALPHA, POSITIVE, check
 from crosscheck.engines.mujoco.law import impedance
 from crosscheck.state import SlipState

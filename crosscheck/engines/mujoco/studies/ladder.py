@@ -19,7 +19,7 @@ rung  name            model
                       force's feed-forward: MuJoCo's friction on its solref spring-damper
                       (``crosscheck.engines.mujoco.ode.simulate(feed_forward=False)``)
 5     ``mujoco_law``  MuJoCo's contact law at C in continuous time:
-                      ``crosscheck.engines.mujoco.law.simulate``
+                      ``crosscheck.engines.mujoco.ode.simulate``
 6     ``mujoco``      MuJoCo at the run's timestep: ``crosscheck.engines.get("mujoco").simulate``
 ====  ==============  =========================================================================
 
@@ -86,19 +86,18 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field, fields
 from typing import Any
 
-
 from crosscheck.checks import ALPHA, HORIZON, MU, check
-from crosscheck.compare import as_json
 from crosscheck.engines.base import n_steps_within_memory
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.engines.mujoco.studies.kelvin_voigt import KelvinVoigtMatch, mujoco_equivalent
+from crosscheck.error_stats import as_json
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState, check_timestep_within
 from crosscheck.studies.agreement import DEFAULT_HORIZON
-from crosscheck.studies.ladder import detour, final_stretch_cause
 from crosscheck.studies.comparison import RATED, compared_label, run_comparison_window, run_stick_from, window_margin
+from crosscheck.studies.ladder import detour, final_stretch_cause
+from crosscheck.theory.slipping import slip_until_event
 
 __all__ = [
     "RUNGS",
@@ -156,7 +155,7 @@ _RUNG_CALLABLE = {
     "capsule": ("crosscheck.theory.capsule", "slip_until_event"),
     "compliant": ("crosscheck.engines.compliant", "simulate"),
     "spring_law": ("crosscheck.engines.mujoco.ode", "simulate"),
-    "mujoco_law": ("crosscheck.engines.mujoco.law", "simulate"),
+    "mujoco_law": ("crosscheck.engines.mujoco.ode", "simulate"),
 }
 
 

@@ -10,9 +10,9 @@ from dataclasses import dataclass
 import numpy as np
 from tqdm.auto import tqdm
 
-from crosscheck.compare import as_json
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.engines.mujoco.studies.ladder import CAUSES, NAMED_CAUSES, RUNGS, Ladder, run_ladder
+from crosscheck.error_stats import as_json
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
@@ -94,7 +94,7 @@ class LadderStudy:
 ROUNDING_ULPS = (-2, -1, 1, 2)
 
 
-def decided_by_rounding(ladder: "Ladder", label: Outcome, *, thresholds: Thresholds | None = None) -> bool:
+def decided_by_rounding(ladder: Ladder, label: Outcome, *, thresholds: Thresholds | None = None) -> bool:
     """Whether MuJoCo gives ``label`` at a start 1 or 2 units in the last place of theta away from ``ladder``'s.
 
     When MuJoCo's capsule started exactly on the plane, whether its contact was

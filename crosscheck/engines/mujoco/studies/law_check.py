@@ -15,16 +15,15 @@ Scaled units (section 2.1) at the interface; MuJoCo's arrays are physical.
 from __future__ import annotations
 
 import dataclasses
-
 from collections.abc import Sequence
 
 import mujoco
 import numpy as np
 
 from crosscheck.engines import get
-from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.law import contact_problem
 from crosscheck.engines.mujoco.model import build_model, initial_state
+from crosscheck.engines.mujoco.options import Options
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 

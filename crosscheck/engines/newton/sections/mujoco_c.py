@@ -26,7 +26,13 @@ SLUG = "newton_mujoco_c"
 
 
 def params(quick: bool) -> dict:
-    return {"n": 16 if quick else 64, "alpha": 3.0, "horizon": 1.0, "timestep": 3e-3 if quick else 1e-3, "mu": [0.2, 1.5]}
+    return {
+        "n": 16 if quick else 64,
+        "alpha": 3.0,
+        "horizon": 1.0,
+        "timestep": 3e-3 if quick else 1e-3,
+        "mu": [0.2, 1.5],
+    }
 
 
 def run(ctx: RunContext) -> None:
@@ -107,7 +113,7 @@ def render(ctx: RenderContext) -> list:
 
 def finding(data: Path) -> list:
     """The findings line: MuJoCo Warp's first events against MuJoCo in C's."""
-    from crosscheck.report.findings import Finding
+    from crosscheck.report.finding import Finding
     from crosscheck.report.store import SectionStore
 
     try:

@@ -19,15 +19,14 @@ Two parts:
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import json
+from pathlib import Path
 
 import numpy as np
 
-from crosscheck.theory import analytic
 from crosscheck.report.section import Preformatted, RenderContext, RunContext, Section, Table, Text
 from crosscheck.rod import Rod
+from crosscheck.theory import analytic
 
 SLUG = "pinocchio"
 
@@ -213,7 +212,7 @@ def render(ctx: RenderContext) -> list:
 
 def finding(data: Path) -> list:
     """The findings line of the dynamics terms: the worst error against the analytic terms as a fraction of its tolerance."""
-    from crosscheck.report.findings import Finding, read_json
+    from crosscheck.report.finding import Finding, read_json
 
     out = []
     v = read_json(data / "validate.json")

@@ -41,12 +41,12 @@ def params(quick: bool) -> dict:
 
 def run(ctx: RunContext) -> None:
     from crosscheck import engines
-    from crosscheck.theory.impact import continuation as hybrid
+    from crosscheck.engines.pinocchio.studies import rigid
+    from crosscheck.rod import Rod
+    from crosscheck.studies.onset import liftoff_onset
     from crosscheck.theory.corollary import corollary_states
     from crosscheck.theory.critical import Psi_L
-    from crosscheck.rod import Rod
-    from crosscheck.engines.pinocchio.studies import rigid
-    from crosscheck.studies.onset import liftoff_onset
+    from crosscheck.theory.impact import continuation as hybrid
 
     P = ctx.params
     rod = Rod.scaled(P["alpha"])
@@ -146,28 +146,34 @@ def _fmt(x, spec=".3g") -> str:
 
 
 def render(ctx: RenderContext) -> list:
+    return [_onset_table(ctx), *_jam_blocks(ctx), *_trajectory_blocks(ctx)]
+
+
+def _onset_table(ctx: RenderContext) -> Table:
+    """The rigid lift-off onset against Psi_L, per timestep."""
+    on = ctx.store.read_table("onset")
+    return Table(
+        caption="Rigid lift-off onset at theta_L, Theta = 0, varphi = -pi/2: the smallest Psi that lifts off at t = 0, minus Psi_L "
+        "(eq. psil), per timestep; resolution is the bisection's last grid spacing. A rigid contact has no soft-contact delay.",
+        header=["mu", "timestep", "onset - Psi_L", "resolution"],
+        rows=[
+            [
+                f"{on['mu'][i]:g}",
+                f"{on['timestep'][i]:g}",
+                f"{on['onset_minus_Psi_L'][i]:.2e}",
+                f"{on['resolution'][i]:.1e}",
+            ]
+            for i in range(len(on["mu"]))
+        ],
+        data=ctx.data("onset.csv"),
+    )
+
+
+def _jam_blocks(ctx: RenderContext) -> list:
+    """Jams against the theory: the errors' figure, the Corollary 4.2 table and the planar impasses' table."""
     from crosscheck.report.plotting import LINE_COLORS, plt
 
     blocks: list = []
-    on = ctx.store.read_table("onset")
-    blocks.append(
-        Table(
-            caption="Rigid lift-off onset at theta_L, Theta = 0, varphi = -pi/2: the smallest Psi that lifts off at t = 0, minus Psi_L "
-            "(eq. psil), per timestep; resolution is the bisection's last grid spacing. A rigid contact has no soft-contact delay.",
-            header=["mu", "timestep", "onset - Psi_L", "resolution"],
-            rows=[
-                [
-                    f"{on['mu'][i]:g}",
-                    f"{on['timestep'][i]:g}",
-                    f"{on['onset_minus_Psi_L'][i]:.2e}",
-                    f"{on['resolution'][i]:.1e}",
-                ]
-                for i in range(len(on["mu"]))
-            ],
-            data=ctx.data("onset.csv"),
-        )
-    )
-
     jams = ctx.store.read_json("jams")
     rows = []
     fig, ax = plt.subplots(1, 2, figsize=(10, 3.6))
@@ -246,25 +252,35 @@ def render(ctx: RenderContext) -> list:
             data=ctx.data("jams.json"),
         )
     )
-    blocks.append(
-        Table(
-            caption="Planar impasses (p < 0, b < 0 at t = 0 on varphi = -pi/2, Psi = 0): the engine's post-jam rates against Keller's "
-            "two-phase impact, and the observed order of convergence.",
-            header=["mu", "Theta", "timesteps", "|rates - IWC|", "order"],
-            rows=[
-                [
-                    f"{x['mu']:g}",
-                    f"{x['Theta']:g}",
-                    ", ".join(f"{d:g}" for d in x["timesteps"]),
-                    ", ".join(f"{e[0]:.2e}" for e in x["rate_error"]),
-                    _fmt(x["orders"][0], ".4f"),
-                ]
-                for x in imp
-            ],
-            data=ctx.data("impasses.json"),
-        )
+    blocks.append(_impasse_table(ctx, imp))
+    return blocks
+
+
+def _impasse_table(ctx: RenderContext, imp: list) -> Table:
+    """Planar impasses: the post-jam rates against Keller's two-phase impact, and their order."""
+    return Table(
+        caption="Planar impasses (p < 0, b < 0 at t = 0 on varphi = -pi/2, Psi = 0): the engine's post-jam rates against Keller's "
+        "two-phase impact, and the observed order of convergence.",
+        header=["mu", "Theta", "timesteps", "|rates - IWC|", "order"],
+        rows=[
+            [
+                f"{x['mu']:g}",
+                f"{x['Theta']:g}",
+                ", ".join(f"{d:g}" for d in x["timesteps"]),
+                ", ".join(f"{e[0]:.2e}" for e in x["rate_error"]),
+                _fmt(x["orders"][0], ".4f"),
+            ]
+            for x in imp
+        ],
+        data=ctx.data("impasses.json"),
     )
 
+
+def _trajectory_blocks(ctx: RenderContext) -> list:
+    """One Corollary 4.2 run through its jam: the analytic slip, the engines and the state after the IWC."""
+    from crosscheck.report.plotting import LINE_COLORS, plt
+
+    blocks: list = []
     traj = ctx.store.read_json("trajectory")
     a = ctx.store.read_table("trajectory_analytic")
     eng = {n: ctx.store.read_table(f"trajectory_{n}") for n in ("pinocchio", "mujoco") if n in traj}

@@ -30,14 +30,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
-from crosscheck.theory import analytic
-from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck import tolerances as tol
-from crosscheck.compare import ErrorStat, ValidationResult, error_stat
 from crosscheck.coordinates import qv_of
-from crosscheck.theory.critical import mu_P as mu_P_closed_form
+from crosscheck.engines.pinocchio import model as pinrod
+from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
+from crosscheck.error_stats import ErrorStat, ValidationResult, error_stat
 from crosscheck.rod import Rod
+from crosscheck.theory import analytic
+from crosscheck.theory.critical import mu_P as mu_P_closed_form
 
 __all__ = ["DEFAULT_STATES", "ALPHAS_MU_P", "random_states", "reference_terms", "scaled_matrices", "validate"]
 
@@ -491,7 +491,7 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
         },
         "min_cos_theta": float(cos.min()),
         "tip_acc_error_over_A_by_cos_theta": _by_decade(cos, tip_errors),
-        "tolerances": {k: v for k, v in tol.all_tolerances().items() if k.startswith("PIN_")},
+        "tolerances": {k: v for k, v in tol.named(pinocchio_tol).items() if k.startswith("PIN_")},
     }
     return ValidationResult(engine="pinocchio", stats=stats, extra=extra)
 

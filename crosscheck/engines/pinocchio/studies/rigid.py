@@ -26,19 +26,20 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from crosscheck.theory import analytic
 from crosscheck.coordinates import to_generalized
-from crosscheck.theory.corollary import corollary_states
-from crosscheck.theory.critical import theta_12
 from crosscheck.engines import get
 from crosscheck.engines.pinocchio.stepper import Options, Stepper
-from crosscheck.theory.impact.darboux_keller import delassus, impact
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.theory.slipping import slip_until_event
 from crosscheck.state import SlipState
+from crosscheck.theory import analytic
+from crosscheck.theory.corollary import corollary_states
+from crosscheck.theory.critical import theta_12
+from crosscheck.theory.impact.darboux_keller import delassus, impact
+from crosscheck.theory.slipping import slip_until_event
 
 __all__ = [
+    "checks",
     "StepCheck",
     "one_step",
     "sticking_admissible",
@@ -305,3 +306,47 @@ def corollary_aftermath(rod: Rod, mu: float, n: int, rng: np.random.Generator, *
     """``jam_aftermath`` of ``n`` Corollary 4.2 states at ``mu`` (``crosscheck.theory.corollary.corollary_states``)."""
     states, _, _ = corollary_states(mu, n, rng, alpha=rod.alpha)
     return jam_aftermath(rod, states, mu, **kw)
+
+
+def checks(rod, n_states, rng):
+    """One step's impulse against -b/p, the slipping convergence order and the post-jam rates against the impact without collision."""
+    from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
+    from crosscheck.error_stats import error_stat
+
+    stats = []
+    steps = [(s, m, one_step(rod, s, m)) for s, m in slipping_states(min(n_states, 40), rng, rod.alpha)]
+    where = {
+        k: np.array([getattr(s, k) for s, _, _ in steps]) for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi")
+    }
+    where["mu"] = np.array([m for _, m, _ in steps])
+    stats.append(
+        error_stat(
+            "one-step normal impulse / dt vs -b/p",
+            [c.normal_force for _, _, c in steps],
+            [c.slipping_force for _, _, c in steps],
+            pinocchio_tol.RIGID_STEP_FORCE,
+            where,
+        )
+    )
+    rate, errs = slip_order(rod)
+    stats.append(
+        error_stat(
+            "slipping convergence order",
+            [rate],
+            [1.0],
+            pinocchio_tol.RIGID_SLIP_ORDER,
+            {"error_at_smallest_dt": errs[-1:]},
+        )
+    )
+    impasses = [planar_impasse(m, T, rod.alpha) for m, T in ((1.4, 0.5), (1.4, -0.3), (2.0, 0.5))]
+    after = [jam_aftermath(rod, [s], m) for s, m in zip(impasses, (1.4, 1.4, 2.0))]
+    stats.append(
+        error_stat(
+            "post-jam rates vs IWC order (planar impasse)",
+            [a.orders()[0] for a in after],
+            [1.0] * len(after),
+            pinocchio_tol.RIGID_IWC_ORDER,
+            {"mu": np.array([1.4, 1.4, 2.0]), "Theta": np.array([0.5, -0.3, 0.5])},
+        )
+    )
+    return stats

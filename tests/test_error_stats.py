@@ -1,10 +1,10 @@
-"""crosscheck.compare: the error summary behind every `crosscheck validate` command."""
+"""crosscheck.error_stats: the error summary behind every `crosscheck validate` command."""
 
 import json
 
 import numpy as np
 
-from crosscheck.compare import ValidationResult, error_stat
+from crosscheck.error_stats import ValidationResult, error_stat
 from crosscheck.tolerances import Tolerance
 
 TOL = Tolerance(atol=1e-6, rtol=1e-3, why="test")

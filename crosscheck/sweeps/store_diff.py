@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from crosscheck.files import out_error, write_atomic
 from crosscheck.outcome import Outcome
 
 __all__ = ["Comparison", "compare_frames", "compare_stores", "wilson_interval", "KEYS"]
@@ -194,8 +195,6 @@ def compare_stores(
         )
     out = Path(out) if out is not None else dir_b / f"compare-{dir_a.resolve().name}"
     js, csv = out.with_name(out.name + ".json"), out.with_name(out.name + "-disagreeing.csv")
-    from crosscheck.report.store import write_atomic
-
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
     except OSError as e:
@@ -203,6 +202,6 @@ def compare_stores(
             f"out must be in a writable directory; cannot create {str(out.parent)[:200]!r}: {e.strerror or e}"
         ) from None
     # through a temporary file each: a full disk or a refused path is one line, and no half-written file stays
-    write_atomic(js, (json.dumps(c.as_dict(), indent=1) + "\n").encode())
-    write_atomic(csv, c.disagreeing.to_csv(index=False).encode())
+    write_atomic(js, (json.dumps(c.as_dict(), indent=1) + "\n").encode(), error=out_error)
+    write_atomic(csv, c.disagreeing.to_csv(index=False).encode(), error=out_error)
     return c, [js, csv]

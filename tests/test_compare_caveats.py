@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import pytest
-from crosscheck.sweeps.store_diff import compare_stores
 
 from crosscheck.cli import main
+from crosscheck.sweeps.store_diff import compare_stores
 
 HEAD = '[sweep]\nengine = "analytic"\nhorizon = {h}\nchunk = 5\n'
 TAIL = "varphi = -1.3\nTheta = [0.0, 0.45]\nPsi = 0.2\neta = 0.8\n[parameters]\nmu = 0.7\n"

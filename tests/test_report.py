@@ -78,6 +78,8 @@ for _spec in engines.specs():
 
 EXPECTED_FIGURES["impact_engines"] = ["theta_plus"]
 EXPECTED_FIGURES["psi_engines"] = ["outcome_shares"]
+if "newton_mujoco" in engines.names():  # Newton's own section: MuJoCo Warp against MuJoCo in C, a table, no figure
+    EXPECTED_FIGURES["newton_mujoco_c"] = []
 
 #: Sections the quick report skips (shown as skipped, with the reason): full report only.
 FULL_ONLY = {"mujoco_validate"}

@@ -31,7 +31,8 @@ def _run(args) -> int:
     from crosscheck.report.sections import all_sections, skipped_engines
 
     names = _engine_names(args.engines)
-    sections = list(all_sections(names))
+    # every section (the module's SECTIONS, which a caller may set) unless --engines names some
+    sections = list(report.SECTIONS if names is None else all_sections(names))
     selected = sections
     if args.only:
         selected = [report.section_by_slug(s, sections) for s in args.only]  # ValueError names an unknown section

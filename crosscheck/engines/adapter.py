@@ -99,7 +99,8 @@ ROW_BYTES = 1536
 
 @dataclass(frozen=True, kw_only=True)
 class Options:
-    """Base options of an adapted engine (scaled units).  timestep: omega dt (> 0); radius: capsule radius r / l."""
+    """Base options of an adapted engine (scaled units).  timestep: omega dt (> 0); radius: capsule radius r / l.
+    A subclass sets the class attribute ``LABEL``, how messages name the engine (its label)."""
 
     timestep: float = 1e-3
     radius: float = 0.01
@@ -110,7 +111,7 @@ class Options:
 
     @classmethod
     def from_kwargs(cls, options: dict[str, Any]):
-        return options_from_kwargs(cls, options, getattr(cls, "ENGINE_NAME", cls.__name__))
+        return options_from_kwargs(cls, options, getattr(cls, "LABEL", cls.__name__))
 
     @property
     def contact_time(self) -> float:

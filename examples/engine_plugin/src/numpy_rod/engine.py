@@ -24,7 +24,7 @@ class Options(adapter.Options):
     units of the rod's weight per length: 1e4 sinks ~1e-4 l under the weight); damping_ratio of the spring with the
     rod's mass; slip_regularisation: the slip speed / (l omega) below which friction is smoothed."""
 
-    ENGINE_NAME = "numpy_rod"
+    LABEL = "numpy penalty rod"  # how messages name the engine: its label
     stiffness: float = 1e4
     damping_ratio: float = 1.0
     slip_regularisation: float = 1e-4

@@ -24,7 +24,7 @@ import json
 import math
 from pathlib import Path
 
-__all__ = ["compare", "IGNORED", "RTOL", "ATOL", "ACROSS_MACHINES"]
+__all__ = ["compare", "IGNORED", "IGNORED_FILES", "RTOL", "ATOL", "ACROSS_MACHINES"]
 
 #: Relative and absolute allowance of a number: rounding of the saved 12 digits and of an integration's last digits.
 RTOL, ATOL = 1e-9, 1e-12
@@ -135,7 +135,13 @@ IGNORED = {
     "us_per_step",
     "runs_per_s",
     "wall_time_s",
+    "pareto_agreement_cost",  # the first figure's Pareto frontiers: which settings are on them follows the runs/s
+    "pareto_error_cost",
 }  # the engine table's cost columns (and the first figure's, which draws them)
+
+#: Data files that hold only timings: Newton's kernel loads (CPU seconds of each solver's first step in the process
+#: that ran it; which solvers a process met follows the scheduling of the sections).
+IGNORED_FILES = {"provenance.json", "first_steps.json"}
 
 
 def _number(x):
@@ -212,7 +218,7 @@ def compare(
     )
     result: dict[str, list[str]] = {}
     for rel in files:
-        if rel.name == "provenance.json":
+        if rel.name in IGNORED_FILES:
             continue
         a, b = old / rel, new / rel
         out: list[str] = []

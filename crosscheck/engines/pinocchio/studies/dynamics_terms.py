@@ -285,6 +285,32 @@ def _mu_P_stat() -> ErrorStat:
     return error_stat("mu_P from p", got, want, pinocchio_tol.PIN_MU_P, {"alpha": alphas})
 
 
+def _rods(s: dict) -> tuple[list[slice], list[Rod]]:
+    """The rods of the states ``s`` (``random_states``): each rod's block of consecutive states and its ``Rod``."""
+    starts = np.flatnonzero(np.diff(s["rod"], prepend=-1))
+    blocks = [slice(a, b) for a, b in zip(starts, [*starts[1:], len(s["rod"])])]
+    rods = [
+        Rod(mass=s["m"][b.start], length=s["l"][b.start], inertia=s["I0"][b.start], gravity=s["g"][b.start])
+        for b in blocks
+    ]
+    return blocks, rods
+
+
+def _units(s: dict, rods: list[Rod]) -> _Units:
+    """Each state's ``_Units``.  Each rod's scale factors in its own floats (Python's l**2 and numpy's differ in the
+    last bit now and then), spread to its states; every product with them is then the one a rod at a time would form."""
+    of, l, ones = s["rod"], s["l"], np.ones(len(s["rod"]))
+    return _Units(
+        mass=s["m"],
+        gravity=s["g"],
+        force_scale=_per_state(of, rods, lambda r: r.force_scale),
+        L=np.stack((l, l, l, ones, ones), axis=-1),
+        ml2=_per_state(of, rods, lambda r: r.mass * r.length**2),
+        ml2_omega=_per_state(of, rods, lambda r: r.mass * r.length**2 * r.omega),
+        mgl=_per_state(of, rods, lambda r: r.mass * r.gravity * r.length),
+    )
+
+
 def _per_state(rod_of_state: np.ndarray, rods: list[Rod], value) -> np.ndarray:
     """``value(rod)`` of each state's rod, (N,): computed once per rod with the rod's own floats, as ``Rod`` gives it."""
     return np.array([value(rod) for rod in rods])[rod_of_state]
@@ -346,25 +372,10 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
     """Compare Pinocchio with the analytic reference on ``n_states`` random states (see the module docstring)."""
     s = random_states(n_states, rng)
     n = n_states
-    starts = np.flatnonzero(np.diff(s["rod"], prepend=-1))
-    blocks = [slice(a, b) for a, b in zip(starts, [*starts[1:], n])]
-    rods = [
-        Rod(mass=s["m"][b.start], length=s["l"][b.start], inertia=s["I0"][b.start], gravity=s["g"][b.start])
-        for b in blocks
-    ]
-    # Each rod's scale factors in its own floats (Python's l**2 and numpy's differ in the last bit now and
-    # then), spread to its states; every product with them below is then the one a rod at a time would form.
+    blocks, rods = _rods(s)
     of, l, ones = s["rod"], s["l"], np.ones(n)
     omega = _per_state(of, rods, lambda r: r.omega)
-    units = _Units(
-        mass=s["m"],
-        gravity=s["g"],
-        force_scale=_per_state(of, rods, lambda r: r.force_scale),
-        L=np.stack((l, l, l, ones, ones), axis=-1),
-        ml2=_per_state(of, rods, lambda r: r.mass * r.length**2),
-        ml2_omega=_per_state(of, rods, lambda r: r.mass * r.length**2 * r.omega),
-        mgl=_per_state(of, rods, lambda r: r.mass * r.gravity * r.length),
-    )
+    units = _units(s, rods)
     L_rates, l_omega = np.stack((ones, ones, ones, l, l), axis=-1), (l * omega)[:, None]  # v_s = v L_rates / (l omega)
     factors = tuple(
         _per_state(of, rods, lambda r, j=j: analytic.rod_factors(r)[j]) for j in range(5)
@@ -398,7 +409,7 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
     for chunk in chunks:
         lo, hi = blocks[chunk[0]].start, blocks[chunk[-1]].stop
         k, now = hi - lo, slice(lo, hi)
-        q, v, raw_M, raw_C, raw_J, raw_dJ, raw_g, raw_nle, raw_aba = (x[:k] for x in work)
+        q, v, raw_M, raw_C, raw_J, raw_dJ, raw_g, raw_nle, raw_aba = raw = [x[:k] for x in work]
         rod_states = [
             (slice(blocks[r].start - lo, blocks[r].stop - lo), blocks[r], rods[r]) for r in chunk
         ]  # (in chunk, of all, rod)
@@ -423,10 +434,7 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
         A[now] = alpha_1[now] * F_1[now] + V[now]
         # Pinocchio rod by rod: the terms, then aba with tau = J^T F at the same states.
         for i, idx, rod in rod_states:
-            rod_engine.set_rod(rod)
-            rod_engine.fill_terms(q[i], v[i], raw_M[i], raw_C[i], raw_g[i], raw_nle[i], raw_J[i], raw_dJ[i])
-            tau = np.einsum("nij,ni->nj", np.ascontiguousarray(raw_J[i, :3]), F[idx])
-            rod_engine.fill_aba_tip_acceleration(q[i], v[i], tau, raw_aba[i])
+            _fill_rod(rod_engine, rod, F[idx], *(x[i] for x in raw))
             if bar is not None:
                 bar.update(idx.stop - idx.start)
         terms = pinrod.RodTerms(
@@ -443,16 +451,7 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
         pin_b[now], pin_p[now] = pinrod.slip_coefficients_of(
             terms, s["psi"][now] + s["varphi"][now], mu[now], mass=chunk_units.mass, gravity=chunk_units.gravity
         )
-        scales = {
-            "tip acc, aba": A[now] / cos[now],
-            "tip acc, G F + free": kappa[now] * A[now],
-            "Delassus G": kappa[now] * alpha_1[now],
-            "free tip acc": kappa[now] * V[now],
-            "M (crba)": None,
-            "C (Coriolis matrix)": rates[now],
-            "g (gravity)": None,
-            "C v + g = nle": V[now],
-        }
+        scales = _scales(A[now], cos[now], kappa[now], alpha_1[now], V[now], rates[now])
         for quantity, stat in stats.items():
             stat.add(pin[quantity], ref[quantity], scales[quantity])
         for route, quantity in (("aba", "tip acc, aba"), ("G F + free", "tip acc, G F + free")):
@@ -460,10 +459,42 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
     if bar is not None:
         bar.close()
 
+    return _result(s, stats, pin_b, pin_p, V, cos, tip_errors)
+
+
+def _scales(A, cos, kappa, alpha_1, V, rates) -> dict:
+    """Each quantity's term scale at a chunk's states (``validate``'s A, V, rates; kappa = 1/cos^2 theta for the
+    quantities through M^-1; None: the quantity's own size)."""
+    return {
+        "tip acc, aba": A / cos,
+        "tip acc, G F + free": kappa * A,
+        "Delassus G": kappa * alpha_1,
+        "free tip acc": kappa * V,
+        "M (crba)": None,
+        "C (Coriolis matrix)": rates,
+        "g (gravity)": None,
+        "C v + g = nle": V,
+    }
+
+
+def _fill_rod(rod_engine, rod: Rod, F, q, v, M, C, J, dJ, g, nle, aba) -> None:
+    """Pinocchio's raw terms of one rod's states (q, v: (k, 5)) into the arrays M, C, g, nle, J, dJ, then aba's tip
+    acceleration with tau = J^T F (F: (k, 3) tip forces) into ``aba``."""
+    rod_engine.set_rod(rod)
+    rod_engine.fill_terms(q, v, M, C, g, nle, J, dJ)
+    tau = np.einsum("nij,ni->nj", np.ascontiguousarray(J[:, :3]), F)
+    rod_engine.fill_aba_tip_acceleration(q, v, tau, aba)
+
+
+def _result(s: dict, chunk_stats: dict, pin_b, pin_p, V, cos, tip_errors: dict) -> ValidationResult:
+    """The ``ValidationResult`` of the states ``s``: the per-quantity statistics gathered chunk by chunk, eqs. b and p
+    and the modes against the analytic reference, the mode confusion and the tip acceleration errors by decade of
+    cos theta."""
+    theta, Psi, Theta, alpha, mu = s["theta"], s["Psi"], s["Theta"], s["alpha"], s["mu"]
     ref_b = analytic.b(Psi, Theta, theta)
     ref_p = analytic.p(theta, s["varphi"], mu, alpha)
     where = {k: s[k] for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi", "alpha", "mu", "m", "l", "I0", "g")}
-    stats = [stat.result(where) for stat in stats.values()]
+    stats = [stat.result(where) for stat in chunk_stats.values()]
     stats += [
         _stat("b", pin_b, ref_b, pinocchio_tol.PIN_SLIP, where, scale=V),
         _stat("p", pin_p, ref_p, pinocchio_tol.PIN_SLIP, where, scale=(1 + alpha) * (1 + mu)),

@@ -469,6 +469,62 @@ def _run_setting(
     )
 
 
+def _settings(E, settings: Sequence[Mapping], options: dict) -> list[dict]:
+    """The settings as dicts, each checked with the shared ``options`` against the engine ``E``'s options: an unknown
+    or invalid option is a ValueError before anything runs."""
+    settings = [dict(s) for s in settings]
+    if not settings:
+        raise ValueError("settings must hold at least one dict of engine options")
+    for s in settings:
+        options_from_kwargs(E.Options, {**options, **s}, E.label)
+    return settings
+
+
+def _studied(points: dict, *, alpha: float, horizon: float, progress: bool, kept):
+    """(a, idx): the analytic first events of the points (``analytic_events``) and the indices of the slipping
+    ones, the states studied (a ValueError if there is none)."""
+    a = analytic_events(points, alpha=alpha, horizon=horizon, progress=progress, kept=kept)
+    idx = np.flatnonzero(a.slipping)
+    if idx.size == 0:
+        raise ValueError("the grid has no slipping state (b < 0 < p at t = 0)")
+    return a, idx
+
+
+def _points(grid: EventGrid | dict) -> tuple[dict, EventGrid | None]:
+    """(points, grid): the (N,) arrays of ``AXES`` of ``grid`` (an ``EventGrid`` or a dict of them), and the grid
+    itself if it is an ``EventGrid`` (else None)."""
+    if isinstance(grid, EventGrid):
+        return grid.points(), grid
+    missing = [k for k in AXES if k not in grid]
+    if missing:
+        raise ValueError(f"points lack the keys {missing}; need {list(AXES)}")
+    points = {k: np.asarray(grid[k], dtype=float).ravel() for k in AXES}
+    if len({v.size for v in points.values()}) != 1:
+        raise ValueError("points must be (N,) arrays of one length N")
+    return points, None
+
+
+def _boundary_distances(points: dict, a, idx, *, alpha, horizon, rng, radii, directions: int, progress, kept):
+    """``boundary_distance`` of the studied points ``idx`` (the others are not probed); NaN everywhere when
+    ``directions`` = 0."""
+    if directions <= 0:
+        return np.full(idx.size, np.nan)
+    mask = np.zeros(len(a.outcome), bool)
+    mask[idx] = True
+    return boundary_distance(
+        points,
+        a.outcome,
+        alpha=alpha,
+        horizon=horizon,
+        rng=rng,
+        radii=radii,
+        directions=directions,
+        mask=mask,
+        progress=progress,
+        kept=kept,
+    )[idx]
+
+
 def agreement_study(
     grid: EventGrid | dict,
     *,
@@ -522,45 +578,24 @@ def agreement_study(
       ``AgreementResult``.
     """
     E = engines.get(engine)
-    settings = [dict(s) for s in settings]
-    if not settings:
-        raise ValueError("settings must hold at least one dict of engine options")
-    for s in settings:
-        options_from_kwargs(E.Options, {**options, **s}, E.label)  # unknown or invalid option -> ValueError first
+    settings = _settings(E, settings, options)
     alpha = float(check("alpha", alpha, ALPHA))
     horizon = float(check("horizon", horizon, POSITIVE))
     rng = rng if rng is not None else np.random.default_rng(0)
-    if isinstance(grid, EventGrid):
-        points = grid.points()
-    else:
-        missing = [k for k in AXES if k not in grid]
-        if missing:
-            raise ValueError(f"points lack the keys {missing}; need {list(AXES)}")
-        points = {k: np.asarray(grid[k], dtype=float).ravel() for k in AXES}
-        if len({v.size for v in points.values()}) != 1:
-            raise ValueError("points must be (N,) arrays of one length N")
-        grid = None
-    a = analytic_events(points, alpha=alpha, horizon=horizon, progress=progress, kept=analytic_cache)
-    idx = np.flatnonzero(a.slipping)
-    if idx.size == 0:
-        raise ValueError("the grid has no slipping state (b < 0 < p at t = 0)")
-    mask = np.zeros(len(a.outcome), bool)
-    mask[idx] = True
-    if boundary_directions > 0:
-        dist = boundary_distance(
-            points,
-            a.outcome,
-            alpha=alpha,
-            horizon=horizon,
-            rng=rng,
-            radii=boundary_radii,
-            directions=boundary_directions,
-            mask=mask,
-            progress=progress,
-            kept=boundary_cache,
-        )[idx]
-    else:
-        dist = np.full(idx.size, np.nan)
+    points, grid = _points(grid)
+    a, idx = _studied(points, alpha=alpha, horizon=horizon, progress=progress, kept=analytic_cache)
+    dist = _boundary_distances(
+        points,
+        a,
+        idx,
+        alpha=alpha,
+        horizon=horizon,
+        rng=rng,
+        radii=boundary_radii,
+        directions=boundary_directions,
+        progress=progress,
+        kept=boundary_cache,
+    )
     base = {"points": points, "analytic": a, "index": idx, "distance": dist, "horizon": horizon}
     rod = Rod.scaled(alpha)
     runs = [

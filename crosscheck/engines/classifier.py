@@ -400,6 +400,45 @@ def first_event(found: list[tuple[Outcome, np.ndarray, np.ndarray]]) -> tuple[np
     return outcome, best_k
 
 
+def _jam_rows(R: Record, s, th: Thresholds, *, mu, alpha: float, w: int, rigid: bool):
+    """(jam, p_eff, sF): the rows the window rule judges a JAM, with its p_eff and summed force; for a ``rigid``
+    engine also the rows of one step's impulse (``impulse_jam_rows``), with their own p_eff and force."""
+    jam, p_eff, sF = window_jam_rows(s, th, alpha=alpha, w=w)
+    if rigid:
+        impulse, p_row = impulse_jam_rows(R, s, th, mu=mu, alpha=alpha)
+        jam |= impulse
+        p_eff = np.where(impulse, p_row, p_eff)
+        sF = np.where(impulse, s.Fn, sF)
+    return jam, p_eff, sF
+
+
+def _classification(R: Record, s, outcome, best_k, diverged, k_jam, p_eff, sF, *, timestep: float, w: int):
+    """The ``Classification`` of the runs: the first event's ``outcome`` at row ``best_k`` (the largest int64 where
+    none), ``diverged`` = (has, first row) of the divergence, the JAM's row, p_eff and summed force, and the force,
+    activity and gap summaries of the computed rows."""
+    found_event = best_k != np.iinfo(np.int64).max
+    has_div, k_div = diverged
+    Fn, t, computed, n = s.Fn, R.t, s.computed, s.n
+    with np.errstate(invalid="ignore"):
+        return Classification(
+            outcome=outcome,
+            event_time=_at(t, best_k, found_event),
+            event_row=np.where(found_event, best_k, -1),
+            exit_time=_at(t, s.k_exit, s.has_exit),
+            diverged_time=_at(t, k_div, has_div),
+            jam_p_eff=_at(p_eff, k_jam, outcome == Outcome.JAM),
+            jam_impulse=_at(sF * timestep, k_jam, outcome == Outcome.JAM),
+            # fmax skips NaN as nanmax does, without nanmax's RuntimeWarning for a run with no finite row (diverged at once)
+            max_normal_force=np.fmax.reduce(np.where(np.isfinite(Fn), Fn, np.nan), axis=-1) if n else np.nan,
+            max_window_force=np.fmax.reduce(window_sum(Fn, w) / w, axis=-1)
+            if n >= w
+            else np.full(has_div.shape, np.nan),
+            active_fraction=(np.asarray(R.active, dtype=bool) & computed).sum(axis=-1)
+            / np.maximum(computed.sum(axis=-1), 1),
+            max_gap=np.max(np.where(computed, R.gap, -np.inf), axis=-1),
+        )
+
+
 def classify(
     record: Record,
     *,
@@ -451,14 +490,8 @@ def classify(
 
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         s = rows_of(R)
-        n = s.n
         has_div, k_div = _first(diverged_rows(R, s, th))
-        jam, p_eff, sF = window_jam_rows(s, th, alpha=alpha, w=w)
-        if rigid:
-            impulse, p_row = impulse_jam_rows(R, s, th, mu=mu, alpha=alpha)
-            jam |= impulse
-            p_eff = np.where(impulse, p_row, p_eff)
-            sF = np.where(impulse, s.Fn, sF)
+        jam, p_eff, sF = _jam_rows(R, s, th, mu=mu, alpha=alpha, w=w, rigid=rigid)
         has_jam, k_jam = _first(jam)
         has_lift, k_lift = _first(liftoff_rows(R, s, th, rigid=rigid))
         has_launch, k_launch = _first(launch_rows(R, s, th, w=w, timestep=timestep))
@@ -490,23 +523,4 @@ def classify(
             (Outcome.STICK, has_stick, k_stick),
         ]
     )
-    found_event = best_k != np.iinfo(np.int64).max
-    Fn, t, computed = s.Fn, R.t, s.computed
-    with np.errstate(invalid="ignore"):
-        return Classification(
-            outcome=outcome,
-            event_time=_at(t, best_k, found_event),
-            event_row=np.where(found_event, best_k, -1),
-            exit_time=_at(t, s.k_exit, s.has_exit),
-            diverged_time=_at(t, k_div, has_div),
-            jam_p_eff=_at(p_eff, k_jam, outcome == Outcome.JAM),
-            jam_impulse=_at(sF * timestep, k_jam, outcome == Outcome.JAM),
-            # fmax skips NaN as nanmax does, without nanmax's RuntimeWarning for a run with no finite row (diverged at once)
-            max_normal_force=np.fmax.reduce(np.where(np.isfinite(Fn), Fn, np.nan), axis=-1) if n else np.nan,
-            max_window_force=np.fmax.reduce(window_sum(Fn, w) / w, axis=-1)
-            if n >= w
-            else np.full(has_div.shape, np.nan),
-            active_fraction=(np.asarray(R.active, dtype=bool) & computed).sum(axis=-1)
-            / np.maximum(computed.sum(axis=-1), 1),
-            max_gap=np.max(np.where(computed, R.gap, -np.inf), axis=-1),
-        )
+    return _classification(R, s, outcome, best_k, (has_div, k_div), k_jam, p_eff, sF, timestep=timestep, w=w)

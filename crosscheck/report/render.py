@@ -122,6 +122,8 @@ def _view(section: Section, out: Path) -> SectionView:
 
 # ------------------------------------------------------------------- html ---
 
+#: The stylesheet every HTML page of the report links, written beside them (one copy, not one per page).
+STYLESHEET = "style.css"
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;max-width:1100px;margin:1em auto;padding:0 1em;color:#222;line-height:1.45}
 h1{font-size:1.35em;margin:.3em 0}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:2em}
@@ -252,7 +254,7 @@ def _section_html(v: SectionView, found: list) -> list[str]:
 def _head(title: str) -> list[str]:
     return [
         f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>',
-        f"<style>{_CSS}</style></head><body>",
+        f'<link rel="stylesheet" href="{STYLESHEET}"></head><body>',
     ]
 
 
@@ -568,6 +570,7 @@ def render(
         (out / "data" / BOTTOM_LINE).write_text(
             json.dumps([dataclasses.asdict(s) for s in pages.bottom], indent=1) + "\n"
         )
+    (out / STYLESHEET).write_text(_CSS.lstrip())
     _write_index(out, pages, views)
     for p in engine_pages:
         _write_engine(out, pages, p)

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from crosscheck.report import surfaces as meshes
 from crosscheck.report.section import RunContext, section_rng
 from crosscheck.report.sections import bifurcations
 from crosscheck.report.sections import kinematic_surfaces as ks
@@ -37,14 +38,14 @@ def bifs(tmp_path_factory):
 
 
 def test_b0_below_Psi_L_is_one_piece_clipped_where_Theta_reaches_its_top():
-    ((lo, hi),) = ks.b0_pieces(0.0, TMAX)
+    ((lo, hi),) = meshes.b0_pieces(0.0, TMAX)
     # at Psi = 0, Theta^2 = 1/sin theta on b = 0: the top Theta_max is reached at sin theta = 1/Theta_max^2
     assert abs(lo - math.asin(1 / TMAX**2)) <= CLOSED_FORM.allowance(lo)
     assert hi == pytest.approx(math.pi / 2, abs=1e-3)
 
 
 def test_b0_above_Psi_L_leaves_Theta_0_exactly_across_the_theta_gap():
-    pieces = ks.b0_pieces(2.2, TMAX)
+    pieces = meshes.b0_pieces(2.2, TMAX)
     ga, gb_ = gb.gb_theta_gap(2.2)
     assert len(pieces) == 2
     # brentq on Theta^2 = 0 and the cubic's roots of gb_theta_gap are two routes to the same edges
@@ -54,14 +55,14 @@ def test_b0_above_Psi_L_leaves_Theta_0_exactly_across_the_theta_gap():
 
 
 def test_b0_at_Psi_L_touches_Theta_0_without_splitting():
-    pieces = ks.b0_pieces(critical.Psi_L, TMAX)
+    pieces = meshes.b0_pieces(critical.Psi_L, TMAX)
     assert len(pieces) == 1 and pieces[0][0] < critical.theta_L < pieces[0][1]
     # slightly above Psi_L the surface does split (lift-off at Theta = 0 opens around theta_L)
-    assert len(ks.b0_pieces(critical.Psi_L * (1 + 1e-4), TMAX)) == 2
+    assert len(meshes.b0_pieces(critical.Psi_L * (1 + 1e-4), TMAX)) == 2
 
 
 def test_p0_cylinder_is_closed_and_on_p_zero():
-    theta, varphi = ks.p0_cylinder(MU, ALPHA, n=41)
+    theta, varphi = meshes.p0_cylinder(MU, ALPHA, n=41)
     cv = critical.critical_values(MU, ALPHA)
     assert theta[0] == theta[-1] and varphi[0] == varphi[-1]
     assert theta.min() == pytest.approx(cv.theta_1, abs=1e-15) and theta.max() == pytest.approx(cv.theta_2, abs=1e-15)
@@ -142,7 +143,7 @@ def test_every_case_boundary_of_fig_9a_is_one_of_the_curves():
 
 
 def _meshes(mu, Psi):
-    return ks.surface_meshes(mu, Psi, ALPHA, TMAX, n_surface=21, n_varphi=11, n_Theta=6, n_gb=21)
+    return meshes.surface_meshes(mu, Psi, ALPHA, TMAX, n_surface=21, n_varphi=11, n_Theta=6, n_gb=21)
 
 
 def test_surface_meshes_below_mu_P_have_no_cylinder_and_at_mu_P_a_segment():

@@ -20,7 +20,7 @@ each of its 19 cells.  Here the strata are computed:
   psip: Psi_1 = Psi_2) and (mu_L, Psi_L) (eq. mul: Psi_1 = Psi_L, tangent).
 
 The picture in each of the 19 cells is computed at one (mu, Psi) of its
-stratum as Figs. 3-7 are (``kinematic_surfaces.surface_meshes``): b = 0, p = 0
+stratum as Figs. 3-7 are (``crosscheck.report.surfaces.surface_meshes``): b = 0, p = 0
 and the GB manifold in (theta, varphi, Theta).
 
 Checks: every sampled point of each curve is a zero of its function (closed
@@ -36,7 +36,7 @@ import numpy as np
 
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, RunContext, Section, Table
-from crosscheck.report.sections.kinematic_surfaces import draw_surfaces, surface_meshes
+from crosscheck.report.surfaces import draw_surfaces, surface_meshes
 from crosscheck.theory import analytic, critical
 from crosscheck.tolerances import CLOSED_FORM, ROOT_RESIDUAL
 

@@ -464,7 +464,7 @@ def test_summary_splits_the_confirmed_by_the_start_s_distance_to_the_theory_s_ev
 
 
 def test_each_start_gets_the_boundary_distance_of_its_own_row_of_its_map():
-    from crosscheck.report.sections.engine_interventions import boundary_distances
+    from crosscheck.report.sections.engine_intervention_runs import boundary_distances
 
     state = {"theta": 1.0125, "varphi": -1.9, "Theta": -0.125, "Psi": 1.7, "eta": 1.0}
     table = {

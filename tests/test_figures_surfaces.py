@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from crosscheck.report import bifurcation_strata as strata
 from crosscheck.report import surfaces as meshes
 from crosscheck.report.section import RunContext, section_rng
 from crosscheck.report.sections import bifurcations
@@ -95,9 +96,9 @@ def test_bifurcation_section_checks_pass(bifs):
     assert sorted(cl["case"] for cl in cells if cl["kind"] == "case") == [1, 2, 3, 4, 5, 6, 7]
 
 
-@pytest.mark.parametrize("name", list(bifurcations.POINTS))
+@pytest.mark.parametrize("name", list(strata.POINTS))
 def test_codim2_points_are_zeros_of_each_curve_function_and_a_step_off_is_not(name):
-    pm, pP, through = bifurcations.POINTS[name]
+    pm, pP, through = strata.POINTS[name]
     c = {
         "mu_P": float(critical.mu_P(ALPHA)),
         "mu_L": float(critical.mu_L(ALPHA)),
@@ -105,13 +106,13 @@ def test_codim2_points_are_zeros_of_each_curve_function_and_a_step_off_is_not(na
         "Psi_P": float(critical.Psi_P(ALPHA)),
     }
     mu, Psi = c[pm], c[pP]
-    for kind in {bifurcations.CURVES[cid][1] for cid in through}:
-        assert abs(bifurcations.defining_function(kind, mu, Psi, ALPHA)) <= CLOSED_FORM.allowance(1 + Psi**2)
+    for kind in {strata.CURVES[cid][1] for cid in through}:
+        assert abs(strata.defining_function(kind, mu, Psi, ALPHA)) <= CLOSED_FORM.allowance(1 + Psi**2)
         # a relative step of 1e-6 off the point (in the coordinate the function depends on) leaves the curve by far more than rounding
         off = (
-            bifurcations.defining_function(kind, mu * (1 + 1e-6), Psi, ALPHA)
+            strata.defining_function(kind, mu * (1 + 1e-6), Psi, ALPHA)
             if kind == "P"
-            else bifurcations.defining_function(kind, mu, Psi * (1 + 1e-6), ALPHA)
+            else strata.defining_function(kind, mu, Psi * (1 + 1e-6), ALPHA)
         )
         assert abs(off) > 1e3 * CLOSED_FORM.allowance(1 + Psi**2)
 
@@ -130,7 +131,7 @@ def test_every_case_boundary_of_fig_9a_is_one_of_the_curves():
         (float(critical.mu_L(ALPHA)), critical.Psi_L),
     ]
     far = np.all([(np.abs(M - m) > 0.3) | (np.abs(S - p) > 0.3) for m, p in corners], axis=0)
-    pairs = {tuple(sorted(v[4])) for v in bifurcations.CURVES.values()}
+    pairs = {tuple(sorted(v[4])) for v in strata.CURVES.values()}
     seen = set()
     for a, b, keep in (
         (cases[:, :-1], cases[:, 1:], far[:, :-1] & far[:, 1:]),

@@ -89,14 +89,3 @@ def test_a_convex_relaxations_launch_is_its_relaxation():
     assert ld.rungs[0].outcome == Outcome.SLIP and ld.reference == Outcome.LAUNCH
     assert by_cause["friction law"].label != Outcome.LAUNCH and by_cause["discretisation"].label != Outcome.LAUNCH
     assert by_cause["relaxation"].name == "engine" and ld.cause == "relaxation"
-
-
-def test_mujocos_declared_ladder_is_its_own_study_at_ic2():
-    """MuJoCo's ladder run as declared (crosscheck.studies.ladder) and as its own study (rung by rung the same models)
-    give IC2 the same rungs' outcomes and the same cause."""
-    from crosscheck.engines.mujoco.studies import ladder as own
-
-    declared, written = run_ladder("mujoco", IC2, 1.4), own.run_ladder(IC2, 1.4)
-    assert [r.label for r in declared.rungs] == [r.label for r in written.rungs]
-    assert [r.time for r in declared.rungs] == pytest.approx([r.time for r in written.rungs], nan_ok=True)
-    assert declared.cause == written.cause == "feed-forward"

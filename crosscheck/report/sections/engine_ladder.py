@@ -91,7 +91,7 @@ def _cause_maps(ctx: RunContext, events: dict, maps: list, chosen: list, lds: li
             if name == m["name"]:
                 code[i] = CAUSE_CODES[ld.cause]
         ctx.store.write_table(f"causes_{m['name']}", {m["x"]: e[m["x"]], m["y"]: e[m["y"]], "code": code})
-    ctx.store.write_json("maps", maps)
+    ctx.store.write_json("cause_maps", maps)
 
 
 def run(ctx: RunContext) -> None:

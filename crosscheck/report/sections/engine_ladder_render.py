@@ -1,7 +1,7 @@
 """An engine's ladder section drawn: its causes, detours and reruns, each map coloured by cause, IC2 through the rungs.
 
 Renders what ``crosscheck.report.sections.engine_ladder`` saved (``summary``,
-``ladders``, ``causes_<map>``, ``maps``, ``ic2``) without running anything.
+``ladders``, ``causes_<map>``, ``cause_maps``, ``ic2``) without running anything.
 """
 
 from __future__ import annotations
@@ -56,7 +56,7 @@ def render(ctx: RenderContext) -> list:
     ]
     if ladders:
         blocks += [_detail(ctx, ladders), _detours(ctx, summary, ladders, name), _reruns(summary)]
-    blocks += [_cause_map(ctx, m, name) for m in ctx.store.read_json("maps")]
+    blocks += [_cause_map(ctx, m, name) for m in ctx.store.read_json("cause_maps")]
     blocks += _ic2(ctx, name)
     return blocks
 
@@ -153,7 +153,7 @@ def _cause_map(ctx: RenderContext, m: dict, name: str):
         fig,
         f"Cause of each {name}-theory disagreement over ({m['x']}, {m['y']}) at {fixed}: "
         f"{laddered} laddered disagreements on this map.",
-        [f"causes_{m['name']}.csv", "maps.json"],
+        [f"causes_{m['name']}.csv", "cause_maps.json"],
     )
 
 

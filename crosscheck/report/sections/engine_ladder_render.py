@@ -165,9 +165,12 @@ def _ic2(ctx: RenderContext, name: str) -> list:
     ic2, P = ctx.store.read_json("ic2"), ctx.params
     rungs = [
         SimpleNamespace(
-            **{**r, "time": math.nan if r["time"] is None else r["time"]},
-            outcome=None if r["outcome"] is None else Outcome[r["outcome"]],
-            label=None if r["label"] is None else Outcome[r["label"]],
+            **{
+                **r,
+                "time": math.nan if r["time"] is None else r["time"],
+                "outcome": None if r["outcome"] is None else Outcome[r["outcome"]],
+                "label": None if r["label"] is None else Outcome[r["label"]],
+            }
         )
         for r in ic2["rungs"]
     ]

@@ -89,3 +89,32 @@ def test_a_convex_relaxations_launch_is_its_relaxation():
     assert ld.rungs[0].outcome == Outcome.SLIP and ld.reference == Outcome.LAUNCH
     assert by_cause["friction law"].label != Outcome.LAUNCH and by_cause["discretisation"].label != Outcome.LAUNCH
     assert by_cause["relaxation"].name == "engine" and ld.cause == "relaxation"
+
+
+def test_the_cause_map_codes_each_start_by_its_ladders_cause_or_why_it_has_none(tmp_path):
+    """A cell of an engine's cause map: its ladder's cause where laddered, else whether it agrees, disagrees unladdered,
+    or does not slip at t = 0 (not compared); the codes saved are what the section's figure colours."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from crosscheck.report.sections.engine_ladder import _cause_maps
+    from crosscheck.report.sections.engine_ladder_render import AGREE, CAUSE_CODES, NOT_RUN, NOT_SLIPPING
+    from crosscheck.report.store import SectionStore
+
+    S, J, T = int(Outcome.SLIP), int(Outcome.JAM), int(Outcome.STICK)
+    t = {
+        "theta": np.array([0.5, 0.7, 0.9, 1.1]),
+        "Theta": np.array([0.0, 0.0, 0.5, 0.5]),
+        "slipping": np.array([1, 1, 1, 0]),
+        "analytic_outcome": np.array([S, J, T, S]),
+        "bullet": np.array([S, T, S, -2]),
+    }
+    m = {"name": "theta_Theta_0", "x": "theta", "y": "Theta"}
+    store = SectionStore(tmp_path)
+    store.reset()
+    ctx = SimpleNamespace(params={"ladder_engine": "bullet"}, store=store)
+    _cause_maps(ctx, {m["name"]: t}, [m], [(m["name"], t, 1)], [SimpleNamespace(cause="compliance")])
+    saved = store.read_table("causes_theta_Theta_0")
+    assert saved["code"].tolist() == [AGREE, CAUSE_CODES["compliance"], NOT_RUN, NOT_SLIPPING]
+    assert saved["theta"].tolist() == t["theta"].tolist() and store.read_json("cause_maps") == [m]

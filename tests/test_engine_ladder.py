@@ -99,7 +99,7 @@ def test_the_cause_map_codes_each_start_by_its_ladders_cause_or_why_it_has_none(
     import numpy as np
 
     from crosscheck.report.sections.engine_ladder import _cause_maps
-    from crosscheck.report.sections.engine_ladder_render import AGREE, CAUSE_CODES, NOT_RUN, NOT_SLIPPING
+    from crosscheck.report.sections.engine_ladder_render import AGREE, NOT_RUN, NOT_SLIPPING, cause_codes
     from crosscheck.report.store import SectionStore
 
     S, J, T = int(Outcome.SLIP), int(Outcome.JAM), int(Outcome.STICK)
@@ -116,5 +116,5 @@ def test_the_cause_map_codes_each_start_by_its_ladders_cause_or_why_it_has_none(
     ctx = SimpleNamespace(params={"ladder_engine": "bullet"}, store=store)
     _cause_maps(ctx, {m["name"]: t}, [m], [(m["name"], t, 1)], [SimpleNamespace(cause="compliance")])
     saved = store.read_table("causes_theta_Theta_0")
-    assert saved["code"].tolist() == [AGREE, CAUSE_CODES["compliance"], NOT_RUN, NOT_SLIPPING]
+    assert saved["code"].tolist() == [AGREE, cause_codes()["compliance"], NOT_RUN, NOT_SLIPPING]
     assert saved["theta"].tolist() == t["theta"].tolist() and store.read_json("cause_maps") == [m]

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from crosscheck.report.section import RunContext, Section, SkipSection
-from crosscheck.report.sections.engine_ladder_render import AGREE, CAUSE_CODES, NOT_RUN, NOT_SLIPPING, render
+from crosscheck.report.sections.engine_ladder_render import AGREE, NOT_RUN, NOT_SLIPPING, cause_codes, render
 
 #: How many of the maps' disagreements are laddered where the engine's plan does not say (an even spread): 12 Drake
 #: ladder starts cost 1.9-3.2 s of section time in the full report and their interventions 2.3-10.5 s (Bullet's 0.2
@@ -82,14 +82,14 @@ def _chosen(events: dict, engine: str, max_states: int | None) -> tuple[list, in
 
 def _cause_maps(ctx: RunContext, events: dict, maps: list, chosen: list, lds: list) -> None:
     """Per map, each start's code: its ladder's cause, or NOT_SLIPPING, AGREE, NOT_RUN (``causes_<map>.csv``)."""
-    engine = ctx.params["ladder_engine"]
+    engine, codes = ctx.params["ladder_engine"], cause_codes()
     for m in maps:
         e = events[m["name"]]
         agree = e["analytic_outcome"] == e[engine]
         code = np.where(e["slipping"] == 1, np.where(agree, AGREE, NOT_RUN), NOT_SLIPPING).astype(int)
         for (name, _, i), ld in zip(chosen, lds):
             if name == m["name"]:
-                code[i] = CAUSE_CODES[ld.cause]
+                code[i] = codes[ld.cause]
         ctx.store.write_table(f"causes_{m['name']}", {m["x"]: e[m["x"]], m["y"]: e[m["y"]], "code": code})
     ctx.store.write_json("cause_maps", maps)
 

@@ -13,16 +13,20 @@ import numpy as np
 
 from crosscheck.report.grids import cell_centres
 from crosscheck.report.section import RenderContext, Table, Text
-from crosscheck.studies.ladder import CAUSES
 
-__all__ = ["render", "CAUSE_CODES", "CAUSE_COLORS", "NOT_SLIPPING", "AGREE", "NOT_RUN"]
+__all__ = ["render", "cause_codes", "CAUSE_COLORS", "NOT_SLIPPING", "AGREE", "NOT_RUN"]
 
 #: Map code of a start that does not slip at t = 0 (as ``engine_maps``), of a rated start that agrees, and of a
 #: disagreement the section did not ladder.
 NOT_SLIPPING, AGREE, NOT_RUN = -2, -3, -4
 
-#: Integer code of each cause (the cause maps' CSV column).
-CAUSE_CODES = {c: i for i, c in enumerate(CAUSES)}
+
+def cause_codes() -> dict:
+    """Integer code of each cause (``crosscheck.studies.ladder.CAUSES``, in order): the cause maps' CSV column."""
+    from crosscheck.studies.ladder import CAUSES
+
+    return {c: i for i, c in enumerate(CAUSES)}
+
 
 #: The maps' colours of the causes (and of the three codes above); every one used appears in the legend.
 CAUSE_COLORS = {
@@ -41,6 +45,7 @@ CAUSE_COLORS = {
 
 def render(ctx: RenderContext) -> list:
     from crosscheck.report.format import engine_label
+    from crosscheck.studies.ladder import CAUSES
 
     name = engine_label(ctx.params["ladder_engine"])
     summary, ladders = ctx.store.read_json("summary"), ctx.store.read_json("ladders")
@@ -88,6 +93,8 @@ def _detail(ctx: RenderContext, ladders: list) -> Table:
 
 def _detours(ctx: RenderContext, summary: dict, ladders: list, name: str) -> Table:
     """The detours per cause named and per cause of the rung that ends them."""
+    from crosscheck.studies.ladder import CAUSES
+
     det, n = summary["detours"], summary["n_disagree"]
     ends = [c for c in (*CAUSES, "none") if det["ended_by"].get(c)]
     named = [c for c in CAUSES if summary["counts"].get(c)]
@@ -118,6 +125,7 @@ def _cause_map(ctx: RenderContext, m: dict, name: str):
     from matplotlib.patches import Patch
 
     from crosscheck.report.plotting import categorical_image, plt
+    from crosscheck.studies.ladder import CAUSES
 
     e = ctx.store.read_table(f"causes_{m['name']}")
     x, y = cell_centres(*m["x_range"], m["n"]), cell_centres(*m["y_range"], m["n"])
@@ -125,9 +133,10 @@ def _cause_map(ctx: RenderContext, m: dict, name: str):
     yi = np.abs(e[m["y"]][:, None] - y[None, :]).argmin(axis=1)
     img = np.full((y.size, x.size), np.nan)
     img[yi, xi] = e["code"]
-    colors = {CAUSE_CODES[c]: CAUSE_COLORS[c] for c in CAUSES}
+    codes = cause_codes()
+    colors = {codes[c]: CAUSE_COLORS[c] for c in CAUSES}
     colors.update({NOT_SLIPPING: (0.8, 0.8, 0.8), AGREE: (0.96, 0.96, 0.96), NOT_RUN: (0.3, 0.3, 0.3)})
-    names = {CAUSE_CODES[c]: c for c in CAUSES}
+    names = {codes[c]: c for c in CAUSES}
     names.update(
         {
             NOT_SLIPPING: "not slipping at t = 0 (not compared)",

@@ -9,7 +9,8 @@ import os
 from crosscheck import engines
 from crosscheck.checks import ALPHA, ETA, MU, POSITIVE, RATE, THETA, VARPHI
 from crosscheck.checks import number as _num
-from crosscheck.cli.options import add_alpha, add_state, ascii_number
+from crosscheck.cli.options import add_alpha, add_state, ascii_number, interrupted_line
+from crosscheck.progress import ticking
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
@@ -26,7 +27,9 @@ def _simulate(args) -> int:
     mu, alpha = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA)
     options = {} if args.timestep is None else {"timestep": _num("timestep", args.timestep, POSITIVE)}
     paths = _output_paths(args)  # before the run: a path that cannot be written never costs the run
-    run = engine.simulate(Rod.scaled(alpha), state, mu, horizon=_num("horizon", args.horizon, POSITIVE), **options)
+    horizon = _num("horizon", args.horizon, POSITIVE)
+    with ticking(f"simulating {engine.name} to t = {horizon:g}", progress=None, interrupted=interrupted_line()):
+        run = engine.simulate(Rod.scaled(alpha), state, mu, horizon=horizon, **options)
     fin = lambda x: x if math.isfinite(x) else None  # noqa: E731
     out = {
         "engine": run.engine,

@@ -64,7 +64,7 @@ def ticking(desc: str, *, progress: bool | None, every: float = 1.0, interrupted
 
     def watch() -> None:
         while True:
-            if draw:
+            if draw and not _bars():  # a progress bar of the run says more than the seconds
                 sys.stderr.write(f"\r{desc}: {time.monotonic() - t0:.0f} s (Ctrl-C stops it)")
                 sys.stderr.flush()
             if wake is not None and _interrupted(wake[0], every) and not stop.wait(INTERRUPT_GRACE):
@@ -106,3 +106,10 @@ def _interrupted(fd: int, timeout: float) -> bool:
     """Whether a SIGINT reached the wakeup pipe ``fd`` within ``timeout`` seconds."""
     ready, _, _ = select.select([fd], [], [], timeout)
     return bool(ready) and signal.SIGINT in os.read(fd, 64)
+
+
+def _bars() -> bool:
+    """Whether a tqdm bar is open in this process (its line is the one to show)."""
+    from tqdm import tqdm
+
+    return any(not getattr(b, "disable", False) for b in list(getattr(tqdm, "_instances", ())))

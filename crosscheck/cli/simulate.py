@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import sys
 
 from crosscheck import engines
 from crosscheck.checks import ALPHA, ETA, MU, POSITIVE, RATE, THETA, VARPHI
@@ -43,7 +44,9 @@ def _simulate(args) -> int:
         "diverged_time": fin(run.diverged_time),
         "jam_p_eff": fin(run.jam_p_eff),
         "nstep": run.nstep,
-        "unjudged_tail": _unjudged_tail(run),
+        "unjudged_tail": run.unjudged_tail,
+        "rod": {"mass": run.rod.mass, "length": run.rod.length, "inertia": run.rod.inertia, "gravity": run.rod.gravity},
+        "caveats": list(run.caveats),
     }
     written = _write_outputs(run, paths)
     if args.json:
@@ -51,7 +54,7 @@ def _simulate(args) -> int:
     else:
         when = "" if math.isnan(run.event_time) else f" at t = {run.event_time:.6g}"
         tail = out["unjudged_tail"]
-        if tail >= run.horizon:
+        if run.caveats:
             caveat = "; shorter than the classifier's window: any event can be missed"
         else:
             caveat = (
@@ -60,17 +63,11 @@ def _simulate(args) -> int:
                 else ""
             )
         print(f"{run.engine}: {run.outcome.name}{when}  (horizon {run.horizon:g}, {run.nstep} steps{caveat})")
+        # the rod on standard error, as a note: the result line above stays the one line a script reads
+        print(f"rod: {run.rod_text}; the numbers above in its scaled units (time in 1/omega)", file=sys.stderr)
         for f in written:
             print(f"wrote {f}")
     return 0
-
-
-def _unjudged_tail(run) -> float:
-    """The scaled time at the end of ``run`` in which an event can be missed: the JAM and LAUNCH rules read the window
-    after a row (``Thresholds.window_rows`` at the run's timestep) and judge no row whose window passes the end, so a
-    SLIP says less of that tail (the whole run when it is shorter than the window)."""
-    dt = run.options.timestep
-    return float(min(run.horizon, run.thresholds.window_rows(dt) * dt))
 
 
 #: The figure formats of --plot (matplotlib's, by suffix); a name without a suffix is written as PNG.

@@ -35,6 +35,13 @@ mu = 0.45
 STOP_SECONDS = 5.0
 
 
+def _hear_sigint() -> None:
+    """In the child before its exec: SIGINT to its default, which Python turns into KeyboardInterrupt.  A shell
+    without job control starts a background command (``pytest ... &``) with SIGINT ignored, and an ignored signal
+    stays ignored across exec: the command would never hear the Ctrl-C this test sends."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _finished(out: Path) -> set[str]:
     return {p.name for p in (out / "chunks").glob("chunk-*.json")} if (out / "chunks").is_dir() else set()
 
@@ -56,7 +63,13 @@ def test_a_sigint_stops_a_sweep_with_one_line_and_the_rerun_resumes(tmp_path):
     ]
     env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1])}
     proc = subprocess.Popen(
-        argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, start_new_session=True
+        argv,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+        start_new_session=True,
+        preexec_fn=_hear_sigint,
     )
     deadline = time.monotonic() + 120
     while len(_finished(out)) < 2 and time.monotonic() < deadline and proc.poll() is None:
@@ -114,7 +127,13 @@ def test_a_sigint_stops_a_report_and_the_rerun_resumes_its_finished_sections(tmp
     argv += ["--no-progress", "--jobs", jobs, "--workers", "1"]
     env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1])}
     proc = subprocess.Popen(
-        argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, start_new_session=True
+        argv,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+        start_new_session=True,
+        preexec_fn=_hear_sigint,
     )
     deadline = time.monotonic() + 180
     while list(_statuses(out).values()).count("ok") < 2 and time.monotonic() < deadline and proc.poll() is None:
@@ -135,6 +154,12 @@ def test_a_sigint_stops_a_report_and_the_rerun_resumes_its_finished_sections(tmp
     assert f"kept {len(finished)} finished sections" in rerun.stdout
     prov = json.loads((out / "data" / "provenance.json").read_text())
     assert sorted(prov["sections_resumed"]) == finished
+    assert prov["rod"] == {
+        "mass": 1.0,
+        "length": 1.0,
+        "gravity": 1.0,
+        "units": "scaled: time 1/omega, lengths l, forces m g",
+    }
     assert sorted(_statuses(out)) == sorted(REPORT_SECTIONS) and set(_statuses(out).values()) == {"ok"}
 
 
@@ -164,6 +189,7 @@ def test_a_sigint_stops_a_long_run_at_once_with_one_line(tmp_path, argv):
         env=env,
         cwd=tmp_path,
         start_new_session=True,
+        preexec_fn=_hear_sigint,
     )
     os.close(slave)
     shown = _read_until(master, f"ing {argv[2]} to t = {argv[argv.index('--horizon') + 1]}: ", 120)

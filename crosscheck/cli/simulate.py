@@ -145,7 +145,8 @@ def register(sub) -> None:
         "--horizon",
         type=ascii_number,
         default="2",
-        help="scaled time to simulate, > 0, at most what a record of 4 GiB holds (default 2)",
+        help="scaled time to simulate, > 0, at most what a record of 4 GiB holds (default 2); a long run shows its "
+        "seconds on a terminal, and Ctrl-C stops it",
     )
     s.add_argument("--timestep", type=ascii_number, default=None, help="scaled timestep, > 0 (default: the engine's)")
     s.add_argument("--json", action="store_true", help="print the result as JSON")

@@ -46,7 +46,8 @@ def register(sub) -> None:
             "--states",
             type=ascii_number,
             default=None,
-            help=f"number of random states, 1 to {MAX_STATES} (default: the engine's)",
+            help=f"number of random states, 1 to {MAX_STATES} (default: the engine's); not capped further: a "
+            "long run shows its bars and seconds on a terminal, and Ctrl-C stops it",
         )
         e.add_argument(
             "--seed", type=ascii_number, default="0", help="seed of numpy.random.default_rng, >= 0 (default 0)"

@@ -61,6 +61,16 @@ class Rod:
             )
         return cls(mass=mass, length=length, inertia=inertia, gravity=gravity)
 
+    def describe(self) -> str:
+        """The rod in one phrase: the scaled rod by its alpha, a physical one by its mass, tip-to-centre length,
+        inertia and gravity (SI units) and alpha."""
+        if self.mass == 1.0 and self.length == 1.0 and self.gravity == 1.0:
+            return f"scaled rod (m = l = g = 1), alpha {self.alpha:g}"
+        return (
+            f"rod of mass {self.mass:g} kg, length {self.length:g} m (tip to centre), inertia {self.inertia:g} kg m^2, "
+            f"gravity {self.gravity:g} m/s^2 (alpha {self.alpha:g})"
+        )
+
     @property
     def alpha(self) -> float:
         """alpha = m l^2 / I0 (dimensionless); 3 for a uniform rod."""

@@ -232,6 +232,11 @@ def cli_cases(tmp: Path) -> list:
         (["--csv", too_long], "csv"),
     ]:
         cases.append((f"simulate {' '.join(outputs)[-40:]}", sim + outputs, param))
+    # explain's --plot, checked before the ladder runs: at a horizon of 3000 the ladder would take minutes, longer
+    # than the judge waits, so a clean refusal is one that spent no simulation time
+    expl = _argv(["explain"], {**STATE, "mu": "1.4", "horizon": "3000"}, "", "")
+    for plot in ["", "  ", str(tmp), "/proc/self/k.png", str(a_file / "k.png"), str(tmp / "k.gif"), too_long]:
+        cases.append((f"explain --plot={plot[-30:]!r}", expl + ["--plot", plot], "plot"))
     # round 3 of the audit, with values of its own: starts within THETA_MARGIN of the vertical or the plane, the
     # compliant rod's timestep floor, MuJoCo's timestep past the horizon or past timeconst / 2, digits of other scripts
     for engine in ("compliant", "mujoco_law", "pinocchio"):

@@ -18,6 +18,8 @@ import os
 import re
 import sys
 
+from crosscheck.cli.options import interrupted_line
+
 __all__ = ["main", "COMMAND_MODULES"]
 
 #: Modules that register sub-commands, in help order.
@@ -86,11 +88,20 @@ def _stdout_lost(e: OSError) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:  # before the command was known (its imports) or after it answered
+        sys.stderr.write(f"{interrupted_line()}\n")
+        return 130
+
+
+def _main(argv: list[str] | None) -> int:
     try:  # a path or a name the terminal's encoding cannot show is shown escaped, never an error after the work
         sys.stdout.reconfigure(errors="backslashreplace")
     except (AttributeError, ValueError):
         pass
     parser = build_parser()
+
     try:
         args, extra = parser.parse_known_args(argv)
         if extra:  # argparse would say "unrecognized arguments" and nothing of what the command takes
@@ -109,10 +120,8 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # output piped into `head`: not an error of ours
         sys.stderr.close()
         return 0
-    except KeyboardInterrupt:  # Ctrl-C: one line; a sweep's written chunks and a report's finished sections stay
-        sys.stderr.write(
-            "crosscheck: interrupted; finished sweep chunks and report sections are kept (the same command resumes)\n"
-        )
+    except KeyboardInterrupt:  # Ctrl-C: one line, exit 130 (128 + SIGINT), as a shell reports it
+        sys.stderr.write(f"{interrupted_line(args.command)}\n")
         return 130
     except OSError as e:
         if e.errno not in (errno.ENOSPC, errno.EDQUOT, errno.EIO, errno.EFBIG):

@@ -35,25 +35,57 @@ def _start(args):
     return state, _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA), _num("horizon", args.horizon, HORIZON)
 
 
-def _plot(args, ladder, name: str, state, mu: float, alpha: float) -> None:
-    """--plot FILE: every rung of the ladder on one figure (``crosscheck.report.trajectory_plot.plot_ladder``), with its JSON beside it."""
-    if not getattr(args, "plot", None):
+#: The figure formats of --plot (matplotlib's, by suffix); a name without a suffix is written as PNG.
+PLOT_SUFFIXES = (".png", ".svg", ".pdf")
+
+
+def _plot_paths(args) -> tuple | None:
+    """(figure, JSON) that --plot FILE writes, checked before the run (``crosscheck.checks.writable_file``: not empty,
+    not a directory, a figure format, a parent that is a writable directory); None without --plot."""
+    from pathlib import Path
+
+    from crosscheck.checks import writable_file
+
+    if args.plot is None:
+        return None
+    plot = args.plot
+    try:
+        bare = str(plot).strip() and not Path(plot).suffix and not Path(plot).is_dir()
+    except OSError:  # a name the file system refuses (too long): writable_file names it
+        bare = False
+    if bare:
+        plot = plot + ".png"  # what matplotlib writes for a bare name
+    path = writable_file("plot", plot, suffixes=PLOT_SUFFIXES)
+    return path, writable_file("plot", path.with_suffix(".json"))
+
+
+def _running(engine: str, horizon: float):
+    """The ladder's run: its seconds on a terminal, and a Ctrl-C that stops it (nothing is written before its end)."""
+    from crosscheck.cli.options import interrupted_line
+    from crosscheck.progress import ticking
+
+    return ticking(f"explaining {engine} to t = {horizon:g}", progress=None, interrupted=interrupted_line())
+
+
+def _plot(args, paths, ladder, name: str, state, mu: float, alpha: float) -> None:
+    """--plot FILE: every rung of the ladder on one figure (``crosscheck.report.trajectory_plot.plot_ladder``), with its
+    JSON beside it; ``paths``: (figure, JSON) from ``_plot_paths``."""
+    if paths is None:
         return
     import sys
-    from pathlib import Path
 
     import matplotlib.pyplot as plt
 
     from crosscheck.report.trajectory_plot import plot_ladder
 
-    path = Path(args.plot)
+    path, js = paths
     title = (
         f"{name}'s ladder from theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; "
         f"mu {mu:g}, alpha {alpha:g}: cause {ladder.cause}"
     )
     plt.close(plot_ladder(ladder, path=path, title=title))
-    path.with_suffix(".json").write_text(json_text(ladder.as_dict(), indent=1) + "\n")
-    print(f"wrote {path} and {path.with_suffix('.json')}", file=sys.stderr if args.json else sys.stdout)
+    js.write_text(json_text(ladder.as_dict(), indent=1) + "\n")
+    print(f"wrote {path} and {js}", file=sys.stderr if args.json else sys.stdout)
 
 
 def _confirmation(args, engine: str, state, mu: float, alpha: float, horizon: float, cause: str, reference, options):
@@ -101,10 +133,12 @@ def _explain(args) -> int:
         from crosscheck.theory.slipping import RADIUS
 
         options["radius"] = _num("radius", args.radius, RADIUS)
-    ld = run_ladder(args.engine, state, mu, alpha=alpha, horizon=horizon, **options)
+    plot = _plot_paths(args)  # before the run: a path that cannot be written never costs the run
+    with _running(args.engine, horizon):
+        ld = run_ladder(args.engine, state, mu, alpha=alpha, horizon=horizon, **options)
+        conf = _confirmation(args, args.engine, state, mu, alpha, horizon, ld.cause, ld.reference, options)
     name = engine_label(args.engine)
-    _plot(args, ld, name, state, mu, alpha)
-    conf = _confirmation(args, args.engine, state, mu, alpha, horizon, ld.cause, ld.reference, options)
+    _plot(args, plot, ld, name, state, mu, alpha)
     if args.json:
         print(json_text({**ld.as_dict(), "confirmation": conf}))
         return 0

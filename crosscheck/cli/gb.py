@@ -96,6 +96,16 @@ def _gb(args) -> int:
     return 0
 
 
+#: What each domain exit of ``slip`` means (``crosscheck.theory.slipping.DOMAIN_EXITS``).
+LEFT = {
+    "varphi=0": "varphi reached 0, the tip slipping square to the rod's projection, then towards S",
+    "varphi=-pi": "varphi reached -pi, the tip slipping square to the rod's projection, then towards S",
+    "varphi=pi/2": "the tip at rest starts slipping towards S, varphi = +pi/2",
+    "theta=0": "theta reached 0, the rod flat on the plane",
+    "theta=pi/2": "theta reached pi/2, the rod through the vertical",
+}
+
+
 def _slip(args) -> int:
     from crosscheck.state import SlipState
     from crosscheck.theory.gb import slip_until_event
@@ -116,7 +126,13 @@ def _slip(args) -> int:
         print(json.dumps(r.as_dict(), indent=2))
         return 0
     s = r.state
-    print(f"{r.outcome.name} at t = {r.time:.9g} ({r.reason}); b = {r.b:.3g}, p = {r.p:.3g}")
+    if r.left_domain:  # not the horizon's SLIP: the paper's coordinates end here
+        print(
+            f"{r.outcome.name} up to t = {r.time:.9g} only: the run left the paper's domain there "
+            f"({LEFT[r.reason]}); no event before it, nothing said after it; b = {r.b:.3g}, p = {r.p:.3g}"
+        )
+    else:
+        print(f"{r.outcome.name} at t = {r.time:.9g} ({r.reason}); b = {r.b:.3g}, p = {r.p:.3g}")
     print(
         f"  theta = {s.theta:.6f}  varphi = {s.varphi:.6f}  Theta = {s.Theta:.6f}  Psi = {s.Psi:.6f}  "
         f"eta = {s.eta:.6f}  psi = {s.psi:.6f}"

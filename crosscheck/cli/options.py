@@ -85,3 +85,17 @@ def add_psi(parser) -> None:
     parser.add_argument(
         "--psi", type=ascii_number, default="0", metavar="PSI", help=f"azimuth [rad], in {AZIMUTH} (default 0)"
     )
+
+
+#: What an interrupted command leaves, by command: a sweep's written chunks and a report's finished sections stay (their
+#: rerun resumes them); every other command writes its files only once its run has finished.
+INTERRUPTED = {
+    "sweep": "finished sweep chunks and report sections are kept (the same command resumes)",
+    "report": "finished sweep chunks and report sections are kept (the same command resumes)",
+    None: "nothing was written (files are written once the run has finished)",
+}
+
+
+def interrupted_line(command: str | None = None) -> str:
+    """The one line of a Ctrl-C of ``command`` (``INTERRUPTED``: what it keeps)."""
+    return f"crosscheck: interrupted; {INTERRUPTED.get(command, INTERRUPTED[None])}"

@@ -5,11 +5,13 @@ from __future__ import annotations
 import json
 import math
 import os
+import sys
 
 from crosscheck import engines
 from crosscheck.checks import ALPHA, ETA, MU, POSITIVE, RATE, THETA, VARPHI
 from crosscheck.checks import number as _num
-from crosscheck.cli.options import add_alpha, add_state, ascii_number
+from crosscheck.cli.options import add_alpha, add_state, ascii_number, interrupted_line
+from crosscheck.progress import ticking
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
@@ -26,7 +28,9 @@ def _simulate(args) -> int:
     mu, alpha = _num("mu", args.mu, MU), _num("alpha", args.alpha, ALPHA)
     options = {} if args.timestep is None else {"timestep": _num("timestep", args.timestep, POSITIVE)}
     paths = _output_paths(args)  # before the run: a path that cannot be written never costs the run
-    run = engine.simulate(Rod.scaled(alpha), state, mu, horizon=_num("horizon", args.horizon, POSITIVE), **options)
+    horizon = _num("horizon", args.horizon, POSITIVE)
+    with ticking(f"simulating {engine.name} to t = {horizon:g}", progress=None, interrupted=interrupted_line()):
+        run = engine.simulate(Rod.scaled(alpha), state, mu, horizon=horizon, **options)
     fin = lambda x: x if math.isfinite(x) else None  # noqa: E731
     out = {
         "engine": run.engine,
@@ -40,7 +44,9 @@ def _simulate(args) -> int:
         "diverged_time": fin(run.diverged_time),
         "jam_p_eff": fin(run.jam_p_eff),
         "nstep": run.nstep,
-        "unjudged_tail": _unjudged_tail(run),
+        "unjudged_tail": run.unjudged_tail,
+        "rod": {"mass": run.rod.mass, "length": run.rod.length, "inertia": run.rod.inertia, "gravity": run.rod.gravity},
+        "caveats": list(run.caveats),
     }
     written = _write_outputs(run, paths)
     if args.json:
@@ -48,7 +54,7 @@ def _simulate(args) -> int:
     else:
         when = "" if math.isnan(run.event_time) else f" at t = {run.event_time:.6g}"
         tail = out["unjudged_tail"]
-        if tail >= run.horizon:
+        if run.caveats:
             caveat = "; shorter than the classifier's window: any event can be missed"
         else:
             caveat = (
@@ -57,17 +63,11 @@ def _simulate(args) -> int:
                 else ""
             )
         print(f"{run.engine}: {run.outcome.name}{when}  (horizon {run.horizon:g}, {run.nstep} steps{caveat})")
+        # the rod on standard error, as a note: the result line above stays the one line a script reads
+        print(f"rod: {run.rod_text}; the numbers above in its scaled units (time in 1/omega)", file=sys.stderr)
         for f in written:
             print(f"wrote {f}")
     return 0
-
-
-def _unjudged_tail(run) -> float:
-    """The scaled time at the end of ``run`` in which an event can be missed: the JAM and LAUNCH rules read the window
-    after a row (``Thresholds.window_rows`` at the run's timestep) and judge no row whose window passes the end, so a
-    SLIP says less of that tail (the whole run when it is shorter than the window)."""
-    dt = run.options.timestep
-    return float(min(run.horizon, run.thresholds.window_rows(dt) * dt))
 
 
 #: The figure formats of --plot (matplotlib's, by suffix); a name without a suffix is written as PNG.
@@ -145,7 +145,8 @@ def register(sub) -> None:
         "--horizon",
         type=ascii_number,
         default="2",
-        help="scaled time to simulate, > 0, at most what a record of 4 GiB holds (default 2)",
+        help="scaled time to simulate, > 0, at most what a record of 4 GiB holds (default 2); a long run shows its "
+        "seconds on a terminal, and Ctrl-C stops it",
     )
     s.add_argument("--timestep", type=ascii_number, default=None, help="scaled timestep, > 0 (default: the engine's)")
     s.add_argument("--json", action="store_true", help="print the result as JSON")

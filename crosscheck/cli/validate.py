@@ -16,7 +16,8 @@ import sys
 import numpy as np
 
 from crosscheck.checks import integer
-from crosscheck.cli.options import ascii_number
+from crosscheck.cli.options import ascii_number, interrupted_line
+from crosscheck.progress import ticking
 from crosscheck.studies import validate as validation
 
 #: The largest --states: beyond a million states a run belongs in ``crosscheck sweep`` (resumable, chunked).
@@ -27,9 +28,11 @@ def _run(args) -> int:
     n = validation.default_states(args.engine) if args.states is None else integer("states", args.states, 1, MAX_STATES)
     seed = integer("seed", args.seed, 0, 2**63 - 1)
     checks = validation.PARTS if args.checks == "all" else (args.checks,)
-    result = validation.validate(
-        args.engine, n, np.random.default_rng(seed), progress=not args.json and sys.stderr.isatty(), checks=checks
-    )
+    # on a terminal: the run's bars, and its seconds while no bar is open (an engine's own checks run without one)
+    with ticking(f"validating {args.engine} on {n} states", progress=None, interrupted=interrupted_line()):
+        result = validation.validate(
+            args.engine, n, np.random.default_rng(seed), progress=not args.json and sys.stderr.isatty(), checks=checks
+        )
     print(result.to_json() if args.json else result.to_table())
     return 0 if result.passed else 1
 
@@ -43,7 +46,8 @@ def register(sub) -> None:
             "--states",
             type=ascii_number,
             default=None,
-            help=f"number of random states, 1 to {MAX_STATES} (default: the engine's)",
+            help=f"number of random states, 1 to {MAX_STATES} (default: the engine's); not capped further: a "
+            "long run shows its bars and seconds on a terminal, and Ctrl-C stops it",
         )
         e.add_argument(
             "--seed", type=ascii_number, default="0", help="seed of numpy.random.default_rng, >= 0 (default 0)"

@@ -47,6 +47,8 @@ __all__ = [
     "sweep_mu_workers",
     "summaries",
     "sweep_by_simulate",
+    "unjudged_tail",
+    "horizon_caveats",
 ]
 
 #: Decimated time series kept per state by ``sweep`` (each (B, n_series)), scaled units:
@@ -174,8 +176,51 @@ def check_states(states: Sequence[SlipState]) -> list[SlipState]:
     return states
 
 
+def unjudged_tail(horizon: float, options: Any, thresholds: Thresholds) -> float:
+    """The scaled time at the end of a run of ``horizon`` in which an event can be missed: the JAM and LAUNCH rules
+    read the window after a row (``Thresholds.window_rows`` at the run's timestep) and judge no row whose window
+    passes the end, so a SLIP says less of that tail (the whole run when it is shorter than the window).  0 for a
+    model without a timestep (the theory's own integration judges every event)."""
+    dt = getattr(options, "timestep", None)
+    if not dt:
+        return 0.0
+    return float(min(horizon, thresholds.window_rows(dt) * dt))
+
+
+def horizon_caveats(horizon: float, options: Any, thresholds: Thresholds) -> tuple[str, ...]:
+    """What the outcome of a run of ``horizon`` does not say: one sentence when the horizon is not longer than the
+    classifier's window (``unjudged_tail``), where any event can be missed; () otherwise."""
+    tail = unjudged_tail(horizon, options, thresholds)
+    if tail <= 0.0 or tail < horizon:
+        return ()
+    return (
+        f"the horizon {horizon:g} is not longer than the classifier's window ({tail:g} at timestep "
+        f"{options.timestep:g}): an event in it is not judged (a JAM needs a whole window after it), so the "
+        "outcome says little",
+    )
+
+
+class _Described:
+    """What ``Run`` and ``SweepResult`` say about themselves beyond their outcomes: the rod and the horizon's caveat."""
+
+    @property
+    def unjudged_tail(self) -> float:
+        """``unjudged_tail`` of this run's horizon, options and thresholds (scaled time)."""
+        return unjudged_tail(self.horizon, self.options, self.thresholds)
+
+    @property
+    def caveats(self) -> tuple[str, ...]:
+        """``horizon_caveats`` of this run: () unless the horizon is shorter than the classifier's window."""
+        return horizon_caveats(self.horizon, self.options, self.thresholds)
+
+    @property
+    def rod_text(self) -> str:
+        """The rod simulated, in one phrase (``Rod.describe``; the scaled rod of ``alpha`` when not given)."""
+        return (self.rod if self.rod is not None else Rod.scaled(self.alpha)).describe()
+
+
 @dataclass(frozen=True, eq=False)
-class Run:
+class Run(_Described):
     """One simulated slipping state: the record, what happened first and when.
 
     Attributes:
@@ -193,6 +238,9 @@ class Run:
       options, thresholds: the engine's parameters and the outcome criteria.
       horizon: scaled time simulated; nstep: steps taken.
       solver: the engine's solver statistics, if it has a solver (None otherwise).
+      rod: the rod simulated (``Rod``; set by the registry's ``simulate``, None from an engine called directly).
+      unjudged_tail, caveats, rod_text (properties): the end of the run where an event can be missed, what the
+        outcome does not say (a horizon shorter than the classifier's window), and the rod in one phrase.
     """
 
     engine: str
@@ -211,6 +259,7 @@ class Run:
     horizon: float
     nstep: int
     solver: Any = field(default=None, repr=False)
+    rod: Rod | None = field(default=None, repr=False)
 
     @classmethod
     def from_classification(cls, engine: str, c: Classification, record: Record, **kw) -> Run:
@@ -228,7 +277,7 @@ class Run:
 
 
 @dataclass(frozen=True, eq=False)
-class SweepResult:
+class SweepResult(_Described):
     """Outcomes of a batch of B states (an engine's ``sweep``).
 
     Attributes:
@@ -250,6 +299,7 @@ class SweepResult:
       warnings: the engine's own warnings during the sweep, by kind (MuJoCo's
         "Nan, Inf or huge value in QACC": each resets one run, classified
         DIVERGED); empty when there were none or the engine has no such channel.
+      rod: the rod simulated, as ``Run.rod``; unjudged_tail, caveats, rod_text: as ``Run``'s.
     """
 
     engine: str
@@ -270,6 +320,7 @@ class SweepResult:
     steps_per_second: float
     solver: dict | None = field(default=None, repr=False)
     warnings: dict = field(default_factory=dict)
+    rod: Rod | None = field(default=None, repr=False)
 
     def __len__(self) -> int:
         return len(self.outcome)

@@ -264,6 +264,15 @@ def _check_rod_and_thresholds(rod, thresholds) -> None:
         raise ValueError(f"thresholds must be a crosscheck.engines.Thresholds or None; got {thresholds!r}")
 
 
+def _with_rod(result, rod):
+    """``result`` (a ``Run`` or ``SweepResult``) naming the rod it simulated, when the engine did not set it itself."""
+    import dataclasses
+
+    if dataclasses.is_dataclass(result) and getattr(result, "rod", False) is None:
+        return dataclasses.replace(result, rod=rod)
+    return result
+
+
 @dataclass(frozen=True, kw_only=True, eq=False)
 class EngineSpec:
     """One engine: how to run it, what it is, and the optional parts a study or the report reads.
@@ -422,8 +431,11 @@ class EngineSpec:
     def simulate(self, rod, state, mu, *, horizon, thresholds=None, **options):
         """The engine's ``simulate`` with its ``defaults`` (see ``crosscheck.engines.base.Engine``)."""
         _check_rod_and_thresholds(rod, thresholds)
-        return self._runner().simulate(
-            rod, state, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options}
+        return _with_rod(
+            self._runner().simulate(
+                rod, state, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options}
+            ),
+            rod,
         )
 
     def first_event(self, rod, state, mu, *, horizon, thresholds=None, **options):
@@ -438,8 +450,11 @@ class EngineSpec:
     def sweep(self, rod, states, mu, *, horizon, thresholds=None, **options):
         """The engine's ``sweep`` with its ``defaults`` (see ``crosscheck.engines.base.Engine``)."""
         _check_rod_and_thresholds(rod, thresholds)
-        return self._runner().sweep(
-            rod, states, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options}
+        return _with_rod(
+            self._runner().sweep(
+                rod, states, mu, horizon=horizon, thresholds=thresholds, **{**self.defaults, **options}
+            ),
+            rod,
         )
 
     def interventions_for(self, cause: str, options, *, p_min: float | None = None) -> tuple[Intervention, ...]:

@@ -323,6 +323,9 @@ def _start_provenance(out: Path, root: SectionStore, sections, params: dict, *, 
         quick=quick, seed=seed, parameters={**previous.get("parameters", {}), **params}, argv=argv
     )
     prov["sections_run"] = [s.slug for s in sections]
+    # the rod every section simulates: the paper's scaled rod, its alpha each section's (``parameters``); the
+    # dynamics terms of Pinocchio's validation alone also use physical rods, which its own result names
+    prov["rod"] = {"mass": 1.0, "length": 1.0, "gravity": 1.0, "units": "scaled: time 1/omega, lengths l, forces m g"}
     root.write_json(PROVENANCE_FILE, prov)
     return prov
 

@@ -46,6 +46,7 @@ class SweepSummary:
     seconds: float = 0.0
 
     computed_runs: int = 0
+    caveats: tuple = ()  # what the outcomes do not say (``Spec.caveats``, also in the store's manifest)
 
     @property
     def runs_per_second(self) -> float:
@@ -61,7 +62,7 @@ class SweepSummary:
             s += f"\n  chunk {cid} failed: {err}"
         if len(self.failed) > 5:
             s += f"\n  ... and {len(self.failed) - 5} more (manifest.json lists them)"
-        return s
+        return s + "".join(f"\ncaveat: {c}" for c in self.caveats)
 
 
 def _timed_chunk(spec: Spec, chunk_id: int):
@@ -236,7 +237,9 @@ def run(
         m = store.open(spec, fresh=fresh)
         done = store.verified(m)
         todo = [c for c in range(spec.n_chunks) if c not in done]
-        summary = SweepSummary(out=store.root, n_chunks=spec.n_chunks, n_runs=spec.n_runs, reused=sorted(done))
+        summary = SweepSummary(
+            out=store.root, n_chunks=spec.n_chunks, n_runs=spec.n_runs, reused=sorted(done), caveats=spec.caveats
+        )
         bar = _Progress(len(todo), spec.n_runs / spec.n_chunks, progress)
         try:
             for c, res in _results(spec, todo, workers, scheduler):

@@ -217,6 +217,23 @@ class Spec:
         return cols
 
     @property
+    def caveats(self) -> tuple[str, ...]:
+        """What the sweep's outcomes do not say: ``crosscheck.engines.base.horizon_caveats`` of its horizon at each
+        option combination's timestep (a horizon shorter than the classifier's window); () for the theory's sweep,
+        whose integration judges every event."""
+        if self.engine == "analytic":
+            return ()
+        from crosscheck import engines
+        from crosscheck.engines.base import horizon_caveats
+        from crosscheck.engines.thresholds import Thresholds
+
+        E, out = engines.get(self.engine), []
+        for combo in self.option_combinations:
+            for c in horizon_caveats(self.horizon, E.options(**combo), Thresholds()):
+                out += [c] if c not in out else []
+        return tuple(out)
+
+    @property
     def digest(self) -> str:
         """sha256 of the spec's content (its runs and settings), independent of the TOML's formatting."""
         body = {

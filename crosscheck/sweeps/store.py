@@ -309,6 +309,9 @@ class Store:
                 "n_chunks": spec.n_chunks,
                 "chunk": spec.chunk,
                 "versions": versions(spec.engine),
+                # every run of a sweep is of the scaled rod (m = l = g = 1) at its alpha: its numbers are scaled units
+                "rod": {"mass": 1.0, "length": 1.0, "gravity": 1.0, "alpha": list(spec.alpha)},
+                "caveats": list(spec.caveats),  # what the outcomes do not say (a horizon shorter than the window)
                 "created": _now(),
                 "chunks": {},
                 "failed": {},

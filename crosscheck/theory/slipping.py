@@ -32,9 +32,20 @@ SLIP       none of the above before ``t_max``; also (with ``reason`` saying
            the state is returned on the boundary, -pi as the next float above),
            theta comes within ``THETA_MARGIN.atol`` (1e-6) of 0 or pi/2, or
            the desingularised time exceeds ``s_max`` without an event (the flow
-           creeps towards an equilibrium too slowly to decide).
+           creeps towards an equilibrium too slowly to decide).  The domain
+           exits (``DOMAIN_EXITS``) say only that no event came before them:
+           ``SlipResult.left_domain``.
 DIVERGED   the integrator failed (step size underflow, non-finite values).
 =========  ======================================================================
+
+Near the vertical every start leaves the domain within a short time, and this is the slender rod's physics, not
+the integrator's: the friction's moment about the vertical through S has the lever arm l cos theta and the rod's
+inertia about that axis is I0 cos^2 theta (a slender rod has no axial moment), so Psi' = -alpha mu F_z cos varphi /
+cos theta + 2 Psi Theta tan theta (``_coefficients``: Psi1, Psi0) grows without bound as theta -> pi/2.  From
+Theta = Psi = 0 the azimuth then turns varphi by Delta in t ~ sqrt(2 Delta cos theta / (alpha mu F_z |cos varphi|))
+(0.0066 at cos theta = 1e-4, F_z ~ 1) with Psi ~ 1 / sqrt(cos theta) at the exit, while the rod itself barely moves
+(its angular velocity normal to its axis, Psi cos theta, stays small); with Theta > 0 it passes through the
+vertical after (pi/2 - theta) / Theta.  Such a run is reported as what it is, a domain exit at that time.
 
 A start at rest (eta below ``STICK_SPEED``) is judged by the forces that would
 hold it (``crosscheck.theory.sticking.at_rest``): STICK only when the stuck
@@ -64,13 +75,26 @@ from crosscheck.outcome import Outcome
 from crosscheck.state import SlipState
 from crosscheck.tolerances import GB_REACHED, P_RESOLVED, SLIP_INTEGRATION, STICK_SPEED, THETA_MARGIN
 
-__all__ = ["X_STATE", "RADIUS", "SlipResult", "slip_rhs", "slip_until_event", "slip_outcomes", "integrate"]
+__all__ = [
+    "X_STATE",
+    "DOMAIN_EXITS",
+    "RADIUS",
+    "SlipResult",
+    "slip_rhs",
+    "slip_until_event",
+    "slip_outcomes",
+    "integrate",
+]
 
 #: The contact point's distance r below the tip A, in units of l: a thicker capsule is no longer the paper's slender rod.
 RADIUS = CONTACT_RADIUS
 
 #: Order of the desingularised state, eq. x.
 X_STATE = ("eta", "varphi", "psi", "Psi", "theta", "Theta")
+
+#: The reasons of a SLIP that is an exit from the paper's domain (-pi < varphi <= 0, 0 < theta < pi/2): the run
+#: stopped there, before ``t_max``, with no event before it; what follows is outside the paper's coordinates.
+DOMAIN_EXITS = ("varphi=0", "varphi=-pi", "varphi=pi/2", "theta=0", "theta=pi/2")
 
 _HALF_PI = 0.5 * math.pi
 _VARPHI_LOW = math.nextafter(-math.pi, 0.0)  # the closest float to -pi inside (-pi, 0]
@@ -156,6 +180,7 @@ class SlipResult:
       s: (n,) desingularised times of the integrator's steps.
       t: (n,) real scaled times at those steps (t[0] = 0).
       x: (n, 6) states at those steps, columns ordered as ``X_STATE``.
+      left_domain (property): a SLIP that is a domain exit (``DOMAIN_EXITS``) at ``time``, not the end of ``t_max``.
     """
 
     outcome: Outcome
@@ -177,7 +202,13 @@ class SlipResult:
             "b": self.b,
             "p": self.p,
             "state": self.state.as_dict(),
+            "left_domain": self.left_domain,
         }
+
+    @property
+    def left_domain(self) -> bool:
+        """Whether the run stopped where it left the paper's domain (``DOMAIN_EXITS``): a SLIP up to ``time`` only."""
+        return self.outcome is Outcome.SLIP and self.reason in DOMAIN_EXITS
 
 
 def _start_outcome(eta: float, b: float, p: float) -> Outcome | None:

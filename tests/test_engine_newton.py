@@ -160,3 +160,31 @@ def test_a_rod_that_lifts_off_at_once_records_no_force_in_flight_and_mujoco_s_ev
     assert a.outcome == b.outcome and a.event_time == b.event_time
     flying = a.record.gap > 1e-6
     assert flying.sum() > 50 and np.all(a.record.force[flying] == 0.0)
+
+
+#: A start of the full report's Featherstone map just below mu_P = 4/3 (p = 0.18 at the start).
+BELOW_MU_P = SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=1.3125, eta=1.0)
+
+
+def test_the_penalty_solvers_declare_their_normal_law_as_the_compliant_rod_s_and_the_others_none():
+    from crosscheck.engines.newton.options import FeatherstoneOptions, MuJoCoWarpOptions, XPBDOptions
+
+    twin = FeatherstoneOptions(stiffness=4e4, damping=300.0, radius=0.02, timestep=2e-3).compliant_twin
+    assert twin == {"eps": 1.0 / 200.0, "xi": 300.0 / 200.0, "radius": 0.02, "timestep": 2e-3}
+    assert MuJoCoWarpOptions().compliant_twin is None and XPBDOptions().compliant_twin is None
+
+
+def test_featherstone_s_jam_below_mu_P_is_its_compliant_law_s_and_goes_as_the_contact_stiffens():
+    """Below mu_P the rigid theory forbids a JAM; Featherstone at stiffness 1e4 jams there (the full report's 8 x 8 map
+    at timestep 2e-3), as the compliant rod with its normal law does, while that rod at eps / 10 slips: the maps' check
+    sorts it as the compliant law's (an engine finding), not as an impact without collision."""
+    from crosscheck.report.sections.engine_maps import _jam_kind
+
+    spec, mu = engines.get("newton_featherstone"), 1.3125
+    run = spec.simulate(ROD, BELOW_MU_P, mu, horizon=0.2, timestep=2e-3)
+    assert run.outcome == Outcome.JAM and run.event_time < 0.1
+    twin = spec.options(timestep=2e-3).compliant_twin
+    P = {"alpha": ALPHA, "horizon": 0.2, "options": {"timestep": 2e-3}}
+    assert _jam_kind("newton_featherstone", P, twin, BELOW_MU_P.as_dict(), mu, run.event_time) == "compliant"
+    # without the twin the same JAM counts against the theory
+    assert _jam_kind("newton_featherstone", P, None, BELOW_MU_P.as_dict(), mu, run.event_time) == "iwc"

@@ -73,7 +73,11 @@ def _engine(solver: str, order: int) -> EngineSpec:
             order=order,
             sections="crosscheck.engines.newton.sections:sections" if solver == "mujoco" else None,
         ),
-        execution=Execution(sweep_chunk=256),
+        execution=Execution(
+            sweep_chunk=256,
+            preload="crosscheck.engines.newton.engine:preload",
+            provenance="crosscheck.engines.newton.engine:provenance",
+        ),
     )
 
 

@@ -160,3 +160,81 @@ def test_a_rod_that_lifts_off_at_once_records_no_force_in_flight_and_mujoco_s_ev
     assert a.outcome == b.outcome and a.event_time == b.event_time
     flying = a.record.gap > 1e-6
     assert flying.sum() > 50 and np.all(a.record.force[flying] == 0.0)
+
+
+#: A start of the full report's Featherstone map just below mu_P = 4/3 (p = 0.18 at the start).
+BELOW_MU_P = SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=1.3125, eta=1.0)
+
+
+def test_the_penalty_solvers_declare_their_normal_law_as_the_compliant_rod_s_and_the_others_none():
+    from crosscheck.engines.newton.options import FeatherstoneOptions, MuJoCoWarpOptions, XPBDOptions
+
+    twin = FeatherstoneOptions(stiffness=4e4, damping=300.0, radius=0.02, timestep=2e-3).compliant_twin
+    assert twin == {"eps": 1.0 / 200.0, "xi": 300.0 / 200.0, "radius": 0.02, "timestep": 2e-3}
+    assert MuJoCoWarpOptions().compliant_twin is None and XPBDOptions().compliant_twin is None
+
+
+def test_featherstone_s_jam_below_mu_P_is_its_compliant_law_s_and_goes_as_the_contact_stiffens():
+    """Below mu_P the rigid theory forbids a JAM; Featherstone at stiffness 1e4 jams there (the full report's 8 x 8 map
+    at timestep 2e-3), as the compliant rod with its normal law does, while that rod at eps / 10 slips: the maps' check
+    sorts it as the compliant law's (an engine finding), not as an impact without collision."""
+    from crosscheck.report.sections.engine_maps import _jam_kind
+
+    spec, mu = engines.get("newton_featherstone"), 1.3125
+    run = spec.simulate(ROD, BELOW_MU_P, mu, horizon=0.2, timestep=2e-3)
+    assert run.outcome == Outcome.JAM and run.event_time < 0.1
+    twin = spec.options(timestep=2e-3).compliant_twin
+    P = {"alpha": ALPHA, "horizon": 0.2, "options": {"timestep": 2e-3}}
+    assert _jam_kind("newton_featherstone", P, twin, BELOW_MU_P.as_dict(), mu, run.event_time) == "compliant"
+    # without the twin the same JAM counts against the theory
+    assert _jam_kind("newton_featherstone", P, None, BELOW_MU_P.as_dict(), mu, run.event_time) == "iwc"
+
+
+#: Starts, friction and horizons of different lengths for the batched ``simulate_each`` (seeded, slipping at t = 0).
+def _batch_starts():
+    from crosscheck.theory import analytic
+
+    rng = np.random.default_rng(20261129)
+    out = []
+    while len(out) < 5:
+        s = SlipState(
+            theta=float(rng.uniform(0.3, 1.4)),
+            varphi=float(-rng.uniform(0.1, 3.0)),
+            Theta=float(rng.uniform(-1.0, 1.0)),
+            Psi=float(rng.uniform(-2.0, 2.0)),
+            eta=float(rng.uniform(0.2, 2.0)),
+        )
+        mu = float(rng.uniform(0.2, 1.2))
+        if analytic.b(s.Psi, s.Theta, s.theta) < 0.0 < analytic.p(s.theta, s.varphi, mu, ALPHA):
+            out.append((s, mu))
+    return out
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_simulate_each_steps_the_starts_together_and_gives_each_start_s_own_simulate_record_for_record(name):
+    """Five starts at their own mu and horizon in one batch of worlds (64) give the Runs of five ``simulate`` calls
+    (4 worlds each) exactly: worlds do not interact and a run's first steps do not depend on how many follow."""
+    spec = engines.get(name)
+    starts, horizons = _batch_starts(), [0.05, 0.2, 0.012, 0.2, 0.1]
+    many = spec.simulate_each(ROD, [s for s, _ in starts], [mu for _, mu in starts], horizon=horizons, timestep=3e-3)
+    for run, (s, mu), h in zip(many, starts, horizons):
+        one = spec.simulate(ROD, s, mu, horizon=h, timestep=3e-3)
+        assert (run.outcome, run.nstep, run.horizon, run.mu, run.solver) == (
+            one.outcome,
+            one.nstep,
+            one.horizon,
+            one.mu,
+            one.solver,
+        )
+        np.testing.assert_array_equal([run.event_time, run.jam_p_eff], [one.event_time, one.jam_p_eff])
+        for f in FIELDS:
+            np.testing.assert_array_equal(getattr(run.record, f), getattr(one.record, f), err_msg=f)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_preload_leaves_the_solver_s_compile_time_for_the_report_s_provenance(name):
+    spec = engines.get(name)
+    spec.preload()
+    solver = spec.Options().solver
+    assert spec.provenance() == {"kernel_compile_seconds": compile_seconds()[solver]}
+    assert compile_seconds()[solver] >= 0.0

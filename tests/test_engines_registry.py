@@ -30,6 +30,7 @@ from crosscheck.engines import (
     sweep_by_simulate,
 )
 from crosscheck.engines.base import options_from_kwargs
+from crosscheck.engines.spec import Execution
 from crosscheck.studies.agreement import agreement_study
 from crosscheck.studies.grids import EventGrid
 from crosscheck.theory.slipping import X_STATE, slip_until_event
@@ -264,3 +265,26 @@ def test_kept_models_are_built_once_per_key_and_the_least_recently_used_dropped(
     assert built == ["a", "b", "c", "b"]
     with pytest.raises(ValueError, match=r"^size must be an integer >= 1; got 0$"):
         Kept(0)
+
+
+def test_simulate_each_of_an_engine_without_a_batched_path_is_one_simulate_per_state(toy):
+    rod = Rod.scaled(3.0)
+    starts = [SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=Psi, eta=1.0) for Psi in (0.0, 0.8)]
+    runs = toy.simulate_each(rod, starts, [0.5, 0.9], horizon=0.2)
+    for run, s, mu in zip(runs, starts, (0.5, 0.9)):
+        one = toy.simulate(rod, s, mu, horizon=0.2)
+        assert (run.outcome, run.mu, run.state) == (one.outcome, mu, s)
+        np.testing.assert_array_equal(run.event_time, one.event_time)
+        np.testing.assert_array_equal(run.record.theta, one.record.theta)
+    with pytest.raises(ValueError, match=r"^horizon must be one number or one per state \(2\); got 3 values$"):
+        toy.simulate_each(rod, starts, 0.5, horizon=[0.1, 0.2, 0.3])
+
+
+def test_an_engine_without_preload_or_provenance_hooks_does_nothing_and_says_nothing(toy):
+    toy.preload()
+    assert toy.provenance() == {}
+    with pytest.raises(
+        ValueError,
+        match=r"^Execution preload must be a reference 'package.module' or 'package.module:attr'; got 'a b'$",
+    ):
+        Execution(preload="a b")

@@ -281,6 +281,12 @@ def test_provenance_records_versions_revision_machine_parameters_tolerances_seed
         and f"| version: mujoco | {metadata.version('mujoco')} |" in md
         and f"| version: pin | {metadata.version('pin')} |" in md
     )
+    # what an engine's provenance hook says (Newton: each solver's kernel compile CPU seconds, apart from its steps)
+    said = {s.name for s in engines.specs() if s.execution.provenance is not None and not s.unavailable()}
+    assert set(prov["engines"]) == said
+    for name in said & {"newton_mujoco", "newton_xpbd", "newton_featherstone"}:
+        seconds = prov["engines"][name]["kernel_compile_seconds"]
+        assert seconds >= 0.0 and f"| {name}: kernel_compile_seconds | {seconds:.3g} |" in md
 
 
 def test_printed_numbers_table_flags_every_known_misprint_and_nothing_else(quick):

@@ -236,14 +236,23 @@ class Execution:
       sweep_chunk: runs per chunk when a study sends its sweeps through a sweep store (None: the study's default).
       stops_at_event: its ``simulate`` takes ``until_event=True`` and then stops a run once its first event is
         judged (``crosscheck.engines.classifier.first_event_final``); ``EngineSpec.first_event`` uses it.
+      preload: reference to a function of the engine's ``Options`` class that does the library's one-time work of a
+        process (imports, kernel loads), called once by the report before it forks its sections, so that each
+        inherits it instead of repeating it (None: nothing to do).
+      provenance: reference to a function of the engine's ``Options`` class returning a JSON-able dict about this
+        process's runs of the engine that belongs in the report's provenance (a kernel compile time; {} when none).
     """
 
     one_core: Mapping[str, Any] = field(default_factory=dict)
     solver_columns: tuple[str, ...] = ()
     sweep_chunk: int | None = None
     stops_at_event: bool = False
+    preload: Any = None
+    provenance: Any = None
 
     def __post_init__(self) -> None:
+        _check_ref("Execution", "preload", self.preload)
+        _check_ref("Execution", "provenance", self.provenance)
         c = self.sweep_chunk
         if c is not None and not (isinstance(c, int) and not isinstance(c, bool) and 1 <= c <= 1_000_000):
             raise ValueError(f"sweep_chunk must be an integer in [1, 1000000] or None; got {c!r}")
@@ -251,6 +260,16 @@ class Execution:
             raise ValueError(f"stops_at_event must be True or False; got {self.stops_at_event!r}")
         object.__setattr__(self, "one_core", _frozen_map(self.one_core))
         object.__setattr__(self, "solver_columns", tuple(self.solver_columns))
+
+
+def _per_state(name: str, value, n: int) -> list:
+    """``value`` as n values: one value repeated, or a sequence of n (ValueError naming ``name`` otherwise)."""
+    if isinstance(value, str) or not hasattr(value, "__len__"):
+        return [value] * n
+    values = list(value)
+    if len(values) != n:
+        raise ValueError(f"{name} must be one number or one per state ({n}); got {len(values)} values")
+    return values
 
 
 def _check_rod_and_thresholds(rod, thresholds) -> None:
@@ -438,6 +457,25 @@ class EngineSpec:
             rod,
         )
 
+    def simulate_each(self, rod, states, mu, *, horizon, thresholds=None, **options) -> list:
+        """``simulate`` of every state of ``states``; ``mu`` and ``horizon`` one number or one per state.
+
+        An engine whose module has ``simulate_batch`` (the batched path of the tag "batched": one call of the library
+        for all the states) runs them that way and must return the same ``Run`` of each, record for record; the
+        others run one ``simulate`` per state.  A ``simulate`` option that only one run at a time takes
+        (``until_event``) takes the one-per-state path.
+        """
+        states = list(states)
+        mus, horizons = _per_state("mu", mu, len(states)), _per_state("horizon", horizon, len(states))
+        batch = getattr(self._runner(), "simulate_batch", None)
+        if batch is not None and states and "until_event" not in options:
+            _check_rod_and_thresholds(rod, thresholds)
+            return batch(rod, states, mus, horizon=horizons, thresholds=thresholds, **{**self.defaults, **options})
+        return [
+            self.simulate(rod, s, m, horizon=h, thresholds=thresholds, **options)
+            for s, m, h in zip(states, mus, horizons)
+        ]
+
     def first_event(self, rod, state, mu, *, horizon, thresholds=None, **options):
         """(outcome, event time) of ``simulate``'s run, stopped once its first event is judged where the engine can
         (``stops_at_event``): nothing the run does after that changes them (the ladders and interventions read no more)."""
@@ -456,6 +494,19 @@ class EngineSpec:
             ),
             rod,
         )
+
+    def preload(self) -> None:
+        """The library's one-time work of this process (``Execution.preload``, given the engine's ``Options`` class):
+        nothing when the engine declares none or cannot run here."""
+        if self.execution.preload is not None and not self.unavailable():
+            resolve(self.execution.preload)(self.Options)
+
+    def provenance(self) -> dict:
+        """What this process's runs of the engine add to the report's provenance (``Execution.provenance``, given the
+        engine's ``Options`` class); {} when the engine declares nothing or cannot run here."""
+        if self.execution.provenance is None or self.unavailable():
+            return {}
+        return dict(resolve(self.execution.provenance)(self.Options))
 
     def interventions_for(self, cause: str, options, *, p_min: float | None = None) -> tuple[Intervention, ...]:
         """The engine's interventions for ``cause`` from the run's ``options`` (weakest first); () if it declares none.

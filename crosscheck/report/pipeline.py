@@ -181,10 +181,37 @@ def _preload(sections: Sequence[Section]) -> None:
                 importlib.import_module(name)
             except Exception:  # noqa: BLE001 - the section's own run says what is wrong
                 pass
+    for spec in _engines_of(sections):
+        try:
+            spec.preload()  # Warp's kernel loads took 1-5 CPU s in each of the 25 Newton section processes
+        except Exception:  # noqa: BLE001 - the section's own run says what is wrong
+            pass
     from crosscheck.sweeps.store import import_libraries, versions
 
     versions()  # the installed versions every sweep store stamps, read once here (they are cached per process)
     import_libraries()
+
+
+def _engines_of(sections: Sequence[Section]) -> list:
+    """The registered engines whose module one of ``sections`` requires (an engine's sections require its module)."""
+    from crosscheck import engines
+
+    required = {name for s in sections for name in s.requires}
+    return [spec for spec in engines.specs() if spec.module in required]
+
+
+def engine_provenance(sections: Sequence[Section]) -> dict[str, dict]:
+    """{engine: what its ``Execution.provenance`` says of this process's runs} for the engines of ``sections`` that say
+    something (Newton's kernel compile seconds: measured in this process, by ``_preload`` or by its sections)."""
+    out = {}
+    for spec in _engines_of(sections):
+        try:
+            said = spec.provenance()
+        except Exception:  # noqa: BLE001 - provenance never costs the report
+            said = {}
+        if said:
+            out[spec.name] = said
+    return out
 
 
 def _order(todo: list[Section], out: Path) -> list[Section]:
@@ -326,6 +353,8 @@ def _start_provenance(out: Path, root: SectionStore, sections, params: dict, *, 
     # the rod every section simulates: the paper's scaled rod, its alpha each section's (``parameters``); the
     # dynamics terms of Pinocchio's validation alone also use physical rods, which its own result names
     prov["rod"] = {"mass": 1.0, "length": 1.0, "gravity": 1.0, "units": "scaled: time 1/omega, lengths l, forces m g"}
+    # what the engines said before (their hooks run at the end): a partial run keeps those of the engines it skips
+    prov["engines"] = previous.get("engines", {})
     root.write_json(PROVENANCE_FILE, prov)
     return prov
 
@@ -434,6 +463,8 @@ def run(
     prov["section_seconds"] = {k: v.get("seconds") for k, v in results.items()}
     prov["sections_resumed"] = [k for k, v in results.items() if v.get("resumed")]
     prov["jobs"] = jobs
+    # a partial run keeps what the engines it did not run said before
+    prov["engines"] = {**prov["engines"], **engine_provenance(todo)}
     prov["sweep_workers"] = workers if workers is not None else default_workers()
     root.write_json(PROVENANCE_FILE, prov)
     return results

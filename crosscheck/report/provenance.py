@@ -235,4 +235,10 @@ def provenance_rows(prov: dict) -> list[list[str]]:
         ["machine: BLAS", str(m.get("blas", "-"))],
         ["run time of the run stage", seconds_text(prov.get("seconds"))],
     ]
+    # what each engine says of its runs (Newton: CPU seconds of each solver's kernel loads, apart from its steps)
+    rows += [
+        [f"{name}: {k}", f"{v:.3g}" if isinstance(v, float) else str(v)]
+        for name, d in prov.get("engines", {}).items()
+        for k, v in d.items()
+    ]
     return rows

@@ -44,6 +44,7 @@ from crosscheck.theory.slipping import slip_until_event
 __all__ = [
     "COLUMNS",
     "compare_jam",
+    "compare_jams",
     "engine_after_jam",
     "impact_study",
     "mechanical_energy",
@@ -165,7 +166,19 @@ def theory_after_jam(state: SlipState, mu: float, alpha: float, *, settle: float
 
 def engine_after_jam(spec, rod: Rod, state: SlipState, mu: float, t_star: float, options: Mapping) -> dict:
     """``spec``'s run from ``state`` read at ``t_star``: its first event and its Theta, Psi, eta, energy there."""
-    run = spec.simulate(rod, state, mu, horizon=t_star + 2 * float(spec.options(**options).timestep), **options)
+    return _read_after_jam(_runs_after_jam(spec, rod, [(state, mu)], [t_star], options)[0], rod, t_star)
+
+
+def _runs_after_jam(spec, rod: Rod, starts: Sequence[tuple], t_stars: Sequence[float], options: Mapping) -> list:
+    """``spec``'s run of each (state, mu) of ``starts`` to its t* + 2 timesteps, in one call where the engine batches."""
+    dt = float(spec.options(**options).timestep)
+    return spec.simulate_each(
+        rod, [s for s, _ in starts], [mu for _, mu in starts], horizon=[t + 2 * dt for t in t_stars], **options
+    )
+
+
+def _read_after_jam(run, rod: Rod, t_star: float) -> dict:
+    """An engine's ``run`` read at ``t_star`` (``engine_after_jam``)."""
     R = run.record
     k = min(int(np.searchsorted(R.t, t_star)), len(R) - 1)
     return {
@@ -184,16 +197,27 @@ def engine_after_jam(spec, rod: Rod, state: SlipState, mu: float, t_star: float,
 
 def compare_jam(spec, rod: Rod, state: SlipState, mu: float, options: Mapping, *, t_max: float = 2.0) -> dict | None:
     """One start through the theory's jam and ``spec`` at ``options``: the row of ``COLUMNS`` (None: no theory jam)."""
+    return compare_jams(spec, rod, [(state, mu)], options, t_max=t_max)[0]
+
+
+def compare_jams(spec, rod: Rod, starts: Sequence[tuple], options: Mapping, *, t_max: float = 2.0) -> list:
+    """``compare_jam`` of every (state, mu) of ``starts``, the engine's runs in one call (``EngineSpec.simulate_each``):
+    one row or None per start, in order."""
     settle = settle_time(spec.options(**options))
-    th = theory_after_jam(state, mu, rod.alpha, settle=settle, t_max=t_max)
-    if th is None:
-        return None
-    e = engine_after_jam(spec, rod, state, mu, th["t_jam"] + settle, options)
-    row = {**{k: getattr(state, k) for k in ("theta", "varphi", "Theta", "Psi", "eta")}, "mu": float(mu), **th, **e}
-    row["Theta_plus_engine"] = th["Theta_plus"] + (e["engine_Theta"] - th["theory_Theta"])
-    row["Psi_plus_engine"] = th["Psi_plus"] + (e["engine_Psi"] - th["theory_Psi"])
-    row["Theta_plus_error"] = row["Theta_plus_engine"] - th["Theta_plus"]
-    return row
+    theory = [theory_after_jam(s, mu, rod.alpha, settle=settle, t_max=t_max) for s, mu in starts]
+    jammed = [i for i, th in enumerate(theory) if th is not None]
+    t_stars = [theory[i]["t_jam"] + settle for i in jammed]
+    runs = _runs_after_jam(spec, rod, [starts[i] for i in jammed], t_stars, options) if jammed else []
+    rows: list = [None] * len(starts)
+    for i, run, t_star in zip(jammed, runs, t_stars):
+        (state, mu), th = starts[i], theory[i]
+        e = _read_after_jam(run, rod, t_star)
+        row = {**{k: getattr(state, k) for k in ("theta", "varphi", "Theta", "Psi", "eta")}, "mu": float(mu), **th, **e}
+        row["Theta_plus_engine"] = th["Theta_plus"] + (e["engine_Theta"] - th["theory_Theta"])
+        row["Psi_plus_engine"] = th["Psi_plus"] + (e["engine_Psi"] - th["theory_Psi"])
+        row["Theta_plus_error"] = row["Theta_plus_engine"] - th["Theta_plus"]
+        rows[i] = row
+    return rows
 
 
 def impact_study(
@@ -208,7 +232,7 @@ def impact_study(
     """``compare_jam`` of every (state, mu) of ``starts`` on ``engine`` at ``options``; starts without a theory jam are
     left out."""
     spec, rod = engines.get(engine), Rod.scaled(alpha)
-    rows = [compare_jam(spec, rod, s, mu, options, t_max=t_max) for s, mu in progress(starts, desc="jams")]
+    rows = compare_jams(spec, rod, list(progress(starts, desc="jams")), options, t_max=t_max)
     return [r for r in rows if r is not None]
 
 

@@ -102,8 +102,7 @@ def engine_events(
     time, and Psi at the event's row (NaN for a SLIP)."""
     stop = {"until_event": True} if spec.stops_at_event else {}
     out = {"outcome": [], "time": [], "Psi_event": []}
-    for s in states:
-        run = spec.simulate(rod, s, mu, horizon=horizon, **options, **stop)
+    for run in spec.simulate_each(rod, states, mu, horizon=horizon, **options, **stop):
         t = float(run.event_time)
         psi = math.nan
         if math.isfinite(t):

@@ -13,20 +13,17 @@ The rod is one body on a D6 joint with the five coordinates of ``models/rod.xml`
 ``crosscheck.engines.newton.model``).  Warp compiles every solver's kernels at their first use and caches them on
 disk (``~/.cache/warp``); ``crosscheck.engines.newton.model.compile_seconds`` says how long a process spent on them.
 ``options`` holds the scaled ``Options`` (importing it imports no warp); ``model`` the Newton model, ``engine`` the
-runs.  The engines are listed only where ``newton`` is installed (``pip install crosscheck[newton]``).
+runs.  The engines are declared whether or not Newton is installed: where it is not, ``crosscheck engines`` lists
+them as not installed with their pip line (``pip install crosscheck[newton]``), a run of one is refused in one line,
+and the report skips their sections (``EngineSpec.unavailable``).
 """
 
 from __future__ import annotations
 
-import importlib.util
-
 from crosscheck.engines.newton.options import LABELS as _LABELS
 from crosscheck.engines.spec import EngineSpec, Execution, ReportPlan
 
-__all__ = ["ENGINES", "AVAILABLE"]
-
-#: Whether Newton, Warp and MuJoCo Warp are installed (the extra ``crosscheck[newton]``).
-AVAILABLE = all(importlib.util.find_spec(m) is not None for m in ("newton", "warp", "mujoco_warp"))
+__all__ = ["ENGINES"]
 
 
 _TAGS = {
@@ -73,8 +70,12 @@ def _engine(solver: str, order: int) -> EngineSpec:
             order=order,
             sections="crosscheck.engines.newton.sections:sections" if solver == "mujoco" else None,
         ),
-        execution=Execution(sweep_chunk=256),
+        execution=Execution(
+            sweep_chunk=256,
+            preload="crosscheck.engines.newton.engine:preload",
+            provenance="crosscheck.engines.newton.engine:provenance",
+        ),
     )
 
 
-ENGINES = tuple(_engine(s, 80 + i) for i, s in enumerate(_LABELS)) if AVAILABLE else ()
+ENGINES = tuple(_engine(s, 80 + i) for i, s in enumerate(_LABELS))

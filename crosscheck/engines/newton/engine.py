@@ -49,7 +49,17 @@ from crosscheck.progress import bar
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState, real_scalar
 
-__all__ = ["Options", "NewtonHealth", "simulate", "sweep", "record_from_raw", "SIZES"]
+__all__ = [
+    "Options",
+    "NewtonHealth",
+    "simulate",
+    "simulate_batch",
+    "sweep",
+    "record_from_raw",
+    "SIZES",
+    "preload",
+    "provenance",
+]
 
 #: World counts of the Newton models a sweep uses: the smallest that holds the states, else blocks of the largest.
 #: A MuJoCo Warp step on CPU costs ~10 ms at 4 worlds and ~16 ms at 256 (its kernel launches, not its worlds), so
@@ -147,19 +157,26 @@ def _health(raw: newton_model.Raw, record: Record, rod: Rod) -> dict:
     return {"max_spin": spin, "max_penetration": pen}
 
 
-def _rollouts(rod: Rod, states: list, mu: np.ndarray, n: int, opts: Options, progress) -> tuple:
-    """(Record, health) of every state, through blocks of ``SIZES`` worlds."""
+def _blocks(rod: Rod, states: list, mu: np.ndarray, n: int, opts: Options, progress):
+    """(q0, v0, and per block of ``SIZES`` worlds (first state, Raw of its states)): every state's n steps."""
     q0, v0 = (np.array(x) for x in zip(*(to_generalized(rod, s, tip=(0.0, 0.0, opts.radius)) for s in states)))
     B = len(states)
     size = next((s for s in SIZES if s >= B), SIZES[-1])
-    starts = list(range(0, B, size))
-    records, healths = [], []
-    for a in bar(starts, progress=progress, desc=f"{_name(opts)} sweep", unit="block"):
+    blocks = []
+    for a in bar(list(range(0, B, size)), progress=progress, desc=f"{_name(opts)} sweep", unit="block"):
         idx = np.minimum(np.arange(a, a + size), B - 1)  # spare worlds repeat the last state
-        batch = newton_model.batch(rod, opts, size)
-        raw = batch.run(q0[idx], v0[idx], mu[idx], n)
+        raw = newton_model.batch(rod, opts, size).run(q0[idx], v0[idx], mu[idx], n)
         m = min(size, B - a)
-        raw = newton_model.Raw(q=raw.q[:m], v=raw.v[:m], spin=raw.spin[:m])
+        blocks.append((a, newton_model.Raw(q=raw.q[:m], v=raw.v[:m], spin=raw.spin[:m])))
+    return q0, v0, blocks
+
+
+def _rollouts(rod: Rod, states: list, mu: np.ndarray, n: int, opts: Options, progress) -> tuple:
+    """(Record, health) of every state, through blocks of ``SIZES`` worlds."""
+    q0, v0, blocks = _blocks(rod, states, mu, n, opts, progress)
+    records, healths = [], []
+    for a, raw in blocks:
+        m = raw.q.shape[0]
         record = record_from_raw(raw, rod, opts, q0[a : a + m], v0[a : a + m])
         records.append(record)
         healths.append(_health(raw, record, rod))
@@ -186,6 +203,19 @@ def _classify(record: Record, mu, rod: Rod, opts: Options, th: Thresholds):
     )
 
 
+def _run(rod, state, mu, horizon, raw, q0, v0, opts, th) -> Run:
+    """The ``Run`` of one state from its Raw (1, n + 1, ...) and its start (q0, v0), each (1, 5)."""
+    record = record_from_raw(raw, rod, opts, q0, v0)
+    health = _health(raw, record, rod)
+    one = Record(**{f: getattr(record, f)[0] for f in Record.__dataclass_fields__})
+    c = _classify(one, mu, rod, opts, th)
+    n = raw.q.shape[1] - 1
+    run = Run.from_classification(
+        _name(opts), c, one, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th, horizon=horizon, nstep=n
+    )
+    return dataclasses.replace(run, solver=NewtonHealth(**{k: float(v[0]) for k, v in health.items()}))
+
+
 def simulate(
     rod: Rod,
     state: SlipState,
@@ -205,13 +235,41 @@ def simulate(
     mu, horizon, opts = run_inputs(state, mu, horizon, options, options_class)
     th = thresholds or Thresholds()
     n = n_steps_within_memory(horizon, opts.timestep, ROW_BYTES * SIZES[0])
-    record, health = _rollouts(rod, [state], np.array([mu]), n, opts, False)
-    one = Record(**{f: getattr(record, f)[0] for f in Record.__dataclass_fields__})
-    c = _classify(one, mu, rod, opts, th)
-    run = Run.from_classification(
-        _name(opts), c, one, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th, horizon=horizon, nstep=n
-    )
-    return dataclasses.replace(run, solver=NewtonHealth(**{k: float(v[0]) for k, v in health.items()}))
+    q0, v0, [(_, raw)] = _blocks(rod, [state], np.array([mu]), n, opts, False)
+    return _run(rod, state, mu, horizon, raw, q0, v0, opts, th)
+
+
+def simulate_batch(
+    rod: Rod,
+    states: Sequence[SlipState],
+    mu: Sequence[float],
+    *,
+    horizon: Sequence[float],
+    thresholds: Thresholds | None = None,
+    options_class: type = Options,
+    **options,
+) -> list[Run]:
+    """``simulate`` of every state at its own mu and horizon (one each), the states stepped together in blocks of
+    worlds: the same ``Run`` of each, record for record, as its own ``simulate`` (worlds do not interact, and a run's
+    first k steps do not depend on how many follow: each state's rows are the first of the longest run's).  MuJoCo
+    Warp on CPU costs ~7 ms a step at 4 worlds and at 64, so n states cost about one ``simulate`` (tests assert the
+    equality)."""
+    states = check_states(states)
+    if not (len(mu) == len(horizon) == len(states)):
+        raise ValueError(f"mu and horizon must have one value per state ({len(states)}); got {len(mu)}, {len(horizon)}")
+    inputs = [run_inputs(s, m, h, options, options_class) for s, m, h in zip(states, mu, horizon)]
+    opts = inputs[0][2]
+    th = thresholds or Thresholds()
+    ns = [n_steps_within_memory(h, opts.timestep, ROW_BYTES * min(len(states), SIZES[-1])) for _, h, _ in inputs]
+    q0, v0, blocks = _blocks(rod, states, np.array([m for m, _, _ in inputs]), max(ns), opts, False)
+    runs = []
+    for a, raw in blocks:
+        for j in range(raw.q.shape[0]):
+            i, rows = a + j, slice(0, ns[a + j] + 1)
+            one = newton_model.Raw(q=raw.q[j : j + 1, rows], v=raw.v[j : j + 1, rows], spin=raw.spin[j : j + 1, rows])
+            mu_i, h_i, _ = inputs[i]
+            runs.append(_run(rod, states[i], mu_i, h_i, one, q0[i : i + 1], v0[i : i + 1], opts, th))
+    return runs
 
 
 def sweep(
@@ -261,3 +319,24 @@ def sweep(
         steps_per_second=B * n / wall,
         solver=health,
     )
+
+
+#: The start ``preload`` steps once: the contract test's slipping start (b < 0 < p at mu = 0.5).
+_PRELOAD_START = SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=0.0, eta=1.0)
+
+
+def preload(options_class: type = Options) -> None:
+    """Warp's one-time work of this process for ``options_class``'s solver: Newton's import, the loads (or the
+    compilation) of its kernels and the solver's first step (``compile_seconds``), by one step of the scaled rod at
+    the default options.  A process forked afterwards (a report section) inherits them: measured, a section's first
+    MuJoCo Warp model and step then cost 0.15 CPU s instead of 5.3 (2.1 import, 2.7 first model, 0.55 first step)."""
+    opts = options_class()
+    simulate(Rod.scaled(3.0), _PRELOAD_START, 0.5, horizon=opts.timestep, options_class=options_class)
+
+
+def provenance(options_class: type = Options) -> dict:
+    """{"kernel_compile_seconds": CPU seconds of the solver's first step in this process} ({} before it): Warp's
+    kernel compilation or cache loads, kept out of every per-step cost."""
+    solver = options_class().solver
+    seconds = newton_model.compile_seconds()
+    return {"kernel_compile_seconds": seconds[solver]} if solver in seconds else {}

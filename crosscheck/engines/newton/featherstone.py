@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from crosscheck.engines.newton.options import FeatherstoneOptions as Options
 
-__all__ = ["Options", "simulate", "sweep"]
+__all__ = ["Options", "simulate", "simulate_batch", "sweep"]
 
 
 def simulate(rod, state, mu, *, horizon, thresholds=None, **options):
@@ -17,6 +17,15 @@ def simulate(rod, state, mu, *, horizon, thresholds=None, **options):
     from crosscheck.engines.newton import engine
 
     return engine.simulate(rod, state, mu, horizon=horizon, thresholds=thresholds, options_class=Options, **options)
+
+
+def simulate_batch(rod, states, mu, *, horizon, thresholds=None, **options):
+    """``crosscheck.engines.newton.engine.simulate_batch`` with this engine's ``Options``."""
+    from crosscheck.engines.newton import engine
+
+    return engine.simulate_batch(
+        rod, states, mu, horizon=horizon, thresholds=thresholds, options_class=Options, **options
+    )
 
 
 def sweep(rod, states, mu, *, horizon, thresholds=None, **options):

@@ -186,6 +186,24 @@ class Options(EngineOptions):
         return 0.0
 
     @property
+    def compliant_twin(self) -> dict | None:
+        """The penalty solvers' normal law as the compliant rod's options (``crosscheck.engines.compliant``): Kelvin-Voigt
+        with eps = 1 / sqrt(stiffness) and xi = damping / sqrt(stiffness) (F_n = delta / eps^2 + xi delta' / eps), exact
+        Coulomb friction, the same radius and timestep (record rows); None for MuJoCo Warp and XPBD.  Newton's damping
+        acts only while the capsule sinks and its friction is regularised (``friction_gain``); the twin has neither.
+        Read by the maps' check of no impact without collision: a compliant contact of finite eps stops a slip hard
+        where p > 0 is small (its normal mode's time eps / sqrt(p) is not short against the slip), which the rigid
+        theory forbids.  Measured at theta = 1, varphi = -1.9, Psi = 1.3125, mu = 1.3125 (p = 0.18; the capsule's
+        p_C falls to 0.06 as varphi turns to -pi/2): Featherstone at stiffness 1e4 jams at t = 0.051 at timesteps 1e-3
+        and 5e-4 (0.028 at 2e-3, its window's first row), the twin (eps 0.01, xi 2) at 0.050.  The twin slips as the
+        theory at eps = 3.2e-3 and 1e-3, and Featherstone at stiffness 1e5 and 1e6 no longer jams (it lifts off at
+        t = 0.19 and 0.22, where the theory's b is within 0.03 of 0)."""
+        if self.solver not in _PENALTY:
+            return None
+        k = math.sqrt(self.stiffness)
+        return {"eps": 1.0 / k, "xi": self.damping / k, "radius": self.radius, "timestep": self.timestep}
+
+    @property
     def friction_time(self) -> float:
         """The STICK threshold's friction time (scaled): MuJoCo Warp's ``timeconst`` (its friction rows share
         solref); the penalty solvers' CREEP_MARGIN x their creep speed at 1 g, 1 / friction_gain; 0 for XPBD (its

@@ -54,6 +54,7 @@ def render(ctx: RenderContext) -> list:
     other, other_engine = _beside(ctx, P.get("beside"))
     blocks = [_intro(ctx, maps, name, opts, None if other is None else engine_label(other_engine))]
     blocks += _warnings(maps, name)
+    blocks += _compliant_jams(ctx, name)
     page_rel = f"figures/{ctx.slug}/outcome_maps.html"
     pages, boundary_rows = [], []
     conf = 0
@@ -129,6 +130,31 @@ def _warnings(maps: list, name: str) -> list:
             f"{name} warned during these runs: "
             + "; ".join(f'{n} x "{k}"' for k, n in sorted(warned.items()))
             + ". Each is MuJoCo resetting a run after an instability; the classifier records the run's divergence (DIVERGED unless an event came first)."
+        )
+    ]
+
+
+def _compliant_jams(ctx: RenderContext, name: str) -> list:
+    """The JAMs below mu_P that the engine's compliant law gives (``engine_maps._check_no_iwc``): an engine finding, named."""
+    if not ctx.store.exists("jams_below_mu_P.json"):
+        return []
+    doc = ctx.store.read_json("jams_below_mu_P")
+    jams, twin = [j for j in doc["jams"] if j["kind"] == "compliant"], doc["compliant_twin"]
+    stiffer = doc["stiffer"]
+    if not jams:
+        return []
+    starts = "; ".join(
+        f"theta {j['theta']:g}, varphi {j['varphi']:g}, Psi {j['Psi']:g}, Theta {j['Theta']:g}, mu {j['mu']:g} "
+        f"(JAM at t = {j['event_time']:g})"
+        for j in jams
+    )
+    return [
+        Text(
+            f"Engine finding: below mu_P, where the rigid theory forbids it (p > 0), {name} jams from {len(jams)} "
+            f"start{'' if len(jams) == 1 else 's'}: {starts}. The compliant rod with its contact law (eps "
+            f"{twin['eps']:g}, xi {twin['xi']:g}, r {twin['radius']:g}) jams there too and slips at eps / {stiffer:g}: "
+            "a compliant contact of finite eps stops the slip hard where p > 0 is small (its normal mode's time "
+            "eps / sqrt(p) is not short against the slip), which only the rigid limit eps -> 0 rules out."
         )
     ]
 

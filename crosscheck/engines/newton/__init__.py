@@ -21,7 +21,7 @@ from __future__ import annotations
 import importlib.util
 
 from crosscheck.engines.newton.options import LABELS as _LABELS
-from crosscheck.engines.spec import EngineSpec, Execution, ReportPlan
+from crosscheck.engines.spec import EngineSpec, Execution, Ladder, ReportPlan
 
 __all__ = ["ENGINES", "AVAILABLE"]
 
@@ -55,6 +55,51 @@ _CONVERGENCE = {
 
 _MODULES = {"mujoco": "mujoco_warp", "xpbd": "xpbd", "featherstone": "featherstone"}
 
+#: Each solver's models in between (crosscheck.studies.ladder, ``crosscheck.engines.newton.ladder``) and the
+#: interventions on the solver itself that test each cause (``crosscheck.engines.newton.interventions``).
+_L, _I = "crosscheck.engines.newton.ladder:", "crosscheck.engines.newton.interventions:"
+_LADDERS = {
+    # MuJoCo's ladder at MuJoCo Warp's settings, then MuJoCo in C (float64), then MuJoCo Warp (float32)
+    "mujoco": Ladder(
+        rungs={
+            "geometry": "capsule",
+            "compliance": _L + "compliant_mujoco",
+            "friction law": _L + "spring_law",
+            "feed-forward": _L + "law",
+            "discretisation": _L + "mujoco_c",
+            "float32": "engine",
+        },
+        interventions={
+            "geometry": _I + "geometry",
+            "compliance": _I + "mujoco_compliance",
+            "friction law": _I + "mujoco_friction_law",
+            "feed-forward": _I + "mujoco_feed_forward",
+            "discretisation": _I + "mujoco_discretisation",
+            "float32": _I + "float32",
+        },
+    ),
+    # the capsule's contact point, then XPBD's projection of it
+    "xpbd": Ladder(
+        rungs={"geometry": "capsule", "position projection": "engine"},
+        interventions={"geometry": _I + "geometry", "position projection": _I + "position_projection"},
+    ),
+    # the compliant rod with the penalty normal law, the penalty law at a fine step, Featherstone
+    "featherstone": Ladder(
+        rungs={
+            "geometry": "capsule",
+            "compliance": _L + "compliant",
+            "friction law": _L + "penalty_fine",
+            "discretisation": "engine",
+        },
+        interventions={
+            "geometry": _I + "geometry",
+            "compliance": _I + "penalty_compliance",
+            "friction law": _I + "friction_regularisation",
+            "discretisation": _I + "discretisation",
+        },
+    ),
+}
+
 
 def _engine(solver: str, order: int) -> EngineSpec:
     return EngineSpec(
@@ -64,6 +109,7 @@ def _engine(solver: str, order: int) -> EngineSpec:
         libraries=("newton", "warp-lang", "mujoco-warp") if solver == "mujoco" else ("newton", "warp-lang"),
         install="crosscheck[newton]",
         tags=_TAGS[solver],
+        ladder=_LADDERS[solver],
         # no event-tolerance profile (validation): not measured (validate does not judge these engines' events)
         report=ReportPlan(
             maps=_MAPS,
@@ -71,6 +117,7 @@ def _engine(solver: str, order: int) -> EngineSpec:
             maps_n={"quick": 4, "full": 8},
             convergence_n={"quick": 3, "full": 4},
             order=order,
+            ladder=True,
             sections="crosscheck.engines.newton.sections:sections" if solver == "mujoco" else None,
         ),
         execution=Execution(sweep_chunk=256),

@@ -151,7 +151,8 @@ def _rollouts(rod: Rod, states: list, mu: np.ndarray, n: int, opts: Options, pro
     """(Record, health) of every state, through blocks of ``SIZES`` worlds."""
     q0, v0 = (np.array(x) for x in zip(*(to_generalized(rod, s, tip=(0.0, 0.0, opts.radius)) for s in states)))
     B = len(states)
-    size = next((s for s in SIZES if s >= B), SIZES[-1])
+    # (MuJoCo in C through Newton steps one world: one start per model)
+    size = 1 if opts.mujoco_cpu else next((s for s in SIZES if s >= B), SIZES[-1])
     starts = list(range(0, B, size))
     records, healths = [], []
     for a in bar(starts, progress=progress, desc=f"{_name(opts)} sweep", unit="block"):

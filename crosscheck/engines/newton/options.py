@@ -107,6 +107,10 @@ class Options(EngineOptions):
         error of axial_inertia tan^2 theta in the inertia about the vertical.  XPBD projects the D6 joint's locked
         axis after the contact, and with 1e-12 the contact's friction correction turns the capsule about its axis
         instead of moving the tip (``crosscheck.engines.newton.model``).
+      mujoco_cpu: MuJoCo Warp only: Newton's ``SolverMuJoCo(use_mujoco_cpu=True)``, the same converted model stepped
+        by MuJoCo in C in float64 instead of MuJoCo Warp in float32 (default False): the float32 cause's intervention.
+        MuJoCo's data then carries the run in float64 from step to step (Newton's float32 state is only read back),
+        and Newton steps one world of it, so a sweep runs its starts one world at a time.
     """
 
     solver: str = "mujoco"
@@ -125,6 +129,7 @@ class Options(EngineOptions):
     damping: float = 200.0
     friction_gain: float = 1e3
     axial_inertia: float = 1e-12
+    mujoco_cpu: bool = False
 
     def __post_init__(self) -> None:
         own = type(self).__dataclass_fields__["solver"].default
@@ -142,6 +147,11 @@ class Options(EngineOptions):
             if not (isinstance(n, (int, np.integer)) and not isinstance(n, bool) and lo <= n <= MAX_ITERATIONS):
                 raise ValueError(f"{name} must be an integer in [{lo}, {MAX_ITERATIONS}]; got {n!r}")
             set_(self, name, int(n))
+        if not isinstance(self.mujoco_cpu, (bool, np.bool_)):
+            raise ValueError(f"mujoco_cpu must be True or False; got {self.mujoco_cpu!r}")
+        set_(self, "mujoco_cpu", bool(self.mujoco_cpu))
+        if self.mujoco_cpu and self.solver != "mujoco":
+            raise ValueError(f"mujoco_cpu must be False for newton_{self.solver} (a SolverMuJoCo setting); got True")
         set_(self, "solver_tolerance", real_scalar("solver_tolerance", self.solver_tolerance, NONNEGATIVE))
         for name in ("timeconst", "dampratio", "impratio", "stiffness", "damping", "friction_gain", "axial_inertia"):
             set_(self, name, real_scalar(name, getattr(self, name), POSITIVE))

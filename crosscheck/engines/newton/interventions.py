@@ -1,0 +1,126 @@
+"""Newton's solvers changed in the way each cause of their ladders names: the interventions that should remove a
+disagreement of it.  Every one changes a setting of the Newton solver itself.
+
+MuJoCo Warp (``newton_mujoco``):
+
+* geometry: a thinner capsule (r / 4, r / 16);
+* compliance, friction law, feed-forward: the ``mujoco`` engine's own interventions (``crosscheck.engines.mujoco
+  .interventions``) where MuJoCo Warp through Newton has the setting (time constant, impedance, impratio; not MuJoCo's
+  separate friction time constant, which Newton's SolverMuJoCo does not set);
+* discretisation: the timestep divided by 4 (a MuJoCo Warp step costs ~7 ms of CPU whatever its worlds: a run at
+  1/16 of the quick report's step would cost minutes);
+* float32: Newton's ``SolverMuJoCo(use_mujoco_cpu=True)`` (``Options.mujoco_cpu``): the same converted model stepped
+  by MuJoCo in C in float64.
+
+XPBD (``newton_xpbd``), position projection, two families: the projection converged within the step (iterations
+2 -> 8 and 32 with the contact relaxation 0.8 -> 1, the full correction), and the projection's step (the timestep
+divided by 4 and 16).
+
+Featherstone (``newton_featherstone``), penalty contact:
+
+* compliance: a stiffer contact spring (stiffness x 10 at the run's timestep, x 100 at a quarter of it; the damping
+  kept critical, 2 sqrt(stiffness)), omega_n dt kept below 1 (Featherstone's explicit contact force);
+* friction law: the friction's regularisation shrunk, the slope kf x 10 and x 100 at the run's timestep (a stuck
+  tip's creep speed mu F_n / kf down by as much; the Coulomb limit caps the force where the slope overshoots);
+* discretisation: the timestep divided by 4 and 16.
+
+Scaled units (section 2.1).  ``crosscheck.studies.interventions`` runs them.
+"""
+
+from __future__ import annotations
+
+import math
+
+from crosscheck import engines
+from crosscheck.engines.newton.ladder import SHARED, mujoco_options
+from crosscheck.engines.spec import Intervention
+
+__all__ = [
+    "geometry",
+    "mujoco_compliance",
+    "mujoco_friction_law",
+    "mujoco_feed_forward",
+    "mujoco_discretisation",
+    "float32",
+    "position_projection",
+    "penalty_compliance",
+    "friction_regularisation",
+    "discretisation",
+]
+
+
+def geometry(o):
+    return tuple(
+        Intervention(f"capsule radius {o.radius:g} -> {o.radius / k:g}", {"radius": o.radius / k}) for k in (4, 16)
+    )
+
+
+def _mujoco(cause: str, o, *, p_min=None) -> tuple:
+    """The ``mujoco`` engine's interventions for ``cause`` at MuJoCo Warp's settings, those Newton's SolverMuJoCo has."""
+    spec = engines.get("mujoco")
+    ivs = spec.interventions_for(cause, spec.options(**mujoco_options(o)), p_min=p_min)
+    return tuple(iv for iv in ivs if set(iv.options) <= set(SHARED))
+
+
+def mujoco_compliance(o, *, p_min=None):
+    return _mujoco("compliance", o, p_min=p_min)
+
+
+def mujoco_friction_law(o, *, p_min=None):
+    return _mujoco("friction law", o, p_min=p_min)
+
+
+def mujoco_feed_forward(o, *, p_min=None):
+    return _mujoco("feed-forward", o, p_min=p_min)
+
+
+def mujoco_discretisation(o):
+    return (Intervention(f"timestep {o.timestep:g} -> {o.timestep / 4:g}", {"timestep": o.timestep / 4}),)
+
+
+def float32(o):
+    return (Intervention("MuJoCo Warp (float32) -> MuJoCo in C (float64), same model", {"mujoco_cpu": True}),)
+
+
+def position_projection(o):
+    converged = tuple(
+        Intervention(
+            f"iterations {o.solver_iterations} -> {n}, contact relaxation {o.contact_relaxation:g} -> 1",
+            {"iterations": n, "contact_relaxation": 1.0},
+            "iterations",
+        )
+        for n in (8, 32)
+    )
+    finer = tuple(
+        Intervention(f"timestep {o.timestep:g} -> {o.timestep / k:g}", {"timestep": o.timestep / k}, "timestep")
+        for k in (4, 16)
+    )
+    return converged + finer
+
+
+def penalty_compliance(o):
+    out = []
+    for k, dt in ((10, o.timestep), (100, o.timestep / 4)):
+        s = o.stiffness * k
+        text = f"stiffness {o.stiffness:g} -> {s:g} (damping {2 * math.sqrt(s):.3g})"
+        options = {"stiffness": s, "damping": 2 * math.sqrt(s)}
+        if dt != o.timestep:
+            text += f", timestep {o.timestep:g} -> {dt:g}"
+            options["timestep"] = dt
+        out.append(Intervention(text, options))
+    return tuple(out)
+
+
+def friction_regularisation(o):
+    return tuple(
+        Intervention(
+            f"friction slope kf {o.friction_gain:g} -> {o.friction_gain * k:g}", {"friction_gain": o.friction_gain * k}
+        )
+        for k in (10, 100)
+    )
+
+
+def discretisation(o):
+    return tuple(
+        Intervention(f"timestep {o.timestep:g} -> {o.timestep / k:g}", {"timestep": o.timestep / k}) for k in (4, 16)
+    )

@@ -1,13 +1,15 @@
-"""Newton (PyPI newton, on NVIDIA Warp): the rod of ``models/rod.xml`` under three of Newton's solvers, many worlds at once.
+"""Newton (PyPI newton, on NVIDIA Warp): the rod of ``models/rod.xml`` under four of Newton's solvers, many worlds at once.
 
 One module (``engine``) runs every solver; each registered engine has a module of its own (``mujoco_warp``, ``xpbd``,
-``featherstone``) whose ``Options`` class fixes its solver (``Options.solver``):
+``featherstone``, ``semi_implicit``) whose ``Options`` class fixes its solver (``Options.solver``):
 
 * ``newton_mujoco``: ``SolverMuJoCo``, MuJoCo Warp in float32 with the ``mujoco`` engine's contact (elliptic cone,
   solref, solimp, Newton's method): the same model as MuJoCo in C, so the two are compared at the same settings;
 * ``newton_xpbd``: ``SolverXPBD``, position-based dynamics: the contact a position projection within the step;
 * ``newton_featherstone``: ``SolverFeatherstone``, reduced coordinates with Newton's penalty contact (a spring-damper
-  normal force and friction regularised by a viscous slope).
+  normal force and friction regularised by a viscous slope);
+* ``newton_semi_implicit``: ``SolverSemiImplicit``, the same penalty contact in maximal coordinates, its D6 joint a
+  penalty spring (the rod's own axis locked by a torsion spring: ``options.SemiImplicitOptions``).
 
 The rod is one body on a D6 joint with the five coordinates of ``models/rod.xml`` (no axial spin:
 ``crosscheck.engines.newton.model``).  Warp compiles every solver's kernels at their first use and caches them on
@@ -36,6 +38,7 @@ _TAGS = {
     "xpbd": {"rigid", "time_stepping", "batched"},
     # a penalty spring-damper
     "featherstone": {"compliant", "time_stepping", "batched"},
+    "semi_implicit": {"compliant", "time_stepping", "batched"},
 }
 
 #: Report settings by cost, in CPU seconds (the 2 cores were shared ~10-fold while measuring, so wall times were 10-15
@@ -53,7 +56,7 @@ _CONVERGENCE = {
 }
 
 
-_MODULES = {"mujoco": "mujoco_warp", "xpbd": "xpbd", "featherstone": "featherstone"}
+_MODULES = {"mujoco": "mujoco_warp", "xpbd": "xpbd", "featherstone": "featherstone", "semi_implicit": "semi_implicit"}
 
 #: Each solver's models in between (crosscheck.studies.ladder, ``crosscheck.engines.newton.ladder``) and the
 #: interventions on the solver itself that test each cause (``crosscheck.engines.newton.interventions``).
@@ -83,7 +86,8 @@ _LADDERS = {
         rungs={"geometry": "capsule", "position projection": "engine"},
         interventions={"geometry": _I + "geometry", "position projection": _I + "position_projection"},
     ),
-    # the compliant rod with the penalty normal law, the penalty law at a fine step, Featherstone
+    # the compliant rod with the penalty normal law, the penalty law at a fine step, the solver itself (Featherstone in
+    # reduced coordinates, the semi-implicit solver in maximal ones: the same penalty contact)
     "featherstone": Ladder(
         rungs={
             "geometry": "capsule",
@@ -99,6 +103,7 @@ _LADDERS = {
         },
     ),
 }
+_LADDERS["semi_implicit"] = _LADDERS["featherstone"]
 
 
 def _engine(solver: str, order: int) -> EngineSpec:

@@ -81,7 +81,8 @@ class NewtonHealth:
     """Per-run statistics of the solver's state over the rows before theta leaves (0, pi/2).
 
     max_spin: the largest angular speed about the rod's own axis [omega] (0 where the solver holds the D6 joint
-      exactly: MuJoCo Warp and Featherstone, in reduced coordinates; XPBD projects the joint and leaves some).
+      exactly: MuJoCo Warp and Featherstone, in reduced coordinates; XPBD projects the joint and the semi-implicit
+      solver springs it, and both leave some).
     max_penetration: the deepest the capsule went below the plane [l] (0 if never).
     """
 

@@ -146,7 +146,12 @@ def _solver(model, rod: Rod, options):
         )
     if options.solver == "featherstone":
         return S.SolverFeatherstone(model)
-    return S.SolverSemiImplicit(model)
+    return S.SolverSemiImplicit(
+        model,
+        angular_damping=0.0,  # Newton's default 0.05 drags every rotation: not the rod's
+        joint_attach_ke=options.joint_stiffness * rod.mass * rod.gravity * rod.length,
+        joint_attach_kd=options.joint_damping * rod.mass * rod.gravity * rod.length / rod.omega,
+    )
 
 
 class Batch:

@@ -6,9 +6,10 @@ MuJoCo Warp (``newton_mujoco``):
 * geometry: a thinner capsule (r / 4, r / 16);
 * compliance, friction law, feed-forward: the ``mujoco`` engine's own interventions (``crosscheck.engines.mujoco
   .interventions``) where MuJoCo Warp through Newton has the setting (time constant, impedance, impratio; not MuJoCo's
-  separate friction time constant, which Newton's SolverMuJoCo does not set);
-* discretisation: the timestep divided by 4 (a MuJoCo Warp step costs ~7 ms of CPU whatever its worlds: a run at
-  1/16 of the quick report's step would cost minutes);
+  separate friction time constant, which Newton's SolverMuJoCo does not set, nor a step below a quarter of the run's:
+  compliance's strongest, the time constant at a hundredth with the step at a sixteenth, is left out);
+* discretisation: the timestep divided by 4 (a MuJoCo Warp step costs ~7 ms of CPU whatever its worlds: a run to
+  horizon 2 at a sixteenth of the quick report's step, 10667 steps, costs ~75 CPU seconds);
 * float32: Newton's ``SolverMuJoCo(use_mujoco_cpu=True)`` (``Options.mujoco_cpu``): the same converted model stepped
   by MuJoCo in C in float64.
 
@@ -61,11 +62,20 @@ def geometry(o):
     )
 
 
+#: The shortest timestep an intervention on MuJoCo Warp takes, as a fraction of the run's (cost: module docstring).
+MIN_STEP = 1 / 4
+
+
 def _mujoco(cause: str, o, *, p_min=None) -> tuple:
-    """The ``mujoco`` engine's interventions for ``cause`` at MuJoCo Warp's settings, those Newton's SolverMuJoCo has."""
+    """The ``mujoco`` engine's interventions for ``cause`` at MuJoCo Warp's settings, those Newton's SolverMuJoCo has
+    and whose step is at least ``MIN_STEP`` of the run's."""
     spec = engines.get("mujoco")
     ivs = spec.interventions_for(cause, spec.options(**mujoco_options(o)), p_min=p_min)
-    return tuple(iv for iv in ivs if set(iv.options) <= set(SHARED))
+    return tuple(
+        iv
+        for iv in ivs
+        if set(iv.options) <= set(SHARED) and iv.options.get("timestep", o.timestep) >= MIN_STEP * o.timestep
+    )
 
 
 def mujoco_compliance(o, *, p_min=None):

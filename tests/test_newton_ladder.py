@@ -90,3 +90,24 @@ def test_featherstone_slips_through_the_jam_as_the_compliant_rod_with_its_spring
     ld = run_ladder("newton_featherstone", JAM_START, 1.4, horizon=2.0, timestep=3e-3)
     assert [r.label for r in ld.rungs] == [Outcome.JAM, Outcome.JAM, Outcome.SLIP, Outcome.SLIP, Outcome.SLIP]
     assert ld.cause == "compliance"
+
+
+#: A start of the quick report's Psi-mu map at which the theory sticks (t = 0.192, mu 1.125).
+STUCK = SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=0.375, eta=1.0)
+
+
+def test_a_steeper_friction_slope_slows_a_stuck_tip_until_the_step_sets_its_chatter():
+    """Featherstone's friction min(mu F_n, kf |u|) is explicit: at kf dt below the tip's effective mass a steeper slope
+    holds a stuck tip closer (its mean slip speed after the stick falls), beyond it the slope overshoots to the Coulomb
+    bound every step and the speed no longer depends on kf (measured 0.035, 0.014, 0.014 l omega at kf 1e3, 1e4, 1e5,
+    timestep 3e-3): why the friction law's intervention shrinks the step with the slope."""
+    speeds = []
+    for kf in (1e3, 1e4, 1e5):
+        run = engines.get("newton_featherstone").simulate(
+            ROD, STUCK, 1.125, horizon=0.6, timestep=3e-3, friction_gain=kf
+        )
+        assert run.outcome == Outcome.STICK
+        after = run.record.t >= 0.3
+        speeds.append(float(np.mean(np.linalg.norm(run.record.slip_vel[after, :2], axis=-1))))
+    assert speeds[1] < 0.5 * speeds[0]
+    assert speeds[2] == pytest.approx(speeds[1], rel=1e-6)

@@ -59,7 +59,13 @@ _CONVERGENCE = {
 _MODULES = {"mujoco": "mujoco_warp", "xpbd": "xpbd", "featherstone": "featherstone", "semi_implicit": "semi_implicit"}
 
 #: Each solver's models in between (crosscheck.studies.ladder, ``crosscheck.engines.newton.ladder``) and the
-#: interventions on the solver itself that test each cause (``crosscheck.engines.newton.interventions``).
+#: interventions on the solver itself that test each cause (``crosscheck.engines.newton.interventions``).  The ladder and
+#: interventions sections run one start at a time (``EngineSpec.first_event``), 3 starts in the quick report, so their
+#: cost is their runs' steps: measured in the quick report at timestep 3e-3 with the other sections' jobs beside them
+#: on the 2 shared cores (wall seconds, ladder / interventions): XPBD 18 / 146, Featherstone 115 / 182, semi-implicit
+#: 77 / 93, MuJoCo Warp 64 / (its interventions, ~15 runs a start at ~7 ms of CPU a step, the most).  Their grids are
+#: the maps' (no grid of their own); a finer step than a sixteenth of the run's is never taken, and on MuJoCo Warp
+#: none finer than a quarter (``crosscheck.engines.newton.interventions``).
 _L, _I = "crosscheck.engines.newton.ladder:", "crosscheck.engines.newton.interventions:"
 _LADDERS = {
     # MuJoCo's ladder at MuJoCo Warp's settings, then MuJoCo in C (float64), then MuJoCo Warp (float32)

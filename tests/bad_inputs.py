@@ -682,8 +682,10 @@ def api_cases() -> list:
         ("mu", -1.0),
     ]:
         add(f"mujoco_ode.simulate({k}={v!r})", lambda k=k, v=v: _simulate(mujoco_ode, rod, s, k, v), k)
-    from crosscheck.engines.mujoco.studies import kelvin_voigt, ladder
+    from crosscheck.engines.mujoco.studies import kelvin_voigt
+    from crosscheck.studies import ladder as declared
 
+    # MuJoCo's declared ladder: its options refused before any rung runs, as the ladder's own arguments
     for k, v in [
         ("mu", -1.0),
         ("alpha", 0.0),
@@ -693,22 +695,20 @@ def api_cases() -> list:
         ("radius", 0.7),
         ("timeconst", 0.0),
         ("solimp", (0.9, 0.95)),
-        ("rungs", ("bogus",)),
         ("reference", 9),
         ("bogus_option", 1.0),
     ]:
 
         def call(k=k, v=v):
             kw = {"mu": 1.4, k: v}
-            return ladder.run_ladder(s, kw.pop("mu"), **kw)
+            return declared.run_ladder("mujoco", s, kw.pop("mu"), **kw)
 
-        add(f"ladder.run_ladder({k}={v!r})", call, k)
+        add(f"studies.ladder.run_ladder('mujoco', {k}={v!r})", call, k)
     add(
-        "ladder.run_ladder(timestep=0.03 past horizon=0.01)",
-        lambda: ladder.run_ladder(s, 1.4, horizon=0.01, timestep=0.03),
+        "studies.ladder.run_ladder('mujoco', timestep=0.03 past horizon=0.01)",
+        lambda: declared.run_ladder("mujoco", s, 1.4, horizon=0.01, timestep=0.03),
         "timestep",
     )
-    from crosscheck.studies import ladder as declared
 
     for k, v in [
         ("mu", -1.0),

@@ -535,10 +535,10 @@ def test_a_run_cut_once_its_first_event_is_judged_keeps_that_event_and_nothing_a
 
 
 def _rows_of(R: Record):
-    from crosscheck.engines import classifier
+    from crosscheck.engines import classifier_rules
 
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        return classifier, classifier.rows_of(R)
+        return classifier_rules, classifier_rules.rows_of(R)
 
 
 def _marked(mask: np.ndarray) -> list[int]:
@@ -618,7 +618,7 @@ def test_rule_stop_jam_relabels_the_stop_row_and_writes_its_p_eff_and_impulse():
     R = compliant_stop_record(slip_friction=2.5)
     cl, s = _rows_of(R)
     w = Thresholds().window_rows(1e-3)
-    has, k = cl._first(cl.stick_rows(s, w=w, stick_speed=0.01))
+    has, k = cl.first_row(cl.stick_rows(s, w=w, stick_speed=0.01))
     p_eff, sF = np.zeros(len(R)), np.zeros(len(R))
     stop = cl.stop_jam_rows(
         s, Thresholds(), has_stick=has, k_stick=k, m=15, stick_speed=0.01, alpha=ALPHA, radius=0.0, p_eff=p_eff, sF=sF

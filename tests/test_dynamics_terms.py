@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from crosscheck.cli import main
-from crosscheck.engines.pinocchio.studies import dynamics_terms
+from crosscheck.engines.pinocchio.studies import dynamics_reference, dynamics_terms
 from crosscheck.rod import Rod
 from crosscheck.theory import analytic
 
@@ -105,7 +105,7 @@ WRONG_REFERENCES = {
     ),
     "p-coefficient": (analytic, "_p", _perturbed_p, {"p"}),
     "b-coefficient": (analytic, "_b", _perturbed_b, {"b"}),
-    "M-psipsi": (dynamics_terms, "reference_terms", _perturbed_reference_terms, {"M (crba)"}),
+    "M-psipsi": (dynamics_reference, "reference_terms", _perturbed_reference_terms, {"M (crba)"}),
 }
 
 

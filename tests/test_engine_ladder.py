@@ -91,12 +91,30 @@ def test_a_convex_relaxations_launch_is_its_relaxation():
     assert by_cause["relaxation"].name == "engine" and ld.cause == "relaxation"
 
 
-def test_mujocos_declared_ladder_is_its_own_study_at_ic2():
-    """MuJoCo's ladder run as declared (crosscheck.studies.ladder) and as its own study (rung by rung the same models)
-    give IC2 the same rungs' outcomes and the same cause."""
-    from crosscheck.engines.mujoco.studies import ladder as own
+def test_the_cause_map_codes_each_start_by_its_ladders_cause_or_why_it_has_none(tmp_path):
+    """A cell of an engine's cause map: its ladder's cause where laddered, else whether it agrees, disagrees unladdered,
+    or does not slip at t = 0 (not compared); the codes saved are what the section's figure colours."""
+    from types import SimpleNamespace
 
-    declared, written = run_ladder("mujoco", IC2, 1.4), own.run_ladder(IC2, 1.4)
-    assert [r.label for r in declared.rungs] == [r.label for r in written.rungs]
-    assert [r.time for r in declared.rungs] == pytest.approx([r.time for r in written.rungs], nan_ok=True)
-    assert declared.cause == written.cause == "feed-forward"
+    import numpy as np
+
+    from crosscheck.report.sections.engine_ladder import _cause_maps
+    from crosscheck.report.sections.engine_ladder_render import AGREE, NOT_RUN, NOT_SLIPPING, cause_codes
+    from crosscheck.report.store import SectionStore
+
+    S, J, T = int(Outcome.SLIP), int(Outcome.JAM), int(Outcome.STICK)
+    t = {
+        "theta": np.array([0.5, 0.7, 0.9, 1.1]),
+        "Theta": np.array([0.0, 0.0, 0.5, 0.5]),
+        "slipping": np.array([1, 1, 1, 0]),
+        "analytic_outcome": np.array([S, J, T, S]),
+        "bullet": np.array([S, T, S, -2]),
+    }
+    m = {"name": "theta_Theta_0", "x": "theta", "y": "Theta"}
+    store = SectionStore(tmp_path)
+    store.reset()
+    ctx = SimpleNamespace(params={"ladder_engine": "bullet"}, store=store)
+    _cause_maps(ctx, {m["name"]: t}, [m], [(m["name"], t, 1)], [SimpleNamespace(cause="compliance")])
+    saved = store.read_table("causes_theta_Theta_0")
+    assert saved["code"].tolist() == [AGREE, cause_codes()["compliance"], NOT_RUN, NOT_SLIPPING]
+    assert saved["theta"].tolist() == t["theta"].tolist() and store.read_json("cause_maps") == [m]

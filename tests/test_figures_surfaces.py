@@ -7,6 +7,8 @@ import math
 import numpy as np
 import pytest
 
+from crosscheck.report import bifurcation_strata as strata
+from crosscheck.report import surfaces as meshes
 from crosscheck.report.section import RunContext, section_rng
 from crosscheck.report.sections import bifurcations
 from crosscheck.report.sections import kinematic_surfaces as ks
@@ -37,14 +39,14 @@ def bifs(tmp_path_factory):
 
 
 def test_b0_below_Psi_L_is_one_piece_clipped_where_Theta_reaches_its_top():
-    ((lo, hi),) = ks.b0_pieces(0.0, TMAX)
+    ((lo, hi),) = meshes.b0_pieces(0.0, TMAX)
     # at Psi = 0, Theta^2 = 1/sin theta on b = 0: the top Theta_max is reached at sin theta = 1/Theta_max^2
     assert abs(lo - math.asin(1 / TMAX**2)) <= CLOSED_FORM.allowance(lo)
     assert hi == pytest.approx(math.pi / 2, abs=1e-3)
 
 
 def test_b0_above_Psi_L_leaves_Theta_0_exactly_across_the_theta_gap():
-    pieces = ks.b0_pieces(2.2, TMAX)
+    pieces = meshes.b0_pieces(2.2, TMAX)
     ga, gb_ = gb.gb_theta_gap(2.2)
     assert len(pieces) == 2
     # brentq on Theta^2 = 0 and the cubic's roots of gb_theta_gap are two routes to the same edges
@@ -54,14 +56,14 @@ def test_b0_above_Psi_L_leaves_Theta_0_exactly_across_the_theta_gap():
 
 
 def test_b0_at_Psi_L_touches_Theta_0_without_splitting():
-    pieces = ks.b0_pieces(critical.Psi_L, TMAX)
+    pieces = meshes.b0_pieces(critical.Psi_L, TMAX)
     assert len(pieces) == 1 and pieces[0][0] < critical.theta_L < pieces[0][1]
     # slightly above Psi_L the surface does split (lift-off at Theta = 0 opens around theta_L)
-    assert len(ks.b0_pieces(critical.Psi_L * (1 + 1e-4), TMAX)) == 2
+    assert len(meshes.b0_pieces(critical.Psi_L * (1 + 1e-4), TMAX)) == 2
 
 
 def test_p0_cylinder_is_closed_and_on_p_zero():
-    theta, varphi = ks.p0_cylinder(MU, ALPHA, n=41)
+    theta, varphi = meshes.p0_cylinder(MU, ALPHA, n=41)
     cv = critical.critical_values(MU, ALPHA)
     assert theta[0] == theta[-1] and varphi[0] == varphi[-1]
     assert theta.min() == pytest.approx(cv.theta_1, abs=1e-15) and theta.max() == pytest.approx(cv.theta_2, abs=1e-15)
@@ -94,9 +96,9 @@ def test_bifurcation_section_checks_pass(bifs):
     assert sorted(cl["case"] for cl in cells if cl["kind"] == "case") == [1, 2, 3, 4, 5, 6, 7]
 
 
-@pytest.mark.parametrize("name", list(bifurcations.POINTS))
+@pytest.mark.parametrize("name", list(strata.POINTS))
 def test_codim2_points_are_zeros_of_each_curve_function_and_a_step_off_is_not(name):
-    pm, pP, through = bifurcations.POINTS[name]
+    pm, pP, through = strata.POINTS[name]
     c = {
         "mu_P": float(critical.mu_P(ALPHA)),
         "mu_L": float(critical.mu_L(ALPHA)),
@@ -104,13 +106,13 @@ def test_codim2_points_are_zeros_of_each_curve_function_and_a_step_off_is_not(na
         "Psi_P": float(critical.Psi_P(ALPHA)),
     }
     mu, Psi = c[pm], c[pP]
-    for kind in {bifurcations.CURVES[cid][1] for cid in through}:
-        assert abs(bifurcations.defining_function(kind, mu, Psi, ALPHA)) <= CLOSED_FORM.allowance(1 + Psi**2)
+    for kind in {strata.CURVES[cid][1] for cid in through}:
+        assert abs(strata.defining_function(kind, mu, Psi, ALPHA)) <= CLOSED_FORM.allowance(1 + Psi**2)
         # a relative step of 1e-6 off the point (in the coordinate the function depends on) leaves the curve by far more than rounding
         off = (
-            bifurcations.defining_function(kind, mu * (1 + 1e-6), Psi, ALPHA)
+            strata.defining_function(kind, mu * (1 + 1e-6), Psi, ALPHA)
             if kind == "P"
-            else bifurcations.defining_function(kind, mu, Psi * (1 + 1e-6), ALPHA)
+            else strata.defining_function(kind, mu, Psi * (1 + 1e-6), ALPHA)
         )
         assert abs(off) > 1e3 * CLOSED_FORM.allowance(1 + Psi**2)
 
@@ -129,7 +131,7 @@ def test_every_case_boundary_of_fig_9a_is_one_of_the_curves():
         (float(critical.mu_L(ALPHA)), critical.Psi_L),
     ]
     far = np.all([(np.abs(M - m) > 0.3) | (np.abs(S - p) > 0.3) for m, p in corners], axis=0)
-    pairs = {tuple(sorted(v[4])) for v in bifurcations.CURVES.values()}
+    pairs = {tuple(sorted(v[4])) for v in strata.CURVES.values()}
     seen = set()
     for a, b, keep in (
         (cases[:, :-1], cases[:, 1:], far[:, :-1] & far[:, 1:]),
@@ -142,7 +144,7 @@ def test_every_case_boundary_of_fig_9a_is_one_of_the_curves():
 
 
 def _meshes(mu, Psi):
-    return ks.surface_meshes(mu, Psi, ALPHA, TMAX, n_surface=21, n_varphi=11, n_Theta=6, n_gb=21)
+    return meshes.surface_meshes(mu, Psi, ALPHA, TMAX, n_surface=21, n_varphi=11, n_Theta=6, n_gb=21)
 
 
 def test_surface_meshes_below_mu_P_have_no_cylinder_and_at_mu_P_a_segment():

@@ -377,10 +377,10 @@ def test_mujoco_stick_before_the_jam_is_removed_by_less_feed_forward_not_by_a_cl
     """Impedance 0.1: MuJoCo applies a tenth of the rigid force at once and builds the rest through its spring, as the matched
     Kelvin-Voigt rod does; the slip then lasts until p crosses 0 and ends in a jam.  A shorter friction time constant or a
     smaller impratio (the friction's direction) still stick: the ladder's feed-forward is confirmed on MuJoCo, the friction law is not."""
-    from crosscheck.engines.mujoco.studies.ladder import run_ladder
+    from crosscheck.studies.ladder import run_ladder
 
     state, mu = MUJOCO_FED_STICK
-    assert run_ladder(state, mu, timestep=3e-4).cause == "feed-forward"
+    assert run_ladder("mujoco", state, mu, timestep=3e-4).cause == "feed-forward"
     r = intervene("mujoco", state, mu, causes=("friction law", "feed-forward"), timestep=3e-4)
     assert r["theory"] == "JAM"
     fed = {x["text"].split(" (")[0]: x for x in r["causes"]["feed-forward"]}
@@ -401,10 +401,10 @@ def test_mujoco_feed_forward_near_p_zero_is_removed_with_the_friction_rows_softe
     lowering it with the friction rows' regulariser kept leaves stiff friction rows that MuJoCo's cone problem carries by
     raising the normal force, and the slip still stops (a jam, or at 0.01 a lift-off).  Both are the feed-forward removed,
     neither alone, so both run and either confirms it."""
-    from crosscheck.engines.mujoco.studies.ladder import run_ladder
+    from crosscheck.studies.ladder import run_ladder
 
     state, mu = MUJOCO_FED_JAM
-    assert run_ladder(state, mu, timestep=3e-4).cause == "feed-forward"
+    assert run_ladder("mujoco", state, mu, timestep=3e-4).cause == "feed-forward"
     r = intervene("mujoco", state, mu, causes=("feed-forward",), timestep=3e-4)
     assert r["theory"] == "SLIP" and 0 < r["theory_p_min"] < Thresholds().jam_p_eff
     fed = {x["text"].split(" (")[0]: x for x in r["causes"]["feed-forward"]}
@@ -464,7 +464,7 @@ def test_summary_splits_the_confirmed_by_the_start_s_distance_to_the_theory_s_ev
 
 
 def test_each_start_gets_the_boundary_distance_of_its_own_row_of_its_map():
-    from crosscheck.report.sections.engine_interventions import boundary_distances
+    from crosscheck.report.sections.engine_intervention_runs import boundary_distances
 
     state = {"theta": 1.0125, "varphi": -1.9, "Theta": -0.125, "Psi": 1.7, "eta": 1.0}
     table = {

@@ -1,4 +1,5 @@
-"""The ladder (crosscheck.engines.mujoco.studies.ladder): MuJoCo-equivalent (eps, xi), causes, the study's relabelling, IC2, and ``crosscheck explain``."""
+"""MuJoCo's ladder (its rungs ``crosscheck.engines.mujoco.studies.ladder``, climbed by ``crosscheck.studies.ladder``):
+MuJoCo-equivalent (eps, xi), causes, the study's relabelling, IC2, and ``crosscheck explain``."""
 
 import json
 import math
@@ -14,25 +15,35 @@ from crosscheck.engines.mujoco.law import impedance
 from crosscheck.engines.mujoco.model import START_GAP, build_model, initial_state
 from crosscheck.engines.mujoco.options import Options
 from crosscheck.engines.mujoco.studies import kelvin_voigt as KV
-from crosscheck.engines.mujoco.studies import ladder as L
-from crosscheck.engines.mujoco.studies import ladder_study as LS
-from crosscheck.engines.mujoco.tolerances import LADDER_QUOTED_TIME
+from crosscheck.engines.mujoco.studies import ladder as rungs_of_mujoco
+from crosscheck.engines.spec import LADDER_CAUSES
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
+from crosscheck.studies import ladder as L
 from crosscheck.studies.agreement import comparison_labels
 from crosscheck.theory.paper import FIG20_INITIAL_CONDITIONS
 from crosscheck.theory.slipping import slip_until_event
-from crosscheck.tolerances import CLOSED_FORM, EVENT_TIME
+from crosscheck.tolerances import CLOSED_FORM, EVENT_TIME, LADDER_QUOTED_TIME
 
 IC2 = SlipState(**FIG20_INITIAL_CONDITIONS[1])
 #: A start of the quick report's (theta, Theta) map at which the rigid rod jams at A and at C, MuJoCo sticks.
 STICKS = SlipState(theta=1.175, varphi=-1.9, Theta=0.25, Psi=0.0, eta=1.0)
 
+#: MuJoCo's rungs in order (rung k is RUNGS[k - 1]): the theory, its declared models, MuJoCo itself.
+RUNGS = ("tip", "capsule", "compliant", "spring_law", "mujoco_law", "engine")
+
+
+def ladder(state, mu, **kw):
+    """MuJoCo's declared ladder from ``state``, with its rungs by name."""
+    ld = L.run_ladder("mujoco", state, mu, **kw)
+    assert [r.name for r in ld.rungs] == list(RUNGS) and [r.cause for r in ld.rungs[1:]] == list(LADDER_CAUSES[:5])
+    return ld, {r.name: r for r in ld.rungs}
+
 
 @pytest.fixture(scope="module")
 def ic2():
-    return L.run_ladder(IC2, 1.4, keep=True)
+    return ladder(IC2, 1.4)
 
 
 def test_mujoco_equivalent_matches_mujocos_own_normal_row():
@@ -81,49 +92,57 @@ def test_ic2_rungs(ic2):
     MuJoCo's law without its feed-forward (MuJoCo's friction on its spring-damper); MuJoCo's law and MuJoCo jam at once: cause feed-forward
     (the final stretch of matches starts at rung 5), after a detour through SLIP from rung 3 that the feed-forward ends.  (On MuJoCo
     itself a sixteen times thinner capsule still jams, impratio 0.01 lifts off: ``tests/test_interventions.py``.)"""
-    one, two, five = ic2.rung("tip"), ic2.rung("capsule"), ic2.rung("mujoco")
-    assert one.outcome == Outcome.LIFTOFF and LADDER_QUOTED_TIME.ok(one.time, 0.01654) and abs(one.p - 0.0125) <= 5e-5
-    assert EVENT_TIME.ok(one.time, slip_until_event(IC2, 1.4, 3.0, t_max=2.0).time)
+    ld, by = ic2
+    one, two, six = by["tip"], by["capsule"], by["engine"]
+    first = slip_until_event(IC2, 1.4, 3.0, t_max=2.0)
+    assert one.outcome == Outcome.LIFTOFF and LADDER_QUOTED_TIME.ok(one.time, 0.01654) and abs(first.p - 0.0125) <= 5e-5
+    assert EVENT_TIME.ok(one.time, first.time)
     # geometry by construction: the same rigid rod at r = 0 lifts off like rung 1, at MuJoCo's r = 0.01 it jams
     from crosscheck.theory import capsule
 
     assert capsule.slip_until_event(IC2, 1.4, 3.0, radius=0.0, t_max=2.0).outcome == Outcome.LIFTOFF
     assert two.outcome == Outcome.JAM and two.time < one.time
-    # rung 5 is MuJoCo's own label as the agreement study compares it: rerun over the study's whole horizon (2 + two windows)
+    # rung 6 is MuJoCo's own label as the agreement study compares it: rerun over the study's whole horizon (2 + two windows)
     opts = Options()
     full = engines.get("mujoco").simulate(
         Rod.scaled(3.0), IC2, 1.4, horizon=2.0 + 2 * Thresholds().window_rows(opts.timestep) * opts.timestep
     )
     study_label = comparison_labels(
-        np.array([int(full.outcome)]), np.array([full.event_time]), np.array([ic2.until + ic2.lag])
+        np.array([int(full.outcome)]), np.array([full.event_time]), np.array([ld.until + ld.lag])
     )[0]
-    assert five.label == Outcome(int(study_label)) == Outcome.JAM and five.time == full.event_time == 0.0
-    three, spring, law = ic2.rung("compliant"), ic2.rung("spring_law"), ic2.rung("mujoco_law")
+    assert six.label == Outcome(int(study_label)) == Outcome.JAM and six.time == full.event_time == 0.0
+    three, spring, law = by["compliant"], by["spring_law"], by["mujoco_law"]
     assert three.label == spring.label == Outcome.SLIP and law.label == Outcome.JAM
-    assert ic2.disagree and ic2.cause == "feed-forward" and ic2.first_change == 2 and not ic2.missing
-    assert ic2.detour == (3, 5) and ic2.detour_ended_by == "feed-forward"
-    # the series behind the report's figure: every rung starts at the same slip speed of C (A's for rung 1)
-    series = LS.trajectories(ic2)
-    assert set(series) == set(L.RUNGS)
-    assert abs(series["tip"]["eta"][0] - IC2.eta) < 1e-12
-    eta_C = series["mujoco"]["eta"][0]
-    assert all(abs(series[r]["eta"][0] - eta_C) < 1e-9 for r in ("compliant", "spring_law", "mujoco_law"))
+    assert ld.disagree and ld.cause == "feed-forward" and ld.first_change == 2 and not ld.missing
+    assert ld.detour == (3, 5) and ld.detour_ended_by == "feed-forward"
+
+
+def test_every_rung_starts_at_the_slip_speed_of_the_capsule_point():
+    """The models in between start where MuJoCo starts: the slip speed of C (A's for rung 1), whatever their contact law."""
+    rod, opts, th = Rod.scaled(3.0), Options(), Thresholds()
+    runs = [
+        getattr(rungs_of_mujoco, name)(rod, IC2, 1.4, horizon=0.01, thresholds=th, options=opts)
+        for name in ("compliant", "spring_law", "mujoco_law")
+    ]
+    eta_C = engines.get("mujoco").simulate(rod, IC2, 1.4, horizon=0.01).record.eta[0]
+    assert abs(eta_C - IC2.eta) > 1e-3  # C's slip differs from A's: the comparison is not empty
+    assert all(abs(r.record.eta[0] - eta_C) < 1e-9 for r in runs)
 
 
 def test_every_rung_is_relabelled_by_the_studys_comparison_time():
     """At STICKS the rigid rod jams at t ~ 0.002: the comparison ends at that time + 2 tau; the compliant rod's later stick counts as SLIP."""
-    ld = L.run_ladder(STICKS, 1.4)
+    ld, by = ladder(STICKS, 1.4)
     end = ld.until + ld.lag
-    assert ld.rung("tip").outcome == Outcome.JAM and ld.lag == pytest.approx(2 * Options().timeconst)
+    assert by["tip"].outcome == Outcome.JAM and ld.lag == pytest.approx(2 * Options().timeconst)
     for r in ld.rungs:
         assert r.ok
         assert r.label == (r.outcome if r.outcome == Outcome.SLIP or r.time <= end else Outcome.SLIP)
     # the Kelvin-Voigt rod and MuJoCo's law without its feed-forward both stick after the comparison (their springs build the
     # force over the time constant); MuJoCo sticks within it, and so does its law in continuous time: "feed-forward"
     for name in ("compliant", "spring_law"):
-        r = ld.rung(name)
+        r = by[name]
         assert r.outcome == Outcome.STICK and r.time > end and r.label == Outcome.SLIP
-    assert ld.rung("mujoco").label == ld.rung("mujoco_law").label == Outcome.STICK
+    assert by["engine"].label == by["mujoco_law"].label == Outcome.STICK
     assert ld.cause == "feed-forward" and ld.first_change == 3 and ld.detour == (3, 5)
 
 
@@ -139,15 +158,16 @@ def test_discretisation_by_construction():
         ),
         1.2313181877396664,
     )
-    fine = L.run_ladder(s, mu, rungs=("mujoco",))
-    assert fine.rung("tip").label == fine.rung("mujoco").label == Outcome.SLIP and fine.cause == "agree"
-    coarse = L.run_ladder(s, mu, timestep=0.02)
+    fine, by = ladder(s, mu)
+    assert by["tip"].label == by["engine"].label == Outcome.SLIP and fine.cause == "agree" and not fine.disagree
+    coarse, _ = ladder(s, mu, timestep=0.02)
     assert [r.label for r in coarse.rungs] == [Outcome.SLIP] * 5 + [Outcome.STICK]
     assert coarse.cause == "discretisation" and coarse.first_change == 6 and coarse.detour is None
 
 
 def _rung(k, label, status="ok"):
-    return L.RungResult(k, L.RUNGS[k - 1], status, label, 0.0, label if status == "ok" else None)
+    cause = None if k == 1 else LADDER_CAUSES[k - 2]
+    return L.Rung(k, RUNGS[k - 1], cause, status, label, 0.0, label if status == "ok" else None)
 
 
 J, S, T, L_ = Outcome.JAM, Outcome.SLIP, Outcome.STICK, Outcome.LIFTOFF
@@ -173,26 +193,39 @@ J, S, T, L_ = Outcome.JAM, Outcome.SLIP, Outcome.STICK, Outcome.LIFTOFF
     ],
 )
 def test_cause_is_the_first_rung_of_the_final_stretch_matching_mujoco(labels, reference, cause):
-    rungs = [_rung(k, lab, "ok" if lab is not None else "not available") for k, lab in enumerate(labels, start=1)]
-    disagree, got, _ = L._cause(rungs, reference)
-    assert got == cause and disagree == (cause not in ("agree", "not rated"))
+    rungs = [_rung(k, lab, "ok" if lab is not None else "failed") for k, lab in enumerate(labels, start=1)]
+    got = L._cause(rungs, reference)
+    ld = L.EngineLadder("mujoco", STICKS, 1.4, 0.0, 0.0, tuple(rungs), reference, got)
+    assert got == cause and ld.disagree == (cause not in ("agree", "not rated"))
 
 
-def test_a_missing_rung_is_reported_and_blocks_later_causes(monkeypatch):
-    monkeypatch.setitem(L._RUNG_CALLABLE, "compliant", ("crosscheck.no_such_module", "simulate"))
-    with pytest.warns(RuntimeWarning, match="rung 3 \\(compliant\\) not available"):
-        ld = L.run_ladder(STICKS, 1.4, rungs=("capsule", "compliant", "mujoco"))
-    assert ld.rung("compliant").status == "not available" and "crosscheck.no_such_module" in ld.rung("compliant").detail
-    assert ld.missing == ["compliant", "spring_law", "mujoco_law"] and ld.cause == "undetermined"
+def test_a_failing_rung_is_reported_and_blocks_the_cause_after_it(monkeypatch):
+    """At STICKS the final stretch starts at rung 5 (feed-forward): with rung 4 unable to run, it might have extended
+    the stretch, so the cause is undetermined."""
+
+    def broken(*args, **kwargs):
+        raise ImportError("the spring-damper law is not built")
+
+    monkeypatch.setattr(rungs_of_mujoco, "spring_law", broken)
+    ld, by = ladder(STICKS, 1.4)
+    assert by["spring_law"].status == "failed" and "the spring-damper law is not built" in by["spring_law"].detail
+    assert ld.missing == ["spring_law"] and ld.cause == "undetermined"
 
 
 def test_disagreements_are_the_rated_starts_where_mujoco_differs():
+    from crosscheck.report.sections.engine_ladder import _chosen
+
     a = np.array([Outcome.SLIP, Outcome.JAM, Outcome.GB, Outcome.LIFTOFF, Outcome.STICK], int)
     m = np.array([Outcome.SLIP, Outcome.STICK, Outcome.JAM, -2, Outcome.DIVERGED], int)
-    assert LS.disagreements({"theta": np.zeros(5)}, a, m).tolist() == [1, 4]
+    chosen, n_all = _chosen({"map": {"analytic_outcome": a, "mujoco": m}}, "mujoco", None)
+    assert [i for _, _, i in chosen] == [1, 4] and n_all == 2
+    # an even spread when fewer are laddered: the first and the last
+    many = {"map": {"analytic_outcome": np.full(7, int(Outcome.SLIP)), "mujoco": np.full(7, int(Outcome.JAM))}}
+    assert [i for _, _, i in _chosen(many, "mujoco", 3)[0]] == [0, 3, 6]
 
 
 def test_explain_prints_each_rung_and_the_cause(ic2, capsys):
+    ld, by = ic2
     argv = [
         "explain",
         "--theta",
@@ -211,9 +244,9 @@ def test_explain_prints_each_rung_and_the_cause(ic2, capsys):
     assert main(argv) == 0
     out = capsys.readouterr().out.splitlines()
     rungs = [line for line in out if line[:2] in ("1 ", "2 ", "3 ", "4 ", "5 ", "6 ")]
-    assert [line.split()[1] for line in rungs] == list(L.RUNGS)
-    assert rungs[0].endswith(f"LIFTOFF at t = {ic2.rung('tip').time:.6g}") and rungs[1].endswith(
-        f"JAM at t = {ic2.rung('capsule').time:.6g}"
+    assert [line.split()[1] for line in rungs] == list(RUNGS)
+    assert rungs[0].endswith(f"LIFTOFF at t = {by['tip'].time:.6g}") and rungs[1].endswith(
+        f"JAM at t = {by['capsule'].time:.6g}"
     )
     assert "cause: feed-forward (MuJoCo JAM, theory LIFTOFF)" in out
     # the cause checked on MuJoCo itself: neither the r/16 capsule nor solimp d = 0.01 alone, the two together
@@ -225,16 +258,19 @@ def test_explain_prints_each_rung_and_the_cause(ic2, capsys):
     assert (
         got["cause"] == "feed-forward"
         and got["detour"] == [3, 5]
-        and [r["label"] for r in got["rungs"]] == [r.label.name for r in ic2.rungs]
+        and [r["label"] for r in got["rungs"]] == [r.label.name for r in ld.rungs]
     )
-    assert got["match"]["eps"] == pytest.approx(ic2.match.eps, rel=1e-15)
 
 
 @pytest.mark.parametrize(
     "extra, message",
     [
-        (["--radius", "0.7"], "radius must be in (0, 0.5); got 0.7"),
-        (["--timestep", "0.1"], "timestep must be in (0, 0.03]; got 0.1"),
+        (["--radius", "0.7"], "radius must be in [0, 0.5); got 0.7"),
+        (
+            ["--timestep", "0.1"],
+            "timestep must be at most timeconst / 2 = 0.03 (MuJoCo's refsafe, with its default contact time constant "
+            "timeconst = 0.06); got 0.1",
+        ),
         (["--mu", "-1"], "mu must be in [0, 1000]; got -1.0"),
     ],
 )
@@ -262,14 +298,11 @@ def test_a_start_once_decided_by_rounding_now_has_one_outcome_at_every_last_bit(
     """A start of the maps whose MuJoCo outcome was decided by rounding (a JAM at t = 0.0027 or a LIFTOFF at 0.0186 as
     theta moved by one ulp, while the capsule started exactly on the plane): with the start START_GAP above the plane
     MuJoCo jams from it and from every start 1 or 2 ulp of theta away, so the probe finds no other outcome there."""
-    from crosscheck.engines.mujoco.studies.ladder import run_ladder
-    from crosscheck.engines.mujoco.studies.ladder_study import decided_by_rounding
-    from crosscheck.outcome import Outcome
-
     s = SlipState(theta=0.9515625, varphi=-1.9, Theta=0.890625, Psi=0.0, eta=1.0)
-    ld = run_ladder(s, 1.4, reference=Outcome.JAM, rungs=("mujoco",))
-    assert ld.rung("mujoco").label == Outcome.JAM
-    assert not any(decided_by_rounding(ld, o) for o in Outcome if o != Outcome.JAM)
+    ld, by = ladder(s, 1.4, reference=Outcome.JAM)
+    assert by["engine"].label == Outcome.JAM
+    assert L.decided_by_rounding("mujoco", ld, Outcome.JAM)
+    assert not any(L.decided_by_rounding("mujoco", ld, o) for o in Outcome if o != Outcome.JAM)
 
 
 def test_the_cause_is_the_first_rung_of_the_final_stretch_of_matches():

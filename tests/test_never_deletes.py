@@ -31,6 +31,7 @@ def _user_project(root: Path) -> dict[str, str]:
     files = {
         "index.html": "<p>my site</p>",
         "report.md": "# my notes",
+        "style.css": "body{color:red}",
         "sweeps/mine/notes.txt": "a store of mine",
         "data/table.csv": "a,b\n1,2\n",
         "figures/f.png": "not a png",
@@ -80,7 +81,10 @@ def test_report_beside_a_users_files_adds_its_own_and_keeps_theirs(tmp_path, cap
     assert main(QUICK + ["--out", str(tmp_path), "--beside-files"]) == 0
     after = _snapshot(tmp_path)
     assert {k: after[k] for k in before} == before
-    assert {"index.html", "report.md", ".crosscheck-report"} <= set(after)
+    assert {"index.html", "report.md", "style.css", ".crosscheck-report"} <= set(after)
+    # every page links the one stylesheet beside it instead of carrying its own copy
+    index = (tmp_path / "index.html").read_text()
+    assert '<link rel="stylesheet" href="style.css">' in index and "<style>" not in index
     # the directory is the report's now: a rerun needs no flag, and --fresh still keeps the user's files
     assert main(QUICK + ["--out", str(tmp_path), "--fresh"]) == 0
     assert {k: _snapshot(tmp_path)[k] for k in before} == before

@@ -18,7 +18,7 @@ from crosscheck import tolerances as tol
 from crosscheck.coordinates import GENERALIZED, paper_to_qv, tip_position
 from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
-from crosscheck.engines.pinocchio.studies.dynamics_terms import scaled_matrices
+from crosscheck.engines.pinocchio.studies.dynamics_reference import scaled_matrices
 from crosscheck.rod import Rod
 from crosscheck.theory import analytic
 from crosscheck.theory.critical import mu_P
@@ -217,7 +217,7 @@ def test_bad_input_raises_the_reference_messages(kwargs, message):
 
 
 def reference_matrices(rod: Rod, q, v):
-    """Eqs. linode (m X'' = F_x, ..., m Z'' = F_z - m g) and rotode times I0 cos^2 theta, I0 (see crosscheck.engines.pinocchio.studies.dynamics_terms.reference_terms)."""
+    """Eqs. linode (m X'' = F_x, ..., m Z'' = F_z - m g) and rotode times I0 cos^2 theta, I0 (see crosscheck.engines.pinocchio.studies.dynamics_reference.reference_terms)."""
     m, i0, g = rod.mass, rod.inertia, rod.gravity
     _, _, _, psi, theta = q
     _, _, _, psi_dot, theta_dot = v

@@ -48,7 +48,6 @@ EXPECTED_FIGURES = {
     "friction_skew": ["skew"],
     "compliant_limit": ["slip_stop_time", "restitution", "jam_convergence"],
     "bullet_azimuth": ["azimuth"],
-    "ladder": ["causes_Psi_mu", "causes_theta_Theta_0", "causes_theta_Theta_1", "ic2_rungs"],
 }
 # the sections generated for every registered engine from its report plan, with the figures each draws
 for _spec in engines.specs():
@@ -72,8 +71,13 @@ for _spec in engines.specs():
     if _plan is not None and _plan.maps is not None:
         EXPECTED_FIGURES[f"{_spec.slug}_rounding"] = []
     if _plan is not None and _plan.ladder and _plan.maps is not None:
-        EXPECTED_FIGURES[f"{_spec.slug}_ladder"] = []
-    if _plan is not None and _spec.interventions and (_plan.ladder_section or _plan.ladder and _plan.maps is not None):
+        EXPECTED_FIGURES[f"{_spec.slug}_ladder"] = [
+            "causes_Psi_mu",
+            "causes_theta_Theta_0",
+            "causes_theta_Theta_1",
+            "ic2_rungs",
+        ]
+    if _plan is not None and _spec.interventions and _plan.ladder and _plan.maps is not None:
         EXPECTED_FIGURES[f"{_spec.slug}_interventions"] = ["interventions"]
 
 EXPECTED_FIGURES["impact_engines"] = ["theta_plus"]
@@ -759,7 +763,7 @@ def test_findings_name_the_causes_of_disagreement_and_the_compliant_limit(tmp_pa
     limit's line fails when one of its physics checks does (regression guards do not count)."""
     from crosscheck.report.findings import findings
 
-    (tmp_path / "ladder").mkdir()
+    (tmp_path / "mujoco_ladder").mkdir()
     counts = {
         "geometry": 1,
         "compliance": 0,
@@ -768,8 +772,10 @@ def test_findings_name_the_causes_of_disagreement_and_the_compliant_limit(tmp_pa
         "unexplained": 2,
         "undetermined": 0,
     }
-    (tmp_path / "ladder" / "summary.json").write_text(
-        json.dumps({"n_disagree": 5, "attributed": 0.6, "counts": counts})
+    (tmp_path / "mujoco_ladder" / "summary.json").write_text(
+        json.dumps(
+            {"engine": "mujoco", "n_disagree": 5, "n_disagreements_on_maps": 7, "attributed": 0.6, "counts": counts}
+        )
     )
     (tmp_path / "compliant_limit").mkdir()
     checks = [
@@ -779,7 +785,7 @@ def test_findings_name_the_causes_of_disagreement_and_the_compliant_limit(tmp_pa
     ]
     (tmp_path / "compliant_limit" / "checks.json").write_text(json.dumps(checks))
     by_slug = {f.slug: f for f in findings(tmp_path)}
-    ladder = by_slug["ladder"]
+    ladder = by_slug["mujoco_ladder"]
     assert ladder.verdict == "partly explained"
     assert "60 % attributed" in ladder.text and "geometry 1, friction law 2, unexplained 2" in ladder.text
     limit = by_slug["compliant_limit"]

@@ -141,7 +141,10 @@ def test_the_rules_behind_the_verdicts_are_in_the_report(rendered):
     for name, rule in RULES:
         assert f"- *{name}*: " in md and rule.split(";")[0] in " ".join(md.split())
         assert f"<dt>{html.escape(name)}</dt>" in page
-    assert "lower end" in md and ".v-explained" in page and ".v-inconclusive" in page
+    # the verdicts' colours: in the one stylesheet every page links
+    css = (rendered / "style.css").read_text()
+    assert '<link rel="stylesheet" href="style.css">' in page
+    assert "lower end" in md and ".v-explained" in css and ".v-inconclusive" in css
     saved = json.loads((rendered / "data" / "findings.json").read_text())  # the findings' data beside them
     assert saved["rules"] == dict(RULES) and all(
         f["verdict"] and f["text"] in " ".join(md.split()) for f in saved["findings"]

@@ -85,77 +85,14 @@ def _print_confirmation(c) -> None:
 
 
 def _explain(args) -> int:
-    import warnings
+    """One start through an engine's declared ladder (``crosscheck.studies.ladder``), at its default options and ``--timestep``."""
+    from crosscheck.report.format import engine_label
+    from crosscheck.studies.ladder import run_ladder
 
     if args.engine not in _laddered():
         raise ValueError(
             f"engine must be one of {', '.join(_laddered())} (engines that declare a ladder); got {args.engine!r}"
         )
-    from crosscheck import engines
-
-    plan = engines.get(args.engine).report
-    if plan is not None and plan.ladder:  # the ladder the engine declares, run by crosscheck.studies.ladder
-        return _explain_declared(args)
-
-    from crosscheck.engines.mujoco.studies.ladder import RUNG_TITLES, run_ladder
-
-    state, mu, alpha, horizon = _start(args)
-    from crosscheck.checks import Interval
-    from crosscheck.engines.mujoco.options import RADIUS, Options
-
-    options = {}
-    if args.timestep is not None:
-        # MuJoCo's refsafe: its solref time constant must be at least two timesteps (Options refuses less)
-        options["timestep"] = _num(
-            "timestep", args.timestep, Interval(0.0, Options.timeconst / 2, lo_open=True, hi_open=False)
-        )
-    if args.radius is not None:
-        options["radius"] = _num("radius", args.radius, RADIUS)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # a rung that cannot run is printed below, loudly
-        ladder = run_ladder(state, mu, alpha=alpha, horizon=horizon, **options)
-    _plot(args, ladder, "MuJoCo", state, mu, alpha)
-    conf = _confirmation(args, "mujoco", state, mu, alpha, horizon, ladder.cause, ladder.reference, options)
-    if args.json:
-        print(json_text({**ladder.as_dict(), "confirmation": conf}))
-        return 0
-    m = ladder.match
-    print(
-        f"start: theta {state.theta:g}, varphi {state.varphi:g}, Theta {state.Theta:g}, Psi {state.Psi:g}, eta {state.eta:g}; "
-        f"mu {mu:g}, alpha {alpha:g}"
-    )
-    o = ladder.options
-    print(
-        f"MuJoCo: timestep {o['timestep']:g}, radius {o['radius']:g}, timeconst {o['timeconst']:g}, dampratio {o['dampratio']:g}; "
-        f"rung 3 at eps {m.eps:.4g}, xi {m.xi:.4g} (A_nn {m.A_nn:.4g}, impedance d {m.d:.4g})"
-    )
-    print(
-        f"compared up to t = {ladder.until + ladder.lag:.6g} (comparison time {ladder.until:.6g} + lag {ladder.lag:.6g})"
-    )
-    for r in ladder.rungs:
-        head = f"{r.rung} {r.name:<11} {RUNG_TITLES[r.name]:<64}"
-        if r.ok:
-            relabel = "" if r.label == r.outcome else f" -> {r.label.name} as compared"
-            print(f"{head} {r.outcome.name}{_fmt_time(r.time)}{relabel}")
-        else:
-            print(f"{head} {r.status.upper()}: {r.detail}")
-    if ladder.missing:
-        print(f"WARNING: rung(s) {', '.join(ladder.missing)} did not run; a cause after them cannot be attributed")
-    if ladder.cause == "agree":
-        print(f"cause: none (MuJoCo agrees with the theory: {ladder.reference.name})")
-    elif ladder.cause == "not rated":
-        print(f"cause: none (the theory's outcome {ladder.rungs[0].label.name} is not rated)")
-    else:
-        print(f"cause: {ladder.cause} (MuJoCo {ladder.reference.name}, theory {ladder.rungs[0].label.name})")
-    _print_confirmation(conf)
-    return 0
-
-
-def _explain_declared(args) -> int:
-    """One start through an engine's declared ladder (``crosscheck.studies.ladder``), at its default options and ``--timestep``."""
-    from crosscheck.report.format import engine_label
-    from crosscheck.studies.ladder import run_ladder
-
     state, mu, alpha, horizon = _start(args)
     options = {}
     if args.timestep is not None:

@@ -190,9 +190,9 @@ class ReportPlan:
         ``crosscheck.studies.ladder``) is generated.
       onset: whether the generic lift-off onset section (``<slug>_liftoff``) is generated (False for an engine
         that declares its own, as MuJoCo's over its timestep).
+      ladder_states: {"quick": n, "full": n or None}, how many of its maps' disagreements the ladder section runs (an
+        even spread; None: every one); None: the section's default, 3 and 30.
       order: where the engine's sections stand among the engines' (lower first).
-      ladder_section: slug of the section whose saved ladders the engine's interventions section reads
-        (None: ``<slug>_ladder`` when ``ladder``).
     """
 
     slug: str = ""
@@ -204,8 +204,8 @@ class ReportPlan:
     sections: Any = None
     onset: bool = True
     ladder: bool = False
+    ladder_states: Mapping[str, int | None] | None = None
     order: int = 100
-    ladder_section: str | None = None
 
     def __post_init__(self) -> None:
         if self.slug and not self.slug.isidentifier():

@@ -13,7 +13,10 @@ from dataclasses import dataclass
 from crosscheck.report.engine_table import interval
 from crosscheck.report.findings import CONVERGED, NOT_CONVERGED
 
-__all__ = ["Sentence", "bottom_line", "verdict"]
+__all__ = ["BOTTOM_LINE", "Sentence", "bottom_line", "verdict"]
+
+#: The bottom line's sentences and rules, written beside the report's data (derived, not computed).
+BOTTOM_LINE = "bottom_line.json"
 
 
 @dataclass(frozen=True)

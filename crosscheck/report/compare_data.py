@@ -92,7 +92,7 @@ ACROSS_MACHINES = (
         "adaptive implicit integration with events follows the CPU's last bits (as the analytic trajectories)",
     ),
     (
-        "ladder/*",
+        "mujoco_ladder/*",
         1e-5,
         1e-6,
         "event times of adaptive integrations follow the CPU's last bits (as the analytic trajectories)",

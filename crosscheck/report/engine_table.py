@@ -111,7 +111,7 @@ def _engine_extras(data: Path, spec) -> dict:
     q = read_json(data / f"{spec.slug}_contact" / "quality.json") or {}
     if q.get("median_skew_deg") is not None and q.get("max_cone_violation") is not None:
         out["friction_skew_median_deg"], out["cone_violation_max_mg"] = q["median_skew_deg"], q["max_cone_violation"]
-    counts = _ladder_counts(data, spec.name)
+    counts = _ladder_counts(data, spec)
     out.update({_key(c): counts.get(c, 0) for c in _LADDER})
     s = read_json(data / f"{spec.slug}_interventions" / "summary.json") or {}
     top = max(s.get("per_cause") or {}, key=lambda c: s["per_cause"][c]["n"], default="")
@@ -137,11 +137,12 @@ def _engine_extras(data: Path, spec) -> dict:
     return out
 
 
-def _ladder_counts(data: Path, name: str) -> dict:
-    for status_path in sorted(data.glob("*/status.json")):
-        if (read_json(status_path) or {}).get("params", {}).get("ladder_engine") == name:
-            return (read_json(status_path.parent / "summary.json") or {}).get("counts", {})
-    return {}
+def _ladder_counts(data: Path, spec) -> dict:
+    """The causes counted by the engine's ladder section (``<slug>_ladder``, its ``ladder_engine`` the engine's)."""
+    d = data / f"{spec.slug}_ladder"
+    if (read_json(d / "status.json") or {}).get("params", {}).get("ladder_engine") != spec.name:
+        return {}
+    return (read_json(d / "summary.json") or {}).get("counts", {})
 
 
 def _defaults(spec) -> dict:

@@ -235,7 +235,7 @@ def _md_engine(out: Path, pages: Pages, page: EnginePage, provenance: list[list[
 
 def write_md(out: Path, pages: Pages, views: list[SectionView], provenance: dict | None = None) -> Path:
     """``report.md`` (the index's twin) and ``engine_<slug>.md`` per engine page; ``provenance``: each page's
-    provenance rows by its stem (``render.engine_provenance``)."""
+    provenance rows by its stem (``html_pages.engine_provenance``)."""
     m = _md_index_top(pages) + _md_index_rest(pages, views)
     for v in pages.index:
         m += _md_section(out, v, pages.found)

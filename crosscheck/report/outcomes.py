@@ -6,10 +6,12 @@ import numpy as np
 
 from crosscheck.outcome import Outcome
 
-__all__ = ["OUTCOME_NAMES", "boundary_cells"]
+__all__ = ["OUTCOME_NAMES", "NOT_SLIPPING", "boundary_cells"]
 
 #: ``Outcome`` names indexed by code.
 OUTCOME_NAMES = [o.name for o in Outcome]
+#: Map code of a start that does not slip at t = 0 (not compared with an engine).
+NOT_SLIPPING = -2
 
 
 def boundary_cells(codes: np.ndarray) -> np.ndarray:

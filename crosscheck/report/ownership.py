@@ -25,7 +25,7 @@ __all__ = ["claim", "sweeps_owned", "STAMP", "OWN_NAMES", "OWN_PATTERNS", "BESID
 #: The report's stamp file in its directory: its presence is the proof that crosscheck report wrote the directory.
 STAMP = ".crosscheck-report"
 #: What a report writes at the top of its directory (the lock and the stamp aside).
-OWN_NAMES = ("data", "figures", "sweeps", "index.html", "report.md")
+OWN_NAMES = ("data", "figures", "sweeps", "index.html", "report.md", "style.css")
 #: ... and the engines' pages beside them (``crosscheck.report.pages``).
 OWN_PATTERNS = ("engine_*.html", "engine_*.md")
 #: The command-line flag that lets a report share a directory with files that are not its own.

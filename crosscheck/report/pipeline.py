@@ -312,6 +312,31 @@ def _job(s: Section, out: Path, params: dict, started: dict, sweeps: dict, inner
     return lambda: _compute(s, out, status, ctx, log)
 
 
+def _start_provenance(out: Path, root: SectionStore, sections, params: dict, *, quick, seed, argv) -> dict:
+    """The run's provenance, written before any section starts.  A partial run (``--only``) keeps the parameters
+    recorded for the sections it does not touch."""
+    try:
+        previous = read_provenance(out) or {}
+    except integrity.DamagedResults:
+        previous = {}  # rewritten at the end; the sections' own parameters are in their statuses
+    prov = provenance.collect(
+        quick=quick, seed=seed, parameters={**previous.get("parameters", {}), **params}, argv=argv
+    )
+    prov["sections_run"] = [s.slug for s in sections]
+    root.write_json(PROVENANCE_FILE, prov)
+    return prov
+
+
+def _run_serial(jobs_of: dict, order: list, outer, results: dict) -> None:
+    """Run the sections' jobs one after the other in this process, in ``order``, each status into ``results``."""
+    for s in order:
+        if hasattr(outer, "set_postfix_str"):
+            outer.set_postfix_str(s.slug)
+        results[s.slug] = jobs_of[s.slug]()
+        if hasattr(outer, "update"):
+            outer.update(1)
+
+
 def run(
     out: Path | str,
     sections: Sequence[Section],
@@ -370,16 +395,7 @@ def run(
         raise ValueError(f"jobs must be an integer >= 1; got {jobs!r}")
     params = {s.slug: s.params(quick) for s in sections}
     root = SectionStore(data)
-    # A partial run (``--only``) keeps the parameters recorded for the sections it does not touch.
-    try:
-        previous = read_provenance(out) or {}
-    except integrity.DamagedResults:
-        previous = {}  # rewritten below; the sections' own parameters are in their statuses
-    prov = provenance.collect(
-        quick=quick, seed=seed, parameters={**previous.get("parameters", {}), **params}, argv=argv
-    )
-    prov["sections_run"] = [s.slug for s in sections]
-    root.write_json(PROVENANCE_FILE, prov)
+    prov = _start_provenance(out, root, sections, params, quick=quick, seed=seed, argv=argv)
     bar = _progress_factory(progress)
     results: dict[str, dict] = {}
     t_all = time.perf_counter()
@@ -405,12 +421,7 @@ def run(
         _preload(todo)
         _run_parallel(jobs_of, order, min(jobs, len(todo)), outer, results, out)
     else:
-        for s in order:
-            if hasattr(outer, "set_postfix_str"):
-                outer.set_postfix_str(s.slug)
-            results[s.slug] = jobs_of[s.slug]()
-            if hasattr(outer, "update"):
-                outer.update(1)
+        _run_serial(jobs_of, order, outer, results)
     if hasattr(outer, "close"):
         outer.close()
     results = {

@@ -228,7 +228,7 @@ def plot_ladder(ladder, *, path: Path | str | None = None, title: str = ""):
     """Every rung of one start's ladder on one figure: a bar from t = 0 to each rung's event, coloured by its outcome,
     labelled with the outcome (and its label as compared), the comparison window shaded, the cause in the title.
 
-    ``ladder``: the result of ``crosscheck.studies.ladder.run_ladder`` or MuJoCo's ``run_ladder`` (``rungs`` with
+    ``ladder``: the result of ``crosscheck.studies.ladder.run_ladder``, or its saved JSON as attributes (``rungs`` with
     ``rung``, ``name``, ``status``, ``outcome``, ``time``, ``label``; ``until`` and ``lag``; ``cause``)."""
     from crosscheck.report.plotting import OUTCOME_COLORS, plt
 

@@ -270,107 +270,128 @@ def summarise(results: list[dict], *, p_band: float | None = None) -> dict:
     ``LADDER_CAUSES`` count as attributed.
     """
     band = Thresholds().jam_p_eff if p_band is None else float(p_band)
-    per = {}
-    by_p = {"p_band": band, "in_band": {"attributed": 0, "confirmed": 0}, "above": {"attributed": 0, "confirmed": 0}}
-    by_distance = {}
-    pairs = {"predicted": 0, "confirmed": 0, "geometry alone": 0, "another alone": 0, "joint failed": 0}
-    attributed = confirmed = removed = jointly = misattributed = unprobed = 0
+    tally = _Tally(band)
     for r in results:
+        tally.add(r)
+    return tally.summary(len(results))
+
+
+def _cause_row() -> dict:
+    """A cause's empty row of ``summarise``'s ``per_cause``."""
+    return {
+        "n": 0,
+        "confirmed": 0,
+        "not_at_strongest": 0,
+        "overdetermined": {},
+        "by_other": {},
+        "by_other_starts": 0,
+        "jointly": {},
+        "none": 0,
+        "no_intervention": 0,
+        "by_intervention": {},
+        "tried": {},
+    }
+
+
+def _pair_verdict(cause: str, fixing: list[str], both: bool) -> str:
+    """How the ladder's overdetermined pair fared (``summarise``'s ``pairs``)."""
+    if both:
+        return "confirmed"
+    return "geometry alone" if cause in fixing else "another alone" if fixing else "joint failed"
+
+
+class _Tally:
+    """``summarise``'s counts as they grow, one laddered disagreement at a time."""
+
+    def __init__(self, band: float):
+        self.per: dict = {}
+        self.by_p = {
+            "p_band": band,
+            "in_band": {"attributed": 0, "confirmed": 0},
+            "above": {"attributed": 0, "confirmed": 0},
+        }
+        self.by_distance: dict = {}
+        self.pairs = {"predicted": 0, "confirmed": 0, "geometry alone": 0, "another alone": 0, "joint failed": 0}
+        self.attributed = self.confirmed = self.removed = self.jointly = self.misattributed = self.unprobed = 0
+
+    def add(self, r: dict) -> None:
+        """Count one disagreement ``r`` (``summarise``'s ``results``)."""
         cause, iv = r["cause"], r["interventions"]
         fixing = [c for c in iv["causes"] if _fixes(iv, c)]
         joint = _jointly(iv)
-        removed += bool(fixing or joint)
-        side = by_p["in_band" if iv.get("theory_p_min", math.inf) <= band else "above"]
-        row = per.setdefault(
-            cause,
-            {
-                "n": 0,
-                "confirmed": 0,
-                "not_at_strongest": 0,
-                "overdetermined": {},
-                "by_other": {},
-                "by_other_starts": 0,
-                "jointly": {},
-                "none": 0,
-                "no_intervention": 0,
-                "by_intervention": {},
-                "tried": {},
-            },
-        )
+        self.removed += bool(fixing or joint)
+        row = self.per.setdefault(cause, _cause_row())
         also = (iv.get("without_offset") or {}).get("also")
         both = (
             bool(also) and not fixing and also in joint
         )  # the ladder's overdetermined pair, removed by the two together
         if also and cause in LADDER_CAUSES:  # how the ladder's prediction fared: only "confirmed" counts the pair
-            pairs["predicted"] += 1
-            pairs[
-                "confirmed"
-                if both
-                else "geometry alone"
-                if cause in fixing
-                else "another alone"
-                if fixing
-                else "joint failed"
-            ] += 1
+            self.pairs["predicted"] += 1
+            self.pairs[_pair_verdict(cause, fixing, both)] += 1
         row["n"] += 1
-        for x in (
-            iv["causes"].get(cause) or []
-        ):  # what, of the cause's own interventions, removes it: which part of the cause acts
+        # what, of the cause's own interventions, removes it: which part of the cause acts
+        for x in iv["causes"].get(cause) or []:
             row["by_intervention"][x["text"]] = row["by_intervention"].get(x["text"], 0) + bool(x["removes"])
-            row["tried"][x["text"]] = (
-                row["tried"].get(x["text"], 0) + 1
-            )  # (a step some starts get, as at p near 0: fewer than n)
+            # (a step some starts get, as at p near 0: fewer than n)
+            row["tried"][x["text"]] = row["tried"].get(x["text"], 0) + 1
         if cause in LADDER_CAUSES:
-            d = r.get("boundary_distance")
-            probed = d is not None and float(d) == float(d)  # (None: not probed; NaN likewise)
-            unprobed += not probed
-            tallies = [
-                side,
-                *(
-                    [by_distance.setdefault(float(d), {"distance": float(d), "attributed": 0, "confirmed": 0})]
-                    if probed
-                    else []
-                ),
-            ]
-            ok = cause in iv["causes"] and (_fixes(iv, cause) or both)
-            for tally in tallies:
-                tally["attributed"] += 1
-                tally["confirmed"] += ok
-            attributed += 1
-            confirmed += ok
-            if cause not in iv["causes"]:
-                row["no_intervention"] += 1
-            elif ok:
-                row["confirmed"] += 1
-                row["not_at_strongest"] += _not_at_strongest(iv, cause)
-                if both:
-                    row["overdetermined"][also] = row["overdetermined"].get(also, 0) + 1
+            self._attributed(r, row, fixing, both, also)
         if cause not in fixing:
             for c in fixing:
                 row["by_other"][c] = row["by_other"].get(c, 0) + 1
             if fixing:  # (a start another cause's intervention removes, counted once however many causes' do)
                 row["by_other_starts"] += 1
-                misattributed += cause in LADDER_CAUSES
+                self.misattributed += cause in LADDER_CAUSES
             elif joint and not both:
                 row["jointly"][joint[0]] = row["jointly"].get(joint[0], 0) + 1
-                jointly += 1
+                self.jointly += 1
             elif not both:
                 row["none"] += 1
-    return {
-        "per_cause": per,
-        "attributed": attributed,
-        "confirmed": confirmed,
-        "confirmed_share": confirmed / attributed if attributed else None,
-        "jointly": jointly,
-        "misattributed": misattributed,
-        "pairs": pairs,
-        "by_p": by_p,
-        "by_distance": [by_distance[d] for d in sorted(by_distance)],
-        "unprobed": unprobed if by_distance else 0,
-        # whatever the ladder named: the disagreements some cause's intervention on the engine removes
-        "n": len(results),
-        "removed_by_any": removed,
-    }
+
+    def _attributed(self, r: dict, row: dict, fixing: list[str], both: bool, also) -> None:
+        """Count the disagreement ``r`` the ladder attributes to one of ``LADDER_CAUSES``: confirmed or not, by eq. p's
+        band and by the start's distance to the theory's event boundary."""
+        cause, iv = r["cause"], r["interventions"]
+        side = self.by_p["in_band" if iv.get("theory_p_min", math.inf) <= self.by_p["p_band"] else "above"]
+        d = r.get("boundary_distance")
+        probed = d is not None and float(d) == float(d)  # (None: not probed; NaN likewise)
+        self.unprobed += not probed
+        tallies = [side]
+        if probed:
+            tallies.append(
+                self.by_distance.setdefault(float(d), {"distance": float(d), "attributed": 0, "confirmed": 0})
+            )
+        ok = cause in iv["causes"] and (_fixes(iv, cause) or both)
+        for tally in tallies:
+            tally["attributed"] += 1
+            tally["confirmed"] += ok
+        self.attributed += 1
+        self.confirmed += ok
+        if cause not in iv["causes"]:
+            row["no_intervention"] += 1
+        elif ok:
+            row["confirmed"] += 1
+            row["not_at_strongest"] += _not_at_strongest(iv, cause)
+            if both:
+                row["overdetermined"][also] = row["overdetermined"].get(also, 0) + 1
+
+    def summary(self, n: int) -> dict:
+        """``summarise``'s result over the n disagreements counted."""
+        return {
+            "per_cause": self.per,
+            "attributed": self.attributed,
+            "confirmed": self.confirmed,
+            "confirmed_share": self.confirmed / self.attributed if self.attributed else None,
+            "jointly": self.jointly,
+            "misattributed": self.misattributed,
+            "pairs": self.pairs,
+            "by_p": self.by_p,
+            "by_distance": [self.by_distance[d] for d in sorted(self.by_distance)],
+            "unprobed": self.unprobed if self.by_distance else 0,
+            # whatever the ladder named: the disagreements some cause's intervention on the engine removes
+            "n": n,
+            "removed_by_any": self.removed,
+        }
 
 
 def as_record(x) -> dict:

@@ -22,7 +22,9 @@ from crosscheck.engines.classifier import Thresholds
 from crosscheck.error_stats import as_json
 from crosscheck.outcome import Outcome
 from crosscheck.rod import Rod
-from crosscheck.studies.agreement import DEFAULT_HORIZON, EVENTS, quantiles
+from crosscheck.studies.agreement import DEFAULT_HORIZON
+from crosscheck.studies.agreement_run import quantiles
+from crosscheck.studies.comparison import EVENTS
 from crosscheck.studies.grids import random_slipping_states
 from crosscheck.theory.corollary import corollary_states
 from crosscheck.theory.critical import mu_P

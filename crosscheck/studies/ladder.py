@@ -23,9 +23,11 @@ label equals the engine's (the first rung of the final stretch of matches: a
 match that the next rung undoes is not the difference the engine keeps;
 ``crosscheck.engines.mujoco.studies.ladder`` says why); "unexplained" if the
 last rung differs, "undetermined" when the last rung or the one before the
-stretch could not run.  MuJoCo's own ladder (``crosscheck.engines.mujoco.studies.ladder``)
-is this ladder with its rungs written out, the Kelvin-Voigt match of its
-impedance among them.
+stretch could not run.  A ladder's detour (``detour``) is a stretch of rungs on
+neither the theory's outcome nor the engine's.  Where the engine rerun here
+differs from the agreement study's label, ``decided_by_rounding`` asks whether
+the start 1 or 2 ulp of theta away gives that label (the study builds its
+starts as arrays, the ladder one by one).
 
 A ladder is one order of adding the differences, so it names the first
 that gives the engine's outcome and cannot see a later one that gives it
@@ -47,8 +49,11 @@ import math
 import time
 from dataclasses import dataclass
 
+import numpy as np
+
 from crosscheck import engines
 from crosscheck.checks import ALPHA, HORIZON, MU, check
+from crosscheck.engines.base import n_steps_within_memory
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.engines.spec import LADDER_CAUSES
 from crosscheck.outcome import Outcome
@@ -66,12 +71,21 @@ __all__ = [
     "without_capsule_offset",
     "final_stretch_cause",
     "detour",
+    "decided_by_rounding",
     "CAUSES",
+    "ROUNDING_ULPS",
 ]
 
 #: Every cause a start can get (as MuJoCo's ladder): the four rungs' causes, "unexplained", "undetermined",
 #: "agree" (rung 1 already equals the engine) and "not rated" (rung 1 is GB or DIVERGED).
 CAUSES = (*LADDER_CAUSES, "unexplained", "undetermined", "agree", "not rated")
+
+#: Bytes per record row of the hungriest rung (the compliant rod's records, 1200; MuJoCo's 768): a start whose
+#: horizon / timestep would need more than ``MAX_RECORD_BYTES`` is refused before any rung runs.
+ROW_BYTES = 1200
+
+#: Units in the last place by which ``decided_by_rounding`` moves theta.
+ROUNDING_ULPS = (-2, -1, 1, 2)
 
 
 @dataclass(frozen=True)
@@ -118,6 +132,37 @@ class EngineLadder:
     rungs: tuple
     reference: Outcome | None
     cause: str
+    run_until: float = math.nan
+    alpha: float = 3.0
+
+    @property
+    def disagree(self) -> bool:
+        """Rung 1 is rated and differs from the reference (the cause is then a rung's, "unexplained" or "undetermined")."""
+        return self.cause not in ("agree", "not rated")
+
+    @property
+    def first_change(self) -> int | None:
+        """The first rung whose label differs from rung 1's (None if none)."""
+        return next((r.rung for r in self.rungs[1:] if r.ok and r.label != self.rungs[0].label), None)
+
+    @property
+    def detour(self) -> tuple[int, int | None] | None:
+        """(k, j) rung numbers of the first detour of a disagreement (``detour``); None without one or if it agrees."""
+        if not self.disagree:
+            return None
+        d = detour([r.label if r.ok else None for r in self.rungs], self.reference)
+        return None if d is None else (d[0] + 1, None if d[1] is None else d[1] + 1)
+
+    @property
+    def detour_ended_by(self) -> str | None:
+        """The cause of the rung that ends the detour (None without one, or if no rung ends it)."""
+        d = self.detour
+        return None if d is None or d[1] is None else self.rungs[d[1] - 1].cause
+
+    @property
+    def missing(self) -> list[str]:
+        """Names of the rungs that could not run."""
+        return [r.name for r in self.rungs if not r.ok]
 
     def as_dict(self) -> dict:
         return {
@@ -129,6 +174,9 @@ class EngineLadder:
             "rungs": [r.as_dict() for r in self.rungs],
             "reference": None if self.reference is None else self.reference.name,
             "cause": self.cause,
+            "first_change": self.first_change,
+            "detour": None if self.detour is None else list(self.detour),
+            "detour_ended_by": self.detour_ended_by,
         }
 
 
@@ -193,12 +241,47 @@ def run_ladder(
     horizon = float(check("horizon", horizon, HORIZON))
     opts = spec.options(**options)
     check_timestep_within(opts.timestep, horizon)  # as every engine's simulate
-    until, lag, rungs = _climb(spec, ladder, state, mu, alpha, horizon, opts, thresholds or Thresholds())
+    th = thresholds or Thresholds()
+    # refuse a record no rung can hold before anything runs (the rungs would only fail one by one)
+    n_steps_within_memory(horizon + window_margin(th, opts.timestep), opts.timestep, ROW_BYTES, what="a rung's record")
     if reference is not None:
-        ref = Outcome(int(reference))
-    else:
-        ref = rungs[-1].label if rungs[-1].ok else None
-    return EngineLadder(engine, state, mu, until, lag, tuple(rungs), ref, _cause(rungs, ref))
+        try:
+            reference = Outcome(int(reference))
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"reference must be an Outcome ({', '.join(o.name for o in Outcome)}) or None; got {reference!r}"
+            ) from None
+    until, lag, rungs, run_until = _climb(spec, ladder, state, mu, alpha, horizon, opts, th)
+    ref = reference if reference is not None else (rungs[-1].label if rungs[-1].ok else None)
+    return EngineLadder(engine, state, mu, until, lag, tuple(rungs), ref, _cause(rungs, ref), run_until, alpha)
+
+
+def decided_by_rounding(
+    engine: str, ladder: EngineLadder, label: Outcome, *, thresholds: Thresholds | None = None, **options
+) -> bool:
+    """Whether ``engine`` gives ``label`` at a start 1 or 2 units in the last place of theta away from ``ladder``'s.
+
+    When MuJoCo's capsule started exactly on the plane, whether its contact was active in the first row was decided
+    by the last bits of the start, and near p = 0 that decided the outcome (a start of the maps jammed at t = 0.0027
+    or lifted off at t = 0.0186 as theta moved by one ulp).  The agreement study builds its starts as arrays, whose
+    sine and cosine take numpy's SIMD paths, the ladder one by one: a rerun that differs from the study's label at
+    such a start is the same start in all but its last bits.  Labelled as the ladder labels its last rung (the
+    study's comparison time plus lag); ``options`` the engine's, as ``run_ladder``.
+    """
+    spec = engines.get(engine)
+    th = thresholds or Thresholds()
+    opts = spec.options(**options)
+    given = {k: getattr(opts, k) for k in opts.__dataclass_fields__}
+    horizon = ladder.run_until + window_margin(th, opts.timestep)
+    for k in ROUNDING_ULPS:
+        theta = ladder.state.theta
+        for _ in range(abs(k)):
+            theta = float(np.nextafter(theta, math.inf if k > 0 else -math.inf))
+        state = SlipState(**{**ladder.state.as_dict(), "theta": theta})
+        o, t = spec.first_event(Rod.scaled(ladder.alpha), state, ladder.mu, horizon=horizon, thresholds=th, **given)
+        if compared_label(o, t, ladder.until + ladder.lag) == label:
+            return True
+    return False
 
 
 def without_capsule_offset(
@@ -232,7 +315,7 @@ def without_capsule_offset(
     if not thin or not any(c != "geometry" for c, _ in models) or models[0] != ("geometry", "capsule"):
         return None
     opts = spec.options(**{**options, **thin[-1].options})
-    _, _, rungs = _climb(spec, models, state, mu, alpha, horizon, opts, thresholds or Thresholds())
+    _, _, rungs, _ = _climb(spec, models, state, mu, alpha, horizon, opts, thresholds or Thresholds())
     rungs = rungs[1:]  # (rung 1, the paper's rod, has no cause)
     also = final_stretch_cause(rungs, Outcome(int(reference)), lambda r: r.cause)
     return {
@@ -244,9 +327,10 @@ def without_capsule_offset(
 
 def _climb(
     spec, ladder, state: SlipState, mu: float, alpha: float, horizon: float, opts, th: Thresholds
-) -> tuple[float, float, list]:
-    """(comparison time, lag, rungs) of ``state`` up ``ladder`` ((cause, rung) pairs, rungs 2, 3, ...) at ``opts``: rung 1
-    the paper's rod, each label the agreement study's; a rung that raises is "failed" and the climb goes on."""
+) -> tuple[float, float, list, float]:
+    """(comparison time, lag, rungs, run_until) of ``state`` up ``ladder`` ((cause, rung) pairs, rungs 2, 3, ...) at
+    ``opts``: rung 1 the paper's rod, each label the agreement study's; a rung that raises is "failed" and the climb
+    goes on; the analytic rungs run to ``run_until``, the engines two classifier windows further."""
     rod = Rod.scaled(alpha)
     first = slip_until_event(state, mu, alpha, t_max=horizon)
     o1, t1 = Outcome(int(first.outcome)), float(first.time)
@@ -287,7 +371,7 @@ def _climb(
                     wall_time=time.perf_counter() - t0,
                 )
             )
-    return until, lag, rungs
+    return until, lag, rungs, run_until
 
 
 def _cause(rungs, reference: Outcome | None) -> str:

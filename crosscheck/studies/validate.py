@@ -163,6 +163,18 @@ def contact_events(
         )
     )
 
+    agreement_stats, extra["event_agreement"] = _agreement_checks(engine, n_states, rng, T, progress=progress)
+    stats += agreement_stats
+    jam_stats, extra["corollary_jam_fraction"], extra["jams"] = _jam_checks(E, n_states, rng, T, jam_states, progress)
+    stats += jam_stats
+    extra["tolerances"] = {k: v.as_dict() for k, v in T.items()}
+    return ValidationResult(engine=engine, stats=stats, extra=extra)
+
+
+def _agreement_checks(engine: str, n_states: int, rng, T: dict, *, progress: bool) -> tuple[list[ErrorStat], dict]:
+    """The event agreement on ``n_states`` random slipping states: its statistics (the disagreement, and the median
+    |event time difference| where an event is shared) and its ``extra`` entry."""
+    stats: list[ErrorStat] = []
     points = random_event_points(n_states, rng)
     study = agreement_study(
         points, engine=engine, alpha=ALPHA, horizon=DEFAULT_HORIZON, rng=rng, boundary_directions=0, progress=progress
@@ -178,7 +190,7 @@ def contact_events(
                 "median |event time difference|", [run.median_abs_time_difference], [0.0], T["event_time"], where_c
             )
         )
-    extra["event_agreement"] = {
+    return stats, {
         "median_abs_time_difference": run.median_abs_time_difference
         if math.isfinite(run.median_abs_time_difference)
         else "not measured: no event shared with the theory",
@@ -196,10 +208,15 @@ def contact_events(
         "convergence_row": convergence_table(study),
     }
 
+
+def _jam_checks(E, n_states: int, rng, T: dict, jam_states, progress: bool) -> tuple[list[ErrorStat], float, dict]:
+    """The jam checks of the engine ``E`` (module docstring): their statistics, the fraction of the Corollary 4.2
+    slips that end with a JAM near the analytic jam, and the ``extra`` entry of the jams."""
+    stats: list[ErrorStat] = []
     rigid = E.options().contact_time == 0.0
     n_below, n_above = jam_states or (max(20, n_states // 5), max(30, n_states // 10))
     jc = jam_check(
-        engine=engine,
+        engine=E.name,
         mus_below=MUS_BELOW,
         n_below=n_below,
         n_above=n_above,
@@ -229,10 +246,10 @@ def contact_events(
             {"n": np.array([n_above])},
         )
     )
-    extra["corollary_jam_fraction"] = sum(row["n"] * row["near_fraction"]["JAM"] for row in jc.above) / n_above
-    extra["jams"] = jc.to_dict()
-    extra["jams"]["asserted_below"] = [row["mu"] for row in decidable]
-    extra["jams"]["near_mu_P_not_asserted"] = {
+    jam_fraction = sum(row["n"] * row["near_fraction"]["JAM"] for row in jc.above) / n_above
+    jams = jc.to_dict()
+    jams["asserted_below"] = [row["mu"] for row in decidable]
+    jams["near_mu_P_not_asserted"] = {
         "why": f"p_min(mu) <= jam_p_eff = {p_jam}: the JAM rule cannot tell a jam from a hard slip there",
         "rows": [
             {"mu": row["mu"], "p_min": float(p_min(row["mu"], ALPHA)), "n": row["n"], "jams": row["n_jam"]}
@@ -240,8 +257,7 @@ def contact_events(
             if row not in decidable
         ],
     }
-    extra["tolerances"] = {k: v.as_dict() for k, v in T.items()}
-    return ValidationResult(engine=engine, stats=stats, extra=extra)
+    return stats, jam_fraction, jams
 
 
 #: The parts ``validate`` can run: the dynamics terms and the contact events (``checks=``; all by default).

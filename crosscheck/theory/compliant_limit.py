@@ -203,33 +203,76 @@ def fast_limit(state: SlipState, mu: float, alpha: float, *, xi: float) -> FastL
     uh = u0[:2] / n0
     p = float(G[2, 2] - mu * G[2, :2] @ uh)
     b = float(analytic.b(state.Psi, state.Theta, state.theta))
+    start, lam, lam2, coefficient, K, u, d0 = _asymptotic_start(G, u0, mu, xi, p, b)
+    P, y, tau_stop, P_stop, P_c = _slip_in_P(G, u0, u, d0, mu, xi)
+    phases: list[tuple[str, float, float]] = [("slip", 0.0, P)]
+    z = np.array([y[0], y[1], y[2], y[3], y[4], y[5], P])
+    z, P_c = _phases_in_tau(G, z, mu, xi, n0, slipping=math.isnan(P_stop), P_c=P_c, phases=phases)
+    P_f = float(z[6])
+    e = P_f / P_c - 1.0
+    imp = impact(state, mu, alpha, restitution=min(max(e, 0.0), 1.0))
+    offset = math.nan
+    if start == "inconsistent" and b < 0:
+        # the linear growth d = eps K e^(lambda tau) reaches d0 at tau_entry = ln(d0/(eps K))/lambda
+        offset = math.log(d0 / K) / lam + tau_stop
+    return FastLimit(
+        state=state,
+        mu=mu,
+        alpha=alpha,
+        xi=xi,
+        start=start,
+        p=p,
+        b=b,
+        lam=lam,
+        lam2=lam2,
+        coefficient=coefficient,
+        offset=offset,
+        P_stop=P_stop,
+        P_c=P_c,
+        P_f=P_f,
+        restitution=e,
+        w=float(z[2]),
+        phases=tuple(phases),
+        impact=imp,
+    )
+
+
+def _asymptotic_start(G, u0, mu: float, xi: float, p: float, b: float):
+    """The fast problem's start at the small normal impulse ``_P0``: the linear growth along the unstable direction
+    (p < 0) or the self-similar jam solution (p = 0).  Returns (start, lam, lam2, coefficient, K, u, d0): the kind of
+    start, ``growth_rates``, 1/lambda, the unstable mode's amplitude K (NaN unless b < 0), the tip velocity u (3,)
+    and the scaled penetration d0 at ``_P0``."""
+    n0 = math.hypot(u0[0], u0[1])
+    uh = u0[:2] / n0
     Gtt, Gtn = G[:2, :2], G[:2, 2]
     dut = Gtt @ (-mu * uh) + Gtn  # du_t/dP while slipping
     P0 = _P0
     u = u0 + G @ np.array([-mu * uh[0], -mu * uh[1], 1.0]) * P0
     if p < -1e-9:
-        start = "inconsistent"
         lam, lam2 = growth_rates(p, xi)
         c = lam / (1.0 + xi * lam)  # d = c P along the unstable direction
         u[2] = p * P0
-        d0 = c * P0
-        coefficient = 1.0 / lam
         K = abs(b) / abs(p) * abs(lam2) / (lam + abs(lam2)) if b < 0 else math.nan
-    elif p <= 1e-9:
-        start = "jam"
+        return "inconsistent", lam, lam2, 1.0 / lam, K, u, c * P0
+    if p <= 1e-9:
         # dp/dP = -mu G_nt . d(u_hat)/dP, d(u_hat)/dP = (I - u_hat u_hat^T) du_t/dP / |u_t|
         k = float(mu * Gtn @ ((np.eye(2) - np.outer(uh, uh)) @ dut) / n0)
         if not k > 0.0:
             raise ValueError(f"-dp/dP must be in (0, inf) at a jam (p decreasing along the impulse); got {k!r}")
-        lam = lam2 = coefficient = K = math.nan
         u[2] = -0.5 * k * P0 * P0
-        d0 = math.sqrt(k / 3.0) * P0**1.5
-    else:
-        raise ValueError(f"p must be <= 1e-9 (inconsistent or at a jam) for an impulse; got p = {p!r}")
+        return "jam", math.nan, math.nan, math.nan, math.nan, u, math.sqrt(k / 3.0) * P0**1.5
+    raise ValueError(f"p must be <= 1e-9 (inconsistent or at a jam) for an impulse; got p = {p!r}")
 
-    phases: list[tuple[str, float, float]] = []
 
-    # Slip phase in P: y = (u_x, u_y, u_n, d, L_x, L_y, tau); f = d - xi u_n > 0 while compressing.
+def _slip_in_P(G, u0, u, d0: float, mu: float, xi: float):
+    """The fast problem's first slip phase, integrated in the normal impulse P from ``_P0`` until the slip stops or
+    the compression ends.  State y = (u_x, u_y, u_n, d, L_x, L_y, tau); f = d - xi u_n > 0 while compressing.
+    u0 and u: the tip velocity at P = 0 and at ``_P0``.  Returns (P, y, tau_stop, P_stop, P_c) at the phase's end
+    (NaN for the one of the two ends not reached)."""
+    P0 = _P0
+    n0 = math.hypot(u0[0], u0[1])
+    uh = u0[:2] / n0
+
     def slip_P(_P, y):
         ut = y[:2]
         f_t = -mu * ut / math.hypot(ut[0], ut[1])
@@ -253,16 +296,21 @@ def fast_limit(state: SlipState, mu: float, alpha: float, *, xi: float) -> FastL
     if sol.status != 1:
         raise RuntimeError(f"fast problem: the slip phase did not end ({sol.message})")
     P, y = float(sol.t[-1]), sol.y[:, -1].copy()
-    phases.append(("slip", 0.0, P))
     tau_stop = float(y[6]) if len(sol.t_events[0]) else math.nan
     P_stop = P if len(sol.t_events[0]) else math.nan
     P_c = math.nan if len(sol.t_events[0]) else P
+    return P, y, tau_stop, P_stop, P_c
 
-    # Then in tau: z = (u_x, u_y, u_n, d, L_x, L_y, P), mode "slip" / "stick", until the push f = d - xi u_n falls to 0.
+
+def _phases_in_tau(G, z, mu: float, xi: float, n0: float, *, slipping: bool, P_c: float, phases: list):
+    """The fast problem after its first phase, in fast time tau: z = (u_x, u_y, u_n, d, L_x, L_y, P), slipping or
+    stuck, until the push f = d - xi u_n falls to 0 (the release).  n0: the start's slip speed (the scale of the
+    stopped slip); P_c: the end of compression if reached already (else NaN).  Appends each phase to ``phases``;
+    returns (z, P_c) at the release."""
+    Gtt, Gtn = G[:2, :2], G[:2, 2]
     S = float(G[2, 2] + Gtn @ -np.linalg.solve(Gtt, Gtn))
     f_s = -np.linalg.solve(Gtt, Gtn)
-    z = np.array([y[0], y[1], y[2], y[3], y[4], y[5], P])
-    mode = "slip" if math.isnan(P_stop) else None
+    mode = "slip" if slipping else None
     for _ in range(16):
         if mode is None:  # just stopped: the tip sticks (|f_s| < mu wherever p <= 0: darboux_keller's docstring)
             z[:2] = 0.0
@@ -314,33 +362,7 @@ def fast_limit(state: SlipState, mu: float, alpha: float, *, xi: float) -> FastL
         raise RuntimeError("fast problem: more than 16 phases")
     if math.isnan(P_c):
         raise RuntimeError("fast problem: released before the end of compression")
-    P_f = float(z[6])
-    e = P_f / P_c - 1.0
-    imp = impact(state, mu, alpha, restitution=min(max(e, 0.0), 1.0))
-    offset = math.nan
-    if start == "inconsistent" and b < 0:
-        # the linear growth d = eps K e^(lambda tau) reaches d0 at tau_entry = ln(d0/(eps K))/lambda
-        offset = math.log(d0 / K) / lam + tau_stop
-    return FastLimit(
-        state=state,
-        mu=mu,
-        alpha=alpha,
-        xi=xi,
-        start=start,
-        p=p,
-        b=b,
-        lam=lam,
-        lam2=lam2,
-        coefficient=coefficient,
-        offset=offset,
-        P_stop=P_stop,
-        P_c=P_c,
-        P_f=P_f,
-        restitution=e,
-        w=float(z[2]),
-        phases=tuple(phases),
-        impact=imp,
-    )
+    return z, P_c
 
 
 def planar_restitution(p, S, xi) -> float:

@@ -15,7 +15,7 @@ friction does no work, and where the clipped force is zero inside the plane
 (the law would pull) the stored elastic energy only drains.
 
 Modules: ``laws`` (the normal laws), ``model`` (the dynamics), ``trajectory``
-(the event-driven solution, ``integrate``), ``manifold`` (the slow
+(the event-driven solution, ``integrate``), ``switches`` (its mode switches), ``manifold`` (the slow
 manifold's start, ``slow_manifold``), ``run`` (``simulate``: the engine's
 ``Run``).
 """
@@ -24,7 +24,8 @@ from crosscheck.engines.compliant.laws import LAWS, NormalLaw
 from crosscheck.engines.compliant.manifold import rigid_normal_force, slow_manifold
 from crosscheck.engines.compliant.model import Dynamics
 from crosscheck.engines.compliant.run import Options, simulate, sweep
-from crosscheck.engines.compliant.trajectory import EVENT_KINDS, Event, Trajectory, integrate
+from crosscheck.engines.compliant.switches import EVENT_KINDS, Event
+from crosscheck.engines.compliant.trajectory import Trajectory, integrate
 from crosscheck.engines.spec import EngineSpec, Execution, ReportPlan
 
 __all__ = [

@@ -3,47 +3,8 @@
 The rod of ``crosscheck.engines.compliant.model`` is integrated mode by mode (free,
 slipping, stuck) with scipy's implicit Radau method and the analytic stiff
 Jacobian of ``Dynamics.jac``; each mode's right-hand side is smooth, and a
-mode ends at a terminal event where the next mode begins:
-
-===============  ==========================================================
-contact_start    free -> contact: the gap g of C crosses 0 downwards, or
-                 (after a contact ended inside the plane) the law's push
-                 crosses 0 upwards while g < 0.
-contact_end      contact -> free: the push crosses 0 downwards (the law
-                 would pull), or g crosses 0 upwards.
-slip_stop        slip -> stick (or slip_restart): C's slip speed |s| falls
-                 to ``SLIP_STOP.atol``.  The friction direction s/|s| is
-                 singular at s = 0, so the stop is an event, never a
-                 regularisation: the residual slip (1e-9) is removed by the
-                 tangential impulse -G_tt^-1 s (kinetic energy change
-                 -s.G_tt^-1 s/2 ~ 1e-18) and the stop time is the event time
-                 plus the linear extrapolation |s| / |d|s|/dt|.
-slip_restart     after a slip_stop whose stick force lies outside the cone
-                 |F_t| <= mu F_n: the slip restarts at once in the direction
-                 ``restart_direction``.
-stick_break      stick -> slip: |F_t| reaches mu F_n; the slip restarts in
-                 the direction of the tangential acceleration the cone
-                 cannot cancel (``restart_direction``; friction is
-                 continuous across the break).  C's residual slip of the
-                 stick phase (the solver's error, ~atol) is removed first.
-                 While |s| < ``SLIP_FLOOR.atol`` (half the slip-stop
-                 speed) the friction direction is the current state's
-                 self-consistent restart direction.  The floor lies strictly
-                 below the slip-stop event: inside it the
-                 friction direction does not turn with s, so one step may
-                 carry a stopping slip through s = 0 to the far side unseen
-                 by the event; there |s| rises inside the floor and falls
-                 outside, and a floor at the event's speed would attract
-                 from both sides, approached but never crossed (a solver
-                 failure).  Below the event the far side's slip falls
-                 through the event's speed where s/|s| is smooth.
-domain_exit      theta leaves (0, pi/2) (M is singular at pi/2).
-segments         more than ``MAX_SEGMENTS`` mode switches (a chatter): the
-                 run ends there.
-solver_failure   the solver failed (step size underflow): the run ends;
-                 the event's ``reason`` is the solver's message with the
-                 mode, C's slip speed and gap there.
-===============  ==========================================================
+mode ends at a terminal event where the next mode begins (the events and
+what each one does: ``crosscheck.engines.compliant.switches``).
 
 The choice of Radau or BDF and the cost per state, measured: ``docs/compliant_trajectory.md``."""
 
@@ -58,23 +19,13 @@ from scipy.integrate import solve_ivp
 from crosscheck.checks import CONTACT_RADIUS, HORIZON, MU, RATE, Interval, check
 from crosscheck.coordinates import paper_to_qv, qv_to_paper
 from crosscheck.engines.compliant import laws as _laws
-from crosscheck.engines.compliant.model import (
-    FREE,
-    MODES,
-    SLIP,
-    STICK,
-    Dynamics,
-    q_from_y,
-    restart_direction,
-    y_from_qv,
-)
-from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION, SLIP_FLOOR, SLIP_STOP
+from crosscheck.engines.compliant.model import FREE, MODES, SLIP, STICK, Dynamics, q_from_y, y_from_qv
+from crosscheck.engines.compliant.switches import EVENT_KINDS, Event, contact_mode, mode_events, switch
+from crosscheck.engines.compliant.tolerances import COMPLIANT_INTEGRATION, SLIP_FLOOR
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
-from crosscheck.tolerances import THETA_MARGIN
 
 __all__ = [
-    "Event",
     "Segment",
     "Trajectory",
     "integrate",
@@ -82,7 +33,6 @@ __all__ = [
     "make_dynamics",
     "RADIUS",
     "GAP",
-    "EVENT_KINDS",
     "METHODS",
 ]
 
@@ -95,37 +45,11 @@ GAP = Interval(-1.0, 0.0, lo_open=False, hi_open=False)
 #: rtol to 100 ulp and warns); looser than 1e-2 no event of the study is located.
 RTOL = Interval(1e-13, 1e-2, lo_open=False, hi_open=False)
 ATOL = Interval(1e-16, 1e-2, lo_open=False, hi_open=False)
-#: Event kinds an ``Event`` may have (and ``stop_at`` may name).
-EVENT_KINDS = (
-    "contact_start",
-    "contact_end",
-    "slip_stop",
-    "slip_restart",
-    "stick_break",
-    "domain_exit",
-    "segments",
-    "solver_failure",
-)
 #: The stiff methods of ``solve_ivp`` this integrator accepts.
 METHODS = ("Radau", "BDF")
 #: At most this many mode segments per run: a stick-slip or contact chatter that switches more often is cut
 #: off (reported as a "segments" event) rather than looping.
 MAX_SEGMENTS = 20000
-
-
-@dataclass(frozen=True)
-class Event:
-    """A mode switch at scaled time ``time``: ``kind`` (``EVENT_KINDS``), the mode before and after it, and the
-    state y (gap coordinates, ``crosscheck.engines.compliant.model``) and restart direction after it; ``reason`` says why a
-    ``solver_failure`` happened (empty for the other kinds)."""
-
-    time: float
-    kind: str
-    before: str
-    after: str
-    y: np.ndarray | None = field(default=None, repr=False, compare=False)
-    direction: np.ndarray | None = field(default=None, repr=False, compare=False)
-    reason: str = field(default="", compare=False)
 
 
 @dataclass(frozen=True, eq=False)
@@ -262,98 +186,6 @@ def make_dynamics(alpha: float, mu: float, *, eps: float, xi: float, radius: flo
     return Dynamics(alpha=float(alpha), mu=mu, eps=eps, xi=xi, radius=radius, law=law, slip_floor=SLIP_FLOOR.atol)
 
 
-def _events(dyn: Dynamics, mode: int, below: bool):
-    """Terminal event functions of ``mode`` and the kind each one means."""
-    margin = THETA_MARGIN.atol
-    evs = []
-
-    def add(fun, direction, kind):
-        fun.terminal, fun.direction = True, direction
-        evs.append((fun, kind))
-
-    add(lambda t, y: y[4] - margin, -1, "domain_exit")
-    add(lambda t, y: 0.5 * math.pi - margin - y[4], -1, "domain_exit")
-    if mode == FREE:
-        if below:
-            # the law's push changes sign at delta = 0 too (delta (1 + (xi/eps) delta') and delta/eps^2 + (xi/eps) delta'
-            # as C rises through the plane): only a push below the plane starts the contact ("above" takes the rest)
-            add(lambda t, y: dyn.push(y) if y[2] < 0.0 else -1.0, +1, "contact_start")
-            add(lambda t, y: y[2], +1, "above")
-        else:
-            add(lambda t, y: y[2], -1, "contact_start")
-        return evs
-    add(lambda t, y: dyn.push(y), -1, "contact_end")
-    add(lambda t, y: y[2], +1, "contact_end")
-    if mode == SLIP and dyn.mu > 0.0:
-        add(lambda t, y: math.hypot(*dyn.slip(y)) - SLIP_STOP.atol, -1, "slip_stop")
-    if mode == STICK:
-
-        def cone(t, y):
-            F = dyn.force(y, STICK)
-            return dyn.mu * F[2] - math.hypot(F[0], F[1])
-
-        add(cone, -1, "stick_break")
-    return evs
-
-
-def _stick_holds(dyn: Dynamics, y) -> bool:
-    """C at rest stays stuck: the stick force lies in the cone |F_t| <= mu F_n.
-
-    As a contact closes F_n = 0 and the cone is a point; the test is then its
-    limit F_n -> 0+ (the stick force per unit normal force,
-    -G_tt^-1 (a_free_t / F_n + G_tn), in the cone of radius mu): C's free
-    tangential acceleration must vanish (a rod at rest) and |G_tt^-1 G_tn| <= mu.
-    """
-    Minv, Q, J, dJv, qd, G, a_free, MJt = dyn.terms(y)
-    Fn = dyn.push(y)
-    if Fn > 0.0:
-        Ft = -np.linalg.solve(G[:2, :2], a_free[:2] + G[:2, 2] * Fn)
-        return math.hypot(Ft[0], Ft[1]) <= dyn.mu * Fn
-    if math.hypot(a_free[0], a_free[1]) > 0.0:
-        return False
-    f = np.linalg.solve(G[:2, :2], G[:2, 2])
-    return math.hypot(f[0], f[1]) <= dyn.mu
-
-
-def _remove_slip(dyn: Dynamics, y) -> np.ndarray:
-    """y with C's residual tangential velocity s removed by the impulse -G_tt^-1 s (the least kinetic energy change)."""
-    Minv, Q, J, dJv, qd, G, a_free, MJt = dyn.terms(y)
-    s = J[:2] @ qd
-    P = -np.linalg.solve(G[:2, :2], s)
-    dq = MJt[:, :2] @ P
-    y = y.copy()
-    c = math.cos(y[4])
-    y[5] += dq[0]
-    y[6] += dq[1]
-    y[8] += dq[3]
-    y[9] += dq[4]
-    y[7] += dq[2] - c * dq[4]
-    return y
-
-
-def _contact_mode(dyn: Dynamics, y) -> tuple[int, np.ndarray | None, np.ndarray, list]:
-    """The contact mode entered at y (slip, or stick if C is at rest and the cone holds); returns (mode, direction, y, extra events)."""
-    s = dyn.slip(y)
-    if dyn.mu == 0.0 or math.hypot(*s) > SLIP_STOP.atol:
-        return SLIP, None, y, []
-    y = _remove_slip(dyn, y)
-    if _stick_holds(dyn, y):
-        return STICK, None, y, []
-    return SLIP, _direction(dyn, y), y, ["slip_restart"]
-
-
-def _direction(dyn: Dynamics, y) -> np.ndarray:
-    """The direction in which C at rest starts to slip (``restart_direction``); at F_n = 0 its limit F_n -> 0+:
-    along C's free tangential acceleration if it has one, else the direction of the problem per unit normal force."""
-    Minv, Q, J, dJv, qd, G, a_free, MJt = dyn.terms(y)
-    Fn = dyn.push(y)
-    if Fn > 0.0:
-        return restart_direction(a_free[:2] + G[:2, 2] * Fn, G[:2, :2], dyn.mu * Fn)
-    if math.hypot(a_free[0], a_free[1]) > 0.0:
-        return restart_direction(a_free[:2], G[:2, :2], 0.0)
-    return restart_direction(G[:2, 2], G[:2, :2], dyn.mu)
-
-
 def start_state(rod: Rod, state: SlipState, dyn: Dynamics, *, gap: float, gap_rate: float) -> np.ndarray:
     """The integrator's state y of ``state`` with C at height ``gap`` and normal velocity ``gap_rate``.
 
@@ -431,85 +263,36 @@ def integrate(
         raise ValueError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
     rtol = float(check("rtol", COMPLIANT_INTEGRATION.rtol if rtol is None else rtol, RTOL))
     atol = float(check("atol", COMPLIANT_INTEGRATION.atol if atol is None else atol, ATOL))
-    e = dyn.eps
-    atol_v = atol * np.array([1, 1, min(1.0, e), 1, 1, 1, 1, 1, 1, 1])
-
+    atol_v = atol * np.array([1, 1, min(1.0, dyn.eps), 1, 1, 1, 1, 1, 1, 1])
     y = start_state(rod, state, dyn, gap=gap, gap_rate=gap_rate)
-    events: list[Event] = []
-    # the first mode: contact if the law pushes, or if it is zero (C on the plane at rest) and C's free normal acceleration
-    # is downwards (the rod sinks into the plane at once); free otherwise
-    push = dyn.push(y) if y[2] <= 0.0 else -1.0
-    a_n = dyn.terms(y)[6][2]
-    direction = None
-    if push > 0.0 or (push == 0.0 and y[2] <= 0.0 and (gap_rate < 0.0 or (gap_rate == 0.0 and a_n <= 0.0))):
-        mode, direction, y, extra = _contact_mode(dyn, y)
-        for kind in extra:
-            events.append(Event(0.0, kind, "stick", "slip", y.copy(), direction))
-    else:
-        mode = FREE
+    path = _Path()
+    mode, direction, y = _first_mode(dyn, y, gap_rate, path.events)
     below = y[2] < 0.0
-
     t = 0.0
-    segments: list[Segment] = []
-    T, Y, MODE = [], [], []
-    slip_stop_time = math.nan
-    nfev = njev = 0
-    stop = False
-    while t < horizon and not stop:
-        if len(segments) >= MAX_SEGMENTS:
-            events.append(Event(t, "segments", MODES[mode], MODES[mode]))
+    while t < horizon:
+        if len(path.segments) >= MAX_SEGMENTS:
+            path.events.append(Event(t, "segments", MODES[mode], MODES[mode]))
             break
-        evs = _events(dyn, mode, below)
-        m, dcur = mode, direction
-        sol = solve_ivp(
-            lambda tt, yy: dyn.rhs(yy, m, dcur),
-            (t, horizon),
-            y,
-            method=method,
-            rtol=rtol,
-            atol=atol_v,
-            jac=lambda tt, yy: dyn.jac(yy, m, dcur),
-            events=[f for f, _ in evs],
-            dense_output=True,
-            max_step=max_step,
+        evs = mode_events(dyn, mode, below)
+        sol = _solve(
+            dyn, mode, direction, evs, (t, horizon), y, method=method, rtol=rtol, atol=atol_v, max_step=max_step
         )
-        nfev += sol.nfev
-        njev += sol.njev
-        seg_t, seg_y = sol.t, sol.y.T
-        if sol.status == -1:
-            segments.append(Segment(t, float(seg_t[-1]), mode, direction, y.copy(), sol.sol, sol.nfev, sol.njev))
-            T.append(seg_t), Y.append(seg_y), MODE.append(np.full(len(seg_t), mode))
-            y_end = seg_y[-1]
-            reason = (
-                f"{sol.message} (mode {MODES[mode]}, C's slip speed {math.hypot(*dyn.slip(y_end)):.3g}, gap {y_end[2]:.3g}, "
-                f"last step {seg_t[-1] - seg_t[-2] if len(seg_t) > 1 else math.nan:.3g})"
-            )
-            events.append(
-                Event(float(seg_t[-1]), "solver_failure", MODES[mode], MODES[mode], y_end.copy(), direction, reason)
-            )
+        if sol.status != 1:  # the horizon (0) or a solver failure (-1)
+            t1 = horizon if sol.status == 0 else float(sol.t[-1])
+            path.add(Segment(t, t1, mode, direction, y.copy(), sol.sol, sol.nfev, sol.njev), sol.t, sol.y.T)
+            if sol.status == -1:
+                path.events.append(_failure(dyn, sol, mode, direction))
             break
-        if sol.status == 0:
-            segments.append(Segment(t, horizon, mode, direction, y.copy(), sol.sol, sol.nfev, sol.njev))
-            T.append(seg_t), Y.append(seg_y), MODE.append(np.full(len(seg_t), mode))
-            t = horizon
-            break
-        fired = [(sol.t_events[i][0], i) for i in range(len(evs)) if len(sol.t_events[i])]
-        te, i = min(fired)
+        te, i = min((sol.t_events[i][0], i) for i in range(len(evs)) if len(sol.t_events[i]))
         ye = np.asarray(sol.y_events[i][0], dtype=float)
         kind = evs[i][1]
-        segments.append(Segment(t, float(te), mode, direction, y.copy(), sol.sol, sol.nfev, sol.njev))
-        keep = seg_t < te
-        (
-            T.append(np.append(seg_t[keep], te)),
-            Y.append(np.vstack([seg_y[keep], ye])),
-            MODE.append(np.full(keep.sum() + 1, mode)),
-        )
+        keep = sol.t < te
+        seg = Segment(t, float(te), mode, direction, y.copy(), sol.sol, sol.nfev, sol.njev)
+        path.add(seg, np.append(sol.t[keep], te), np.vstack([sol.y.T[keep], ye]))
         t, y = float(te), ye
-        before = MODES[mode]
         direction = None
-        n_events = len(events)
         if kind == "domain_exit":
-            events.append(Event(t, kind, before, before))
+            path.events.append(Event(t, kind, MODES[mode], MODES[mode]))
             break
         if kind == "above":
             below = False
@@ -518,59 +301,85 @@ def integrate(
             # a graze: the root of C's height lies where C already rises (the dense output dipped below the plane by
             # rounding), the law cannot push it, and entering contact would end it at once, over and over
             continue
-        if kind == "contact_start":
-            mode, direction, y, extra = _contact_mode(dyn, y)
-            events.append(Event(t, kind, before, MODES[mode], y.copy(), direction))
-            events += [Event(t, k, "stick", "slip", y.copy(), direction) for k in extra]
-        elif kind == "contact_end":
-            mode, below = FREE, y[2] < 0.0
-            events.append(Event(t, kind, before, "free", y.copy()))
-        elif kind == "slip_stop":
-            # the stop itself: the event fired at |s| = SLIP_STOP.atol; add the time the slip still needs at its current rate
-            rate = float(np.dot(dyn.slip(y), _slip_rate(dyn, y, SLIP))) / max(math.hypot(*dyn.slip(y)), 1e-300)
-            t_stop = t + (SLIP_STOP.atol / -rate if rate < 0.0 else 0.0)
-            y = _remove_slip(dyn, y)
-            if math.isnan(slip_stop_time):
-                slip_stop_time = t_stop
-            if _stick_holds(dyn, y):
-                mode = STICK
-                events.append(Event(t_stop, kind, before, "stick", y.copy()))
-            else:
-                mode, direction = SLIP, _direction(dyn, y)
-                events.append(Event(t_stop, kind, before, "slip", y.copy(), direction))
-                events.append(Event(t_stop, "slip_restart", "stick", "slip", y.copy(), direction))
-        elif kind == "stick_break":
-            # the stick held C's slip at its value at the stop (0) up to the solver's error (~atol): remove that residual,
-            # so the new slip grows from rest along the restart direction (a residual in another direction would turn
-            # the friction direction s/|s| round while |s| ~ atol and chatter between slip stop and restart)
-            y = _remove_slip(dyn, y)
-            mode, direction = SLIP, _direction(dyn, y)
-            events.append(Event(t, kind, before, "slip", y.copy(), direction))
-        if any(ev.kind in stops for ev in events[n_events:]):
-            stop = True
-    t_all = np.concatenate(T) if T else np.array([0.0])
-    y_all = np.vstack(Y) if Y else y[None]
-    mode_all = np.concatenate(MODE) if MODE else np.array([mode])
-    q, v = q_from_y(y_all, dyn.radius)
-    # F_n is the law's push in both contact modes (``Dynamics.force``'s third component), without the friction part
-    Fn = np.array([dyn.push(yy) if mm != FREE else 0.0 for yy, mm in zip(y_all, mode_all)])
-    return Trajectory(
-        t=t_all,
-        q=q,
-        v=v,
-        mode=mode_all,
-        normal_force=Fn,
-        events=events,
-        slip_stop_time=slip_stop_time,
-        segments=segments,
-        dynamics=dyn,
-        nfev=nfev,
-        njev=njev,
+        mode, direction, y, below, new = switch(dyn, kind, t, y, mode, below)
+        path.events += new
+        if any(ev.kind in stops for ev in new):
+            break
+    return path.trajectory(dyn, y, mode)
+
+
+class _Path:
+    """The solution as it grows: the segments, their rows (times, states, modes) and the events."""
+
+    def __init__(self):
+        self.segments: list[Segment] = []
+        self.events: list[Event] = []
+        self.T, self.Y, self.MODE = [], [], []
+
+    def add(self, segment: Segment, t: np.ndarray, y: np.ndarray) -> None:
+        """Append ``segment`` with its rows t (n,) and y (n, 10)."""
+        self.segments.append(segment)
+        self.T.append(t)
+        self.Y.append(y)
+        self.MODE.append(np.full(len(t), segment.mode))
+
+    def trajectory(self, dyn: Dynamics, y, mode: int) -> Trajectory:
+        """The ``Trajectory`` of the rows so far (the state y in ``mode`` alone if there are none)."""
+        t_all = np.concatenate(self.T) if self.T else np.array([0.0])
+        y_all = np.vstack(self.Y) if self.Y else y[None]
+        mode_all = np.concatenate(self.MODE) if self.MODE else np.array([mode])
+        q, v = q_from_y(y_all, dyn.radius)
+        # F_n is the law's push in both contact modes (``Dynamics.force``'s third component), without the friction part
+        Fn = np.array([dyn.push(yy) if mm != FREE else 0.0 for yy, mm in zip(y_all, mode_all)])
+        slip_stop = next((ev.time for ev in self.events if ev.kind == "slip_stop"), math.nan)
+        return Trajectory(
+            t=t_all,
+            q=q,
+            v=v,
+            mode=mode_all,
+            normal_force=Fn,
+            events=self.events,
+            slip_stop_time=slip_stop,
+            segments=self.segments,
+            dynamics=dyn,
+            nfev=sum(seg.nfev for seg in self.segments),
+            njev=sum(seg.njev for seg in self.segments),
+        )
+
+
+def _solve(dyn: Dynamics, mode: int, direction, evs, span, y, **options):
+    """``solve_ivp``'s dense solution of ``mode`` from y over the time span, ending at the first of the events ``evs``
+    (``mode_events``); ``options``: method, rtol, atol, max_step."""
+    return solve_ivp(
+        lambda tt, yy: dyn.rhs(yy, mode, direction),
+        span,
+        y,
+        jac=lambda tt, yy: dyn.jac(yy, mode, direction),
+        events=[f for f, _ in evs],
+        dense_output=True,
+        **options,
     )
 
 
-def _slip_rate(dyn: Dynamics, y, mode: int) -> np.ndarray:
-    """ds/dt of C's slip at y in ``mode`` (tangential acceleration of C)."""
-    Minv, Q, J, dJv, qd, G, a_free, MJt = dyn.terms(y)
-    F = dyn.force(y, mode)
-    return a_free[:2] + G[:2] @ F
+def _first_mode(dyn: Dynamics, y, gap_rate: float, events: list) -> tuple[int, np.ndarray | None, np.ndarray]:
+    """The first mode at the start y: contact if the law pushes, or if it is zero (C on the plane at rest) and C's
+    free normal acceleration is downwards (the rod sinks into the plane at once); free otherwise.  Returns (mode,
+    direction, y) and appends a slip restart at t = 0 to ``events``."""
+    push = dyn.push(y) if y[2] <= 0.0 else -1.0
+    a_n = dyn.terms(y)[6][2]
+    if push > 0.0 or (push == 0.0 and y[2] <= 0.0 and (gap_rate < 0.0 or (gap_rate == 0.0 and a_n <= 0.0))):
+        mode, direction, y, extra = contact_mode(dyn, y)
+        events += [Event(0.0, kind, "stick", "slip", y.copy(), direction) for kind in extra]
+        return mode, direction, y
+    return FREE, None, y
+
+
+def _failure(dyn: Dynamics, sol, mode: int, direction) -> Event:
+    """The solver_failure event at the end of the failed solution ``sol``, its reason the solver's message with the
+    mode, C's slip speed and gap there, and the last step."""
+    seg_t, y_end = sol.t, sol.y[:, -1]
+    reason = (
+        f"{sol.message} (mode {MODES[mode]}, C's slip speed {math.hypot(*dyn.slip(y_end)):.3g}, gap {y_end[2]:.3g}, "
+        f"last step {seg_t[-1] - seg_t[-2] if len(seg_t) > 1 else math.nan:.3g})"
+    )
+    return Event(float(seg_t[-1]), "solver_failure", MODES[mode], MODES[mode], y_end.copy(), direction, reason)

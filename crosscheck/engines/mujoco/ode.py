@@ -215,26 +215,7 @@ def integrate(
     k = 0  # next record row
     for _ in range(MAX_SEGMENTS):
         start = dist(t, y)
-        if phase == "contact":
-            top = max(start, 0.0) + nudge
-            ev_end = lambda t, y, top=top: dist(t, y) - top  # noqa: E731
-            ev_end.terminal, ev_end.direction = True, 1.0
-            # the impedance saturates at dist = -width; the edge is nudged so the function starts on its side
-            edge = max(-width, start + nudge) if saturated else min(-width, start - nudge)
-            ev_sat = lambda t, y, edge=edge: edge - dist(t, y)  # noqa: E731
-            ev_sat.terminal, ev_sat.direction = True, (-1.0 if saturated else 1.0)
-            ev_list = [ev_end, ev_sat]
-        elif phase == "free":
-            bottom = min(start, 0.0) - nudge
-            ev_start = lambda t, y, bottom=bottom: dist(t, y) - bottom  # noqa: E731
-            ev_start.terminal, ev_start.direction = True, -1.0
-            ev_list = [ev_start]
-        else:
-            ev_lift = lambda t, y: phases.evaluate(y, "slide")[3]  # noqa: E731
-            ev_lift.terminal, ev_lift.direction = True, -1.0
-            ev_sink = lambda t, y: phases.evaluate(y, "slide")[3] - 1.0  # noqa: E731
-            ev_sink.terminal, ev_sink.direction = True, 1.0
-            ev_list = [ev_lift, ev_sink]
+        ev_list = _phase_events(phase, dist, start, phases, nudge=nudge, width=width, saturated=saturated)
         sol = solve_ivp(
             phases.rhs(phase), (t, t_end), y, method="DOP853", rtol=rtol, atol=atol, dense_output=True, events=ev_list
         )
@@ -253,19 +234,7 @@ def integrate(
         y = sol.y_events[which][0]
         t = t_stop
         vn = normal_speed(y)
-        if phase == "contact" and which == 1:
-            kind, saturated = ("impedance_unsaturates" if saturated else "impedance_saturates"), not saturated
-        elif phase == "contact":  # dist' >= 0 here: the capsule leaves, unless the hop is small enough to average
-            phase = "slide" if vn <= grazing and phases.grazing_phase(y) == "slide" else "free"
-            kind = "contact_end" if phase == "free" else "slide_start"
-        elif phase == "free":  # dist' <= 0 here: the capsule sinks in, unless the hop is small enough to average
-            phase = "slide" if vn >= -grazing and phases.grazing_phase(y) == "slide" else "contact"
-            kind = "contact_start" if phase == "contact" else "slide_start"
-            saturated = False
-        else:
-            phase = "free" if which == 0 else "contact"
-            kind = "lift_off" if which == 0 else "slide_end"
-            saturated = False
+        phase, kind, saturated = _next_phase(phase, which, y, vn, phases, grazing=grazing, saturated=saturated)
         events.append((t, kind))
         if t >= t_end:
             break
@@ -276,6 +245,52 @@ def integrate(
     for j in range(k, n):  # an event exactly at the end: the remaining rows are its state
         fill(j, y, phase)
     return Trajectory(times, Q, V, QA, F, frames, active, events, nfev)
+
+
+def _phase_events(phase: str, dist, start: float, phases: _Phases, *, nudge: float, width: float, saturated: bool):
+    """The terminal events that end ``phase`` (``integrate``'s phases) begun at dist = ``start`` [m]: the contact's
+    end and its impedance's (un)saturation at dist = -width, the free flight's contact, the slide's lift-off
+    (lambda = 0) and sink (lambda = 1).  ``dist(t, y)``: the capsule's distance; ``nudge`` [m]: how far an event
+    function must leave its start."""
+    if phase == "contact":
+        top = max(start, 0.0) + nudge
+        ev_end = lambda t, y, top=top: dist(t, y) - top  # noqa: E731
+        ev_end.terminal, ev_end.direction = True, 1.0
+        # the impedance saturates at dist = -width; the edge is nudged so the function starts on its side
+        edge = max(-width, start + nudge) if saturated else min(-width, start - nudge)
+        ev_sat = lambda t, y, edge=edge: edge - dist(t, y)  # noqa: E731
+        ev_sat.terminal, ev_sat.direction = True, (-1.0 if saturated else 1.0)
+        return [ev_end, ev_sat]
+    elif phase == "free":
+        bottom = min(start, 0.0) - nudge
+        ev_start = lambda t, y, bottom=bottom: dist(t, y) - bottom  # noqa: E731
+        ev_start.terminal, ev_start.direction = True, -1.0
+        return [ev_start]
+    else:
+        ev_lift = lambda t, y: phases.evaluate(y, "slide")[3]  # noqa: E731
+        ev_lift.terminal, ev_lift.direction = True, -1.0
+        ev_sink = lambda t, y: phases.evaluate(y, "slide")[3] - 1.0  # noqa: E731
+        ev_sink.terminal, ev_sink.direction = True, 1.0
+        return [ev_lift, ev_sink]
+
+
+def _next_phase(phase: str, which: int, y, vn: float, phases: _Phases, *, grazing: float, saturated: bool):
+    """The phase after event ``which`` (its index in ``_phase_events``) of ``phase`` at the state y with normal speed
+    vn [m/s]: returns (phase, the event's kind, whether the impedance is saturated)."""
+    if phase == "contact" and which == 1:
+        kind, saturated = ("impedance_unsaturates" if saturated else "impedance_saturates"), not saturated
+    elif phase == "contact":  # dist' >= 0 here: the capsule leaves, unless the hop is small enough to average
+        phase = "slide" if vn <= grazing and phases.grazing_phase(y) == "slide" else "free"
+        kind = "contact_end" if phase == "free" else "slide_start"
+    elif phase == "free":  # dist' <= 0 here: the capsule sinks in, unless the hop is small enough to average
+        phase = "slide" if vn >= -grazing and phases.grazing_phase(y) == "slide" else "contact"
+        kind = "contact_start" if phase == "contact" else "slide_start"
+        saturated = False
+    else:
+        phase = "free" if which == 0 else "contact"
+        kind = "lift_off" if which == 0 else "slide_end"
+        saturated = False
+    return phase, kind, saturated
 
 
 def record(rod: Rod, traj: Trajectory, options: Options) -> Record:

@@ -1,4 +1,4 @@
-"""MuJoCo's tolerances: its free and contact accelerations, its event profile, its contact law's checks and the ladder's.
+"""MuJoCo's tolerances: its free and contact accelerations, its event profile, and its contact law's checks.
 
 Each allowance with where its number comes from (``crosscheck.tolerances.Tolerance``: atol + rtol |want|;
 ``guard=True`` marks a regression guard set from a measured spread).
@@ -97,23 +97,6 @@ MUJOCO_COROLLARY_STOP = Tolerance(
     rtol=0.0,
     why="regression guard: measured 0.37 +- 0.06 (sd 0.05 at n = 90): soft contact ends the slip by stick/lift-off",
     guard=True,
-)
-
-
-# ------------------------------------------------------------------ ladder ---
-# The ladder (crosscheck.engines.mujoco.studies.ladder): a named cause for each MuJoCo-theory disagreement.
-
-#: The IC2 lift-off time of the paper's rod (Fig. 20, alpha = 3, mu = 1.4) is quoted as 0.01654: half a
-#: unit of its last digit.  Rung 1 computes it to ~1e-9 (EVENT_TIME), so this is the quote's rounding.
-LADDER_QUOTED_TIME = Tolerance(
-    atol=5e-6, rtol=0.0, why="half a unit of the last digit of the quoted IC2 lift-off time 0.01654"
-)
-
-#: The ladder's goal: at least 90 % of the disagreements of the MuJoCo maps attributed to a named cause
-#: (geometry, compliance, friction law, feed-forward, discretisation).  A target set for the study, not a bound derived
-#: from the physics or the numerics: the report labels its check a regression guard.
-LADDER_ATTRIBUTED = Tolerance(
-    atol=0.1, rtol=0.0, why="goal, not a derived bound: at least 90% of the disagreements get a named cause", guard=True
 )
 
 

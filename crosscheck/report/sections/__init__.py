@@ -81,11 +81,10 @@ def engine_sections(spec) -> tuple[Section, ...]:
     if plan.convergence is not None:
         out.append(engine_convergence.section(spec, plan.convergence, plan.convergence_n))
     if plan.ladder and plan.maps is not None:  # after its maps: it ladders their disagreements
-        out.append(engine_ladder.section(spec, plan.maps, f"{spec.slug}_maps"))
+        out.append(engine_ladder.section(spec, plan.maps, f"{spec.slug}_maps", plan.ladder_states))
     if plan.sections is not None:
         out.extend(resolve(plan.sections)())
-    ladder_slug = plan.ladder_section or (f"{spec.slug}_ladder" if plan.ladder and plan.maps is not None else None)
-    ladder = next((s for s in out if s.slug == ladder_slug), None)
+    ladder = next((s for s in out if s.slug == f"{spec.slug}_ladder"), None)
     if spec.interventions and ladder is not None:  # after its ladder: it reruns the ladder's starts
         out.append(engine_interventions.section(spec, ladder))
     return tuple(out)

@@ -119,7 +119,9 @@ def render(ctx: RenderContext) -> list:
         ax.legend(fontsize=6, loc="lower right" if ax is a1 else "best")
     a1.set_ylabel("same first event [%]")
     a2.set_ylabel(f"median |t_{name} - t_analytic|")
-    if np.nanmin(c["median_abs_time_difference"]) > 0:
+    medians = np.asarray(c["median_abs_time_difference"], float)
+    medians = medians[~np.isnan(medians)]  # NaN: no event shared with the theory at that setting
+    if medians.size and medians.min() > 0:
         a2.set_yscale("log")
         a2.yaxis.set_major_locator(
             LogLocator(base=10, subs=(1.0, 2.0, 5.0), numticks=12)

@@ -79,8 +79,7 @@ def render(ctx: RenderContext) -> list:
             ax.plot([lo, hi], [lo, hi], "k--", lw=0.8)
         ax.set_xlabel(f"theory {label}")
         ax.set_ylabel(f"engine {label}")
-    axes[0].legend(fontsize=7, loc="best")
-    fig.tight_layout()
+    axes[0].legend(fontsize=7, loc="best")  # (the report's constrained layout fits the labels, as in every figure)
     cap = (
         "Each engine's Theta+ and Psi+ (its state once its contact settles after the theory's jam, moved back to the "
         "impact by "

@@ -131,6 +131,46 @@ def turning_rate(G: np.ndarray, u_t: np.ndarray, mu: float) -> float:
     return float(mu * G[2, :2] @ ((np.eye(2) - np.outer(u_hat, u_hat)) @ du_t) / n)
 
 
+def _check_p(p0: float, boundary: bool) -> None:
+    """ValueError unless eq. p at the start, p0, allows an impact without collision: |p0| <= ``GB_REACHED.atol`` on
+    the ``boundary``, p0 <= ``P_TOLERANCE`` otherwise."""
+    if boundary and not abs(p0) <= GB_REACHED.atol:
+        raise ValueError(
+            f"p must be in [-{GB_REACHED.atol:g}, {GB_REACHED.atol:g}] for an impact on the boundary p = 0; got p = {p0!r}"
+        )
+    if not boundary and p0 > P_TOLERANCE:
+        raise ValueError(
+            f"p must be <= {P_TOLERANCE:g} (at or past the paradox boundary) for an impact without collision; "
+            f"got p = {p0!r} at this state: it can slip (a state known to be on p = 0, a GB arrival, takes boundary=True)"
+        )
+
+
+def _slip_to_stop(G: np.ndarray, u0: np.ndarray, mu: float, *, shift: float, scale: float, stop: float):
+    """The slipping compression in the normal impulse P from the tip velocity u0 (3,) until the slip speed falls to
+    ``stop``: returns (P_s, y) with y = (u_x, u_y, u_n, L_x, L_y) there, u_n measured from the start's 0 and its
+    rate du_n/dP less ``shift`` (the start's p_0 on the boundary, module docstring)."""
+
+    def slip_rhs(_P, y):
+        ut = y[:2]
+        f = -mu * ut / np.linalg.norm(ut)
+        du = G @ np.array([f[0], f[1], 1.0])
+        du[2] -= shift
+        return np.concatenate([du, f])
+
+    def slip_stop(_P, y):
+        return np.linalg.norm(y[:2]) - stop
+
+    slip_stop.terminal, slip_stop.direction = True, -1
+    y = np.concatenate([u0, [0.0, 0.0]])
+    y[2] = 0.0
+    sol = solve_ivp(
+        slip_rhs, (0.0, 1e3 * scale), y, method="DOP853", rtol=_RTOL, atol=_ATOL * scale, events=[slip_stop]
+    )
+    if sol.status != 1:
+        raise RuntimeError(f"impulse integration failed: {sol.message or 'the slip did not stop within P = 1e3 scale'}")
+    return float(sol.t[-1]), sol.y[:, -1].copy()
+
+
 def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.0, boundary: bool = False) -> Impact:
     """The impulse of an impact without collision from a slipping state at or past p = 0.
 
@@ -170,15 +210,7 @@ def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.
     G = J @ Minv_JT
     u0 = J @ v0
     p0 = _p_of(G, u0[:2], mu)
-    if boundary and not abs(p0) <= GB_REACHED.atol:
-        raise ValueError(
-            f"p must be in [-{GB_REACHED.atol:g}, {GB_REACHED.atol:g}] for an impact on the boundary p = 0; got p = {p0!r}"
-        )
-    if not boundary and p0 > P_TOLERANCE:
-        raise ValueError(
-            f"p must be <= {P_TOLERANCE:g} (at or past the paradox boundary) for an impact without collision; "
-            f"got p = {p0!r} at this state: it can slip (a state known to be on p = 0, a GB arrival, takes boundary=True)"
-        )
+    _check_p(p0, boundary)
     on_boundary = boundary or abs(p0) <= P_TOLERANCE
     scale = 1.0 + float(np.linalg.norm(u0))
     stop = 1e-12 * scale
@@ -192,28 +224,9 @@ def impact(state: SlipState, mu: float, alpha: float, *, restitution: float = 0.
     # On the boundary the slip's du_n/dP is measured from the start's p_0: the limit p_0 -> 0- (module docstring).
     shift = p0 if on_boundary else 0.0
 
-    def slip_rhs(_P, y):
-        ut = y[:2]
-        f = -mu * ut / np.linalg.norm(ut)
-        du = G @ np.array([f[0], f[1], 1.0])
-        du[2] -= shift
-        return np.concatenate([du, f])
-
-    def slip_stop(_P, y):
-        return np.linalg.norm(y[:2]) - stop
-
-    slip_stop.terminal, slip_stop.direction = True, -1
-
     phases: list[Phase] = []
-    y = np.concatenate([u0, [0.0, 0.0]])  # (u_x, u_y, u_n, L_x, L_y); u_n measured from the start's 0
-    y[2] = 0.0
     # 1. slipping compression, to the slip stop (p never increases along the slip: the compression cannot end before it)
-    sol = solve_ivp(
-        slip_rhs, (0.0, 1e3 * scale), y, method="DOP853", rtol=_RTOL, atol=_ATOL * scale, events=[slip_stop]
-    )
-    if sol.status != 1:
-        raise RuntimeError(f"impulse integration failed: {sol.message or 'the slip did not stop within P = 1e3 scale'}")
-    P_s, y = float(sol.t[-1]), sol.y[:, -1].copy()
+    P_s, y = _slip_to_stop(G, u0, mu, shift=shift, scale=scale, stop=stop)
     phases.append(Phase("slip", 0.0, P_s))
     # 2. stick (|f_s| < mu): u_n rises linearly at S from its value at the stop; compression ends at P_c, Poisson's impulse at P_f
     y[:2] = 0.0

@@ -5,7 +5,6 @@ __all__ = ["sections"]
 
 def sections() -> tuple:
     """The engine's own report sections, in report order (its ``ReportPlan.sections``)."""
-    from crosscheck.engines.mujoco.sections import friction_skew, ladder, liftoff, trajectories, validate
+    from crosscheck.engines.mujoco.sections import friction_skew, liftoff, trajectories, validate
 
-    # the ladder last: it reads the saved results of MuJoCo's map section
-    return (liftoff.SECTION, trajectories.SECTION, validate.SECTION, friction_skew.SECTION, ladder.SECTION)
+    return (liftoff.SECTION, trajectories.SECTION, validate.SECTION, friction_skew.SECTION)

@@ -63,13 +63,12 @@ def _window_mean(x: np.ndarray, w: int) -> np.ndarray:
     return out
 
 
-def run(ctx: RunContext) -> None:
-    from crosscheck import engines
-    from crosscheck.rod import Rod
+def _candidates(P: dict, rng) -> dict:
+    """Each kind's slipping candidate starts (state, mu, ``slip_until_event``'s result): the grid of
+    ``P["candidates"]`` at the kind's mu, and for "jam" Corollary 4.2's states too."""
     from crosscheck.theory import gb
     from crosscheck.theory.corollary import corollary_states
 
-    P = ctx.params
     alpha, horizon = P["alpha"], P["horizon"]
     c = P["candidates"]
     cands = {}
@@ -83,8 +82,61 @@ def run(ctx: RunContext) -> None:
                 continue  # a start that is not slipping has its event at t = 0: nothing to follow
             cands[kind].append((s, mu, gb.slip_until_event(s, mu, alpha, t_max=horizon)))
     for mu in P["mu"]["jam"]:
-        for s in corollary_states(mu, P["corollary_states"], ctx.rng, alpha=alpha, horizon=horizon)[0]:
+        for s in corollary_states(mu, P["corollary_states"], rng, alpha=alpha, horizon=horizon)[0]:
             cands["jam"].append((s, mu, gb.slip_until_event(s, mu, alpha, t_max=horizon)))
+    return cands
+
+
+def _write_tables(store, kind: str, r, m, mu: float, alpha: float, n_points: int) -> int:
+    """The tables of ``kind``'s run: the analytic trajectory r up to its event and MuJoCo's run m (``n_points``
+    rows); returns the rows of MuJoCo's window mean of the normal force."""
+    # analytic trajectory (up to the event), real time
+    eta, varphi, _, Psi, theta, Theta = r.x.T
+    b, p = analytic._b(Psi, Theta, theta), analytic._p(theta, varphi, mu, alpha)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        Fz = -b / p
+    store.write_table(
+        f"analytic_{kind}",
+        {
+            "t": r.t,
+            "theta": theta,
+            "eta": eta,
+            "varphi": varphi,
+            "Psi": Psi,
+            "Theta": Theta,
+            "b": b,
+            "p": p,
+            "normal_force": Fz,
+            "tip_height": np.zeros_like(theta),
+        },
+    )
+    rec = m.record
+    w = m.thresholds.window_rows(m.options.timestep)
+    keep = np.unique(np.linspace(0, rec.t.size - 1, n_points).astype(int))
+    store.write_table(
+        f"mujoco_{kind}",
+        {
+            "t": rec.t[keep],
+            "theta": rec.theta[keep],
+            "eta": rec.eta[keep],
+            "varphi": rec.varphi[keep],
+            "Psi": rec.Psi[keep],
+            "Theta": rec.Theta[keep],
+            "normal_force": rec.normal_force[keep],
+            "normal_force_window_mean": _window_mean(rec.normal_force, w)[keep],
+            "tip_height": rec.gap[keep],
+        },
+    )
+    return w
+
+
+def run(ctx: RunContext) -> None:
+    from crosscheck import engines
+    from crosscheck.rod import Rod
+
+    P = ctx.params
+    alpha, horizon = P["alpha"], P["horizon"]
+    cands = _candidates(P, ctx.rng)
     rod = Rod.scaled(alpha)
     runs = []
     for kind, outcome in KINDS.items():
@@ -100,43 +152,7 @@ def run(ctx: RunContext) -> None:
             if m.outcome == outcome:
                 break
         s, mu, r, m = chosen
-        # analytic trajectory (up to the event), real time
-        eta, varphi, _, Psi, theta, Theta = r.x.T
-        b, p = analytic._b(Psi, Theta, theta), analytic._p(theta, varphi, mu, alpha)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            Fz = -b / p
-        ctx.store.write_table(
-            f"analytic_{kind}",
-            {
-                "t": r.t,
-                "theta": theta,
-                "eta": eta,
-                "varphi": varphi,
-                "Psi": Psi,
-                "Theta": Theta,
-                "b": b,
-                "p": p,
-                "normal_force": Fz,
-                "tip_height": np.zeros_like(theta),
-            },
-        )
-        rec = m.record
-        w = m.thresholds.window_rows(m.options.timestep)
-        keep = np.unique(np.linspace(0, rec.t.size - 1, P["n_points"]).astype(int))
-        ctx.store.write_table(
-            f"mujoco_{kind}",
-            {
-                "t": rec.t[keep],
-                "theta": rec.theta[keep],
-                "eta": rec.eta[keep],
-                "varphi": rec.varphi[keep],
-                "Psi": rec.Psi[keep],
-                "Theta": rec.Theta[keep],
-                "normal_force": rec.normal_force[keep],
-                "normal_force_window_mean": _window_mean(rec.normal_force, w)[keep],
-                "tip_height": rec.gap[keep],
-            },
-        )
+        w = _write_tables(ctx.store, kind, r, m, mu, alpha, P["n_points"])
         runs.append(
             {
                 "kind": kind,

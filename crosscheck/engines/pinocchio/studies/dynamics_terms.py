@@ -11,7 +11,7 @@ is compared in the paper's scaled units (m = l = g = 1, forces in m g, time in
 
 * tip acceleration by ``aba`` and by G F + free acceleration, the Delassus
   matrix G and the free acceleration, against eq. linode2;
-* M, C, g against the matrices of eqs. rotode and linode (``reference_terms``),
+* M, C, g against the matrices of eqs. rotode and linode (``dynamics_reference.reference_terms``),
   and the identity C v + g = nonLinearEffects;
 * b and p (eqs. b, p) and the LCP mode of section 3.1;
 * mu_P found from Pinocchio's p alone against eq. mup2D.
@@ -26,7 +26,6 @@ their reasons are in the Pinocchio section of ``crosscheck.tolerances``.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
 
@@ -34,12 +33,13 @@ from crosscheck import tolerances as tol
 from crosscheck.coordinates import qv_of
 from crosscheck.engines.pinocchio import model as pinrod
 from crosscheck.engines.pinocchio import tolerances as pinocchio_tol
+from crosscheck.engines.pinocchio.studies.dynamics_reference import Units, per_state, reference_chunk, units_of
 from crosscheck.error_stats import ErrorStat, ValidationResult, error_stat
 from crosscheck.rod import Rod
 from crosscheck.theory import analytic
 from crosscheck.theory.critical import mu_P as mu_P_closed_form
 
-__all__ = ["DEFAULT_STATES", "ALPHAS_MU_P", "random_states", "reference_terms", "scaled_matrices", "validate"]
+__all__ = ["DEFAULT_STATES", "ALPHAS_MU_P", "random_states", "validate"]
 
 #: Number of random states of ``crosscheck validate pinocchio`` without ``--states``.
 DEFAULT_STATES = 10_000
@@ -94,67 +94,6 @@ def random_states(n: int, rng: np.random.Generator) -> dict[str, np.ndarray]:
         "F": rng.standard_normal((n, 3)),
         "mu": rng.uniform(0, 5, n),
     }
-
-
-class _Rods(NamedTuple):
-    """The rods of N states as (N,) arrays, with the names of ``Rod``'s attributes that ``reference_terms`` reads."""
-
-    mass: np.ndarray
-    inertia: np.ndarray
-    gravity: np.ndarray
-
-
-def reference_terms(rod: Rod, q, v) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """M, C, g of the rod written from eqs. rotode and linode (physical units).
-
-    Eq. linode is m (X'', Y'', Z'') = F - m g e_z; eq. rotode multiplied by
-    I0 cos^2 theta (psi) and I0 (theta) is
-      I0 cos^2 theta psi'' - 2 I0 sin theta cos theta psi' theta' = l cos theta (cos psi F_x + sin psi F_y),
-      I0 theta'' + I0 sin theta cos theta psi'^2 = -l (sin psi sin theta F_x - cos psi sin theta F_y + cos theta F_z),
-    whose right-hand sides are J^T F.  So M = diag(m, m, m, I0 cos^2 theta, I0),
-    g = (0, 0, m g, 0, 0), and C is the Christoffel matrix of M (the only C
-    linear in v with C v as above and M' - 2C skew-symmetric):
-    C[psi, psi] = -I0 s c theta', C[psi, theta] = -I0 s c psi', C[theta, psi] = I0 s c psi'.
-
-    q, v: (N, 5); ``rod`` may also hold one rod per state, its mass, inertia and gravity as (N,) arrays.
-    Returns M (N, 5, 5), C (N, 5, 5), g (N, 5).
-    """
-    q = np.asarray(q, float)
-    v = np.asarray(v, float)
-    n = q.shape[0]
-    theta = q[:, 4]
-    psi_dot, theta_dot = v[:, 3], v[:, 4]
-    i0 = rod.inertia
-    sc = np.sin(theta) * np.cos(theta)
-    M = np.zeros((n, 5, 5))
-    for j in range(3):
-        M[:, j, j] = rod.mass
-    M[:, 3, 3] = i0 * np.cos(theta) ** 2
-    M[:, 4, 4] = i0
-    C = np.zeros((n, 5, 5))
-    C[:, 3, 3] = -i0 * sc * theta_dot
-    C[:, 3, 4] = -i0 * sc * psi_dot
-    C[:, 4, 3] = i0 * sc * psi_dot
-    g = np.zeros((n, 5))
-    g[:, 2] = rod.mass * rod.gravity
-    return M, C, g
-
-
-def _scale_factors(rod: Rod) -> tuple:
-    """(L (5,), L L^T (5, 5), m l^2, m l^2 omega, m g l) of ``scaled_matrices``, each as the rod's own floats give it."""
-    L = np.array([rod.length] * 3 + [1.0, 1.0])
-    ml2 = rod.mass * rod.length**2
-    return L, L[:, None] * L[None, :], ml2, ml2 * rod.omega, rod.mass * rod.gravity * rod.length
-
-
-def scaled_matrices(rod: Rod, M, C, g) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """M, C and a generalised force (g or C v + g) in the paper's scaled units.
-
-    With q = L q_s, L = diag(l, l, l, 1, 1), and t = t_s / omega:
-    M_s = L M L / (m l^2), C_s = L C L / (m l^2 omega), g_s = L g / (m g l).
-    """
-    L, outer, ml2, ml2_omega, mgl = _scale_factors(rod)
-    return M * outer / ml2, C * outer / ml2_omega, g * L / mgl
 
 
 _TINY, _EPS = np.finfo(float).tiny, np.finfo(float).eps
@@ -285,29 +224,15 @@ def _mu_P_stat() -> ErrorStat:
     return error_stat("mu_P from p", got, want, pinocchio_tol.PIN_MU_P, {"alpha": alphas})
 
 
-def _per_state(rod_of_state: np.ndarray, rods: list[Rod], value) -> np.ndarray:
-    """``value(rod)`` of each state's rod, (N,): computed once per rod with the rod's own floats, as ``Rod`` gives it."""
-    return np.array([value(rod) for rod in rods])[rod_of_state]
-
-
-class _Units(NamedTuple):
-    """Per-state factors of the scaled units, ``_scale_factors``' of each state's rod ((N,) arrays; L (N, 5))."""
-
-    mass: np.ndarray
-    gravity: np.ndarray  # accelerations in units of g = l omega^2
-    force_scale: np.ndarray  # m g
-    L: np.ndarray  # q = L q_s
-    ml2: np.ndarray
-    ml2_omega: np.ndarray
-    mgl: np.ndarray
-
-    def at(self, states: slice) -> _Units:
-        """The factors of ``states`` only."""
-        return _Units(*(x[states] for x in self))
-
-    def outer(self) -> np.ndarray:
-        """L L^T (N, 5, 5), entry by entry as ``_scale_factors`` forms it for one rod."""
-        return self.L[:, :, None] * self.L[:, None, :]
+def _rods(s: dict) -> tuple[list[slice], list[Rod]]:
+    """The rods of the states ``s`` (``random_states``): each rod's block of consecutive states and its ``Rod``."""
+    starts = np.flatnonzero(np.diff(s["rod"], prepend=-1))
+    blocks = [slice(a, b) for a, b in zip(starts, [*starts[1:], len(s["rod"])])]
+    rods = [
+        Rod(mass=s["m"][b.start], length=s["l"][b.start], inertia=s["I0"][b.start], gravity=s["g"][b.start])
+        for b in blocks
+    ]
+    return blocks, rods
 
 
 #: ``validate`` takes whole rods (at least one) of at most this many states at a time through Pinocchio, the
@@ -346,28 +271,13 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
     """Compare Pinocchio with the analytic reference on ``n_states`` random states (see the module docstring)."""
     s = random_states(n_states, rng)
     n = n_states
-    starts = np.flatnonzero(np.diff(s["rod"], prepend=-1))
-    blocks = [slice(a, b) for a, b in zip(starts, [*starts[1:], n])]
-    rods = [
-        Rod(mass=s["m"][b.start], length=s["l"][b.start], inertia=s["I0"][b.start], gravity=s["g"][b.start])
-        for b in blocks
-    ]
-    # Each rod's scale factors in its own floats (Python's l**2 and numpy's differ in the last bit now and
-    # then), spread to its states; every product with them below is then the one a rod at a time would form.
+    blocks, rods = _rods(s)
     of, l, ones = s["rod"], s["l"], np.ones(n)
-    omega = _per_state(of, rods, lambda r: r.omega)
-    units = _Units(
-        mass=s["m"],
-        gravity=s["g"],
-        force_scale=_per_state(of, rods, lambda r: r.force_scale),
-        L=np.stack((l, l, l, ones, ones), axis=-1),
-        ml2=_per_state(of, rods, lambda r: r.mass * r.length**2),
-        ml2_omega=_per_state(of, rods, lambda r: r.mass * r.length**2 * r.omega),
-        mgl=_per_state(of, rods, lambda r: r.mass * r.gravity * r.length),
-    )
+    omega = per_state(of, rods, lambda r: r.omega)
+    units = units_of(s, rods)
     L_rates, l_omega = np.stack((ones, ones, ones, l, l), axis=-1), (l * omega)[:, None]  # v_s = v L_rates / (l omega)
     factors = tuple(
-        _per_state(of, rods, lambda r, j=j: analytic.rod_factors(r)[j]) for j in range(5)
+        per_state(of, rods, lambda r, j=j: analytic.rod_factors(r)[j]) for j in range(5)
     )  # eq. linode2's, per state
     F = s["F"] * units.force_scale[:, None]
     tips = np.stack((s["x"], s["y"], np.zeros(n)), axis=-1)
@@ -398,7 +308,7 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
     for chunk in chunks:
         lo, hi = blocks[chunk[0]].start, blocks[chunk[-1]].stop
         k, now = hi - lo, slice(lo, hi)
-        q, v, raw_M, raw_C, raw_J, raw_dJ, raw_g, raw_nle, raw_aba = (x[:k] for x in work)
+        q, v, raw_M, raw_C, raw_J, raw_dJ, raw_g, raw_nle, raw_aba = raw = [x[:k] for x in work]
         rod_states = [
             (slice(blocks[r].start - lo, blocks[r].stop - lo), blocks[r], rods[r]) for r in chunk
         ]  # (in chunk, of all, rod)
@@ -417,16 +327,13 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
         )
         chunk_units = units.at(now)
         outer = chunk_units.outer()
-        ref = _reference_chunk(q, v, lo, s, rates_rad, F, chunk_units, outer, tuple(f[now] for f in factors))
+        ref = reference_chunk(q, v, lo, s, rates_rad, F, chunk_units, outer, tuple(f[now] for f in factors))
         rates[now] = 1 + np.abs(v * L_rates[now] / l_omega[now]).sum(axis=1)
         V[now] = rates[now] ** 2
         A[now] = alpha_1[now] * F_1[now] + V[now]
         # Pinocchio rod by rod: the terms, then aba with tau = J^T F at the same states.
         for i, idx, rod in rod_states:
-            rod_engine.set_rod(rod)
-            rod_engine.fill_terms(q[i], v[i], raw_M[i], raw_C[i], raw_g[i], raw_nle[i], raw_J[i], raw_dJ[i])
-            tau = np.einsum("nij,ni->nj", np.ascontiguousarray(raw_J[i, :3]), F[idx])
-            rod_engine.fill_aba_tip_acceleration(q[i], v[i], tau, raw_aba[i])
+            _fill_rod(rod_engine, rod, F[idx], *(x[i] for x in raw))
             if bar is not None:
                 bar.update(idx.stop - idx.start)
         terms = pinrod.RodTerms(
@@ -443,16 +350,7 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
         pin_b[now], pin_p[now] = pinrod.slip_coefficients_of(
             terms, s["psi"][now] + s["varphi"][now], mu[now], mass=chunk_units.mass, gravity=chunk_units.gravity
         )
-        scales = {
-            "tip acc, aba": A[now] / cos[now],
-            "tip acc, G F + free": kappa[now] * A[now],
-            "Delassus G": kappa[now] * alpha_1[now],
-            "free tip acc": kappa[now] * V[now],
-            "M (crba)": None,
-            "C (Coriolis matrix)": rates[now],
-            "g (gravity)": None,
-            "C v + g = nle": V[now],
-        }
+        scales = _scales(A[now], cos[now], kappa[now], alpha_1[now], V[now], rates[now])
         for quantity, stat in stats.items():
             stat.add(pin[quantity], ref[quantity], scales[quantity])
         for route, quantity in (("aba", "tip acc, aba"), ("G F + free", "tip acc, G F + free")):
@@ -460,10 +358,42 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
     if bar is not None:
         bar.close()
 
+    return _result(s, stats, pin_b, pin_p, V, cos, tip_errors)
+
+
+def _scales(A, cos, kappa, alpha_1, V, rates) -> dict:
+    """Each quantity's term scale at a chunk's states (``validate``'s A, V, rates; kappa = 1/cos^2 theta for the
+    quantities through M^-1; None: the quantity's own size)."""
+    return {
+        "tip acc, aba": A / cos,
+        "tip acc, G F + free": kappa * A,
+        "Delassus G": kappa * alpha_1,
+        "free tip acc": kappa * V,
+        "M (crba)": None,
+        "C (Coriolis matrix)": rates,
+        "g (gravity)": None,
+        "C v + g = nle": V,
+    }
+
+
+def _fill_rod(rod_engine, rod: Rod, F, q, v, M, C, J, dJ, g, nle, aba) -> None:
+    """Pinocchio's raw terms of one rod's states (q, v: (k, 5)) into the arrays M, C, g, nle, J, dJ, then aba's tip
+    acceleration with tau = J^T F (F: (k, 3) tip forces) into ``aba``."""
+    rod_engine.set_rod(rod)
+    rod_engine.fill_terms(q, v, M, C, g, nle, J, dJ)
+    tau = np.einsum("nij,ni->nj", np.ascontiguousarray(J[:, :3]), F)
+    rod_engine.fill_aba_tip_acceleration(q, v, tau, aba)
+
+
+def _result(s: dict, chunk_stats: dict, pin_b, pin_p, V, cos, tip_errors: dict) -> ValidationResult:
+    """The ``ValidationResult`` of the states ``s``: the per-quantity statistics gathered chunk by chunk, eqs. b and p
+    and the modes against the analytic reference, the mode confusion and the tip acceleration errors by decade of
+    cos theta."""
+    theta, Psi, Theta, alpha, mu = s["theta"], s["Psi"], s["Theta"], s["alpha"], s["mu"]
     ref_b = analytic.b(Psi, Theta, theta)
     ref_p = analytic.p(theta, s["varphi"], mu, alpha)
     where = {k: s[k] for k in ("theta", "varphi", "Theta", "Psi", "eta", "psi", "alpha", "mu", "m", "l", "I0", "g")}
-    stats = [stat.result(where) for stat in stats.values()]
+    stats = [stat.result(where) for stat in chunk_stats.values()]
     stats += [
         _stat("b", pin_b, ref_b, pinocchio_tol.PIN_SLIP, where, scale=V),
         _stat("p", pin_p, ref_p, pinocchio_tol.PIN_SLIP, where, scale=(1 + alpha) * (1 + mu)),
@@ -496,7 +426,7 @@ def validate(n_states: int, rng: np.random.Generator, *, progress: bool = False)
     return ValidationResult(engine="pinocchio", stats=stats, extra=extra)
 
 
-def _pinocchio_chunk(terms: pinrod.RodTerms, raw_aba, F, units: _Units, outer) -> tuple[dict, dict]:
+def _pinocchio_chunk(terms: pinrod.RodTerms, raw_aba, F, units: Units, outer) -> tuple[dict, dict]:
     """Pinocchio's quantities of one chunk of states in scaled units, and the want of C v + g = nle (nle, Pinocchio's too).
 
     ``terms`` and ``raw_aba`` (tip acceleration by aba) in physical units, F (N, 3) [N], ``units`` and ``outer`` the chunk's.
@@ -519,45 +449,3 @@ def _pinocchio_chunk(terms: pinrod.RodTerms, raw_aba, F, units: _Units, outer) -
         pin[quantity] = np.multiply(x, by)
         pin[quantity] /= over
     return pin, {"C v + g = nle": pin.pop("nle")}
-
-
-def _reference_chunk(q, v, lo, s, rates_rad, F, units: _Units, outer, factors) -> dict:
-    """The reference's quantities of one chunk of states in scaled units.
-
-    ``lo``: its first state; ``s``, ``rates_rad`` (psi', theta' [rad/s]) and F (N, 3) [N] of all states; ``units``,
-    ``outer`` and ``factors`` (``analytic.rod_factors`` of each state's rod) the chunk's.
-    """
-    k = q.shape[0]
-    now = slice(lo, lo + k)
-    ref_M, ref_C, ref_g = reference_terms(_Rods(mass=units.mass, inertia=s["I0"][now], gravity=units.gravity), q, v)
-    for x, by, over in (
-        (ref_M, outer, units.ml2[:, None, None]),
-        (ref_C, outer, units.ml2_omega[:, None, None]),
-        (ref_g, units.L, units.mgl[:, None]),
-    ):
-        x *= by
-        x /= over
-    # eq. linode2 at six (rates, force) pairs per state: (rates, F), (rates, 0), and at rest with 0 and with
-    # the unit forces m g e_j, whose differences are the columns of G (G does not depend on the rates; at
-    # rest the difference does not cancel large velocity terms).  One call for the chunk, each state with its
-    # rod's factors; the six pairs broadcast against the states' angles.
-    zero = np.zeros(k)
-    psi_dot, theta_dot = (np.stack((x[now], x[now], zero, zero, zero, zero)) for x in rates_rad)
-    forces = np.zeros((6, k, 3))
-    forces[0] = F[now]
-    for j in range(3):
-        forces[3 + j, :, j] = units.force_scale
-    ref = analytic.tip_acceleration_of(
-        factors, s["psi"][now], s["theta"][now], psi_dot, theta_dot, (forces[..., 0], forces[..., 1], forces[..., 2])
-    )
-    ref /= units.gravity[:, None]
-    ref_G = np.stack([ref[3 + j] - ref[2] for j in range(3)], axis=-1)
-    return {
-        "tip acc, aba": ref[0],
-        "tip acc, G F + free": ref[0],
-        "Delassus G": ref_G,
-        "free tip acc": ref[1],
-        "M (crba)": ref_M,
-        "C (Coriolis matrix)": ref_C,
-        "g (gravity)": ref_g,
-    }

@@ -111,3 +111,11 @@ def test_a_steeper_friction_slope_slows_a_stuck_tip_until_the_step_sets_its_chat
         speeds.append(float(np.mean(np.linalg.norm(run.record.slip_vel[after, :2], axis=-1))))
     assert speeds[1] < 0.5 * speeds[0]
     assert speeds[2] == pytest.approx(speeds[1], rel=1e-6)
+
+
+def test_every_cause_a_ladder_can_name_has_its_colour_in_the_cause_maps():
+    from crosscheck.report.sections.engine_ladder_render import CAUSE_COLORS
+    from crosscheck.studies.ladder import CAUSES
+
+    assert set(CAUSES) <= set(CAUSE_COLORS)
+    assert len(set(CAUSE_COLORS.values())) == len(CAUSE_COLORS)  # each told apart on the map

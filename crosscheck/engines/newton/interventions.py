@@ -17,7 +17,7 @@ XPBD (``newton_xpbd``), position projection, two families: the projection conver
 2 -> 8 and 32 with the contact relaxation 0.8 -> 1, the full correction), and the projection's step (the timestep
 divided by 4 and 16).
 
-Featherstone (``newton_featherstone``), penalty contact:
+Featherstone and the semi-implicit solver (``newton_featherstone``, ``newton_semi_implicit``), penalty contact:
 
 * compliance: a stiffer contact spring (stiffness x 10 at the run's timestep, x 100 at a quarter of it; the damping
   kept critical, 2 sqrt(stiffness)), omega_n dt kept below 1 (Featherstone's explicit contact force);

@@ -104,6 +104,9 @@ NOT_YET = {
     n: "float32 rows (2e-7-2e-6) and no build for I0 < 1e-3 kg m^2 (axial inertia below mjMINVAL)"
     for n in ("newton_featherstone", "newton_mujoco", "newton_xpbd")
 }
+#: Newton's semi-implicit solver (registered after the three above): float32 rows as theirs (tip_pos 2.5e-7 on the 1 m
+#: rod, measured).
+NOT_YET["newton_semi_implicit"] = "float32 rows (2.5e-7 on the 1 m rod)"
 CASES = [
     pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=NOT_YET[n])) if n in NOT_YET else n for n in ENGINES
 ]

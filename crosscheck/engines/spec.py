@@ -55,9 +55,24 @@ TAGS = frozenset({"rigid", "compliant", "relaxed", "time_stepping", "continuous"
 #: The causes a ladder can name, in the order of its rungs (each rung one model closer to the engine): the contact
 #: point's place, the contact's compliance, the engine's friction law (its own law in continuous time), a
 #: normal force that feeds the rigid force forward at once where a spring builds it (MuJoCo's impedance), the time
-#: step, and the convex relaxation of the step's contact problem (a relaxed engine against a non-relaxed step of the
-#: same law and timestep: the mechanism behind SAP's "gliding", its launch of a slipping tip).
-LADDER_CAUSES = ("geometry", "compliance", "friction law", "feed-forward", "discretisation", "relaxation")
+#: step, the convex relaxation of the step's contact problem (a relaxed engine against a non-relaxed step of the
+#: same law and timestep: the mechanism behind SAP's "gliding", its launch of a slipping tip), a pyramid of
+#: friction instead of the cone (two friction rows bounded apart: DART's box), a friction bound fixed before the
+#: friction enters (DART's Dantzig step bounds the friction rows by mu times the frictionless normal impulse), a
+#: contact projected on positions within the step (XPBD: no force, a position correction relaxed over a few
+#: iterations), and float32 arithmetic (MuJoCo Warp against the same model in MuJoCo in C's float64).
+LADDER_CAUSES = (
+    "geometry",
+    "compliance",
+    "friction law",
+    "feed-forward",
+    "discretisation",
+    "relaxation",
+    "pyramid cone",
+    "friction bound",
+    "position projection",
+    "float32",
+)
 
 #: Rungs that are not references: the theory on the engine's capsule, and the engine itself.
 _NAMED_RUNGS = ("capsule", "engine")

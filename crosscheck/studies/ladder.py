@@ -2,7 +2,8 @@
 
 An engine declares its ladder in its ``EngineSpec.ladder``: cause -> rung, in
 the order of ``LADDER_CAUSES`` (geometry, compliance, friction law, feed-forward,
-discretisation, relaxation).  A rung is
+discretisation, relaxation, pyramid cone, friction bound, position projection,
+float32).  A rung is
 
 * ``"capsule"``: the rigid rod with its contact at the capsule point C = A - r K
   (``crosscheck.theory.capsule``, r the engine's ``Options.radius``): geometry;

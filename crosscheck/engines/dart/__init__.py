@@ -11,8 +11,14 @@ from crosscheck.engines.spec import EngineSpec, Execution, Ladder, ReportPlan
 
 __all__ = ["ENGINES"]
 
-#: Its models in between (crosscheck.studies.ladder): the capsule's contact point, then DART itself.
-_LADDER = {"geometry": "capsule", "discretisation": "engine"}
+#: Its models in between (crosscheck.studies.ladder, ``crosscheck.engines.dart.ladder``): the capsule's contact point,
+#: DART's step with Coulomb's cone, with the pyramid, then DART itself (its friction bound fixed before the friction).
+_LADDER = {
+    "geometry": "capsule",
+    "discretisation": "crosscheck.engines.dart.ladder:coulomb_step",
+    "pyramid cone": "crosscheck.engines.dart.ladder:pyramid_step",
+    "friction bound": "engine",
+}
 
 ENGINES = (
     EngineSpec(
@@ -26,7 +32,10 @@ ENGINES = (
         execution=Execution(
             one_core={"workers": 1}, solver_columns=("contact_steps", "max_points"), stops_at_event=True
         ),
-        ladder=Ladder(rungs=_LADDER, interventions={c: f"crosscheck.engines.dart.interventions:{c}" for c in _LADDER}),
+        ladder=Ladder(
+            rungs=_LADDER,
+            interventions={c: f"crosscheck.engines.dart.interventions:{c.replace(' ', '_')}" for c in _LADDER},
+        ),
         # Cost (python benchmarks/bench_dart.py, 2 cores shared): DART's bare step ~80 us, ~160 us with the record
         # and classifier, a run to horizon 2 at the default timestep ~0.3 s, twice PhysX's; so the grids are the
         # smallest the sections take: 4 x 4 maps (quick), 12 x 12 (full), convergence in the timestep on 3 x 3 and

@@ -20,8 +20,10 @@ local z, turned onto body y) has cap centres A = (0, -l, 0) and B = (0, l, 0), r
 Settings: DART's default constraint solver (``BoxedLcpConstraintSolver``, Dantzig's pivoting method on the
 boxed LCP of the step, PGS as its fallback), whose contact has one normal row and two friction rows along world
 x and y, each boxed by mu times the frictionless normal impulse (``crosscheck.engines.dart.engine``): a square
-pyramid whose size does not follow the normal force.  dartpy 6.20 exposes neither the friction directions nor
-a cone, so no intervention can change this law on the engine.  The collision detector is DART's Bullet one (``BulletCollisionDetector``): FCL, the default, has no
+pyramid whose size does not follow the normal force.  dartpy 6.20 does not expose the friction directions, but
+it has a second boxed-LCP solver, ``NsgsFrictionSolver``, with a friction law Box (the rows bounded by mu times the
+normal impulse as solved: a pyramid that follows the normal force) or Coulomb (the cone): ``Options.friction_solver``
+puts it in Dantzig's place, the interventions of the friction bound and the pyramid cone.  The collision detector is DART's Bullet one (``BulletCollisionDetector``): FCL, the default, has no
 capsule and silently puts a sphere of radius 0.1 in its place, and ODE's misses the contact of a capsule that
 starts exactly touching.  Friction mu and restitution 0 on both shapes.  The contact force is read from the
 momentum of the moving bodies, F = M (v_k+1 - v_k) / dt - M g along each prismatic axis (M the masses each
@@ -92,6 +94,11 @@ class World:
         _surface(capsule, mu)
         # the detector before the skeletons: FCL's group would otherwise be built first (and log its sphere)
         self.world.getConstraintSolver().setCollisionDetector(dart.collision.BulletCollisionDetector())
+        if options.friction_solver != "dantzig":  # DART's NSGS friction solver in Dantzig's place, with its law
+            nsgs = dart.constraint.NsgsFrictionSolver
+            settings = nsgs.Options()
+            settings.law = nsgs.Law.Coulomb if options.friction_solver == "nsgs_coulomb" else nsgs.Law.Box
+            self.world.getConstraintSolver().setBoxedLcpSolver(nsgs(settings))
         self.world.addSkeleton(ground)
         self.world.addSkeleton(self.skeleton)
         masses = [self.skeleton.getBodyNode(i).getMass() for i in range(5)]

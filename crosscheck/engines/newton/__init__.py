@@ -1,13 +1,15 @@
-"""Newton (PyPI newton, on NVIDIA Warp): the rod of ``models/rod.xml`` under three of Newton's solvers, many worlds at once.
+"""Newton (PyPI newton, on NVIDIA Warp): the rod of ``models/rod.xml`` under four of Newton's solvers, many worlds at once.
 
 One module (``engine``) runs every solver; each registered engine has a module of its own (``mujoco_warp``, ``xpbd``,
-``featherstone``) whose ``Options`` class fixes its solver (``Options.solver``):
+``featherstone``, ``semi_implicit``) whose ``Options`` class fixes its solver (``Options.solver``):
 
 * ``newton_mujoco``: ``SolverMuJoCo``, MuJoCo Warp in float32 with the ``mujoco`` engine's contact (elliptic cone,
   solref, solimp, Newton's method): the same model as MuJoCo in C, so the two are compared at the same settings;
 * ``newton_xpbd``: ``SolverXPBD``, position-based dynamics: the contact a position projection within the step;
 * ``newton_featherstone``: ``SolverFeatherstone``, reduced coordinates with Newton's penalty contact (a spring-damper
-  normal force and friction regularised by a viscous slope).
+  normal force and friction regularised by a viscous slope);
+* ``newton_semi_implicit``: ``SolverSemiImplicit``, the same penalty contact in maximal coordinates, its D6 joint a
+  penalty spring (the rod's own axis locked by a torsion spring: ``options.SemiImplicitOptions``).
 
 The rod is one body on a D6 joint with the five coordinates of ``models/rod.xml`` (no axial spin:
 ``crosscheck.engines.newton.model``).  Warp compiles every solver's kernels at their first use and caches them on
@@ -21,7 +23,7 @@ and the report skips their sections (``EngineSpec.unavailable``).
 from __future__ import annotations
 
 from crosscheck.engines.newton.options import LABELS as _LABELS
-from crosscheck.engines.spec import EngineSpec, Execution, ReportPlan
+from crosscheck.engines.spec import EngineSpec, Execution, Ladder, ReportPlan
 
 __all__ = ["ENGINES"]
 
@@ -33,6 +35,7 @@ _TAGS = {
     "xpbd": {"rigid", "time_stepping", "batched"},
     # a penalty spring-damper
     "featherstone": {"compliant", "time_stepping", "batched"},
+    "semi_implicit": {"compliant", "time_stepping", "batched"},
 }
 
 #: Report settings by cost, in CPU seconds (the 2 cores were shared ~10-fold while measuring, so wall times were 10-15
@@ -42,7 +45,9 @@ _TAGS = {
 #: and IC sections call it per start) costs as much as a map.  Featherstone's quick sections at timestep 1e-3 and 6 x 6
 #: maps took 220 s (maps), 211 s (rounding), 67 s (contact), 27 s (IC) of wall time on the shared cores.  Hence: quick
 #: at timestep 3e-3 (667 steps to horizon 2) on 4 x 4 maps and 3 x 3 convergence grids over (6e-3, 3e-3); full at
-#: 2e-3 on 8 x 8 maps and 4 x 4 convergence grids over (4e-3, 2e-3, 1e-3).
+#: 2e-3 on 8 x 8 maps and 4 x 4 convergence grids over (4e-3, 2e-3, 1e-3).  The semi-implicit solver, at the same plan
+#: (its joint spring is stable to 6e-3: ``options.SemiImplicitOptions``), took 29 s (maps), 25 (rounding), 28
+#: (convergence), 11 (contact), 9 (IC), 9 (impact), 11 (Psi), 13 (lift-off) of wall time in the quick report.
 _MAPS = {"quick": {"timestep": 3e-3}, "full": {"timestep": 2e-3}}
 _CONVERGENCE = {
     "quick": [{"timestep": dt} for dt in (6e-3, 3e-3)],
@@ -50,7 +55,60 @@ _CONVERGENCE = {
 }
 
 
-_MODULES = {"mujoco": "mujoco_warp", "xpbd": "xpbd", "featherstone": "featherstone"}
+_MODULES = {"mujoco": "mujoco_warp", "xpbd": "xpbd", "featherstone": "featherstone", "semi_implicit": "semi_implicit"}
+
+#: Each solver's models in between (crosscheck.studies.ladder, ``crosscheck.engines.newton.ladder``) and the
+#: interventions on the solver itself that test each cause (``crosscheck.engines.newton.interventions``).  The ladder and
+#: interventions sections run one start at a time (``EngineSpec.first_event``), 3 starts in the quick report, so their
+#: cost is their runs' steps: measured in the quick report at timestep 3e-3 with the other sections' jobs beside them
+#: on the 2 shared cores (wall seconds, ladder / interventions): XPBD 18 / 146, Featherstone 115 / 182, semi-implicit
+#: 77 / 93, MuJoCo Warp 64 / (its interventions, ~15 runs a start at ~7 ms of CPU a step, the most).  Their grids are
+#: the maps' (no grid of their own); a finer step than a sixteenth of the run's is never taken, and on MuJoCo Warp
+#: none finer than a quarter (``crosscheck.engines.newton.interventions``).
+_L, _I = "crosscheck.engines.newton.ladder:", "crosscheck.engines.newton.interventions:"
+_LADDERS = {
+    # MuJoCo's ladder at MuJoCo Warp's settings, then MuJoCo in C (float64), then MuJoCo Warp (float32)
+    "mujoco": Ladder(
+        rungs={
+            "geometry": "capsule",
+            "compliance": _L + "compliant_mujoco",
+            "friction law": _L + "spring_law",
+            "feed-forward": _L + "law",
+            "discretisation": _L + "mujoco_c",
+            "float32": "engine",
+        },
+        interventions={
+            "geometry": _I + "geometry",
+            "compliance": _I + "mujoco_compliance",
+            "friction law": _I + "mujoco_friction_law",
+            "feed-forward": _I + "mujoco_feed_forward",
+            "discretisation": _I + "mujoco_discretisation",
+            "float32": _I + "float32",
+        },
+    ),
+    # the capsule's contact point, then XPBD's projection of it
+    "xpbd": Ladder(
+        rungs={"geometry": "capsule", "position projection": "engine"},
+        interventions={"geometry": _I + "geometry", "position projection": _I + "position_projection"},
+    ),
+    # the compliant rod with the penalty normal law, the penalty law at a fine step, the solver itself (Featherstone in
+    # reduced coordinates, the semi-implicit solver in maximal ones: the same penalty contact)
+    "featherstone": Ladder(
+        rungs={
+            "geometry": "capsule",
+            "compliance": _L + "compliant",
+            "friction law": _L + "penalty_fine",
+            "discretisation": "engine",
+        },
+        interventions={
+            "geometry": _I + "geometry",
+            "compliance": _I + "penalty_compliance",
+            "friction law": _I + "friction_regularisation",
+            "discretisation": _I + "discretisation",
+        },
+    ),
+}
+_LADDERS["semi_implicit"] = _LADDERS["featherstone"]
 
 
 def _engine(solver: str, order: int) -> EngineSpec:
@@ -61,6 +119,7 @@ def _engine(solver: str, order: int) -> EngineSpec:
         libraries=("newton", "warp-lang", "mujoco-warp") if solver == "mujoco" else ("newton", "warp-lang"),
         install="crosscheck[newton]",
         tags=_TAGS[solver],
+        ladder=_LADDERS[solver],
         # no event-tolerance profile (validation): not measured (validate does not judge these engines' events)
         report=ReportPlan(
             maps=_MAPS,
@@ -68,6 +127,7 @@ def _engine(solver: str, order: int) -> EngineSpec:
             maps_n={"quick": 4, "full": 8},
             convergence_n={"quick": 3, "full": 4},
             order=order,
+            ladder=True,
             sections="crosscheck.engines.newton.sections:sections" if solver == "mujoco" else None,
         ),
         execution=Execution(

@@ -91,7 +91,8 @@ class NewtonHealth:
     """Per-run statistics of the solver's state over the rows before theta leaves (0, pi/2).
 
     max_spin: the largest angular speed about the rod's own axis [omega] (0 where the solver holds the D6 joint
-      exactly: MuJoCo Warp and Featherstone, in reduced coordinates; XPBD projects the joint and leaves some).
+      exactly: MuJoCo Warp and Featherstone, in reduced coordinates; XPBD projects the joint and the semi-implicit
+      solver springs it, and both leave some).
     max_penetration: the deepest the capsule went below the plane [l] (0 if never).
     """
 
@@ -161,7 +162,8 @@ def _blocks(rod: Rod, states: list, mu: np.ndarray, n: int, opts: Options, progr
     """(q0, v0, and per block of ``SIZES`` worlds (first state, Raw of its states)): every state's n steps."""
     q0, v0 = (np.array(x) for x in zip(*(to_generalized(rod, s, tip=(0.0, 0.0, opts.radius)) for s in states)))
     B = len(states)
-    size = next((s for s in SIZES if s >= B), SIZES[-1])
+    # (MuJoCo in C through Newton steps one world: one start per model)
+    size = 1 if opts.mujoco_cpu else next((s for s in SIZES if s >= B), SIZES[-1])
     blocks = []
     for a in bar(list(range(0, B, size)), progress=progress, desc=f"{_name(opts)} sweep", unit="block"):
         idx = np.minimum(np.arange(a, a + size), B - 1)  # spare worlds repeat the last state

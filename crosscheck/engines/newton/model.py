@@ -135,6 +135,10 @@ def _solver(model, rod: Rod, options):
             impratio=options.impratio,
             use_mujoco_contacts=True,
             disable_contacts=False,
+            use_mujoco_cpu=options.mujoco_cpu,
+            # MuJoCo in C keeps its float64 data from step to step, not reloaded from Newton's float32 state
+            # (``Batch.run`` loads each start through ``reset``)
+            **({"update_data_interval": 0} if options.mujoco_cpu else {}),
         )
     if options.solver == "xpbd":
         return S.SolverXPBD(
@@ -142,7 +146,12 @@ def _solver(model, rod: Rod, options):
         )
     if options.solver == "featherstone":
         return S.SolverFeatherstone(model)
-    return S.SolverSemiImplicit(model)
+    return S.SolverSemiImplicit(
+        model,
+        angular_damping=0.0,  # Newton's default 0.05 drags every rotation: not the rod's
+        joint_attach_ke=options.joint_stiffness * rod.mass * rod.gravity * rod.length,
+        joint_attach_kd=options.joint_damping * rod.mass * rod.gravity * rod.length / rod.omega,
+    )
 
 
 class Batch:
@@ -165,6 +174,7 @@ class Batch:
             # installed with our mujoco 4.0; provenance names both versions) and its own use of deprecated calls
             warnings.filterwarnings("ignore", message="MuJoCo dependency version mismatch")
             warnings.filterwarnings("ignore", category=DeprecationWarning)
+            warnings.filterwarnings("ignore", message="SolverMuJoCo update_data_interval is deprecated")
             self.solver = _solver(self.model, rod, options)
         self.states = (self.model.state(), self.model.state())
         self.control = self.model.control()
@@ -180,6 +190,8 @@ class Batch:
     def _set_mu(self, mu: np.ndarray) -> None:
         self.model.shape_material_mu.assign(np.asarray(mu, dtype=np.float32)[self.shape_world])
         self.solver.notify_model_changed(newton.ModelFlags.SHAPE_PROPERTIES)
+        if self.options.mujoco_cpu:  # (Newton 1.8 passes a shape's changed friction to MuJoCo Warp only: set C's own)
+            self.solver.mj_model.geom_friction[:, 0] = float(np.asarray(mu).ravel()[0])
 
     def _step(self, k: int) -> None:
         s_in, s_out = self.states[k % 2], self.states[(k + 1) % 2]
@@ -193,9 +205,14 @@ class Batch:
         B = self.size
         self._set_mu(mu)
         s0 = self.states[0]
+        q0, v0 = (np.asarray(x, dtype=np.float32).ravel() for x in (q0, v0))
+        if self.options.mujoco_cpu:
+            # MuJoCo in C's data is loaded from the state only by ``reset``, which sets the model's defaults: the start
+            self.model.joint_q.assign(q0)
+            self.model.joint_qd.assign(v0)
         self.solver.reset(s0)  # MuJoCo Warp's warm start and applied forces zeroed: no run carries into the next
-        s0.joint_q.assign(np.asarray(q0, dtype=np.float32).ravel())
-        s0.joint_qd.assign(np.asarray(v0, dtype=np.float32).ravel())
+        s0.joint_q.assign(q0)
+        s0.joint_qd.assign(v0)
         newton.eval_fk(self.model, s0.joint_q, s0.joint_qd, s0)
         body_q = np.empty((n + 1, B, 7), dtype=np.float32)
         body_qd = np.empty((n + 1, B, 6), dtype=np.float32)

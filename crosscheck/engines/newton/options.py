@@ -16,13 +16,19 @@ from crosscheck.engines.options import EngineOptions
 from crosscheck.state import check_timestep, real, real_scalar
 
 #: How tables and messages name the engine of each solver.
-LABELS = {"mujoco": "Newton MuJoCo Warp", "xpbd": "Newton XPBD", "featherstone": "Newton Featherstone"}
+LABELS = {
+    "mujoco": "Newton MuJoCo Warp",
+    "xpbd": "Newton XPBD",
+    "featherstone": "Newton Featherstone",
+    "semi_implicit": "Newton semi-implicit",
+}
 
 __all__ = [
     "Options",
     "MuJoCoWarpOptions",
     "XPBDOptions",
     "FeatherstoneOptions",
+    "SemiImplicitOptions",
     "SOLVERS",
     "DEVICES",
     "RADIUS",
@@ -107,6 +113,14 @@ class Options(EngineOptions):
         error of axial_inertia tan^2 theta in the inertia about the vertical.  XPBD projects the D6 joint's locked
         axis after the contact, and with 1e-12 the contact's friction correction turns the capsule about its axis
         instead of moving the tip (``crosscheck.engines.newton.model``).
+      mujoco_cpu: MuJoCo Warp only: Newton's ``SolverMuJoCo(use_mujoco_cpu=True)``, the same converted model stepped
+        by MuJoCo in C in float64 instead of MuJoCo Warp in float32 (default False): the float32 cause's intervention.
+        MuJoCo's data then carries the run in float64 from step to step (Newton's float32 state is only read back),
+        and Newton steps one world of it, so a sweep runs its starts one world at a time.
+      joint_stiffness, joint_damping: the semi-implicit solver only: its joints are penalty springs in maximal
+        coordinates (``SolverSemiImplicit``'s ``joint_attach_ke``, ``joint_attach_kd``), so the D6 joint's locked axis,
+        the rod's own, is a torsion spring of stiffness joint_stiffness m g l / rad and damping joint_damping x 0.01
+        m g l / (omega rad) (Newton scales the angular damping by 0.01).  Defaults 2 and 0.5 (``SemiImplicitOptions``).
     """
 
     solver: str = "mujoco"
@@ -125,6 +139,9 @@ class Options(EngineOptions):
     damping: float = 200.0
     friction_gain: float = 1e3
     axial_inertia: float = 1e-12
+    mujoco_cpu: bool = False
+    joint_stiffness: float = 2.0
+    joint_damping: float = 0.5
 
     def __post_init__(self) -> None:
         own = type(self).__dataclass_fields__["solver"].default
@@ -142,8 +159,23 @@ class Options(EngineOptions):
             if not (isinstance(n, (int, np.integer)) and not isinstance(n, bool) and lo <= n <= MAX_ITERATIONS):
                 raise ValueError(f"{name} must be an integer in [{lo}, {MAX_ITERATIONS}]; got {n!r}")
             set_(self, name, int(n))
+        if not isinstance(self.mujoco_cpu, (bool, np.bool_)):
+            raise ValueError(f"mujoco_cpu must be True or False; got {self.mujoco_cpu!r}")
+        set_(self, "mujoco_cpu", bool(self.mujoco_cpu))
+        if self.mujoco_cpu and self.solver != "mujoco":
+            raise ValueError(f"mujoco_cpu must be False for newton_{self.solver} (a SolverMuJoCo setting); got True")
         set_(self, "solver_tolerance", real_scalar("solver_tolerance", self.solver_tolerance, NONNEGATIVE))
-        for name in ("timeconst", "dampratio", "impratio", "stiffness", "damping", "friction_gain", "axial_inertia"):
+        for name in (
+            "timeconst",
+            "dampratio",
+            "impratio",
+            "stiffness",
+            "damping",
+            "friction_gain",
+            "axial_inertia",
+            "joint_stiffness",
+            "joint_damping",
+        ):
             set_(self, name, real_scalar(name, getattr(self, name), POSITIVE))
         if self.timeconst < 2 * self.timestep:
             raise ValueError(
@@ -238,3 +270,20 @@ class FeatherstoneOptions(Options):
     """``Options`` of ``newton_featherstone``: Featherstone with Newton's penalty contact."""
 
     solver: str = "featherstone"
+
+
+@dataclass(frozen=True)
+class SemiImplicitOptions(Options):
+    """``Options`` of ``newton_semi_implicit``: maximal coordinates, Newton's penalty contact, the D6 joint a penalty
+    spring.  Its locked axis, the rod's own, is a torsion spring of stiffness k = joint_stiffness m g l about an axial
+    moment a I0, explicit in time: stable while sqrt(k / (a I0)) dt < 2.  Newton's default k (1e4 N m / rad on the
+    scaled rod) diverged at a = 1e-12 and 1e-4 within 0.02 of time from theta = 1, varphi = -1.9, mu = 0.5 (axial spin
+    1e5-1e7 omega) and at a = 1e-2 at timestep 3e-3; a = 1e-4 (XPBD's) with k = 2 keeps sqrt(k / (a I0)) dt = 1.5 at
+    the quick convergence grid's coarsest step 6e-3 (alpha 3), and the friction torque mu F_n r twists the capsule by
+    ~r mu F_n / k ~ 1e-2 rad at most about its own axis.  Measured at these defaults from that start over a horizon of
+    1: a slip, as Featherstone's, theta within 3.9e-6, 5.1e-6, 6.7e-6 of Featherstone's and the axial spin at most
+    0.25, 0.15, 0.14 omega at timestep 6e-3, 3e-3, 1e-3.  Newton's angular damping (0.05 by default, a drag on every
+    rotation) is set to 0."""
+
+    solver: str = "semi_implicit"
+    axial_inertia: float = 1e-4

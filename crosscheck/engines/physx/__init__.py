@@ -5,6 +5,15 @@ capsule, the plane, every setting PhysX's defaults get wrong) and one rollout; `
 ``sweep``; ``chain``: the record of a chain rollout in SI.  Two registered names, one per solver:
 ``physx_tgs`` (PhysX 5's default, temporal Gauss-Seidel) and ``physx_pgs`` (projected Gauss-Seidel).
 Importing this package does not import SAPIEN.
+
+Its friction is a pyramid where PGS solves it, and no setting of PhysX through SAPIEN changes that.  PhysX's patch
+friction puts two perpendicular 1D friction constraints on each contact patch; PGS processes the two axes separately
+(each clamped on its own: a square pyramid), TGS works with their combined impulse (PhysX 5.6's documentation of
+``PxFrictionType``).  SAPIEN 3.0.3 ships PhysX 5.3.1 and its ``PhysxSceneConfig`` has no friction type (its settings:
+gravity, bounce_threshold, enable_pcm, enable_tgs, enable_ccd, enable_enhanced_determinism,
+enable_friction_every_iteration, cpu_workers), and PhysX 5 deprecates every friction type but the patch's.  So the
+ladder has no "pyramid cone" rung for PhysX: the one switch that changes the cone, PGS to TGS, changes the solver with
+it (the two are the two registered engines, compared on the same maps).
 """
 
 from crosscheck.engines.physx.options import LABELS as _LABELS

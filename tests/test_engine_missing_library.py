@@ -38,6 +38,7 @@ NAMES = {
     "newton_mujoco": "Newton MuJoCo Warp",
     "newton_xpbd": "Newton XPBD",
     "newton_featherstone": "Newton Featherstone",
+    "newton_semi_implicit": "Newton semi-implicit",
 }
 
 

@@ -101,3 +101,22 @@ def test_the_first_event_line_sums_every_map_and_says_what_the_engine_does_at_th
     _maps(tmp_path / "none", "pinocchio", [_confusion({("SLIP", "SLIP"): 40, ("LIFTOFF", "SLIP"): 1})])
     (f,) = [f for f in findings(tmp_path / "none") if f.leg.endswith("first event")]
     assert f.text.endswith("(98 %, 95 % interval 87-100 %); at the theory's jams: none")
+
+
+def test_the_papers_known_discrepancies_are_one_line_naming_their_sections(tmp_path):
+    """Checks marked as known discrepancies (a misprint, a caption that does not fit its numbers) are counted over
+    every section in one line, verdict "known", anchored at the first section that has one; none, no line."""
+    for slug, checks in {
+        "b_section": [{"name": "a", "passed": False, "known_discrepancy": True}, {"name": "b", "passed": True}],
+        "a_section": [{"name": "c", "passed": True}],
+        "c_section": [{"name": "d", "passed": False, "known_discrepancy": True}] * 2,
+    }.items():
+        (tmp_path / slug).mkdir()
+        (tmp_path / slug / "checks.json").write_text(json.dumps(checks))
+    (f,) = [f for f in findings(tmp_path) if f.leg == "the paper"]
+    assert (f.verdict, f.slug) == ("known", "b_section")
+    assert f.text.startswith("3 known discrepancies between what the paper prints and its own model")
+    assert f.text.endswith("shown in b_section, c_section")
+    (tmp_path / "b_section" / "checks.json").write_text("[]")
+    (tmp_path / "c_section" / "checks.json").write_text("[]")
+    assert not [f for f in findings(tmp_path) if f.leg == "the paper"]

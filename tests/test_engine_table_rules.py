@@ -58,6 +58,7 @@ def test_the_summary_rows_are_the_ones_the_report_shows(records):
     assert all(_md(row) in shown for row in table.rows), [r for r in table.rows if _md(r) not in shown]
     assert _md(table.header) in shown
     assert table.notes == [f"{k}: {v}" for k, v in FOOTNOTES]
+    assert all(f"- {n}" in (QUICK / "report.md").read_text().splitlines() for n in table.notes)
 
 
 def test_each_engine_page_shows_its_settings_and_its_facts(records):
@@ -67,6 +68,8 @@ def test_each_engine_page_shows_its_settings_and_its_facts(records):
         table, shown = settings_table(records, name), _md_rows(page)
         assert len(table.rows) == len([r for r in records if r["engine"] == name])
         assert all(_md(row) in shown for row in table.rows), (name, [r for r in table.rows if _md(r) not in shown])
+        assert _md(table.header) in shown and all(f"- {n}" in page.read_text().splitlines() for n in table.notes)
+        assert len(table.notes) == 2  # the two columns a reader cannot guess: the event-time error and us/step
         (rec,) = [r for r in records if r["engine"] == name and r["role"] == "map"]
         text = " ".join(page.read_text().split())  # (the page wraps a long line)
         assert all(f"- {x} - " in text for x in engine_facts(rec)[:-1]), (name, engine_facts(rec))

@@ -7,13 +7,14 @@ capsule's offset needs a model after the capsule.  The ladders of the engines ar
 
 from __future__ import annotations
 
+import json
 from dataclasses import replace
 
 from crosscheck import Rod, SlipState, engines
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.engines.spec import EngineSpec, Ladder
 from crosscheck.outcome import Outcome
-from crosscheck.studies.ladder import run_ladder, without_capsule_offset
+from crosscheck.studies.ladder import Rung, run_ladder, without_capsule_offset
 
 #: A start whose theory slips to its exit from the paper's chart, its slip speed falling to 2.6e-3 on the way, below
 #: a rigid engine's STICK floor (``tests/test_mutation_survivors.py``): the engine's STICK time follows the floor.
@@ -44,6 +45,26 @@ def test_the_engine_rung_runs_at_the_ladders_thresholds():
     rung = ladder.rungs[-1]
     assert own[0] == default[0] == Outcome.STICK and own[1] < default[1]  # (the floor decides the time)
     assert (rung.outcome, rung.time) == own
+    # as saved (the ladder sections' JSON): outcomes by name, None where a rung has none
+    saved = json.loads(json.dumps(ladder.as_dict()))
+    assert saved["rungs"][-1]["outcome"] == "STICK"  # its outcome; the reference is its label as compared
+    assert saved["reference"] == ladder.reference.name == saved["rungs"][-1]["label"]
+    assert (saved["comparison_time"], saved["lag"]) == (ladder.until, ladder.lag)
+
+
+def test_a_failed_rung_is_saved_without_an_outcome():
+    failed = Rung(2, "boom", "compliance", "failed", detail="RuntimeError: no")
+    assert json.loads(json.dumps(failed.as_dict())) | {"time": None} == {
+        "rung": 2,
+        "name": "boom",
+        "cause": "compliance",
+        "status": "failed",
+        "outcome": None,
+        "time": None,
+        "label": None,
+        "detail": "RuntimeError: no",
+        "wall_time": 0.0,
+    }
 
 
 def test_the_rerun_without_the_capsules_offset_needs_a_model_after_the_capsule():

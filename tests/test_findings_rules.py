@@ -14,6 +14,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 from crosscheck import engines
+from crosscheck.report.finding import convergence_trends
 from crosscheck.report.findings import RULES, findings
 
 QUICK = Path(__file__).resolve().parents[1] / "reports" / "quick"
@@ -120,3 +121,15 @@ def test_the_papers_known_discrepancies_are_one_line_naming_their_sections(tmp_p
     (tmp_path / "b_section" / "checks.json").write_text("[]")
     (tmp_path / "c_section" / "checks.json").write_text("[]")
     assert not [f for f in findings(tmp_path) if f.leg == "the paper"]
+
+
+def test_a_parameter_without_a_trend_leaves_the_next_parameters_trend(tmp_path):
+    """No two timesteps share a contact time constant, so the timestep has no trend; the time constant still has its
+    own, at the timestep that has two of its settings."""
+    rows = [(0.01, 0.1, 0.80), (0.005, 0.05, 0.90), (0.005, 0.02, 0.97)]
+    _convergence(tmp_path, "mujoco", rows)
+    table = list(csv.DictReader((tmp_path / f"{engines.get('mujoco').slug}_convergence" / "convergence.csv").open()))
+    (trend,) = convergence_trends(table)
+    assert (trend.parameter, trend.fixed, trend.verdict) == ("timeconst", {"timestep": 0.005}, "converges")
+    (f,) = [f for f in findings(tmp_path) if "convergence" in f.leg]
+    assert f.leg == "MuJoCo: convergence in contact time constant (timestep 0.005)"

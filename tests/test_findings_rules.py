@@ -14,7 +14,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 from crosscheck import engines
-from crosscheck.report.finding import convergence_trends
+from crosscheck.report.finding import convergence_trends, convergence_verdict
 from crosscheck.report.findings import RULES, findings
 
 QUICK = Path(__file__).resolve().parents[1] / "reports" / "quick"
@@ -133,3 +133,8 @@ def test_a_parameter_without_a_trend_leaves_the_next_parameters_trend(tmp_path):
     assert (trend.parameter, trend.fixed, trend.verdict) == ("timeconst", {"timestep": 0.005}, "converges")
     (f,) = [f for f in findings(tmp_path) if "convergence" in f.leg]
     assert f.leg == "MuJoCo: convergence in contact time constant (timestep 0.005)"
+
+
+def test_the_convergence_verdict_gives_its_trend_in_percent_coarsest_first():
+    rows = [{"agreement": "0.857"}, {"agreement": "0.886"}, {"agreement": "0.971"}]
+    assert convergence_verdict(rows) == ("converges", "85.7 % -> 88.6 % -> 97.1 %")

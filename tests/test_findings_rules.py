@@ -138,3 +138,16 @@ def test_a_parameter_without_a_trend_leaves_the_next_parameters_trend(tmp_path):
 def test_the_convergence_verdict_gives_its_trend_in_percent_coarsest_first():
     rows = [{"agreement": "0.857"}, {"agreement": "0.886"}, {"agreement": "0.971"}]
     assert convergence_verdict(rows) == ("converges", "85.7 % -> 88.6 % -> 97.1 %")
+
+
+def test_a_flat_trend_in_the_middle_band_is_inconclusive_not_falling():
+    """The finest equal to the coarsest is not below it: at 92 % -> 92 % neither converged (>= 95 %) nor falling."""
+    assert convergence_verdict([{"agreement": "0.92"}, {"agreement": "0.92"}])[0] == "inconclusive"
+    assert convergence_verdict([{"agreement": "0.92"}, {"agreement": "0.9199"}])[0] == "does not converge"
+
+
+def test_a_table_whose_settings_vary_nothing_gives_one_trend_in_the_timestep(tmp_path):
+    _convergence(tmp_path, "pinocchio", [(0.001, 0.0, 0.9), (0.001, 0.0, 0.97)])
+    (f,) = [f for f in findings(tmp_path) if "convergence" in f.leg]
+    assert f.leg == "Pinocchio (rigid engine): convergence in timestep" and f.verdict == "converges"
+    assert "as the timestep goes 0.001 -> 0.001" in f.text

@@ -1,5 +1,7 @@
 """The interventions' summary (``crosscheck.studies.interventions.summarise``): every tally adds up over the starts.
 
+And the theory each intervention is judged against is the comparison's, cut at the horizon (last test).
+
 Over seeded random sets of laddered disagreements (causes named or not, interventions that remove them at some step
 or none, joint rows, the ladder's overdetermined pairs, p minima and boundary distances), each count of the summary is
 the number of starts with a property read off the start alone, and the counts split the same starts in several ways
@@ -11,9 +13,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from crosscheck import SlipState
 from crosscheck.engines.classifier import Thresholds
 from crosscheck.engines.spec import LADDER_CAUSES
-from crosscheck.studies.interventions import summarise
+from crosscheck.studies.interventions import intervene, summarise
 
 #: Causes the random starts draw from: three of the ladder's and one it does not attribute.
 CAUSES = ("geometry", "compliance", "friction law", "unexplained")
@@ -100,3 +103,13 @@ def test_every_tally_is_a_count_of_starts_and_the_splits_agree(seed):
         == sum(bool(r["interventions"].get("without_offset", {}).get("also")) for r in named)
         == sum(v for k, v in pairs.items() if k != "predicted")
     )
+
+
+def test_the_theory_an_intervention_is_judged_against_is_cut_at_the_horizon():
+    """The theory's run is the comparison's: cut at the study's horizon, as the engine runs are, not run on to its own
+    event.  The start slips to its exit from the paper's chart at t = 0.788 (``tests/test_interventions.py``)."""
+    state, mu = SlipState(theta=1.0, varphi=-1.9, Theta=0.0, Psi=0.875, eta=1.0), 0.875
+    whole = intervene("bullet", state, mu, causes=[])
+    cut = intervene("bullet", state, mu, horizon=0.5, causes=[])
+    assert whole["theory"] == cut["theory"] == "SLIP" and 0.78 < whole["theory_time"] < 0.8
+    assert cut["theory_time"] == 0.5 and cut["theory_eta_min"] > whole["theory_eta_min"]

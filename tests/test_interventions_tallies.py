@@ -1,11 +1,10 @@
 """The interventions' summary (``crosscheck.studies.interventions.summarise``): every tally adds up over the starts.
 
-And the theory each intervention is judged against is the comparison's, cut at the horizon (last test).
-
 Over seeded random sets of laddered disagreements (causes named or not, interventions that remove them at some step
 or none, joint rows, the ladder's overdetermined pairs, p minima and boundary distances), each count of the summary is
 the number of starts with a property read off the start alone, and the counts split the same starts in several ways
-that must agree.  The cases of each tally one by one are in ``test_interventions.py``.
+that must agree.  The cases of each tally one by one are in ``test_interventions.py``.  And the theory each
+intervention is judged against is the comparison's, cut at the study's horizon (the last test).
 """
 
 from __future__ import annotations

@@ -112,3 +112,19 @@ def test_the_theory_an_intervention_is_judged_against_is_cut_at_the_horizon():
     cut = intervene("bullet", state, mu, horizon=0.5, causes=[])
     assert whole["theory"] == cut["theory"] == "SLIP" and 0.78 < whole["theory_time"] < 0.8
     assert cut["theory_time"] == 0.5 and cut["theory_eta_min"] > whole["theory_eta_min"]
+
+
+def test_a_start_whose_least_p_is_exactly_the_band_edge_is_in_the_band():
+    """``by_p``'s band is eq. p <= p_band, its edge included (and a start without a p minimum is above it)."""
+    band = Thresholds().jam_p_eff
+    starts = [
+        {
+            "cause": "geometry",
+            "interventions": {"theory": "SLIP", "causes": {"geometry": [{"text": "g", "removes": r}]}},
+        }
+        for r in (True, False, True)
+    ]
+    starts[0]["interventions"]["theory_p_min"] = band
+    starts[1]["interventions"]["theory_p_min"] = float(np.nextafter(band, 1.0))
+    by_p = summarise(starts)["by_p"]
+    assert by_p["in_band"] == {"attributed": 1, "confirmed": 1} and by_p["above"] == {"attributed": 2, "confirmed": 1}

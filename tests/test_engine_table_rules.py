@@ -101,3 +101,28 @@ def test_the_saved_records_hold_numbers_with_none_for_a_missing_one(records):
         for k, v in rec.items():
             if isinstance(v, float) and not math.isfinite(v):
                 assert out[k] is None, k
+
+
+def test_an_engine_with_only_its_maps_has_zero_counts_and_no_numbers_for_the_sections_it_did_not_run(tmp_path):
+    """No liftoff, contact, ladder, interventions, rounding, impact or convergence section: their counts are 0 and
+    their numbers missing (NaN, saved as null), never a count the engine did not earn."""
+    d = tmp_path / f"{engines.get('pinocchio').slug}_maps"
+    d.mkdir()
+    labels = ["SLIP", "LIFTOFF", "STICK", "JAM", "DIVERGED", "GB", "LAUNCH"]
+    conf = [[0] * 7 for _ in labels]
+    conf[0][0], conf[3][3], conf[3][6] = 8, 1, 1
+    (d / "maps.json").write_text(json.dumps([{"runs": [{"confusion": conf, "labels": labels, "options": {}}]}]))
+    (rec,) = engine_records(tmp_path)
+    counts = ("attributed", "confirmed", "confirmed_jointly", "top_cause_n", "top_cause_confirmed", "rounding_changed")
+    assert all(rec[k] == 0 for k in (*counts, "rounding_n", "impact_n_jammed", "impact_n")), rec
+    assert rec["top_cause"] == "" and rec["convergence"] == {}
+    assert all(rec[k] == 0 for k in rec if k.startswith("ladder_"))
+    missing = ("onset_max_abs_error_Psi", "friction_skew_median_deg", "cone_violation_max_mg")
+    assert all(math.isnan(rec[k]) for k in (*missing, "impact_median_abs_Theta_plus_error", "runs_per_s"))
+    assert (rec["n_rated"], rec["n_agree"], rec["n_theory_jam"], rec["agree_theory_jam"], rec["n_launch"]) == (
+        10,
+        9,
+        2,
+        1,
+        1,
+    )

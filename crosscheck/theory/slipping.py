@@ -38,14 +38,8 @@ SLIP       none of the above before ``t_max``; also (with ``reason`` saying
 DIVERGED   the integrator failed (step size underflow, non-finite values).
 =========  ======================================================================
 
-Near the vertical every start leaves the domain within a short time, and this is the slender rod's physics, not
-the integrator's: the friction's moment about the vertical through S has the lever arm l cos theta and the rod's
-inertia about that axis is I0 cos^2 theta (a slender rod has no axial moment), so Psi' = -alpha mu F_z cos varphi /
-cos theta + 2 Psi Theta tan theta (``_coefficients``: Psi1, Psi0) grows without bound as theta -> pi/2.  From
-Theta = Psi = 0 the azimuth then turns varphi by Delta in t ~ sqrt(2 Delta cos theta / (alpha mu F_z |cos varphi|))
-(0.0066 at cos theta = 1e-4, F_z ~ 1) with Psi ~ 1 / sqrt(cos theta) at the exit, while the rod itself barely moves
-(its angular velocity normal to its axis, Psi cos theta, stays small); with Theta > 0 it passes through the
-vertical after (pi/2 - theta) / Theta.  Such a run is reported as what it is, a domain exit at that time.
+Near the vertical every start leaves the domain within a short time: the slender rod's azimuthal spin Psi' grows
+like 1 / cos theta (docs/theory.md, "Near the vertical").
 
 A start at rest (eta below ``STICK_SPEED``) is judged by the forces that would
 hold it (``crosscheck.theory.sticking.at_rest``): STICK only when the stuck

@@ -182,3 +182,59 @@ def test_the_pyramid_stops_a_skew_slip_sooner_than_the_cone():
     assert box.outcome.name == cone.outcome.name == "STICK"
     assert box.event_time < cone.event_time - 0.005
     assert abs(cone.event_time - 0.19197) < abs(box.event_time - 0.19197)
+
+
+#: A start whose DART run lifts off at its first step (t = 0.004, the event judged) and then blows up (theta ~1e260 by
+#: t = 2; DART prints 6534 "Warning [...] Non-finite ..." lines over the full horizon; alpha 3, mu 1.4, timestep 0.004).
+BLOWS_UP = SlipState(theta=0.85, varphi=-1.9, Theta=1.5, Psi=0.0, eta=1.0)
+#: The quick report's DART convergence start that warns within a sweep (stopped once its first event is judged): it
+#: lifts off at t = 0.108, judged at step 128 of 0.004, after its blow-up at t = 0.308 (720 warning lines to t = 0.5).
+WARNS_IN_SWEEP = SlipState(theta=1.2833333333333332, varphi=-1.9, Theta=1.0, Psi=0.0, eta=1.0)
+
+
+def test_darts_warnings_are_counted_not_printed_and_the_blow_up_is_recorded(capfd):
+    """DART's C++ warnings reach neither stderr nor stdout: they are the run's ``DartHealth.warnings`` (and a sweep's
+    ``warnings``); the blow-up after the lift-off is the run's ``diverged_time``, the outcome still the lift-off."""
+    from crosscheck.outcome import Outcome
+
+    capfd.readouterr()
+    blown = SPEC.simulate(ROD, BLOWS_UP, 1.4, horizon=2.0, timestep=0.004)
+    quiet = SPEC.simulate(ROD, SLIPPING, 0.5, horizon=0.2)
+    out, err = capfd.readouterr()
+    assert "Warning [" not in err and "Warning [" not in out
+    assert blown.outcome.name == "LIFTOFF" and blown.event_time == pytest.approx(0.004)
+    assert blown.solver.warnings > 0 and not abs(blown.record.theta[-1]) < 1e6
+    assert blown.event_time < blown.diverged_time < 2.0
+    assert quiet.outcome.name == "SLIP" and quiet.solver.warnings == 0 and math.isnan(quiet.diverged_time)
+    sweep = SPEC.sweep(
+        ROD, [WARNS_IN_SWEEP, SLIPPING], np.array([1.4, 0.5]), horizon=0.5, timestep=0.004, progress=False
+    )
+    out, err = capfd.readouterr()
+    assert "Warning [" not in err and "Warning [" not in out
+    assert sweep.solver["warnings"][0] > 0 and sweep.solver["warnings"][1] == 0
+    assert sweep.warnings == {"DART warning": int(sweep.solver["warnings"][0])}
+    assert [Outcome(int(o)).name for o in sweep.outcome] == ["LIFTOFF", "SLIP"]
+    assert sweep.event_time[0] < sweep.diverged_time[0]  # the lift-off judged before the blow-up, which is recorded
+
+
+def test_the_console_capture_passes_on_what_is_not_a_dart_warning_and_restores_stderr(capfd):
+    """``console.captured``: a DART warning line (coloured as on a terminal) counted, any other line written to fd 2
+    passed on in its order, and fd 2 put back also when the block raises (KeyboardInterrupt)."""
+    import os
+
+    from crosscheck.engines.dart.console import captured
+
+    before = os.fstat(2)
+    with captured() as seen:
+        os.write(2, b"first line\n\x1b[1;33mWarning [GenericJoint.hpp:2544]\x1b[0m [x] Non-finite ...\n")
+        os.write(2, b"Warning [BodyNode.cpp:2109] [y] Non-finite ...\nnot a Warning [line]\nlast, unterminated")
+    _, err = capfd.readouterr()
+    assert seen.warnings == 2
+    assert err == "first line\nnot a Warning [line]\nlast, unterminated"
+    with pytest.raises(KeyboardInterrupt), captured():
+        os.write(2, b"Warning [a] b\n")
+        raise KeyboardInterrupt
+    after = os.fstat(2)
+    assert (after.st_dev, after.st_ino) == (before.st_dev, before.st_ino)
+    os.write(2, b"after\n")
+    assert capfd.readouterr().err == "after\n"

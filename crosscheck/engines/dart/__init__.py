@@ -1,10 +1,10 @@
 """DART (PyPI dartpy): the capsule rod of ``models/rod.xml`` as a DART skeleton under its boxed-LCP contact solver.
 
 ``options``: the run parameters (imports no dartpy); ``model``: the DART world (the five-joint chain, the
-capsule, the plane, the collision detector that has a capsule) and one rollout; ``engine``: ``simulate`` and
-``sweep``.  One registered name, ``dart``: DART's default ``BoxedLcpConstraintSolver`` with Dantzig's solver
-(dartpy 6.20 gives PGS no constructor, so it is not a second engine).  Importing this package does not
-import dartpy.
+capsule, the plane, the collision detector that has a capsule) and one rollout; ``console``: DART's C++ warnings
+on stderr, captured and counted; ``engine``: ``simulate`` and ``sweep``.  One registered name, ``dart``: DART's
+default ``BoxedLcpConstraintSolver`` with Dantzig's solver (dartpy 6.20 gives PGS no constructor, so it is not a
+second engine).  Importing this package does not import dartpy.
 """
 
 from crosscheck.engines.spec import EngineSpec, Execution, Ladder, ReportPlan

@@ -38,16 +38,20 @@ from crosscheck.engines import get
 from crosscheck.engines.adapter import record_from_chain
 from crosscheck.engines.base import Run, SweepResult, n_steps_within_memory, run_inputs, sweep_by_simulate
 from crosscheck.engines.classifier import Thresholds, classify, first_event_final
+from crosscheck.engines.dart.console import captured
 from crosscheck.engines.dart.model import World
 from crosscheck.engines.dart.options import Options
 from crosscheck.engines.physx.chain import Raw
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
-__all__ = ["NAME", "Options", "DartHealth", "simulate", "sweep", "health"]
+__all__ = ["NAME", "WARNING_KIND", "Options", "DartHealth", "simulate", "sweep", "health"]
 
 #: The engine's registry name.
 NAME = "dart"
+
+#: The kind ``sweep`` counts DART's warning lines under (``SweepResult.warnings``).
+WARNING_KIND = "DART warning"
 
 #: Bytes per record row, as Bullet's (~3 x the measured peak of a chain rollout's arrays).
 ROW_BYTES = 1536
@@ -60,11 +64,14 @@ class DartHealth:
     contact_steps: steps with a contact point.
     max_points: the most contact points in one step (1: the capsule's end cap).
     max_penetration: the deepest penetration DART's collision detection reported [l] (0 if none).
+    warnings: DART's own warning lines over the whole run (``crosscheck.engines.dart.console``; "Non-finite joint
+      accelerations detected ..." once its state has blown up), captured from stderr instead of printed.
     """
 
     contact_steps: int
     max_points: int
     max_penetration: float
+    warnings: int = 0
 
 
 def _record(raw: Raw, rod: Rod, opts):
@@ -104,17 +111,18 @@ def simulate(
         record = _record(raw, rod, opts)
         return first_event_final(classify(record, **rules), raw.computed, th, opts.timestep)
 
-    raw = World(rod, mu, opts).rollout(q0, v0, n, judged if until_event else None)
+    with captured() as console:  # DART's C++ warnings counted, not printed
+        raw = World(rod, mu, opts).rollout(q0, v0, n, judged if until_event else None)
     record = _record(raw, rod, opts)
     c = classify(record, **rules)
     run = Run.from_classification(
         NAME, c, record, state=state, mu=mu, alpha=rod.alpha, options=opts, thresholds=th, horizon=horizon, nstep=n
     )
-    return dataclasses.replace(run, solver=health(raw, record, rod))
+    return dataclasses.replace(run, solver=health(raw, record, rod, warnings=console.warnings))
 
 
-def health(raw: Raw, record, rod: Rod) -> DartHealth:
-    """``DartHealth`` of a rollout, over the rows before theta leaves (0, pi/2)."""
+def health(raw: Raw, record, rod: Rod, *, warnings: int = 0) -> DartHealth:
+    """``DartHealth`` of a rollout, over the rows before theta leaves (0, pi/2); ``warnings``: DART's warning lines."""
     inside = (record.theta > 0.0) & (record.theta < np.pi / 2)
     m = len(record) if inside.all() else int(np.argmin(inside))
     points, separation = raw.points[:m], raw.separation[:m]
@@ -124,6 +132,7 @@ def health(raw: Raw, record, rod: Rod) -> DartHealth:
         contact_steps=int(contact.sum()),
         max_points=int(points.max(initial=0)),
         max_penetration=max(0.0, -deepest) / rod.length,
+        warnings=warnings,
     )
 
 
@@ -138,8 +147,10 @@ def sweep(
     workers: int = 1,
     **options,
 ) -> SweepResult:
-    """Every state through ``simulate``, on ``workers`` processes, each stopped once its first event is judged."""
-    return sweep_by_simulate(
+    """Every state through ``simulate``, on ``workers`` processes, each stopped once its first event is judged.
+
+    ``SweepResult.warnings``: DART's warning lines over the runs (``DartHealth.warnings``), as ``WARNING_KIND``."""
+    result = sweep_by_simulate(
         get(NAME),
         rod,
         states,
@@ -151,3 +162,5 @@ def sweep(
         until_event=True,
         **options,
     )
+    warned = int(np.sum(result.solver["warnings"]))
+    return dataclasses.replace(result, warnings={WARNING_KIND: warned} if warned else {})

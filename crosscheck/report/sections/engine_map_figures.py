@@ -117,7 +117,8 @@ def _intro(ctx: RenderContext, maps: list, name: str, opts: str, other_name: str
 
 
 def _warnings(maps: list, name: str) -> list:
-    """The engine's own console warnings during the runs, captured (crosscheck.engines.mujoco.warning_counts)."""
+    """The engine's own console warnings during the runs, captured (MuJoCo's: crosscheck.engines.mujoco.warning_counts;
+    DART's: crosscheck.engines.dart.console)."""
     warned: dict[str, int] = {}
     for mp in maps:
         for r in mp["runs"]:
@@ -129,7 +130,13 @@ def _warnings(maps: list, name: str) -> list:
         Text(
             f"{name} warned during these runs: "
             + "; ".join(f'{n} x "{k}"' for k, n in sorted(warned.items()))
-            + ". Each is MuJoCo resetting a run after an instability; the classifier records the run's divergence (DIVERGED unless an event came first)."
+            + ". "
+            + (
+                "Each is MuJoCo resetting a run after an instability. "
+                if name == "MuJoCo"
+                else "Each is one warning line the engine printed, counted instead of shown. "
+            )
+            + "The classifier records a run's divergence (DIVERGED unless an event came first)."
         )
     ]
 

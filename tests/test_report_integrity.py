@@ -235,3 +235,18 @@ def test_a_disk_that_fills_during_the_render_is_one_line(tmp_path, monkeypatch, 
             and err.startswith(f"crosscheck: error: out {str(mnt / 'r')!r}")
             and "has no room left (No space left on device)" in err
         )
+
+
+def _render_newer(ctx):
+    """The toy's render as a later version of it: it reads a key its saved summary (an earlier version's) lacks."""
+    return [Table(caption="n", header=["n"], rows=[[str(ctx.store.read_json("summary")["median"])]])]
+
+
+def test_results_saved_by_another_version_of_a_section_name_the_missing_key_and_the_rerun(saved, monkeypatch, capsys):
+    monkeypatch.setattr(report, "SECTIONS", (Section("toy", "Toy", "", lambda quick: {"n": 3}, _run, _render_newer),))
+    capsys.readouterr()
+    assert main(["report", "--from-results", "--out", str(saved), "--no-progress"]) == 1
+    out = capsys.readouterr()
+    line = next(x for x in (out.out + out.err).splitlines() if "render failed" in x)
+    assert "KeyError: 'median'" in line and "rerun it with `crosscheck report --only toy`" in line, line
+    assert "Traceback" not in out.out + out.err

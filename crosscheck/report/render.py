@@ -100,6 +100,11 @@ def _view(section: Section, out: Path) -> SectionView:
     except Exception as e:  # noqa: BLE001  (one section's figure must not stop the report)
         if not view.error:  # a failed run explains a failed render: show the run's error only
             view.error = f"render failed: {type(e).__name__}: {e}"
+            if isinstance(e, (KeyError, FileNotFoundError)):  # results saved by another version of the section
+                view.error += (
+                    " (its saved results lack it: saved by another version of crosscheck?); rerun it with "
+                    f"`crosscheck report --only {section.slug}`"
+                )
             view.traceback = traceback.format_exc()
     return view
 

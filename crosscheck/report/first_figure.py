@@ -30,10 +30,13 @@ _FIELDS = (
 )  # fmt: skip
 
 
-#: One colour per engine, registry order: tab10 without its red (LAUNCH's) and grey (the frontier's), then tab20's dark.
-_PALETTE = [plt.get_cmap("tab10")(i) for i in (0, 1, 2, 4, 5, 6, 8, 9)] + [
-    plt.get_cmap("tab20b")(i) for i in (0, 4, 8, 12, 16)
-]
+#: One colour per engine, registry order: tab10 without its red (LAUNCH's) and grey (the frontier's), then tab20b's dark
+#: shades and Dark2's teal, magenta and mustard: 16 distinct colours, so the 15 registered engines share none.
+_PALETTE = (
+    [plt.get_cmap("tab10")(i) for i in (0, 1, 2, 4, 5, 6, 8, 9)]
+    + [plt.get_cmap("tab20b")(i) for i in (0, 4, 8, 12, 16)]
+    + [plt.get_cmap("Dark2")(i) for i in (0, 3, 5)]
+)
 
 
 def pareto(points: list[tuple[float, float]]) -> list[bool]:
@@ -123,11 +126,11 @@ def _draw(pts: list[dict]):
     _frontier(mid, [{**p, "x": p["median_abs_event_time_error"]} for p in wp], "x", "runs_per_s", "pareto_error_cost")
     left.set(xscale="log", xlabel="runs per second (one core; log)", ylabel="agreement with the theory (95 % interval)")
     left.set_ylim(0, 1.02)
-    left.set_title("agreement against cost (◇ map setting, ● convergence)")
+    left.set_title("agreement against cost\n(◇ map setting, ● convergence)")
     left.axhspan(0.95, 1.02, color="#d4f4d4", zorder=0, lw=0)
     left.legend(loc="lower left", fontsize=7, frameon=False)
     mid.set(xscale="log", yscale="log", xlabel="median |event time - theory's| (scaled time; log)",
-            ylabel="runs per second (log)", title="work-precision: event-time error against cost")  # fmt: skip
+            ylabel="runs per second (log)", title="work-precision:\nevent-time error against cost")  # fmt: skip
     _jams_and_launch(right, pts, colors)
     return fig
 

@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import asdict
 
 import numpy as np
 
@@ -392,8 +391,3 @@ class _Tally:
             "n": n,
             "removed_by_any": self.removed,
         }
-
-
-def as_record(x) -> dict:
-    """A JSON-ready copy of a dataclass or dict."""
-    return asdict(x) if hasattr(x, "__dataclass_fields__") else dict(x)

@@ -25,6 +25,7 @@ from __future__ import annotations
 import importlib
 import json
 import os
+import signal
 import sys
 import time
 import traceback
@@ -154,10 +155,14 @@ def _compute(s: Section, out: Path, status: dict, ctx: RunContext, log: bool) ->
 
 
 def _in_child(parent: int, job) -> None:
-    """A forked section process: die with the report, drop its lock, run the section, exit."""
+    """A forked section process: die with the report, drop its lock, run the section, exit.  It ignores SIGINT: a
+    Ctrl-C reaches the whole process group, and the report alone answers it (it kills its sections, whose finished
+    predecessors are kept), as the sweeps' workers do (``crosscheck.workers``)."""
     from crosscheck.workers import adopt
 
     adopt(parent)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})  # blocked by the parent across the fork
     code = 0
     try:
         job()
@@ -245,8 +250,14 @@ def _run_parallel(jobs_of: dict, order: list[Section], jobs: int, outer, results
                 s = ready.pop(0)
                 pending.remove(s)
                 proc = ctx.Process(target=_in_child, args=(parent, jobs_of[s.slug]), name=f"section {s.slug}")
-                proc.start()
-                running[proc.sentinel] = (proc, s)
+                # SIGINT held across the fork: a Ctrl-C during it would raise inside the fork's handlers (logging's
+                # lock release), which swallow it, and the report would go on; held, it is raised after the fork
+                held = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+                try:
+                    proc.start()
+                    running[proc.sentinel] = (proc, s)  # before the SIGINT can come: a running section is killed
+                finally:
+                    signal.pthread_sigmask(signal.SIG_SETMASK, held)
             if hasattr(outer, "set_postfix_str"):
                 outer.set_postfix_str(", ".join(sec.slug for _, sec in running.values()))
             if not running:  # an ``after`` outside this run, or a cycle: run in the declared order

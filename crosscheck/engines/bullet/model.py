@@ -47,21 +47,13 @@ import numpy as np
 from crosscheck.coordinates import tip_position, tip_velocity
 from crosscheck.engines.classifier import FIRST_CHECK
 from crosscheck.rod import Rod
+from crosscheck.stderr_fd import silenced
 
 
 def _import_pybullet():
     """``import pybullet`` without the build-time line its C code writes to stderr (once per process, so once per worker)."""
-    import sys
-
-    sys.stderr.flush()
-    saved, devnull = os.dup(2), os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(devnull, 2)
+    with silenced():
         import pybullet
-    finally:
-        os.dup2(saved, 2)
-        os.close(saved)
-        os.close(devnull)
     return pybullet
 
 

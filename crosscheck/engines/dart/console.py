@@ -13,9 +13,10 @@ from __future__ import annotations
 import contextlib
 import os
 import re
-import sys
 import tempfile
 from dataclasses import dataclass
+
+from crosscheck.stderr_fd import redirected
 
 __all__ = ["Captured", "captured", "is_warning"]
 
@@ -35,12 +36,6 @@ def is_warning(line: bytes) -> bool:
     return _WARNING.match(line) is not None
 
 
-def _flush_python_stderr() -> None:
-    """Python's own buffered stderr text out to fd 2 (sys.stderr may be None or closed: nothing to flush then)."""
-    with contextlib.suppress(AttributeError, OSError, ValueError):
-        sys.stderr.flush()
-
-
 def _write_all(fd: int, data: bytes) -> None:
     view = memoryview(data)
     while view:
@@ -52,16 +47,11 @@ def captured():
     """fd 2 into a temporary file for the block; on leaving it is restored, DART's warning lines are counted into the
     yielded ``Captured`` and the other lines are written to the restored stderr."""
     seen = Captured()
-    _flush_python_stderr()
     with tempfile.TemporaryFile() as sink:
-        saved = os.dup(2)
         try:
-            os.dup2(sink.fileno(), 2)
-            yield seen
+            with redirected(sink.fileno()):
+                yield seen
         finally:
-            _flush_python_stderr()
-            os.dup2(saved, 2)
-            os.close(saved)
             sink.seek(0)
             lines = sink.read().splitlines(keepends=True)
             seen.warnings = sum(map(is_warning, lines))

@@ -4,8 +4,6 @@ unless a run asks for device "cuda")."""
 from __future__ import annotations
 
 import math
-import os
-import sys
 from dataclasses import dataclass
 from typing import Any
 
@@ -14,6 +12,7 @@ import numpy as np
 from crosscheck.checks import NONNEGATIVE, POSITIVE, UNIT, Interval
 from crosscheck.engines.options import EngineOptions
 from crosscheck.state import check_timestep, real, real_scalar
+from crosscheck.stderr_fd import silenced
 
 #: How tables and messages name the engine of each solver.
 LABELS = {
@@ -68,15 +67,8 @@ def init_warp():
 
     wp.config.quiet = True
     wp.config.log_level = wp.LOG_WARNING
-    sys.stderr.flush()
-    saved, devnull = os.dup(2), os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(devnull, 2)
+    with silenced():
         wp.init()  # once per process (a no-op afterwards)
-    finally:
-        os.dup2(saved, 2)
-        os.close(saved)
-        os.close(devnull)
     return wp
 
 

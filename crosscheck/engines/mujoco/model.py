@@ -92,10 +92,20 @@ AXIAL_INERTIA = 1e-12
 MJ_MINVAL = 1e-15
 
 
-def axial_inertia(inertia: float) -> float:
-    """The axial inertia [kg m^2] MuJoCo's model gives a rod of transverse inertia I0 = ``inertia``: AXIAL_INERTIA I0,
-    at least 10 MJ_MINVAL (``crosscheck.engines.mujoco.law`` mirrors it)."""
-    return max(AXIAL_INERTIA * inertia, 10.0 * MJ_MINVAL)
+def axial_inertia(inertia: float, relative: float = AXIAL_INERTIA) -> float:
+    """The axial inertia [kg m^2] MuJoCo's model gives a rod of transverse inertia I0 = ``inertia``: ``relative`` I0,
+    at least 10 MJ_MINVAL (``crosscheck.engines.mujoco.law`` mirrors it; MuJoCo Warp's model through Newton too)."""
+    return max(relative * inertia, 10.0 * MJ_MINVAL)
+
+
+def check_rod(rod: Rod, name: str = "MuJoCo") -> None:
+    """ValueError unless the rod's mass and inertia are above 10 MJ_MINVAL, the least MuJoCo's compiler accepts of a
+    moving body (``name``: the engine that compiles it)."""
+    if min(rod.mass, rod.inertia) <= 10.0 * MJ_MINVAL:
+        raise ValueError(
+            f"rod must have a mass [kg] and an inertia I0 [kg m^2] above 1e-14 for {name} (MuJoCo's mjMINVAL is "
+            f"1e-15); got mass {rod.mass:g}, inertia {rod.inertia:g}"
+        )
 
 
 def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
@@ -142,11 +152,7 @@ def build_model(rod: Rod, mu: float, options) -> mujoco.MjModel:
     # The keyframe is the viewer's start pose for the file's own parameters.
     for key in list(spec.keys):
         spec.delete(key)
-    if min(rod.mass, rod.inertia) <= 10.0 * MJ_MINVAL:
-        raise ValueError(
-            f"rod must have a mass [kg] and an inertia I0 [kg m^2] above 1e-14 for MuJoCo (its mjMINVAL is 1e-15); "
-            f"got mass {rod.mass:g}, inertia {rod.inertia:g}"
-        )
+    check_rod(rod)
     try:
         return spec.compile()
     except ValueError as e:

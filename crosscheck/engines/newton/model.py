@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from crosscheck.engines.mujoco.model import MJ_MINVAL
+from crosscheck.engines.mujoco.model import axial_inertia, check_rod
 from crosscheck.engines.newton.options import init_warp
 
 wp = init_warp()
@@ -92,12 +92,8 @@ def _world(rod: Rod, options) -> newton.ModelBuilder:
     I0 = rod.inertia
     axial = options.axial_inertia * I0
     if options.solver == "mujoco":  # MuJoCo compiles the model: its mjMINVAL floor, as the mujoco engine's
-        if min(m, I0) <= 10.0 * MJ_MINVAL:
-            raise ValueError(
-                f"rod must have a mass [kg] and an inertia I0 [kg m^2] above 1e-14 for MuJoCo Warp (MuJoCo's mjMINVAL "
-                f"is 1e-15); got mass {m:g}, inertia {I0:g}"
-            )
-        axial = max(axial, 10.0 * MJ_MINVAL)
+        check_rod(rod, "MuJoCo Warp")
+        axial = axial_inertia(I0, options.axial_inertia)
     body = one.add_link(mass=m, inertia=wp.mat33(I0, 0.0, 0.0, 0.0, axial, 0.0, 0.0, 0.0, I0), lock_inertia=True)
     along_y = wp.quat_from_axis_angle(wp.vec3(1.0, 0.0, 0.0), -math.pi / 2)  # the capsule's z axis onto body y
     one.add_shape_capsule(body, xform=wp.transform(wp.vec3(0.0, 0.0, 0.0), along_y), radius=r, half_height=l, cfg=cfg)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -430,7 +431,9 @@ def cli_cases(tmp: Path) -> list:
                 "file",
             )
         )
-    return cases
+    # ids without the scratch directory's random name: pytest-xdist's workers must collect the same ids
+    token = re.escape(tmp.name[-8:])  # (mkdtemp's random part)
+    return [(re.sub(r"[^\s=]*" + token, "<tmp>", i), argv, param) for i, argv, param in cases]
 
 
 def _simulate(engine, rod, state, key: str, value):

@@ -25,6 +25,35 @@ import pytest
 from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
+#: Warp's kernel cache filled once before the workers start (``pytest_configure``): a fresh machine compiles Newton's
+#: kernels for ~50 CPU s per solver, and the suite's two workers would otherwise each compile the same kernels.  The
+#: marker file in Warp's cache names the versions it was filled for (a cleared cache clears the marker with it).
+_WARM_WARP = """
+import json, pathlib, sys
+from importlib import metadata
+from crosscheck import engines
+newton = [s for s in engines.specs() if s.name.startswith("newton_") and not s.unavailable()]
+if not newton:
+    sys.exit(0)
+import warp
+from crosscheck.engines.newton.options import init_warp
+init_warp()
+versions = {d: metadata.version(d) for d in ("newton", "warp-lang", "mujoco-warp", "crosscheck")}
+marker = pathlib.Path(warp.config.kernel_cache_dir) / "crosscheck-warm.json"
+if marker.is_file() and json.loads(marker.read_text()) == versions:
+    sys.exit(0)
+for spec in newton:
+    spec.preload()
+marker.write_text(json.dumps(versions))
+"""
+
+
+def pytest_configure(config):
+    # in the process that starts pytest-xdist's workers (or the only process): once, before any test
+    if not hasattr(config, "workerinput"):
+        subprocess.run([sys.executable, "-c", _WARM_WARP], check=True)
+
+
 #: alpha of a uniform rod (I0 = m l^2 / 3), the paper's running example.
 ALPHA = 3.0
 

@@ -99,15 +99,47 @@ def _head() -> str:
 HEADS: list[str] = []
 
 
+#: The committed reference report the suite checks (``crosscheck report --quick --out reports/quick``).
+COMMITTED = Path(__file__).resolve().parents[1] / "reports" / "quick"
+
+#: Seconds, as the committed report recorded them, of the sections the suite recomputes whatever their provenance,
+#: cheapest first (a budget for the suite's time, not physics): ~115 of the 172 sections, every kind of section among
+#: them (theory, maps, contact, lift-off, IC, impact, Psi, rounding, convergence, ladder, interventions).
+RECOMPUTED_SECONDS = 40.0
+
+
+def _recomputed(prov: dict) -> list[str]:
+    """The committed report's cheapest sections within ``RECOMPUTED_SECONDS`` of their recorded time."""
+    chosen, total = [], 0.0
+    for slug, seconds in sorted(prov["section_seconds"].items(), key=lambda kv: (kv[1], kv[0])):
+        if total + seconds > RECOMPUTED_SECONDS:
+            break
+        chosen.append(slug)
+        total += seconds
+    return chosen
+
+
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):
-    """One quick report for the whole module: (directory, exit status)."""
+    """The committed quick report, checked and rendered again: (directory, render summary, sections recomputed).
+
+    A copy of ``reports/quick`` as a clean checkout holds it (no sweeps) is resumed as ``crosscheck report --quick``
+    resumes a report: a section computed by other code (any change to the package or to a computing library's
+    version), other parameters or another seed is recomputed, and so is every section of ``_recomputed``; the others
+    are kept, their provenance (``status.json``: the code's sha256) saying this code computed them.  The numbers of
+    the result are then compared with the committed ones (``test_the_committed_quick_report_is_current``)."""
     out = tmp_path_factory.mktemp("report") / "quick"
+    shutil.copytree(COMMITTED, out, ignore=shutil.ignore_patterns("sweeps", ".lock"))
+    recomputed = _recomputed(json.loads((COMMITTED / "data" / "provenance.json").read_text()))
+    for slug in recomputed:
+        for name in ("status.json", "status.json.sha256"):
+            (out / "data" / slug / name).unlink(missing_ok=True)
     HEADS.append(_head())
-    report.run(out, report.SECTIONS, quick=True)  # what `crosscheck report --quick --out DIR` does, keeping the views
+    report.run(out, report.SECTIONS, quick=True, resume=True)  # `crosscheck report --quick --out DIR`, views kept
     summary = report.render(out, report.SECTIONS)
     HEADS.append(_head())
-    return out, summary
+    resumed = set(json.loads((out / "data" / "provenance.json").read_text())["sections_resumed"])
+    return out, summary, {s.slug for s in report.SECTIONS} - resumed
 
 
 @pytest.fixture(scope="module")
@@ -130,7 +162,7 @@ def test_every_section_is_listed_in_the_expected_figures():
 
 
 def test_quick_report_succeeds_and_every_section_ran(quick):
-    out, summary = quick
+    out, summary, _ = quick
     assert summary.failures == [], (out / "report.md").read_text()[:3000]
     for s in report.SECTIONS:
         st = json.loads((out / "data" / s.slug / "status.json").read_text())
@@ -140,12 +172,36 @@ def test_quick_report_succeeds_and_every_section_ran(quick):
             assert "full report only" in st["reason"]
 
 
+def test_every_section_was_computed_by_this_code_with_the_quick_parameters(quick):
+    """Each section's results, kept or recomputed, name the sha256 of the code that computed them: this code's (the
+    package and its computing libraries' versions), at this seed and these parameters; the cheapest were recomputed."""
+    from crosscheck.report.pipeline import code_digest
+
+    out, _, recomputed = quick
+    code = code_digest()
+    for s in report.SECTIONS:
+        st = json.loads((out / "data" / s.slug / "status.json").read_text())
+        assert (st["code_sha256"], st["seed"], st["quick"]) == (code, 0, True), s.slug
+        assert st["params"] == json.loads(json.dumps(s.params(True), default=str)), s.slug
+    assert len(recomputed) >= 100
+
+
+def test_the_code_digest_reads_the_model_behind_the_checkouts_link():
+    # a checkout's crosscheck/_models is a link to models/; an installed package holds a copy: the same files either way
+    from crosscheck.report.pipeline import code_files
+
+    names = {p.as_posix() for p in code_files()}
+    assert "_models/rod.xml" in names and "report/pipeline.py" in names
+    assert not any("__pycache__" in n or not n.endswith((".py", ".xml")) for n in names)
+
+
 def test_engines_mapping_one_grid_share_one_kept_theory_and_read_the_same_analytic_events(quick):
     """Each map grid's analytic events are integrated once and kept under the sweeps directory (``RunContext.shared``):
-    one file per grid, and every engine's events table of that grid holds the same analytic columns, bit for bit."""
+    one file per grid the recomputed map sections map, and every engine's events table of that grid holds the same
+    analytic columns, bit for bit (the recomputed ones and the committed ones)."""
     import csv
 
-    out, _ = quick
+    out, _, recomputed = quick
     kept = sorted((out / "sweeps" / "analytic_events").glob("*.npz"))
     maps = sorted(p for p in (out / "data").glob("*_maps") if (p / "maps.json").is_file())
     grids: dict = {}
@@ -171,17 +227,19 @@ def test_engines_mapping_one_grid_share_one_kept_theory_and_read_the_same_analyt
     assert len(maps) >= 8 and shared  # eight engines map the quick grids
     for g in shared:
         assert all(cols == g[0][1] for _, cols in g[1:]), [name for name, _ in g]
-    # one kept file per distinct grid (its axes' values in the key above), however many engines map it
+    # one kept file per distinct grid (its axes' values in the key above) the recomputed sections map, however many
+    # of them map it
+    ran = [[name for name, _ in g if name in recomputed] for g in grids.values()]
     assert (
         len([p for p in kept if not p.name.startswith("convergence-")])
-        == len(grids)
-        < sum(len(g) for g in grids.values())
+        == len([r for r in ran if r])
+        < sum(len(r) for r in ran)
     )
 
 
 @pytest.mark.parametrize("section", report.SECTIONS, ids=lambda s: s.slug)
 def test_every_figure_and_table_has_its_files(quick, views, section):
-    out, _ = quick
+    out = quick[0]
     view = views[section.slug]
     figures = [b for b in view.blocks if isinstance(b, Figure)]
     stems = [Path(f.stem).name for f in figures]
@@ -236,7 +294,7 @@ def _md_section(md: str, title: str) -> str:
 
 
 def test_report_rebuilds_from_saved_results_without_running(quick, views, tmp_path, monkeypatch):
-    out, _ = quick
+    out = quick[0]
     copy = tmp_path / "copy"
     shutil.copytree(out, copy)
     data_before = _digest(copy / "data")
@@ -262,7 +320,7 @@ def test_report_rebuilds_from_saved_results_without_running(quick, views, tmp_pa
 
 
 def test_provenance_records_versions_revision_machine_parameters_tolerances_seed(quick):
-    out, _ = quick
+    out = quick[0]
     prov = json.loads((out / "data" / "provenance.json").read_text())
     for dist in ("crosscheck", "mujoco", "pin", "numpy", "scipy"):
         assert prov["versions"][dist] == metadata.version(dist)
@@ -290,7 +348,7 @@ def test_provenance_records_versions_revision_machine_parameters_tolerances_seed
 
 
 def test_printed_numbers_table_flags_every_known_misprint_and_nothing_else(quick):
-    out, _ = quick
+    out = quick[0]
     md = (out / "report.md").read_text()
     section = md[md.index("## Every number the paper prints") :]
     table = section[: section.index("[data: printed_values.csv]")]
@@ -305,7 +363,7 @@ def test_printed_numbers_table_flags_every_known_misprint_and_nothing_else(quick
 def test_the_pinocchio_validations_worst_states_are_saved_inside_the_papers_domain(quick):
     # the worst state of a quantity through M^-1 is often a near-horizontal rod (theta down to 1e-8): saved with too few
     # digits its theta read 0, a state the paper's equations exclude
-    out, _ = quick
+    out = quick[0]
     t = SectionStore(out / "data" / "pinocchio").read_table(
         "errors_per_quantity", text=("quantity", "passed", "worst_state")
     )
@@ -404,7 +462,7 @@ def test_unknown_section_is_a_one_line_error(tmp_path, capsys):
 def test_sweep_heavy_sections_keep_their_engine_runs_in_finished_stores(quick):
     """The agreement maps and convergence tables ran their engines through crosscheck.sweeps: complete stores, per setting one
     per run horizon (``crosscheck.studies.agreement_store``), each horizon a halving of the study's plus the margin."""
-    out, _ = quick
+    out, _, recomputed = quick
     from crosscheck.sweeps import Store
 
     heavy = [(f"{e.slug}_maps", 3) for e in engines.specs() if e.report and e.report.maps]
@@ -414,6 +472,9 @@ def test_sweep_heavy_sections_keep_their_engine_runs_in_finished_stores(quick):
         if e.report and e.report.convergence
     ]
     assert ("mujoco_convergence", 4) in heavy and ("rigid_convergence", 3) in heavy
+    # the sections recomputed here (a clean checkout's reports/quick keeps no sweeps): maps and convergence among them
+    heavy = [(slug, n) for slug, n in heavy if slug in recomputed]
+    assert {slug.rsplit("_", 1)[1] for slug, _ in heavy} == {"maps", "convergence"}
     for slug, n_settings in heavy:
         manifests = sorted((out / "sweeps" / slug).rglob("manifest.json"))
         settings: dict = {}
@@ -481,7 +542,7 @@ def test_findings_come_first_with_a_line_per_engine(quick):
     """The Findings block: one first-event line per engine with maps, its counts those of the saved confusion matrices."""
     from crosscheck.report.findings import findings
 
-    out, _ = quick
+    out = quick[0]
     found = findings(out / "data")
     first = {f.slug: f for f in found if f.leg.endswith("first event")}
     assert set(first) == {f"{e.slug}_maps" for e in engines.specs() if e.report and e.report.maps}
@@ -505,7 +566,7 @@ def test_the_engine_table_holds_numbers_a_row_per_engine_and_setting(quick):
 
     from crosscheck.report.findings import findings
 
-    out, _ = quick
+    out = quick[0]
     records = json.loads((out / "data" / "engine_table.json").read_text())
     plans = [e for e in engines.specs() if e.report and e.report.maps]
     assert len(records) == sum(1 + len(e.report.convergence["quick"] if e.report.convergence else []) for e in plans)
@@ -550,7 +611,7 @@ def test_the_first_screen_is_the_bottom_line_the_figure_and_one_row_per_engine(q
 
     from crosscheck.report.engine_table import FOOTNOTES
 
-    out, _ = quick
+    out = quick[0]
     html, md = (out / "index.html").read_text(), (out / "report.md").read_text()
     bottom = json.loads((out / "data" / "bottom_line.json").read_text())
     assert 1 <= len(bottom) <= 5
@@ -576,7 +637,7 @@ def test_every_engine_has_its_own_page_linked_from_the_contents(quick):
     index; the index's contents list the theory's sections then one entry per engine (<= 40 entries)."""
     from crosscheck.report.sections import THEORY_SECTIONS, engine_sections
 
-    out, _ = quick
+    out = quick[0]
     html, md = (out / "index.html").read_text(), (out / "report.md").read_text()
     nav = html[html.index('<nav class="toc" id="contents">') :]
     nav = nav[: nav.index("</nav>")]
@@ -603,7 +664,7 @@ def test_the_first_screen_in_chromium_at_1400_by_900(quick):
     sys.path.insert(0, str(Path(__file__).parent))
     from browser import HEIGHT, WIDTH, measure
 
-    out, _ = quick
+    out = quick[0]
     m = measure(out / "index.html")
     screen = min(HEIGHT, m["innerHeight"])
     assert m["scrollWidth"] <= m["clientWidth"] <= WIDTH, m
@@ -624,7 +685,7 @@ def test_the_committed_quick_report_is_current(quick):
     aside): a change that moves a number must regenerate it (`crosscheck report --quick --out reports/quick`)."""
     from crosscheck.report.compare_data import compare
 
-    out, _ = quick
+    out = quick[0]
     committed = Path(__file__).resolve().parents[1] / "reports" / "quick" / "data"
     differ = {k: v[:3] for k, v in compare(committed, out / "data").items() if v}
     assert not differ, f"reports/quick is stale; regenerate it: {differ}"
@@ -688,7 +749,7 @@ def test_compare_data_allows_only_the_machine_dependent_bits(tmp_path):
 
 def test_the_causes_confirmed_on_every_engine_are_drawn_beside_the_engine_table_from_their_summaries(quick):
     """Each engine's bar is its interventions summary split into bins that hold each attributed start once."""
-    out, _ = quick
+    out = quick[0]
     rows = json.loads((out / "data" / "causes_confirmed.json").read_text())
     assert {r["section"] for r in rows} == {
         p.parent.name

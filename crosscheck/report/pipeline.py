@@ -79,22 +79,30 @@ def lock(out: Path):
     return exclusive(Path(out) / LOCK_FILE, owner_text(), refuse)
 
 
-def code_digest() -> str:
-    """sha256 of what computed a section: crosscheck's source (every .py and model file of the package, by
-    relative path) and the versions of the libraries that compute (numpy, scipy and every engine's libraries)."""
-    import hashlib
-
+def code_files() -> list[Path]:
+    """The package's source and model files (``.py``, ``.xml``) by relative path, through links too: a checkout links
+    crosscheck/_models to models/, an installed package holds its copy, and both must give one digest."""
     import crosscheck
 
     root = Path(crosscheck.__file__).parent
-    h = hashlib.sha256()
+    files = [Path(d, f).relative_to(root) for d, _, names in os.walk(root, followlinks=True) for f in names]
+    return sorted(p for p in files if p.suffix in (".py", ".xml") and "__pycache__" not in p.parts)
+
+
+def code_digest() -> str:
+    """sha256 of what computed a section: crosscheck's source (``code_files``) and the versions of the libraries that
+    compute (numpy, scipy and every engine's libraries)."""
+    import hashlib
+
+    import crosscheck
     from crosscheck import engines
 
+    root = Path(crosscheck.__file__).parent
+    h = hashlib.sha256()
     h.update(json.dumps(provenance.package_versions(("numpy", "scipy", *engines.libraries())), sort_keys=True).encode())
-    for p in sorted(root.rglob("*")):
-        if p.suffix in (".py", ".xml") and "__pycache__" not in p.parts:
-            h.update(str(p.relative_to(root)).encode())
-            h.update(p.read_bytes())
+    for p in code_files():
+        h.update(p.as_posix().encode())
+        h.update((root / p).read_bytes())
     return h.hexdigest()
 
 

@@ -60,9 +60,7 @@ _MODULES = {"mujoco": "mujoco_warp", "xpbd": "xpbd", "featherstone": "feathersto
 #: Each solver's models in between (crosscheck.studies.ladder, ``crosscheck.engines.newton.ladder``) and the
 #: interventions on the solver itself that test each cause (``crosscheck.engines.newton.interventions``).  The ladder and
 #: interventions sections run one start at a time (``EngineSpec.first_event``), as many as ``_LADDER_STATES`` says,
-#: so their cost is their runs' steps: measured in the quick report at timestep 3e-3 with the other sections' jobs beside them
-#: on the 2 shared cores (wall seconds, ladder / interventions): XPBD 18 / 146, Featherstone 115 / 182, semi-implicit
-#: 77 / 93, MuJoCo Warp 64 / (its interventions, ~15 runs a start at ~7 ms of CPU a step, the most).  Their grids are
+#: so their cost is their runs' steps (``_LADDER_STATES`` gives a start's, measured).  Their grids are
 #: the maps' (no grid of their own); a finer step than a sixteenth of the run's is never taken, and on MuJoCo Warp
 #: none finer than a quarter (``crosscheck.engines.newton.interventions``).
 _L, _I = "crosscheck.engines.newton.ladder:", "crosscheck.engines.newton.interventions:"
@@ -111,11 +109,16 @@ _LADDERS = {
 _LADDERS["semi_implicit"] = _LADDERS["featherstone"]
 
 
-#: Starts the ladder (and so the interventions) runs, by cost: the quick report at 3 starts took 166 s of a section's
-#: wall time for MuJoCo Warp's interventions (~15 runs a start, each its full step count at ~7 ms of CPU a step, and a
-#: quarter step the finest) and 53 / 30 / 13 s for Featherstone's, XPBD's and the semi-implicit solver's, with the
-#: other sections beside them; so MuJoCo Warp ladders 1 start (quick) and 3 (full), the others 2 and 10.
-_LADDER_STATES = {"mujoco": {"quick": 1, "full": 3}, "penalty": {"quick": 2, "full": 10}}
+#: Starts the ladder (and so the interventions) runs, by cost: a start costs 61 s of section time in MuJoCo Warp's
+#: ladder and interventions (~15 runs, each its full step count at ~7 ms of CPU a step, a quarter step the finest),
+#: 11 s in Featherstone's, 8.5 s in the semi-implicit solver's and 6 s in XPBD's (measured in the full report); so
+#: MuJoCo Warp ladders 1 start in either report and the others 1 (quick) and what ~30 s buys (full).
+_LADDER_STATES = {
+    "mujoco": {"quick": 1, "full": 1},
+    "featherstone": {"quick": 1, "full": 3},
+    "semi_implicit": {"quick": 1, "full": 4},
+    "xpbd": {"quick": 1, "full": 5},
+}
 
 
 def _engine(solver: str, order: int) -> EngineSpec:
@@ -135,7 +138,7 @@ def _engine(solver: str, order: int) -> EngineSpec:
             convergence_n={"quick": 3, "full": 4},
             order=order,
             ladder=True,
-            ladder_states=_LADDER_STATES["mujoco" if solver == "mujoco" else "penalty"],
+            ladder_states=_LADDER_STATES[solver],
             sections="crosscheck.engines.newton.sections:sections" if solver == "mujoco" else None,
         ),
         execution=Execution(

@@ -80,6 +80,8 @@ def ticking(desc: str, *, progress: bool | None, every: float = 1.0, interrupted
         yield
     finally:
         stop.set()
+        if wake is not None:
+            os.write(wake[1], b"\0")  # (not a SIGINT) wakes the watcher's select now, not at its timeout
         thread.join()
         if wake is not None:
             signal.set_wakeup_fd(wake[2])

@@ -26,32 +26,44 @@ from crosscheck.rod import Rod
 from crosscheck.state import SlipState
 
 #: Warp's kernel cache filled once before the workers start (``pytest_configure``): a fresh machine compiles Newton's
-#: kernels for ~50 CPU s per solver, and the suite's two workers would otherwise each compile the same kernels.  The
+#: kernels (about a minute of CPU per solver), and the suite's workers would otherwise each compile the same ones.  A
 #: marker file in Warp's cache names the versions it was filled for (a cleared cache clears the marker with it).
+#: ``check`` exits 3 when the cache is not filled, ``load NAME...`` preloads those engines, ``mark`` writes the marker.
 _WARM_WARP = """
 import json, pathlib, sys
 from importlib import metadata
 from crosscheck import engines
-newton = [s for s in engines.specs() if s.name.startswith("newton_") and not s.unavailable()]
-if not newton:
+if not [s for s in engines.specs() if s.name.startswith("newton_") and not s.unavailable()]:
     sys.exit(0)
 import warp
 from crosscheck.engines.newton.options import init_warp
 init_warp()
 versions = {d: metadata.version(d) for d in ("newton", "warp-lang", "mujoco-warp", "crosscheck")}
 marker = pathlib.Path(warp.config.kernel_cache_dir) / "crosscheck-warm.json"
-if marker.is_file() and json.loads(marker.read_text()) == versions:
-    sys.exit(0)
-for spec in newton:
-    spec.preload()
-marker.write_text(json.dumps(versions))
+if sys.argv[1] == "check":
+    sys.exit(0 if marker.is_file() and json.loads(marker.read_text()) == versions else 3)
+if sys.argv[1] == "mark":
+    marker.write_text(json.dumps(versions))
+for name in sys.argv[2:]:
+    engines.get(name).preload()
 """
+
+#: The Newton engines each warming process preloads, the two processes side by side: MuJoCo Warp's kernels, then
+#: Newton's own solvers'.
+_WARM_GROUPS = (("newton_mujoco",), ("newton_xpbd", "newton_featherstone", "newton_semi_implicit"))
 
 
 def pytest_configure(config):
     # in the process that starts pytest-xdist's workers (or the only process): once, before any test
-    if not hasattr(config, "workerinput"):
-        subprocess.run([sys.executable, "-c", _WARM_WARP], check=True)
+    if hasattr(config, "workerinput"):
+        return
+    warm = [sys.executable, "-c", _WARM_WARP]
+    if subprocess.run([*warm, "check"]).returncode != 3:
+        return
+    procs = [subprocess.Popen([*warm, "load", *group]) for group in _WARM_GROUPS]
+    if any(p.wait() != 0 for p in procs):
+        raise pytest.UsageError("filling Warp's kernel cache failed (see above)")
+    subprocess.run([*warm, "mark"], check=True)
 
 
 #: alpha of a uniform rod (I0 = m l^2 / 3), the paper's running example.

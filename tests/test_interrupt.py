@@ -93,15 +93,15 @@ def test_a_sigint_stops_a_sweep_with_one_line_and_the_rerun_resumes(tmp_path):
     assert f"14 chunks (14 runs): {len(kept)} reused, {14 - len(kept)} computed, 0 failed" in rerun.stdout
 
 
-#: A report of a few sections: three of the theory's (a few ms each) and three engines' (2 to 4 s each in the quick
+#: A report of a few sections: three of the theory's (a few ms each) and three engines' (~1 s each in the quick
 #: report), so that the run is interrupted with some sections finished and some not.
 REPORT_SECTIONS = [
     "critical_angles",
     "printed_numbers",
     "p_region",
-    "rigid_convergence",
-    "mujoco_convergence",
-    "drake_tamsi_rounding",
+    "mujoco_rounding",
+    "physx_tgs_convergence",
+    "drake_sap_convergence",
 ]
 #: The report command in its own process, on the sections above (``crosscheck.report.SECTIONS``, which a caller sets).
 REPORT = (

@@ -31,3 +31,12 @@ def test_nothing_is_drawn_off_a_terminal_and_the_wakeup_fd_is_given_back(capsys)
         time.sleep(0.2)
     assert wakeup_fd() == before
     assert capsys.readouterr().err == ""  # capsys's stderr is not a terminal
+
+
+def test_a_block_that_hears_sigint_ends_when_it_ends_not_at_the_watchers_next_tick():
+    # the watcher waits on the wakeup pipe ``every`` seconds at a time: the block's end wakes it (every refused or short
+    # `crosscheck simulate` waited up to a second after its answer)
+    t0 = time.monotonic()
+    with ticking("simulating", progress=None, every=30.0, interrupted="crosscheck: interrupted"):
+        pass
+    assert time.monotonic() - t0 < 5.0  # ended by the block, not after the watcher's 30 s wait

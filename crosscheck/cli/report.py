@@ -148,7 +148,7 @@ def register(sub) -> None:
         default=None,
         help="report directory (default: reports/latest; the committed reference is written only with --out reports/quick)",
     )
-    r.add_argument("--quick", action="store_true", help="small grids and short horizons (about 40 s on 2 cores)")
+    r.add_argument("--quick", action="store_true", help="small grids (about 3.5 minutes on 2 cores)")
     r.add_argument(
         "--from-results", action="store_true", help="rebuild the report from DIR/data without running anything"
     )

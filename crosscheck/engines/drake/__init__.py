@@ -110,10 +110,16 @@ _LADDER_CONTINUOUS = {
 }
 
 
-#: Starts each approximation's ladder runs in the full report (default: 30, ``engine_ladder.MAX_STATES``), by cost: a
-#: start costs 3.5 s of section time in Lagged's ladder and interventions and 1.9 s in the continuous plant's
-#: (measured in the full report; SAP, Similar and TAMSI 0.9-1.1 s), so those two ladder what ~35 s buys.
-_LADDER_STATES = {"lagged": {"quick": 3, "full": 10}, "continuous": {"quick": 3, "full": 16}}
+#: Starts each approximation's ladder runs in the full report, by cost: a start costs 3.5 s of section time in
+#: Lagged's ladder and interventions, 1.9 s in the continuous plant's and 0.9-1.1 s in SAP's, Similar's and TAMSI's
+#: (measured in the full report), so each ladders what ~15-25 s buys.
+_LADDER_STATES = {
+    "lagged": {"quick": 3, "full": 6},
+    "continuous": {"quick": 3, "full": 8},
+    "sap": {"quick": 3, "full": 12},
+    "similar": {"quick": 3, "full": 12},
+    "tamsi": {"quick": 3, "full": 12},
+}
 
 
 def _ladder(a: str) -> Ladder:

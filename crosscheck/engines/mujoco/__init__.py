@@ -65,14 +65,21 @@ ENGINES = (
                     for dt, tc in ((3e-3, 0.06), (1e-3, 0.06), (3e-4, 0.06), (3e-4, 0.02), (1e-4, 0.02), (1e-4, 0.006))
                 ],
             },
+            # the full report's convergence on 14 x 14 (theta, Theta) starts (the section's default 20 x 20 took 66 s of
+            # section time at these six settings, the two at timestep 1e-4 the most)
+            convergence_n={"quick": 7, "full": 14},
+            # 24 x 24 full maps, as the rigid engine's and Bullet's: the theory's boundary probes of a grid (three
+            # random directions at four radii per start, an integration each) cost 62 s of the 98 s its 32 x 32 maps
+            # took in the full report, and three engines on one grid pay them once
+            maps_n={"quick": 10, "full": 24},
             sections="crosscheck.engines.mujoco.sections:sections",
             onset=False,
             order=10,
             ladder=True,
             # a start costs ~0.8 s of section time, ladder and interventions (full report, measured: 174 s for its 210
             # disagreements): the quick report ladders 8 of its maps' disagreements, the full report an even spread
-            # of 60 (~50 s)
-            ladder_states={"quick": 8, "full": 60},
+            # of 40 (~30 s)
+            ladder_states={"quick": 8, "full": 40},
         ),
     ),
     EngineSpec(

@@ -53,6 +53,16 @@ _CONVERGENCE = {
     "quick": [{"timestep": dt} for dt in (6e-3, 3e-3)],
     "full": [{"timestep": dt} for dt in (4e-3, 2e-3, 1e-3)],
 }
+#: MuJoCo Warp's full report at the quick report's timestep, 3e-3, and its convergence over the quick report's
+#: (6e-3, 3e-3) (its 4 x 4 grid): at 2e-3 its maps, convergence over (4e-3, 2e-3, 1e-3) and one ladder start with its
+#: interventions took 46, 58 and 105 s of section time in the full report (~7 ms of CPU a step whatever the worlds: a
+#: setting costs its step count), and 31, 34 and 62 s at 3e-3 with (6e-3, 3e-3, 1.5e-3).  Its interventions still
+#: take a quarter step (``crosscheck.engines.newton.interventions``).
+_MAPS_MUJOCO = {"quick": {"timestep": 3e-3}, "full": {"timestep": 3e-3}}
+_CONVERGENCE_MUJOCO = {
+    "quick": [{"timestep": dt} for dt in (6e-3, 3e-3)],
+    "full": [{"timestep": dt} for dt in (6e-3, 3e-3)],
+}
 
 
 _MODULES = {"mujoco": "mujoco_warp", "xpbd": "xpbd", "featherstone": "featherstone", "semi_implicit": "semi_implicit"}
@@ -109,15 +119,16 @@ _LADDERS = {
 _LADDERS["semi_implicit"] = _LADDERS["featherstone"]
 
 
-#: Starts the ladder (and so the interventions) runs, by cost: a start costs 61 s of section time in MuJoCo Warp's
-#: ladder and interventions (~15 runs, each its full step count at ~7 ms of CPU a step, a quarter step the finest),
-#: 11 s in Featherstone's, 8.5 s in the semi-implicit solver's and 6 s in XPBD's (measured in the full report); so
-#: MuJoCo Warp ladders 1 start in either report and the others 1 (quick) and what ~30 s buys (full).
+#: Starts the ladder (and so the interventions) runs, by cost: a start costs 105 s of section time in MuJoCo Warp's
+#: ladder and interventions at timestep 2e-3 (~15 runs, each its full step count at ~7 ms of CPU a step, a quarter
+#: step the finest), 13 s in Featherstone's, 9 s in the semi-implicit solver's and 6 s in XPBD's (measured in the full
+#: report); so
+#: MuJoCo Warp ladders 1 start in either report and the others 1 (quick) and what ~15-20 s buys (full).
 _LADDER_STATES = {
     "mujoco": {"quick": 1, "full": 1},
-    "featherstone": {"quick": 1, "full": 3},
-    "semi_implicit": {"quick": 1, "full": 4},
-    "xpbd": {"quick": 1, "full": 5},
+    "featherstone": {"quick": 1, "full": 1},
+    "semi_implicit": {"quick": 1, "full": 2},
+    "xpbd": {"quick": 1, "full": 3},
 }
 
 
@@ -132,8 +143,8 @@ def _engine(solver: str, order: int) -> EngineSpec:
         ladder=_LADDERS[solver],
         # no event-tolerance profile (validation): not measured (validate does not judge these engines' events)
         report=ReportPlan(
-            maps=_MAPS,
-            convergence=_CONVERGENCE,
+            maps=_MAPS_MUJOCO if solver == "mujoco" else _MAPS,
+            convergence=_CONVERGENCE_MUJOCO if solver == "mujoco" else _CONVERGENCE,
             maps_n={"quick": 4, "full": 8},
             convergence_n={"quick": 3, "full": 4},
             order=order,

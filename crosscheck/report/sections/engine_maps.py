@@ -88,7 +88,8 @@ def _sweeps(ctx: RunContext, name: str) -> dict:
 
 def _probes(ctx: RunContext, m: dict, P: dict) -> dict:
     """The theory's side of map ``m``, which every engine that maps the same grid shares (the engines' quick maps, and
-    MuJoCo's and the rigid engine's 32 x 32 and Drake's five 12 x 12 in the full report), kept once under the report's
+    MuJoCo's, the rigid engine's and Bullet's 24 x 24 and the 12 x 12 of Drake's five, PhysX's two and DART in the full
+    report), kept once under the report's
     sweeps directory and read by the others (``RunContext.shared``):
 
     * the analytic first events (``agreement_study``'s ``analytic_cache``): eight engines map the quick report's grids;

@@ -19,9 +19,10 @@ import numpy as np
 from crosscheck.report.section import RenderContext, RunContext, Section, Table, Text
 
 #: The most starts rerun, an even spread over the maps' slipping starts: each costs 5 runs, and a Drake run ~0.1-0.3 s
-#: (measured: 108 starts x 5 runs of Drake SAP at the quick maps' options took 46 s on 2 shared cores; 60 starts of Drake
-#: continuous took 126 s in the full report, 30 keep the full report under 20 minutes).
-MAX_STARTS = {"quick": 12, "full": 30}
+#: (measured: 108 starts x 5 runs of Drake SAP at the quick maps' options took 46 s on 2 shared cores; 30 starts of
+#: Drake continuous took 37 s of section time in the full report, Lagged's 18 s, MuJoCo Warp's 11 s: 12 keep each
+#: under ~15 s).
+MAX_STARTS = {"quick": 12, "full": 12}
 
 
 def params(quick: bool, engine: str, options: dict, n: dict | None) -> dict:

@@ -107,3 +107,28 @@ def test_a_section_whose_process_dies_is_failed_and_the_others_finish(tmp_path):
 def test_jobs_must_be_a_positive_integer(tmp_path, jobs):
     with pytest.raises(ValueError, match=rf"^jobs must be an integer >= 1; got {jobs!r}$"):
         pipeline.run(tmp_path / "r", [_section("s", _draws)], quick=True, jobs=jobs)
+
+
+def test_a_fresh_run_starts_the_heads_of_the_longest_chains_first_and_a_rerun_the_longest_known(tmp_path):
+    """``_order``: sections never run start by how many wait on them (an engine's maps, then its ladder, then its
+    interventions), ties in the declared order; a section that ran before goes after them, longest first."""
+    from crosscheck.report import pipeline
+    from crosscheck.report.store import SectionStore
+
+    names = ["leaf", "maps", "ladder", "interventions", "other_maps", "other_ladder", "theory"]
+    after = {"ladder": ["maps"], "interventions": ["ladder"], "other_ladder": ["other_maps"]}
+    todo = [_section(n, _draws, after.get(n, ())) for n in names]
+    assert [s.slug for s in pipeline._order(todo, tmp_path)] == [
+        "maps",  # two wait on it
+        "ladder",
+        "other_maps",  # one each, in the declared order
+        "leaf",
+        "interventions",
+        "other_ladder",
+        "theory",
+    ]
+    for slug, seconds in (("theory", 5.0), ("leaf", 9.0)):
+        SectionStore(tmp_path / "data" / slug).write_json(
+            "status", {"status": "ok", "seconds": seconds, "params": {}, "files": {}}
+        )
+    assert [s.slug for s in pipeline._order(todo, tmp_path)][-2:] == ["leaf", "theory"]

@@ -112,13 +112,13 @@ _LADDER_CONTINUOUS = {
 
 #: Starts each approximation's ladder runs in the full report, by cost: a start costs 3.5 s of section time in
 #: Lagged's ladder and interventions, 1.9 s in the continuous plant's and 0.9-1.1 s in SAP's, Similar's and TAMSI's
-#: (measured in the full report), so each ladders what ~15-25 s buys.
+#: (measured in the full report), so each ladders what ~10-20 s buys.
 _LADDER_STATES = {
     "lagged": {"quick": 3, "full": 6},
     "continuous": {"quick": 3, "full": 8},
-    "sap": {"quick": 3, "full": 12},
-    "similar": {"quick": 3, "full": 12},
-    "tamsi": {"quick": 3, "full": 12},
+    "sap": {"quick": 3, "full": 8},
+    "similar": {"quick": 3, "full": 8},
+    "tamsi": {"quick": 3, "full": 8},
 }
 
 

@@ -123,12 +123,12 @@ _LADDERS["semi_implicit"] = _LADDERS["featherstone"]
 #: ladder and interventions at timestep 2e-3 (~15 runs, each its full step count at ~7 ms of CPU a step, a quarter
 #: step the finest), 13 s in Featherstone's, 9 s in the semi-implicit solver's and 6 s in XPBD's (measured in the full
 #: report); so
-#: MuJoCo Warp ladders 1 start in either report and the others 1 (quick) and what ~15-20 s buys (full).
+#: MuJoCo Warp, Featherstone and the semi-implicit solver ladder 1 start in either report, XPBD 1 (quick) and 2 (full).
 _LADDER_STATES = {
     "mujoco": {"quick": 1, "full": 1},
     "featherstone": {"quick": 1, "full": 1},
-    "semi_implicit": {"quick": 1, "full": 2},
-    "xpbd": {"quick": 1, "full": 3},
+    "semi_implicit": {"quick": 1, "full": 1},
+    "xpbd": {"quick": 1, "full": 2},
 }
 
 

@@ -110,15 +110,15 @@ def test_jobs_must_be_a_positive_integer(tmp_path, jobs):
 
 
 def test_a_fresh_run_starts_the_heads_of_the_longest_chains_first_and_a_rerun_the_longest_known(tmp_path):
-    """``_order``: sections never run start by how many wait on them (an engine's maps, then its ladder, then its
+    """``start_order``: sections never run start by how many wait on them (an engine's maps, then its ladder, then its
     interventions), ties in the declared order; a section that ran before goes after them, longest first."""
-    from crosscheck.report import pipeline
+    from crosscheck.report.schedule import start_order
     from crosscheck.report.store import SectionStore
 
     names = ["leaf", "maps", "ladder", "interventions", "other_maps", "other_ladder", "theory"]
     after = {"ladder": ["maps"], "interventions": ["ladder"], "other_ladder": ["other_maps"]}
     todo = [_section(n, _draws, after.get(n, ())) for n in names]
-    assert [s.slug for s in pipeline._order(todo, tmp_path)] == [
+    assert [s.slug for s in start_order(todo, tmp_path)] == [
         "maps",  # two wait on it
         "ladder",
         "other_maps",  # one each, in the declared order
@@ -131,4 +131,4 @@ def test_a_fresh_run_starts_the_heads_of_the_longest_chains_first_and_a_rerun_th
         SectionStore(tmp_path / "data" / slug).write_json(
             "status", {"status": "ok", "seconds": seconds, "params": {}, "files": {}}
         )
-    assert [s.slug for s in pipeline._order(todo, tmp_path)][-2:] == ["leaf", "theory"]
+    assert [s.slug for s in start_order(todo, tmp_path)][-2:] == ["leaf", "theory"]

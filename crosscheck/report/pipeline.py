@@ -34,6 +34,7 @@ from pathlib import Path
 
 from crosscheck.report import provenance
 from crosscheck.report import store as integrity  # the checks of saved results against what the run wrote
+from crosscheck.report.schedule import start_order
 from crosscheck.report.section import RunContext, Section, SkipSection, section_rng
 from crosscheck.report.store import (  # the saved results, read back
     PROVENANCE_FILE,
@@ -225,41 +226,6 @@ def engine_provenance(sections: Sequence[Section]) -> dict[str, dict]:
         if said:
             out[spec.name] = said
     return out
-
-
-def _order(todo: list[Section], out: Path) -> list[Section]:
-    """Longest first, by the time each took when it last ran in ``out``; sections never run there go ahead of those
-    known, the heads of the longest chains first (most sections waiting on them through ``after``: an engine's maps
-    before its ladder before its interventions), then in the declared order.  Two slots then finish close together
-    (a fresh full report in the declared order left MuJoCo Warp's maps, ladder and interventions, 150 s of section
-    time one after the other, for its last minutes)."""
-
-    def last_seconds(s: Section) -> float:
-        try:
-            return float((read_status(out, s.slug) or {}).get("seconds") or float("inf"))
-        except (integrity.DamagedResults, OSError, ValueError, TypeError):
-            return float("inf")
-
-    known = {s.slug: last_seconds(s) for s in todo}
-    waiting = _waiting_on(todo)
-    return sorted(todo, key=lambda s: (-known[s.slug], -waiting[s.slug]))  # stable: ties keep the declared order
-
-
-def _waiting_on(todo: list[Section]) -> dict[str, int]:
-    """How many sections of ``todo`` wait on each one, directly or through others (its ``after`` chains)."""
-    later: dict[str, set[str]] = {s.slug: set() for s in todo}
-    for s in todo:
-        for a in s.after:
-            if a in later:
-                later[a].add(s.slug)
-
-    def behind(slug: str, seen: set[str]) -> set[str]:
-        for nxt in later[slug] - seen:
-            seen.add(nxt)
-            behind(nxt, seen)
-        return seen
-
-    return {slug: len(behind(slug, set())) for slug in later}
 
 
 def _run_parallel(jobs_of: dict, order: list[Section], jobs: int, outer, results: dict, out: Path) -> None:
@@ -476,7 +442,7 @@ def run(
     todo = [s for s in sections if not (resume and _resumed(out, s, results, params[s.slug], quick, seed, code))]
     parallel = jobs > 1 and len(todo) > 1
     inner = bar if not parallel else _progress_factory(False)
-    order = _order(todo, out) if parallel else todo
+    order = start_order(todo, out) if parallel else todo
     if parallel and workers is None and scheduler is None:
         # Sections running side by side already keep the cores busy: a sweep's own pool would only add processes
         # competing for them, forked from a large process at every sweep (the quick report's 264 sweeps cost
